@@ -1,0 +1,43 @@
+"""multicrank — gravitational potential energy and generalised Lagrange forces of
+multi-crank piston mechanisms (after M. Stańczak), exact and fast, with a Rust core.
+
+Conventions (mathematics.md §1–3): angles in radians, φ from outer dead centre, γ the
+cylinder's inclination to the horizontal (+π/2 upright), energies dimensionless
+(U* = U/(I_w ω²)), Q_u* = +dU_w*/dφ.
+"""
+
+from __future__ import annotations
+
+import os as _os
+
+from . import _native
+from ._native import MechanismError, build_profile
+from .evaluation import (
+    FORCE_METHODS,
+    force_derivative,
+    generalized_force,
+    get_parallel_threshold,
+    potential_energy,
+    set_parallel_threshold,
+)
+from .mechanism import STANDARD_GRAVITY, crank_phases, dimensionless_moments
+
+__version__: str = _native.__version__
+
+# rayon's worker threads do not survive fork(): a forked child computes serially.
+_os.register_at_fork(after_in_child=_native._after_fork_in_child)
+
+__all__ = [
+    "FORCE_METHODS",
+    "MechanismError",
+    "STANDARD_GRAVITY",
+    "__version__",
+    "build_profile",
+    "crank_phases",
+    "dimensionless_moments",
+    "force_derivative",
+    "generalized_force",
+    "get_parallel_threshold",
+    "potential_energy",
+    "set_parallel_threshold",
+]

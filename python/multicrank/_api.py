@@ -1,0 +1,135 @@
+"""Coercion, validation and broadcasting shared by the fast API and the numpy reference.
+
+Everything that reaches the Rust kernels leaves here as a contiguous float64 array, and
+every kind of bad input leaves here as a :class:`MechanismError` that names the parameter.
+"""
+
+from __future__ import annotations
+
+import operator
+from typing import Any
+
+import numpy as np
+
+from ._native import MechanismError
+
+__all__ = [
+    "MechanismError",
+    "as_angles",
+    "as_design",
+    "as_phases",
+    "as_count",
+    "as_option",
+    "as_strokes",
+    "broadcast_designs",
+    "finish",
+]
+
+_NUMERIC_KINDS = "iuf"
+
+
+def _as_real_array(value: Any, name: str) -> np.ndarray:
+    """`value` as a float64 ndarray; strings, complex, bool, object and None are rejected."""
+    try:
+        array = np.asarray(value)
+    except Exception as exc:  # ragged nested lists and the like
+        raise MechanismError(f"{name} must be a real number or an array of real numbers: {exc}") from None
+    if array.dtype.kind not in _NUMERIC_KINDS:
+        raise MechanismError(
+            f"{name} must be a real number or an array of real numbers, got dtype {array.dtype}"
+            f" ({type(value).__name__})"
+        )
+    return array.astype(np.float64, copy=False)
+
+
+def as_angles(phi: Any, name: str = "phi") -> np.ndarray:
+    """Crank angles of any shape as float64 (rad). NaN/inf are allowed (they give NaN)."""
+    return _as_real_array(phi, name)
+
+
+def as_design(value: Any, name: str, *, low: float | None = None, high: float | None = None) -> np.ndarray:
+    """A design parameter as float64; finite, and in [low, high) where those are given."""
+    array = _as_real_array(value, name)
+    if not np.all(np.isfinite(array)):
+        bad = array[~np.isfinite(array)].flat[0]
+        raise MechanismError(f"{name} = {bad} is out of range; allowed: any finite real")
+    if low is not None or high is not None:
+        inside = np.ones(array.shape, dtype=bool)
+        if low is not None:
+            inside &= array >= low
+        if high is not None:
+            inside &= array < high
+        if not np.all(inside):
+            bad = array[~inside].flat[0]
+            raise MechanismError(f"{name} = {bad} is out of range; allowed: {low} <= {name} < {high}")
+    return array
+
+
+def as_phases(phases: Any) -> np.ndarray:
+    """The crank phases α_j (rad) as a non-empty finite 1-D float64 array; None → [0]."""
+    if phases is None:
+        return np.zeros(1)
+    array = _as_real_array(phases, "phases")
+    if array.ndim != 1:
+        raise MechanismError(f"phases must be a 1-D array of angles, got shape {array.shape}")
+    if array.size == 0:
+        raise MechanismError("phases must not be empty")
+    if not np.all(np.isfinite(array)):
+        raise MechanismError("phases must be finite angles in radians")
+    return np.ascontiguousarray(array)
+
+
+def as_count(value: Any, name: str, *, minimum: int) -> int:
+    """An integer ≥ minimum (bools and floats such as 2.0 are rejected)."""
+    if isinstance(value, (bool, np.bool_)):
+        raise MechanismError(f"{name} must be an integer >= {minimum}, got {value!r}")
+    try:
+        count = operator.index(value)
+    except TypeError:
+        raise MechanismError(f"{name} must be an integer >= {minimum}, got {value!r}") from None
+    if count < minimum:
+        raise MechanismError(f"{name} = {count} is out of range; allowed: an integer >= {minimum}")
+    return count
+
+
+def as_option(value: Any, name: str, allowed: tuple[str, ...]) -> str:
+    """One of the option strings in `allowed`."""
+    if not isinstance(value, str) or value not in allowed:
+        choices = ", ".join(repr(a) for a in allowed)
+        raise MechanismError(f"{name} = {value!r} is not allowed; allowed: {choices}")
+    return value
+
+
+def as_strokes(value: Any) -> int:
+    """The number of strokes of the working cycle: 2 or 4."""
+    strokes = as_count(value, "strokes", minimum=1)
+    if strokes not in (2, 4):
+        raise MechanismError(f"strokes = {strokes} is not allowed; allowed: 2 or 4")
+    return strokes
+
+
+def broadcast_designs(**columns: np.ndarray) -> tuple[tuple[int, ...], dict[str, np.ndarray]]:
+    """Broadcast the design arrays together: (design shape D, flat contiguous columns)."""
+    try:
+        shape = np.broadcast_shapes(*(a.shape for a in columns.values()))
+    except ValueError:
+        shapes = ", ".join(f"{k} {v.shape}" for k, v in columns.items())
+        raise MechanismError(f"design parameters do not broadcast together: {shapes}") from None
+    flat = {k: np.ascontiguousarray(np.broadcast_to(v, shape)).reshape(-1) for k, v in columns.items()}
+    return shape, flat
+
+
+def finish(flat: np.ndarray, shape: tuple[int, ...]) -> np.ndarray | np.float64:
+    """Reshape a flat result; a 0-d result becomes a numpy float64 scalar."""
+    result = flat.reshape(shape)
+    return result[()] if result.ndim == 0 else result
+
+
+def design_keywords(crank_ratio: Any, inclination: Any, u1: Any, u2: Any) -> dict[str, np.ndarray]:
+    """The four design keywords of the evaluation functions, validated (api.md ranges)."""
+    return {
+        "crank_ratio": as_design(crank_ratio, "crank_ratio", low=0.0, high=1.0),
+        "inclination": as_design(inclination, "inclination"),
+        "u1": as_design(u1, "u1"),
+        "u2": as_design(u2, "u2"),
+    }

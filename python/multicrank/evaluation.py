@@ -1,0 +1,115 @@
+"""Evaluation of U_w*(φ) and Q_u*(φ) over crank-angle grids and design arrays (§1–3).
+
+All design keywords broadcast together, numpy-style, to a design shape D; the result has
+shape D + phi.shape. The work runs in the Rust core with the GIL released, in parallel
+above a size threshold (see :func:`set_parallel_threshold`); results do not depend on the
+thread count.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from . import _native
+from ._api import as_angles, as_option, as_phases, broadcast_designs, design_keywords, finish
+
+__all__ = [
+    "potential_energy",
+    "generalized_force",
+    "force_derivative",
+    "FORCE_METHODS",
+    "get_parallel_threshold",
+    "set_parallel_threshold",
+]
+
+FORCE_METHODS = ("exact", "series", "paper")
+
+
+def _evaluate(quantity: str, phi: Any, crank_ratio: Any, inclination: Any, u1: Any, u2: Any, phases: Any):
+    angles = as_angles(phi)
+    shape, design = broadcast_designs(**design_keywords(crank_ratio, inclination, u1, u2))
+    flat = _native.evaluate(
+        quantity,
+        np.ascontiguousarray(angles).reshape(-1),
+        design["crank_ratio"],
+        design["inclination"],
+        design["u1"],
+        design["u2"],
+        as_phases(phases),
+    )
+    return finish(flat, shape + angles.shape)
+
+
+def potential_energy(phi, *, crank_ratio, inclination, u1, u2, phases=None):
+    """Dimensionless potential energy U_w*(φ) = U_w/(I_w ω²) of a k-crank machine (eq. 3, 12).
+
+    .. math::
+
+        U_w^*(\\varphi) = \\sum_j U_2[\\sin(\\psi_j+\\gamma) - \\sin\\gamma]
+                         - U_1 \\frac{s(\\psi_j)}{r}\\sin\\gamma, \\qquad \\psi_j = \\varphi + \\alpha_j,
+
+    with s(ψ)/r = (1 − cos ψ) + (1 − √(1 − λ² sin² ψ))/λ the piston's travel from outer dead
+    centre. Each crank unit is measured from its own ψ_j = 0 position.
+
+    Parameters
+    ----------
+    phi : array_like, crank angle φ [rad] from outer dead centre of crank 0; any shape.
+        NaN or ±inf give NaN in that place.
+    crank_ratio : λ = r/l, 0 ≤ λ < 1 (λ = 0 is the infinite-rod limit)
+    inclination : γ [rad], cylinder axis to the horizontal; +π/2 upright, −π/2 inverted
+    u1, u2 : dimensionless gravity moments (see :func:`dimensionless_moments`)
+    phases : 1-D array_like of crank phases α_j [rad]; None means one crank at 0
+        (see :func:`crank_phases`).
+
+    Returns
+    -------
+    ndarray of shape D + phi.shape (D: the broadcast shape of the design keywords), or a
+    numpy float64 for all-scalar input.
+    """
+    return _evaluate("potential_energy", phi, crank_ratio, inclination, u1, u2, phases)
+
+
+def generalized_force(phi, *, crank_ratio, inclination, u1, u2, phases=None, method="exact"):
+    """Generalised Lagrange force due to gravity, Q_u*(φ) = +dU_w*/dφ (eq. 13).
+
+    .. math::
+
+        Q_u^*(\\varphi) = \\sum_j U_2\\cos(\\psi_j+\\gamma)
+            - U_1\\Big[\\sin\\psi_j + \\frac{\\lambda\\sin 2\\psi_j}{2\\sqrt{1-\\lambda^2\\sin^2\\psi_j}}\\Big]\\sin\\gamma.
+
+    The gravity torque on the shaft is −Q_u*·I_w ω². Parameters and result shape as in
+    :func:`potential_energy`.
+
+    method : "exact" (the closed form), "series" (Fourier form with exact Λ_n, to machine
+        precision) or "paper" (eq. 16 as the paper computes it: λ¹¹ series, n ≤ 12).
+    """
+    method = as_option(method, "method", FORCE_METHODS)
+    if method != "exact":
+        raise NotImplementedError(f"method={method!r} arrives with the harmonics (issue 3)")
+    return _evaluate("generalized_force", phi, crank_ratio, inclination, u1, u2, phases)
+
+
+def force_derivative(phi, *, crank_ratio, inclination, u1, u2, phases=None):
+    """dQ_u*/dφ = d²U_w*/dφ², the closed form used for Newton steps on the extrema of U_w*.
+
+    Parameters and result shape as in :func:`potential_energy`.
+    """
+    return _evaluate("force_derivative", phi, crank_ratio, inclination, u1, u2, phases)
+
+
+def get_parallel_threshold() -> int:
+    """The work size (output points × cranks) from which evaluation runs on all cores."""
+    return _native.get_parallel_threshold()
+
+
+def set_parallel_threshold(threshold: int) -> None:
+    """Set the work size (output points × cranks) from which evaluation runs in parallel.
+
+    0 means always parallel, a huge value always serial. Results are bit-identical either
+    way. The number of threads is rayon's: set ``RAYON_NUM_THREADS`` before the first call.
+    """
+    from ._api import as_count
+
+    _native.set_parallel_threshold(as_count(threshold, "threshold", minimum=0))

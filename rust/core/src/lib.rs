@@ -1,0 +1,16 @@
+//! multicrank-core: gravitational potential energy U* and the generalised Lagrange force
+//! Q_u* = dU*/dφ of multi-crank piston mechanisms, after M. Stańczak, with the corrections
+//! of `shared/spec/mathematics.md`. Pure Rust; the Python bindings live in `rust/python`.
+//!
+//! Conventions: angles in radians; γ = +π/2 is an upright cylinder; φ is measured from
+//! outer dead centre; every crank unit's energy is measured from its own ψ = 0 position;
+//! energies are dimensionless, U* = U/(I_w ω²).
+
+pub mod error;
+pub mod exact;
+pub mod mechanism;
+pub mod trig;
+
+pub use error::{MechanismError, Result};
+pub use exact::{evaluate, evaluate_one, Parallelism, Quantity};
+pub use mechanism::{crank_phases, Acting, Design, Phases, PhysicalUnit, Strokes, STANDARD_GRAVITY};

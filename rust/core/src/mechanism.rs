@@ -1,0 +1,246 @@
+//! Validated descriptions of a multi-crank mechanism (mathematics.md §1–2):
+//! the dimensionless design (λ, γ, U1, U2), crank phase sets, and the conversion
+//! from physical masses and lengths to the dimensionless gravity moments U1, U2.
+
+use std::f64::consts::{PI, TAU};
+
+use crate::error::{check, MechanismError, Result};
+
+/// Two- or four-stroke working cycle: one cycle spans T = 2π or 4π of crank angle.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Strokes {
+    Two,
+    Four,
+}
+
+impl Strokes {
+    pub fn from_count(strokes: i64) -> Result<Self> {
+        match strokes {
+            2 => Ok(Self::Two),
+            4 => Ok(Self::Four),
+            other => Err(MechanismError::InvalidChoice {
+                parameter: "strokes",
+                value: other.to_string(),
+                allowed: "2 or 4",
+            }),
+        }
+    }
+
+    /// The crank angle of one working cycle, T.
+    pub fn cycle_angle(self) -> f64 {
+        match self {
+            Self::Two => TAU,
+            Self::Four => 2.0 * TAU,
+        }
+    }
+}
+
+/// Single- or double-acting cylinders (a double-acting cylinder works on both piston faces).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Acting {
+    Single,
+    Double,
+}
+
+impl Acting {
+    pub fn from_name(acting: &str) -> Result<Self> {
+        match acting {
+            "single" => Ok(Self::Single),
+            "double" => Ok(Self::Double),
+            other => Err(MechanismError::InvalidChoice {
+                parameter: "acting",
+                value: format!("{other:?}"),
+                allowed: "\"single\" or \"double\"",
+            }),
+        }
+    }
+}
+
+/// The crank phases α_j = j·α, j = 0 … k−1, of a regular in-line machine (eq. 8–12):
+/// α = T/k for single-acting and T/(2k) for double-acting machines.
+pub fn crank_phases(cranks: i64, strokes: Strokes, acting: Acting) -> Result<Vec<f64>> {
+    if cranks < 1 {
+        return Err(MechanismError::InvalidChoice {
+            parameter: "cranks",
+            value: cranks.to_string(),
+            allowed: "an integer >= 1",
+        });
+    }
+    let per_cycle = match acting {
+        Acting::Single => cranks as f64,
+        Acting::Double => 2.0 * cranks as f64,
+    };
+    let alpha = strokes.cycle_angle() / per_cycle;
+    Ok((0..cranks).map(|j| j as f64 * alpha).collect())
+}
+
+/// One machine in dimensionless form: crank ratio λ = r/l, cylinder inclination γ to the
+/// horizontal (rad, +π/2 upright), and the gravity moments U1 (reciprocating) and
+/// U2 (rotating unbalance), both divided by I_w·ω².
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Design {
+    pub crank_ratio: f64,
+    pub inclination: f64,
+    pub u1: f64,
+    pub u2: f64,
+}
+
+impl Design {
+    pub fn new(crank_ratio: f64, inclination: f64, u1: f64, u2: f64) -> Result<Self> {
+        Ok(Self {
+            crank_ratio: check("crank_ratio", crank_ratio, "0 <= crank_ratio < 1", |x| {
+                (0.0..1.0).contains(&x)
+            })?,
+            inclination: check("inclination", inclination, "any finite real", |_| true)?,
+            u1: check("u1", u1, "any finite real", |_| true)?,
+            u2: check("u2", u2, "any finite real", |_| true)?,
+        })
+    }
+}
+
+/// A set of crank phases α_j kept as (cos α_j, sin α_j), so that every crank angle
+/// ψ_j = φ + α_j follows from one sincos of φ by a rotation.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Phases {
+    pub(crate) cos: Vec<f64>,
+    pub(crate) sin: Vec<f64>,
+}
+
+impl Phases {
+    pub fn new(phases: &[f64]) -> Result<Self> {
+        if phases.is_empty() {
+            return Err(MechanismError::Empty {
+                parameter: "phases",
+            });
+        }
+        for &alpha in phases {
+            check("phases", alpha, "finite angles in radians", |_| true)?;
+        }
+        Ok(Self {
+            cos: phases.iter().map(|a| a.cos()).collect(),
+            sin: phases.iter().map(|a| a.sin()).collect(),
+        })
+    }
+
+    /// One crank at phase 0.
+    pub fn single() -> Self {
+        Self {
+            cos: vec![1.0],
+            sin: vec![0.0],
+        }
+    }
+
+    pub fn len(&self) -> usize {
+        self.cos.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.cos.is_empty()
+    }
+}
+
+/// Standard gravity, m/s².
+pub const STANDARD_GRAVITY: f64 = 9.80665;
+
+/// One slider-crank unit in SI units (eq. 1–7). Lengths in m, masses in kg,
+/// `shaft_inertia` I_w in kg·m², `rpm` in revolutions per minute, `g` in m/s².
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PhysicalUnit {
+    pub crank_radius: f64,
+    pub rod_length: f64,
+    /// z_k: distance of the rod's centre of gravity from the piston-pin axis.
+    pub rod_cg: f64,
+    pub piston_mass: f64,
+    pub rod_mass: f64,
+    pub crank_mass: f64,
+    pub crank_cg_radius: f64,
+    pub counterweight_mass: f64,
+    pub counterweight_radius: f64,
+    pub shaft_inertia: f64,
+    pub rpm: f64,
+    pub g: f64,
+}
+
+impl PhysicalUnit {
+    fn validate(&self) -> Result<()> {
+        let positive = |x: f64| x > 0.0;
+        let non_negative = |x: f64| x >= 0.0;
+        check("crank_radius", self.crank_radius, "crank_radius > 0", positive)?;
+        check(
+            "rod_length",
+            self.rod_length,
+            "rod_length > crank_radius",
+            |l| l > self.crank_radius,
+        )?;
+        check("rod_cg", self.rod_cg, "0 <= rod_cg <= rod_length", |z| {
+            (0.0..=self.rod_length).contains(&z)
+        })?;
+        check("piston_mass", self.piston_mass, "piston_mass >= 0", non_negative)?;
+        check("rod_mass", self.rod_mass, "rod_mass >= 0", non_negative)?;
+        check("crank_mass", self.crank_mass, "crank_mass >= 0", non_negative)?;
+        check("crank_cg_radius", self.crank_cg_radius, "crank_cg_radius >= 0", non_negative)?;
+        check(
+            "counterweight_mass",
+            self.counterweight_mass,
+            "counterweight_mass >= 0",
+            non_negative,
+        )?;
+        check(
+            "counterweight_radius",
+            self.counterweight_radius,
+            "counterweight_radius >= 0",
+            non_negative,
+        )?;
+        check("shaft_inertia", self.shaft_inertia, "shaft_inertia > 0", positive)?;
+        check("rpm", self.rpm, "rpm > 0", positive)?;
+        check("g", self.g, "any finite real", |_| true)?;
+        Ok(())
+    }
+
+    /// The dimensionless gravity moments (U1, U2) of the corrected eq. 5–7:
+    ///
+    /// U1 = r·g·[m_t + (l − z_k)/l · m_k] / (I_w ω²),
+    /// U2 = g·[r_s·m_s − r_p·m_p + r·(z_k/l)·m_k] / (I_w ω²),  ω = π·n/30.
+    ///
+    /// The rod's share that translates with the piston is (l − z_k)/l; the paper's
+    /// printed eq. 5–6 swap the two shares (erratum 3).
+    pub fn dimensionless_moments(&self) -> Result<(f64, f64)> {
+        self.validate()?;
+        let omega = PI * self.rpm / 30.0;
+        let scale = self.g / (self.shaft_inertia * omega * omega);
+        let rod_share_pin = self.rod_cg / self.rod_length;
+        let rod_share_piston = (self.rod_length - self.rod_cg) / self.rod_length;
+        let u1 = scale * self.crank_radius * (self.piston_mass + rod_share_piston * self.rod_mass);
+        let u2 = scale
+            * (self.crank_cg_radius * self.crank_mass
+                - self.counterweight_radius * self.counterweight_mass
+                + self.crank_radius * rod_share_pin * self.rod_mass);
+        Ok((u1, u2))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn regular_phase_sets() {
+        let two = crank_phases(4, Strokes::Two, Acting::Single).unwrap();
+        assert_eq!(two, vec![0.0, PI / 2.0, PI, 1.5 * PI]);
+        let four = crank_phases(4, Strokes::Four, Acting::Single).unwrap();
+        assert_eq!(four, vec![0.0, PI, TAU, 3.0 * PI]);
+        let double = crank_phases(2, Strokes::Two, Acting::Double).unwrap();
+        assert_eq!(double, vec![0.0, PI / 2.0]);
+        assert!(crank_phases(0, Strokes::Two, Acting::Single).is_err());
+    }
+
+    #[test]
+    fn design_ranges() {
+        assert!(Design::new(0.0, 0.0, 0.0, 0.0).is_ok());
+        assert!(Design::new(1.0, 0.0, 0.0, 0.0).is_err());
+        assert!(Design::new(-0.1, 0.0, 0.0, 0.0).is_err());
+        let err = Design::new(0.3, f64::NAN, 0.0, 0.0).unwrap_err();
+        assert!(err.to_string().contains("inclination"));
+        assert!(Design::new(0.3, 0.0, f64::INFINITY, 0.0).is_err());
+    }
+}

@@ -1,0 +1,217 @@
+//! The `multicrank._native` extension: converts numpy arrays to slices, releases the GIL
+//! around the core kernels and converts the results back. Broadcasting, coercion and the
+//! user-facing conveniences live in the Python package (`python/multicrank/_api.py`).
+
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+
+use multicrank_core as core;
+use numpy::{IntoPyArray, PyArray1, PyReadonlyArray1};
+use pyo3::create_exception;
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+
+create_exception!(
+    multicrank,
+    MechanismError,
+    PyValueError,
+    "Invalid mechanism description or evaluation request; the message names the parameter \
+     and its allowed range."
+);
+
+fn to_py_err(error: core::MechanismError) -> PyErr {
+    MechanismError::new_err(error.to_string())
+}
+
+/// Work (points × cranks) from which kernels run on rayon's pool.
+static PARALLEL_THRESHOLD: AtomicUsize = AtomicUsize::new(core::Parallelism::DEFAULT_THRESHOLD);
+/// Set in a forked child: rayon's pool threads do not survive fork, so stay serial there.
+static FORKED_CHILD: AtomicBool = AtomicBool::new(false);
+
+fn parallelism() -> core::Parallelism {
+    if FORKED_CHILD.load(Ordering::Relaxed) {
+        core::Parallelism::SERIAL
+    } else {
+        core::Parallelism {
+            threshold: PARALLEL_THRESHOLD.load(Ordering::Relaxed),
+        }
+    }
+}
+
+fn slice<'a>(array: &'a PyReadonlyArray1<'_, f64>) -> PyResult<&'a [f64]> {
+    Ok(array.as_slice()?)
+}
+
+#[pymodule]
+mod _native {
+    use super::*;
+
+    #[pymodule_init]
+    fn init(m: &Bound<'_, PyModule>) -> PyResult<()> {
+        m.add("MechanismError", m.py().get_type::<MechanismError>())?;
+        m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+        m.add(
+            "build_profile",
+            if cfg!(debug_assertions) { "debug" } else { "release" },
+        )?;
+        Ok(())
+    }
+
+    /// crank_phases(cranks, strokes, acting) -> the phases α_j (rad) of a regular machine.
+    #[pyfunction]
+    fn crank_phases<'py>(
+        py: Python<'py>,
+        cranks: i64,
+        strokes: i64,
+        acting: &str,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let strokes = core::Strokes::from_count(strokes).map_err(to_py_err)?;
+        let acting = core::Acting::from_name(acting).map_err(to_py_err)?;
+        let phases = core::crank_phases(cranks, strokes, acting).map_err(to_py_err)?;
+        Ok(phases.into_pyarray(py))
+    }
+
+    /// evaluate(quantity, phi, crank_ratio, inclination, u1, u2, phases) -> flat array
+    /// of length len(crank_ratio) * len(phi), design-major. The four design arrays are
+    /// already broadcast to one length; `quantity` is "potential_energy",
+    /// "generalized_force" or "force_derivative".
+    #[pyfunction]
+    #[allow(clippy::too_many_arguments)]
+    fn evaluate<'py>(
+        py: Python<'py>,
+        quantity: &str,
+        phi: PyReadonlyArray1<'py, f64>,
+        crank_ratio: PyReadonlyArray1<'py, f64>,
+        inclination: PyReadonlyArray1<'py, f64>,
+        u1: PyReadonlyArray1<'py, f64>,
+        u2: PyReadonlyArray1<'py, f64>,
+        phases: PyReadonlyArray1<'py, f64>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let quantity = match quantity {
+            "potential_energy" => core::Quantity::PotentialEnergy,
+            "generalized_force" => core::Quantity::GeneralizedForce,
+            "force_derivative" => core::Quantity::ForceDerivative,
+            other => {
+                return Err(MechanismError::new_err(format!(
+                    "quantity = {other:?} is not allowed; allowed: \"potential_energy\", \
+                     \"generalized_force\", \"force_derivative\""
+                )))
+            }
+        };
+        let (phi, phases) = (slice(&phi)?, slice(&phases)?);
+        let columns = [
+            slice(&crank_ratio)?,
+            slice(&inclination)?,
+            slice(&u1)?,
+            slice(&u2)?,
+        ];
+        let n_designs = columns[0].len();
+        if let Some(bad) = columns.iter().find(|c| c.len() != n_designs) {
+            return Err(to_py_err(core::MechanismError::LengthMismatch {
+                parameter: "design arrays",
+                expected: n_designs,
+                found: bad.len(),
+            }));
+        }
+        let parallelism = parallelism();
+        let out = py
+            .detach(|| -> core::Result<Vec<f64>> {
+                let phases = core::Phases::new(phases)?;
+                let designs = (0..n_designs)
+                    .map(|i| {
+                        core::Design::new(columns[0][i], columns[1][i], columns[2][i], columns[3][i])
+                    })
+                    .collect::<core::Result<Vec<_>>>()?;
+                let mut out = vec![0.0; n_designs * phi.len()];
+                core::evaluate(quantity, &designs, &phases, phi, &mut out, parallelism)?;
+                Ok(out)
+            })
+            .map_err(to_py_err)?;
+        Ok(out.into_pyarray(py))
+    }
+
+    /// dimensionless_moments(...) over equal-length 1-D arrays -> (u1, u2); see
+    /// `multicrank_core::PhysicalUnit::dimensionless_moments`.
+    #[pyfunction]
+    #[allow(clippy::too_many_arguments)]
+    fn dimensionless_moments<'py>(
+        py: Python<'py>,
+        crank_radius: PyReadonlyArray1<'py, f64>,
+        rod_length: PyReadonlyArray1<'py, f64>,
+        rod_cg: PyReadonlyArray1<'py, f64>,
+        piston_mass: PyReadonlyArray1<'py, f64>,
+        rod_mass: PyReadonlyArray1<'py, f64>,
+        crank_mass: PyReadonlyArray1<'py, f64>,
+        crank_cg_radius: PyReadonlyArray1<'py, f64>,
+        counterweight_mass: PyReadonlyArray1<'py, f64>,
+        counterweight_radius: PyReadonlyArray1<'py, f64>,
+        shaft_inertia: PyReadonlyArray1<'py, f64>,
+        rpm: PyReadonlyArray1<'py, f64>,
+        g: PyReadonlyArray1<'py, f64>,
+    ) -> PyResult<(Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>)> {
+        let c = [
+            slice(&crank_radius)?,
+            slice(&rod_length)?,
+            slice(&rod_cg)?,
+            slice(&piston_mass)?,
+            slice(&rod_mass)?,
+            slice(&crank_mass)?,
+            slice(&crank_cg_radius)?,
+            slice(&counterweight_mass)?,
+            slice(&counterweight_radius)?,
+            slice(&shaft_inertia)?,
+            slice(&rpm)?,
+            slice(&g)?,
+        ];
+        let n = c[0].len();
+        if let Some(bad) = c.iter().find(|col| col.len() != n) {
+            return Err(to_py_err(core::MechanismError::LengthMismatch {
+                parameter: "physical parameter arrays",
+                expected: n,
+                found: bad.len(),
+            }));
+        }
+        let (u1, u2): (Vec<f64>, Vec<f64>) = (0..n)
+            .map(|i| {
+                core::PhysicalUnit {
+                    crank_radius: c[0][i],
+                    rod_length: c[1][i],
+                    rod_cg: c[2][i],
+                    piston_mass: c[3][i],
+                    rod_mass: c[4][i],
+                    crank_mass: c[5][i],
+                    crank_cg_radius: c[6][i],
+                    counterweight_mass: c[7][i],
+                    counterweight_radius: c[8][i],
+                    shaft_inertia: c[9][i],
+                    rpm: c[10][i],
+                    g: c[11][i],
+                }
+                .dimensionless_moments()
+            })
+            .collect::<core::Result<Vec<_>>>()
+            .map_err(to_py_err)?
+            .into_iter()
+            .unzip();
+        Ok((u1.into_pyarray(py), u2.into_pyarray(py)))
+    }
+
+    /// The work size (points × cranks) from which kernels run in parallel.
+    #[pyfunction]
+    fn get_parallel_threshold() -> usize {
+        PARALLEL_THRESHOLD.load(Ordering::Relaxed)
+    }
+
+    /// Set the work size (points × cranks) from which kernels run in parallel;
+    /// 0 = always parallel, a huge value = always serial. Results do not depend on it.
+    #[pyfunction]
+    fn set_parallel_threshold(threshold: usize) {
+        PARALLEL_THRESHOLD.store(threshold, Ordering::Relaxed);
+    }
+
+    /// Called in a forked child (os.register_at_fork): rayon's threads did not survive
+    /// the fork, so every later call in this process runs serially.
+    #[pyfunction]
+    fn _after_fork_in_child() {
+        FORKED_CHILD.store(true, Ordering::Relaxed);
+    }
+}
