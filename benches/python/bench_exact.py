@@ -1,0 +1,82 @@
+"""multicrank against the plain-numpy baseline (multicrank.reference), same process.
+
+    python benches/python/bench_exact.py [--points 1000000] [--repeat 7]
+
+For k = 1, 6, 12 on a grid of φ over one revolution (λ = 0.3, two-stroke phases) it times
+`generalized_force(method="exact")` and `potential_energy`, best of --repeat, once with one
+rayon thread (RAYON_NUM_THREADS=1, each setting in its own child process because rayon
+fixes its pool at first use) and once with all cores, and prints ns per point and the
+speed-up over the baseline. Refuses a debug build of the extension.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+import time
+
+
+def best_time(function, repeat: int) -> float:
+    times = []
+    for _ in range(repeat):
+        start = time.perf_counter()
+        function()
+        times.append(time.perf_counter() - start)
+    return min(times)
+
+
+def measure(points: int, repeat: int) -> list[dict]:
+    import numpy as np
+
+    import multicrank as mc
+    import multicrank.reference as ref
+
+    if mc.build_profile != "release":
+        sys.exit(f"refusing to benchmark a {mc.build_profile} build: pip install . (release) first")
+    phi = np.linspace(0.0, 2 * np.pi, points, endpoint=False)
+    rows = []
+    for cranks in (1, 6, 12):
+        design = dict(crank_ratio=0.3, inclination=1.0, u1=0.8, u2=0.3, phases=mc.crank_phases(cranks))
+        for name in ("generalized_force", "potential_energy"):
+            fast = best_time(lambda: getattr(mc, name)(phi, **design), repeat)
+            base = best_time(lambda: getattr(ref, name)(phi, **design), max(3, repeat // 2))
+            rows.append(dict(function=name, cranks=cranks, fast_ns=fast / points * 1e9, base_ns=base / points * 1e9))
+    return rows
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--points", type=int, default=1_000_000)
+    parser.add_argument("--repeat", type=int, default=7)
+    parser.add_argument("--child", action="store_true", help=argparse.SUPPRESS)
+    args = parser.parse_args()
+    if args.child:
+        print(json.dumps(measure(args.points, args.repeat)))
+        return
+    results = {}
+    for threads in ("1", str(os.cpu_count())):
+        env = dict(os.environ, RAYON_NUM_THREADS=threads)
+        child = subprocess.run(
+            [sys.executable, __file__, "--child", "--points", str(args.points), "--repeat", str(args.repeat)],
+            env=env,
+            capture_output=True,
+            text=True,
+            check=True,
+        )
+        results[threads] = json.loads(child.stdout)
+    print(f"{args.points:,} points, λ = 0.3, two-stroke phases; ns per point (best of {args.repeat}); "
+          "ratio = baseline time / multicrank time\n")
+    print(f"{'function':<18} {'k':>3} {'threads':>7} {'baseline':>9} {'multicrank':>10} {'ratio':>7}")
+    for threads, rows in results.items():
+        for r in rows:
+            print(
+                f"{r['function']:<18} {r['cranks']:>3} {threads:>7} {r['base_ns']:>9.1f} {r['fast_ns']:>10.2f}"
+                f" {r['base_ns'] / r['fast_ns']:>6.1f}x"
+            )
+
+
+if __name__ == "__main__":
+    main()

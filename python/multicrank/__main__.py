@@ -1,0 +1,3 @@
+from multicrank.cli import main
+
+main()

@@ -1,0 +1,49 @@
+"""Type stubs of the Rust extension module (checked by mypy.stubtest in the tests)."""
+
+import numpy as np
+import numpy.typing as npt
+
+__all__ = [
+    "crank_phases",
+    "evaluate",
+    "dimensionless_moments",
+    "get_parallel_threshold",
+    "set_parallel_threshold",
+    "_after_fork_in_child",
+    "MechanismError",
+    "__version__",
+    "build_profile",
+]
+
+__version__: str
+build_profile: str
+
+class MechanismError(ValueError): ...
+
+def crank_phases(cranks: int, strokes: int, acting: str) -> npt.NDArray[np.float64]: ...
+def evaluate(
+    quantity: str,
+    phi: npt.NDArray[np.float64],
+    crank_ratio: npt.NDArray[np.float64],
+    inclination: npt.NDArray[np.float64],
+    u1: npt.NDArray[np.float64],
+    u2: npt.NDArray[np.float64],
+    phases: npt.NDArray[np.float64],
+) -> npt.NDArray[np.float64]: ...
+def dimensionless_moments(
+    crank_radius: npt.NDArray[np.float64],
+    rod_length: npt.NDArray[np.float64],
+    rod_cg: npt.NDArray[np.float64],
+    piston_mass: npt.NDArray[np.float64],
+    rod_mass: npt.NDArray[np.float64],
+    crank_mass: npt.NDArray[np.float64],
+    crank_cg_radius: npt.NDArray[np.float64],
+    counterweight_mass: npt.NDArray[np.float64],
+    counterweight_radius: npt.NDArray[np.float64],
+    shaft_inertia: npt.NDArray[np.float64],
+    rpm: npt.NDArray[np.float64],
+    g: npt.NDArray[np.float64],
+) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]: ...
+def get_parallel_threshold() -> int: ...
+def set_parallel_threshold(threshold: int) -> None: ...
+def _after_fork_in_child() -> None: ...
