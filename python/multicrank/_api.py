@@ -16,6 +16,7 @@ from ._native import MechanismError
 __all__ = [
     "MechanismError",
     "as_angles",
+    "contiguous",
     "as_design",
     "as_phases",
     "as_count",
@@ -40,6 +41,15 @@ def _as_real_array(value: Any, name: str) -> np.ndarray:
             f" ({type(value).__name__})"
         )
     return array.astype(np.float64, copy=False)
+
+
+def contiguous(array: np.ndarray) -> np.ndarray:
+    """A C-contiguous, aligned float64 array, as the native kernels take it (no copy if it already is).
+
+    np.ascontiguousarray alone would pass a misaligned buffer (np.frombuffer at an odd
+    offset) through, which the extension then refuses.
+    """
+    return np.require(array, dtype=np.float64, requirements=["C_CONTIGUOUS", "ALIGNED"])
 
 
 def as_angles(phi: Any, name: str = "phi") -> np.ndarray:
@@ -76,7 +86,7 @@ def as_phases(phases: Any) -> np.ndarray:
         raise MechanismError("phases must not be empty")
     if not np.all(np.isfinite(array)):
         raise MechanismError("phases must be finite angles in radians")
-    return np.ascontiguousarray(array)
+    return contiguous(array)
 
 
 def as_count(value: Any, name: str, *, minimum: int) -> int:
@@ -115,7 +125,7 @@ def broadcast_designs(**columns: np.ndarray) -> tuple[tuple[int, ...], dict[str,
     except ValueError:
         shapes = ", ".join(f"{k} {v.shape}" for k, v in columns.items())
         raise MechanismError(f"design parameters do not broadcast together: {shapes}") from None
-    flat = {k: np.ascontiguousarray(np.broadcast_to(v, shape)).reshape(-1) for k, v in columns.items()}
+    flat = {k: contiguous(np.broadcast_to(v, shape)).reshape(-1) for k, v in columns.items()}
     return shape, flat
 
 

@@ -13,7 +13,7 @@ from typing import Any
 import numpy as np
 
 from . import _native
-from ._api import as_angles, as_option, as_phases, broadcast_designs, design_keywords, finish
+from ._api import as_angles, as_count, contiguous, as_option, as_phases, broadcast_designs, design_keywords, finish
 
 __all__ = [
     "potential_energy",
@@ -32,7 +32,7 @@ def _evaluate(quantity: str, phi: Any, crank_ratio: Any, inclination: Any, u1: A
     shape, design = broadcast_designs(**design_keywords(crank_ratio, inclination, u1, u2))
     flat = _native.evaluate(
         quantity,
-        np.ascontiguousarray(angles).reshape(-1),
+        contiguous(angles).reshape(-1),
         design["crank_ratio"],
         design["inclination"],
         design["u1"],
@@ -110,6 +110,5 @@ def set_parallel_threshold(threshold: int) -> None:
     0 means always parallel, a huge value always serial. Results are bit-identical either
     way. The number of threads is rayon's: set ``RAYON_NUM_THREADS`` before the first call.
     """
-    from ._api import as_count
-
-    _native.set_parallel_threshold(as_count(threshold, "threshold", minimum=0))
+    threshold = as_count(threshold, "threshold", minimum=0)
+    _native.set_parallel_threshold(min(threshold, 2**63 - 1))

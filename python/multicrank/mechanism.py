@@ -7,7 +7,7 @@ from typing import Any
 import numpy as np
 
 from . import _native
-from ._api import MechanismError, as_count, as_option, as_strokes, finish
+from ._api import MechanismError, as_count, contiguous, as_option, as_strokes, finish
 
 __all__ = ["crank_phases", "dimensionless_moments", "STANDARD_GRAVITY"]
 
@@ -129,6 +129,6 @@ def dimensionless_moments(
     except ValueError:
         shapes = ", ".join(f"{k} {v.shape}" for k, v in arrays.items() if v.shape)
         raise MechanismError(f"physical parameters do not broadcast together: {shapes}") from None
-    flat = [np.ascontiguousarray(np.broadcast_to(a, shape)).reshape(-1) for a in arrays.values()]
+    flat = [contiguous(np.broadcast_to(a, shape)).reshape(-1) for a in arrays.values()]
     u1, u2 = _native.dimensionless_moments(*flat)
     return finish(u1, shape), finish(u2, shape)
