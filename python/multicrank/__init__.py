@@ -20,6 +20,14 @@ from .evaluation import (
     potential_energy,
     set_parallel_threshold,
 )
+from .analysis import EnergyExtrema, energy_extrema, speed_fluctuation
+from .harmonics import (
+    fourier_coefficients,
+    harmonic_table,
+    lambda_coefficients,
+    paper_coefficient,
+    surviving_harmonics,
+)
 from .mechanism import STANDARD_GRAVITY, crank_phases, dimensionless_moments
 
 __version__: str = _native.__version__
@@ -28,6 +36,7 @@ __version__: str = _native.__version__
 _os.register_at_fork(after_in_child=_native._after_fork_in_child)
 
 __all__ = [
+    "EnergyExtrema",
     "FORCE_METHODS",
     "MechanismError",
     "STANDARD_GRAVITY",
@@ -35,9 +44,16 @@ __all__ = [
     "build_profile",
     "crank_phases",
     "dimensionless_moments",
+    "energy_extrema",
     "force_derivative",
+    "fourier_coefficients",
     "generalized_force",
     "get_parallel_threshold",
+    "harmonic_table",
+    "lambda_coefficients",
+    "paper_coefficient",
     "potential_energy",
     "set_parallel_threshold",
+    "speed_fluctuation",
+    "surviving_harmonics",
 ]

@@ -35,12 +35,18 @@ impl fmt::Display for MechanismError {
                 parameter,
                 value,
                 allowed,
-            } => write!(f, "{parameter} = {value} is out of range; allowed: {allowed}"),
+            } => write!(
+                f,
+                "{parameter} = {value} is out of range; allowed: {allowed}"
+            ),
             Self::InvalidChoice {
                 parameter,
                 value,
                 allowed,
-            } => write!(f, "{parameter} = {value} is not allowed; allowed: {allowed}"),
+            } => write!(
+                f,
+                "{parameter} = {value} is not allowed; allowed: {allowed}"
+            ),
             Self::Empty { parameter } => write!(f, "{parameter} must not be empty"),
             Self::LengthMismatch {
                 parameter,

@@ -9,10 +9,10 @@
 //! serial and parallel results are bit-identical.
 
 use multiversion::multiversion;
-use rayon::prelude::*;
 
 use crate::error::{MechanismError, Result};
 use crate::mechanism::{Design, Phases};
+use crate::parallel::{for_each_row_segment, Parallelism};
 use crate::trig::sincos_block;
 
 /// Which closed-form quantity to evaluate.
@@ -26,37 +26,8 @@ pub enum Quantity {
     ForceDerivative,
 }
 
-/// When to spread work over rayon's thread pool.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Parallelism {
-    /// Smallest amount of work (output points × cranks) worth going parallel for;
-    /// `usize::MAX` means always serial.
-    pub threshold: usize,
-}
-
-impl Parallelism {
-    pub const SERIAL: Self = Self {
-        threshold: usize::MAX,
-    };
-    pub const DEFAULT_THRESHOLD: usize = 1 << 15;
-
-    pub fn runs_parallel(self, work: usize) -> bool {
-        work >= self.threshold
-    }
-}
-
-impl Default for Parallelism {
-    fn default() -> Self {
-        Self {
-            threshold: Self::DEFAULT_THRESHOLD,
-        }
-    }
-}
-
 /// Points per sincos block: the block's sin/cos stay in L1 across the crank loop.
 const BLOCK: usize = 256;
-/// Output elements per parallel task.
-const CHUNK: usize = 8 * 1024;
 
 /// The contribution of one crank at angle ψ, given (sin ψ, cos ψ).
 trait CrankTerm {
@@ -161,7 +132,13 @@ fn derivative_run(k: &Coefficients, phases: &Phases, phi: &[f64], out: &mut [f64
     sum_over_cranks(&ForceDerivative(*k), phases, phi, out)
 }
 
-fn evaluate_run(quantity: Quantity, design: &Design, phases: &Phases, phi: &[f64], out: &mut [f64]) {
+fn evaluate_run(
+    quantity: Quantity,
+    design: &Design,
+    phases: &Phases,
+    phi: &[f64],
+    out: &mut [f64],
+) {
     let k = Coefficients::new(design);
     match quantity {
         Quantity::PotentialEnergy => energy_run(&k, phases, phi, out),
@@ -189,32 +166,21 @@ pub fn evaluate(
             found: out.len(),
         });
     }
-    if expected == 0 {
-        return Ok(());
-    }
-    // A chunk of the flat output may span several designs: walk it row segment by segment.
-    let fill_chunk = |(index, chunk): (usize, &mut [f64])| {
-        let mut flat = index * CHUNK;
-        let mut done = 0;
-        while done < chunk.len() {
-            let (row, col) = (flat / n_phi, flat % n_phi);
-            let len = (n_phi - col).min(chunk.len() - done);
+    for_each_row_segment(
+        out,
+        n_phi,
+        expected.saturating_mul(phases.len()),
+        parallelism,
+        |row, col, segment| {
             evaluate_run(
                 quantity,
                 &designs[row],
                 phases,
-                &phi[col..col + len],
-                &mut chunk[done..done + len],
-            );
-            flat += len;
-            done += len;
-        }
-    };
-    if parallelism.runs_parallel(expected.saturating_mul(phases.len())) {
-        out.par_chunks_mut(CHUNK).enumerate().for_each(fill_chunk);
-    } else {
-        out.chunks_mut(CHUNK).enumerate().for_each(fill_chunk);
-    }
+                &phi[col..col + segment.len()],
+                segment,
+            )
+        },
+    );
     Ok(())
 }
 
@@ -223,4 +189,11 @@ pub fn evaluate_one(quantity: Quantity, design: &Design, phases: &Phases, phi: &
     let mut out = vec![0.0; phi.len()];
     evaluate_run(quantity, design, phases, phi, &mut out);
     out
+}
+
+/// `quantity` for one design at one angle (for root polishing).
+pub fn evaluate_point(quantity: Quantity, design: &Design, phases: &Phases, phi: f64) -> f64 {
+    let mut out = [0.0];
+    evaluate_run(quantity, design, phases, &[phi], &mut out);
+    out[0]
 }

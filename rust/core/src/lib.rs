@@ -6,11 +6,25 @@
 //! outer dead centre; every crank unit's energy is measured from its own ψ = 0 position;
 //! energies are dimensionless, U* = U/(I_w ω²).
 
+mod doubledouble;
 pub mod error;
 pub mod exact;
+pub mod extrema;
+pub mod harmonics;
 pub mod mechanism;
+pub mod parallel;
+pub mod series;
 pub mod trig;
 
 pub use error::{MechanismError, Result};
-pub use exact::{evaluate, evaluate_one, Parallelism, Quantity};
-pub use mechanism::{crank_phases, Acting, Design, Phases, PhysicalUnit, Strokes, STANDARD_GRAVITY};
+pub use exact::{evaluate, evaluate_one, evaluate_point, Quantity};
+pub use extrema::{all_energy_extrema, energy_extrema, EnergyExtrema};
+pub use harmonics::{
+    fourier_coefficients, harmonic_survives, lambda_exact, lambda_paper, paper_coefficient,
+    surviving_harmonics, PhaseSums,
+};
+pub use mechanism::{
+    crank_phases, Acting, Design, Phases, PhysicalUnit, Strokes, STANDARD_GRAVITY,
+};
+pub use parallel::Parallelism;
+pub use series::{build_series, evaluate_series, FourierSeries, SeriesKind};

@@ -165,7 +165,12 @@ impl PhysicalUnit {
     fn validate(&self) -> Result<()> {
         let positive = |x: f64| x > 0.0;
         let non_negative = |x: f64| x >= 0.0;
-        check("crank_radius", self.crank_radius, "crank_radius > 0", positive)?;
+        check(
+            "crank_radius",
+            self.crank_radius,
+            "crank_radius > 0",
+            positive,
+        )?;
         check(
             "rod_length",
             self.rod_length,
@@ -175,10 +180,25 @@ impl PhysicalUnit {
         check("rod_cg", self.rod_cg, "0 <= rod_cg <= rod_length", |z| {
             (0.0..=self.rod_length).contains(&z)
         })?;
-        check("piston_mass", self.piston_mass, "piston_mass >= 0", non_negative)?;
+        check(
+            "piston_mass",
+            self.piston_mass,
+            "piston_mass >= 0",
+            non_negative,
+        )?;
         check("rod_mass", self.rod_mass, "rod_mass >= 0", non_negative)?;
-        check("crank_mass", self.crank_mass, "crank_mass >= 0", non_negative)?;
-        check("crank_cg_radius", self.crank_cg_radius, "crank_cg_radius >= 0", non_negative)?;
+        check(
+            "crank_mass",
+            self.crank_mass,
+            "crank_mass >= 0",
+            non_negative,
+        )?;
+        check(
+            "crank_cg_radius",
+            self.crank_cg_radius,
+            "crank_cg_radius >= 0",
+            non_negative,
+        )?;
         check(
             "counterweight_mass",
             self.counterweight_mass,
@@ -191,7 +211,12 @@ impl PhysicalUnit {
             "counterweight_radius >= 0",
             non_negative,
         )?;
-        check("shaft_inertia", self.shaft_inertia, "shaft_inertia > 0", positive)?;
+        check(
+            "shaft_inertia",
+            self.shaft_inertia,
+            "shaft_inertia > 0",
+            positive,
+        )?;
         check("rpm", self.rpm, "rpm > 0", positive)?;
         check("g", self.g, "any finite real", |_| true)?;
         Ok(())

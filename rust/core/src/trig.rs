@@ -50,10 +50,13 @@ pub fn sincos_reduced(x: f64) -> (f64, f64) {
     let q = shifted - ROUND_MAGIC;
     let r = ((x - q * PIO2_HI) - q * PIO2_MID) - q * PIO2_LO;
     let z = r * r;
-    let sin_r =
-        r + r * z * (S3 + z * (S5 + z * (S7 + z * (S9 + z * (S11 + z * (S13 + z * (S15 + z * S17)))))));
+    let sin_r = r + r
+        * z
+        * (S3 + z * (S5 + z * (S7 + z * (S9 + z * (S11 + z * (S13 + z * (S15 + z * S17)))))));
     let cos_r = 1.0
-        + z * (C2 + z * (C4 + z * (C6 + z * (C8 + z * (C10 + z * (C12 + z * (C14 + z * (C16 + z * C18))))))));
+        + z * (C2
+            + z * (C4
+                + z * (C6 + z * (C8 + z * (C10 + z * (C12 + z * (C14 + z * (C16 + z * C18))))))));
     // sin(qπ/2 + r), cos(qπ/2 + r): swap for odd q, then flip signs by quadrant.
     let (s, c) = if quadrant & 1 == 0 {
         (sin_r, cos_r)
@@ -97,7 +100,10 @@ mod tests {
             worst = worst.max((s - x.sin()).abs()).max((c - x.cos()).abs());
             x += 0.000_731_3;
         }
-        assert!(worst <= 2.0 * f64::EPSILON, "worst absolute error {worst:e}");
+        assert!(
+            worst <= 2.0 * f64::EPSILON,
+            "worst absolute error {worst:e}"
+        );
     }
 
     #[test]
@@ -107,7 +113,11 @@ mod tests {
         assert_eq!((s, c), (-0.0, 1.0));
         let mut s = [0.0; 4];
         let mut c = [0.0; 4];
-        sincos_block(&[f64::NAN, f64::INFINITY, f64::NEG_INFINITY, 1.0e9], &mut s, &mut c);
+        sincos_block(
+            &[f64::NAN, f64::INFINITY, f64::NEG_INFINITY, 1.0e9],
+            &mut s,
+            &mut c,
+        );
         assert!(s[..3].iter().chain(&c[..3]).all(|v| v.is_nan()));
         assert_eq!((s[3], c[3]), 1.0e9_f64.sin_cos());
     }

@@ -9,7 +9,9 @@ use multicrank_core::{
 };
 
 fn grid(n: usize, from: f64, to: f64) -> Vec<f64> {
-    (0..n).map(|i| from + (to - from) * i as f64 / n as f64).collect()
+    (0..n)
+        .map(|i| from + (to - from) * i as f64 / n as f64)
+        .collect()
 }
 
 fn designs() -> Vec<Design> {
@@ -20,10 +22,6 @@ fn designs() -> Vec<Design> {
         }
     }
     out
-}
-
-fn max_abs(v: &[f64]) -> f64 {
-    v.iter().fold(0.0, |m, x| m.max(x.abs()))
 }
 
 /// The natural size of U*, Q* and dQ*/dφ for a design: sums over k cranks of terms that
@@ -40,7 +38,8 @@ fn force_is_the_derivative_of_energy_and_derivative_of_force() {
     let plus: Vec<f64> = phi.iter().map(|p| p + h).collect();
     let minus: Vec<f64> = phi.iter().map(|p| p - h).collect();
     for cranks in [1, 3, 8] {
-        let phases = Phases::new(&crank_phases(cranks, Strokes::Four, Acting::Single).unwrap()).unwrap();
+        let phases =
+            Phases::new(&crank_phases(cranks, Strokes::Four, Acting::Single).unwrap()).unwrap();
         for d in designs() {
             for (integral, derivative) in [
                 (Quantity::PotentialEnergy, Quantity::GeneralizedForce),
@@ -147,7 +146,15 @@ fn serial_equals_parallel_bit_for_bit() {
             Quantity::GeneralizedForce,
             Quantity::ForceDerivative,
         ] {
-            evaluate(quantity, &designs, &phases, &phi, &mut serial, Parallelism::SERIAL).unwrap();
+            evaluate(
+                quantity,
+                &designs,
+                &phases,
+                &phi,
+                &mut serial,
+                Parallelism::SERIAL,
+            )
+            .unwrap();
             evaluate(
                 quantity,
                 &designs,
@@ -157,7 +164,10 @@ fn serial_equals_parallel_bit_for_bit() {
                 Parallelism { threshold: 0 },
             )
             .unwrap();
-            assert!(serial.iter().zip(&parallel).all(|(a, b)| a.to_bits() == b.to_bits()));
+            assert!(serial
+                .iter()
+                .zip(&parallel)
+                .all(|(a, b)| a.to_bits() == b.to_bits()));
             // And each row equals the one-design evaluation.
             for (row, d) in designs.iter().enumerate().step_by(7) {
                 let alone = evaluate_one(quantity, d, &phases, &phi);
@@ -172,9 +182,19 @@ fn rejects_bad_requests() {
     let phases = Phases::single();
     let d = [Design::new(0.3, 0.0, 1.0, 1.0).unwrap()];
     let mut out = vec![0.0; 3];
-    let err = evaluate(Quantity::GeneralizedForce, &d, &phases, &[0.0; 4], &mut out, Parallelism::SERIAL)
-        .unwrap_err();
+    let err = evaluate(
+        Quantity::GeneralizedForce,
+        &d,
+        &phases,
+        &[0.0; 4],
+        &mut out,
+        Parallelism::SERIAL,
+    )
+    .unwrap_err();
     assert!(err.to_string().contains("out"));
     assert!(Phases::new(&[]).is_err());
-    assert!(Phases::new(&[0.0, f64::NAN]).unwrap_err().to_string().contains("phases"));
+    assert!(Phases::new(&[0.0, f64::NAN])
+        .unwrap_err()
+        .to_string()
+        .contains("phases"));
 }

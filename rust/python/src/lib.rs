@@ -41,6 +41,31 @@ fn slice<'a>(array: &'a PyReadonlyArray1<'_, f64>) -> PyResult<&'a [f64]> {
     Ok(array.as_slice()?)
 }
 
+/// The four broadcast design columns as validated designs.
+fn designs_from(columns: [&[f64]; 4]) -> core::Result<Vec<core::Design>> {
+    let n = columns[0].len();
+    if let Some(bad) = columns.iter().find(|c| c.len() != n) {
+        return Err(core::MechanismError::LengthMismatch {
+            parameter: "design arrays",
+            expected: n,
+            found: bad.len(),
+        });
+    }
+    (0..n)
+        .map(|i| core::Design::new(columns[0][i], columns[1][i], columns[2][i], columns[3][i]))
+        .collect()
+}
+
+fn series_kind(method: &str) -> PyResult<core::SeriesKind> {
+    match method {
+        "exact" | "series" => Ok(core::SeriesKind::Exact),
+        "paper" => Ok(core::SeriesKind::Paper),
+        other => Err(MechanismError::new_err(format!(
+            "method = {other:?} is not allowed; allowed: \"exact\", \"series\", \"paper\""
+        ))),
+    }
+}
+
 #[pymodule]
 mod _native {
     use super::*;
@@ -51,7 +76,11 @@ mod _native {
         m.add("__version__", env!("CARGO_PKG_VERSION"))?;
         m.add(
             "build_profile",
-            if cfg!(debug_assertions) { "debug" } else { "release" },
+            if cfg!(debug_assertions) {
+                "debug"
+            } else {
+                "release"
+            },
         )?;
         Ok(())
     }
@@ -104,24 +133,12 @@ mod _native {
             slice(&u1)?,
             slice(&u2)?,
         ];
-        let n_designs = columns[0].len();
-        if let Some(bad) = columns.iter().find(|c| c.len() != n_designs) {
-            return Err(to_py_err(core::MechanismError::LengthMismatch {
-                parameter: "design arrays",
-                expected: n_designs,
-                found: bad.len(),
-            }));
-        }
         let parallelism = parallelism();
         let out = py
             .detach(|| -> core::Result<Vec<f64>> {
                 let phases = core::Phases::new(phases)?;
-                let designs = (0..n_designs)
-                    .map(|i| {
-                        core::Design::new(columns[0][i], columns[1][i], columns[2][i], columns[3][i])
-                    })
-                    .collect::<core::Result<Vec<_>>>()?;
-                let mut out = vec![0.0; n_designs * phi.len()];
+                let designs = designs_from(columns)?;
+                let mut out = vec![0.0; designs.len() * phi.len()];
                 core::evaluate(quantity, &designs, &phases, phi, &mut out, parallelism)?;
                 Ok(out)
             })
@@ -193,6 +210,189 @@ mod _native {
             .into_iter()
             .unzip();
         Ok((u1.into_pyarray(py), u2.into_pyarray(py)))
+    }
+
+    /// evaluate_series(method, phi, crank_ratio, inclination, u1, u2, phases) -> flat Q_u*
+    /// from the Fourier form ("series": exact Λ_n to machine precision; "paper": eq. 16).
+    #[pyfunction]
+    #[allow(clippy::too_many_arguments)]
+    fn evaluate_series<'py>(
+        py: Python<'py>,
+        method: &str,
+        phi: PyReadonlyArray1<'py, f64>,
+        crank_ratio: PyReadonlyArray1<'py, f64>,
+        inclination: PyReadonlyArray1<'py, f64>,
+        u1: PyReadonlyArray1<'py, f64>,
+        u2: PyReadonlyArray1<'py, f64>,
+        phases: PyReadonlyArray1<'py, f64>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let kind = series_kind(method)?;
+        let (phi, phases) = (slice(&phi)?, slice(&phases)?);
+        let columns = [
+            slice(&crank_ratio)?,
+            slice(&inclination)?,
+            slice(&u1)?,
+            slice(&u2)?,
+        ];
+        let parallelism = parallelism();
+        let out = py
+            .detach(|| -> core::Result<Vec<f64>> {
+                core::Phases::new(phases)?;
+                let designs = designs_from(columns)?;
+                let series = core::build_series(kind, &designs, phases, parallelism);
+                let mut out = vec![0.0; designs.len() * phi.len()];
+                core::evaluate_series(&series, phi, &mut out, parallelism)?;
+                Ok(out)
+            })
+            .map_err(to_py_err)?;
+        Ok(out.into_pyarray(py))
+    }
+
+    /// lambda_coefficients(crank_ratio, n_max, method) -> flat (len(crank_ratio) * (n_max+1)),
+    /// method "exact" or "paper". crank_ratio already validated.
+    #[pyfunction]
+    fn lambda_coefficients<'py>(
+        py: Python<'py>,
+        crank_ratio: PyReadonlyArray1<'py, f64>,
+        n_max: usize,
+        method: &str,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let kind = match method {
+            "exact" => core::SeriesKind::Exact,
+            "paper" => core::SeriesKind::Paper,
+            other => {
+                return Err(MechanismError::new_err(format!(
+                    "method = {other:?} is not allowed; allowed: \"exact\", \"paper\""
+                )))
+            }
+        };
+        let lambdas = slice(&crank_ratio)?;
+        let out = py.detach(|| {
+            let mut out = vec![0.0; lambdas.len() * (n_max + 1)];
+            for (row, &lambda) in out.chunks_mut(n_max + 1).zip(lambdas) {
+                match kind {
+                    core::SeriesKind::Exact => core::lambda_exact(lambda, row),
+                    core::SeriesKind::Paper => core::lambda_paper(lambda, row),
+                }
+            }
+            out
+        });
+        Ok(out.into_pyarray(py))
+    }
+
+    /// paper_coefficient(i, j) -> (numerator, denominator) of [λ^(2j+1)] Λ_(2i), exact.
+    #[pyfunction]
+    fn paper_coefficient(i: u32, j: u32) -> PyResult<(i64, u64)> {
+        if j > 20 {
+            return Err(MechanismError::new_err(format!(
+                "j = {j} is out of range; allowed: 0 <= j <= 20"
+            )));
+        }
+        Ok(core::paper_coefficient(i, j))
+    }
+
+    /// surviving_harmonics(cranks, strokes, acting, n_max) -> the n <= n_max that survive.
+    #[pyfunction]
+    fn surviving_harmonics(
+        cranks: u64,
+        strokes: i64,
+        acting: &str,
+        n_max: u64,
+    ) -> PyResult<Vec<u64>> {
+        let strokes = core::Strokes::from_count(strokes).map_err(to_py_err)?;
+        let acting = core::Acting::from_name(acting).map_err(to_py_err)?;
+        Ok(core::surviving_harmonics(cranks, strokes, acting, n_max))
+    }
+
+    /// fourier_coefficients(crank_ratio, inclination, u1, u2, phases, n_max) -> (a, b),
+    /// each flat of length len(crank_ratio) * (n_max + 1).
+    #[pyfunction]
+    #[allow(clippy::too_many_arguments)]
+    fn fourier_coefficients<'py>(
+        py: Python<'py>,
+        crank_ratio: PyReadonlyArray1<'py, f64>,
+        inclination: PyReadonlyArray1<'py, f64>,
+        u1: PyReadonlyArray1<'py, f64>,
+        u2: PyReadonlyArray1<'py, f64>,
+        phases: PyReadonlyArray1<'py, f64>,
+        n_max: usize,
+    ) -> PyResult<(Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>)> {
+        let phases = slice(&phases)?;
+        let columns = [
+            slice(&crank_ratio)?,
+            slice(&inclination)?,
+            slice(&u1)?,
+            slice(&u2)?,
+        ];
+        let (a, b) = py
+            .detach(|| -> core::Result<(Vec<f64>, Vec<f64>)> {
+                core::Phases::new(phases)?;
+                let designs = designs_from(columns)?;
+                let sums = core::PhaseSums::new(phases, n_max.max(1));
+                let width = n_max + 1;
+                let mut a = vec![0.0; designs.len() * width];
+                let mut b = vec![0.0; designs.len() * width];
+                for ((design, a), b) in designs
+                    .iter()
+                    .zip(a.chunks_mut(width))
+                    .zip(b.chunks_mut(width))
+                {
+                    core::fourier_coefficients(design, &sums, a, b);
+                }
+                Ok((a, b))
+            })
+            .map_err(to_py_err)?;
+        Ok((a.into_pyarray(py), b.into_pyarray(py)))
+    }
+
+    /// energy_extrema(crank_ratio, inclination, u1, u2, phases) -> (min, min_at, max, max_at)
+    /// of U_w* over one revolution, exact (roots of Q_u* polished by Newton).
+    #[pyfunction]
+    #[allow(clippy::type_complexity)]
+    fn energy_extrema<'py>(
+        py: Python<'py>,
+        crank_ratio: PyReadonlyArray1<'py, f64>,
+        inclination: PyReadonlyArray1<'py, f64>,
+        u1: PyReadonlyArray1<'py, f64>,
+        u2: PyReadonlyArray1<'py, f64>,
+        phases: PyReadonlyArray1<'py, f64>,
+    ) -> PyResult<(
+        Bound<'py, PyArray1<f64>>,
+        Bound<'py, PyArray1<f64>>,
+        Bound<'py, PyArray1<f64>>,
+        Bound<'py, PyArray1<f64>>,
+    )> {
+        let alphas = slice(&phases)?;
+        let columns = [
+            slice(&crank_ratio)?,
+            slice(&inclination)?,
+            slice(&u1)?,
+            slice(&u2)?,
+        ];
+        let parallelism = parallelism();
+        let extrema = py
+            .detach(|| -> core::Result<Vec<core::EnergyExtrema>> {
+                let phases = core::Phases::new(alphas)?;
+                let designs = designs_from(columns)?;
+                let series =
+                    core::build_series(core::SeriesKind::Exact, &designs, alphas, parallelism);
+                Ok(core::all_energy_extrema(
+                    &designs,
+                    &phases,
+                    &series,
+                    parallelism,
+                ))
+            })
+            .map_err(to_py_err)?;
+        let column = |f: fn(&core::EnergyExtrema) -> f64| {
+            extrema.iter().map(f).collect::<Vec<_>>().into_pyarray(py)
+        };
+        Ok((
+            column(|e| e.min),
+            column(|e| e.min_at),
+            column(|e| e.max),
+            column(|e| e.max_at),
+        ))
     }
 
     /// The work size (points × cranks) from which kernels run in parallel.

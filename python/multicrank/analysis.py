@@ -1,0 +1,48 @@
+"""What the numbers mean: the extrema of U_w* and the speed fluctuation due to gravity (§6)."""
+
+from __future__ import annotations
+
+from typing import Any, NamedTuple
+
+import numpy as np
+
+from . import _native
+from ._api import as_phases, broadcast_designs, design_keywords, finish
+
+__all__ = ["EnergyExtrema", "energy_extrema", "speed_fluctuation"]
+
+
+class EnergyExtrema(NamedTuple):
+    """min and max of U_w* over one revolution and the crank angles φ ∈ [0, 2π] where they occur."""
+
+    min: np.ndarray
+    min_at: np.ndarray
+    max: np.ndarray
+    max_at: np.ndarray
+
+
+def energy_extrema(*, crank_ratio: Any, inclination: Any, u1: Any, u2: Any, phases: Any = None) -> EnergyExtrema:
+    """The exact minimum and maximum of U_w*(φ) over one revolution.
+
+    Q_u* = dU_w*/dφ is sampled on a grid of 16 points per period of its highest significant
+    harmonic (≥ 128 points); each sign change brackets an extremum, polished by Newton steps
+    with the closed-form dQ_u*/dφ kept inside the bracket. Each field has the broadcast
+    design shape D.
+    """
+    shape, design = broadcast_designs(**design_keywords(crank_ratio, inclination, u1, u2))
+    fields = _native.energy_extrema(
+        design["crank_ratio"], design["inclination"], design["u1"], design["u2"], as_phases(phases)
+    )
+    return EnergyExtrema(*(finish(f, shape) for f in fields))
+
+
+def speed_fluctuation(*, crank_ratio: Any, inclination: Any, u1: Any, u2: Any, phases: Any = None):
+    """δ_g = max U_w* − min U_w* over one revolution (mathematics.md §6).
+
+    With constant reduced inertia I_w and gravity alone, ½I_w ω² + U is constant, so to
+    first order the gravity contribution to the coefficient of speed fluctuation
+    (ω_max − ω_min)/ω_mean is δ_g. Computed from the exact extrema (roots of Q_u*), so it is
+    never below a sampled max − min. Returns shape D (a numpy float64 for scalar input).
+    """
+    extrema = energy_extrema(crank_ratio=crank_ratio, inclination=inclination, u1=u1, u2=u2, phases=phases)
+    return extrema.max - extrema.min

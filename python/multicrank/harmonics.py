@@ -1,0 +1,138 @@
+"""Harmonics of Q_u* (mathematics.md §4–5): Λ_n, the surviving harmonics, the paper's
+Tables 1–2 and the Fourier coefficients of any machine."""
+
+from __future__ import annotations
+
+from fractions import Fraction
+from typing import Any
+
+import numpy as np
+
+from . import _native
+from ._api import (
+    as_count,
+    as_design,
+    as_option,
+    as_phases,
+    as_strokes,
+    broadcast_designs,
+    contiguous,
+    design_keywords,
+)
+
+__all__ = [
+    "fourier_coefficients",
+    "harmonic_table",
+    "lambda_coefficients",
+    "paper_coefficient",
+    "surviving_harmonics",
+]
+
+
+def lambda_coefficients(crank_ratio: Any, n_max: int, method: str = "exact") -> np.ndarray:
+    """Λ_0 … Λ_{n_max}: the sine coefficients of f(ψ) = (λ/2) sin 2ψ / √(1 − λ² sin² ψ).
+
+    .. math::
+
+        f(\\psi) = \\sum_{n=2,4,\\dots} \\Lambda_n(\\lambda) \\sin n\\psi, \\qquad
+        \\Lambda_{2m} = 2m\\binom{1/2}{m} t^{2m-1}\\,
+            {}_2F_1\\!\\left(-\\tfrac12, m-\\tfrac12; m+1; t^4\\right),\\quad
+        t = \\frac{\\lambda}{1 + \\sqrt{1-\\lambda^2}}.
+
+    Λ_0 and the odd entries are 0; the sign of Λ_{2m} is (−1)^{m−1}.
+
+    Parameters
+    ----------
+    crank_ratio : λ, scalar or array, 0 ≤ λ < 1
+    n_max : int ≥ 0, the highest index returned
+    method : "exact" (the closed form above; t and t^{2m−1} in double-double, ≤ ~1e-15·n
+        relative) or "paper" (eq. 15: the λ-series through λ¹¹ with exact rational
+        coefficients, harmonics n ≤ 12; entries above 12 are 0, as the paper cuts there)
+
+    Returns
+    -------
+    ndarray of shape λ.shape + (n_max + 1,)
+    """
+    lam = as_design(crank_ratio, "crank_ratio", low=0.0, high=1.0)
+    n_max = as_count(n_max, "n_max", minimum=0)
+    method = as_option(method, "method", ("exact", "paper"))
+    flat = _native.lambda_coefficients(contiguous(lam).reshape(-1), n_max, method)
+    return flat.reshape(lam.shape + (n_max + 1,))
+
+
+def paper_coefficient(i: int, j: int) -> Fraction:
+    """The exact rational [λ^{2j+1}] Λ_{2i} of eq. (15) (0 for j < i − 1):
+
+    (−1)^{i+1} · (2i/(j+1)) · C(2j, j) · C(2j+2, j+1−i) / 4^{2j+1}.
+    """
+    numerator, denominator = _native.paper_coefficient(as_count(i, "i", minimum=1), as_count(j, "j", minimum=0))
+    return Fraction(numerator, denominator)
+
+
+def surviving_harmonics(cranks: int, strokes: int = 2, acting: str = "single", n_max: int = 24) -> list[int]:
+    """The harmonics n ≤ n_max of Q_u* that survive the sum over a regular crank set (§5).
+
+    Only n = 1 (the N and W1 terms) and even n (the W_n terms) carry coefficients; each
+    survives when its phase sum S_n = Σ_j e^{inα_j} is non-zero. With α = 2πp/q the sum is
+    k when q | np and zero when q ∤ np but q | npk — decided in exact integer arithmetic.
+    """
+    return _native.surviving_harmonics(
+        as_count(cranks, "cranks", minimum=1),
+        as_strokes(strokes),
+        as_option(acting, "acting", ("single", "double")),
+        as_count(n_max, "n_max", minimum=0),
+    )
+
+
+def harmonic_table(strokes: int = 2, acting: str = "single", k_max: int = 12, n_max: int = 12):
+    """Which W_n are non-zero for k = 1 … k_max cranks: the paper's Table 1 (two-stroke,
+    single-acting), its unprinted Table 2 (four-stroke) and the double-acting tables.
+
+    Returns
+    -------
+    pandas.DataFrame of booleans, rows n (1 and the even n ≤ n_max, index "n"),
+    columns k = 1 … k_max (named "k").
+    """
+    import pandas as pd
+
+    strokes = as_strokes(strokes)
+    acting = as_option(acting, "acting", ("single", "double"))
+    k_max = as_count(k_max, "k_max", minimum=1)
+    n_max = as_count(n_max, "n_max", minimum=1)
+    rows = [1] + list(range(2, n_max + 1, 2))
+    table = pd.DataFrame(
+        False, index=pd.Index(rows, name="n"), columns=pd.Index(range(1, k_max + 1), name="k"), dtype=bool
+    )
+    for k in table.columns:
+        surviving = set(surviving_harmonics(k, strokes, acting, n_max))
+        table[k] = [n in surviving for n in rows]
+    return table
+
+
+def fourier_coefficients(
+    *, crank_ratio: Any, inclination: Any, u1: Any, u2: Any, phases: Any = None, n_max: int = 24
+) -> tuple[np.ndarray, np.ndarray]:
+    """Fourier coefficients of Q_u*(φ) = Σ_{n=0}^{n_max} a_n cos nφ + b_n sin nφ, exact Λ_n.
+
+    Per unit Q = N cos ψ + W1 sin ψ + Σ_{n even} W_n sin nψ with N = U2 cos γ,
+    N1 = −U1 sin γ, N2 = −U2 sin γ, W1 = N1 + N2, W_n = N1 Λ_n (eq. 14); summed over the
+    cranks with C_n + iS_n = Σ_j e^{inα_j}:
+
+        a_1 = N C_1 + W1 S_1,  b_1 = W1 C_1 − N S_1,  a_n = W_n S_n,  b_n = W_n C_n (n even).
+
+    Works for any phase set; a phase sum below its rounding noise is taken as exactly 0
+    (the harmonic has cancelled). a_0 = 0 and the odd a_n, b_n above n = 1 are 0.
+
+    Returns
+    -------
+    (a, b), each of shape D + (n_max + 1,).
+    """
+    shape, design = broadcast_designs(**design_keywords(crank_ratio, inclination, u1, u2))
+    n_max = as_count(n_max, "n_max", minimum=0)
+    a, b = _native.fourier_coefficients(
+        design["crank_ratio"], design["inclination"], design["u1"], design["u2"], as_phases(phases), n_max
+    )
+    width = (n_max + 1,)
+    return a.reshape(shape + width), b.reshape(shape + width)
+
+

@@ -1,0 +1,147 @@
+//! The exact extrema of U_w* over one revolution and the speed fluctuation due to gravity,
+//! δ_g = max U_w* − min U_w* (mathematics.md §6).
+//!
+//! Everything is done on the machine-precision Fourier form of Q_u* (series.rs) and its
+//! antiderivative and derivative, not on the closed form: where the crank sum cancels all
+//! but a tiny high harmonic (k = 7, say), the closed form's rounding noise (ε times the
+//! single-crank terms) would swamp U_w*'s variation, while the series carries exactly the
+//! surviving harmonics to full relative precision. The closed form fixes only the constant
+//! (U_w* at φ = 0).
+//!
+//! Q_u* is sampled on a grid fine enough for its highest significant harmonic; every sign
+//! change brackets an extremum of U_w*, which safeguarded Newton steps polish to full
+//! precision. The grid values are candidates too, so the result is never below a sampled
+//! maximum minus minimum on the same grid, and Q_u* ≡ 0 (U_w* constant, e.g. γ = 0 with
+//! k ≥ 2) gives exactly 0.
+
+use std::f64::consts::TAU;
+
+use crate::exact::{evaluate_point, Quantity};
+use crate::mechanism::{Design, Phases};
+use crate::parallel::{map_indices, Parallelism};
+use crate::series::{evaluate_series_one, FourierSeries};
+
+/// min and max of U_w* over one revolution, with the angles where they occur.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct EnergyExtrema {
+    pub min: f64,
+    pub min_at: f64,
+    pub max: f64,
+    pub max_at: f64,
+}
+
+impl EnergyExtrema {
+    pub fn range(&self) -> f64 {
+        self.max - self.min
+    }
+}
+
+/// Grid points per revolution: 16 per period of the highest harmonic that matters
+/// (amplitude ≥ 1e-9 of the largest), at least 128.
+fn grid_size(series: &FourierSeries) -> usize {
+    let largest = series
+        .cos
+        .iter()
+        .zip(&series.sin)
+        .map(|(a, b)| a.hypot(*b))
+        .fold(series.a1.hypot(series.b1), f64::max);
+    let mut highest = 1;
+    for (nu, (a, b)) in series.cos.iter().zip(&series.sin).enumerate() {
+        if a.hypot(*b) >= 1e-9 * largest {
+            highest = (nu + 1) * series.step;
+        }
+    }
+    (16 * highest).max(128)
+}
+
+/// The root of Q in [lo, hi], where Q(lo) and Q(hi) differ in sign: Newton steps kept
+/// inside the shrinking bracket, bisection where Newton would leave it.
+fn polish_root(
+    force: &FourierSeries,
+    slope: &FourierSeries,
+    mut lo: f64,
+    mut hi: f64,
+    q_lo: f64,
+) -> f64 {
+    let (force, slope) = (|x| force.value_at(x), |x| slope.value_at(x));
+    let mut x = 0.5 * (lo + hi);
+    for _ in 0..100 {
+        let q = force(x);
+        if q == 0.0 {
+            return x;
+        }
+        if (q < 0.0) == (q_lo < 0.0) {
+            lo = x;
+        } else {
+            hi = x;
+        }
+        let dq = slope(x);
+        let newton = x - q / dq;
+        let next = if dq != 0.0 && newton > lo && newton < hi {
+            newton
+        } else {
+            0.5 * (lo + hi)
+        };
+        if (next - x).abs() <= 2.0 * f64::EPSILON * x.abs().max(1.0)
+            || hi - lo <= 4.0 * f64::EPSILON * x.abs().max(1.0)
+        {
+            return next;
+        }
+        x = next;
+    }
+    x
+}
+
+/// The exact extrema of U_w* over φ ∈ [0, 2π) for one design.
+pub fn energy_extrema(design: &Design, phases: &Phases, series: &FourierSeries) -> EnergyExtrema {
+    let energy = series.integral();
+    let slope = series.derivative();
+    let m = grid_size(series);
+    let phi: Vec<f64> = (0..=m).map(|i| TAU * i as f64 / m as f64).collect();
+    let (mut q, mut u) = (vec![0.0; m + 1], vec![0.0; m + 1]);
+    evaluate_series_one(series, &phi, &mut q);
+    evaluate_series_one(&energy, &phi, &mut u);
+    // The series' antiderivative has no constant term; the closed form sets the level.
+    let level = evaluate_point(Quantity::PotentialEnergy, design, phases, 0.0) - u[0];
+    for value in &mut u {
+        *value += level;
+    }
+    let mut best = EnergyExtrema {
+        min: u[0],
+        min_at: 0.0,
+        max: u[0],
+        max_at: 0.0,
+    };
+    let mut consider = |at: f64, value: f64| {
+        if value < best.min {
+            best.min = value;
+            best.min_at = at;
+        }
+        if value > best.max {
+            best.max = value;
+            best.max_at = at;
+        }
+    };
+    for i in 0..m {
+        consider(phi[i], u[i]);
+        let (qa, qb) = (q[i], q[i + 1]);
+        // Q changes sign strictly inside the cell (a zero at a grid point is a candidate already).
+        if (qa < 0.0 && qb > 0.0) || (qa > 0.0 && qb < 0.0) {
+            let root = polish_root(series, &slope, phi[i], phi[i + 1], qa);
+            consider(root, energy.value_at(root) + level);
+        }
+    }
+    best
+}
+
+/// The extrema of U_w* for every design (each with its own series for the grid size).
+pub fn all_energy_extrema(
+    designs: &[Design],
+    phases: &Phases,
+    series: &[FourierSeries],
+    parallelism: Parallelism,
+) -> Vec<EnergyExtrema> {
+    map_indices(designs.len(), designs.len() * 4096, parallelism, |i| {
+        energy_extrema(&designs[i], phases, &series[i])
+    })
+}

@@ -1,0 +1,338 @@
+//! Harmonics of Q_u* (mathematics.md §4–5): the coefficients Λ_n of
+//! f(ψ) = (λ/2) sin 2ψ / √(1 − λ² sin² ψ) = Σ_{n even} Λ_n sin nψ — exact and as the paper's
+//! λ-series —, the crank phase sums S_n = Σ_j e^{i n α_j}, which harmonics survive them,
+//! and the Fourier coefficients of Q_u* for any phase set.
+
+use crate::doubledouble::DoubleDouble;
+use crate::mechanism::{Acting, Design, Strokes};
+
+/// The highest harmonic any series here carries (λ → 1 would need ever more).
+pub const MAX_HARMONIC: usize = 2048;
+
+/// t = λ / (1 + √(1 − λ²)) in double-double.
+fn t_of(crank_ratio: f64) -> DoubleDouble {
+    let one_minus = DoubleDouble::new(1.0).sub(DoubleDouble::product(crank_ratio, crank_ratio));
+    let denominator = one_minus.sqrt().add(DoubleDouble::new(1.0));
+    DoubleDouble::new(crank_ratio).div(denominator)
+}
+
+/// Λ_2, Λ_4, Λ_6, … of the exact closed form, one per `next()`:
+///
+/// Λ_{2m} = 2m·C(½, m)·t^{2m−1}·Σ_{b≥0} [C(½, b)·C(½, b+m)/C(½, m)]·t^{4b}
+///        = 2m·C(½, m)·t^{2m−1}·₂F₁(−½, m − ½; m + 1; t⁴).
+///
+/// t^{2m−1} and 2m·C(½, m) are carried in double-double, so the relative error stays at a
+/// few ulps for every m; the ₂F₁ factor is 1 + O(t⁴) and needs only doubles.
+#[derive(Debug, Clone)]
+pub struct ExactLambdas {
+    t: DoubleDouble,
+    t2: DoubleDouble,
+    t4: f64,
+    m: u32,
+    /// t^{2m−1}
+    power: DoubleDouble,
+    /// C(½, m)
+    binomial: DoubleDouble,
+}
+
+impl ExactLambdas {
+    pub fn new(crank_ratio: f64) -> Self {
+        let t = t_of(crank_ratio);
+        let t2 = t.mul(t);
+        Self {
+            t,
+            t2,
+            t4: t2.mul(t2).hi,
+            m: 0,
+            power: DoubleDouble::new(1.0),
+            binomial: DoubleDouble::new(1.0),
+        }
+    }
+
+    /// t = λ/(1 + √(1 − λ²)) rounded to double: |Λ_{2m}| ≤ t^{2m−1}/(1 − t⁴).
+    pub fn t(&self) -> f64 {
+        self.t.hi
+    }
+}
+
+impl Iterator for ExactLambdas {
+    type Item = f64;
+
+    fn next(&mut self) -> Option<f64> {
+        self.m += 1;
+        let m = self.m as f64;
+        if self.m == 1 {
+            self.power = self.t;
+            self.binomial = DoubleDouble::new(0.5);
+        } else {
+            self.power = self.power.mul(self.t2);
+            // C(½, m) = C(½, m−1)·(½ − (m−1))/m = C(½, m−1)·(3 − 2m)/(2m)
+            self.binomial = self.binomial.mul_f64(3.0 - 2.0 * m).div_f64(2.0 * m);
+        }
+        if self.power.hi == 0.0 {
+            return Some(0.0);
+        }
+        // ₂F₁ by its term ratios: c_b/c_{b−1} = ((3/2 − b)/b)·((3/2 − b − m)/(b + m))·t⁴.
+        let (mut term, mut hypergeometric) = (1.0_f64, 1.0_f64);
+        let mut b = 1.0;
+        while b < 1.0e6 {
+            term *= ((1.5 - b) / b) * ((1.5 - b - m) / (b + m)) * self.t4;
+            hypergeometric += term;
+            if term.abs() <= 1e-18 * hypergeometric.abs() {
+                break;
+            }
+            b += 1.0;
+        }
+        let value = self
+            .binomial
+            .mul_f64(2.0 * m)
+            .mul(self.power)
+            .mul_f64(hypergeometric);
+        Some(value.hi)
+    }
+}
+
+/// Λ_0 … Λ_{n_max} of the exact form into `out` (length n_max + 1; odd entries and Λ_0 are 0).
+pub fn lambda_exact(crank_ratio: f64, out: &mut [f64]) {
+    out.fill(0.0);
+    let mut lambdas = ExactLambdas::new(crank_ratio);
+    for n in (2..out.len()).step_by(2) {
+        out[n] = lambdas.next().unwrap_or(0.0);
+    }
+}
+
+/// The paper's truncation: powers of λ through λ¹¹, harmonics through n = 12.
+pub const PAPER_MAX_POWER: u32 = 11;
+pub const PAPER_MAX_HARMONIC: usize = 12;
+
+fn binomial(n: u64, k: u64) -> u64 {
+    if k > n {
+        return 0;
+    }
+    (0..k).fold(1, |acc, i| acc * (n - i) / (i + 1))
+}
+
+fn gcd(a: u64, b: u64) -> u64 {
+    if b == 0 {
+        a
+    } else {
+        gcd(b, a % b)
+    }
+}
+
+/// The exact rational [λ^{2j+1}] Λ_{2i} = (−1)^{i+1}·(2i/(j+1))·C(2j, j)·C(2j+2, j+1−i)/4^{2j+1}
+/// (eq. 15's general coefficient), as a reduced (numerator, denominator); 0/1 for j < i − 1.
+/// Valid for j ≤ 20 (the integers stay within u64).
+pub fn paper_coefficient(i: u32, j: u32) -> (i64, u64) {
+    if i == 0 || j + 1 < i {
+        return (0, 1);
+    }
+    let (i, j) = (i as u64, j as u64);
+    let numerator = 2 * i * binomial(2 * j, j) * binomial(2 * j + 2, j + 1 - i);
+    let denominator = (j + 1) * 4u64.pow(2 * j as u32 + 1);
+    let common = gcd(numerator, denominator);
+    let sign = if i % 2 == 1 { 1 } else { -1 };
+    (sign * (numerator / common) as i64, denominator / common)
+}
+
+/// Λ_0 … Λ_{n_max} as the paper computes them: the λ-series through λ¹¹, zero above n = 12.
+pub fn lambda_paper(crank_ratio: f64, out: &mut [f64]) {
+    out.fill(0.0);
+    for n in (2..out.len().min(PAPER_MAX_HARMONIC + 1)).step_by(2) {
+        let i = (n / 2) as u32;
+        out[n] = (i - 1..=(PAPER_MAX_POWER - 1) / 2)
+            .map(|j| {
+                let (p, q) = paper_coefficient(i, j);
+                (p as f64 / q as f64) * crank_ratio.powi(2 * j as i32 + 1)
+            })
+            .sum();
+    }
+}
+
+/// Whether harmonic n of Q_u* survives the sum over the regular crank set of §2.
+///
+/// With α = 2π·p/q (p = 1 two-stroke, 2 four-stroke; q = k single-, 2k double-acting), the
+/// phase sum S_n = Σ_{j<k} e^{2πi·n·j·p/q} is k when q | n·p, and otherwise the geometric
+/// sum (1 − e^{2πi·n·k·p/q})/(1 − e^{2πi·n·p/q}), zero exactly when q | n·k·p. Only n = 1
+/// (the N and W1 terms) and even n (the W_n terms) carry coefficients at all.
+pub fn harmonic_survives(n: u64, cranks: u64, strokes: Strokes, acting: Acting) -> bool {
+    if n == 0 || (n > 1 && n % 2 == 1) {
+        return false;
+    }
+    let p = match strokes {
+        Strokes::Two => 1,
+        Strokes::Four => 2,
+    };
+    let q = match acting {
+        Acting::Single => cranks,
+        Acting::Double => 2 * cranks,
+    };
+    (n * p) % q == 0 || (n * p * cranks) % q != 0
+}
+
+/// The n ≤ n_max that survive the crank sum of a regular machine, ascending.
+pub fn surviving_harmonics(cranks: u64, strokes: Strokes, acting: Acting, n_max: u64) -> Vec<u64> {
+    (1..=n_max)
+        .filter(|&n| harmonic_survives(n, cranks, strokes, acting))
+        .collect()
+}
+
+/// The phase sums C_n = Σ_j cos nα_j and S_n = Σ_j sin nα_j for n = 0 … n_max.
+///
+/// A sum whose modulus is below its own rounding noise (8ε·k·(1 + n·max|α_j|)) is set to
+/// exactly zero: for a regular crank set it is zero, and the harmonic has cancelled.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PhaseSums {
+    pub cos: Vec<f64>,
+    pub sin: Vec<f64>,
+    pub cranks: usize,
+}
+
+impl PhaseSums {
+    pub fn new(phases: &[f64], n_max: usize) -> Self {
+        let reach = phases.iter().fold(0.0_f64, |m, a| m.max(a.abs()));
+        let mut cos = vec![0.0; n_max + 1];
+        let mut sin = vec![0.0; n_max + 1];
+        for n in 0..=n_max {
+            let (mut c, mut s) = (0.0, 0.0);
+            for &alpha in phases {
+                let (sa, ca) = (n as f64 * alpha).sin_cos();
+                c += ca;
+                s += sa;
+            }
+            let noise = 8.0 * f64::EPSILON * phases.len() as f64 * (1.0 + n as f64 * reach);
+            if c.hypot(s) > noise {
+                cos[n] = c;
+                sin[n] = s;
+            }
+        }
+        Self {
+            cos,
+            sin,
+            cranks: phases.len(),
+        }
+    }
+
+    pub fn n_max(&self) -> usize {
+        self.cos.len() - 1
+    }
+}
+
+/// The harmonic reach a series at crank ratio λ can need: the smallest even n with
+/// t^{n−1} ≤ 1e-40 (far below any tail that matters), at least 24, at most MAX_HARMONIC.
+pub fn harmonic_reach(crank_ratio: f64) -> usize {
+    let t = t_of(crank_ratio).hi;
+    if t <= 0.0 {
+        return 24;
+    }
+    let n = 1.0 + (-40.0 * std::f64::consts::LN_10) / t.ln();
+    let n = (n.ceil() as usize).clamp(24, MAX_HARMONIC);
+    n + n % 2
+}
+
+/// The per-unit amplitudes of §4: N = U2 cos γ, W1 = N1 + N2, N1 = −U1 sin γ.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct UnitAmplitudes {
+    pub n: f64,
+    pub w1: f64,
+    pub n1: f64,
+}
+
+impl UnitAmplitudes {
+    pub fn new(design: &Design) -> Self {
+        let (sin_g, cos_g) = design.inclination.sin_cos();
+        let n1 = -design.u1 * sin_g;
+        Self {
+            n: design.u2 * cos_g,
+            w1: n1 - design.u2 * sin_g,
+            n1,
+        }
+    }
+
+    /// (a_1, b_1): Σ_j N cos ψ_j + W1 sin ψ_j = a_1 cos φ + b_1 sin φ.
+    pub fn first_harmonic(&self, sums: &PhaseSums) -> (f64, f64) {
+        let (c, s) = (sums.cos[1], sums.sin[1]);
+        (self.n * c + self.w1 * s, self.w1 * c - self.n * s)
+    }
+
+    /// (a_n, b_n) for even n: Σ_j W_n sin nψ_j = W_n (S_n cos nφ + C_n sin nφ), W_n = N1 Λ_n.
+    pub fn even_harmonic(&self, lambda_n: f64, n: usize, sums: &PhaseSums) -> (f64, f64) {
+        let w = self.n1 * lambda_n;
+        (w * sums.sin[n], w * sums.cos[n])
+    }
+}
+
+/// Fourier coefficients of Q_u*(φ) = Σ_{n=0}^{n_max} a_n cos nφ + b_n sin nφ with exact Λ_n,
+/// into `a` and `b` (each of length n_max + 1; `sums` must reach n_max).
+pub fn fourier_coefficients(design: &Design, sums: &PhaseSums, a: &mut [f64], b: &mut [f64]) {
+    a.fill(0.0);
+    b.fill(0.0);
+    let n_max = a.len() - 1;
+    let unit = UnitAmplitudes::new(design);
+    if n_max >= 1 {
+        (a[1], b[1]) = unit.first_harmonic(sums);
+    }
+    let mut lambdas = ExactLambdas::new(design.crank_ratio);
+    for n in (2..=n_max).step_by(2) {
+        let lambda_n = lambdas.next().unwrap_or(0.0);
+        (a[n], b[n]) = unit.even_harmonic(lambda_n, n, sums);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn paper_coefficients_of_lambda_2() {
+        // Λ_2 = λ/2 + λ³/8 + 15λ⁵/256 + 35λ⁷/1024 + 735λ⁹/32768 + 2079λ¹¹/131072
+        let expected = [
+            (1, 2),
+            (1, 8),
+            (15, 256),
+            (35, 1024),
+            (735, 32768),
+            (2079, 131072),
+        ];
+        for (j, &(p, q)) in expected.iter().enumerate() {
+            assert_eq!(paper_coefficient(1, j as u32), (p, q));
+        }
+        assert_eq!(paper_coefficient(2, 1), (-1, 16));
+        assert_eq!(paper_coefficient(6, 5), (-63, 524288));
+        assert_eq!(paper_coefficient(3, 1), (0, 1));
+    }
+
+    #[test]
+    fn exact_matches_paper_series_for_small_lambda() {
+        // The first omitted term, λ¹³, is λ^{14−n} relative to Λ_n: negligible at λ = 1e-8.
+        let lambda = 1e-8;
+        let (mut exact, mut paper) = ([0.0; 13], [0.0; 13]);
+        lambda_exact(lambda, &mut exact);
+        lambda_paper(lambda, &mut paper);
+        for n in (2..=12).step_by(2) {
+            let scale = lambda.powi(n as i32 - 1);
+            assert!((exact[n] - paper[n]).abs() <= 1e-14 * scale, "n={n}");
+        }
+    }
+
+    #[test]
+    fn paper_table_1() {
+        // W_1: k=1; W_2: 1,2; W_4: 1,2,4; W_6: 1,2,3,6; W_8: 1,2,4,8; W_10: 1,2,5,10;
+        // W_12: 1,2,3,4,6,12 (two-stroke, single acting).
+        let printed: [(u64, &[u64]); 7] = [
+            (1, &[1]),
+            (2, &[1, 2]),
+            (4, &[1, 2, 4]),
+            (6, &[1, 2, 3, 6]),
+            (8, &[1, 2, 4, 8]),
+            (10, &[1, 2, 5, 10]),
+            (12, &[1, 2, 3, 4, 6, 12]),
+        ];
+        for (n, ks) in printed {
+            let found: Vec<u64> = (1..=12)
+                .filter(|&k| harmonic_survives(n, k, Strokes::Two, Acting::Single))
+                .collect();
+            assert_eq!(found, ks, "W_{n}");
+        }
+    }
+}

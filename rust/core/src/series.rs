@@ -1,0 +1,274 @@
+//! Q_u*(φ) from its Fourier form (mathematics.md §4): only the harmonics that survive the
+//! crank sum, evaluated by rotation so that the cost per point hardly depends on k.
+//!
+//! A series is a₁ cos φ + b₁ sin φ + Σ_{ν=1}^{V} A_ν cos(νpφ) + B_ν sin(νpφ), where p is
+//! the step of the surviving even harmonics (p = k for a two-stroke single-acting machine).
+//! Per point: one sincos of φ, w = e^{ipφ} by binary powering, then one complex rotation
+//! and one multiply-add pair per harmonic.
+
+use multiversion::multiversion;
+
+use crate::error::{MechanismError, Result};
+use crate::harmonics::{lambda_paper, ExactLambdas, PhaseSums, UnitAmplitudes, PAPER_MAX_HARMONIC};
+use crate::mechanism::Design;
+use crate::parallel::{for_each_row_segment, map_indices, Parallelism};
+use crate::trig::sincos_block;
+
+/// Which Λ_n and which cut.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SeriesKind {
+    /// Exact Λ_n; harmonics up to where a rigorous bound on the rest is below ε·max|Q|/2.
+    Exact,
+    /// The paper's eq. (16): λ-series Λ_n through λ¹¹, harmonics n ≤ 12.
+    Paper,
+}
+
+/// One design's Q_u* as a short trigonometric series (see the module docs).
+#[derive(Debug, Clone, PartialEq)]
+pub struct FourierSeries {
+    pub a1: f64,
+    pub b1: f64,
+    /// Step p of the even harmonics (0 when there are none).
+    pub step: usize,
+    /// A_ν, B_ν for harmonic ν·step, ν = 1 … V.
+    pub cos: Vec<f64>,
+    pub sin: Vec<f64>,
+}
+
+fn gcd(a: usize, b: usize) -> usize {
+    if b == 0 {
+        a
+    } else {
+        gcd(b, a % b)
+    }
+}
+
+impl FourierSeries {
+    fn from_harmonics(a1: f64, b1: f64, even: &[(usize, f64, f64)]) -> Self {
+        let step = even.iter().fold(0, |g, &(n, _, _)| gcd(g, n));
+        let count = even.last().map_or(0, |&(n, _, _)| n / step.max(1));
+        let (mut cos, mut sin) = (vec![0.0; count], vec![0.0; count]);
+        for &(n, a, b) in even {
+            cos[n / step - 1] = a;
+            sin[n / step - 1] = b;
+        }
+        Self {
+            a1,
+            b1,
+            step,
+            cos,
+            sin,
+        }
+    }
+
+    /// The series with exact Λ_n, cut where the rest is provably below ε·max|Q|/2.
+    ///
+    /// Bound: |Λ_{2m}| ≤ t^{2m−1}/(1 − t⁴) (2m·|C(½, m)| ≤ 1 and the ₂F₁ terms are
+    /// dominated by t^{4b}), and |S_n| ≤ k, so the harmonics above 2M add at most
+    /// k·|N1|·t^{2M+1}/((1 − t²)(1 − t⁴)). By Parseval max|Q| ≥ rms(Q) =
+    /// √(Σ (a_n² + b_n²)/2) over the harmonics kept so far.
+    pub fn exact(design: &Design, sums: &PhaseSums) -> Self {
+        let unit = UnitAmplitudes::new(design);
+        let (a1, b1) = unit.first_harmonic(sums);
+        let mut mean_square = 0.5 * (a1 * a1 + b1 * b1);
+        let mut lambdas = ExactLambdas::new(design.crank_ratio);
+        let t = lambdas.t();
+        let (t2, t4) = (t * t, t * t * t * t);
+        let tail_factor = sums.cranks as f64 * unit.n1.abs() / ((1.0 - t2) * (1.0 - t4));
+        let mut even = Vec::new();
+        let mut t_power = t; // t^{2M+1} after harmonic 2M
+        for n in (2..=sums.n_max()).step_by(2) {
+            if tail_factor == 0.0 {
+                break; // N1 = 0 (γ = 0 or π, or U1 = 0): no even harmonics at all
+            }
+            let lambda_n = lambdas.next().unwrap_or(0.0);
+            let (a, b) = unit.even_harmonic(lambda_n, n, sums);
+            if a != 0.0 || b != 0.0 {
+                even.push((n, a, b));
+                mean_square += 0.5 * (a * a + b * b);
+            }
+            t_power *= t2;
+            if tail_factor * t_power <= 0.5 * f64::EPSILON * mean_square.sqrt() {
+                break;
+            }
+        }
+        Self::from_harmonics(a1, b1, &even)
+    }
+
+    /// The paper's eq. (16): Λ_n from the λ-series through λ¹¹, n ≤ 12, every harmonic
+    /// whose phase sum survives.
+    pub fn paper(design: &Design, sums: &PhaseSums) -> Self {
+        let unit = UnitAmplitudes::new(design);
+        let (a1, b1) = unit.first_harmonic(sums);
+        let mut lambdas = [0.0; PAPER_MAX_HARMONIC + 1];
+        lambda_paper(design.crank_ratio, &mut lambdas);
+        let even: Vec<_> = (2..=PAPER_MAX_HARMONIC.min(sums.n_max()))
+            .step_by(2)
+            .map(|n| {
+                let (a, b) = unit.even_harmonic(lambdas[n], n, sums);
+                (n, a, b)
+            })
+            .filter(|&(_, a, b)| a != 0.0 || b != 0.0)
+            .collect();
+        Self::from_harmonics(a1, b1, &even)
+    }
+
+    pub fn new(kind: SeriesKind, design: &Design, sums: &PhaseSums) -> Self {
+        match kind {
+            SeriesKind::Exact => Self::exact(design, sums),
+            SeriesKind::Paper => Self::paper(design, sums),
+        }
+    }
+
+    /// Map every term a cos nφ + b sin nφ to new (cos, sin) coefficients.
+    fn map_terms(&self, f: impl Fn(usize, f64, f64) -> (f64, f64)) -> Self {
+        let (a1, b1) = f(1, self.a1, self.b1);
+        let (cos, sin) = self
+            .cos
+            .iter()
+            .zip(&self.sin)
+            .enumerate()
+            .map(|(nu, (&a, &b))| f((nu + 1) * self.step, a, b))
+            .unzip();
+        Self {
+            a1,
+            b1,
+            step: self.step,
+            cos,
+            sin,
+        }
+    }
+
+    /// The antiderivative with zero constant term: for Q_u*, U_w* up to a constant.
+    pub fn integral(&self) -> Self {
+        self.map_terms(|n, a, b| (-b / n as f64, a / n as f64))
+    }
+
+    /// The derivative: for Q_u*, dQ_u*/dφ.
+    pub fn derivative(&self) -> Self {
+        self.map_terms(|n, a, b| (n as f64 * b, -(n as f64) * a))
+    }
+
+    /// The series at one angle.
+    pub fn value_at(&self, phi: f64) -> f64 {
+        let mut out = [0.0];
+        series_run(self, &[phi], &mut out);
+        out[0]
+    }
+
+    /// The highest harmonic carried.
+    pub fn highest_harmonic(&self) -> usize {
+        (self.step * self.cos.len()).max(usize::from(self.a1 != 0.0 || self.b1 != 0.0))
+    }
+}
+
+const BLOCK: usize = 256;
+
+#[inline(always)]
+fn series_segment(series: &FourierSeries, phi: &[f64], out: &mut [f64]) {
+    let mut sin_phi = [0.0; BLOCK];
+    let mut cos_phi = [0.0; BLOCK];
+    let (mut w_re, mut w_im) = ([0.0; BLOCK], [0.0; BLOCK]);
+    let (mut z_re, mut z_im) = ([0.0; BLOCK], [0.0; BLOCK]);
+    for (phi_b, out_b) in phi.chunks(BLOCK).zip(out.chunks_mut(BLOCK)) {
+        let n = phi_b.len();
+        let (s, c) = (&mut sin_phi[..n], &mut cos_phi[..n]);
+        sincos_block(phi_b, s, c);
+        for i in 0..n {
+            out_b[i] = series.a1 * c[i] + series.b1 * s[i];
+        }
+        if series.cos.is_empty() {
+            continue;
+        }
+        // w = e^{ipφ} by binary powering of z = e^{iφ}.
+        let (w_re, w_im) = (&mut w_re[..n], &mut w_im[..n]);
+        let (z_re, z_im) = (&mut z_re[..n], &mut z_im[..n]);
+        w_re.fill(1.0);
+        w_im.fill(0.0);
+        z_re.copy_from_slice(c);
+        z_im.copy_from_slice(s);
+        let mut e = series.step;
+        loop {
+            if e & 1 == 1 {
+                for i in 0..n {
+                    let re = w_re[i] * z_re[i] - w_im[i] * z_im[i];
+                    w_im[i] = w_re[i] * z_im[i] + w_im[i] * z_re[i];
+                    w_re[i] = re;
+                }
+            }
+            e >>= 1;
+            if e == 0 {
+                break;
+            }
+            for i in 0..n {
+                let re = z_re[i] * z_re[i] - z_im[i] * z_im[i];
+                z_im[i] = 2.0 * z_re[i] * z_im[i];
+                z_re[i] = re;
+            }
+        }
+        // z now walks e^{iνpφ}, ν = 1, 2, …
+        z_re.copy_from_slice(w_re);
+        z_im.copy_from_slice(w_im);
+        for (&a, &b) in series.cos.iter().zip(&series.sin) {
+            for i in 0..n {
+                out_b[i] += a * z_re[i] + b * z_im[i];
+                let re = z_re[i] * w_re[i] - z_im[i] * w_im[i];
+                z_im[i] = z_re[i] * w_im[i] + z_im[i] * w_re[i];
+                z_re[i] = re;
+            }
+        }
+    }
+}
+
+#[multiversion(targets("x86_64+avx512f+avx512vl+avx512dq", "x86_64+avx2+fma"))]
+fn series_run(series: &FourierSeries, phi: &[f64], out: &mut [f64]) {
+    series_segment(series, phi, out)
+}
+
+/// Evaluate a series at every φ into `out`.
+pub fn evaluate_series_one(series: &FourierSeries, phi: &[f64], out: &mut [f64]) {
+    series_run(series, phi, out)
+}
+
+/// The series of every design (parallel for many designs).
+pub fn build_series(
+    kind: SeriesKind,
+    designs: &[Design],
+    phases: &[f64],
+    parallelism: Parallelism,
+) -> Vec<FourierSeries> {
+    let reach = match kind {
+        SeriesKind::Exact => designs
+            .iter()
+            .map(|d| crate::harmonics::harmonic_reach(d.crank_ratio))
+            .max()
+            .unwrap_or(24),
+        SeriesKind::Paper => PAPER_MAX_HARMONIC,
+    };
+    let sums = PhaseSums::new(phases, reach);
+    map_indices(designs.len(), designs.len() * 64, parallelism, |i| {
+        FourierSeries::new(kind, &designs[i], &sums)
+    })
+}
+
+/// Q_u* from the series of each design at every φ, design-major like `exact::evaluate`.
+pub fn evaluate_series(
+    series: &[FourierSeries],
+    phi: &[f64],
+    out: &mut [f64],
+    parallelism: Parallelism,
+) -> Result<()> {
+    let expected = series.len() * phi.len();
+    if out.len() != expected {
+        return Err(MechanismError::LengthMismatch {
+            parameter: "out",
+            expected,
+            found: out.len(),
+        });
+    }
+    let work = out.len().saturating_mul(4);
+    for_each_row_segment(out, phi.len(), work, parallelism, |row, col, segment| {
+        series_run(&series[row], &phi[col..col + segment.len()], segment)
+    });
+    Ok(())
+}
