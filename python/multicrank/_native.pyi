@@ -7,6 +7,12 @@ __all__ = [
     "crank_phases",
     "evaluate",
     "dimensionless_moments",
+    "evaluate_series",
+    "lambda_coefficients",
+    "paper_coefficient",
+    "surviving_harmonics",
+    "fourier_coefficients",
+    "energy_extrema",
     "get_parallel_threshold",
     "set_parallel_threshold",
     "_after_fork_in_child",
@@ -47,3 +53,37 @@ def dimensionless_moments(
 def get_parallel_threshold() -> int: ...
 def set_parallel_threshold(threshold: int) -> None: ...
 def _after_fork_in_child() -> None: ...
+def evaluate_series(
+    method: str,
+    phi: npt.NDArray[np.float64],
+    crank_ratio: npt.NDArray[np.float64],
+    inclination: npt.NDArray[np.float64],
+    u1: npt.NDArray[np.float64],
+    u2: npt.NDArray[np.float64],
+    phases: npt.NDArray[np.float64],
+) -> npt.NDArray[np.float64]: ...
+def lambda_coefficients(
+    crank_ratio: npt.NDArray[np.float64], n_max: int, method: str
+) -> npt.NDArray[np.float64]: ...
+def paper_coefficient(i: int, j: int) -> tuple[int, int]: ...
+def surviving_harmonics(cranks: int, strokes: int, acting: str, n_max: int) -> list[int]: ...
+def fourier_coefficients(
+    crank_ratio: npt.NDArray[np.float64],
+    inclination: npt.NDArray[np.float64],
+    u1: npt.NDArray[np.float64],
+    u2: npt.NDArray[np.float64],
+    phases: npt.NDArray[np.float64],
+    n_max: int,
+) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]: ...
+def energy_extrema(
+    crank_ratio: npt.NDArray[np.float64],
+    inclination: npt.NDArray[np.float64],
+    u1: npt.NDArray[np.float64],
+    u2: npt.NDArray[np.float64],
+    phases: npt.NDArray[np.float64],
+) -> tuple[
+    npt.NDArray[np.float64],
+    npt.NDArray[np.float64],
+    npt.NDArray[np.float64],
+    npt.NDArray[np.float64],
+]: ...
