@@ -1,9 +1,11 @@
 """multicrank against the plain-numpy baseline (multicrank.reference), same process.
 
-    python benches/python/bench_exact.py [--points 1000000] [--repeat 7]
+    python benches/python/bench_kernels.py [--points 1000000] [--repeat 7]
 
 For k = 1, 6, 12 on a grid of φ over one revolution (λ = 0.3, two-stroke phases) it times
-`generalized_force(method="exact")` and `potential_energy`, best of --repeat, once with one
+`generalized_force` (methods "exact" and "series") and `potential_energy` against the
+baseline `multicrank.reference.generalized_force` / `potential_energy` (method "exact"),
+and `lambda_coefficients(λ, 24)` per λ; best of --repeat, once with one
 rayon thread (RAYON_NUM_THREADS=1, each setting in its own child process because rayon
 fixes its pool at first use) and once with all cores, and prints ns per point and the
 speed-up over the baseline. Refuses a debug build of the extension.
@@ -40,10 +42,28 @@ def measure(points: int, repeat: int) -> list[dict]:
     rows = []
     for cranks in (1, 6, 12):
         design = dict(crank_ratio=0.3, inclination=1.0, u1=0.8, u2=0.3, phases=mc.crank_phases(cranks))
-        for name in ("generalized_force", "potential_energy"):
-            fast = best_time(lambda: getattr(mc, name)(phi, **design), repeat)
-            base = best_time(lambda: getattr(ref, name)(phi, **design), max(3, repeat // 2))
-            rows.append(dict(function=name, cranks=cranks, fast_ns=fast / points * 1e9, base_ns=base / points * 1e9))
+        cases = [
+            ("generalized_force", "exact", {}),
+            ("generalized_force", "series", {"method": "series"}),
+            ("potential_energy", "exact", {}),
+        ]
+        baselines = {}
+        for name, method, options in cases:
+            fast = best_time(lambda: getattr(mc, name)(phi, **design, **options), repeat)
+            if name not in baselines:
+                baselines[name] = best_time(lambda: getattr(ref, name)(phi, **design), max(3, repeat // 2))
+            rows.append(
+                dict(
+                    function=f"{name}[{method}]",
+                    cranks=cranks,
+                    fast_ns=fast / points * 1e9,
+                    base_ns=baselines[name] / points * 1e9,
+                )
+            )
+    lam = np.linspace(0.0, 0.95, 10_000)
+    fast = best_time(lambda: mc.lambda_coefficients(lam, 24), repeat)
+    base = best_time(lambda: ref.lambda_coefficients(lam, 24), 1)
+    rows.append(dict(function="lambda_coefficients", cranks="-", fast_ns=fast / lam.size * 1e9, base_ns=base / lam.size * 1e9))
     return rows
 
 
@@ -69,11 +89,12 @@ def main() -> None:
         results[threads] = json.loads(child.stdout)
     print(f"{args.points:,} points, λ = 0.3, two-stroke phases; ns per point (best of {args.repeat}); "
           "ratio = baseline time / multicrank time\n")
-    print(f"{'function':<18} {'k':>3} {'threads':>7} {'baseline':>9} {'multicrank':>10} {'ratio':>7}")
+    print("lambda_coefficients: ns per λ for Λ_0…Λ_24, λ spread over [0, 0.95]\n")
+    print(f"{'function':<28} {'k':>3} {'threads':>7} {'baseline':>9} {'multicrank':>10} {'ratio':>7}")
     for threads, rows in results.items():
         for r in rows:
             print(
-                f"{r['function']:<18} {r['cranks']:>3} {threads:>7} {r['base_ns']:>9.1f} {r['fast_ns']:>10.2f}"
+                f"{r['function']:<28} {r['cranks']:>3} {threads:>7} {r['base_ns']:>9.1f} {r['fast_ns']:>10.2f}"
                 f" {r['base_ns'] / r['fast_ns']:>6.1f}x"
             )
 
