@@ -29,6 +29,7 @@ from .harmonics import (
     surviving_harmonics,
 )
 from .mechanism import STANDARD_GRAVITY, crank_phases, dimensionless_moments
+from .sweep import SWEEP_OUTPUTS, DesignGrid, design_grid, sweep, to_xarray
 
 __version__: str = _native.__version__
 
@@ -36,13 +37,16 @@ __version__: str = _native.__version__
 _os.register_at_fork(after_in_child=_native._after_fork_in_child)
 
 __all__ = [
+    "DesignGrid",
     "EnergyExtrema",
     "FORCE_METHODS",
     "MechanismError",
     "STANDARD_GRAVITY",
+    "SWEEP_OUTPUTS",
     "__version__",
     "build_profile",
     "crank_phases",
+    "design_grid",
     "dimensionless_moments",
     "energy_extrema",
     "force_derivative",
@@ -56,4 +60,6 @@ __all__ = [
     "set_parallel_threshold",
     "speed_fluctuation",
     "surviving_harmonics",
+    "sweep",
+    "to_xarray",
 ]

@@ -132,7 +132,7 @@ fn derivative_run(k: &Coefficients, phases: &Phases, phi: &[f64], out: &mut [f64
     sum_over_cranks(&ForceDerivative(*k), phases, phi, out)
 }
 
-fn evaluate_run(
+pub(crate) fn evaluate_run(
     quantity: Quantity,
     design: &Design,
     phases: &Phases,

@@ -54,19 +54,16 @@ fn grid_size(series: &FourierSeries) -> usize {
     (16 * highest).max(128)
 }
 
-/// The root of Q in [lo, hi], where Q(lo) and Q(hi) differ in sign: Newton steps kept
-/// inside the shrinking bracket, bisection where Newton would leave it.
-fn polish_root(
-    force: &FourierSeries,
-    slope: &FourierSeries,
-    mut lo: f64,
-    mut hi: f64,
-    q_lo: f64,
-) -> f64 {
-    let (force, slope) = (|x| force.value_at(x), |x| slope.value_at(x));
-    let mut x = 0.5 * (lo + hi);
+/// The root of Q in [lo, hi], where Q(lo) = q_lo and Q(hi) = q_hi differ in sign: Newton
+/// steps from the secant point, kept inside the shrinking bracket, bisection where Newton
+/// would leave it.
+fn polish_root(force: &FourierSeries, mut lo: f64, mut hi: f64, q_lo: f64, q_hi: f64) -> f64 {
+    let mut x = lo + (hi - lo) * q_lo / (q_lo - q_hi);
+    if !(x > lo && x < hi) {
+        x = 0.5 * (lo + hi);
+    }
     for _ in 0..100 {
-        let q = force(x);
+        let (q, dq) = force.value_and_slope_at(x);
         if q == 0.0 {
             return x;
         }
@@ -75,7 +72,6 @@ fn polish_root(
         } else {
             hi = x;
         }
-        let dq = slope(x);
         let newton = x - q / dq;
         let next = if dq != 0.0 && newton > lo && newton < hi {
             newton
@@ -95,7 +91,6 @@ fn polish_root(
 /// The exact extrema of U_w* over φ ∈ [0, 2π) for one design.
 pub fn energy_extrema(design: &Design, phases: &Phases, series: &FourierSeries) -> EnergyExtrema {
     let energy = series.integral();
-    let slope = series.derivative();
     let m = grid_size(series);
     let phi: Vec<f64> = (0..=m).map(|i| TAU * i as f64 / m as f64).collect();
     let (mut q, mut u) = (vec![0.0; m + 1], vec![0.0; m + 1]);
@@ -127,7 +122,7 @@ pub fn energy_extrema(design: &Design, phases: &Phases, series: &FourierSeries) 
         let (qa, qb) = (q[i], q[i + 1]);
         // Q changes sign strictly inside the cell (a zero at a grid point is a candidate already).
         if (qa < 0.0 && qb > 0.0) || (qa > 0.0 && qb < 0.0) {
-            let root = polish_root(series, &slope, phi[i], phi[i + 1], qa);
+            let root = polish_root(series, phi[i], phi[i + 1], qa, qb);
             consider(root, energy.value_at(root) + level);
         }
     }

@@ -76,7 +76,7 @@ impl Iterator for ExactLambdas {
         let (mut term, mut hypergeometric) = (1.0_f64, 1.0_f64);
         let mut b = 1.0;
         while b < 1.0e6 {
-            term *= ((1.5 - b) / b) * ((1.5 - b - m) / (b + m)) * self.t4;
+            term *= ((1.5 - b) * (1.5 - b - m)) / (b * (b + m)) * self.t4;
             hypergeometric += term;
             if term.abs() <= 1e-18 * hypergeometric.abs() {
                 break;

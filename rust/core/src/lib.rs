@@ -14,6 +14,7 @@ pub mod harmonics;
 pub mod mechanism;
 pub mod parallel;
 pub mod series;
+pub mod sweep;
 pub mod trig;
 
 pub use error::{MechanismError, Result};
@@ -28,3 +29,4 @@ pub use mechanism::{
 };
 pub use parallel::Parallelism;
 pub use series::{build_series, evaluate_series, FourierSeries, SeriesKind};
+pub use sweep::{sweep, PhaseSetTable, SweepOutputs, SweepRow};

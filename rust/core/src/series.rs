@@ -149,11 +149,29 @@ impl FourierSeries {
         self.map_terms(|n, a, b| (n as f64 * b, -(n as f64) * a))
     }
 
+    /// The series and its derivative at one angle (scalar: for root polishing, where a
+    /// block kernel's set-up would cost more than the arithmetic).
+    pub fn value_and_slope_at(&self, phi: f64) -> (f64, f64) {
+        let (s, c) = phi.sin_cos();
+        let mut value = self.a1 * c + self.b1 * s;
+        let mut slope = self.b1 * c - self.a1 * s;
+        if self.cos.is_empty() {
+            return (value, slope);
+        }
+        let w = power(c, s, self.step);
+        let mut z = w;
+        for (nu, (&a, &b)) in self.cos.iter().zip(&self.sin).enumerate() {
+            let n = ((nu + 1) * self.step) as f64;
+            value += a * z.0 + b * z.1;
+            slope += n * (b * z.0 - a * z.1);
+            z = (z.0 * w.0 - z.1 * w.1, z.0 * w.1 + z.1 * w.0);
+        }
+        (value, slope)
+    }
+
     /// The series at one angle.
     pub fn value_at(&self, phi: f64) -> f64 {
-        let mut out = [0.0];
-        series_run(self, &[phi], &mut out);
-        out[0]
+        self.value_and_slope_at(phi).0
     }
 
     /// The highest harmonic carried.
@@ -162,7 +180,23 @@ impl FourierSeries {
     }
 }
 
-const BLOCK: usize = 256;
+/// (re, im) of (c + i·s)^e by binary powering.
+fn power(c: f64, s: f64, mut e: usize) -> (f64, f64) {
+    let (mut w, mut z) = ((1.0, 0.0), (c, s));
+    loop {
+        if e & 1 == 1 {
+            w = (w.0 * z.0 - w.1 * z.1, w.0 * z.1 + w.1 * z.0);
+        }
+        e >>= 1;
+        if e == 0 {
+            return w;
+        }
+        z = (z.0 * z.0 - z.1 * z.1, 2.0 * z.0 * z.1);
+    }
+}
+
+/// Points per block: the block's arrays stay in L1 through the harmonic loop.
+const BLOCK: usize = 128;
 
 #[inline(always)]
 fn series_segment(series: &FourierSeries, phi: &[f64], out: &mut [f64]) {

@@ -395,6 +395,76 @@ mod _native {
         ))
     }
 
+    /// sweep(crank_ratio, inclination, u1, u2, phase_set, set_phases, set_offsets, phi,
+    /// force, energy, harmonic) -> (force_max_abs, force_rms, energy_min, energy_max,
+    /// leading_harmonic, leading_amplitude), one value per design (NaN where not asked).
+    /// Phase set i is set_phases[set_offsets[i]..set_offsets[i+1]].
+    #[pyfunction]
+    #[allow(clippy::too_many_arguments, clippy::type_complexity)]
+    fn sweep<'py>(
+        py: Python<'py>,
+        crank_ratio: PyReadonlyArray1<'py, f64>,
+        inclination: PyReadonlyArray1<'py, f64>,
+        u1: PyReadonlyArray1<'py, f64>,
+        u2: PyReadonlyArray1<'py, f64>,
+        phase_set: PyReadonlyArray1<'py, u32>,
+        set_phases: PyReadonlyArray1<'py, f64>,
+        set_offsets: PyReadonlyArray1<'py, u64>,
+        phi: PyReadonlyArray1<'py, f64>,
+        force: bool,
+        energy: bool,
+        harmonic: bool,
+    ) -> PyResult<Vec<Bound<'py, PyArray1<f64>>>> {
+        let columns = [
+            slice(&crank_ratio)?,
+            slice(&inclination)?,
+            slice(&u1)?,
+            slice(&u2)?,
+        ];
+        let phase_set = phase_set.as_slice()?;
+        let (set_phases, set_offsets, phi) =
+            (slice(&set_phases)?, set_offsets.as_slice()?, slice(&phi)?);
+        let outputs = core::SweepOutputs {
+            force,
+            energy,
+            harmonic,
+        };
+        let parallelism = parallelism();
+        let rows = py
+            .detach(|| -> core::Result<Vec<core::SweepRow>> {
+                let designs = designs_from(columns)?;
+                let sets = set_offsets
+                    .windows(2)
+                    .map(|w| {
+                        set_phases
+                            .get(w[0] as usize..w[1] as usize)
+                            .map(<[f64]>::to_vec)
+                    })
+                    .collect::<Option<Vec<_>>>()
+                    .ok_or(core::MechanismError::InvalidChoice {
+                        parameter: "set_offsets",
+                        value: format!("{set_offsets:?}"),
+                        allowed: "ascending offsets into set_phases",
+                    })?;
+                let max_ratio = designs.iter().map(|d| d.crank_ratio).fold(0.0, f64::max);
+                let table = core::PhaseSetTable::new(&sets, max_ratio)?;
+                core::sweep(&designs, phase_set, &table, phi, outputs, parallelism)
+            })
+            .map_err(to_py_err)?;
+        let fields: [fn(&core::SweepRow) -> f64; 6] = [
+            |r| r.force_max_abs,
+            |r| r.force_rms,
+            |r| r.energy_min,
+            |r| r.energy_max,
+            |r| r.leading_harmonic,
+            |r| r.leading_amplitude,
+        ];
+        Ok(fields
+            .iter()
+            .map(|f| rows.iter().map(f).collect::<Vec<_>>().into_pyarray(py))
+            .collect())
+    }
+
     /// The work size (points × cranks) from which kernels run in parallel.
     #[pyfunction]
     fn get_parallel_threshold() -> usize {
