@@ -29,9 +29,20 @@ from .harmonics import (
     surviving_harmonics,
 )
 from .mechanism import STANDARD_GRAVITY, crank_phases, dimensionless_moments
-from .sweep import SWEEP_OUTPUTS, DesignGrid, design_grid, sweep, to_xarray
 
 __version__: str = _native.__version__
+
+# The sweep machinery pulls in pandas (and with it pyarrow's thread pools): load it on
+# first use, so that `import multicrank` stays light and starts no threads.
+_LAZY = {"SWEEP_OUTPUTS", "DesignGrid", "design_grid", "sweep", "to_xarray"}
+
+
+def __getattr__(name: str):
+    if name in _LAZY:
+        from . import sweeps as _sweep_module
+
+        return getattr(_sweep_module, name)
+    raise AttributeError(f"module 'multicrank' has no attribute {name!r}")
 
 # rayon's worker threads do not survive fork(): a forked child computes serially.
 _os.register_at_fork(after_in_child=_native._after_fork_in_child)

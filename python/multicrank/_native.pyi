@@ -13,6 +13,7 @@ __all__ = [
     "surviving_harmonics",
     "fourier_coefficients",
     "energy_extrema",
+    "sweep",
     "get_parallel_threshold",
     "set_parallel_threshold",
     "_after_fork_in_child",
@@ -87,3 +88,16 @@ def energy_extrema(
     npt.NDArray[np.float64],
     npt.NDArray[np.float64],
 ]: ...
+def sweep(
+    crank_ratio: npt.NDArray[np.float64],
+    inclination: npt.NDArray[np.float64],
+    u1: npt.NDArray[np.float64],
+    u2: npt.NDArray[np.float64],
+    phase_set: npt.NDArray[np.uint32],
+    set_phases: npt.NDArray[np.float64],
+    set_offsets: npt.NDArray[np.uint64],
+    phi: npt.NDArray[np.float64],
+    force: bool,
+    energy: bool,
+    harmonic: bool,
+) -> list[npt.NDArray[np.float64]]: ...
