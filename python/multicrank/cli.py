@@ -9,6 +9,7 @@ import click
 import numpy as np
 
 from . import __version__
+from ._api import MechanismError
 from .evaluation import generalized_force, potential_energy
 from .presets import DEFAULT_ENGINE, ENGINES
 
@@ -87,6 +88,121 @@ def eval_command(engine_name, cranks, strokes, acting, inclination, rpm, points,
     out.write(f"{'φ [deg]':>9}  {'U_w*':>14}  {'Q_u*':>14}\n")
     for p, u, q in rows:
         out.write(f"{p:9.2f}  {u:14.6e}  {q:14.6e}\n")
+
+
+# ----------------------------------------------------------------------------- sweep
+_AXES = {
+    # option name: (grid column, kind)
+    "crank_ratio": ("crank_ratio", float),
+    "inclination": ("inclination", "degrees"),
+    "u1": ("u1", float),
+    "u2": ("u2", float),
+    "cranks": ("cranks", int),
+    "strokes": ("strokes", int),
+    "acting": ("acting", str),
+}
+
+
+def parse_axis(text: str, kind) -> list:
+    """An axis from the command line: "a:b:n" (n points from a to b inclusive; for integer
+    axes "a:b" is a..b inclusive), or a comma-separated list."""
+    text = str(text).strip()
+    if kind is str:
+        return [item.strip() for item in text.split(",") if item.strip()]
+    if ":" in text:
+        parts = text.split(":")
+        if kind is int and len(parts) == 2:
+            start, stop = int(parts[0]), int(parts[1])
+            return list(range(start, stop + 1))
+        if len(parts) != 3:
+            raise click.BadParameter(f"{text!r}: a range is start:stop:count")
+        start, stop, count = float(parts[0]), float(parts[1]), int(parts[2])
+        values = np.linspace(start, stop, count).tolist()
+        return [int(round(v)) for v in values] if kind is int else values
+    convert = int if kind is int else float
+    return [convert(item) for item in text.split(",") if item.strip()]
+
+
+def _grid_axes(options: dict, config: dict) -> dict:
+    axes = {}
+    for name, (column, kind) in _AXES.items():
+        value = options.get(name)
+        if value is None:
+            value = config.get(name)
+        if value is None:
+            continue
+        if isinstance(value, list):
+            values = value
+        else:
+            values = parse_axis(value, float if kind == "degrees" else kind)
+        if kind == "degrees":
+            values = np.radians(values).tolist()
+        axes[column] = values if len(values) > 1 else values[0]
+    return axes
+
+
+@main.command("sweep")
+@click.option("--crank-ratio", help='λ axis, e.g. "0.2:0.45:26" or "0.25,0.3".')
+@click.option("--inclination", help='γ axis in DEGREES (90 = upright), e.g. "0:90:7".')
+@click.option("--u1", help="U1 axis (dimensionless reciprocating gravity moment).")
+@click.option("--u2", help="U2 axis (dimensionless rotating unbalance; may be negative).")
+@click.option("--cranks", help='k axis, e.g. "1:12" or "2,4,6".')
+@click.option("--strokes", help='"2", "4" or "2,4".')
+@click.option("--acting", help='"single", "double" or "single,double".')
+@click.option(
+    "--config",
+    type=click.Path(exists=True, dir_okay=False),
+    help="TOML file with an [axes] table (same names, lists or range strings) and optional phi, outputs.",
+)
+@click.option("--phi", type=click.IntRange(min=1), default=None, help="φ grid points per revolution [default: 720].")
+@click.option("--outputs", help="Comma-separated outputs [default: all].")
+@click.option("--out", type=click.Path(dir_okay=False), default="sweep.parquet", show_default=True)
+@click.option("--resume", is_flag=True, help="Continue an interrupted sweep into the same --out.")
+@click.option("--chunk-size", type=click.IntRange(min=1), default=65536, show_default=True)
+@click.option("--progress/--no-progress", default=True, show_default=True)
+def sweep_command(config, phi, outputs, out, resume, chunk_size, progress, **axis_options) -> None:
+    """Sweep a grid of designs and write the results to Parquet.
+
+    Each axis is a range "start:stop:count" (count points, both ends included; integer axes
+    also take "start:stop"), or a comma-separated list. Axes not given default to
+    u2 = 0, cranks = 1, strokes = 2, acting = single; crank-ratio, inclination and u1 are
+    required (on the command line or in --config).
+    """
+    import time
+    import tomllib
+
+    from .sweeps import SWEEP_OUTPUTS, DesignGrid, sweep
+
+    table = {}
+    if config:
+        with open(config, "rb") as handle:
+            table = tomllib.load(handle)
+    axes = _grid_axes(axis_options, table.get("axes", {}))
+    axes.setdefault("u2", 0.0)
+    missing = [name for name in ("crank_ratio", "inclination", "u1") if name not in axes]
+    if missing:
+        raise click.UsageError(f"missing axes: {', '.join(missing)} (give them as options or in --config)")
+    phi = phi or int(table.get("phi", 720))
+    chosen = outputs.split(",") if outputs else table.get("outputs", list(SWEEP_OUTPUTS))
+    grid = DesignGrid(**axes)
+    started = time.perf_counter()
+    try:
+        path = sweep(grid, phi=phi, outputs=chosen, out=out, resume=resume, progress=progress, chunk_size=chunk_size)
+    except MechanismError as error:
+        raise click.UsageError(str(error)) from None
+    except KeyboardInterrupt:
+        click.echo(f"\ninterrupted: finished chunks are kept; rerun with --resume to continue into {out}", err=True)
+        sys.exit(130)
+    elapsed = time.perf_counter() - started
+    import pyarrow.parquet as pq
+
+    result = pq.read_table(path, columns=[c for c in chosen]).to_pandas()
+    click.echo(
+        f"{len(grid):,} designs × {phi} φ points in {elapsed:.2f} s "
+        f"({len(grid) / elapsed:,.0f} designs/s) → {path}"
+    )
+    summary = result.describe().T[["min", "mean", "max"]]
+    click.echo(summary.to_string(float_format=lambda v: f"{v:.6g}"))
 
 
 if __name__ == "__main__":

@@ -229,6 +229,7 @@ def _reduce(columns: dict[str, np.ndarray], phi: np.ndarray, outputs: tuple[str,
     """One call into Rust per _CALL_SIZE designs; returns the requested output columns."""
     wanted = {group: any(o in outputs for o in names) for group, names in _GROUPS.items()}
     set_index, set_phases, offsets = _phase_table(columns)
+    phi = contiguous(phi)  # arrays unpickled on a Dask worker may be misaligned
     parts: list[list[np.ndarray]] = []
     n = len(set_index)
     for start in range(0, n, _CALL_SIZE):

@@ -1,0 +1,280 @@
+"""Design sweeps: per-design agreement with the reference, streaming to Parquet with resume,
+interruption, grids and xarray, a real Dask cluster, and the CLI."""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import textwrap
+import time
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pyarrow.parquet as pq
+import pytest
+
+import multicrank as mc
+import multicrank.reference as ref
+
+SCRIPT = Path(sys.executable).with_name("multicrank")
+
+
+def random_designs(n: int, seed: int = 0) -> pd.DataFrame:
+    rng = np.random.default_rng(seed)
+    return pd.DataFrame(
+        {
+            "crank_ratio": rng.uniform(0, 0.9, n),
+            "inclination": rng.uniform(-np.pi, np.pi, n),
+            "u1": rng.uniform(0, 1, n),
+            "u2": rng.uniform(-0.5, 0.5, n),
+            "cranks": rng.integers(1, 13, n),
+            "strokes": rng.choice([2, 4], n),
+            "acting": rng.choice(["single", "double"], n),
+            "label": [f"m{i}" for i in range(n)],
+        }
+    )
+
+
+def per_design(row, phi):
+    phases = mc.crank_phases(int(row.cranks), int(row.strokes), row.acting)
+    design = dict(crank_ratio=row.crank_ratio, inclination=row.inclination, u1=row.u1, u2=row.u2, phases=phases)
+    return design, ref.generalized_force(phi, **design), ref.potential_energy(phi, **design)
+
+
+def test_outputs_match_per_design_reference():
+    designs = random_designs(60)
+    result = mc.sweep(designs, phi=360)
+    assert list(result.columns) == list(designs.columns) + list(mc.SWEEP_OUTPUTS)
+    assert (result["label"] == designs["label"]).all() and (result.index == designs.index).all()
+    phi = np.arange(360) * (2 * np.pi / 360)
+    dense = np.linspace(0, 2 * np.pi, 20001)
+    for row in result.itertuples():
+        design, q, _ = per_design(row, phi)
+        scale = row.cranks * (abs(row.u1) + abs(row.u2)) / (1 - row.crank_ratio**2) ** 1.5
+        assert abs(row.force_max_abs - np.max(np.abs(q))) <= 1e-13 * scale
+        assert abs(row.force_rms - np.sqrt(np.mean(q**2))) <= 1e-13 * scale
+        u = ref.potential_energy(dense, **design)
+        assert row.energy_min <= u.min() + 1e-13 * scale and row.energy_max >= u.max() - 1e-13 * scale
+        assert row.energy_range == pytest.approx(row.energy_max - row.energy_min, abs=0)
+        assert row.energy_range - (u.max() - u.min()) <= 1e-6 * scale  # the dense grid is close
+        # The leading harmonic against an FFT of the exact force.
+        grid = np.arange(4096) * (2 * np.pi / 4096)
+        spectrum = np.abs(np.fft.rfft(ref.generalized_force(grid, **design))) * 2 / grid.size
+        if spectrum.max() > 1e-12 * scale:
+            assert row.leading_harmonic == int(np.argmax(spectrum))
+            assert row.leading_amplitude == pytest.approx(spectrum.max(), rel=1e-9, abs=1e-13 * scale)
+
+
+def test_mapping_defaults_and_phi_array():
+    designs = {"crank_ratio": [0.3, 0.25], "inclination": [np.pi / 2, 0.0], "u1": [0.5, 0.5], "u2": [0.1, 0.1]}
+    phi = np.linspace(0, 2 * np.pi, 101)
+    result = mc.sweep(designs, phi=phi, outputs=["force_max_abs"])
+    assert list(result.columns) == list(designs) + ["force_max_abs"]
+    q = ref.generalized_force(phi, crank_ratio=0.3, inclination=np.pi / 2, u1=0.5, u2=0.1)
+    assert result["force_max_abs"].iloc[0] == pytest.approx(np.abs(q).max(), rel=1e-14)
+
+
+def test_thread_count_and_chunking_do_not_change_a_bit():
+    designs = random_designs(3000, seed=3)
+    base = mc.sweep(designs, phi=200, chunk_size=3000)
+    other = mc.sweep(designs, phi=200, chunk_size=7)
+    pd.testing.assert_frame_equal(base, other, check_exact=True)
+    code = textwrap.dedent(
+        """
+        import sys, numpy as np, pandas as pd, multicrank as mc
+        designs = pd.read_pickle(sys.argv[1])
+        mc.set_parallel_threshold(0)
+        mc.sweep(designs, phi=200, chunk_size=512).to_pickle(sys.argv[2])
+        """
+    )
+    for threads in ("1", "2", "3"):
+        with_threads = _run_child(code, designs, dict(os.environ, RAYON_NUM_THREADS=threads))
+        pd.testing.assert_frame_equal(base, with_threads, check_exact=True)
+
+
+def _run_child(code: str, designs: pd.DataFrame, env) -> pd.DataFrame:
+    import tempfile
+
+    with tempfile.TemporaryDirectory() as tmp:
+        src, dst = Path(tmp) / "in.pkl", Path(tmp) / "out.pkl"
+        designs.to_pickle(src)
+        subprocess.run([sys.executable, "-c", code, str(src), str(dst)], check=True, env=env, timeout=300)
+        return pd.read_pickle(dst)
+
+
+@pytest.mark.parametrize(
+    "designs, message",
+    [
+        ({"crank_ratio": [0.3], "inclination": [0.0], "u1": [1.0]}, "u2"),
+        ({"crank_ratio": [1.3], "inclination": [0.0], "u1": [1.0], "u2": [0.0]}, "crank_ratio"),
+        ({"crank_ratio": [0.3], "inclination": [np.nan], "u1": [1.0], "u2": [0.0]}, "inclination"),
+        ({"crank_ratio": [0.3], "inclination": [0.0], "u1": [1.0], "u2": [0.0], "cranks": [0]}, "cranks"),
+        ({"crank_ratio": [0.3], "inclination": [0.0], "u1": [1.0], "u2": [0.0], "cranks": [1.5]}, "cranks"),
+        ({"crank_ratio": [0.3], "inclination": [0.0], "u1": [1.0], "u2": [0.0], "strokes": [3]}, "strokes"),
+        ({"crank_ratio": [0.3], "inclination": [0.0], "u1": [1.0], "u2": [0.0], "acting": ["both"]}, "acting"),
+        ({"crank_ratio": [0.3, 0.2], "inclination": [0.0], "u1": [1.0], "u2": [0.0]}, "equal lengths"),
+        ({"crank_ratio": ["a"], "inclination": [0.0], "u1": [1.0], "u2": [0.0]}, "crank_ratio"),
+        ([1, 2, 3], "designs must be"),
+    ],
+)
+def test_bad_designs(designs, message):
+    with pytest.raises(mc.MechanismError, match=message):
+        mc.sweep(designs)
+
+
+def test_bad_options():
+    designs = {"crank_ratio": [0.3], "inclination": [0.0], "u1": [1.0], "u2": [0.0]}
+    with pytest.raises(mc.MechanismError, match="force_peak"):
+        mc.sweep(designs, outputs=["force_peak"])
+    with pytest.raises(mc.MechanismError, match="phi"):
+        mc.sweep(designs, phi=0)
+    with pytest.raises(mc.MechanismError, match="method"):
+        mc.sweep(designs, method="paper")
+
+
+def test_curves_option_matches_evaluation():
+    designs = random_designs(25, seed=5)
+    table, curves = mc.sweep(designs, phi=90, outputs=["force_max_abs"], curves=True)
+    assert curves.shape == (25, 90)
+    phi = np.arange(90) * (2 * np.pi / 90)
+    for i, row in enumerate(table.itertuples()):
+        _, q, _ = per_design(row, phi)
+        np.testing.assert_allclose(curves[i], q, rtol=0, atol=1e-13 * 12 * 2 / (1 - 0.81) ** 1.5)
+    np.testing.assert_array_equal(np.abs(curves).max(axis=1), table["force_max_abs"])
+
+
+def test_grid_to_xarray():
+    axes = dict(crank_ratio=[0.2, 0.3, 0.4], inclination=np.radians([0, 45, 90, 135]), u1=0.01, cranks=[1, 2])
+    grid = mc.design_grid(**axes, u2=0.002)
+    assert len(grid) == 24 and (grid["u1"] == 0.01).all()
+    assert grid.iloc[1].to_dict()["cranks"] == 2  # C order: the last axis varies fastest
+    result = mc.sweep(grid, phi=120)
+    data = mc.to_xarray(result)
+    assert dict(data.sizes) == {"crank_ratio": 3, "inclination": 4, "cranks": 2}
+    one = data["energy_range"].sel(crank_ratio=0.3, cranks=2).isel(inclination=2).item()
+    row = result[(result.crank_ratio == 0.3) & (result.cranks == 2) & (result.inclination == grid.inclination.unique()[2])]
+    assert one == row["energy_range"].item()
+    # A lazy DesignGrid sweeps to the same numbers.
+    lazy = mc.sweep(mc.DesignGrid(**axes, u2=0.002), phi=120, chunk_size=5)
+    np.testing.assert_array_equal(lazy["energy_range"].to_numpy(), result["energy_range"].to_numpy())
+
+
+def test_parquet_streaming_matches_in_memory(tmp_path):
+    designs = random_designs(1000, seed=7)
+    expected = mc.sweep(designs, phi=64)
+    path = mc.sweep(designs, phi=64, out=tmp_path / "r.parquet", chunk_size=128)
+    assert path == tmp_path / "r.parquet" and not (tmp_path / "r.parquet.parts").exists()
+    assert pq.ParquetFile(path).num_row_groups == 8
+    pd.testing.assert_frame_equal(pq.read_table(path).to_pandas(), expected.reset_index(drop=True))
+
+
+def test_resume_after_a_kill_gives_the_same_file(tmp_path):
+    grid_code = "mc.DesignGrid(crank_ratio=np.linspace(0.1, 0.9, 60), inclination=np.linspace(0, 3, 50), u1=[0.2, 0.7], u2=[-0.1, 0.1], cranks=[1, 5, 12])"
+    uninterrupted = tmp_path / "whole.parquet"
+    grid = eval(grid_code, {"mc": mc, "np": np})
+    mc.sweep(grid, phi=360, out=uninterrupted, chunk_size=500)
+
+    target = tmp_path / "killed.parquet"
+    code = f"import numpy as np, multicrank as mc; mc.sweep({grid_code}, phi=360, out={str(target)!r}, chunk_size=500)"
+    child = subprocess.Popen([sys.executable, "-c", code])
+    parts = target.with_name(target.name + ".parts")
+    deadline = time.time() + 120
+    while len(list(parts.glob("part-*.parquet"))) < 3 and time.time() < deadline and child.poll() is None:
+        time.sleep(0.02)
+    child.send_signal(signal.SIGKILL)
+    child.wait()
+    done = len(list(parts.glob("part-*.parquet")))
+    assert 0 < done < len(grid) // 500, "the sweep was killed mid-way"
+    assert not target.exists()
+
+    with pytest.raises(mc.MechanismError, match="cannot resume"):
+        mc.sweep(grid, phi=180, out=target, chunk_size=500, resume=True)  # another sweep's parts
+    mc.sweep(grid, phi=360, out=target, chunk_size=500, resume=True)
+    assert pq.read_table(target).equals(pq.read_table(uninterrupted))
+    assert pq.ParquetFile(target).num_row_groups == pq.ParquetFile(uninterrupted).num_row_groups
+    assert target.read_bytes() == uninterrupted.read_bytes()
+
+
+def test_ctrl_c_stops_within_a_second(tmp_path):
+    code = textwrap.dedent(
+        f"""
+        import numpy as np, multicrank as mc, sys
+        grid = mc.DesignGrid(crank_ratio=np.linspace(0.1, 0.9, 400), inclination=np.linspace(0, 3, 400),
+                             u1=[0.2, 0.7], u2=[-0.1, 0.1], cranks=[1, 12])
+        print("started", flush=True)
+        try:
+            mc.sweep(grid, phi=720, out={str(tmp_path / 'x.parquet')!r}, chunk_size=20000)
+        except KeyboardInterrupt:
+            print("interrupted", flush=True)
+            sys.exit(3)
+        """
+    )
+    child = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, text=True)
+    assert child.stdout.readline().strip() == "started"
+    time.sleep(1.5)
+    sent = time.time()
+    child.send_signal(signal.SIGINT)
+    out, _ = child.communicate(timeout=30)
+    assert child.returncode == 3 and "interrupted" in out
+    assert time.time() - sent < 1.5
+    for part in (tmp_path / "x.parquet.parts").glob("part-*.parquet"):
+        assert pq.read_table(part).num_rows == 20000  # whole parts only
+
+
+def test_dask_local_cluster_matches_in_process():
+    import dask.dataframe as dd
+    from distributed import Client, LocalCluster
+
+    designs = random_designs(2000, seed=11)
+    expected = mc.sweep(designs, phi=90)
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
+        with Client(cluster) as client:
+            lazy = mc.sweep(dd.from_pandas(designs, npartitions=5), phi=90)
+            assert isinstance(lazy, dd.DataFrame)
+            result = lazy.compute()
+            assert len(client.scheduler_info()["workers"]) == 2
+    pd.testing.assert_frame_equal(result.sort_index(), expected, check_exact=True, check_dtype=False)
+
+
+def test_cli_sweep_writes_parquet_and_summary(tmp_path):
+    out = tmp_path / "cli.parquet"
+    result = subprocess.run(
+        [
+            str(SCRIPT), "sweep", "--crank-ratio", "0.2:0.4:3", "--inclination", "0,90", "--u1", "0.05",
+            "--u2=-0.01", "--cranks", "1:3", "--strokes", "2,4", "--phi", "180", "--out", str(out), "--no-progress",
+        ],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert result.returncode == 0, result.stderr
+    assert "36 designs" in result.stdout and "energy_range" in result.stdout
+    table = pq.read_table(out).to_pandas()
+    expected = mc.sweep(
+        mc.DesignGrid(crank_ratio=[0.2, 0.3, 0.4], inclination=np.radians([0.0, 90.0]), u1=0.05, u2=-0.01,
+                      cranks=[1, 2, 3], strokes=[2, 4]),
+        phi=180,
+    )
+    np.testing.assert_allclose(table["energy_range"], expected["energy_range"], rtol=1e-12, atol=1e-15)
+
+
+def test_cli_sweep_from_toml(tmp_path):
+    config = tmp_path / "sweep.toml"
+    config.write_text('phi = 90\noutputs = ["force_max_abs", "energy_range"]\n[axes]\ncrank_ratio = "0.2:0.3:2"\n'
+                      'inclination = [90.0]\nu1 = "0.1"\ncranks = "4,6"\n')
+    out = tmp_path / "toml.parquet"
+    result = subprocess.run([str(SCRIPT), "sweep", "--config", str(config), "--out", str(out), "--no-progress"],
+                            capture_output=True, text=True, timeout=120)
+    assert result.returncode == 0, result.stderr
+    table = pq.read_table(out).to_pandas()
+    assert len(table) == 4 and list(table.columns)[-2:] == ["force_max_abs", "energy_range"]
+    assert np.allclose(table["inclination"], np.pi / 2)
+
+
+def test_cli_sweep_errors_are_usage_errors(tmp_path):
+    result = subprocess.run([str(SCRIPT), "sweep", "--crank-ratio", "0.2", "--out", str(tmp_path / "x.parquet")],
+                            capture_output=True, text=True, timeout=60)
+    assert result.returncode == 2 and "inclination" in result.stderr
