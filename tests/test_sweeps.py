@@ -278,3 +278,12 @@ def test_cli_sweep_errors_are_usage_errors(tmp_path):
     result = subprocess.run([str(SCRIPT), "sweep", "--crank-ratio", "0.2", "--out", str(tmp_path / "x.parquet")],
                             capture_output=True, text=True, timeout=60)
     assert result.returncode == 2 and "inclination" in result.stderr
+
+
+def test_progress_bar_reports_designs(capsys):
+    designs = random_designs(300, seed=13)
+    quiet = mc.sweep(designs, phi=32, outputs=["force_rms"], chunk_size=100)
+    shown = mc.sweep(designs, phi=32, outputs=["force_rms"], chunk_size=100, progress=True)
+    pd.testing.assert_frame_equal(quiet, shown)
+    err = capsys.readouterr().err
+    assert "300/300" in err and "designs/s" in err
