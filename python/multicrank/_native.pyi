@@ -87,6 +87,7 @@ def energy_extrema(
     npt.NDArray[np.float64],
     npt.NDArray[np.float64],
     npt.NDArray[np.float64],
+    npt.NDArray[np.float64],
 ]: ...
 def sweep(
     crank_ratio: npt.NDArray[np.float64],

@@ -13,12 +13,15 @@ __all__ = ["EnergyExtrema", "energy_extrema", "speed_fluctuation"]
 
 
 class EnergyExtrema(NamedTuple):
-    """min and max of U_w* over one revolution and the crank angles φ ∈ [0, 2π] where they occur."""
+    """min and max of U_w* over one revolution, the crank angles φ ∈ [0, 2π] where they
+    occur, and δ_g = max − min (taken before the constant level is added, so a variation
+    below one ulp of U_w* itself is kept)."""
 
     min: np.ndarray
     min_at: np.ndarray
     max: np.ndarray
     max_at: np.ndarray
+    range: np.ndarray
 
 
 def energy_extrema(*, crank_ratio: Any, inclination: Any, u1: Any, u2: Any, phases: Any = None) -> EnergyExtrema:
@@ -44,5 +47,4 @@ def speed_fluctuation(*, crank_ratio: Any, inclination: Any, u1: Any, u2: Any, p
     (ω_max − ω_min)/ω_mean is δ_g. Computed from the exact extrema (roots of Q_u*), so it is
     never below a sampled max − min. Returns shape D (a numpy float64 for scalar input).
     """
-    extrema = energy_extrema(crank_ratio=crank_ratio, inclination=inclination, u1=u1, u2=u2, phases=phases)
-    return extrema.max - extrema.min
+    return energy_extrema(crank_ratio=crank_ratio, inclination=inclination, u1=u1, u2=u2, phases=phases).range

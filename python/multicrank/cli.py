@@ -205,5 +205,65 @@ def sweep_command(config, phi, outputs, out, resume, chunk_size, progress, **axi
     click.echo(summary.to_string(float_format=lambda v: f"{v:.6g}"))
 
 
+# ----------------------------------------------------------------------------- tables
+@main.command("tables")
+@click.option("--strokes", type=click.Choice(["2", "4"]), default="2", show_default=True)
+@click.option("--acting", type=click.Choice(["single", "double"]), default="single", show_default=True)
+@click.option("--k-max", type=click.IntRange(min=1), default=12, show_default=True, help="Largest number of cranks.")
+@click.option("--n-max", type=click.IntRange(min=1), default=24, show_default=True, help="Highest harmonic.")
+@click.option("--format", "fmt", type=click.Choice(FORMATS), default="table", show_default=True)
+def tables_command(strokes, acting, k_max, n_max, fmt) -> None:
+    """Which harmonics W_n of Q_u* survive the sum over k cranks (the paper's Tables 1 and 2).
+
+    Two-stroke single-acting is the paper's Table 1, four-stroke single-acting its Table 2.
+    """
+    from .harmonics import harmonic_table
+
+    table = harmonic_table(int(strokes), acting, k_max=k_max, n_max=n_max)
+    if fmt == "csv":
+        sys.stdout.write(table.astype(int).to_csv())
+    elif fmt == "json":
+        json.dump({str(n): [int(k) for k in table.columns if table.loc[n, k]] for n in table.index}, sys.stdout, indent=2)
+        sys.stdout.write("\n")
+    else:
+        sys.stdout.write(f"W_n that survive: {strokes}-stroke, {acting}-acting (● = non-zero)\n\n")
+        corner = "n \\ k"
+        sys.stdout.write(f"{corner:>6} " + " ".join(f"{k:>3}" for k in table.columns) + "\n")
+        for n, row in table.iterrows():
+            sys.stdout.write(f"{'W_' + str(n):>6} " + " ".join(f"{'●' if v else '·':>3}" for v in row) + "\n")
+
+
+# ----------------------------------------------------------------------------- report
+@main.command("report")
+@click.option("--out", "out_dir", type=click.Path(file_okay=False), default="multicrank-report", show_default=True)
+@click.option(
+    "--engine",
+    "engine_spec",
+    default=DEFAULT_ENGINE.name,
+    show_default=True,
+    help=f"A built-in engine ({', '.join(ENGINES)}) or a TOML file describing one.",
+)
+@click.option("--k-max", type=click.IntRange(min=1, max=24), default=12, show_default=True)
+@click.option("--n-max", type=click.IntRange(min=2), default=24, show_default=True)
+@click.option("--points", type=click.IntRange(min=8), default=721, show_default=True, help="φ points per curve.")
+@click.option("--threshold", type=click.FloatRange(min=0, min_open=True), default=None,
+              help="δ_g below which gravity may be neglected [default: 1/3000].")
+@click.option("--progress/--no-progress", default=True, show_default=True)
+def report_command(out_dir, engine_spec, k_max, n_max, points, threshold, progress) -> None:
+    """Write the report: curves, spectra, Tables 1–2, the paper's truncation error, the
+    gravity-significance map, conventions and errata, as index.html + PNG + CSV."""
+    from .presets import engine_by_name_or_file
+    from .report import DEFAULT_THRESHOLD, ReportSettings, write_report
+
+    try:
+        engine = engine_by_name_or_file(engine_spec)
+    except MechanismError as error:
+        raise click.BadParameter(str(error), param_hint="--engine") from None
+    settings = ReportSettings(engine=engine, k_max=k_max, n_max=n_max, points=points,
+                              threshold=threshold or DEFAULT_THRESHOLD)
+    index = write_report(out_dir, settings, progress=progress)
+    click.echo(f"report written: {index}")
+
+
 if __name__ == "__main__":
     main()

@@ -246,9 +246,9 @@ def _reduce(columns: dict[str, np.ndarray], phi: np.ndarray, outputs: tuple[str,
                 wanted["harmonic"],
             )
         )
-    names = ("force_max_abs", "force_rms", "energy_min", "energy_max", "leading_harmonic", "leading_amplitude")
+    names = ("force_max_abs", "force_rms", "energy_min", "energy_max", "energy_range", "leading_harmonic",
+             "leading_amplitude")
     raw = {name: np.concatenate([p[i] for p in parts]) if parts else np.zeros(0) for i, name in enumerate(names)}
-    raw["energy_range"] = raw["energy_max"] - raw["energy_min"]
     if wanted["harmonic"]:
         raw["leading_harmonic"] = raw["leading_harmonic"].astype(np.int64)
     return {name: raw[name] for name in outputs}

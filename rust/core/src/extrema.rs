@@ -21,18 +21,22 @@ use crate::mechanism::{Design, Phases};
 use crate::parallel::{map_indices, Parallelism};
 use crate::series::{evaluate_series_one, FourierSeries};
 
-/// min and max of U_w* over one revolution, with the angles where they occur.
+/// min and max of U_w* over one revolution, the angles where they occur, and their
+/// difference δ_g.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct EnergyExtrema {
     pub min: f64,
     pub min_at: f64,
     pub max: f64,
     pub max_at: f64,
+    /// max − min, taken before the constant level is added: a variation below one ulp of
+    /// the level (a crank set that cancels all but a tiny harmonic) survives in it.
+    pub range: f64,
 }
 
 impl EnergyExtrema {
     pub fn range(&self) -> f64 {
-        self.max - self.min
+        self.range
     }
 }
 
@@ -96,16 +100,14 @@ pub fn energy_extrema(design: &Design, phases: &Phases, series: &FourierSeries) 
     let (mut q, mut u) = (vec![0.0; m + 1], vec![0.0; m + 1]);
     evaluate_series_one(series, &phi, &mut q);
     evaluate_series_one(&energy, &phi, &mut u);
-    // The series' antiderivative has no constant term; the closed form sets the level.
-    let level = evaluate_point(Quantity::PotentialEnergy, design, phases, 0.0) - u[0];
-    for value in &mut u {
-        *value += level;
-    }
+    // Extrema of the series' antiderivative (no constant term) first; the closed form at
+    // φ = 0 sets the level afterwards.
     let mut best = EnergyExtrema {
         min: u[0],
         min_at: 0.0,
         max: u[0],
         max_at: 0.0,
+        range: 0.0,
     };
     let mut consider = |at: f64, value: f64| {
         if value < best.min {
@@ -123,9 +125,13 @@ pub fn energy_extrema(design: &Design, phases: &Phases, series: &FourierSeries) 
         // Q changes sign strictly inside the cell (a zero at a grid point is a candidate already).
         if (qa < 0.0 && qb > 0.0) || (qa > 0.0 && qb < 0.0) {
             let root = polish_root(series, phi[i], phi[i + 1], qa, qb);
-            consider(root, energy.value_at(root) + level);
+            consider(root, energy.value_at(root));
         }
     }
+    let level = evaluate_point(Quantity::PotentialEnergy, design, phases, 0.0) - u[0];
+    best.range = best.max - best.min;
+    best.min += level;
+    best.max += level;
     best
 }
 

@@ -29,6 +29,7 @@ pub struct SweepRow {
     pub force_rms: f64,
     pub energy_min: f64,
     pub energy_max: f64,
+    pub energy_range: f64,
     pub leading_harmonic: f64,
     pub leading_amplitude: f64,
 }
@@ -120,6 +121,7 @@ fn sweep_one(
         force_rms: f64::NAN,
         energy_min: f64::NAN,
         energy_max: f64::NAN,
+        energy_range: f64::NAN,
         leading_harmonic: f64::NAN,
         leading_amplitude: f64::NAN,
     };
@@ -140,6 +142,7 @@ fn sweep_one(
         let extrema = energy_extrema(design, phases, &series);
         row.energy_min = extrema.min;
         row.energy_max = extrema.max;
+        row.energy_range = extrema.range;
     }
     if outputs.harmonic {
         (row.leading_harmonic, row.leading_amplitude) = leading_harmonic(&series);

@@ -345,7 +345,7 @@ mod _native {
         Ok((a.into_pyarray(py), b.into_pyarray(py)))
     }
 
-    /// energy_extrema(crank_ratio, inclination, u1, u2, phases) -> (min, min_at, max, max_at)
+    /// energy_extrema(crank_ratio, inclination, u1, u2, phases) -> (min, min_at, max, max_at, range)
     /// of U_w* over one revolution, exact (roots of Q_u* polished by Newton).
     #[pyfunction]
     #[allow(clippy::type_complexity)]
@@ -357,6 +357,7 @@ mod _native {
         u2: PyReadonlyArray1<'py, f64>,
         phases: PyReadonlyArray1<'py, f64>,
     ) -> PyResult<(
+        Bound<'py, PyArray1<f64>>,
         Bound<'py, PyArray1<f64>>,
         Bound<'py, PyArray1<f64>>,
         Bound<'py, PyArray1<f64>>,
@@ -392,12 +393,14 @@ mod _native {
             column(|e| e.min_at),
             column(|e| e.max),
             column(|e| e.max_at),
+            column(|e| e.range),
         ))
     }
 
     /// sweep(crank_ratio, inclination, u1, u2, phase_set, set_phases, set_offsets, phi,
     /// force, energy, harmonic) -> (force_max_abs, force_rms, energy_min, energy_max,
-    /// leading_harmonic, leading_amplitude), one value per design (NaN where not asked).
+    /// energy_range, leading_harmonic, leading_amplitude), one value per design (NaN where
+    /// not asked).
     /// Phase set i is set_phases[set_offsets[i]..set_offsets[i+1]].
     #[pyfunction]
     #[allow(clippy::too_many_arguments, clippy::type_complexity)]
@@ -451,11 +454,12 @@ mod _native {
                 core::sweep(&designs, phase_set, &table, phi, outputs, parallelism)
             })
             .map_err(to_py_err)?;
-        let fields: [fn(&core::SweepRow) -> f64; 6] = [
+        let fields: [fn(&core::SweepRow) -> f64; 7] = [
             |r| r.force_max_abs,
             |r| r.force_rms,
             |r| r.energy_min,
             |r| r.energy_max,
+            |r| r.energy_range,
             |r| r.leading_harmonic,
             |r| r.leading_amplitude,
         ];
