@@ -1,0 +1,133 @@
+"""`multicrank report` and `multicrank tables`, run as a user runs them, on reduced settings."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+import multicrank as mc
+from multicrank.presets import ENGINES, load_engine
+from multicrank.report import DEFAULT_THRESHOLD, PAPER_TABLE_1
+
+SCRIPT = Path(sys.executable).with_name("multicrank")
+
+
+def run(*args: str, check: bool = True) -> subprocess.CompletedProcess:
+    result = subprocess.run([str(SCRIPT), *args], capture_output=True, text=True, timeout=300)
+    if check:
+        assert result.returncode == 0, result.stderr
+    return result
+
+
+@pytest.fixture(scope="module")
+def report(tmp_path_factory) -> Path:
+    out = tmp_path_factory.mktemp("report")
+    result = run("report", "--out", str(out), "--engine", "inline-4", "--k-max", "4", "--n-max", "12",
+                 "--points", "91", "--no-progress")
+    assert "report written" in result.stdout
+    return out
+
+
+def test_report_files(report):
+    names = {p.name for p in report.iterdir()}
+    for stem in ["energy_2stroke", "energy_4stroke", "force_2stroke", "force_4stroke", "spectra_2stroke",
+                 "spectra_4stroke", "paper_truncation_error", "gravity_significance_k_lambda",
+                 "gravity_significance_engines"]:
+        assert f"{stem}.png" in names and f"{stem}.csv" in names
+        assert (report / f"{stem}.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    for table in ["table1_two_stroke_single", "table2_four_stroke_single", "two_stroke_double",
+                  "four_stroke_double", "paper_table1_printed"]:
+        assert f"{table}.csv" in names
+    page = (report / "index.html").read_text(encoding="utf-8")
+    assert page.count("data:image/png;base64,") == 9  # self-contained
+    for heading in ["The engine", "Gravity significance", "Harmonic spectra", "Tables 1 and 2",
+                    "truncated series", "Conventions", "Errata"]:
+        assert heading in page
+    assert "agrees with the derived one in every cell" in page
+
+
+def test_report_tables_are_the_phase_sum_rule(report):
+    table1 = pd.read_csv(report / "table1_two_stroke_single.csv", index_col="n")
+    assert list(table1.index) == [1, 2, 4, 6, 8, 10, 12] and list(table1.columns) == ["1", "2", "3", "4"]
+    for n, ks in PAPER_TABLE_1.items():
+        assert [int(k) for k in table1.columns if table1.loc[n, k]] == [k for k in ks if k <= 4]
+    table2 = pd.read_csv(report / "table2_four_stroke_single.csv", index_col="n")
+    assert table2.loc[1].tolist() == [1, 1, 0, 0]  # four-stroke: n = 1 survives for k = 1, 2 only
+    assert table2.loc[6].tolist() == [1, 1, 1, 1]
+    double = pd.read_csv(report / "two_stroke_double.csv", index_col="n")
+    assert double.loc[1].tolist() == [1, 1, 1, 1]  # S_1 never vanishes for the double-acting two-stroke
+
+
+def test_report_numbers_match_the_api(report):
+    engine = ENGINES["inline-4"]
+    curves = pd.read_csv(report / "force_4stroke.csv")
+    phi = np.radians(curves["phi_deg"].to_numpy())
+    for k in range(1, 5):
+        design = engine.replace(cranks=k, strokes=4, acting="single").design()
+        np.testing.assert_allclose(curves[f"k{k}"], mc.generalized_force(phi, **design), rtol=1e-15, atol=1e-18)
+    engines = pd.read_csv(report / "gravity_significance_engines.csv")
+    assert set(engines["engine"]) == set(ENGINES)
+    row = engines[engines.engine == "slow-compressor"].iloc[0]
+    compressor = ENGINES["slow-compressor"]
+    u1, u2 = compressor.moments(rpm=row.rpm)
+    assert row.delta_g == pytest.approx(
+        mc.speed_fluctuation(crank_ratio=compressor.crank_ratio, inclination=compressor.inclination, u1=u1, u2=u2,
+                             phases=compressor.phases()), rel=1e-12)
+    truncation = pd.read_csv(report / "paper_truncation_error.csv")
+    at = (truncation.crank_ratio - 0.4).abs().idxmin()
+    assert 0.2 < truncation.loc[at, "Lambda12_relative_error"] < 0.6  # "Λ_12 is 37 % off at λ = 0.4"
+    spectra = pd.read_csv(report / "spectra_4stroke.csv")
+    assert set(spectra[spectra.k == 4].n) <= {1, 2, 4, 6, 8, 10, 12}
+    page = (report / "index.html").read_text(encoding="utf-8")
+    delta = float(mc.speed_fluctuation(**ENGINES["inline-4"].design()))
+    assert f"{delta:.3g}" in page
+    verdict = "may be neglected" if delta < DEFAULT_THRESHOLD else "may NOT be neglected"
+    assert verdict in page
+
+
+def test_report_from_a_toml_engine(tmp_path):
+    engine = ENGINES["marine-2t-twin"]
+    fields = {k: v for k, v in vars(engine).items() if k not in ("name", "note")}
+    lines = ["[engine]", 'name = "my-twin"']
+    for key, value in fields.items():
+        lines.append(f"{key} = {json.dumps(list(value) if isinstance(value, tuple) else value)}")
+    toml = tmp_path / "twin.toml"
+    toml.write_text("\n".join(lines) + "\n")
+    loaded = load_engine(toml)
+    assert loaded.design()["u1"] == engine.design()["u1"]
+    out = tmp_path / "rep"
+    run("report", "--out", str(out), "--engine", str(toml), "--k-max", "2", "--n-max", "4", "--points", "17",
+        "--no-progress")
+    assert "my-twin" in (out / "index.html").read_text(encoding="utf-8")
+
+
+def test_report_rejects_unknown_engines(tmp_path):
+    result = run("report", "--out", str(tmp_path), "--engine", "steam-hammer", check=False)
+    assert result.returncode == 2 and "steam-hammer" in result.stderr
+    bad = tmp_path / "bad.toml"
+    bad.write_text("crank_radius = 0.1\nwheels = 4\n")
+    result = run("report", "--out", str(tmp_path), "--engine", str(bad), check=False)
+    assert result.returncode == 2 and "wheels" in result.stderr
+
+
+def test_tables_command_formats():
+    text = run("tables", "--strokes", "2", "--k-max", "12", "--n-max", "12").stdout
+    rows = [line for line in text.splitlines() if line.split()[:1] and line.split()[0].startswith("W_") and len(line.split()) == 13]
+    assert len(rows) == 7 and "".join(rows).count("●") == sum(len(v) for v in PAPER_TABLE_1.values())
+    data = json.loads(run("tables", "--format", "json", "--n-max", "12").stdout)
+    assert {int(n): ks for n, ks in data.items()} == PAPER_TABLE_1
+    csv = run("tables", "--format", "csv", "--strokes", "4", "--n-max", "4", "--k-max", "3").stdout
+    assert csv.splitlines() == ["n,1,2,3", "1,1,1,0", "2,1,1,0", "4,1,1,0"]
+
+
+def test_help_texts_name_degrees():
+    assert "DEGREES" in run("eval", "--help").stdout
+    assert "DEGREES" in run("sweep", "--help").stdout
+    for command in ("eval", "tables", "sweep", "report"):
+        assert command in run("--help").stdout
