@@ -12,6 +12,7 @@ import os as _os
 
 from . import _native
 from ._native import MechanismError, build_profile
+from .engines import LAYOUTS, Engine, Layout, layout_engine
 from .evaluation import (
     FORCE_METHODS,
     force_derivative,
@@ -49,6 +50,9 @@ _os.register_at_fork(after_in_child=_native._after_fork_in_child)
 
 __all__ = [
     "DesignGrid",
+    "Engine",
+    "LAYOUTS",
+    "Layout",
     "EnergyExtrema",
     "FORCE_METHODS",
     "MechanismError",
@@ -65,6 +69,7 @@ __all__ = [
     "generalized_force",
     "get_parallel_threshold",
     "harmonic_table",
+    "layout_engine",
     "lambda_coefficients",
     "paper_coefficient",
     "potential_energy",

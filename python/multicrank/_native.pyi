@@ -14,6 +14,9 @@ __all__ = [
     "fourier_coefficients",
     "energy_extrema",
     "sweep",
+    "engine_evaluate",
+    "engine_fourier",
+    "engine_extrema",
     "get_parallel_threshold",
     "set_parallel_threshold",
     "_after_fork_in_child",
@@ -102,3 +105,27 @@ def sweep(
     energy: bool,
     harmonic: bool,
 ) -> list[npt.NDArray[np.float64]]: ...
+def engine_evaluate(
+    quantity: str,
+    phi: npt.NDArray[np.float64],
+    phase: npt.NDArray[np.float64],
+    inclination: npt.NDArray[np.float64],
+    crank_ratio: npt.NDArray[np.float64],
+    u1: npt.NDArray[np.float64],
+    u2: npt.NDArray[np.float64],
+) -> npt.NDArray[np.float64]: ...
+def engine_fourier(
+    phase: npt.NDArray[np.float64],
+    inclination: npt.NDArray[np.float64],
+    crank_ratio: npt.NDArray[np.float64],
+    u1: npt.NDArray[np.float64],
+    u2: npt.NDArray[np.float64],
+    n_max: int,
+) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]: ...
+def engine_extrema(
+    phase: npt.NDArray[np.float64],
+    inclination: npt.NDArray[np.float64],
+    crank_ratio: npt.NDArray[np.float64],
+    u1: npt.NDArray[np.float64],
+    u2: npt.NDArray[np.float64],
+) -> tuple[float, float, float, float, float]: ...

@@ -17,12 +17,13 @@ import numpy as np
 from ._api import MechanismError
 from .mechanism import STANDARD_GRAVITY, crank_phases, dimensionless_moments
 
-__all__ = ["Engine", "DEFAULT_ENGINE", "ENGINES", "load_engine", "engine_by_name_or_file"]
+__all__ = ["Machine", "DEFAULT_ENGINE", "ENGINES", "load_engine", "engine_by_name_or_file"]
 
 
 @dataclass(frozen=True)
-class Engine:
-    """An in-line machine of identical slider-crank units on one shaft (SI units).
+class Machine:
+    """An in-line machine of identical slider-crank units on one shaft, in SI units (for the
+    cylinder-level description of any layout see :class:`multicrank.Engine`).
 
     Masses are per cylinder; ``shaft_inertia`` is the whole shaft with everything turning
     with it (flywheel included); ``inclination_deg`` is the cylinder axis to the horizontal
@@ -98,11 +99,11 @@ class Engine:
         low, high = self.rpm_range
         return (low, high) if high > low > 0 else (0.5 * self.rpm, 1.5 * self.rpm)
 
-    def replace(self, **changes) -> "Engine":
+    def replace(self, **changes) -> "Machine":
         return dataclasses.replace(self, **changes)
 
 
-SLOW_COMPRESSOR = Engine(
+SLOW_COMPRESSOR = Machine(
     name="slow-compressor",
     note=(
         "Illustrative heavy, slow single-cylinder upright double-acting air compressor: "
@@ -127,7 +128,7 @@ SLOW_COMPRESSOR = Engine(
     rpm_range=(60.0, 300.0),
 )
 
-MARINE_TWIN = Engine(
+MARINE_TWIN = Machine(
     name="marine-2t-twin",
     note=(
         "Illustrative two-cylinder two-stroke marine engine (small fishing-vessel class): "
@@ -151,7 +152,7 @@ MARINE_TWIN = Engine(
     rpm_range=(150.0, 400.0),
 )
 
-INLINE_FOUR = Engine(
+INLINE_FOUR = Machine(
     name="inline-4",
     note=(
         "Illustrative in-line four four-stroke car petrol engine: 85 mm stroke, 140 mm rods, "
@@ -175,7 +176,7 @@ INLINE_FOUR = Engine(
     rpm_range=(600.0, 6500.0),
 )
 
-INLINE_SIX = Engine(
+INLINE_SIX = Machine(
     name="inline-6",
     note=(
         "Illustrative in-line six four-stroke truck diesel: 140 mm stroke, 230 mm rods, "
@@ -199,7 +200,7 @@ INLINE_SIX = Engine(
     rpm_range=(500.0, 2200.0),
 )
 
-SLOW_DIESEL_12 = Engine(
+SLOW_DIESEL_12 = Machine(
     name="slow-diesel-12",
     note=(
         "Illustrative in-line twelve-cylinder slow-speed two-stroke crosshead diesel (large "
@@ -228,8 +229,8 @@ DEFAULT_ENGINE = SLOW_COMPRESSOR
 ENGINES = {e.name: e for e in (SLOW_COMPRESSOR, MARINE_TWIN, INLINE_FOUR, INLINE_SIX, SLOW_DIESEL_12)}
 
 
-def load_engine(path: str | os.PathLike) -> Engine:
-    """An engine from a TOML file: the fields of :class:`Engine` at top level or in an
+def load_engine(path: str | os.PathLike) -> Machine:
+    """An engine from a TOML file: the fields of :class:`Machine` at top level or in an
     ``[engine]`` table (``name`` and ``note`` optional; ``rpm_range`` a two-element list)."""
     import tomllib
 
@@ -238,21 +239,21 @@ def load_engine(path: str | os.PathLike) -> Engine:
     data = data.get("engine", data)
     data.setdefault("name", Path(path).stem)
     data.setdefault("note", f"user engine from {Path(path).name}")
-    known = {f.name for f in dataclasses.fields(Engine)}
+    known = {f.name for f in dataclasses.fields(Machine)}
     unknown = sorted(set(data) - known)
     if unknown:
         raise MechanismError(f"{path}: unknown engine field(s) {', '.join(unknown)}; known: {', '.join(sorted(known))}")
-    missing = sorted(f.name for f in dataclasses.fields(Engine) if f.name not in data and f.default is dataclasses.MISSING)
+    missing = sorted(f.name for f in dataclasses.fields(Machine) if f.name not in data and f.default is dataclasses.MISSING)
     if missing:
         raise MechanismError(f"{path}: missing engine field(s) {', '.join(missing)}")
     if "rpm_range" in data:
         data["rpm_range"] = tuple(float(v) for v in data["rpm_range"])
-    engine = Engine(**data)
+    engine = Machine(**data)
     engine.design()  # validates every number through the API
     return engine
 
 
-def engine_by_name_or_file(spec: str) -> Engine:
+def engine_by_name_or_file(spec: str) -> Machine:
     """A built-in engine by name, or one loaded from a TOML file path."""
     if spec in ENGINES:
         return ENGINES[spec]

@@ -28,7 +28,7 @@ from .analysis import speed_fluctuation
 from .evaluation import generalized_force, potential_energy
 from .harmonics import fourier_coefficients, harmonic_table, lambda_coefficients
 from .mechanism import crank_phases, dimensionless_moments
-from .presets import DEFAULT_ENGINE, ENGINES, Engine
+from .presets import DEFAULT_ENGINE, ENGINES, Machine
 
 __all__ = ["PAPER_TABLE_1", "DEFAULT_THRESHOLD", "ReportSettings", "write_report"]
 
@@ -66,7 +66,7 @@ CONVENTIONS = [
 
 @dataclass
 class ReportSettings:
-    engine: Engine = DEFAULT_ENGINE
+    engine: Machine = DEFAULT_ENGINE
     k_max: int = 12
     n_max: int = 24
     points: int = 721
@@ -91,7 +91,7 @@ def _grid_shape(count: int) -> tuple[int, int]:
     return math.ceil(count / cols), cols
 
 
-def _unit(engine: Engine, cranks: int, strokes: int) -> dict:
+def _unit(engine: Machine, cranks: int, strokes: int) -> dict:
     """The engine's crank unit on a regular single-acting k-crank shaft of the given cycle
     (the machines of the paper's eq. 16 and Tables 1–2)."""
     return engine.replace(cranks=cranks, strokes=strokes, acting="single").design()

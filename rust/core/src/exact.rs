@@ -31,12 +31,12 @@ const BLOCK: usize = 256;
 
 /// The contribution of one crank at angle ψ, given (sin ψ, cos ψ).
 trait CrankTerm {
-    fn term(&self, s: f64, c: f64) -> f64;
+    fn term(k: &Coefficients, s: f64, c: f64) -> f64;
 }
 
-/// Coefficients shared by the three quantities; λ² and the γ products precomputed.
-#[derive(Clone, Copy)]
-struct Coefficients {
+/// One crank unit's coefficients for the three quantities; λ² and the γ products precomputed.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Coefficients {
     /// λ²
     l2: f64,
     /// U2·cos γ
@@ -48,7 +48,7 @@ struct Coefficients {
 }
 
 impl Coefficients {
-    fn new(d: &Design) -> Self {
+    pub(crate) fn new(d: &Design) -> Self {
         let (sin_g, cos_g) = d.inclination.sin_cos();
         Self {
             l2: d.crank_ratio * d.crank_ratio,
@@ -59,16 +59,16 @@ impl Coefficients {
     }
 }
 
-struct Energy(Coefficients);
-struct Force(Coefficients);
-struct ForceDerivative(Coefficients);
+/// The three quantities, as type-level selectors of the per-crank term.
+struct Energy;
+struct Force;
+struct ForceDerivative;
 
 impl CrankTerm for Energy {
     /// U* = U2[sin(ψ+γ) − sin γ] − U1 sin γ [(1 − cos ψ) + λ sin²ψ / (1 + √(1 − λ² sin²ψ))]
     /// (the stable form of s(ψ)/r: no cancellation as λ → 0; exactly 0 at ψ = 0).
     #[inline(always)]
-    fn term(&self, s: f64, c: f64) -> f64 {
-        let k = &self.0;
+    fn term(k: &Coefficients, s: f64, c: f64) -> f64 {
         let s2 = s * s;
         let root = (1.0 - k.l2 * s2).sqrt();
         k.p * s + k.w_plus * (c - 1.0) - k.wl * s2 / (1.0 + root)
@@ -78,8 +78,7 @@ impl CrankTerm for Energy {
 impl CrankTerm for Force {
     /// Q = U2 cos(ψ+γ) − U1 sin γ [sin ψ + λ sin ψ cos ψ / √(1 − λ² sin²ψ)]
     #[inline(always)]
-    fn term(&self, s: f64, c: f64) -> f64 {
-        let k = &self.0;
+    fn term(k: &Coefficients, s: f64, c: f64) -> f64 {
         let root = (1.0 - k.l2 * (s * s)).sqrt();
         k.p * c - k.w_plus * s - k.wl * (s * c) / root
     }
@@ -88,8 +87,7 @@ impl CrankTerm for Force {
 impl CrankTerm for ForceDerivative {
     /// dQ/dψ = −U2 sin(ψ+γ) − U1 sin γ [cos ψ + λ (cos 2ψ + λ² sin⁴ψ) / (1 − λ² sin²ψ)^{3/2}]
     #[inline(always)]
-    fn term(&self, s: f64, c: f64) -> f64 {
-        let k = &self.0;
+    fn term(k: &Coefficients, s: f64, c: f64) -> f64 {
         let s2 = s * s;
         let d2 = 1.0 - k.l2 * s2;
         let numerator = c * c - s2 + k.l2 * (s2 * s2);
@@ -97,9 +95,15 @@ impl CrankTerm for ForceDerivative {
     }
 }
 
-/// Σ_j term(φ_i + α_j) for one design over a run of φ.
+/// Σ_j term_j(φ_i + α_j) over a run of φ; `units` holds one set of coefficients shared by
+/// every crank (an in-line machine) or one per crank (a general engine).
 #[inline(always)]
-fn sum_over_cranks<K: CrankTerm>(kernel: &K, phases: &Phases, phi: &[f64], out: &mut [f64]) {
+fn sum_over_cranks<K: CrankTerm>(
+    units: &[Coefficients],
+    phases: &Phases,
+    phi: &[f64],
+    out: &mut [f64],
+) {
     let mut sin_phi = [0.0; BLOCK];
     let mut cos_phi = [0.0; BLOCK];
     for (phi_b, out_b) in phi.chunks(BLOCK).zip(out.chunks_mut(BLOCK)) {
@@ -107,29 +111,34 @@ fn sum_over_cranks<K: CrankTerm>(kernel: &K, phases: &Phases, phi: &[f64], out: 
         let (s_b, c_b) = (&mut sin_phi[..n], &mut cos_phi[..n]);
         sincos_block(phi_b, s_b, c_b);
         out_b.fill(0.0);
-        for (&cos_a, &sin_a) in phases.cos.iter().zip(&phases.sin) {
+        for (j, (&cos_a, &sin_a)) in phases.cos.iter().zip(&phases.sin).enumerate() {
+            let kernel = if units.len() == 1 {
+                &units[0]
+            } else {
+                &units[j]
+            };
             for ((o, &s), &c) in out_b.iter_mut().zip(s_b.iter()).zip(c_b.iter()) {
                 let sin_psi = s * cos_a + c * sin_a;
                 let cos_psi = c * cos_a - s * sin_a;
-                *o += kernel.term(sin_psi, cos_psi);
+                *o += K::term(kernel, sin_psi, cos_psi);
             }
         }
     }
 }
 
 #[multiversion(targets("x86_64+avx512f+avx512vl+avx512dq", "x86_64+avx2+fma"))]
-fn energy_run(k: &Coefficients, phases: &Phases, phi: &[f64], out: &mut [f64]) {
-    sum_over_cranks(&Energy(*k), phases, phi, out)
+fn energy_run(units: &[Coefficients], phases: &Phases, phi: &[f64], out: &mut [f64]) {
+    sum_over_cranks::<Energy>(units, phases, phi, out)
 }
 
 #[multiversion(targets("x86_64+avx512f+avx512vl+avx512dq", "x86_64+avx2+fma"))]
-fn force_run(k: &Coefficients, phases: &Phases, phi: &[f64], out: &mut [f64]) {
-    sum_over_cranks(&Force(*k), phases, phi, out)
+fn force_run(units: &[Coefficients], phases: &Phases, phi: &[f64], out: &mut [f64]) {
+    sum_over_cranks::<Force>(units, phases, phi, out)
 }
 
 #[multiversion(targets("x86_64+avx512f+avx512vl+avx512dq", "x86_64+avx2+fma"))]
-fn derivative_run(k: &Coefficients, phases: &Phases, phi: &[f64], out: &mut [f64]) {
-    sum_over_cranks(&ForceDerivative(*k), phases, phi, out)
+fn derivative_run(units: &[Coefficients], phases: &Phases, phi: &[f64], out: &mut [f64]) {
+    sum_over_cranks::<ForceDerivative>(units, phases, phi, out)
 }
 
 pub(crate) fn evaluate_run(
@@ -139,11 +148,21 @@ pub(crate) fn evaluate_run(
     phi: &[f64],
     out: &mut [f64],
 ) {
-    let k = Coefficients::new(design);
+    evaluate_units(quantity, &[Coefficients::new(design)], phases, phi, out)
+}
+
+/// `quantity` of crank units with their own coefficients (one, shared, or one per phase).
+pub(crate) fn evaluate_units(
+    quantity: Quantity,
+    units: &[Coefficients],
+    phases: &Phases,
+    phi: &[f64],
+    out: &mut [f64],
+) {
     match quantity {
-        Quantity::PotentialEnergy => energy_run(&k, phases, phi, out),
-        Quantity::GeneralizedForce => force_run(&k, phases, phi, out),
-        Quantity::ForceDerivative => derivative_run(&k, phases, phi, out),
+        Quantity::PotentialEnergy => energy_run(units, phases, phi, out),
+        Quantity::GeneralizedForce => force_run(units, phases, phi, out),
+        Quantity::ForceDerivative => derivative_run(units, phases, phi, out),
     }
 }
 

@@ -94,6 +94,13 @@ fn polish_root(force: &FourierSeries, mut lo: f64, mut hi: f64, q_lo: f64, q_hi:
 
 /// The exact extrema of U_w* over φ ∈ [0, 2π) for one design.
 pub fn energy_extrema(design: &Design, phases: &Phases, series: &FourierSeries) -> EnergyExtrema {
+    let level = evaluate_point(Quantity::PotentialEnergy, design, phases, 0.0);
+    extrema_of_series(series, level)
+}
+
+/// The extrema of the antiderivative of `series` over one revolution, levelled so that
+/// U_w*(0) = `energy_at_zero`.
+pub fn extrema_of_series(series: &FourierSeries, energy_at_zero: f64) -> EnergyExtrema {
     let energy = series.integral();
     let m = grid_size(series);
     let phi: Vec<f64> = (0..=m).map(|i| TAU * i as f64 / m as f64).collect();
@@ -128,7 +135,7 @@ pub fn energy_extrema(design: &Design, phases: &Phases, series: &FourierSeries) 
             consider(root, energy.value_at(root));
         }
     }
-    let level = evaluate_point(Quantity::PotentialEnergy, design, phases, 0.0) - u[0];
+    let level = energy_at_zero - u[0];
     best.range = best.max - best.min;
     best.min += level;
     best.max += level;

@@ -7,6 +7,7 @@
 //! energies are dimensionless, U* = U/(I_w ω²).
 
 mod doubledouble;
+pub mod engine;
 pub mod error;
 pub mod exact;
 pub mod extrema;
@@ -17,8 +18,10 @@ pub mod series;
 pub mod sweep;
 pub mod trig;
 
+pub use engine::{Cylinder, Engine};
 pub use error::{MechanismError, Result};
 pub use exact::{evaluate, evaluate_one, evaluate_point, Quantity};
+pub use extrema::extrema_of_series;
 pub use extrema::{all_energy_extrema, energy_extrema, EnergyExtrema};
 pub use harmonics::{
     fourier_coefficients, harmonic_survives, lambda_exact, lambda_paper, paper_coefficient,

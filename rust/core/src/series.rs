@@ -44,7 +44,8 @@ fn gcd(a: usize, b: usize) -> usize {
 }
 
 impl FourierSeries {
-    fn from_harmonics(a1: f64, b1: f64, even: &[(usize, f64, f64)]) -> Self {
+    /// a₁ cos φ + b₁ sin φ + Σ (a_n cos nφ + b_n sin nφ) over `even` = [(n, a_n, b_n)], n even ascending.
+    pub fn from_terms(a1: f64, b1: f64, even: &[(usize, f64, f64)]) -> Self {
         let step = even.iter().fold(0, |g, &(n, _, _)| gcd(g, n));
         let count = even.last().map_or(0, |&(n, _, _)| n / step.max(1));
         let (mut cos, mut sin) = (vec![0.0; count], vec![0.0; count]);
@@ -92,7 +93,7 @@ impl FourierSeries {
                 break;
             }
         }
-        Self::from_harmonics(a1, b1, &even)
+        Self::from_terms(a1, b1, &even)
     }
 
     /// The paper's eq. (16): Λ_n from the λ-series through λ¹¹, n ≤ 12, every harmonic
@@ -110,7 +111,7 @@ impl FourierSeries {
             })
             .filter(|&(_, a, b)| a != 0.0 || b != 0.0)
             .collect();
-        Self::from_harmonics(a1, b1, &even)
+        Self::from_terms(a1, b1, &even)
     }
 
     pub fn new(kind: SeriesKind, design: &Design, sums: &PhaseSums) -> Self {

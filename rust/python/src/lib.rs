@@ -66,6 +66,29 @@ fn series_kind(method: &str) -> PyResult<core::SeriesKind> {
     }
 }
 
+/// A validated engine from its per-unit columns.
+fn engine_from(columns: [&[f64]; 5]) -> core::Result<core::Engine> {
+    let n = columns[0].len();
+    if let Some(bad) = columns.iter().find(|c| c.len() != n) {
+        return Err(core::MechanismError::LengthMismatch {
+            parameter: "cylinder arrays",
+            expected: n,
+            found: bad.len(),
+        });
+    }
+    core::Engine::new(
+        (0..n)
+            .map(|i| core::Cylinder {
+                phase: columns[0][i],
+                inclination: columns[1][i],
+                crank_ratio: columns[2][i],
+                u1: columns[3][i],
+                u2: columns[4][i],
+            })
+            .collect(),
+    )
+}
+
 #[pymodule]
 mod _native {
     use super::*;
@@ -467,6 +490,108 @@ mod _native {
             .iter()
             .map(|f| rows.iter().map(f).collect::<Vec<_>>().into_pyarray(py))
             .collect())
+    }
+
+    /// engine_evaluate(quantity, phi, phase, inclination, crank_ratio, u1, u2) -> array like
+    /// phi: "potential_energy", "generalized_force", "force_derivative" (closed form) or
+    /// "series" (the machine-precision Fourier form) of a cylinder-level engine.
+    #[pyfunction]
+    #[allow(clippy::too_many_arguments)]
+    fn engine_evaluate<'py>(
+        py: Python<'py>,
+        quantity: &str,
+        phi: PyReadonlyArray1<'py, f64>,
+        phase: PyReadonlyArray1<'py, f64>,
+        inclination: PyReadonlyArray1<'py, f64>,
+        crank_ratio: PyReadonlyArray1<'py, f64>,
+        u1: PyReadonlyArray1<'py, f64>,
+        u2: PyReadonlyArray1<'py, f64>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let quantity = match quantity {
+            "potential_energy" => Some(core::Quantity::PotentialEnergy),
+            "generalized_force" => Some(core::Quantity::GeneralizedForce),
+            "force_derivative" => Some(core::Quantity::ForceDerivative),
+            "series" => None,
+            other => {
+                return Err(MechanismError::new_err(format!(
+                    "quantity = {other:?} is not allowed; allowed: \"potential_energy\", \"generalized_force\", \"force_derivative\", \"series\""
+                )))
+            }
+        };
+        let phi = slice(&phi)?;
+        let columns = [
+            slice(&phase)?,
+            slice(&inclination)?,
+            slice(&crank_ratio)?,
+            slice(&u1)?,
+            slice(&u2)?,
+        ];
+        let parallelism = parallelism();
+        let out = py
+            .detach(|| -> core::Result<Vec<f64>> {
+                let engine = engine_from(columns)?;
+                let mut out = vec![0.0; phi.len()];
+                match quantity {
+                    Some(q) => engine.evaluate(q, phi, &mut out, parallelism)?,
+                    None => core::evaluate_series(&[engine.series()], phi, &mut out, parallelism)?,
+                }
+                Ok(out)
+            })
+            .map_err(to_py_err)?;
+        Ok(out.into_pyarray(py))
+    }
+
+    /// engine_fourier(phase, inclination, crank_ratio, u1, u2, n_max) -> (a, b).
+    #[pyfunction]
+    #[allow(clippy::too_many_arguments)]
+    fn engine_fourier<'py>(
+        py: Python<'py>,
+        phase: PyReadonlyArray1<'py, f64>,
+        inclination: PyReadonlyArray1<'py, f64>,
+        crank_ratio: PyReadonlyArray1<'py, f64>,
+        u1: PyReadonlyArray1<'py, f64>,
+        u2: PyReadonlyArray1<'py, f64>,
+        n_max: usize,
+    ) -> PyResult<(Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>)> {
+        let columns = [
+            slice(&phase)?,
+            slice(&inclination)?,
+            slice(&crank_ratio)?,
+            slice(&u1)?,
+            slice(&u2)?,
+        ];
+        let (a, b) = py
+            .detach(|| -> core::Result<(Vec<f64>, Vec<f64>)> {
+                let engine = engine_from(columns)?;
+                let (mut a, mut b) = (vec![0.0; n_max + 1], vec![0.0; n_max + 1]);
+                engine.fourier_coefficients(&mut a, &mut b);
+                Ok((a, b))
+            })
+            .map_err(to_py_err)?;
+        Ok((a.into_pyarray(py), b.into_pyarray(py)))
+    }
+
+    /// engine_extrema(phase, inclination, crank_ratio, u1, u2) -> (min, min_at, max, max_at, range).
+    #[pyfunction]
+    fn engine_extrema<'py>(
+        py: Python<'py>,
+        phase: PyReadonlyArray1<'py, f64>,
+        inclination: PyReadonlyArray1<'py, f64>,
+        crank_ratio: PyReadonlyArray1<'py, f64>,
+        u1: PyReadonlyArray1<'py, f64>,
+        u2: PyReadonlyArray1<'py, f64>,
+    ) -> PyResult<(f64, f64, f64, f64, f64)> {
+        let columns = [
+            slice(&phase)?,
+            slice(&inclination)?,
+            slice(&crank_ratio)?,
+            slice(&u1)?,
+            slice(&u2)?,
+        ];
+        let e = py
+            .detach(|| engine_from(columns).map(|engine| engine.energy_extrema()))
+            .map_err(to_py_err)?;
+        Ok((e.min, e.min_at, e.max, e.max_at, e.range))
     }
 
     /// The work size (points × cranks) from which kernels run in parallel.

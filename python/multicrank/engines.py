@@ -1,0 +1,309 @@
+"""Engines of any layout: in-line, V, boxer, W, odd-fire, unequal cylinders.
+
+An :class:`Engine` is a list of slider-crank units, each with its own crank phase α_j,
+cylinder inclination γ_j, crank ratio λ_j and gravity moments u1_j, u2_j. Unit j's crank
+angle is ψ_j = φ + α_j from its own outer dead centre, and its crank pin sits at the
+absolute angle ψ_j + γ_j (mathematics.md §1). So cylinders that share a crank pin whose
+absolute angle is φ + β (V, W, a 180° V) have α_j = β − γ_j; :meth:`Engine.from_throws`
+does that bookkeeping. Everything runs in the Rust core with one set of coefficients per
+unit, at the speed of the in-line path.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, Sequence
+
+import numpy as np
+
+from . import _native
+from ._api import MechanismError, as_angles, as_count, as_design, as_option, contiguous, finish
+from .mechanism import crank_phases
+
+__all__ = ["Engine", "Layout", "LAYOUTS", "layout_engine"]
+
+_FIELDS = ("phase", "inclination", "crank_ratio", "u1", "u2")
+
+
+class Engine:
+    """A cylinder-level engine description (dimensionless, angles in radians).
+
+    Parameters
+    ----------
+    phase : α_j, each unit's crank angle is ψ_j = φ + α_j
+    inclination : γ_j, each unit's cylinder axis to the horizontal (+π/2 upright)
+    crank_ratio : λ_j, 0 ≤ λ < 1
+    u1, u2 : the units' dimensionless gravity moments (see :func:`dimensionless_moments`);
+        a unit with u1 = 0 is a purely rotating mass (a crank web or counterweight)
+
+    All five broadcast to one 1-D length (the number of units). ``name`` is a label.
+    """
+
+    def __init__(self, *, phase: Any, inclination: Any, crank_ratio: Any, u1: Any, u2: Any, name: str = "engine"):
+        columns = {
+            "phase": as_design(phase, "phase"),
+            "inclination": as_design(inclination, "inclination"),
+            "crank_ratio": as_design(crank_ratio, "crank_ratio", low=0.0, high=1.0),
+            "u1": as_design(u1, "u1"),
+            "u2": as_design(u2, "u2"),
+        }
+        try:
+            shape = np.broadcast_shapes(*(c.shape for c in columns.values()))
+        except ValueError:
+            raise MechanismError("engine columns do not broadcast to one length") from None
+        if len(shape) > 1:
+            raise MechanismError(f"engine columns must be 1-D (one entry per unit), got shape {shape}")
+        shape = shape or (1,)
+        if shape[0] == 0:
+            raise MechanismError("an engine needs at least one unit")
+        self._columns = {k: contiguous(np.broadcast_to(v, shape)).copy() for k, v in columns.items()}
+        for column in self._columns.values():
+            column.setflags(write=False)
+        self.name = name
+
+    # -- construction -------------------------------------------------------------------
+    @classmethod
+    def inline(cls, cranks: int, strokes: int = 2, acting: str = "single", *, crank_ratio, inclination, u1, u2,
+               name: str | None = None) -> "Engine":
+        """A regular in-line machine (mathematics.md §2): identical units at α_j = j·α."""
+        phases = crank_phases(cranks, strokes, acting)
+        return cls(phase=phases, inclination=inclination, crank_ratio=crank_ratio, u1=u1, u2=u2,
+                   name=name or f"inline-{cranks} {strokes}-stroke {acting}-acting")
+
+    @classmethod
+    def from_throws(cls, throws: Sequence[float], banks: Sequence[Sequence[float]], *, crank_ratio, u1, u2,
+                    name: str = "engine") -> "Engine":
+        """Cylinders on crank throws: throw t's pin is at the absolute angle φ + β_t
+        (``throws``, rad), and carries one cylinder per inclination in ``banks[t]`` (rad).
+        Each cylinder's phase is α = β_t − γ. ``crank_ratio``, ``u1``, ``u2`` are per
+        cylinder (scalars or arrays in the cylinders' order)."""
+        if len(throws) != len(banks):
+            raise MechanismError(f"throws has {len(throws)} entries but banks {len(banks)}")
+        phase, inclination = [], []
+        for beta, gammas in zip(throws, banks):
+            for gamma in gammas:
+                phase.append(beta - gamma)
+                inclination.append(gamma)
+        return cls(phase=phase, inclination=inclination, crank_ratio=crank_ratio, u1=u1, u2=u2, name=name)
+
+    def replace(self, **changes) -> "Engine":
+        """A copy with some columns (or the name) replaced."""
+        columns = {k: changes.pop(k, v) for k, v in self._columns.items()}
+        name = changes.pop("name", self.name)
+        if changes:
+            raise MechanismError(f"unknown engine field(s) {', '.join(changes)}; known: {', '.join(_FIELDS)}")
+        return Engine(**columns, name=name)
+
+    # -- description --------------------------------------------------------------------
+    def __len__(self) -> int:
+        return len(self._columns["phase"])
+
+    def __getattr__(self, name: str) -> np.ndarray:
+        if name in _FIELDS:
+            return self._columns[name]
+        raise AttributeError(name)
+
+    def __repr__(self) -> str:
+        return f"Engine({self.name!r}, {len(self)} units)"
+
+    def to_frame(self):
+        """The units as a pandas DataFrame (angles in radians)."""
+        import pandas as pd
+
+        return pd.DataFrame(self._columns)
+
+    def _args(self) -> list[np.ndarray]:
+        return [self._columns[k] for k in _FIELDS]
+
+    # -- evaluation ---------------------------------------------------------------------
+    def _evaluate(self, quantity: str, phi: Any):
+        angles = as_angles(phi)
+        flat = _native.engine_evaluate(quantity, contiguous(angles).reshape(-1), *self._args())
+        return finish(flat, angles.shape)
+
+    def potential_energy(self, phi: Any):
+        """U_w*(φ) = Σ_j U*_j(φ + α_j), each unit from its own ψ = 0 position; shape of φ."""
+        return self._evaluate("potential_energy", phi)
+
+    def generalized_force(self, phi: Any, method: str = "exact"):
+        """Q_u*(φ) = dU_w*/dφ: "exact" (closed form) or "series" (machine-precision Fourier form)."""
+        method = as_option(method, "method", ("exact", "series"))
+        return self._evaluate("generalized_force" if method == "exact" else "series", phi)
+
+    def force_derivative(self, phi: Any):
+        """dQ_u*/dφ, closed form."""
+        return self._evaluate("force_derivative", phi)
+
+    def fourier_coefficients(self, n_max: int = 24) -> tuple[np.ndarray, np.ndarray]:
+        """(a, b): Q_u*(φ) = Σ_{n ≤ n_max} a_n cos nφ + b_n sin nφ, exact Λ_n.
+
+        a_1 = Σ_j N_j cos α_j + W1_j sin α_j, b_1 = Σ_j W1_j cos α_j − N_j sin α_j, and for even
+        n a_n = Σ_j W_nj sin nα_j, b_n = Σ_j W_nj cos nα_j, W_nj = −u1_j sin γ_j Λ_n(λ_j); a sum
+        below its rounding noise is exactly 0 (the harmonic cancelled).
+        """
+        return _native.engine_fourier(*self._args(), as_count(n_max, "n_max", minimum=0))
+
+    def surviving_harmonics(self, n_max: int = 24) -> list[int]:
+        """The harmonics n ≤ n_max of Q_u* that do not cancel (numerically, from the weighted
+        phase sums; a cancelled sum is below its own rounding noise)."""
+        a, b = self.fourier_coefficients(n_max)
+        return [int(n) for n in np.flatnonzero(np.hypot(a, b) > 0)]
+
+    def leading_harmonic(self, n_max: int = 48) -> tuple[int, float]:
+        """(n, amplitude √(a_n² + b_n²)) of the largest harmonic of Q_u*; (0, 0) if Q ≡ 0."""
+        a, b = self.fourier_coefficients(n_max)
+        amplitude = np.hypot(a, b)
+        n = int(np.argmax(amplitude))
+        return (n, float(amplitude[n])) if amplitude[n] > 0 else (0, 0.0)
+
+    def energy_extrema(self):
+        """The exact extrema of U_w* over a revolution (see :func:`multicrank.energy_extrema`)."""
+        from .analysis import EnergyExtrema
+
+        return EnergyExtrema(*(np.float64(v) for v in _native.engine_extrema(*self._args())))
+
+    def speed_fluctuation(self) -> np.float64:
+        """δ_g = max U_w* − min U_w* over a revolution, from the exact extrema."""
+        return self.energy_extrema().range
+
+    # -- tolerances ---------------------------------------------------------------------
+    def harmonic_sensitivity(self, *, u1_rel: float = 0.0, u2_rel: float = 0.0, phase: float = 0.0,
+                             n_max: int = 24):
+        """First-order scatter of every harmonic of Q_u* under independent random errors of
+        the units: relative standard deviations ``u1_rel``, ``u2_rel`` of u1_j, u2_j (unequal
+        masses) and a standard deviation ``phase`` [rad] of α_j (phase errors).
+
+        For harmonic n, c_n = a_n + i b_n is linear in u1_j, u2_j and depends on α_j through
+        e^{±inα_j}, so to first order E|δc_n|² = Σ_j |∂c_n/∂u1_j|² (u1_rel u1_j)² +
+        |∂c_n/∂u2_j|² (u2_rel u2_j)² + |∂c_n/∂α_j|² phase². Harmonics that cancel for identical
+        cylinders come back with about this rms amplitude.
+
+        Returns a pandas DataFrame indexed by n: ``amplitude`` (nominal) and ``scatter_rms``.
+        """
+        import pandas as pd
+
+        n_max = as_count(n_max, "n_max", minimum=1)
+        n = np.arange(n_max + 1)
+        lam = self.crank_ratio
+        lambdas = _native.lambda_coefficients(contiguous(lam), n_max, "exact").reshape(len(self), n_max + 1)
+        sin_g, cos_g = np.sin(self.inclination), np.cos(self.inclination)
+        alpha = self.phase[:, None]
+        # ∂a_n/∂x_j and ∂b_n/∂x_j of the formulas of fourier_coefficients, per unit j and n.
+        d_a_u1 = np.zeros((len(self), n_max + 1))
+        d_b_u1 = np.zeros_like(d_a_u1)
+        d_a_u2 = np.zeros_like(d_a_u1)
+        d_b_u2 = np.zeros_like(d_a_u1)
+        d_a_alpha = np.zeros_like(d_a_u1)
+        d_b_alpha = np.zeros_like(d_a_u1)
+        ca, sa = np.cos(self.phase), np.sin(self.phase)
+        if n_max >= 1:
+            # a_1 = N cos α + W1 sin α, b_1 = W1 cos α − N sin α; N = u2 cos γ, W1 = −(u1+u2) sin γ
+            big_n, w1 = self.u2 * cos_g, -(self.u1 + self.u2) * sin_g
+            d_a_u1[:, 1], d_b_u1[:, 1] = -sin_g * sa, -sin_g * ca
+            d_a_u2[:, 1], d_b_u2[:, 1] = cos_g * ca - sin_g * sa, -sin_g * ca - cos_g * sa
+            d_a_alpha[:, 1] = -big_n * sa + w1 * ca
+            d_b_alpha[:, 1] = -w1 * sa - big_n * ca
+        even = n[2::2]
+        if even.size:
+            w = -self.u1[:, None] * sin_g[:, None] * lambdas[:, even]  # W_nj
+            s, c = np.sin(even * alpha), np.cos(even * alpha)
+            d_a_u1[:, even], d_b_u1[:, even] = -sin_g[:, None] * lambdas[:, even] * s, -sin_g[:, None] * lambdas[:, even] * c
+            d_a_alpha[:, even], d_b_alpha[:, even] = w * even * c, -w * even * s
+        variance = (
+            (d_a_u1**2 + d_b_u1**2) * (u1_rel * self.u1[:, None]) ** 2
+            + (d_a_u2**2 + d_b_u2**2) * (u2_rel * self.u2[:, None]) ** 2
+            + (d_a_alpha**2 + d_b_alpha**2) * phase**2
+        ).sum(axis=0)
+        a, b = self.fourier_coefficients(n_max)
+        frame = pd.DataFrame({"amplitude": np.hypot(a, b), "scatter_rms": np.sqrt(variance)}, index=pd.Index(n, name="n"))
+        return frame.loc[(n == 1) | ((n % 2 == 0) & (n > 0))]
+
+    def perturbed(self, rng: np.random.Generator, *, u1_rel: float = 0.0, u2_rel: float = 0.0,
+                  phase: float = 0.0) -> "Engine":
+        """A random sample of this engine with the errors of :meth:`harmonic_sensitivity`."""
+        size = len(self)
+        return self.replace(
+            u1=self.u1 * (1 + u1_rel * rng.standard_normal(size)),
+            u2=self.u2 * (1 + u2_rel * rng.standard_normal(size)),
+            phase=self.phase + phase * rng.standard_normal(size),
+        )
+
+
+# ----------------------------------------------------------------------------- layouts
+@dataclass(frozen=True)
+class Layout:
+    """A crank and cylinder arrangement: throw angles β_t of the crank pins (degrees, the
+    pin's absolute angle at φ = 0) and the bank inclinations (degrees) of the cylinders on
+    each throw."""
+
+    name: str
+    note: str
+    throws: tuple[float, ...]
+    banks: tuple[tuple[float, ...], ...]
+
+    def engine(self, *, crank_ratio, u1, u2) -> Engine:
+        """This layout with the given per-cylinder λ, u1, u2 (scalars or arrays)."""
+        return Engine.from_throws(
+            np.radians(self.throws), [np.radians(b) for b in self.banks],
+            crank_ratio=crank_ratio, u1=u1, u2=u2, name=self.name,
+        )
+
+    @property
+    def cylinders(self) -> int:
+        return sum(len(b) for b in self.banks)
+
+
+def _inline(cranks: int, strokes: int) -> Layout:
+    # Upright in-line: the pin of crank j is at φ + α_j + 90°.
+    phases = np.degrees(crank_phases(cranks, strokes, "single"))
+    return Layout(f"inline-{cranks}-{strokes}t", f"in-line {cranks}, {strokes}-stroke, upright",
+                  tuple(float(p) + 90.0 for p in phases), tuple((90.0,) for _ in range(cranks)))
+
+
+def _vee(name: str, note: str, bank_angle: float, throws: Sequence[float]) -> Layout:
+    """Two banks symmetric about the vertical, one cylinder of each on every throw."""
+    banks = (90.0 - bank_angle / 2, 90.0 + bank_angle / 2)
+    return Layout(name, note, tuple(t + 90.0 for t in throws), tuple(banks for _ in throws))
+
+
+def _boxer(name: str, note: str, throws: Sequence[float]) -> Layout:
+    """Opposed cylinders: each throw β carries a right-hand cylinder (γ = 0); its opposed
+    partner on the left (γ = 180°) sits on its own throw β + 180°."""
+    pins, banks = [], []
+    for t in throws:
+        pins += [t, t + 180.0]
+        banks += [(0.0,), (180.0,)]
+    return Layout(name, note, tuple(pins), tuple(banks))
+
+
+LAYOUTS: dict[str, Layout] = {}
+for _k in range(1, 13):
+    for _s in (2, 4):
+        _layout = _inline(_k, _s)
+        LAYOUTS[_layout.name] = _layout
+for _layout in (
+    _vee("v-twin-45", "45° V-twin, one shared pin (the classic American V-twin)", 45.0, [0.0]),
+    _vee("v-twin-90", "90° V-twin, one shared pin", 90.0, [0.0]),
+    Layout("twin-270", "parallel twin with a 270° crank (odd fire 270°/450°), upright", (90.0, 0.0), ((90.0,), (90.0,))),
+    _vee("v6-60", "60° V6, three shared pins at 120°", 60.0, [0.0, 120.0, 240.0]),
+    _vee("v6-90", "90° V6, three shared pins at 120°", 90.0, [0.0, 120.0, 240.0]),
+    _vee("v8-flat", "90° V8, flat-plane crank (pins 0°, 180°, 180°, 0°)", 90.0, [0.0, 180.0, 180.0, 0.0]),
+    _vee("v8-cross", "90° V8, cross-plane crank (pins 0°, 90°, 270°, 180°)", 90.0, [0.0, 90.0, 270.0, 180.0]),
+    _vee("v12-60", "60° V12, six shared pins as an in-line six", 60.0, [0.0, 120.0, 240.0, 240.0, 120.0, 0.0]),
+    _boxer("boxer-2", "flat twin, opposed cylinders on throws 180° apart", [0.0]),
+    _boxer("boxer-4", "flat four, opposed cylinders on throws 180° apart", [0.0, 180.0]),
+    _boxer("boxer-6", "flat six, opposed cylinders on throws 180° apart", [0.0, 120.0, 240.0]),
+    _vee("v-180-2", "180° V twin: opposed cylinders sharing one pin (not a boxer)", 180.0, [0.0]),
+    _vee("v-180-4", "180° V four: opposed cylinders sharing two pins at 180°", 180.0, [0.0, 180.0]),
+    Layout("w12", "broad-arrow W12: three banks 60° apart (30°, 90°, 150°) on a flat-plane four-throw crank",
+           (90.0, 270.0, 270.0, 90.0), tuple((30.0, 90.0, 150.0) for _ in range(4))),
+):
+    LAYOUTS[_layout.name] = _layout
+
+
+def layout_engine(name: str, *, crank_ratio, u1, u2) -> Engine:
+    """The preset layout ``name`` (see LAYOUTS) with per-cylinder λ, u1, u2."""
+    if name not in LAYOUTS:
+        raise MechanismError(f"layout = {name!r} is not known; known: {', '.join(LAYOUTS)}")
+    return LAYOUTS[name].engine(crank_ratio=crank_ratio, u1=u1, u2=u2)
+
