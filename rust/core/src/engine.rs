@@ -10,7 +10,7 @@
 
 use crate::error::{check, MechanismError, Result};
 use crate::exact::{evaluate_units, Coefficients, Quantity};
-use crate::extrema::{extrema_of_series, EnergyExtrema};
+use crate::extrema::{extrema_of_units, EnergyExtrema};
 use crate::harmonics::{harmonic_reach, ExactLambdas};
 use crate::mechanism::{Design, Phases};
 use crate::parallel::{for_each_row_segment, Parallelism};
@@ -91,16 +91,10 @@ impl Engine {
         Ok(())
     }
 
-    fn value_at(&self, quantity: Quantity, phi: f64) -> f64 {
-        let mut out = [0.0];
-        evaluate_units(quantity, &self.coefficients, &self.phases, &[phi], &mut out);
-        out[0]
-    }
-
     /// Fourier coefficients a_n, b_n (n = 0 … len − 1) of Q_u*, exact Λ_n, every harmonic.
     pub fn fourier_coefficients(&self, a: &mut [f64], b: &mut [f64]) {
         let n_max = a.len().saturating_sub(1);
-        let terms = self.harmonics(n_max, false);
+        let (terms, _) = self.harmonics(n_max, false);
         a.fill(0.0);
         b.fill(0.0);
         for (n, an, bn) in terms {
@@ -115,7 +109,8 @@ impl Engine {
     /// a_n = Σ W_nj sin nα_j, b_n = Σ W_nj cos nα_j. A sum below its own rounding noise
     /// is zero (the harmonic cancelled). With `cut`, stop where a bound on the rest is
     /// below ε·rms(Q)/2 (as `FourierSeries::exact`).
-    fn harmonics(&self, n_max: usize, cut: bool) -> Vec<(usize, f64, f64)> {
+    /// Also returns whether the rest is provably negligible (always true without `cut`).
+    fn harmonics(&self, n_max: usize, cut: bool) -> (Vec<(usize, f64, f64)>, bool) {
         let units: Vec<(f64, f64, f64)> = self
             .cylinders
             .iter()
@@ -146,7 +141,11 @@ impl Engine {
         // Tail bound: Σ_j |N1_j| t_j^{2M+1}/((1 − t_j²)(1 − t_j⁴)) with t_j^{2M+1} tracked per unit.
         let t: Vec<f64> = lambdas.iter().map(ExactLambdas::t).collect();
         let mut t_power = t.clone();
+        let mut complete = !cut || units.iter().all(|&(_, _, n1)| n1 == 0.0);
         for n in (2..=n_max).step_by(2) {
+            if cut && complete {
+                break;
+            }
             let (mut a, mut b, mut noise) = (0.0, 0.0, 0.0);
             for ((c, &(_, _, n1)), lambda) in
                 self.cylinders.iter().zip(&units).zip(lambdas.iter_mut())
@@ -167,12 +166,26 @@ impl Engine {
                     *tp *= tj * tj;
                     tail += n1.abs() * *tp / ((1.0 - tj * tj) * (1.0 - tj.powi(4)));
                 }
-                if tail <= 0.5 * f64::EPSILON * mean_square.sqrt() {
-                    break;
-                }
+                let negligible = t_power.iter().all(|&tp| tp <= 1e-30);
+                complete = tail <= 0.5 * f64::EPSILON * mean_square.sqrt() || negligible;
             }
         }
-        out
+        (out, complete)
+    }
+
+    /// Q_u* at every φ from its series where that is complete, else the closed form.
+    pub fn evaluate_series(
+        &self,
+        phi: &[f64],
+        out: &mut [f64],
+        parallelism: Parallelism,
+    ) -> Result<()> {
+        let series = self.series();
+        if series.complete {
+            crate::series::evaluate_series(&[series], phi, out, parallelism)
+        } else {
+            self.evaluate(Quantity::GeneralizedForce, phi, out, parallelism)
+        }
     }
 
     /// Q_u* as a machine-precision series (every surviving harmonic, cut by a rigorous bound).
@@ -183,21 +196,21 @@ impl Engine {
             .map(|c| harmonic_reach(c.crank_ratio))
             .max()
             .unwrap_or(24);
-        let harmonics = self.harmonics(reach, true);
+        let (harmonics, complete) = self.harmonics(reach, true);
         let (a1, b1) = match harmonics.first() {
             Some(&(1, a, b)) => (a, b),
             _ => (0.0, 0.0),
         };
         let even: Vec<_> = harmonics.into_iter().filter(|&(n, _, _)| n > 1).collect();
-        FourierSeries::from_terms(a1, b1, &even)
+        FourierSeries {
+            complete,
+            ..FourierSeries::from_terms(a1, b1, &even)
+        }
     }
 
     /// The exact extrema of U_w* over a revolution (δ_g = range).
     pub fn energy_extrema(&self) -> EnergyExtrema {
-        extrema_of_series(
-            &self.series(),
-            self.value_at(Quantity::PotentialEnergy, 0.0),
-        )
+        extrema_of_units(&self.coefficients, &self.phases, &self.series())
     }
 }
 

@@ -16,7 +16,7 @@
 
 use std::f64::consts::TAU;
 
-use crate::exact::{evaluate_point, Quantity};
+use crate::exact::{evaluate_units, Coefficients, Quantity};
 use crate::mechanism::{Design, Phases};
 use crate::parallel::{map_indices, Parallelism};
 use crate::series::{evaluate_series_one, FourierSeries};
@@ -58,16 +58,75 @@ fn grid_size(series: &FourierSeries) -> usize {
     (16 * highest).max(128)
 }
 
+/// What the extrema search needs of Q_u* and U_w*.
+trait Curve {
+    /// Q and U (up to a constant) on the grid.
+    fn on_grid(&self, phi: &[f64], q: &mut [f64], u: &mut [f64]);
+    /// (Q, dQ/dφ) at one angle.
+    fn force_and_slope(&self, x: f64) -> (f64, f64);
+    /// U (up to the same constant) at one angle.
+    fn energy(&self, x: f64) -> f64;
+}
+
+/// The machine-precision series and its antiderivative (no constant term).
+struct SeriesCurve<'a> {
+    force: &'a FourierSeries,
+    energy: FourierSeries,
+}
+
+impl Curve for SeriesCurve<'_> {
+    fn on_grid(&self, phi: &[f64], q: &mut [f64], u: &mut [f64]) {
+        evaluate_series_one(self.force, phi, q);
+        evaluate_series_one(&self.energy, phi, u);
+    }
+    fn force_and_slope(&self, x: f64) -> (f64, f64) {
+        self.force.value_and_slope_at(x)
+    }
+    fn energy(&self, x: f64) -> f64 {
+        self.energy.value_at(x)
+    }
+}
+
+/// The closed form, for series that cannot reach machine precision (λ → 1).
+struct ClosedCurve<'a> {
+    units: &'a [Coefficients],
+    phases: &'a Phases,
+}
+
+impl ClosedCurve<'_> {
+    fn at(&self, quantity: Quantity, x: f64) -> f64 {
+        let mut out = [0.0];
+        evaluate_units(quantity, self.units, self.phases, &[x], &mut out);
+        out[0]
+    }
+}
+
+impl Curve for ClosedCurve<'_> {
+    fn on_grid(&self, phi: &[f64], q: &mut [f64], u: &mut [f64]) {
+        evaluate_units(Quantity::GeneralizedForce, self.units, self.phases, phi, q);
+        evaluate_units(Quantity::PotentialEnergy, self.units, self.phases, phi, u);
+    }
+    fn force_and_slope(&self, x: f64) -> (f64, f64) {
+        (
+            self.at(Quantity::GeneralizedForce, x),
+            self.at(Quantity::ForceDerivative, x),
+        )
+    }
+    fn energy(&self, x: f64) -> f64 {
+        self.at(Quantity::PotentialEnergy, x)
+    }
+}
+
 /// The root of Q in [lo, hi], where Q(lo) = q_lo and Q(hi) = q_hi differ in sign: Newton
 /// steps from the secant point, kept inside the shrinking bracket, bisection where Newton
 /// would leave it.
-fn polish_root(force: &FourierSeries, mut lo: f64, mut hi: f64, q_lo: f64, q_hi: f64) -> f64 {
+fn polish_root(curve: &impl Curve, mut lo: f64, mut hi: f64, q_lo: f64, q_hi: f64) -> f64 {
     let mut x = lo + (hi - lo) * q_lo / (q_lo - q_hi);
     if !(x > lo && x < hi) {
         x = 0.5 * (lo + hi);
     }
     for _ in 0..100 {
-        let (q, dq) = force.value_and_slope_at(x);
+        let (q, dq) = curve.force_and_slope(x);
         if q == 0.0 {
             return x;
         }
@@ -94,21 +153,37 @@ fn polish_root(force: &FourierSeries, mut lo: f64, mut hi: f64, q_lo: f64, q_hi:
 
 /// The exact extrema of U_w* over φ ∈ [0, 2π) for one design.
 pub fn energy_extrema(design: &Design, phases: &Phases, series: &FourierSeries) -> EnergyExtrema {
-    let level = evaluate_point(Quantity::PotentialEnergy, design, phases, 0.0);
-    extrema_of_series(series, level)
+    extrema_of_units(&[Coefficients::new(design)], phases, series)
 }
 
-/// The extrema of the antiderivative of `series` over one revolution, levelled so that
-/// U_w*(0) = `energy_at_zero`.
-pub fn extrema_of_series(series: &FourierSeries, energy_at_zero: f64) -> EnergyExtrema {
-    let energy = series.integral();
+/// The exact extrema of U_w* of crank units (shared or per-unit coefficients), searched on
+/// their series where it is complete and on the closed form where it is not.
+pub(crate) fn extrema_of_units(
+    units: &[Coefficients],
+    phases: &Phases,
+    series: &FourierSeries,
+) -> EnergyExtrema {
+    let closed = ClosedCurve { units, phases };
+    let energy_at_zero = closed.at(Quantity::PotentialEnergy, 0.0);
     let m = grid_size(series);
+    if series.complete {
+        let curve = SeriesCurve {
+            force: series,
+            energy: series.integral(),
+        };
+        search(&curve, m, energy_at_zero)
+    } else {
+        search(&closed, m, energy_at_zero)
+    }
+}
+
+/// Grid, sign changes, polished roots; the extrema levelled so that U(0) = energy_at_zero.
+fn search(curve: &impl Curve, m: usize, energy_at_zero: f64) -> EnergyExtrema {
     let phi: Vec<f64> = (0..=m).map(|i| TAU * i as f64 / m as f64).collect();
     let (mut q, mut u) = (vec![0.0; m + 1], vec![0.0; m + 1]);
-    evaluate_series_one(series, &phi, &mut q);
-    evaluate_series_one(&energy, &phi, &mut u);
-    // Extrema of the series' antiderivative (no constant term) first; the closed form at
-    // φ = 0 sets the level afterwards.
+    curve.on_grid(&phi, &mut q, &mut u);
+    // Extrema of U up to its constant first (δ_g keeps variations below the level's ulp),
+    // then the level.
     let mut best = EnergyExtrema {
         min: u[0],
         min_at: 0.0,
@@ -131,8 +206,8 @@ pub fn extrema_of_series(series: &FourierSeries, energy_at_zero: f64) -> EnergyE
         let (qa, qb) = (q[i], q[i + 1]);
         // Q changes sign strictly inside the cell (a zero at a grid point is a candidate already).
         if (qa < 0.0 && qb > 0.0) || (qa > 0.0 && qb < 0.0) {
-            let root = polish_root(series, phi[i], phi[i + 1], qa, qb);
-            consider(root, energy.value_at(root));
+            let root = polish_root(curve, phi[i], phi[i + 1], qa, qb);
+            consider(root, curve.energy(root));
         }
     }
     let level = energy_at_zero - u[0];

@@ -73,16 +73,31 @@ impl Iterator for ExactLambdas {
             return Some(0.0);
         }
         // ₂F₁ by its term ratios: c_b/c_{b−1} = ((3/2 − b)/b)·((3/2 − b − m)/(b + m))·t⁴.
-        let (mut term, mut hypergeometric) = (1.0_f64, 1.0_f64);
+        // Near λ = 1 (t⁴ → 1) the terms fall off slowly, like b⁻³·t^{4b}: they are summed
+        // with Neumaier's compensation, and once the geometric estimate of the rest,
+        // term·r/(1 − r) with r the last term ratio, is below 1e-17 of the sum, that estimate
+        // is added and the loop ends (the ratio still creeps up, so the estimate errs by less
+        // than a third of itself).
+        let (mut term, mut sum, mut compensation) = (1.0_f64, 1.0_f64, 0.0_f64);
         let mut b = 1.0;
-        while b < 1.0e6 {
-            term *= ((1.5 - b) * (1.5 - b - m)) / (b * (b + m)) * self.t4;
-            hypergeometric += term;
-            if term.abs() <= 1e-18 * hypergeometric.abs() {
+        while b < 1.0e7 {
+            let ratio = ((1.5 - b) * (1.5 - b - m)) / (b * (b + m)) * self.t4;
+            term *= ratio;
+            let next = sum + term;
+            compensation += if sum.abs() >= term.abs() {
+                (sum - next) + term
+            } else {
+                (term - next) + sum
+            };
+            sum = next;
+            let rest = term * ratio / (1.0 - ratio);
+            if rest.abs() <= 1e-17 * sum.abs() {
+                compensation += rest;
                 break;
             }
             b += 1.0;
         }
+        let hypergeometric = sum + compensation;
         let value = self
             .binomial
             .mul_f64(2.0 * m)

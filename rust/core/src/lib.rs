@@ -21,7 +21,6 @@ pub mod trig;
 pub use engine::{Cylinder, Engine};
 pub use error::{MechanismError, Result};
 pub use exact::{evaluate, evaluate_one, evaluate_point, Quantity};
-pub use extrema::extrema_of_series;
 pub use extrema::{all_energy_extrema, energy_extrema, EnergyExtrema};
 pub use harmonics::{
     fourier_coefficients, harmonic_survives, lambda_exact, lambda_paper, paper_coefficient,
@@ -31,5 +30,7 @@ pub use mechanism::{
     crank_phases, Acting, Design, Phases, PhysicalUnit, Strokes, STANDARD_GRAVITY,
 };
 pub use parallel::Parallelism;
-pub use series::{build_series, evaluate_series, FourierSeries, SeriesKind};
+pub use series::{
+    build_series, evaluate_series, evaluate_series_or_exact, FourierSeries, SeriesKind,
+};
 pub use sweep::{sweep, PhaseSetTable, SweepOutputs, SweepRow};

@@ -9,8 +9,9 @@
 use multiversion::multiversion;
 
 use crate::error::{MechanismError, Result};
+use crate::exact::{evaluate_run, Quantity};
 use crate::harmonics::{lambda_paper, ExactLambdas, PhaseSums, UnitAmplitudes, PAPER_MAX_HARMONIC};
-use crate::mechanism::Design;
+use crate::mechanism::{Design, Phases};
 use crate::parallel::{for_each_row_segment, map_indices, Parallelism};
 use crate::trig::sincos_block;
 
@@ -33,6 +34,10 @@ pub struct FourierSeries {
     /// A_ν, B_ν for harmonic ν·step, ν = 1 … V.
     pub cos: Vec<f64>,
     pub sin: Vec<f64>,
+    /// Whether the harmonics carried reach machine precision. As λ → 1 the harmonics decay
+    /// ever more slowly; past MAX_HARMONIC (λ ≳ 0.9998) the series is incomplete, and the
+    /// evaluation and extrema use the closed form instead of returning a truncation.
+    pub complete: bool,
 }
 
 fn gcd(a: usize, b: usize) -> usize {
@@ -59,6 +64,7 @@ impl FourierSeries {
             step,
             cos,
             sin,
+            complete: true,
         }
     }
 
@@ -78,9 +84,11 @@ impl FourierSeries {
         let tail_factor = sums.cranks as f64 * unit.n1.abs() / ((1.0 - t2) * (1.0 - t4));
         let mut even = Vec::new();
         let mut t_power = t; // t^{2M+1} after harmonic 2M
+                             // N1 = 0 (γ = 0 or π, or U1 = 0): no even harmonics at all.
+        let mut complete = tail_factor == 0.0;
         for n in (2..=sums.n_max()).step_by(2) {
-            if tail_factor == 0.0 {
-                break; // N1 = 0 (γ = 0 or π, or U1 = 0): no even harmonics at all
+            if complete {
+                break;
             }
             let lambda_n = lambdas.next().unwrap_or(0.0);
             let (a, b) = unit.even_harmonic(lambda_n, n, sums);
@@ -89,11 +97,14 @@ impl FourierSeries {
                 mean_square += 0.5 * (a * a + b * b);
             }
             t_power *= t2;
-            if tail_factor * t_power <= 0.5 * f64::EPSILON * mean_square.sqrt() {
-                break;
-            }
+            // Done when the rest is below ε·rms/2, or negligible outright (all cancelled).
+            complete = tail_factor * t_power <= 0.5 * f64::EPSILON * mean_square.sqrt()
+                || t_power <= 1e-30;
         }
-        Self::from_terms(a1, b1, &even)
+        Self {
+            complete,
+            ..Self::from_terms(a1, b1, &even)
+        }
     }
 
     /// The paper's eq. (16): Λ_n from the λ-series through λ¹¹, n ≤ 12, every harmonic
@@ -137,6 +148,7 @@ impl FourierSeries {
             step: self.step,
             cos,
             sin,
+            complete: self.complete,
         }
     }
 
@@ -284,6 +296,42 @@ pub fn build_series(
     map_indices(designs.len(), designs.len() * 64, parallelism, |i| {
         FourierSeries::new(kind, &designs[i], &sums)
     })
+}
+
+/// Q_u* of each design at every φ from its series, or from the closed form where the
+/// series is incomplete (λ too close to 1 for MAX_HARMONIC harmonics), design-major.
+pub fn evaluate_series_or_exact(
+    series: &[FourierSeries],
+    designs: &[Design],
+    phases: &Phases,
+    phi: &[f64],
+    out: &mut [f64],
+    parallelism: Parallelism,
+) -> Result<()> {
+    let expected = series.len() * phi.len();
+    if out.len() != expected || designs.len() != series.len() {
+        return Err(MechanismError::LengthMismatch {
+            parameter: "out",
+            expected,
+            found: out.len(),
+        });
+    }
+    let work = out.len().saturating_mul(4);
+    for_each_row_segment(out, phi.len(), work, parallelism, |row, col, segment| {
+        let phi = &phi[col..col + segment.len()];
+        if series[row].complete {
+            series_run(&series[row], phi, segment)
+        } else {
+            evaluate_run(
+                Quantity::GeneralizedForce,
+                &designs[row],
+                phases,
+                phi,
+                segment,
+            )
+        }
+    });
+    Ok(())
 }
 
 /// Q_u* from the series of each design at every φ, design-major like `exact::evaluate`.

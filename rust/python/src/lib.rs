@@ -260,11 +260,19 @@ mod _native {
         let parallelism = parallelism();
         let out = py
             .detach(|| -> core::Result<Vec<f64>> {
-                core::Phases::new(phases)?;
+                let alphas = phases;
+                let phases = core::Phases::new(alphas)?;
                 let designs = designs_from(columns)?;
-                let series = core::build_series(kind, &designs, phases, parallelism);
+                let series = core::build_series(kind, &designs, alphas, parallelism);
                 let mut out = vec![0.0; designs.len() * phi.len()];
-                core::evaluate_series(&series, phi, &mut out, parallelism)?;
+                core::evaluate_series_or_exact(
+                    &series,
+                    &designs,
+                    &phases,
+                    phi,
+                    &mut out,
+                    parallelism,
+                )?;
                 Ok(out)
             })
             .map_err(to_py_err)?;
@@ -533,7 +541,7 @@ mod _native {
                 let mut out = vec![0.0; phi.len()];
                 match quantity {
                     Some(q) => engine.evaluate(q, phi, &mut out, parallelism)?,
-                    None => core::evaluate_series(&[engine.series()], phi, &mut out, parallelism)?,
+                    None => engine.evaluate_series(phi, &mut out, parallelism)?,
                 }
                 Ok(out)
             })
