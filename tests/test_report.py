@@ -38,15 +38,15 @@ def test_report_files(report):
     names = {p.name for p in report.iterdir()}
     for stem in ["energy_2stroke", "energy_4stroke", "force_2stroke", "force_4stroke", "spectra_2stroke",
                  "spectra_4stroke", "paper_truncation_error", "gravity_significance_k_lambda",
-                 "gravity_significance_engines"]:
+                 "gravity_significance_engines", "layouts"]:
         assert f"{stem}.png" in names and f"{stem}.csv" in names
         assert (report / f"{stem}.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     for table in ["table1_two_stroke_single", "table2_four_stroke_single", "two_stroke_double",
                   "four_stroke_double", "paper_table1_printed"]:
         assert f"{table}.csv" in names
     page = (report / "index.html").read_text(encoding="utf-8")
-    assert page.count("data:image/png;base64,") == 9  # self-contained
-    for heading in ["The engine", "Gravity significance", "Harmonic spectra", "Tables 1 and 2",
+    assert page.count("data:image/png;base64,") == 10  # self-contained
+    for heading in ["The engine", "Gravity significance", "Layouts", "Harmonic spectra", "Tables 1 and 2",
                     "truncated series", "Conventions", "Errata"]:
         assert heading in page
     assert "agrees with the derived one in every cell" in page
@@ -131,3 +131,14 @@ def test_help_texts_name_degrees():
     assert "DEGREES" in run("sweep", "--help").stdout
     for command in ("eval", "tables", "sweep", "report"):
         assert command in run("--help").stdout
+
+
+def test_report_layouts_table(report):
+    layouts = pd.read_csv(report / "layouts.csv")
+    assert {"v8-cross", "boxer-4", "w12", "v-180-2", "twin-270"} <= set(layouts["engine"])
+    engine = ENGINES["inline-4"]
+    u1, u2 = engine.moments()
+    v_twin = mc.layout_engine("v-twin-90", crank_ratio=engine.crank_ratio, u1=u1, u2=u2)
+    row = layouts[layouts.engine == "v-twin-90"].iloc[0]
+    assert row.energy_range == pytest.approx(float(v_twin.speed_fluctuation()), rel=1e-12)
+    assert row.leading_harmonic == v_twin.leading_harmonic()[0]

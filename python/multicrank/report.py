@@ -278,6 +278,36 @@ def engines_figure(settings: ReportSettings):
     return fig, pd.DataFrame(records)
 
 
+def layouts_figure(settings: ReportSettings):
+    """δ_g and the leading gravity harmonic of every preset layout, with the engine's
+    per-cylinder λ, U1 and U2 at its speed (in-line layouts upright)."""
+    plt = _pyplot()
+    from .engines import LAYOUTS
+    from .sweeps import sweep
+
+    engine = settings.engine
+    u1, u2 = engine.moments()
+    chosen = [name for name in LAYOUTS if not name.startswith("inline-") or name in (
+        "inline-1-2t", "inline-2-2t", "inline-3-4t", "inline-4-4t", "inline-6-4t", "inline-8-4t", "inline-12-2t")]
+    engines = [LAYOUTS[name].engine(crank_ratio=engine.crank_ratio, u1=u1, u2=u2) for name in chosen]
+    table = sweep(engines, outputs=["energy_range", "leading_harmonic", "leading_amplitude"])
+    table.insert(1, "description", [LAYOUTS[name].note for name in chosen])
+    fig, ax = plt.subplots(figsize=(9.5, 5.2))
+    shown = np.maximum(table["energy_range"].to_numpy(), 1e-20)
+    colours = ["C3" if d >= settings.threshold else "C0" for d in shown]
+    ax.barh(table["engine"], shown, color=colours)
+    ax.set_xscale("log")
+    ax.axvline(settings.threshold, color="black", ls="--", lw=1)
+    for y, (d, n) in enumerate(zip(shown, table["leading_harmonic"])):
+        ax.text(d * 1.3, y, f"n = {n}", va="center", fontsize=7)
+    ax.invert_yaxis()
+    ax.set_xlabel("δ_g (dashed: threshold; red above it)")
+    ax.set_title(f"Layouts with {engine.name}'s cylinder (λ = {engine.crank_ratio:.3g}, {engine.rpm:g} rpm): "
+                 "gravity's δ_g and leading harmonic n", fontsize=10)
+    fig.tight_layout()
+    return fig, table
+
+
 # ----------------------------------------------------------------------------- tables
 def surviving_tables(settings: ReportSettings) -> dict[str, pd.DataFrame]:
     kinds = {
@@ -352,7 +382,7 @@ def write_report(out: str | Path, settings: ReportSettings | None = None, progre
     engine = settings.engine
     sections: list[str] = []
     steps = [
-        "curves", "spectra", "tables", "truncation", "significance", "engines",
+        "curves", "spectra", "tables", "truncation", "significance", "engines", "layouts",
     ]
     bar = tqdm(steps, desc="report", unit="part", disable=not progress)
     figures: dict[str, str] = {}
@@ -383,6 +413,9 @@ def write_report(out: str | Path, settings: ReportSettings | None = None, progre
             save("gravity_significance_k_lambda", *significance_map(settings))
         elif step == "engines":
             save("gravity_significance_engines", *engines_figure(settings))
+        elif step == "layouts":
+            figure, layouts = layouts_figure(settings)
+            save("layouts", figure, layouts)
 
     u1, u2 = engine.moments()
     delta = float(speed_fluctuation(**engine.design()))
@@ -421,6 +454,23 @@ Balanced crank sets (where only harmonics of order ≥ k survive) make gravity n
 <img src="{figures['gravity_significance_k_lambda']}" alt="δ_g over k and λ">
 <img src="{figures['gravity_significance_engines']}" alt="δ_g per engine over its speed range">
 <p class="note">Data: gravity_significance_k_lambda.csv, gravity_significance_engines.csv</p>
+""")
+    layout_rows = "".join(
+        f"<tr><td>{html.escape(r.engine)}</td><td style='text-align:left'>{html.escape(r.description)}</td>"
+        f"<td>{r.cylinders}</td><td>{r.energy_range:.3g}</td><td>{r.leading_harmonic}</td><td>{r.leading_amplitude:.3g}</td></tr>"
+        for r in layouts.itertuples()
+    )
+    sections.append(f"""
+<h2>Layouts: V, boxer, W, odd-fire</h2>
+<p>The same cylinder (λ, U1, U2 of {html.escape(engine.name)} at {engine.rpm:g} rpm) in every preset layout.
+Cylinders sharing a crank pin have phases α = β − γ (pin angle β, bank γ); boxers have opposed cylinders on
+throws 180° apart, unlike the 180° V whose opposed cylinders share a pin. Horizontal cylinders (boxers) feel only
+their rotating parts. With unequal cylinders or phase errors cancelled harmonics return; see
+<code>Engine.harmonic_sensitivity</code>.</p>
+<img src="{figures['layouts']}" alt="δ_g per layout">
+<table><tr><th>layout</th><th>description</th><th>cylinders</th><th>δ<sub>g</sub></th><th>leading n</th><th>its amplitude</th></tr>
+{layout_rows}</table>
+<p class="note">Data: layouts.csv</p>
 """)
     for strokes in (2, 4):
         sections.append(f"""

@@ -295,8 +295,9 @@ def sweep(
 
     Parameters
     ----------
-    designs : pandas.DataFrame, mapping of equal-length 1-D columns, DesignGrid, or
-        dask.dataframe.DataFrame. Columns ``crank_ratio``, ``inclination`` [rad], ``u1``,
+    designs : pandas.DataFrame, mapping of equal-length 1-D columns, DesignGrid,
+        dask.dataframe.DataFrame, or a list of :class:`multicrank.Engine` (any layout; the
+        result then has one row per engine with its name and number of units). Columns ``crank_ratio``, ``inclination`` [rad], ``u1``,
         ``u2``; optional ``cranks`` (default 1), ``strokes`` (2) and ``acting`` ("single").
         Other columns are carried through.
     phi : int or 1-D array
@@ -340,6 +341,11 @@ def sweep(
     outputs = _as_outputs(outputs)
     phi = _as_phi(phi)
     chunk_size = as_count(chunk_size, "chunk_size", minimum=1)
+
+    if _is_engine_list(designs):
+        if out is not None or curves:
+            raise MechanismError("out= and curves= take tabular designs, not a list of engines")
+        return _sweep_engines(list(designs), phi, outputs, progress)
 
     if _is_dask(designs):
         if out is not None or curves:
@@ -397,6 +403,36 @@ def _curves(frame: pd.DataFrame, phi: np.ndarray) -> np.ndarray:
             phases=set_phases[int(offsets[code]) : int(offsets[code + 1])],
         )
     return curves
+
+
+def _is_engine_list(designs: Any) -> bool:
+    from .engines import Engine
+
+    return isinstance(designs, (list, tuple)) and len(designs) > 0 and all(isinstance(e, Engine) for e in designs)
+
+
+def _sweep_engines(engines: list, phi: np.ndarray, outputs: tuple[str, ...], progress: bool) -> pd.DataFrame:
+    """The outputs of each cylinder-level engine (one Rust call per engine and output group):
+    for layouts, unequal cylinders and Monte-Carlo samples of manufacturing tolerances."""
+    rows = []
+    bar = _progress_bar(len(engines), progress)
+    for engine in engines:
+        row: dict[str, Any] = {"engine": engine.name, "cylinders": len(engine)}
+        if any(o in outputs for o in _GROUPS["force"]):
+            q = engine.generalized_force(phi)
+            row["force_max_abs"], row["force_rms"] = float(np.max(np.abs(q))), float(np.sqrt(np.mean(q * q)))
+        if any(o in outputs for o in _GROUPS["energy"]):
+            extrema = engine.energy_extrema()
+            row["energy_min"], row["energy_max"], row["energy_range"] = extrema.min, extrema.max, extrema.range
+        if any(o in outputs for o in _GROUPS["harmonic"]):
+            row["leading_harmonic"], row["leading_amplitude"] = engine.leading_harmonic()
+        rows.append(row)
+        if bar is not None:
+            bar.update(1)
+    if bar is not None:
+        bar.close()
+    frame = pd.DataFrame(rows)
+    return frame[["engine", "cylinders", *outputs]]
 
 
 def _is_dask(designs: Any) -> bool:
