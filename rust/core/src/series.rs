@@ -253,19 +253,49 @@ fn series_segment(series: &FourierSeries, phi: &[f64], out: &mut [f64]) {
                 z_re[i] = re;
             }
         }
-        // z now walks e^{iνpφ}, ν = 1, 2, …
-        z_re.copy_from_slice(w_re);
-        z_im.copy_from_slice(w_im);
+        // v walks e^{iνpφ}, ν = 1, 2, …, and the sum takes a·Re v + b·Im v per harmonic.
+        // Register-blocked: LANES points keep v and their sum in vector registers across all
+        // harmonics (one pass over memory per harmonic was load/store-bound), as several
+        // independent chains so that the latency of each step is hidden. Every point sees
+        // the same operations in the same order as in the remainder loop below.
+        let mut i = 0;
+        while i + LANES <= n {
+            let range = i..i + LANES;
+            let mut sum: Lanes = [0.0; LANES];
+            let (mut v_re, mut v_im): (Lanes, Lanes) = ([0.0; LANES], [0.0; LANES]);
+            let (mut r_re, mut r_im): (Lanes, Lanes) = ([0.0; LANES], [0.0; LANES]);
+            sum.copy_from_slice(&out_b[range.clone()]);
+            v_re.copy_from_slice(&w_re[range.clone()]);
+            v_im.copy_from_slice(&w_im[range.clone()]);
+            r_re.copy_from_slice(&w_re[range.clone()]);
+            r_im.copy_from_slice(&w_im[range.clone()]);
+            for (&a, &b) in series.cos.iter().zip(&series.sin) {
+                for l in 0..LANES {
+                    sum[l] += a * v_re[l] + b * v_im[l];
+                    let re = v_re[l] * r_re[l] - v_im[l] * r_im[l];
+                    v_im[l] = v_re[l] * r_im[l] + v_im[l] * r_re[l];
+                    v_re[l] = re;
+                }
+            }
+            out_b[range].copy_from_slice(&sum);
+            i += LANES;
+        }
+        z_re[i..].copy_from_slice(&w_re[i..]);
+        z_im[i..].copy_from_slice(&w_im[i..]);
         for (&a, &b) in series.cos.iter().zip(&series.sin) {
-            for i in 0..n {
-                out_b[i] += a * z_re[i] + b * z_im[i];
-                let re = z_re[i] * w_re[i] - z_im[i] * w_im[i];
-                z_im[i] = z_re[i] * w_im[i] + z_im[i] * w_re[i];
-                z_re[i] = re;
+            for j in i..n {
+                out_b[j] += a * z_re[j] + b * z_im[j];
+                let re = z_re[j] * w_re[j] - z_im[j] * w_im[j];
+                z_im[j] = z_re[j] * w_im[j] + z_im[j] * w_re[j];
+                z_re[j] = re;
             }
         }
     }
 }
+
+/// Points per register block of the harmonic loop (four AVX-512 vectors).
+const LANES: usize = 32;
+type Lanes = [f64; LANES];
 
 #[multiversion(targets("x86_64+avx512f+avx512vl+avx512dq", "x86_64+avx2+fma"))]
 fn series_run(series: &FourierSeries, phi: &[f64], out: &mut [f64]) {
