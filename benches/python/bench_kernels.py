@@ -71,6 +71,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--points", type=int, default=1_000_000)
     parser.add_argument("--repeat", type=int, default=7)
+    parser.add_argument("--markdown", action="store_true", help="print a Markdown table")
     parser.add_argument("--child", action="store_true", help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.child:
@@ -87,6 +88,14 @@ def main() -> None:
             check=True,
         )
         results[threads] = json.loads(child.stdout)
+    if args.markdown:
+        print("| function | k | threads | baseline ns/pt | multicrank ns/pt | ratio |")
+        print("|---|---|---|---|---|---|")
+        for threads, rows in results.items():
+            for r in rows:
+                ratio = r["base_ns"] / r["fast_ns"]
+                print(f"| {r['function']} | {r['cranks']} | {threads} | {r['base_ns']:.1f} | {r['fast_ns']:.2f} | {ratio:.1f}× |")
+        return
     print(f"{args.points:,} points, λ = 0.3, two-stroke phases; ns per point (best of {args.repeat}); "
           "ratio = baseline time / multicrank time\n")
     print("lambda_coefficients: ns per λ for Λ_0…Λ_24, λ spread over [0, 0.95]\n")
