@@ -8,7 +8,7 @@
 //! the in-line formulas with its own γ_j, so the kernels are those of `exact.rs`, with one set
 //! of coefficients per unit, at the same speed.
 
-use crate::error::{check, MechanismError, Result};
+use crate::error::{check, check_length, MechanismError, Result};
 use crate::exact::{evaluate_units, Coefficients, Quantity};
 use crate::extrema::{extrema_of_units, EnergyExtrema};
 use crate::harmonics::{harmonic_reach, ExactLambdas};
@@ -71,13 +71,7 @@ impl Engine {
         out: &mut [f64],
         parallelism: Parallelism,
     ) -> Result<()> {
-        if out.len() != phi.len() {
-            return Err(MechanismError::LengthMismatch {
-                parameter: "out",
-                expected: phi.len(),
-                found: out.len(),
-            });
-        }
+        check_length("out", phi.len(), out.len())?;
         let work = phi.len().saturating_mul(self.cylinders.len());
         for_each_row_segment(out, phi.len(), work, parallelism, |_, col, segment| {
             evaluate_units(

@@ -78,3 +78,16 @@ pub(crate) fn check(
         })
     }
 }
+
+/// `Ok(())` if a buffer has the length it must have, else a `LengthMismatch` naming it.
+pub(crate) fn check_length(parameter: &'static str, expected: usize, found: usize) -> Result<()> {
+    if expected == found {
+        Ok(())
+    } else {
+        Err(MechanismError::LengthMismatch {
+            parameter,
+            expected,
+            found,
+        })
+    }
+}

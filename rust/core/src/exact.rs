@@ -10,7 +10,7 @@
 
 use multiversion::multiversion;
 
-use crate::error::{MechanismError, Result};
+use crate::error::{check_length, Result};
 use crate::mechanism::{Design, Phases};
 use crate::parallel::{for_each_row_segment, Parallelism};
 use crate::trig::sincos_block;
@@ -178,13 +178,7 @@ pub fn evaluate(
 ) -> Result<()> {
     let n_phi = phi.len();
     let expected = designs.len() * n_phi;
-    if out.len() != expected {
-        return Err(MechanismError::LengthMismatch {
-            parameter: "out",
-            expected,
-            found: out.len(),
-        });
-    }
+    check_length("out", expected, out.len())?;
     for_each_row_segment(
         out,
         n_phi,

@@ -8,7 +8,7 @@
 
 use multiversion::multiversion;
 
-use crate::error::{MechanismError, Result};
+use crate::error::{check_length, Result};
 use crate::exact::{evaluate_run, Quantity};
 use crate::harmonics::{lambda_paper, ExactLambdas, PhaseSums, UnitAmplitudes, PAPER_MAX_HARMONIC};
 use crate::mechanism::{Design, Phases};
@@ -339,13 +339,8 @@ pub fn evaluate_series_or_exact(
     parallelism: Parallelism,
 ) -> Result<()> {
     let expected = series.len() * phi.len();
-    if out.len() != expected || designs.len() != series.len() {
-        return Err(MechanismError::LengthMismatch {
-            parameter: "out",
-            expected,
-            found: out.len(),
-        });
-    }
+    check_length("designs", series.len(), designs.len())?;
+    check_length("out", expected, out.len())?;
     let work = out.len().saturating_mul(4);
     for_each_row_segment(out, phi.len(), work, parallelism, |row, col, segment| {
         let phi = &phi[col..col + segment.len()];
@@ -372,13 +367,7 @@ pub fn evaluate_series(
     parallelism: Parallelism,
 ) -> Result<()> {
     let expected = series.len() * phi.len();
-    if out.len() != expected {
-        return Err(MechanismError::LengthMismatch {
-            parameter: "out",
-            expected,
-            found: out.len(),
-        });
-    }
+    check_length("out", expected, out.len())?;
     let work = out.len().saturating_mul(4);
     for_each_row_segment(out, phi.len(), work, parallelism, |row, col, segment| {
         series_run(&series[row], &phi[col..col + segment.len()], segment)

@@ -41,6 +41,17 @@ fn slice<'a>(array: &'a PyReadonlyArray1<'_, f64>) -> PyResult<&'a [f64]> {
     Ok(array.as_slice()?)
 }
 
+/// The slices of several arrays at once (design or unit columns).
+fn slices<'a, const N: usize>(
+    arrays: [&'a PyReadonlyArray1<'_, f64>; N],
+) -> PyResult<[&'a [f64]; N]> {
+    let mut out: [&[f64]; N] = [&[]; N];
+    for (slot, array) in out.iter_mut().zip(arrays) {
+        *slot = slice(array)?;
+    }
+    Ok(out)
+}
+
 /// The four broadcast design columns as validated designs.
 fn designs_from(columns: [&[f64]; 4]) -> core::Result<Vec<core::Design>> {
     let n = columns[0].len();
@@ -150,12 +161,7 @@ mod _native {
             }
         };
         let (phi, phases) = (slice(&phi)?, slice(&phases)?);
-        let columns = [
-            slice(&crank_ratio)?,
-            slice(&inclination)?,
-            slice(&u1)?,
-            slice(&u2)?,
-        ];
+        let columns = slices([&crank_ratio, &inclination, &u1, &u2])?;
         let parallelism = parallelism();
         let out = py
             .detach(|| -> core::Result<Vec<f64>> {
@@ -251,12 +257,7 @@ mod _native {
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let kind = series_kind(method)?;
         let (phi, phases) = (slice(&phi)?, slice(&phases)?);
-        let columns = [
-            slice(&crank_ratio)?,
-            slice(&inclination)?,
-            slice(&u1)?,
-            slice(&u2)?,
-        ];
+        let columns = slices([&crank_ratio, &inclination, &u1, &u2])?;
         let parallelism = parallelism();
         let out = py
             .detach(|| -> core::Result<Vec<f64>> {
@@ -349,12 +350,7 @@ mod _native {
         n_max: usize,
     ) -> PyResult<(Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>)> {
         let phases = slice(&phases)?;
-        let columns = [
-            slice(&crank_ratio)?,
-            slice(&inclination)?,
-            slice(&u1)?,
-            slice(&u2)?,
-        ];
+        let columns = slices([&crank_ratio, &inclination, &u1, &u2])?;
         let (a, b) = py
             .detach(|| -> core::Result<(Vec<f64>, Vec<f64>)> {
                 core::Phases::new(phases)?;
@@ -395,12 +391,7 @@ mod _native {
         Bound<'py, PyArray1<f64>>,
     )> {
         let alphas = slice(&phases)?;
-        let columns = [
-            slice(&crank_ratio)?,
-            slice(&inclination)?,
-            slice(&u1)?,
-            slice(&u2)?,
-        ];
+        let columns = slices([&crank_ratio, &inclination, &u1, &u2])?;
         let parallelism = parallelism();
         let extrema = py
             .detach(|| -> core::Result<Vec<core::EnergyExtrema>> {
@@ -449,12 +440,7 @@ mod _native {
         energy: bool,
         harmonic: bool,
     ) -> PyResult<Vec<Bound<'py, PyArray1<f64>>>> {
-        let columns = [
-            slice(&crank_ratio)?,
-            slice(&inclination)?,
-            slice(&u1)?,
-            slice(&u2)?,
-        ];
+        let columns = slices([&crank_ratio, &inclination, &u1, &u2])?;
         let phase_set = phase_set.as_slice()?;
         let (set_phases, set_offsets, phi) =
             (slice(&set_phases)?, set_offsets.as_slice()?, slice(&phi)?);
@@ -527,13 +513,7 @@ mod _native {
             }
         };
         let phi = slice(&phi)?;
-        let columns = [
-            slice(&phase)?,
-            slice(&inclination)?,
-            slice(&crank_ratio)?,
-            slice(&u1)?,
-            slice(&u2)?,
-        ];
+        let columns = slices([&phase, &inclination, &crank_ratio, &u1, &u2])?;
         let parallelism = parallelism();
         let out = py
             .detach(|| -> core::Result<Vec<f64>> {
@@ -561,13 +541,7 @@ mod _native {
         u2: PyReadonlyArray1<'py, f64>,
         n_max: usize,
     ) -> PyResult<(Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>)> {
-        let columns = [
-            slice(&phase)?,
-            slice(&inclination)?,
-            slice(&crank_ratio)?,
-            slice(&u1)?,
-            slice(&u2)?,
-        ];
+        let columns = slices([&phase, &inclination, &crank_ratio, &u1, &u2])?;
         let (a, b) = py
             .detach(|| -> core::Result<(Vec<f64>, Vec<f64>)> {
                 let engine = engine_from(columns)?;
@@ -589,13 +563,7 @@ mod _native {
         u1: PyReadonlyArray1<'py, f64>,
         u2: PyReadonlyArray1<'py, f64>,
     ) -> PyResult<(f64, f64, f64, f64, f64)> {
-        let columns = [
-            slice(&phase)?,
-            slice(&inclination)?,
-            slice(&crank_ratio)?,
-            slice(&u1)?,
-            slice(&u2)?,
-        ];
+        let columns = slices([&phase, &inclination, &crank_ratio, &u1, &u2])?;
         let e = py
             .detach(|| engine_from(columns).map(|engine| engine.energy_extrema()))
             .map_err(to_py_err)?;
