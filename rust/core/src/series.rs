@@ -208,94 +208,73 @@ fn power(c: f64, s: f64, mut e: usize) -> (f64, f64) {
     }
 }
 
-/// Points per block: the block's arrays stay in L1 through the harmonic loop.
-const BLOCK: usize = 128;
-
+/// (re, im) of w·z, lane by lane.
 #[inline(always)]
-fn series_segment(series: &FourierSeries, phi: &[f64], out: &mut [f64]) {
-    let mut sin_phi = [0.0; BLOCK];
-    let mut cos_phi = [0.0; BLOCK];
-    let (mut w_re, mut w_im) = ([0.0; BLOCK], [0.0; BLOCK]);
-    let (mut z_re, mut z_im) = ([0.0; BLOCK], [0.0; BLOCK]);
-    for (phi_b, out_b) in phi.chunks(BLOCK).zip(out.chunks_mut(BLOCK)) {
-        let n = phi_b.len();
-        let (s, c) = (&mut sin_phi[..n], &mut cos_phi[..n]);
-        sincos_block(phi_b, s, c);
-        for i in 0..n {
-            out_b[i] = series.a1 * c[i] + series.b1 * s[i];
-        }
-        if series.cos.is_empty() {
-            continue;
-        }
-        // w = e^{ipφ} by binary powering of z = e^{iφ}.
-        let (w_re, w_im) = (&mut w_re[..n], &mut w_im[..n]);
-        let (z_re, z_im) = (&mut z_re[..n], &mut z_im[..n]);
-        w_re.fill(1.0);
-        w_im.fill(0.0);
-        z_re.copy_from_slice(c);
-        z_im.copy_from_slice(s);
-        let mut e = series.step;
-        loop {
-            if e & 1 == 1 {
-                for i in 0..n {
-                    let re = w_re[i] * z_re[i] - w_im[i] * z_im[i];
-                    w_im[i] = w_re[i] * z_im[i] + w_im[i] * z_re[i];
-                    w_re[i] = re;
-                }
-            }
-            e >>= 1;
-            if e == 0 {
-                break;
-            }
-            for i in 0..n {
-                let re = z_re[i] * z_re[i] - z_im[i] * z_im[i];
-                z_im[i] = 2.0 * z_re[i] * z_im[i];
-                z_re[i] = re;
-            }
-        }
-        // v walks e^{iνpφ}, ν = 1, 2, …, and the sum takes a·Re v + b·Im v per harmonic.
-        // Register-blocked: LANES points keep v and their sum in vector registers across all
-        // harmonics (one pass over memory per harmonic was load/store-bound), as several
-        // independent chains so that the latency of each step is hidden. Every point sees
-        // the same operations in the same order as in the remainder loop below.
-        let mut i = 0;
-        while i + LANES <= n {
-            let range = i..i + LANES;
-            let mut sum: Lanes = [0.0; LANES];
-            let (mut v_re, mut v_im): (Lanes, Lanes) = ([0.0; LANES], [0.0; LANES]);
-            let (mut r_re, mut r_im): (Lanes, Lanes) = ([0.0; LANES], [0.0; LANES]);
-            sum.copy_from_slice(&out_b[range.clone()]);
-            v_re.copy_from_slice(&w_re[range.clone()]);
-            v_im.copy_from_slice(&w_im[range.clone()]);
-            r_re.copy_from_slice(&w_re[range.clone()]);
-            r_im.copy_from_slice(&w_im[range.clone()]);
-            for (&a, &b) in series.cos.iter().zip(&series.sin) {
-                for l in 0..LANES {
-                    sum[l] += a * v_re[l] + b * v_im[l];
-                    let re = v_re[l] * r_re[l] - v_im[l] * r_im[l];
-                    v_im[l] = v_re[l] * r_im[l] + v_im[l] * r_re[l];
-                    v_re[l] = re;
-                }
-            }
-            out_b[range].copy_from_slice(&sum);
-            i += LANES;
-        }
-        z_re[i..].copy_from_slice(&w_re[i..]);
-        z_im[i..].copy_from_slice(&w_im[i..]);
-        for (&a, &b) in series.cos.iter().zip(&series.sin) {
-            for j in i..n {
-                out_b[j] += a * z_re[j] + b * z_im[j];
-                let re = z_re[j] * w_re[j] - z_im[j] * w_im[j];
-                z_im[j] = z_re[j] * w_im[j] + z_im[j] * w_re[j];
-                z_re[j] = re;
-            }
-        }
+fn multiply<const N: usize>(w: &mut ([f64; N], [f64; N]), z: &([f64; N], [f64; N])) {
+    for l in 0..N {
+        let re = w.0[l] * z.0[l] - w.1[l] * z.1[l];
+        w.1[l] = w.0[l] * z.1[l] + w.1[l] * z.0[l];
+        w.0[l] = re;
     }
 }
 
-/// Points per register block of the harmonic loop (four AVX-512 vectors).
+/// The series at N points whose (cos φ, sin φ) are given, entirely in registers:
+/// a₁ cos φ + b₁ sin φ, then w = e^{ipφ} by binary powering, then v = wᵛ walks the
+/// harmonics. Every point sees the same operations in the same order whatever N is.
+#[inline(always)]
+fn series_points<const N: usize>(series: &FourierSeries, c: &[f64; N], s: &[f64; N]) -> [f64; N] {
+    let mut sum = [0.0; N];
+    for l in 0..N {
+        sum[l] = series.a1 * c[l] + series.b1 * s[l];
+    }
+    if series.cos.is_empty() {
+        return sum;
+    }
+    let mut w = ([1.0; N], [0.0; N]);
+    let mut z = (*c, *s);
+    let mut e = series.step;
+    loop {
+        if e & 1 == 1 {
+            multiply(&mut w, &z);
+        }
+        e >>= 1;
+        if e == 0 {
+            break;
+        }
+        let square = z;
+        multiply(&mut z, &square);
+    }
+    let mut v = w;
+    for (&a, &b) in series.cos.iter().zip(&series.sin) {
+        for l in 0..N {
+            sum[l] += a * v.0[l] + b * v.1[l];
+        }
+        multiply(&mut v, &w);
+    }
+    sum
+}
+
+/// Points per register block (four AVX-512 vectors).
 const LANES: usize = 32;
-type Lanes = [f64; LANES];
+
+#[inline(always)]
+fn series_segment(series: &FourierSeries, phi: &[f64], out: &mut [f64]) {
+    // Register blocks of LANES points — sin/cos, powering and the harmonic sum without a
+    // pass over memory in between (several independent chains hide each step's latency) —
+    // then the rest one at a time.
+    let mut points = phi.chunks_exact(LANES);
+    let mut values = out.chunks_exact_mut(LANES);
+    for (x, o) in (&mut points).zip(&mut values) {
+        let (mut c, mut s) = ([0.0; LANES], [0.0; LANES]);
+        sincos_block(x, &mut s, &mut c);
+        o.copy_from_slice(&series_points(series, &c, &s));
+    }
+    for (&x, o) in points.remainder().iter().zip(values.into_remainder()) {
+        let (mut c, mut s) = ([0.0; 1], [0.0; 1]);
+        sincos_block(&[x], &mut s, &mut c);
+        *o = series_points::<1>(series, &c, &s)[0];
+    }
+}
 
 #[multiversion(targets("x86_64+avx512f+avx512vl+avx512dq", "x86_64+avx2+fma"))]
 fn series_run(series: &FourierSeries, phi: &[f64], out: &mut [f64]) {
