@@ -26,9 +26,6 @@ pub enum Quantity {
     ForceDerivative,
 }
 
-/// Points per sincos block: the block's sin/cos stay in L1 across the crank loop.
-const BLOCK: usize = 256;
-
 /// The contribution of one crank at angle ψ, given (sin ψ, cos ψ).
 trait CrankTerm {
     fn term(k: &Coefficients, s: f64, c: f64) -> f64;
@@ -104,27 +101,46 @@ fn sum_over_cranks<K: CrankTerm>(
     phi: &[f64],
     out: &mut [f64],
 ) {
-    let mut sin_phi = [0.0; BLOCK];
-    let mut cos_phi = [0.0; BLOCK];
-    for (phi_b, out_b) in phi.chunks(BLOCK).zip(out.chunks_mut(BLOCK)) {
-        let n = phi_b.len();
-        let (s_b, c_b) = (&mut sin_phi[..n], &mut cos_phi[..n]);
-        sincos_block(phi_b, s_b, c_b);
-        out_b.fill(0.0);
-        for (j, (&cos_a, &sin_a)) in phases.cos.iter().zip(&phases.sin).enumerate() {
-            let kernel = if units.len() == 1 {
-                &units[0]
-            } else {
-                &units[j]
-            };
-            for ((o, &s), &c) in out_b.iter_mut().zip(s_b.iter()).zip(c_b.iter()) {
-                let sin_psi = s * cos_a + c * sin_a;
-                let cos_psi = c * cos_a - s * sin_a;
-                *o += K::term(kernel, sin_psi, cos_psi);
-            }
-        }
+    // LANES points at a time keep sin/cos and the running sum in registers through the
+    // crank loop (several independent vectors hide the latency of sqrt and division); the
+    // rest one at a time, with the same operations in the same order.
+    let mut points = phi.chunks_exact(LANES);
+    let mut values = out.chunks_exact_mut(LANES);
+    for (x, o) in (&mut points).zip(&mut values) {
+        o.copy_from_slice(&crank_sum::<K, LANES>(units, phases, x));
+    }
+    for (x, o) in points.remainder().iter().zip(values.into_remainder()) {
+        *o = crank_sum::<K, 1>(units, phases, std::slice::from_ref(x))[0];
     }
 }
+
+/// Σ_j term_j at N points (phi.len() == N).
+#[inline(always)]
+fn crank_sum<K: CrankTerm, const N: usize>(
+    units: &[Coefficients],
+    phases: &Phases,
+    phi: &[f64],
+) -> [f64; N] {
+    let (mut s, mut c) = ([0.0; N], [0.0; N]);
+    sincos_block(phi, &mut s, &mut c);
+    let mut sum = [0.0; N];
+    for (j, (&cos_a, &sin_a)) in phases.cos.iter().zip(&phases.sin).enumerate() {
+        let kernel = if units.len() == 1 {
+            &units[0]
+        } else {
+            &units[j]
+        };
+        for l in 0..N {
+            let sin_psi = s[l] * cos_a + c[l] * sin_a;
+            let cos_psi = c[l] * cos_a - s[l] * sin_a;
+            sum[l] += K::term(kernel, sin_psi, cos_psi);
+        }
+    }
+    sum
+}
+
+/// Points per register block.
+const LANES: usize = 16;
 
 #[multiversion(targets("x86_64+avx512f+avx512vl+avx512dq", "x86_64+avx2+fma"))]
 fn energy_run(units: &[Coefficients], phases: &Phases, phi: &[f64], out: &mut [f64]) {
