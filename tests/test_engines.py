@@ -199,3 +199,22 @@ def test_monte_carlo_through_sweep_matches_first_order_prediction():
     assert result["energy_range"].iloc[0] == first.speed_fluctuation()
     phi = np.arange(360) * (2 * np.pi / 360)
     assert result["force_max_abs"].iloc[0] == np.max(np.abs(first.generalized_force(phi)))
+
+
+def test_physical_layout_counts_one_web_per_throw():
+    """A V-twin from physical masses: two cylinders on one pin, one web and counterweight."""
+    from multicrank.presets import ENGINES
+
+    machine = ENGINES["inline-4"]
+    engine = LAYOUTS["v-twin-90"].physical_engine(machine)
+    assert len(engine) == 3 and engine.u1[2] == 0.0
+    r, l, zk = (mp.mpf(machine.crank_radius), mp.mpf(machine.rod_length), mp.mpf(machine.rod_cg))
+    omega = mp.pi * mp.mpf(machine.rpm) / 30
+    scale = mp.mpf(machine.shaft_inertia) * omega**2
+    web = (mp.mpf(machine.crank_mass) * mp.mpf(machine.crank_cg_radius)
+           - mp.mpf(machine.counterweight_mass) * mp.mpf(machine.counterweight_radius))
+    throws, banks = [mp.radians(90)], [[mp.radians(45), mp.radians(135)]]
+    phi = np.linspace(0, 2 * np.pi, 13)
+    expected = [float(oracle_energy(p, throws, banks, r, l, zk, mp.mpf(machine.piston_mass), mp.mpf(machine.rod_mass),
+                                    web=(web, 0)) / scale) for p in phi]
+    np.testing.assert_allclose(engine.potential_energy(phi), expected, rtol=0, atol=1e-15)

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import os as _os
 
-from . import _native
+from . import _native, presets
 from ._native import MechanismError, build_profile
 from .engines import LAYOUTS, Engine, Layout, layout_engine
 from .evaluation import (
