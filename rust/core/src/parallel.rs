@@ -80,3 +80,25 @@ where
         (0..n).map(f).collect()
     }
 }
+
+/// As `map_indices`, with a scratch value per worker (`init`) that `f` may reuse: it must
+/// not influence the result, which then stays independent of the scheduling.
+pub(crate) fn map_indices_with<T, S, I, F>(
+    n: usize,
+    work: usize,
+    parallelism: Parallelism,
+    init: I,
+    f: F,
+) -> Vec<T>
+where
+    T: Send,
+    I: Fn() -> S + Sync + Send,
+    F: Fn(&mut S, usize) -> T + Sync + Send,
+{
+    if parallelism.runs_parallel(work) {
+        (0..n).into_par_iter().map_init(init, f).collect()
+    } else {
+        let mut scratch = init();
+        (0..n).map(|i| f(&mut scratch, i)).collect()
+    }
+}

@@ -8,7 +8,7 @@ use crate::exact::{evaluate_run, Quantity};
 use crate::extrema::energy_extrema;
 use crate::harmonics::{harmonic_reach, PhaseSums};
 use crate::mechanism::{Design, Phases};
-use crate::parallel::{map_indices, Parallelism};
+use crate::parallel::{map_indices_with, Parallelism};
 use crate::series::FourierSeries;
 
 /// What to compute for each design.
@@ -178,17 +178,22 @@ pub fn sweep(
         return Err(MechanismError::Empty { parameter: "phi" });
     }
     let work = designs.len().saturating_mul(phi.len().max(64));
-    Ok(map_indices(designs.len(), work, parallelism, |i| {
-        let set = phase_set[i] as usize;
-        // One buffer per design keeps every design independent of the scheduling.
-        let mut buffer = Vec::new();
-        sweep_one(
-            &designs[i],
-            &table.phases[set],
-            &table.sums[set],
-            phi,
-            outputs,
-            &mut buffer,
-        )
-    }))
+    // A grid buffer per worker, overwritten by each design: results do not depend on it.
+    Ok(map_indices_with(
+        designs.len(),
+        work,
+        parallelism,
+        Vec::new,
+        |buffer, i| {
+            let set = phase_set[i] as usize;
+            sweep_one(
+                &designs[i],
+                &table.phases[set],
+                &table.sums[set],
+                phi,
+                outputs,
+                buffer,
+            )
+        },
+    ))
 }
