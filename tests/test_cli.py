@@ -59,3 +59,10 @@ def test_bad_option_is_a_clear_error():
     result = subprocess.run([str(SCRIPT), "eval", "--strokes", "3"], capture_output=True, text=True, timeout=60)
     assert result.returncode == 2
     assert "strokes" in result.stderr
+
+
+def test_eval_takes_any_builtin_engine_and_rejects_unknown_ones():
+    out = run("eval", "--engine", "inline-6", "--points", "4", "--format", "json")
+    assert json.loads(out)["engine"]["cranks"] == 6
+    result = subprocess.run([str(SCRIPT), "eval", "--engine", "steam-hammer"], capture_output=True, text=True, timeout=60)
+    assert result.returncode == 2 and "steam-hammer" in result.stderr

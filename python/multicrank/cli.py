@@ -27,10 +27,9 @@ def main() -> None:
 @click.option(
     "--engine",
     "engine_name",
-    type=click.Choice(sorted(ENGINES)),
     default=DEFAULT_ENGINE.name,
     show_default=True,
-    help="Built-in engine whose parameters are used.",
+    help=f"A built-in engine ({', '.join(ENGINES)}) or a TOML file describing one.",
 )
 @click.option("--cranks", type=click.IntRange(min=1), help="Override the number of cranks k.")
 @click.option("--strokes", type=click.Choice(["2", "4"]), help="Override the working cycle.")
@@ -43,7 +42,12 @@ def main() -> None:
 @click.option("--format", "fmt", type=click.Choice(FORMATS), default="table", show_default=True)
 def eval_command(engine_name, cranks, strokes, acting, inclination, rpm, points, fmt) -> None:
     """Print U_w*(φ) and Q_u*(φ) of an engine on a coarse φ grid (φ in degrees)."""
-    engine = ENGINES[engine_name]
+    from .presets import engine_by_name_or_file
+
+    try:
+        engine = engine_by_name_or_file(engine_name)
+    except MechanismError as error:
+        raise click.BadParameter(str(error), param_hint="--engine") from None
     changes = {
         key: value
         for key, value in dict(
