@@ -16,6 +16,7 @@ from ._native import MechanismError
 __all__ = [
     "MechanismError",
     "as_angles",
+    "as_real_array",
     "contiguous",
     "as_design",
     "as_phases",
@@ -29,7 +30,7 @@ __all__ = [
 _NUMERIC_KINDS = "iuf"
 
 
-def _as_real_array(value: Any, name: str) -> np.ndarray:
+def as_real_array(value: Any, name: str) -> np.ndarray:
     """`value` as a float64 ndarray; strings, complex, bool, object and None are rejected."""
     try:
         array = np.asarray(value)
@@ -54,12 +55,12 @@ def contiguous(array: np.ndarray) -> np.ndarray:
 
 def as_angles(phi: Any, name: str = "phi") -> np.ndarray:
     """Crank angles of any shape as float64 (rad). NaN/inf are allowed (they give NaN)."""
-    return _as_real_array(phi, name)
+    return as_real_array(phi, name)
 
 
 def as_design(value: Any, name: str, *, low: float | None = None, high: float | None = None) -> np.ndarray:
     """A design parameter as float64; finite, and in [low, high) where those are given."""
-    array = _as_real_array(value, name)
+    array = as_real_array(value, name)
     if not np.all(np.isfinite(array)):
         bad = array[~np.isfinite(array)].flat[0]
         raise MechanismError(f"{name} = {bad} is out of range; allowed: any finite real")
@@ -79,7 +80,7 @@ def as_phases(phases: Any) -> np.ndarray:
     """The crank phases α_j (rad) as a non-empty finite 1-D float64 array; None → [0]."""
     if phases is None:
         return np.zeros(1)
-    array = _as_real_array(phases, "phases")
+    array = as_real_array(phases, "phases")
     if array.ndim != 1:
         raise MechanismError(f"phases must be a 1-D array of angles, got shape {array.shape}")
     if array.size == 0:
@@ -118,13 +119,15 @@ def as_strokes(value: Any) -> int:
     return strokes
 
 
-def broadcast_designs(**columns: np.ndarray) -> tuple[tuple[int, ...], dict[str, np.ndarray]]:
-    """Broadcast the design arrays together: (design shape D, flat contiguous columns)."""
+def broadcast_designs(
+    what: str = "design parameters", **columns: np.ndarray
+) -> tuple[tuple[int, ...], dict[str, np.ndarray]]:
+    """Broadcast arrays together: (their shape D, flat contiguous columns)."""
     try:
         shape = np.broadcast_shapes(*(a.shape for a in columns.values()))
     except ValueError:
         shapes = ", ".join(f"{k} {v.shape}" for k, v in columns.items())
-        raise MechanismError(f"design parameters do not broadcast together: {shapes}") from None
+        raise MechanismError(f"{what} do not broadcast together: {shapes}") from None
     flat = {k: contiguous(np.broadcast_to(v, shape)).reshape(-1) for k, v in columns.items()}
     return shape, flat
 

@@ -23,14 +23,28 @@ def main() -> None:
     multi-crank piston mechanisms (dimensionless: U* = U/(I_w ω²))."""
 
 
-@main.command("eval")
-@click.option(
+def _load_engine(ctx, param, spec: str):
+    """--engine: a built-in engine's name or a TOML file, as a presets.Machine."""
+    from .presets import engine_by_name_or_file
+
+    try:
+        return engine_by_name_or_file(spec)
+    except MechanismError as error:
+        raise click.BadParameter(str(error), ctx=ctx, param=param) from None
+
+
+engine_option = click.option(
     "--engine",
-    "engine_name",
+    "engine",
     default=DEFAULT_ENGINE.name,
     show_default=True,
+    callback=_load_engine,
     help=f"A built-in engine ({', '.join(ENGINES)}) or a TOML file describing one.",
 )
+
+
+@main.command("eval")
+@engine_option
 @click.option("--cranks", type=click.IntRange(min=1), help="Override the number of cranks k.")
 @click.option("--strokes", type=click.Choice(["2", "4"]), help="Override the working cycle.")
 @click.option("--acting", type=click.Choice(["single", "double"]), help="Override single/double acting.")
@@ -40,14 +54,8 @@ def main() -> None:
     "--points", type=click.IntRange(min=1), default=24, show_default=True, help="φ grid points over one revolution."
 )
 @click.option("--format", "fmt", type=click.Choice(FORMATS), default="table", show_default=True)
-def eval_command(engine_name, cranks, strokes, acting, inclination, rpm, points, fmt) -> None:
+def eval_command(engine, cranks, strokes, acting, inclination, rpm, points, fmt) -> None:
     """Print U_w*(φ) and Q_u*(φ) of an engine on a coarse φ grid (φ in degrees)."""
-    from .presets import engine_by_name_or_file
-
-    try:
-        engine = engine_by_name_or_file(engine_name)
-    except MechanismError as error:
-        raise click.BadParameter(str(error), param_hint="--engine") from None
     changes = {
         key: value
         for key, value in dict(
@@ -240,29 +248,18 @@ def tables_command(strokes, acting, k_max, n_max, fmt) -> None:
 # ----------------------------------------------------------------------------- report
 @main.command("report")
 @click.option("--out", "out_dir", type=click.Path(file_okay=False), default="multicrank-report", show_default=True)
-@click.option(
-    "--engine",
-    "engine_spec",
-    default=DEFAULT_ENGINE.name,
-    show_default=True,
-    help=f"A built-in engine ({', '.join(ENGINES)}) or a TOML file describing one.",
-)
+@engine_option
 @click.option("--k-max", type=click.IntRange(min=1, max=24), default=12, show_default=True)
 @click.option("--n-max", type=click.IntRange(min=2), default=24, show_default=True)
 @click.option("--points", type=click.IntRange(min=8), default=721, show_default=True, help="φ points per curve.")
 @click.option("--threshold", type=click.FloatRange(min=0, min_open=True), default=None,
               help="δ_g below which gravity may be neglected [default: 1/3000].")
 @click.option("--progress/--no-progress", default=True, show_default=True)
-def report_command(out_dir, engine_spec, k_max, n_max, points, threshold, progress) -> None:
+def report_command(out_dir, engine, k_max, n_max, points, threshold, progress) -> None:
     """Write the report: curves, spectra, Tables 1–2, the paper's truncation error, the
     gravity-significance map, conventions and errata, as index.html + PNG + CSV."""
-    from .presets import engine_by_name_or_file
     from .report import DEFAULT_THRESHOLD, ReportSettings, write_report
 
-    try:
-        engine = engine_by_name_or_file(engine_spec)
-    except MechanismError as error:
-        raise click.BadParameter(str(error), param_hint="--engine") from None
     settings = ReportSettings(engine=engine, k_max=k_max, n_max=n_max, points=points,
                               threshold=threshold or DEFAULT_THRESHOLD)
     index = write_report(out_dir, settings, progress=progress)

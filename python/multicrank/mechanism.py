@@ -7,7 +7,7 @@ from typing import Any
 import numpy as np
 
 from . import _native
-from ._api import MechanismError, as_count, contiguous, as_option, as_strokes, finish
+from ._api import as_count, as_option, as_real_array, as_strokes, broadcast_designs, finish
 
 __all__ = ["crank_phases", "dimensionless_moments", "STANDARD_GRAVITY"]
 
@@ -118,17 +118,7 @@ def dimensionless_moments(
             ),
         )
     )
-    arrays = {}
-    for name, value in values.items():
-        array = np.asarray(value) if not isinstance(value, str) else None
-        if array is None or array.dtype.kind not in "iuf":
-            raise MechanismError(f"{name} must be a real number or an array of real numbers, got {value!r}")
-        arrays[name] = array.astype(np.float64, copy=False)
-    try:
-        shape = np.broadcast_shapes(*(a.shape for a in arrays.values()))
-    except ValueError:
-        shapes = ", ".join(f"{k} {v.shape}" for k, v in arrays.items() if v.shape)
-        raise MechanismError(f"physical parameters do not broadcast together: {shapes}") from None
-    flat = [contiguous(np.broadcast_to(a, shape)).reshape(-1) for a in arrays.values()]
-    u1, u2 = _native.dimensionless_moments(*flat)
+    arrays = {name: as_real_array(value, name) for name, value in values.items()}
+    shape, flat = broadcast_designs("physical parameters", **arrays)
+    u1, u2 = _native.dimensionless_moments(*flat.values())
     return finish(u1, shape), finish(u2, shape)

@@ -14,21 +14,17 @@ from typing import Any
 
 import numpy as np
 
-from ._api import MechanismError, as_angles, as_count, as_design, as_option, as_phases, design_keywords, finish
+from ._api import as_angles, as_count, as_design, as_option, as_phases, broadcast_designs, design_keywords, finish
 
 __all__ = ["potential_energy", "generalized_force", "force_derivative", "lambda_coefficients"]
 
 
 def _prepare(phi: Any, crank_ratio: Any, inclination: Any, u1: Any, u2: Any, phases: Any):
     angles = as_angles(phi)
-    design = design_keywords(crank_ratio, inclination, u1, u2)
-    try:
-        shape = np.broadcast_shapes(*(v.shape for v in design.values()))
-    except ValueError:
-        raise MechanismError("design parameters do not broadcast together") from None
+    shape, design = broadcast_designs(**design_keywords(crank_ratio, inclination, u1, u2))
     # Design axes first, then φ's axes: result shape D + phi.shape.
     expand = (...,) + (np.newaxis,) * angles.ndim
-    lam, gamma, u1_, u2_ = (np.broadcast_to(v, shape)[expand] for v in design.values())
+    lam, gamma, u1_, u2_ = (v.reshape(shape)[expand] for v in design.values())
     return angles, lam, gamma, u1_, u2_, as_phases(phases), shape + angles.shape
 
 

@@ -91,6 +91,23 @@ def _grid_shape(count: int) -> tuple[int, int]:
     return math.ceil(count / cols), cols
 
 
+def _small_multiples(plt, count: int, xlabel: str, ylabel: str, **options):
+    """A grid of panels, one per k = 1 … count, labelled inside (leaving room for the y
+    offset text); returns the figure and the panels in use."""
+    rows, cols = _grid_shape(count)
+    fig, axes = plt.subplots(rows, cols, figsize=(3.0 * cols, 2.1 * rows), squeeze=False, **options)
+    for ax in axes.flat[count:]:
+        ax.set_visible(False)
+    for ax in axes[-1]:
+        ax.set_xlabel(xlabel)
+    for ax in axes[:, 0]:
+        ax.set_ylabel(ylabel)
+    for k, ax in enumerate(axes.flat[:count], start=1):
+        ax.text(0.97, 0.92, f"k = {k}", transform=ax.transAxes, ha="right", va="top", fontsize=9,
+                bbox=dict(facecolor="white", edgecolor="none", alpha=0.8))
+    return fig, list(axes.flat[:count])
+
+
 def _unit(engine: Machine, cranks: int, strokes: int) -> dict:
     """The engine's crank unit on a regular single-acting k-crank shaft of the given cycle
     (the machines of the paper's eq. 16 and Tables 1–2)."""
@@ -103,14 +120,12 @@ def curves_figure(settings: ReportSettings, strokes: int, quantity: str):
 
     phi_deg = np.linspace(0.0, 360.0, settings.points)
     phi = np.radians(phi_deg)
-    ks = range(1, settings.k_max + 1)
-    rows, cols = _grid_shape(len(ks))
-    fig, axes = plt.subplots(rows, cols, figsize=(3.0 * cols, 2.1 * rows), sharex=True, squeeze=False)
     # U_w* is drawn relative to its value at φ = 0: the offset grows with k and would hide
     # the variation, which is what matters. The CSV holds the values themselves.
     label = "U_w*(φ) − U_w*(0)" if quantity == "energy" else "Q_u*(φ)"
+    fig, panels = _small_multiples(plt, settings.k_max, "φ [deg]", label, sharex=True)
     table = {"phi_deg": phi_deg}
-    for ax, k in zip(axes.flat, ks):
+    for k, ax in enumerate(panels, start=1):
         design = _unit(settings.engine, k, strokes)
         values = potential_energy(phi, **design) if quantity == "energy" else generalized_force(phi, **design)
         table[f"k{k}"] = values
@@ -124,18 +139,10 @@ def curves_figure(settings: ReportSettings, strokes: int, quantity: str):
                     ha="center", fontsize=8, color="grey")
         else:
             ax.plot(phi_deg, shown, color="C0" if quantity == "energy" else "C3", lw=1.2)
-        ax.text(0.97, 0.92, f"k = {k}", transform=ax.transAxes, ha="right", va="top", fontsize=9,
-                bbox=dict(facecolor="white", edgecolor="none", alpha=0.8))
         ax.set_xticks([0, 90, 180, 270, 360])
         formatter = ScalarFormatter(useMathText=True)
         formatter.set_powerlimits((-2, 3))
         ax.yaxis.set_major_formatter(formatter)
-    for ax in axes.flat[len(ks):]:
-        ax.set_visible(False)
-    for ax in axes[-1]:
-        ax.set_xlabel("φ [deg]")
-    for ax in axes[:, 0]:
-        ax.set_ylabel(label)
     fig.suptitle(
         f"{label} of {settings.engine.name}'s crank unit on k cranks, {strokes}-stroke, "
         f"single-acting, γ = {settings.engine.inclination_deg:g}° (dimensionless, ÷ I_w ω²)",
@@ -147,29 +154,17 @@ def curves_figure(settings: ReportSettings, strokes: int, quantity: str):
 
 def spectra_figure(settings: ReportSettings, strokes: int):
     plt = _pyplot()
-    ks = range(1, settings.k_max + 1)
-    rows, cols = _grid_shape(len(ks))
-    fig, axes = plt.subplots(rows, cols, figsize=(3.0 * cols, 2.1 * rows), sharex=True, sharey=True, squeeze=False)
+    fig, panels = _small_multiples(plt, settings.k_max, "harmonic n", "|a_n + i b_n|", sharex=True, sharey=True)
     n = np.arange(settings.n_max + 1)
     records = []
-    floor = None
-    for ax, k in zip(axes.flat, ks):
+    for k, ax in enumerate(panels, start=1):
         a, b = fourier_coefficients(**_unit(settings.engine, k, strokes), n_max=settings.n_max)
         amplitude = np.hypot(a, b)
         records += [{"k": k, "n": int(i), "amplitude": amplitude[i]} for i in n if amplitude[i] > 0]
         shown = amplitude > 0
-        floor = amplitude[shown].min() if floor is None and shown.any() else floor
         ax.bar(n[shown], amplitude[shown], color="C2", width=0.8)
         ax.set_yscale("log")
-        ax.text(0.97, 0.92, f"k = {k}", transform=ax.transAxes, ha="right", va="top", fontsize=9,
-                bbox=dict(facecolor="white", edgecolor="none", alpha=0.8))
         ax.set_xticks(range(0, settings.n_max + 1, 6))
-    for ax in axes.flat[len(ks):]:
-        ax.set_visible(False)
-    for ax in axes[-1]:
-        ax.set_xlabel("harmonic n")
-    for ax in axes[:, 0]:
-        ax.set_ylabel("|a_n + i b_n|")
     fig.suptitle(
         f"Harmonic amplitudes of Q_u* (exact Λ_n), {settings.engine.name}'s unit on k cranks, "
         f"{strokes}-stroke, single-acting",
@@ -431,8 +426,6 @@ def write_report(out: str | Path, settings: ReportSettings | None = None, progre
             ("U1, U2", f"{u1:.6g}, {u2:.6g}"), ("δ_g at this speed", f"{delta:.4g}"),
         ]
     )
-    tables = surviving_tables(settings)
-    paper = paper_table_frame(settings.k_max)
     derived_12 = tables["table1_two_stroke_single"].loc[[n for n in paper.index if n <= settings.n_max]]
     matches = bool((derived_12 == paper.loc[derived_12.index]).all().all())
     sections.append(f"""

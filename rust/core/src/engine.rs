@@ -14,7 +14,7 @@ use crate::extrema::{extrema_of_units, EnergyExtrema};
 use crate::harmonics::{harmonic_reach, ExactLambdas};
 use crate::mechanism::{Design, Phases};
 use crate::parallel::{for_each_row_segment, Parallelism};
-use crate::series::FourierSeries;
+use crate::series::{series_or_closed, FourierSeries};
 
 /// One slider-crank unit of an engine (dimensionless, like `Design`).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -174,12 +174,19 @@ impl Engine {
         out: &mut [f64],
         parallelism: Parallelism,
     ) -> Result<()> {
+        check_length("out", phi.len(), out.len())?;
         let series = self.series();
-        if series.complete {
-            crate::series::evaluate_series(&[series], phi, out, parallelism)
-        } else {
-            self.evaluate(Quantity::GeneralizedForce, phi, out, parallelism)
-        }
+        let work = phi.len().saturating_mul(4);
+        for_each_row_segment(out, phi.len(), work, parallelism, |_, col, segment| {
+            series_or_closed(
+                &series,
+                &self.coefficients,
+                &self.phases,
+                &phi[col..col + segment.len()],
+                segment,
+            )
+        });
+        Ok(())
     }
 
     /// Q_u* as a machine-precision series (every surviving harmonic, cut by a rigorous bound).

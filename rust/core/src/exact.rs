@@ -219,10 +219,3 @@ pub fn evaluate_one(quantity: Quantity, design: &Design, phases: &Phases, phi: &
     evaluate_run(quantity, design, phases, phi, &mut out);
     out
 }
-
-/// `quantity` for one design at one angle (for root polishing).
-pub fn evaluate_point(quantity: Quantity, design: &Design, phases: &Phases, phi: f64) -> f64 {
-    let mut out = [0.0];
-    evaluate_run(quantity, design, phases, &[phi], &mut out);
-    out[0]
-}

@@ -20,7 +20,7 @@ pub mod trig;
 
 pub use engine::{Cylinder, Engine};
 pub use error::{MechanismError, Result};
-pub use exact::{evaluate, evaluate_one, evaluate_point, Quantity};
+pub use exact::{evaluate, evaluate_one, Quantity};
 pub use extrema::{all_energy_extrema, energy_extrema, EnergyExtrema};
 pub use harmonics::{
     fourier_coefficients, harmonic_survives, lambda_exact, lambda_paper, paper_coefficient,

@@ -9,7 +9,7 @@
 use multiversion::multiversion;
 
 use crate::error::{check_length, Result};
-use crate::exact::{evaluate_run, Quantity};
+use crate::exact::{evaluate_units, Coefficients, Quantity};
 use crate::harmonics::{lambda_paper, ExactLambdas, PhaseSums, UnitAmplitudes, PAPER_MAX_HARMONIC};
 use crate::mechanism::{Design, Phases};
 use crate::parallel::{for_each_row_segment, map_indices, Parallelism};
@@ -324,6 +324,21 @@ pub fn build_series(
     })
 }
 
+/// Q_u* from `series` where it is complete, else from the closed form of the same units.
+pub(crate) fn series_or_closed(
+    series: &FourierSeries,
+    units: &[Coefficients],
+    phases: &Phases,
+    phi: &[f64],
+    out: &mut [f64],
+) {
+    if series.complete {
+        series_run(series, phi, out)
+    } else {
+        evaluate_units(Quantity::GeneralizedForce, units, phases, phi, out)
+    }
+}
+
 /// Q_u* of each design at every φ from its series, or from the closed form where the
 /// series is incomplete (λ too close to 1 for MAX_HARMONIC harmonics), design-major.
 pub fn evaluate_series_or_exact(
@@ -339,18 +354,14 @@ pub fn evaluate_series_or_exact(
     check_length("out", expected, out.len())?;
     let work = out.len().saturating_mul(4);
     for_each_row_segment(out, phi.len(), work, parallelism, |row, col, segment| {
-        let phi = &phi[col..col + segment.len()];
-        if series[row].complete {
-            series_run(&series[row], phi, segment)
-        } else {
-            evaluate_run(
-                Quantity::GeneralizedForce,
-                &designs[row],
-                phases,
-                phi,
-                segment,
-            )
-        }
+        let units = [Coefficients::new(&designs[row])];
+        series_or_closed(
+            &series[row],
+            &units,
+            phases,
+            &phi[col..col + segment.len()],
+            segment,
+        )
     });
     Ok(())
 }
