@@ -13,6 +13,7 @@ import os as _os
 from . import _native, presets
 from ._native import MechanismError, build_profile
 from .engines import LAYOUTS, Engine, Layout, layout_engine
+from .grids import UniformGrid, uniform_grid
 from .evaluation import (
     FORCE_METHODS,
     force_derivative,
@@ -78,4 +79,6 @@ __all__ = [
     "surviving_harmonics",
     "sweep",
     "to_xarray",
+    "UniformGrid",
+    "uniform_grid",
 ]

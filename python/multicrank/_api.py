@@ -16,6 +16,7 @@ from ._native import MechanismError
 __all__ = [
     "MechanismError",
     "as_angles",
+    "as_phi",
     "as_real_array",
     "contiguous",
     "as_design",
@@ -56,6 +57,19 @@ def contiguous(array: np.ndarray) -> np.ndarray:
 def as_angles(phi: Any, name: str = "phi") -> np.ndarray:
     """Crank angles of any shape as float64 (rad). NaN/inf are allowed (they give NaN)."""
     return as_real_array(phi, name)
+
+
+def as_phi(phi: Any) -> tuple[np.ndarray, np.ndarray, tuple[float, float, int] | None]:
+    """φ for the kernels: (angles as given, flat contiguous points, uniform grid or None).
+
+    For an intact :class:`~multicrank.UniformGrid` the kernels rotate and get no points.
+    """
+    from .grids import grid_of
+
+    angles = as_angles(phi)
+    uniform = grid_of(phi)
+    points = np.empty(0) if uniform else contiguous(angles).reshape(-1)
+    return angles, points, uniform
 
 
 def as_design(value: Any, name: str, *, low: float | None = None, high: float | None = None) -> np.ndarray:

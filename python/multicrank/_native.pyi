@@ -39,6 +39,7 @@ def evaluate(
     u1: npt.NDArray[np.float64],
     u2: npt.NDArray[np.float64],
     phases: npt.NDArray[np.float64],
+    uniform: tuple[float, float, int] | None = None,
 ) -> npt.NDArray[np.float64]: ...
 def dimensionless_moments(
     crank_radius: npt.NDArray[np.float64],
@@ -65,6 +66,7 @@ def evaluate_series(
     u1: npt.NDArray[np.float64],
     u2: npt.NDArray[np.float64],
     phases: npt.NDArray[np.float64],
+    uniform: tuple[float, float, int] | None = None,
 ) -> npt.NDArray[np.float64]: ...
 def lambda_coefficients(
     crank_ratio: npt.NDArray[np.float64], n_max: int, method: str
@@ -113,6 +115,7 @@ def engine_evaluate(
     crank_ratio: npt.NDArray[np.float64],
     u1: npt.NDArray[np.float64],
     u2: npt.NDArray[np.float64],
+    uniform: tuple[float, float, int] | None = None,
 ) -> npt.NDArray[np.float64]: ...
 def engine_fourier(
     phase: npt.NDArray[np.float64],

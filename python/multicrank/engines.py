@@ -17,7 +17,7 @@ from typing import Any, Sequence
 import numpy as np
 
 from . import _native
-from ._api import MechanismError, as_angles, as_count, as_design, as_option, contiguous, finish
+from ._api import MechanismError, as_count, as_design, as_option, as_phi, contiguous, finish
 from .mechanism import crank_phases
 
 __all__ = ["Engine", "Layout", "LAYOUTS", "layout_engine"]
@@ -117,8 +117,8 @@ class Engine:
 
     # -- evaluation ---------------------------------------------------------------------
     def _evaluate(self, quantity: str, phi: Any):
-        angles = as_angles(phi)
-        flat = _native.engine_evaluate(quantity, contiguous(angles).reshape(-1), *self._args())
+        angles, points, uniform = as_phi(phi)
+        flat = _native.engine_evaluate(quantity, points, *self._args(), uniform)
         return finish(flat, angles.shape)
 
     def potential_energy(self, phi: Any):

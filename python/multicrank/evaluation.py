@@ -13,7 +13,7 @@ from typing import Any
 import numpy as np
 
 from . import _native
-from ._api import as_angles, as_count, contiguous, as_option, as_phases, broadcast_designs, design_keywords, finish
+from ._api import as_count, as_option, as_phases, as_phi, broadcast_designs, design_keywords, finish
 
 __all__ = [
     "potential_energy",
@@ -30,17 +30,18 @@ FORCE_METHODS = ("exact", "series", "paper")
 def _evaluate(quantity: str, phi: Any, crank_ratio: Any, inclination: Any, u1: Any, u2: Any, phases: Any):
     """`quantity` ("potential_energy", "generalized_force", "force_derivative" or, through
     the Fourier form, "series" / "paper") of the broadcast designs over all of φ."""
-    angles = as_angles(phi)
+    angles, points, uniform = as_phi(phi)
     shape, design = broadcast_designs(**design_keywords(crank_ratio, inclination, u1, u2))
     kernel = _native.evaluate_series if quantity in ("series", "paper") else _native.evaluate
     flat = kernel(
         quantity,
-        contiguous(angles).reshape(-1),
+        points,
         design["crank_ratio"],
         design["inclination"],
         design["u1"],
         design["u2"],
         as_phases(phases),
+        uniform,
     )
     return finish(flat, shape + angles.shape)
 
@@ -59,7 +60,9 @@ def potential_energy(phi, *, crank_ratio, inclination, u1, u2, phases=None):
     Parameters
     ----------
     phi : array_like, crank angle φ [rad] from outer dead centre of crank 0; any shape.
-        NaN or ±inf give NaN in that place.
+        NaN or ±inf give NaN in that place. A :class:`UniformGrid` (see
+        :func:`uniform_grid`) is evaluated by rotation, faster; each point's value then
+        agrees with the same point given alone to ~1e-15 relative, not bit for bit.
     crank_ratio : λ = r/l, 0 ≤ λ < 1 (λ = 0 is the infinite-rod limit)
     inclination : γ [rad], cylinder axis to the horizontal; +π/2 upright, −π/2 inverted
     u1, u2 : dimensionless gravity moments (see :func:`dimensionless_moments`)

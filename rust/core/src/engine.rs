@@ -11,6 +11,7 @@
 use crate::error::{check, check_length, MechanismError, Result};
 use crate::exact::{evaluate_units, Coefficients, Quantity};
 use crate::extrema::{extrema_of_units, EnergyExtrema};
+use crate::grid::{Phi, PreparedPhi, Rotations};
 use crate::harmonics::{harmonic_reach, ExactLambdas};
 use crate::mechanism::{Design, Phases};
 use crate::parallel::{for_each_row_segment, Parallelism};
@@ -64,13 +65,14 @@ impl Engine {
     }
 
     /// `quantity` at every φ into `out` (same length as `phi`).
-    pub fn evaluate(
+    pub fn evaluate<'a>(
         &self,
         quantity: Quantity,
-        phi: &[f64],
+        phi: impl Into<Phi<'a>>,
         out: &mut [f64],
         parallelism: Parallelism,
     ) -> Result<()> {
+        let phi = PreparedPhi::new(phi.into());
         check_length("out", phi.len(), out.len())?;
         let work = phi.len().saturating_mul(self.cylinders.len());
         for_each_row_segment(out, phi.len(), work, parallelism, |_, col, segment| {
@@ -78,7 +80,7 @@ impl Engine {
                 quantity,
                 &self.coefficients,
                 &self.phases,
-                &phi[col..col + segment.len()],
+                phi.run(col, segment.len()),
                 segment,
             )
         });
@@ -168,21 +170,30 @@ impl Engine {
     }
 
     /// Q_u* at every φ from its series where that is complete, else the closed form.
-    pub fn evaluate_series(
+    pub fn evaluate_series<'a>(
         &self,
-        phi: &[f64],
+        phi: impl Into<Phi<'a>>,
         out: &mut [f64],
         parallelism: Parallelism,
     ) -> Result<()> {
+        let phi = phi.into();
         check_length("out", phi.len(), out.len())?;
         let series = self.series();
+        let harmonic = match phi {
+            Phi::Uniform(grid) if series.complete && !series.cos.is_empty() => {
+                Some(Rotations::new(&grid, series.step))
+            }
+            _ => None,
+        };
+        let phi = PreparedPhi::new(phi);
         let work = phi.len().saturating_mul(4);
         for_each_row_segment(out, phi.len(), work, parallelism, |_, col, segment| {
             series_or_closed(
                 &series,
                 &self.coefficients,
                 &self.phases,
-                &phi[col..col + segment.len()],
+                phi.run(col, segment.len()),
+                harmonic.as_ref(),
                 segment,
             )
         });

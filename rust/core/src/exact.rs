@@ -13,6 +13,7 @@ use multiversion::multiversion;
 use crate::error::{check_length, Result};
 use crate::mechanism::{Design, Phases};
 use crate::parallel::{for_each_row_segment, Parallelism};
+use crate::grid::{Angles, Phi, PreparedPhi, Run};
 use crate::trig::sincos_block;
 
 /// Which closed-form quantity to evaluate.
@@ -95,34 +96,44 @@ impl CrankTerm for ForceDerivative {
 /// Σ_j term_j(φ_i + α_j) over a run of φ; `units` holds one set of coefficients shared by
 /// every crank (an in-line machine) or one per crank (a general engine).
 #[inline(always)]
-fn sum_over_cranks<K: CrankTerm>(
-    units: &[Coefficients],
-    phases: &Phases,
-    phi: &[f64],
-    out: &mut [f64],
-) {
+fn sum_over_cranks<K: CrankTerm>(units: &[Coefficients], phases: &Phases, run: Run, out: &mut [f64]) {
     // LANES points at a time keep sin/cos and the running sum in registers through the
-    // crank loop (several independent vectors hide the latency of sqrt and division); the
-    // rest one at a time, with the same operations in the same order.
-    let mut points = phi.chunks_exact(LANES);
-    let mut values = out.chunks_exact_mut(LANES);
-    for (x, o) in (&mut points).zip(&mut values) {
-        o.copy_from_slice(&crank_sum::<K, LANES>(units, phases, x));
-    }
-    for (x, o) in points.remainder().iter().zip(values.into_remainder()) {
-        *o = crank_sum::<K, 1>(units, phases, std::slice::from_ref(x))[0];
+    // crank loop (several independent vectors hide the latency of sqrt and division). The
+    // last block is padded; every lane sees the same operations, so a point's value does
+    // not depend on the block it falls in.
+    for (b, o) in out.chunks_mut(LANES).enumerate() {
+        let (s, c) = angle_block::<LANES>(&run, b * LANES, o.len());
+        o.copy_from_slice(&crank_sum::<K, LANES>(units, phases, &s, &c)[..o.len()]);
     }
 }
 
-/// Σ_j term_j at N points (phi.len() == N).
+/// (sin φ, cos φ) of `len` ≤ N points of `run` from `offset` on; the rest of the lanes padded.
+#[inline(always)]
+pub(crate) fn angle_block<const N: usize>(run: &Run, offset: usize, len: usize) -> ([f64; N], [f64; N]) {
+    let (mut s, mut c) = ([0.0; N], [0.0; N]);
+    match run.angles {
+        Angles::Points(points) => {
+            let mut x = [0.0; N];
+            x[..len].copy_from_slice(&points[offset..offset + len]);
+            sincos_block(&x, &mut s, &mut c);
+        }
+        Angles::Table { sin, cos } => {
+            s[..len].copy_from_slice(&sin[offset..offset + len]);
+            c[..len].copy_from_slice(&cos[offset..offset + len]);
+        }
+        Angles::Uniform(rotations) => (s, c) = rotations.block::<N>(run.first + offset),
+    }
+    (s, c)
+}
+
+/// Σ_j term_j at N points given their (sin φ, cos φ).
 #[inline(always)]
 fn crank_sum<K: CrankTerm, const N: usize>(
     units: &[Coefficients],
     phases: &Phases,
-    phi: &[f64],
+    s: &[f64; N],
+    c: &[f64; N],
 ) -> [f64; N] {
-    let (mut s, mut c) = ([0.0; N], [0.0; N]);
-    sincos_block(phi, &mut s, &mut c);
     let mut sum = [0.0; N];
     for (j, (&cos_a, &sin_a)) in phases.cos.iter().zip(&phases.sin).enumerate() {
         let kernel = if units.len() == 1 {
@@ -143,55 +154,59 @@ fn crank_sum<K: CrankTerm, const N: usize>(
 const LANES: usize = 16;
 
 #[multiversion(targets("x86_64+avx512f+avx512vl+avx512dq", "x86_64+avx2+fma"))]
-fn energy_run(units: &[Coefficients], phases: &Phases, phi: &[f64], out: &mut [f64]) {
-    sum_over_cranks::<Energy>(units, phases, phi, out)
+fn energy_run(units: &[Coefficients], phases: &Phases, run: Run, out: &mut [f64]) {
+    sum_over_cranks::<Energy>(units, phases, run, out)
 }
 
 #[multiversion(targets("x86_64+avx512f+avx512vl+avx512dq", "x86_64+avx2+fma"))]
-fn force_run(units: &[Coefficients], phases: &Phases, phi: &[f64], out: &mut [f64]) {
-    sum_over_cranks::<Force>(units, phases, phi, out)
+fn force_run(units: &[Coefficients], phases: &Phases, run: Run, out: &mut [f64]) {
+    sum_over_cranks::<Force>(units, phases, run, out)
 }
 
 #[multiversion(targets("x86_64+avx512f+avx512vl+avx512dq", "x86_64+avx2+fma"))]
-fn derivative_run(units: &[Coefficients], phases: &Phases, phi: &[f64], out: &mut [f64]) {
-    sum_over_cranks::<ForceDerivative>(units, phases, phi, out)
+fn derivative_run(units: &[Coefficients], phases: &Phases, run: Run, out: &mut [f64]) {
+    sum_over_cranks::<ForceDerivative>(units, phases, run, out)
 }
 
 pub(crate) fn evaluate_run(
     quantity: Quantity,
     design: &Design,
     phases: &Phases,
-    phi: &[f64],
+    run: Run,
     out: &mut [f64],
 ) {
-    evaluate_units(quantity, &[Coefficients::new(design)], phases, phi, out)
+    evaluate_units(quantity, &[Coefficients::new(design)], phases, run, out)
 }
 
-/// `quantity` of crank units with their own coefficients (one, shared, or one per phase).
+/// `quantity` of crank units with their own coefficients (one, shared, or one per phase)
+/// at the `out.len()` points of `run`.
 pub(crate) fn evaluate_units(
     quantity: Quantity,
     units: &[Coefficients],
     phases: &Phases,
-    phi: &[f64],
+    run: Run,
     out: &mut [f64],
 ) {
     match quantity {
-        Quantity::PotentialEnergy => energy_run(units, phases, phi, out),
-        Quantity::GeneralizedForce => force_run(units, phases, phi, out),
-        Quantity::ForceDerivative => derivative_run(units, phases, phi, out),
+        Quantity::PotentialEnergy => energy_run(units, phases, run, out),
+        Quantity::GeneralizedForce => force_run(units, phases, run, out),
+        Quantity::ForceDerivative => derivative_run(units, phases, run, out),
     }
 }
 
 /// Evaluate `quantity` for every design at every φ into `out`, design-major
 /// (`out[d * phi.len() + i]` belongs to design d at φ_i). NaN or ±inf in φ gives NaN there.
-pub fn evaluate(
+/// On a `Phi::Uniform` grid sin/cos come by rotation (see `grid`); on points each point's
+/// value depends on that point alone.
+pub fn evaluate<'a>(
     quantity: Quantity,
     designs: &[Design],
     phases: &Phases,
-    phi: &[f64],
+    phi: impl Into<Phi<'a>>,
     out: &mut [f64],
     parallelism: Parallelism,
 ) -> Result<()> {
+    let phi = PreparedPhi::new(phi.into());
     let n_phi = phi.len();
     let expected = designs.len() * n_phi;
     check_length("out", expected, out.len())?;
@@ -205,7 +220,7 @@ pub fn evaluate(
                 quantity,
                 &designs[row],
                 phases,
-                &phi[col..col + segment.len()],
+                phi.run(col, segment.len()),
                 segment,
             )
         },
@@ -214,8 +229,14 @@ pub fn evaluate(
 }
 
 /// Convenience for one design: a fresh vector of `quantity` over `phi`.
-pub fn evaluate_one(quantity: Quantity, design: &Design, phases: &Phases, phi: &[f64]) -> Vec<f64> {
+pub fn evaluate_one<'a>(
+    quantity: Quantity,
+    design: &Design,
+    phases: &Phases,
+    phi: impl Into<Phi<'a>>,
+) -> Vec<f64> {
+    let phi = PreparedPhi::new(phi.into());
     let mut out = vec![0.0; phi.len()];
-    evaluate_run(quantity, design, phases, phi, &mut out);
+    evaluate_run(quantity, design, phases, phi.run(0, out.len()), &mut out);
     out
 }

@@ -11,6 +11,7 @@ pub mod engine;
 pub mod error;
 pub mod exact;
 pub mod extrema;
+pub mod grid;
 pub mod harmonics;
 pub mod mechanism;
 pub mod parallel;
@@ -22,6 +23,7 @@ pub use engine::{Cylinder, Engine};
 pub use error::{MechanismError, Result};
 pub use exact::{evaluate, evaluate_one, Quantity};
 pub use extrema::{all_energy_extrema, energy_extrema, EnergyExtrema};
+pub use grid::{Phi, UniformGrid};
 pub use harmonics::{
     fourier_coefficients, harmonic_survives, lambda_exact, lambda_paper, paper_coefficient,
     surviving_harmonics, PhaseSums,

@@ -9,11 +9,11 @@
 use multiversion::multiversion;
 
 use crate::error::{check_length, Result};
-use crate::exact::{evaluate_units, Coefficients, Quantity};
+use crate::exact::{angle_block, evaluate_units, Coefficients, Quantity};
+use crate::grid::{Phi, PreparedPhi, Rotations, Run};
 use crate::harmonics::{lambda_paper, ExactLambdas, PhaseSums, UnitAmplitudes, PAPER_MAX_HARMONIC};
 use crate::mechanism::{Design, Phases};
 use crate::parallel::{for_each_row_segment, map_indices, Parallelism};
-use crate::trig::sincos_block;
 
 /// Which Λ_n and which cut.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -218,11 +218,34 @@ fn multiply<const N: usize>(w: &mut ([f64; N], [f64; N]), z: &([f64; N], [f64; N
     }
 }
 
-/// The series at N points whose (cos φ, sin φ) are given, entirely in registers:
-/// a₁ cos φ + b₁ sin φ, then w = e^{ipφ} by binary powering, then v = wᵛ walks the
-/// harmonics. Every point sees the same operations in the same order whatever N is.
+/// (cos pφ, sin pφ) at N points from (cos φ, sin φ) by binary powering.
 #[inline(always)]
-fn series_points<const N: usize>(series: &FourierSeries, c: &[f64; N], s: &[f64; N]) -> [f64; N] {
+fn power_lanes<const N: usize>(c: &[f64; N], s: &[f64; N], mut e: usize) -> ([f64; N], [f64; N]) {
+    let mut w = ([1.0; N], [0.0; N]);
+    let mut z = (*c, *s);
+    loop {
+        if e & 1 == 1 {
+            multiply(&mut w, &z);
+        }
+        e >>= 1;
+        if e == 0 {
+            return w;
+        }
+        let square = z;
+        multiply(&mut z, &square);
+    }
+}
+
+/// The series at N points, entirely in registers, given (cos φ, sin φ) and
+/// w = (cos pφ, sin pφ): a₁ cos φ + b₁ sin φ, then the harmonics of θ = pφ. Every point
+/// sees the same operations in the same order.
+#[inline(always)]
+fn series_points<const N: usize>(
+    series: &FourierSeries,
+    c: &[f64; N],
+    s: &[f64; N],
+    w: &([f64; N], [f64; N]),
+) -> [f64; N] {
     let mut sum = [0.0; N];
     for l in 0..N {
         sum[l] = series.a1 * c[l] + series.b1 * s[l];
@@ -230,29 +253,12 @@ fn series_points<const N: usize>(series: &FourierSeries, c: &[f64; N], s: &[f64;
     if series.cos.is_empty() {
         return sum;
     }
-    let mut w = ([1.0; N], [0.0; N]);
-    let mut z = (*c, *s);
-    let mut e = series.step;
-    loop {
-        if e & 1 == 1 {
-            multiply(&mut w, &z);
-        }
-        e >>= 1;
-        if e == 0 {
-            break;
-        }
-        let square = z;
-        multiply(&mut z, &square);
-    }
     // Clenshaw's recurrence in θ = pφ, from the highest harmonic down:
     // b_ν = c_ν + 2 cos θ·b_{ν+1} − b_{ν+2}; then Σ A_ν cos νθ = b^A_1 cos θ − b^A_2 and
     // Σ B_ν sin νθ = b^B_1 sin θ. Three operations per harmonic and sequence, against ten
     // for rotating e^{iνθ}; with the geometrically decaying coefficients of Q its rounding
     // stays at a few ulps of the largest term.
-    let mut two_cos = [0.0; N];
-    for l in 0..N {
-        two_cos[l] = 2.0 * w.0[l];
-    }
+    let two_cos = w.0.map(|c| 2.0 * c);
     let (mut a1, mut a2) = ([0.0; N], [0.0; N]);
     let (mut b1, mut b2) = ([0.0; N], [0.0; N]);
     for (&a, &b) in series.cos.iter().zip(&series.sin).rev() {
@@ -275,32 +281,70 @@ fn series_points<const N: usize>(series: &FourierSeries, c: &[f64; N], s: &[f64;
 const LANES: usize = 32;
 
 #[inline(always)]
-fn series_segment(series: &FourierSeries, phi: &[f64], out: &mut [f64]) {
-    // Register blocks of LANES points — sin/cos, powering and the harmonic sum without a
-    // pass over memory in between (several independent chains hide each step's latency) —
-    // then the rest one at a time.
-    let mut points = phi.chunks_exact(LANES);
-    let mut values = out.chunks_exact_mut(LANES);
-    for (x, o) in (&mut points).zip(&mut values) {
-        let (mut c, mut s) = ([0.0; LANES], [0.0; LANES]);
-        sincos_block(x, &mut s, &mut c);
-        o.copy_from_slice(&series_points(series, &c, &s));
-    }
-    for (&x, o) in points.remainder().iter().zip(values.into_remainder()) {
-        let (mut c, mut s) = ([0.0; 1], [0.0; 1]);
-        sincos_block(&[x], &mut s, &mut c);
-        *o = series_points::<1>(series, &c, &s)[0];
+fn series_segment(series: &FourierSeries, run: Run, harmonic: Option<&Rotations>, out: &mut [f64]) {
+    // Register blocks of LANES points — sin/cos, e^{ipφ} and the harmonic sum without a
+    // pass over memory in between (several independent chains hide each step's latency);
+    // the last block padded. On a uniform grid e^{ipφ} comes by rotation like e^{iφ}, else
+    // by powering.
+    for (b, o) in out.chunks_mut(LANES).enumerate() {
+        let (s, c) = angle_block::<LANES>(&run, b * LANES, o.len());
+        let w = match harmonic {
+            _ if series.cos.is_empty() => ([1.0; LANES], [0.0; LANES]), // unused
+            Some(rotations) => {
+                let (ws, wc) = rotations.block::<LANES>(run.first + b * LANES);
+                (wc, ws)
+            }
+            None => power_lanes(&c, &s, series.step),
+        };
+        o.copy_from_slice(&series_points(series, &c, &s, &w)[..o.len()]);
     }
 }
 
 #[multiversion(targets("x86_64+avx512f+avx512vl+avx512dq", "x86_64+avx2+fma"))]
-fn series_run(series: &FourierSeries, phi: &[f64], out: &mut [f64]) {
-    series_segment(series, phi, out)
+fn series_run(series: &FourierSeries, run: Run, harmonic: Option<&Rotations>, out: &mut [f64]) {
+    series_segment(series, run, harmonic, out)
 }
 
-/// Evaluate a series at every φ into `out`.
+/// Evaluate a series at every φ of `phi` into `out`.
 pub fn evaluate_series_one(series: &FourierSeries, phi: &[f64], out: &mut [f64]) {
-    series_run(series, phi, out)
+    series_run(series, Run::points(phi), None, out)
+}
+
+/// φ prepared for series: on a uniform grid, the rotations of φ and of pφ for every
+/// harmonic step p among the series.
+struct SeriesPhi<'a> {
+    phi: PreparedPhi<'a>,
+    harmonics: Vec<(usize, Rotations)>,
+}
+
+impl<'a> SeriesPhi<'a> {
+    fn new(phi: Phi<'a>, series: &[FourierSeries]) -> Self {
+        let mut harmonics: Vec<(usize, Rotations)> = Vec::new();
+        if let Phi::Uniform(grid) = phi {
+            let mut steps: Vec<usize> = series
+                .iter()
+                .filter(|s| s.complete && !s.cos.is_empty())
+                .map(|s| s.step)
+                .collect();
+            steps.sort_unstable();
+            steps.dedup();
+            harmonics = steps
+                .into_iter()
+                .map(|p| (p, Rotations::new(&grid, p)))
+                .collect();
+        }
+        Self {
+            phi: PreparedPhi::new(phi),
+            harmonics,
+        }
+    }
+
+    fn harmonic(&self, step: usize) -> Option<&Rotations> {
+        self.harmonics
+            .iter()
+            .find(|(p, _)| *p == step)
+            .map(|(_, r)| r)
+    }
 }
 
 /// The series of every design (parallel for many designs).
@@ -324,42 +368,46 @@ pub fn build_series(
     })
 }
 
-/// Q_u* from `series` where it is complete, else from the closed form of the same units.
+/// Q_u* from `series` where it is complete, else from the closed form of the same units,
+/// at the `out.len()` points of `run`.
 pub(crate) fn series_or_closed(
     series: &FourierSeries,
     units: &[Coefficients],
     phases: &Phases,
-    phi: &[f64],
+    run: Run,
+    harmonic: Option<&Rotations>,
     out: &mut [f64],
 ) {
     if series.complete {
-        series_run(series, phi, out)
+        series_run(series, run, harmonic, out)
     } else {
-        evaluate_units(Quantity::GeneralizedForce, units, phases, phi, out)
+        evaluate_units(Quantity::GeneralizedForce, units, phases, run, out)
     }
 }
 
 /// Q_u* of each design at every φ from its series, or from the closed form where the
 /// series is incomplete (λ too close to 1 for MAX_HARMONIC harmonics), design-major.
-pub fn evaluate_series_or_exact(
+pub fn evaluate_series_or_exact<'a>(
     series: &[FourierSeries],
     designs: &[Design],
     phases: &Phases,
-    phi: &[f64],
+    phi: impl Into<Phi<'a>>,
     out: &mut [f64],
     parallelism: Parallelism,
 ) -> Result<()> {
-    let expected = series.len() * phi.len();
+    let phi = SeriesPhi::new(phi.into(), series);
+    let n_phi = phi.phi.len();
     check_length("designs", series.len(), designs.len())?;
-    check_length("out", expected, out.len())?;
+    check_length("out", series.len() * n_phi, out.len())?;
     let work = out.len().saturating_mul(4);
-    for_each_row_segment(out, phi.len(), work, parallelism, |row, col, segment| {
+    for_each_row_segment(out, n_phi, work, parallelism, |row, col, segment| {
         let units = [Coefficients::new(&designs[row])];
         series_or_closed(
             &series[row],
             &units,
             phases,
-            &phi[col..col + segment.len()],
+            phi.phi.run(col, segment.len()),
+            phi.harmonic(series[row].step),
             segment,
         )
     });
@@ -367,17 +415,23 @@ pub fn evaluate_series_or_exact(
 }
 
 /// Q_u* from the series of each design at every φ, design-major like `exact::evaluate`.
-pub fn evaluate_series(
+pub fn evaluate_series<'a>(
     series: &[FourierSeries],
-    phi: &[f64],
+    phi: impl Into<Phi<'a>>,
     out: &mut [f64],
     parallelism: Parallelism,
 ) -> Result<()> {
-    let expected = series.len() * phi.len();
-    check_length("out", expected, out.len())?;
+    let phi = SeriesPhi::new(phi.into(), series);
+    let n_phi = phi.phi.len();
+    check_length("out", series.len() * n_phi, out.len())?;
     let work = out.len().saturating_mul(4);
-    for_each_row_segment(out, phi.len(), work, parallelism, |row, col, segment| {
-        series_run(&series[row], &phi[col..col + segment.len()], segment)
+    for_each_row_segment(out, n_phi, work, parallelism, |row, col, segment| {
+        series_run(
+            &series[row],
+            phi.phi.run(col, segment.len()),
+            phi.harmonic(series[row].step),
+            segment,
+        )
     });
     Ok(())
 }

@@ -6,10 +6,12 @@
 use crate::error::{MechanismError, Result};
 use crate::exact::{evaluate_run, Quantity};
 use crate::extrema::energy_extrema;
+use crate::grid::{Angles, Run};
 use crate::harmonics::{harmonic_reach, PhaseSums};
 use crate::mechanism::{Design, Phases};
 use crate::parallel::{map_indices_with, Parallelism};
 use crate::series::FourierSeries;
+use crate::trig::sincos_block;
 
 /// What to compute for each design.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
@@ -108,11 +110,26 @@ fn leading_harmonic(series: &FourierSeries) -> (f64, f64) {
     }
 }
 
+/// sin φ and cos φ of the sweep's grid, computed once and shared by every design: the
+/// same values each design would compute itself, so results do not change.
+struct GridAngles {
+    sin: Vec<f64>,
+    cos: Vec<f64>,
+}
+
+impl GridAngles {
+    fn new(phi: &[f64]) -> Self {
+        let (mut sin, mut cos) = (vec![0.0; phi.len()], vec![0.0; phi.len()]);
+        sincos_block(phi, &mut sin, &mut cos);
+        Self { sin, cos }
+    }
+}
+
 fn sweep_one(
     design: &Design,
     phases: &Phases,
     sums: &PhaseSums,
-    phi: &[f64],
+    grid: &GridAngles,
     outputs: SweepOutputs,
     buffer: &mut Vec<f64>,
 ) -> SweepRow {
@@ -126,13 +143,21 @@ fn sweep_one(
         leading_amplitude: f64::NAN,
     };
     if outputs.force {
-        // The closed form on the grid: per point one sincos and k cheap crank terms, which
-        // beats building and summing a series for the short grids of a sweep.
-        buffer.resize(phi.len(), 0.0);
-        evaluate_run(Quantity::GeneralizedForce, design, phases, phi, buffer);
+        // The closed form on the grid: k cheap crank terms per point from the shared sin/cos,
+        // which beats building and summing a series for the short grids of a sweep.
+        let n = grid.sin.len();
+        buffer.resize(n, 0.0);
+        let run = Run {
+            angles: Angles::Table {
+                sin: &grid.sin,
+                cos: &grid.cos,
+            },
+            first: 0,
+        };
+        evaluate_run(Quantity::GeneralizedForce, design, phases, run, buffer);
         let (peak, squares) = peak_and_sum_of_squares(buffer);
         row.force_max_abs = peak;
-        row.force_rms = (squares / phi.len() as f64).sqrt();
+        row.force_rms = (squares / n as f64).sqrt();
     }
     if !(outputs.energy || outputs.harmonic) {
         return row;
@@ -178,6 +203,7 @@ pub fn sweep(
         return Err(MechanismError::Empty { parameter: "phi" });
     }
     let work = designs.len().saturating_mul(phi.len().max(64));
+    let grid = GridAngles::new(if outputs.force { phi } else { &[] });
     // A grid buffer per worker, overwritten by each design: results do not depend on it.
     Ok(map_indices_with(
         designs.len(),
@@ -190,7 +216,7 @@ pub fn sweep(
                 &designs[i],
                 &table.phases[set],
                 &table.sums[set],
-                phi,
+                &grid,
                 outputs,
                 buffer,
             )

@@ -41,6 +41,15 @@ fn slice<'a>(array: &'a PyReadonlyArray1<'_, f64>) -> PyResult<&'a [f64]> {
     Ok(array.as_slice()?)
 }
 
+/// The crank angles: the points given, or a uniform grid (start, step, len) when the
+/// Python side passes one (then `points` is empty and ignored).
+fn phi_from(points: &[f64], uniform: Option<(f64, f64, usize)>) -> core::Result<core::Phi<'_>> {
+    Ok(match uniform {
+        Some((start, step, len)) => core::UniformGrid::new(start, step, len)?.into(),
+        None => points.into(),
+    })
+}
+
 /// The slices of several arrays at once (design or unit columns).
 fn slices<'a, const N: usize>(
     arrays: [&'a PyReadonlyArray1<'_, f64>; N],
@@ -133,11 +142,13 @@ mod _native {
         Ok(phases.into_pyarray(py))
     }
 
-    /// evaluate(quantity, phi, crank_ratio, inclination, u1, u2, phases) -> flat array
-    /// of length len(crank_ratio) * len(phi), design-major. The four design arrays are
-    /// already broadcast to one length; `quantity` is "potential_energy",
-    /// "generalized_force" or "force_derivative".
+    /// evaluate(quantity, phi, crank_ratio, inclination, u1, u2, phases, uniform=None) ->
+    /// flat array of length len(crank_ratio) * len(phi), design-major. The four design
+    /// arrays are already broadcast to one length; `quantity` is "potential_energy",
+    /// "generalized_force" or "force_derivative"; `uniform` = (start, step, len) evaluates
+    /// on that uniform grid instead of `phi`.
     #[pyfunction]
+    #[pyo3(signature = (quantity, phi, crank_ratio, inclination, u1, u2, phases, uniform=None))]
     #[allow(clippy::too_many_arguments)]
     fn evaluate<'py>(
         py: Python<'py>,
@@ -148,6 +159,7 @@ mod _native {
         u1: PyReadonlyArray1<'py, f64>,
         u2: PyReadonlyArray1<'py, f64>,
         phases: PyReadonlyArray1<'py, f64>,
+        uniform: Option<(f64, f64, usize)>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let quantity = match quantity {
             "potential_energy" => core::Quantity::PotentialEnergy,
@@ -165,6 +177,7 @@ mod _native {
         let parallelism = parallelism();
         let out = py
             .detach(|| -> core::Result<Vec<f64>> {
+                let phi = phi_from(phi, uniform)?;
                 let phases = core::Phases::new(phases)?;
                 let designs = designs_from(columns)?;
                 let mut out = vec![0.0; designs.len() * phi.len()];
@@ -241,9 +254,11 @@ mod _native {
         Ok((u1.into_pyarray(py), u2.into_pyarray(py)))
     }
 
-    /// evaluate_series(method, phi, crank_ratio, inclination, u1, u2, phases) -> flat Q_u*
-    /// from the Fourier form ("series": exact Λ_n to machine precision; "paper": eq. 16).
+    /// evaluate_series(method, phi, crank_ratio, inclination, u1, u2, phases, uniform=None)
+    /// -> flat Q_u* from the Fourier form ("series": exact Λ_n to machine precision;
+    /// "paper": eq. 16); `uniform` as in `evaluate`.
     #[pyfunction]
+    #[pyo3(signature = (method, phi, crank_ratio, inclination, u1, u2, phases, uniform=None))]
     #[allow(clippy::too_many_arguments)]
     fn evaluate_series<'py>(
         py: Python<'py>,
@@ -254,6 +269,7 @@ mod _native {
         u1: PyReadonlyArray1<'py, f64>,
         u2: PyReadonlyArray1<'py, f64>,
         phases: PyReadonlyArray1<'py, f64>,
+        uniform: Option<(f64, f64, usize)>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let kind = series_kind(method)?;
         let (phi, phases) = (slice(&phi)?, slice(&phases)?);
@@ -261,6 +277,7 @@ mod _native {
         let parallelism = parallelism();
         let out = py
             .detach(|| -> core::Result<Vec<f64>> {
+                let phi = phi_from(phi, uniform)?;
                 let alphas = phases;
                 let phases = core::Phases::new(alphas)?;
                 let designs = designs_from(columns)?;
@@ -486,10 +503,12 @@ mod _native {
             .collect())
     }
 
-    /// engine_evaluate(quantity, phi, phase, inclination, crank_ratio, u1, u2) -> array like
-    /// phi: "potential_energy", "generalized_force", "force_derivative" (closed form) or
-    /// "series" (the machine-precision Fourier form) of a cylinder-level engine.
+    /// engine_evaluate(quantity, phi, phase, inclination, crank_ratio, u1, u2, uniform=None)
+    /// -> array like phi: "potential_energy", "generalized_force", "force_derivative"
+    /// (closed form) or "series" (the machine-precision Fourier form) of a cylinder-level
+    /// engine; `uniform` as in `evaluate`.
     #[pyfunction]
+    #[pyo3(signature = (quantity, phi, phase, inclination, crank_ratio, u1, u2, uniform=None))]
     #[allow(clippy::too_many_arguments)]
     fn engine_evaluate<'py>(
         py: Python<'py>,
@@ -500,6 +519,7 @@ mod _native {
         crank_ratio: PyReadonlyArray1<'py, f64>,
         u1: PyReadonlyArray1<'py, f64>,
         u2: PyReadonlyArray1<'py, f64>,
+        uniform: Option<(f64, f64, usize)>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let quantity = match quantity {
             "potential_energy" => Some(core::Quantity::PotentialEnergy),
@@ -517,6 +537,7 @@ mod _native {
         let parallelism = parallelism();
         let out = py
             .detach(|| -> core::Result<Vec<f64>> {
+                let phi = phi_from(phi, uniform)?;
                 let engine = engine_from(columns)?;
                 let mut out = vec![0.0; phi.len()];
                 match quantity {
