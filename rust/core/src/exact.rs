@@ -1,20 +1,22 @@
 //! Closed-form kernels (mathematics.md §1–3): U_w*(φ), Q_u*(φ) = dU_w*/dφ and dQ_u*/dφ,
 //! summed over the cranks ψ_j = φ + α_j.
 //!
-//! Per point one sincos of φ; each crank angle follows by rotation with the precomputed
-//! (cos α_j, sin α_j). Work is done in blocks so the per-crank loop runs over contiguous
-//! arrays and vectorises; `multiversion` compiles it for AVX-512 and AVX2 and picks at run
-//! time, so a generic wheel is fast everywhere. Every output element is computed by the
-//! same sequence of IEEE operations whatever the blocking, chunking or thread count, so
-//! serial and parallel results are bit-identical.
+//! Per point one sincos of φ (or, on a uniform grid, one rotation from exact values: see
+//! `grid`); each crank angle follows by rotation with the precomputed (cos α_j, sin α_j).
+//! Work is done in register blocks so the per-crank loop vectorises; `multiversion`
+//! compiles it for AVX-512 and AVX2 with fused multiply-adds and picks at run time (a
+//! portable clone without FMA otherwise), so a generic wheel is fast everywhere. Every
+//! output element is computed by the same sequence of IEEE operations whatever the
+//! blocking, chunking or thread count, so serial and parallel results are bit-identical.
 
 use multiversion::multiversion;
+use multiversion::target::target_cfg_f;
 
 use crate::error::{check_length, Result};
+use crate::grid::{Angles, Phi, PreparedPhi, Run};
 use crate::mechanism::{Design, Phases};
 use crate::parallel::{for_each_row_segment, Parallelism};
-use crate::grid::{Angles, Phi, PreparedPhi, Run};
-use crate::trig::sincos_block;
+use crate::trig::{sincos_block, Fused, MulAdd, Unfused};
 
 /// Which closed-form quantity to evaluate.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -29,7 +31,7 @@ pub enum Quantity {
 
 /// The contribution of one crank at angle ψ, given (sin ψ, cos ψ).
 trait CrankTerm {
-    fn term(k: &Coefficients, s: f64, c: f64) -> f64;
+    fn term<M: MulAdd>(k: &Coefficients, s: f64, c: f64) -> f64;
 }
 
 /// One crank unit's coefficients for the three quantities; λ² and the γ products precomputed.
@@ -66,69 +68,86 @@ impl CrankTerm for Energy {
     /// U* = U2[sin(ψ+γ) − sin γ] − U1 sin γ [(1 − cos ψ) + λ sin²ψ / (1 + √(1 − λ² sin²ψ))]
     /// (the stable form of s(ψ)/r: no cancellation as λ → 0; exactly 0 at ψ = 0).
     #[inline(always)]
-    fn term(k: &Coefficients, s: f64, c: f64) -> f64 {
+    fn term<M: MulAdd>(k: &Coefficients, s: f64, c: f64) -> f64 {
         let s2 = s * s;
-        let root = (1.0 - k.l2 * s2).sqrt();
-        k.p * s + k.w_plus * (c - 1.0) - k.wl * s2 / (1.0 + root)
+        let root = M::mul_add(-k.l2, s2, 1.0).sqrt();
+        M::mul_add(
+            k.p,
+            s,
+            M::mul_add(k.w_plus, c - 1.0, -(k.wl * s2 / (1.0 + root))),
+        )
     }
 }
 
 impl CrankTerm for Force {
     /// Q = U2 cos(ψ+γ) − U1 sin γ [sin ψ + λ sin ψ cos ψ / √(1 − λ² sin²ψ)]
     #[inline(always)]
-    fn term(k: &Coefficients, s: f64, c: f64) -> f64 {
-        let root = (1.0 - k.l2 * (s * s)).sqrt();
-        k.p * c - k.w_plus * s - k.wl * (s * c) / root
+    fn term<M: MulAdd>(k: &Coefficients, s: f64, c: f64) -> f64 {
+        let root = M::mul_add(-k.l2, s * s, 1.0).sqrt();
+        M::mul_add(k.p, c, M::mul_add(-k.w_plus, s, -(k.wl * (s * c) / root)))
     }
 }
 
 impl CrankTerm for ForceDerivative {
     /// dQ/dψ = −U2 sin(ψ+γ) − U1 sin γ [cos ψ + λ (cos 2ψ + λ² sin⁴ψ) / (1 − λ² sin²ψ)^{3/2}]
     #[inline(always)]
-    fn term(k: &Coefficients, s: f64, c: f64) -> f64 {
+    fn term<M: MulAdd>(k: &Coefficients, s: f64, c: f64) -> f64 {
         let s2 = s * s;
-        let d2 = 1.0 - k.l2 * s2;
-        let numerator = c * c - s2 + k.l2 * (s2 * s2);
-        -k.p * s - k.w_plus * c - k.wl * numerator / (d2 * d2.sqrt())
+        let d2 = M::mul_add(-k.l2, s2, 1.0);
+        let numerator = M::mul_add(k.l2, s2 * s2, M::mul_add(c, c, -s2));
+        M::mul_add(
+            -k.p,
+            s,
+            M::mul_add(-k.w_plus, c, -(k.wl * numerator / (d2 * d2.sqrt()))),
+        )
     }
 }
 
 /// Σ_j term_j(φ_i + α_j) over a run of φ; `units` holds one set of coefficients shared by
 /// every crank (an in-line machine) or one per crank (a general engine).
 #[inline(always)]
-fn sum_over_cranks<K: CrankTerm>(units: &[Coefficients], phases: &Phases, run: Run, out: &mut [f64]) {
+fn sum_over_cranks<K: CrankTerm, M: MulAdd>(
+    units: &[Coefficients],
+    phases: &Phases,
+    run: Run,
+    out: &mut [f64],
+) {
     // LANES points at a time keep sin/cos and the running sum in registers through the
     // crank loop (several independent vectors hide the latency of sqrt and division). The
     // last block is padded; every lane sees the same operations, so a point's value does
     // not depend on the block it falls in.
     for (b, o) in out.chunks_mut(LANES).enumerate() {
-        let (s, c) = angle_block::<LANES>(&run, b * LANES, o.len());
-        o.copy_from_slice(&crank_sum::<K, LANES>(units, phases, &s, &c)[..o.len()]);
+        let (s, c) = angle_block::<M, LANES>(&run, b * LANES, o.len());
+        o.copy_from_slice(&crank_sum::<K, M, LANES>(units, phases, &s, &c)[..o.len()]);
     }
 }
 
 /// (sin φ, cos φ) of `len` ≤ N points of `run` from `offset` on; the rest of the lanes padded.
 #[inline(always)]
-pub(crate) fn angle_block<const N: usize>(run: &Run, offset: usize, len: usize) -> ([f64; N], [f64; N]) {
+pub(crate) fn angle_block<M: MulAdd, const N: usize>(
+    run: &Run,
+    offset: usize,
+    len: usize,
+) -> ([f64; N], [f64; N]) {
     let (mut s, mut c) = ([0.0; N], [0.0; N]);
     match run.angles {
         Angles::Points(points) => {
             let mut x = [0.0; N];
             x[..len].copy_from_slice(&points[offset..offset + len]);
-            sincos_block(&x, &mut s, &mut c);
+            sincos_block::<M>(&x, &mut s, &mut c);
         }
         Angles::Table { sin, cos } => {
             s[..len].copy_from_slice(&sin[offset..offset + len]);
             c[..len].copy_from_slice(&cos[offset..offset + len]);
         }
-        Angles::Uniform(rotations) => (s, c) = rotations.block::<N>(run.first + offset),
+        Angles::Uniform(rotations) => (s, c) = rotations.block::<M, N>(run.first + offset),
     }
     (s, c)
 }
 
 /// Σ_j term_j at N points given their (sin φ, cos φ).
 #[inline(always)]
-fn crank_sum<K: CrankTerm, const N: usize>(
+fn crank_sum<K: CrankTerm, M: MulAdd, const N: usize>(
     units: &[Coefficients],
     phases: &Phases,
     s: &[f64; N],
@@ -142,9 +161,9 @@ fn crank_sum<K: CrankTerm, const N: usize>(
             &units[j]
         };
         for l in 0..N {
-            let sin_psi = s[l] * cos_a + c[l] * sin_a;
-            let cos_psi = c[l] * cos_a - s[l] * sin_a;
-            sum[l] += K::term(kernel, sin_psi, cos_psi);
+            let sin_psi = M::mul_add(s[l], cos_a, c[l] * sin_a);
+            let cos_psi = M::mul_add(c[l], cos_a, -(s[l] * sin_a));
+            sum[l] += K::term::<M>(kernel, sin_psi, cos_psi);
         }
     }
     sum
@@ -153,19 +172,31 @@ fn crank_sum<K: CrankTerm, const N: usize>(
 /// Points per register block.
 const LANES: usize = 16;
 
-#[multiversion(targets("x86_64+avx512f+avx512vl+avx512dq", "x86_64+avx2+fma"))]
+#[multiversion(targets("x86_64+avx512f+avx512vl+avx512dq+avx2+fma", "x86_64+avx2+fma"))]
 fn energy_run(units: &[Coefficients], phases: &Phases, run: Run, out: &mut [f64]) {
-    sum_over_cranks::<Energy>(units, phases, run, out)
+    if target_cfg_f!(target_feature = "fma") {
+        sum_over_cranks::<Energy, Fused>(units, phases, run, out)
+    } else {
+        sum_over_cranks::<Energy, Unfused>(units, phases, run, out)
+    }
 }
 
-#[multiversion(targets("x86_64+avx512f+avx512vl+avx512dq", "x86_64+avx2+fma"))]
+#[multiversion(targets("x86_64+avx512f+avx512vl+avx512dq+avx2+fma", "x86_64+avx2+fma"))]
 fn force_run(units: &[Coefficients], phases: &Phases, run: Run, out: &mut [f64]) {
-    sum_over_cranks::<Force>(units, phases, run, out)
+    if target_cfg_f!(target_feature = "fma") {
+        sum_over_cranks::<Force, Fused>(units, phases, run, out)
+    } else {
+        sum_over_cranks::<Force, Unfused>(units, phases, run, out)
+    }
 }
 
-#[multiversion(targets("x86_64+avx512f+avx512vl+avx512dq", "x86_64+avx2+fma"))]
+#[multiversion(targets("x86_64+avx512f+avx512vl+avx512dq+avx2+fma", "x86_64+avx2+fma"))]
 fn derivative_run(units: &[Coefficients], phases: &Phases, run: Run, out: &mut [f64]) {
-    sum_over_cranks::<ForceDerivative>(units, phases, run, out)
+    if target_cfg_f!(target_feature = "fma") {
+        sum_over_cranks::<ForceDerivative, Fused>(units, phases, run, out)
+    } else {
+        sum_over_cranks::<ForceDerivative, Unfused>(units, phases, run, out)
+    }
 }
 
 pub(crate) fn evaluate_run(
@@ -239,4 +270,53 @@ pub fn evaluate_one<'a>(
     let mut out = vec![0.0; phi.len()];
     evaluate_run(quantity, design, phases, phi.run(0, out.len()), &mut out);
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::grid::{Rotations, UniformGrid};
+    use crate::mechanism::{crank_phases, Acting, Strokes};
+
+    /// The portable clone (no FMA) cannot be reached through dispatch on a machine with
+    /// FMA: run both arithmetics directly, on points and on a uniform grid.
+    #[test]
+    fn fused_and_unfused_arithmetic_agree() {
+        let grid = UniformGrid::new(-1.0, 0.0123, 3001).unwrap();
+        let points = grid.points();
+        let rotations = Rotations::new(&grid, 1);
+        for cranks in [1, 3, 8] {
+            let phases =
+                Phases::new(&crank_phases(cranks, Strokes::Four, Acting::Double).unwrap()).unwrap();
+            for design in [
+                Design::new(0.0, 1.2, 0.7, -0.3).unwrap(),
+                Design::new(0.9, -0.4, 1.5, 0.2).unwrap(),
+            ] {
+                let units = [Coefficients::new(&design)];
+                let scale = 2.0 * cranks as f64 * 10.0 * (design.u1.abs() + design.u2.abs());
+                for run in [
+                    Run::points(&points),
+                    Run {
+                        angles: Angles::Uniform(&rotations),
+                        first: 0,
+                    },
+                ] {
+                    let (mut fused, mut unfused) = (vec![0.0; 3001], vec![0.0; 3001]);
+                    sum_over_cranks::<Force, Fused>(&units, &phases, run, &mut fused);
+                    sum_over_cranks::<Force, Unfused>(&units, &phases, run, &mut unfused);
+                    let (mut energy_fused, mut energy_unfused) = (vec![0.0; 3001], vec![0.0; 3001]);
+                    sum_over_cranks::<Energy, Fused>(&units, &phases, run, &mut energy_fused);
+                    sum_over_cranks::<Energy, Unfused>(&units, &phases, run, &mut energy_unfused);
+                    let pairs = fused.iter().zip(&unfused);
+                    for (f, u) in pairs.chain(energy_fused.iter().zip(&energy_unfused)) {
+                        assert!((f - u).abs() <= 64.0 * f64::EPSILON * scale, "{f} {u}");
+                    }
+                    assert_ne!(
+                        fused, unfused,
+                        "the two arithmetics should differ somewhere"
+                    );
+                }
+            }
+        }
+    }
 }

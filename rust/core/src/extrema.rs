@@ -97,15 +97,33 @@ struct ClosedCurve<'a> {
 impl ClosedCurve<'_> {
     fn at(&self, quantity: Quantity, x: f64) -> f64 {
         let mut out = [0.0];
-        evaluate_units(quantity, self.units, self.phases, Run::points(&[x]), &mut out);
+        evaluate_units(
+            quantity,
+            self.units,
+            self.phases,
+            Run::points(&[x]),
+            &mut out,
+        );
         out[0]
     }
 }
 
 impl Curve for ClosedCurve<'_> {
     fn on_grid(&self, phi: &[f64], q: &mut [f64], u: &mut [f64]) {
-        evaluate_units(Quantity::GeneralizedForce, self.units, self.phases, Run::points(phi), q);
-        evaluate_units(Quantity::PotentialEnergy, self.units, self.phases, Run::points(phi), u);
+        evaluate_units(
+            Quantity::GeneralizedForce,
+            self.units,
+            self.phases,
+            Run::points(phi),
+            q,
+        );
+        evaluate_units(
+            Quantity::PotentialEnergy,
+            self.units,
+            self.phases,
+            Run::points(phi),
+            u,
+        );
     }
     fn force_and_slope(&self, x: f64) -> (f64, f64) {
         (

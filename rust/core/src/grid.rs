@@ -11,7 +11,9 @@
 
 use crate::doubledouble::DoubleDouble;
 use crate::error::{MechanismError, Result};
-use crate::trig::sincos_block;
+#[cfg(test)]
+use crate::trig::Unfused;
+use crate::trig::{sincos_table, MulAdd};
 
 /// The crank angles φ_i = start + i·step, i = 0 … len − 1 (as `start + i as f64 * step`
 /// rounds them: numpy's `start + arange(len) * step`).
@@ -157,7 +159,7 @@ impl Rotations {
     /// (sin, cos) of m·φ_i for i = first … first + N − 1; lanes past the grid's end repeat
     /// its last point (the caller drops them).
     #[inline(always)]
-    pub(crate) fn block<const N: usize>(&self, first: usize) -> ([f64; N], [f64; N]) {
+    pub(crate) fn block<M: MulAdd, const N: usize>(&self, first: usize) -> ([f64; N], [f64; N]) {
         let (mut s, mut c) = ([0.0; N], [0.0; N]);
         let (q, r) = (first / SPAN, first % SPAN);
         if r + N <= self.offset_sin.len() && first + N <= self.len {
@@ -165,8 +167,8 @@ impl Rotations {
             let (ss, sc) = (self.seed_sin[q], self.seed_cos[q]);
             let (os, oc) = (&self.offset_sin[r..r + N], &self.offset_cos[r..r + N]);
             for l in 0..N {
-                s[l] = ss * oc[l] + sc * os[l];
-                c[l] = sc * oc[l] - ss * os[l];
+                s[l] = M::mul_add(ss, oc[l], sc * os[l]);
+                c[l] = M::mul_add(sc, oc[l], -(ss * os[l]));
             }
         } else {
             // A block across a seed boundary or the grid's end: the same arithmetic per lane.
@@ -175,8 +177,8 @@ impl Rotations {
                 let (q, r) = (i / SPAN, i % SPAN);
                 let (ss, sc) = (self.seed_sin[q], self.seed_cos[q]);
                 let (os, oc) = (self.offset_sin[r], self.offset_cos[r]);
-                s[l] = ss * oc + sc * os;
-                c[l] = sc * oc - ss * os;
+                s[l] = M::mul_add(ss, oc, sc * os);
+                c[l] = M::mul_add(sc, oc, -(ss * os));
             }
         }
         (s, c)
@@ -187,8 +189,7 @@ impl Rotations {
 /// below an ulp.
 fn sincos_double_double(angles: &[DoubleDouble]) -> (Vec<f64>, Vec<f64>) {
     let hi: Vec<f64> = angles.iter().map(|a| a.hi).collect();
-    let (mut sin, mut cos) = (vec![0.0; hi.len()], vec![0.0; hi.len()]);
-    sincos_block(&hi, &mut sin, &mut cos);
+    let (mut sin, mut cos) = sincos_table(&hi);
     for ((s, c), a) in sin.iter_mut().zip(cos.iter_mut()).zip(angles) {
         if a.lo != 0.0 {
             (*s, *c) = (*s + a.lo * *c, *c - a.lo * *s);
@@ -278,7 +279,7 @@ mod tests {
                 let mut worst_head: f64 = 0.0;
                 let mut worst_tail: f64 = 0.0;
                 for first in (0..len).step_by(16) {
-                    let (s, c) = rotations.block::<16>(first);
+                    let (s, c) = rotations.block::<Unfused, 16>(first);
                     for l in 0..16.min(len - first) {
                         let i = first + l;
                         // The rotation is of the exact angle m·(start + i·step); compare with
@@ -296,8 +297,14 @@ mod tests {
                         }
                     }
                 }
-                assert!(worst_head < 2.5, "{start} {step} m={multiplier}: head {worst_head}");
-                assert!(worst_tail < 2.5, "{start} {step} m={multiplier}: tail {worst_tail}");
+                assert!(
+                    worst_head < 2.5,
+                    "{start} {step} m={multiplier}: head {worst_head}"
+                );
+                assert!(
+                    worst_tail < 2.5,
+                    "{start} {step} m={multiplier}: tail {worst_tail}"
+                );
             }
         }
     }
@@ -308,22 +315,23 @@ mod tests {
         let rotations = Rotations::new(&grid, 1);
         let (s16, c16) = (0..5000)
             .step_by(16)
-            .map(|f| rotations.block::<16>(f))
+            .map(|f| rotations.block::<Unfused, 16>(f))
             .fold((vec![], vec![]), |(mut s, mut c), (bs, bc)| {
                 s.extend_from_slice(&bs);
                 c.extend_from_slice(&bc);
                 (s, c)
             });
         for first in [0, 1, 7, 1013, 1020, 4990] {
-            let (s, c) = rotations.block::<8>(first);
+            let (s, c) = rotations.block::<Unfused, 8>(first);
             for l in 0..8.min(5000 - first) {
                 assert_eq!(s[l].to_bits(), s16[first + l].to_bits());
                 assert_eq!(c[l].to_bits(), c16[first + l].to_bits());
             }
         }
         // Index 0 is the exact sincos of start.
-        let (s, c) = rotations.block::<1>(0);
-        assert_eq!((s[0], c[0]), crate::trig::sincos_reduced(0.25));
+        let (s, c) = rotations.block::<Unfused, 1>(0);
+        let (ts, tc) = sincos_table(&[0.25]);
+        assert_eq!((s[0], c[0]), (ts[0], tc[0]));
     }
 
     #[test]
@@ -332,6 +340,9 @@ mod tests {
         assert!(UniformGrid::new(0.0, f64::INFINITY, 3).is_err());
         assert!(UniformGrid::new(0.0, 1e308, 10).is_err());
         assert!(UniformGrid::new(0.0, 1e308, 1).is_ok());
-        assert_eq!(UniformGrid::new(0.5, 0.25, 3).unwrap().points(), vec![0.5, 0.75, 1.0]);
+        assert_eq!(
+            UniformGrid::new(0.5, 0.25, 3).unwrap().points(),
+            vec![0.5, 0.75, 1.0]
+        );
     }
 }

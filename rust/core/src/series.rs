@@ -7,6 +7,7 @@
 //! and one multiply-add pair per harmonic.
 
 use multiversion::multiversion;
+use multiversion::target::target_cfg_f;
 
 use crate::error::{check_length, Result};
 use crate::exact::{angle_block, evaluate_units, Coefficients, Quantity};
@@ -14,6 +15,7 @@ use crate::grid::{Phi, PreparedPhi, Rotations, Run};
 use crate::harmonics::{lambda_paper, ExactLambdas, PhaseSums, UnitAmplitudes, PAPER_MAX_HARMONIC};
 use crate::mechanism::{Design, Phases};
 use crate::parallel::{for_each_row_segment, map_indices, Parallelism};
+use crate::trig::{Fused, MulAdd, Unfused};
 
 /// Which Λ_n and which cut.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -210,29 +212,33 @@ fn power(c: f64, s: f64, mut e: usize) -> (f64, f64) {
 
 /// (re, im) of w·z, lane by lane.
 #[inline(always)]
-fn multiply<const N: usize>(w: &mut ([f64; N], [f64; N]), z: &([f64; N], [f64; N])) {
+fn multiply<M: MulAdd, const N: usize>(w: &mut ([f64; N], [f64; N]), z: &([f64; N], [f64; N])) {
     for l in 0..N {
-        let re = w.0[l] * z.0[l] - w.1[l] * z.1[l];
-        w.1[l] = w.0[l] * z.1[l] + w.1[l] * z.0[l];
+        let re = M::mul_add(w.0[l], z.0[l], -(w.1[l] * z.1[l]));
+        w.1[l] = M::mul_add(w.0[l], z.1[l], w.1[l] * z.0[l]);
         w.0[l] = re;
     }
 }
 
 /// (cos pφ, sin pφ) at N points from (cos φ, sin φ) by binary powering.
 #[inline(always)]
-fn power_lanes<const N: usize>(c: &[f64; N], s: &[f64; N], mut e: usize) -> ([f64; N], [f64; N]) {
+fn power_lanes<M: MulAdd, const N: usize>(
+    c: &[f64; N],
+    s: &[f64; N],
+    mut e: usize,
+) -> ([f64; N], [f64; N]) {
     let mut w = ([1.0; N], [0.0; N]);
     let mut z = (*c, *s);
     loop {
         if e & 1 == 1 {
-            multiply(&mut w, &z);
+            multiply::<M, N>(&mut w, &z);
         }
         e >>= 1;
         if e == 0 {
             return w;
         }
         let square = z;
-        multiply(&mut z, &square);
+        multiply::<M, N>(&mut z, &square);
     }
 }
 
@@ -240,7 +246,7 @@ fn power_lanes<const N: usize>(c: &[f64; N], s: &[f64; N], mut e: usize) -> ([f6
 /// w = (cos pφ, sin pφ): a₁ cos φ + b₁ sin φ, then the harmonics of θ = pφ. Every point
 /// sees the same operations in the same order.
 #[inline(always)]
-fn series_points<const N: usize>(
+fn series_points<M: MulAdd, const N: usize>(
     series: &FourierSeries,
     c: &[f64; N],
     s: &[f64; N],
@@ -248,7 +254,7 @@ fn series_points<const N: usize>(
 ) -> [f64; N] {
     let mut sum = [0.0; N];
     for l in 0..N {
-        sum[l] = series.a1 * c[l] + series.b1 * s[l];
+        sum[l] = M::mul_add(series.a1, c[l], series.b1 * s[l]);
     }
     if series.cos.is_empty() {
         return sum;
@@ -263,16 +269,16 @@ fn series_points<const N: usize>(
     let (mut b1, mut b2) = ([0.0; N], [0.0; N]);
     for (&a, &b) in series.cos.iter().zip(&series.sin).rev() {
         for l in 0..N {
-            let next_a = a + two_cos[l] * a1[l] - a2[l];
+            let next_a = M::mul_add(two_cos[l], a1[l], a - a2[l]);
             a2[l] = a1[l];
             a1[l] = next_a;
-            let next_b = b + two_cos[l] * b1[l] - b2[l];
+            let next_b = M::mul_add(two_cos[l], b1[l], b - b2[l]);
             b2[l] = b1[l];
             b1[l] = next_b;
         }
     }
     for l in 0..N {
-        sum[l] += (a1[l] * w.0[l] - a2[l]) + b1[l] * w.1[l];
+        sum[l] += M::mul_add(b1[l], w.1[l], M::mul_add(a1[l], w.0[l], -a2[l]));
     }
     sum
 }
@@ -281,28 +287,37 @@ fn series_points<const N: usize>(
 const LANES: usize = 32;
 
 #[inline(always)]
-fn series_segment(series: &FourierSeries, run: Run, harmonic: Option<&Rotations>, out: &mut [f64]) {
+fn series_segment<M: MulAdd>(
+    series: &FourierSeries,
+    run: Run,
+    harmonic: Option<&Rotations>,
+    out: &mut [f64],
+) {
     // Register blocks of LANES points — sin/cos, e^{ipφ} and the harmonic sum without a
     // pass over memory in between (several independent chains hide each step's latency);
     // the last block padded. On a uniform grid e^{ipφ} comes by rotation like e^{iφ}, else
     // by powering.
     for (b, o) in out.chunks_mut(LANES).enumerate() {
-        let (s, c) = angle_block::<LANES>(&run, b * LANES, o.len());
+        let (s, c) = angle_block::<M, LANES>(&run, b * LANES, o.len());
         let w = match harmonic {
             _ if series.cos.is_empty() => ([1.0; LANES], [0.0; LANES]), // unused
             Some(rotations) => {
-                let (ws, wc) = rotations.block::<LANES>(run.first + b * LANES);
+                let (ws, wc) = rotations.block::<M, LANES>(run.first + b * LANES);
                 (wc, ws)
             }
-            None => power_lanes(&c, &s, series.step),
+            None => power_lanes::<M, LANES>(&c, &s, series.step),
         };
-        o.copy_from_slice(&series_points(series, &c, &s, &w)[..o.len()]);
+        o.copy_from_slice(&series_points::<M, LANES>(series, &c, &s, &w)[..o.len()]);
     }
 }
 
-#[multiversion(targets("x86_64+avx512f+avx512vl+avx512dq", "x86_64+avx2+fma"))]
+#[multiversion(targets("x86_64+avx512f+avx512vl+avx512dq+avx2+fma", "x86_64+avx2+fma"))]
 fn series_run(series: &FourierSeries, run: Run, harmonic: Option<&Rotations>, out: &mut [f64]) {
-    series_segment(series, run, harmonic, out)
+    if target_cfg_f!(target_feature = "fma") {
+        series_segment::<Fused>(series, run, harmonic, out)
+    } else {
+        series_segment::<Unfused>(series, run, harmonic, out)
+    }
 }
 
 /// Evaluate a series at every φ of `phi` into `out`.

@@ -11,7 +11,7 @@ use crate::harmonics::{harmonic_reach, PhaseSums};
 use crate::mechanism::{Design, Phases};
 use crate::parallel::{map_indices_with, Parallelism};
 use crate::series::FourierSeries;
-use crate::trig::sincos_block;
+use crate::trig::sincos_table;
 
 /// What to compute for each design.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
@@ -119,8 +119,7 @@ struct GridAngles {
 
 impl GridAngles {
     fn new(phi: &[f64]) -> Self {
-        let (mut sin, mut cos) = (vec![0.0; phi.len()], vec![0.0; phi.len()]);
-        sincos_block(phi, &mut sin, &mut cos);
+        let (sin, cos) = sincos_table(phi);
         Self { sin, cos }
     }
 }

@@ -7,10 +7,39 @@
 //! error (< 1e-19) is far below one ulp. Arguments beyond `REDUCTION_LIMIT` (where the
 //! three-part reduction loses bits) fall back to libm element by element.
 //!
-//! Only IEEE-exact operations (+, −, ×) are used and no fused multiply-add is formed, so
-//! the result is bit-identical on every instruction set the kernels are compiled for.
+//! Every multiply-add goes through [`MulAdd`]: the kernels' AVX2 and AVX-512 clones fuse
+//! them (one rounding, one instruction: the polynomials and crank terms are chains of
+//! them), the portable fallback does not (a software fma would be slow there). Within one
+//! machine every point sees the same operations whatever the blocking or thread count.
 
 use std::f64::consts::FRAC_2_PI;
+
+use multiversion::multiversion;
+use multiversion::target::target_cfg_f;
+
+/// a·b + c, fused or not: the kernels are generic over it and pick one per instruction set.
+pub(crate) trait MulAdd {
+    fn mul_add(a: f64, b: f64, c: f64) -> f64;
+}
+
+/// One rounding (an FMA instruction where the clone has one).
+pub(crate) struct Fused;
+/// Two roundings: for targets without FMA.
+pub(crate) struct Unfused;
+
+impl MulAdd for Fused {
+    #[inline(always)]
+    fn mul_add(a: f64, b: f64, c: f64) -> f64 {
+        a.mul_add(b, c)
+    }
+}
+
+impl MulAdd for Unfused {
+    #[inline(always)]
+    fn mul_add(a: f64, b: f64, c: f64) -> f64 {
+        a * b + c
+    }
+}
 
 /// π/2 = PIO2_HI + PIO2_MID + PIO2_LO; the first two carry 33 significant bits.
 const PIO2_HI: f64 = 1.570_796_326_734_125_6; // 0x1.921fb544p+0
@@ -42,21 +71,34 @@ const C14: f64 = -1.0 / 87_178_291_200.0;
 const C16: f64 = 1.0 / 20_922_789_888_000.0;
 const C18: f64 = -1.0 / 6_402_373_705_728_000.0;
 
-/// (sin x, cos x) for |x| ≤ `REDUCTION_LIMIT`; NaN for non-finite x.
+/// (sin x, cos x) for |x| ≤ `REDUCTION_LIMIT`; NaN for non-finite x (unfused arithmetic).
 #[inline(always)]
 pub fn sincos_reduced(x: f64) -> (f64, f64) {
+    sincos_with::<Unfused>(x)
+}
+
+/// Horner's rule Σ c_i z^i with multiply-adds.
+#[inline(always)]
+fn horner<M: MulAdd>(z: f64, coefficients: &[f64]) -> f64 {
+    let (last, rest) = coefficients.split_last().expect("non-empty");
+    rest.iter()
+        .rev()
+        .fold(*last, |acc, &c| M::mul_add(acc, z, c))
+}
+
+/// (sin x, cos x) for |x| ≤ `REDUCTION_LIMIT`; NaN for non-finite x.
+#[inline(always)]
+pub(crate) fn sincos_with<M: MulAdd>(x: f64) -> (f64, f64) {
     let shifted = x * FRAC_2_PI + ROUND_MAGIC;
     let quadrant = shifted.to_bits(); // q mod 2^51 in the low bits, two's complement
     let q = shifted - ROUND_MAGIC;
+    // q·PIO2_HI and q·PIO2_MID are exact (33-bit parts, |q| < 2^20): fusing changes nothing.
     let r = ((x - q * PIO2_HI) - q * PIO2_MID) - q * PIO2_LO;
     let z = r * r;
-    let sin_r = r + r
-        * z
-        * (S3 + z * (S5 + z * (S7 + z * (S9 + z * (S11 + z * (S13 + z * (S15 + z * S17)))))));
-    let cos_r = 1.0
-        + z * (C2
-            + z * (C4
-                + z * (C6 + z * (C8 + z * (C10 + z * (C12 + z * (C14 + z * (C16 + z * C18))))))));
+    let sin_poly = horner::<M>(z, &[S3, S5, S7, S9, S11, S13, S15, S17]);
+    let sin_r = M::mul_add(r * z, sin_poly, r);
+    let cos_poly = horner::<M>(z, &[C2, C4, C6, C8, C10, C12, C14, C16, C18]);
+    let cos_r = M::mul_add(z, cos_poly, 1.0);
     // sin(qπ/2 + r), cos(qπ/2 + r): swap for odd q, then flip signs by quadrant.
     let (s, c) = if quadrant & 1 == 0 {
         (sin_r, cos_r)
@@ -70,11 +112,11 @@ pub fn sincos_reduced(x: f64) -> (f64, f64) {
 
 /// sin and cos of every element of `x` into `sin` and `cos` (all of one length).
 #[inline(always)]
-pub fn sincos_block(x: &[f64], sin: &mut [f64], cos: &mut [f64]) {
+pub(crate) fn sincos_block<M: MulAdd>(x: &[f64], sin: &mut [f64], cos: &mut [f64]) {
     let n = x.len();
     let (sin, cos) = (&mut sin[..n], &mut cos[..n]);
     for i in 0..n {
-        let (s, c) = sincos_reduced(x[i]);
+        let (s, c) = sincos_with::<M>(x[i]);
         sin[i] = s;
         cos[i] = c;
     }
@@ -83,6 +125,19 @@ pub fn sincos_block(x: &[f64], sin: &mut [f64], cos: &mut [f64]) {
             (sin[i], cos[i]) = x[i].sin_cos();
         }
     }
+}
+
+/// (sin x, cos x) of every element, as the kernels on this machine compute them (tables
+/// shared across designs and the seeds of uniform grids).
+#[multiversion(targets("x86_64+avx512f+avx512vl+avx512dq+avx2+fma", "x86_64+avx2+fma"))]
+pub(crate) fn sincos_table(x: &[f64]) -> (Vec<f64>, Vec<f64>) {
+    let (mut sin, mut cos) = (vec![0.0; x.len()], vec![0.0; x.len()]);
+    if target_cfg_f!(target_feature = "fma") {
+        sincos_block::<Fused>(x, &mut sin, &mut cos);
+    } else {
+        sincos_block::<Unfused>(x, &mut sin, &mut cos);
+    }
+    (sin, cos)
 }
 
 #[cfg(test)]
@@ -96,8 +151,9 @@ mod tests {
         let mut worst: f64 = 0.0;
         let mut x = -2000.0;
         while x < 2000.0 {
-            let (s, c) = sincos_reduced(x);
-            worst = worst.max((s - x.sin()).abs()).max((c - x.cos()).abs());
+            for (s, c) in [sincos_with::<Unfused>(x), sincos_with::<Fused>(x)] {
+                worst = worst.max((s - x.sin()).abs()).max((c - x.cos()).abs());
+            }
             x += 0.000_731_3;
         }
         assert!(
@@ -109,11 +165,16 @@ mod tests {
     #[test]
     fn exact_points_and_non_finite() {
         assert_eq!(sincos_reduced(0.0), (0.0, 1.0));
+        assert_eq!(sincos_with::<Fused>(0.0), (0.0, 1.0));
+        let (table_sin, table_cos) = sincos_table(&[0.0, -0.0, 0.5]);
+        assert_eq!((table_sin[0], table_cos[0]), (0.0, 1.0));
+        assert_eq!((table_sin[1], table_cos[1]), (-0.0, 1.0));
+        assert!((table_sin[2] - 0.5_f64.sin()).abs() <= 2.0 * f64::EPSILON);
         let (s, c) = sincos_reduced(-0.0);
         assert_eq!((s, c), (-0.0, 1.0));
         let mut s = [0.0; 4];
         let mut c = [0.0; 4];
-        sincos_block(
+        sincos_block::<Unfused>(
             &[f64::NAN, f64::INFINITY, f64::NEG_INFINITY, 1.0e9],
             &mut s,
             &mut c,
