@@ -56,7 +56,10 @@ def main() -> None:
         "",
         kernels.strip(),
         "",
-        "`lambda_coefficients` rows: ns per λ for Λ_0…Λ_24, λ spread over [0, 0.95].",
+        "φ: `points` is a plain array (every point's value from that point alone, bit for bit); "
+        "`grid` is the same points as `mc.uniform_grid(10**6)`, whose sin/cos come by rotation from "
+        "exact seeds. The baseline always gets the plain array. ns per (pt, crank) = ns/pt ÷ k, for "
+        "the closed form. `lambda_coefficients` rows: ns per λ for Λ_0…Λ_24, λ spread over [0, 0.95].",
         "",
         "## Sweeps: 200 000 designs, mixed k = 1…12, two- and four-stroke, phi = 360",
         "",

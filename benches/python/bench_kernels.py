@@ -2,9 +2,10 @@
 
     python benches/python/bench_kernels.py [--points 1000000] [--repeat 7]
 
-For k = 1, 6, 12 on a grid of φ over one revolution (λ = 0.3, two-stroke phases) it times
-`generalized_force` (methods "exact" and "series") and `potential_energy` against the
+For k = 1, 4, 6, 12 on a grid of φ over one revolution (λ = 0.3, two-stroke phases) it
+times `generalized_force` (methods "exact" and "series") and `potential_energy` against the
 baseline `multicrank.reference.generalized_force` / `potential_energy` (method "exact"),
+with φ given as a plain array ("points") and as `mc.uniform_grid` ("grid": rotations),
 and `lambda_coefficients(λ, 24)` per λ; best of --repeat, once with one
 rayon thread (RAYON_NUM_THREADS=1, each setting in its own child process because rayon
 fixes its pool at first use) and once with all cores, and prints ns per point and the
@@ -38,23 +39,28 @@ def measure(points: int, repeat: int) -> list[dict]:
 
     if mc.build_profile != "release":
         sys.exit(f"refusing to benchmark a {mc.build_profile} build: pip install . (release) first")
-    phi = np.linspace(0.0, 2 * np.pi, points, endpoint=False)
+    grid = mc.uniform_grid(points)
+    phi = np.array(grid)  # the same points as a plain array
     rows = []
-    for cranks in (1, 6, 12):
+    for cranks in (1, 4, 6, 12):
         design = dict(crank_ratio=0.3, inclination=1.0, u1=0.8, u2=0.3, phases=mc.crank_phases(cranks))
         cases = [
-            ("generalized_force", "exact", {}),
-            ("generalized_force", "series", {"method": "series"}),
-            ("potential_energy", "exact", {}),
+            ("generalized_force", "exact", "points", {}),
+            ("generalized_force", "exact", "grid", {}),
+            ("generalized_force", "series", "points", {"method": "series"}),
+            ("generalized_force", "series", "grid", {"method": "series"}),
+            ("potential_energy", "exact", "points", {}),
         ]
         baselines = {}
-        for name, method, options in cases:
-            fast = best_time(lambda: getattr(mc, name)(phi, **design, **options), repeat)
+        for name, method, angles, options in cases:
+            where = grid if angles == "grid" else phi
+            fast = best_time(lambda: getattr(mc, name)(where, **design, **options), repeat)
             if name not in baselines:
                 baselines[name] = best_time(lambda: getattr(ref, name)(phi, **design), max(3, repeat // 2))
             rows.append(
                 dict(
                     function=f"{name}[{method}]",
+                    phi=angles,
                     cranks=cranks,
                     fast_ns=fast / points * 1e9,
                     base_ns=baselines[name] / points * 1e9,
@@ -63,7 +69,8 @@ def measure(points: int, repeat: int) -> list[dict]:
     lam = np.linspace(0.0, 0.95, 10_000)
     fast = best_time(lambda: mc.lambda_coefficients(lam, 24), repeat)
     base = best_time(lambda: ref.lambda_coefficients(lam, 24), 1)
-    rows.append(dict(function="lambda_coefficients", cranks="-", fast_ns=fast / lam.size * 1e9, base_ns=base / lam.size * 1e9))
+    rows.append(dict(function="lambda_coefficients", phi="-", cranks="-", fast_ns=fast / lam.size * 1e9,
+                     base_ns=base / lam.size * 1e9))
     return rows
 
 
@@ -89,22 +96,24 @@ def main() -> None:
         )
         results[threads] = json.loads(child.stdout)
     if args.markdown:
-        print("| function | k | threads | baseline ns/pt | multicrank ns/pt | ratio |")
-        print("|---|---|---|---|---|---|")
+        print("| function | φ | k | threads | baseline ns/pt | multicrank ns/pt | ns per (pt, crank) | ratio |")
+        print("|---|---|---|---|---|---|---|---|")
         for threads, rows in results.items():
             for r in rows:
                 ratio = r["base_ns"] / r["fast_ns"]
-                print(f"| {r['function']} | {r['cranks']} | {threads} | {r['base_ns']:.1f} | {r['fast_ns']:.2f} | {ratio:.1f}× |")
+                per_crank = f"{r['fast_ns'] / r['cranks']:.2f}" if "exact" in r["function"] else ""
+                print(f"| {r['function']} | {r['phi']} | {r['cranks']} | {threads} | {r['base_ns']:.1f} | "
+                      f"{r['fast_ns']:.2f} | {per_crank} | {ratio:.1f}× |")
         return
     print(f"{args.points:,} points, λ = 0.3, two-stroke phases; ns per point (best of {args.repeat}); "
           "ratio = baseline time / multicrank time\n")
     print("lambda_coefficients: ns per λ for Λ_0…Λ_24, λ spread over [0, 0.95]\n")
-    print(f"{'function':<28} {'k':>3} {'threads':>7} {'baseline':>9} {'multicrank':>10} {'ratio':>7}")
+    print(f"{'function':<28} {'phi':>6} {'k':>3} {'threads':>7} {'baseline':>9} {'multicrank':>10} {'ratio':>7}")
     for threads, rows in results.items():
         for r in rows:
             print(
-                f"{r['function']:<28} {r['cranks']:>3} {threads:>7} {r['base_ns']:>9.1f} {r['fast_ns']:>10.2f}"
-                f" {r['base_ns'] / r['fast_ns']:>6.1f}x"
+                f"{r['function']:<28} {r['phi']:>6} {r['cranks']:>3} {threads:>7} {r['base_ns']:>9.1f}"
+                f" {r['fast_ns']:>10.2f} {r['base_ns'] / r['fast_ns']:>6.1f}x"
             )
 
 

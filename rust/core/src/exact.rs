@@ -13,10 +13,12 @@ use multiversion::multiversion;
 use multiversion::target::target_cfg_f;
 
 use crate::error::{check_length, Result};
-use crate::grid::{Angles, Phi, PreparedPhi, Run};
+use crate::grid::{
+    AngleSource, Angles, GridAngles, Phi, PointAngles, PreparedPhi, Run, TableAngles,
+};
 use crate::mechanism::{Design, Phases};
 use crate::parallel::{for_each_row_segment, Parallelism};
-use crate::trig::{sincos_block, Fused, MulAdd, Unfused};
+use crate::trig::{Fused, MulAdd, Unfused};
 
 /// Which closed-form quantity to evaluate.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -112,37 +114,43 @@ fn sum_over_cranks<K: CrankTerm, M: MulAdd>(
     run: Run,
     out: &mut [f64],
 ) {
+    match run.angles {
+        Angles::Points(points) => crank_blocks::<K, M, _>(units, phases, PointAngles(points), out),
+        Angles::Table { sin, cos } => {
+            crank_blocks::<K, M, _>(units, phases, TableAngles { sin, cos }, out)
+        }
+        Angles::Uniform(rotations) => {
+            let first = run.first;
+            crank_blocks::<K, M, _>(units, phases, GridAngles { rotations, first }, out)
+        }
+    }
+}
+
+#[inline(always)]
+fn crank_blocks<K: CrankTerm, M: MulAdd, A: AngleSource>(
+    units: &[Coefficients],
+    phases: &Phases,
+    angles: A,
+    out: &mut [f64],
+) {
     // LANES points at a time keep sin/cos and the running sum in registers through the
     // crank loop (several independent vectors hide the latency of sqrt and division). The
     // last block is padded; every lane sees the same operations, so a point's value does
     // not depend on the block it falls in.
     for (b, o) in out.chunks_mut(LANES).enumerate() {
-        let (s, c) = angle_block::<M, LANES>(&run, b * LANES, o.len());
-        o.copy_from_slice(&crank_sum::<K, M, LANES>(units, phases, &s, &c)[..o.len()]);
+        let (s, c) = angles.block::<M, LANES>(b * LANES, o.len());
+        store(o, &crank_sum::<K, M, LANES>(units, phases, &s, &c));
     }
 }
 
-/// (sin φ, cos φ) of `len` ≤ N points of `run` from `offset` on; the rest of the lanes padded.
+/// The first `out.len()` ≤ N lanes into `out`: a fixed-size move for whole blocks (a
+/// variable-length copy would be a call to memmove per block).
 #[inline(always)]
-pub(crate) fn angle_block<M: MulAdd, const N: usize>(
-    run: &Run,
-    offset: usize,
-    len: usize,
-) -> ([f64; N], [f64; N]) {
-    let (mut s, mut c) = ([0.0; N], [0.0; N]);
-    match run.angles {
-        Angles::Points(points) => {
-            let mut x = [0.0; N];
-            x[..len].copy_from_slice(&points[offset..offset + len]);
-            sincos_block::<M>(&x, &mut s, &mut c);
-        }
-        Angles::Table { sin, cos } => {
-            s[..len].copy_from_slice(&sin[offset..offset + len]);
-            c[..len].copy_from_slice(&cos[offset..offset + len]);
-        }
-        Angles::Uniform(rotations) => (s, c) = rotations.block::<M, N>(run.first + offset),
+pub(crate) fn store<const N: usize>(out: &mut [f64], lanes: &[f64; N]) {
+    match <&mut [f64; N]>::try_from(&mut *out) {
+        Ok(whole) => *whole = *lanes,
+        Err(_) => out.copy_from_slice(&lanes[..out.len()]),
     }
-    (s, c)
 }
 
 /// Σ_j term_j at N points given their (sin φ, cos φ).

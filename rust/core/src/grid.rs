@@ -3,7 +3,7 @@
 //! uniform grid by rotation from exact values.
 //!
 //! On a uniform grid φ_i = start + i·step, write i = q·SPAN + r. Then
-//! e^{iφ_i} = e^{iφ_{q·SPAN}} · e^{i·r·step}: a seed per SPAN points and a table of SPAN
+//! e^{iφ_i} = e^{iφ_{q·SPAN}} · e^{i·r·step}: a seed per SPAN (256) points and a table of SPAN
 //! offsets, both from the exact sincos, so every point is *one* complex multiplication away
 //! from exact values. The rounding does not accumulate along the grid (no drift): it is
 //! bounded by a few ulps at every point, however long the grid. A point's value depends
@@ -13,7 +13,7 @@ use crate::doubledouble::DoubleDouble;
 use crate::error::{MechanismError, Result};
 #[cfg(test)]
 use crate::trig::Unfused;
-use crate::trig::{sincos_table, MulAdd};
+use crate::trig::{sincos_block, sincos_table, MulAdd};
 
 /// The crank angles φ_i = start + i·step, i = 0 … len − 1 (as `start + i as f64 * step`
 /// rounds them: numpy's `start + arange(len) * step`).
@@ -113,9 +113,9 @@ impl From<UniformGrid> for Phi<'_> {
     }
 }
 
-/// Grid points per seed. A power of two (cheap q, r); the offset table (2·SPAN f64 = 16 KiB)
-/// stays in L1 and the seeds cost one sincos per SPAN points.
-const SPAN: usize = 1024;
+/// Grid points per seed. A power of two (cheap q, r); the offset tables (2·SPAN f64 = 4 KiB
+/// each, two of them for a series) stay in L1, and the seeds cost one sincos per SPAN points.
+const SPAN: usize = 256;
 
 /// e^{i·m·φ_i} on a uniform grid, for a fixed integer multiplier m (1 for φ itself, p for
 /// the step of a series' harmonics).
@@ -207,6 +207,70 @@ pub(crate) enum Angles<'a> {
     Table { sin: &'a [f64], cos: &'a [f64] },
     /// Rotations on a uniform grid (multiplier 1).
     Uniform(&'a Rotations),
+}
+
+/// Where a kernel's register block gets (sin φ, cos φ): one implementation per kind of
+/// `Angles`, so that each block loop is compiled for its source (no branch inside it).
+pub(crate) trait AngleSource: Copy {
+    /// Points offset … offset + len − 1 of the run (len ≤ N); the other lanes padded.
+    fn block<M: MulAdd, const N: usize>(self, offset: usize, len: usize) -> ([f64; N], [f64; N]);
+}
+
+/// A vectorised sincos of each point.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct PointAngles<'a>(pub &'a [f64]);
+
+/// Precomputed sin φ and cos φ.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct TableAngles<'a> {
+    pub sin: &'a [f64],
+    pub cos: &'a [f64],
+}
+
+/// Rotations on a uniform grid, from grid index `first` on.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct GridAngles<'a> {
+    pub rotations: &'a Rotations,
+    pub first: usize,
+}
+
+/// values[offset .. offset + len] in N lanes, zero-padded: a fixed-size load for whole
+/// blocks (a variable-length copy would be a call to memcpy per block).
+#[inline(always)]
+fn padded<const N: usize>(values: &[f64], offset: usize, len: usize) -> [f64; N] {
+    let mut x = [0.0; N];
+    if len == N {
+        x.copy_from_slice(&values[offset..offset + N]);
+    } else {
+        x[..len].copy_from_slice(&values[offset..offset + len]);
+    }
+    x
+}
+
+impl AngleSource for PointAngles<'_> {
+    #[inline(always)]
+    fn block<M: MulAdd, const N: usize>(self, offset: usize, len: usize) -> ([f64; N], [f64; N]) {
+        let (mut s, mut c) = ([0.0; N], [0.0; N]);
+        sincos_block::<M>(&padded::<N>(self.0, offset, len), &mut s, &mut c);
+        (s, c)
+    }
+}
+
+impl AngleSource for TableAngles<'_> {
+    #[inline(always)]
+    fn block<M: MulAdd, const N: usize>(self, offset: usize, len: usize) -> ([f64; N], [f64; N]) {
+        (
+            padded::<N>(self.sin, offset, len),
+            padded::<N>(self.cos, offset, len),
+        )
+    }
+}
+
+impl AngleSource for GridAngles<'_> {
+    #[inline(always)]
+    fn block<M: MulAdd, const N: usize>(self, offset: usize, _len: usize) -> ([f64; N], [f64; N]) {
+        self.rotations.block::<M, N>(self.first + offset)
+    }
 }
 
 /// Points of φ whose angles are given — the kernels' unit of work: `len` points from

@@ -10,8 +10,10 @@ use multiversion::multiversion;
 use multiversion::target::target_cfg_f;
 
 use crate::error::{check_length, Result};
-use crate::exact::{angle_block, evaluate_units, Coefficients, Quantity};
-use crate::grid::{Phi, PreparedPhi, Rotations, Run};
+use crate::exact::{evaluate_units, store, Coefficients, Quantity};
+use crate::grid::{
+    AngleSource, Angles, GridAngles, Phi, PointAngles, PreparedPhi, Rotations, Run, TableAngles,
+};
 use crate::harmonics::{lambda_paper, ExactLambdas, PhaseSums, UnitAmplitudes, PAPER_MAX_HARMONIC};
 use crate::mechanism::{Design, Phases};
 use crate::parallel::{for_each_row_segment, map_indices, Parallelism};
@@ -286,6 +288,49 @@ fn series_points<M: MulAdd, const N: usize>(
 /// Points per register block (four AVX-512 vectors).
 const LANES: usize = 32;
 
+/// Where a series block gets e^{ipφ}.
+trait HarmonicSource: Copy {
+    fn block<M: MulAdd, const N: usize>(
+        self,
+        offset: usize,
+        c: &[f64; N],
+        s: &[f64; N],
+        step: usize,
+    ) -> ([f64; N], [f64; N]);
+}
+
+/// e^{ipφ} = (e^{iφ})^p by binary powering.
+#[derive(Clone, Copy)]
+struct Powering;
+
+impl HarmonicSource for Powering {
+    #[inline(always)]
+    fn block<M: MulAdd, const N: usize>(
+        self,
+        _offset: usize,
+        c: &[f64; N],
+        s: &[f64; N],
+        step: usize,
+    ) -> ([f64; N], [f64; N]) {
+        power_lanes::<M, N>(c, s, step)
+    }
+}
+
+/// e^{ipφ} by rotation on a uniform grid, like e^{iφ}.
+impl HarmonicSource for GridAngles<'_> {
+    #[inline(always)]
+    fn block<M: MulAdd, const N: usize>(
+        self,
+        offset: usize,
+        _c: &[f64; N],
+        _s: &[f64; N],
+        _step: usize,
+    ) -> ([f64; N], [f64; N]) {
+        let (ws, wc) = AngleSource::block::<M, N>(self, offset, N);
+        (wc, ws)
+    }
+}
+
 #[inline(always)]
 fn series_segment<M: MulAdd>(
     series: &FourierSeries,
@@ -293,21 +338,47 @@ fn series_segment<M: MulAdd>(
     harmonic: Option<&Rotations>,
     out: &mut [f64],
 ) {
+    let first = run.first;
+    match (run.angles, harmonic) {
+        (Angles::Uniform(base), Some(rotations)) => series_blocks::<M, _, _>(
+            series,
+            GridAngles {
+                rotations: base,
+                first,
+            },
+            GridAngles { rotations, first },
+            out,
+        ),
+        (Angles::Uniform(rotations), None) => {
+            series_blocks::<M, _, _>(series, GridAngles { rotations, first }, Powering, out)
+        }
+        (Angles::Points(points), _) => {
+            series_blocks::<M, _, _>(series, PointAngles(points), Powering, out)
+        }
+        (Angles::Table { sin, cos }, _) => {
+            series_blocks::<M, _, _>(series, TableAngles { sin, cos }, Powering, out)
+        }
+    }
+}
+
+#[inline(always)]
+fn series_blocks<M: MulAdd, A: AngleSource, H: HarmonicSource>(
+    series: &FourierSeries,
+    angles: A,
+    harmonic: H,
+    out: &mut [f64],
+) {
     // Register blocks of LANES points — sin/cos, e^{ipφ} and the harmonic sum without a
     // pass over memory in between (several independent chains hide each step's latency);
-    // the last block padded. On a uniform grid e^{ipφ} comes by rotation like e^{iφ}, else
-    // by powering.
+    // the last block padded.
     for (b, o) in out.chunks_mut(LANES).enumerate() {
-        let (s, c) = angle_block::<M, LANES>(&run, b * LANES, o.len());
-        let w = match harmonic {
-            _ if series.cos.is_empty() => ([1.0; LANES], [0.0; LANES]), // unused
-            Some(rotations) => {
-                let (ws, wc) = rotations.block::<M, LANES>(run.first + b * LANES);
-                (wc, ws)
-            }
-            None => power_lanes::<M, LANES>(&c, &s, series.step),
+        let (s, c) = angles.block::<M, LANES>(b * LANES, o.len());
+        let w = if series.cos.is_empty() {
+            ([1.0; LANES], [0.0; LANES]) // unused
+        } else {
+            harmonic.block::<M, LANES>(b * LANES, &c, &s, series.step)
         };
-        o.copy_from_slice(&series_points::<M, LANES>(series, &c, &s, &w)[..o.len()]);
+        store(o, &series_points::<M, LANES>(series, &c, &s, &w));
     }
 }
 

@@ -120,9 +120,16 @@ pub(crate) fn sincos_block<M: MulAdd>(x: &[f64], sin: &mut [f64], cos: &mut [f64
         sin[i] = s;
         cos[i] = c;
     }
-    for i in 0..n {
-        if x[i].abs() > REDUCTION_LIMIT {
-            (sin[i], cos[i]) = x[i].sin_cos();
+    // NaN and ±inf already give NaN; only large finite arguments need libm. Test the
+    // block at once (a vectorised reduction), not element by element.
+    let any_large = x
+        .iter()
+        .fold(false, |any, v| any | (v.abs() > REDUCTION_LIMIT));
+    if any_large {
+        for i in 0..n {
+            if x[i].abs() > REDUCTION_LIMIT {
+                (sin[i], cos[i]) = x[i].sin_cos();
+            }
         }
     }
 }
