@@ -72,7 +72,7 @@ impl Engine {
         out: &mut [f64],
         parallelism: Parallelism,
     ) -> Result<()> {
-        let phi = PreparedPhi::new(phi.into());
+        let phi = PreparedPhi::new(phi.into(), parallelism);
         check_length("out", phi.len(), out.len())?;
         let work = phi.len().saturating_mul(self.cylinders.len());
         for_each_row_segment(out, phi.len(), work, parallelism, |_, col, segment| {
@@ -181,11 +181,11 @@ impl Engine {
         let series = self.series();
         let harmonic = match phi {
             Phi::Uniform(grid) if series.complete && !series.cos.is_empty() => {
-                Some(Rotations::new(&grid, series.step))
+                Some(Rotations::new(&grid, series.step, parallelism))
             }
             _ => None,
         };
-        let phi = PreparedPhi::new(phi);
+        let phi = PreparedPhi::new(phi, parallelism);
         let work = phi.len().saturating_mul(4);
         for_each_row_segment(out, phi.len(), work, parallelism, |_, col, segment| {
             series_or_closed(

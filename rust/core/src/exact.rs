@@ -245,7 +245,7 @@ pub fn evaluate<'a>(
     out: &mut [f64],
     parallelism: Parallelism,
 ) -> Result<()> {
-    let phi = PreparedPhi::new(phi.into());
+    let phi = PreparedPhi::new(phi.into(), parallelism);
     let n_phi = phi.len();
     let expected = designs.len() * n_phi;
     check_length("out", expected, out.len())?;
@@ -274,7 +274,7 @@ pub fn evaluate_one<'a>(
     phases: &Phases,
     phi: impl Into<Phi<'a>>,
 ) -> Vec<f64> {
-    let phi = PreparedPhi::new(phi.into());
+    let phi = PreparedPhi::new(phi.into(), Parallelism::SERIAL);
     let mut out = vec![0.0; phi.len()];
     evaluate_run(quantity, design, phases, phi.run(0, out.len()), &mut out);
     out
@@ -292,7 +292,7 @@ mod tests {
     fn fused_and_unfused_arithmetic_agree() {
         let grid = UniformGrid::new(-1.0, 0.0123, 3001).unwrap();
         let points = grid.points();
-        let rotations = Rotations::new(&grid, 1);
+        let rotations = Rotations::new(&grid, 1, Parallelism::SERIAL);
         for cranks in [1, 3, 8] {
             let phases =
                 Phases::new(&crank_phases(cranks, Strokes::Four, Acting::Double).unwrap()).unwrap();

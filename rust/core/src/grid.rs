@@ -11,6 +11,7 @@
 
 use crate::doubledouble::DoubleDouble;
 use crate::error::{MechanismError, Result};
+use crate::parallel::{map_indices, Parallelism};
 #[cfg(test)]
 use crate::trig::Unfused;
 use crate::trig::{sincos_block, sincos_table, MulAdd};
@@ -129,23 +130,36 @@ pub(crate) struct Rotations {
 }
 
 impl Rotations {
-    pub(crate) fn new(grid: &UniformGrid, multiplier: usize) -> Self {
+    pub(crate) fn new(grid: &UniformGrid, multiplier: usize, parallelism: Parallelism) -> Self {
         // Seed and offset angles in double-double, so that they are exact sums of the grid's
         // start and step: then their rounding is not relative to the (possibly large) offset
         // r·step but to the result, whatever the step and the multiplier.
         let m = multiplier as f64;
-        let seeds: Vec<DoubleDouble> = (0..grid.len.div_ceil(SPAN))
-            .map(|q| {
-                DoubleDouble::product((q * SPAN) as f64, grid.step)
-                    .add(DoubleDouble::new(grid.start))
-                    .mul_f64(m)
-            })
-            .collect();
+        let seed = |q: usize| {
+            DoubleDouble::product((q * SPAN) as f64, grid.step)
+                .add(DoubleDouble::new(grid.start))
+                .mul_f64(m)
+        };
+        // The seeds are a serial prelude to the parallel kernels: compute them in parallel
+        // too, in fixed batches (each seed's value does not depend on the batching).
+        const BATCH: usize = 256;
+        let n_seeds = grid.len.div_ceil(SPAN);
+        let batches = map_indices(n_seeds.div_ceil(BATCH), grid.len, parallelism, |b| {
+            let angles: Vec<DoubleDouble> = (b * BATCH..((b + 1) * BATCH).min(n_seeds))
+                .map(seed)
+                .collect();
+            sincos_double_double(&angles)
+        });
+        let (mut seed_sin, mut seed_cos) =
+            (Vec::with_capacity(n_seeds), Vec::with_capacity(n_seeds));
+        for (s, c) in batches {
+            seed_sin.extend_from_slice(&s);
+            seed_cos.extend_from_slice(&c);
+        }
         // Only as many offsets as a short grid reaches (rounded up to whole blocks).
         let offsets: Vec<DoubleDouble> = (0..SPAN.min(grid.len.next_multiple_of(64)))
             .map(|r| DoubleDouble::product(r as f64, grid.step).mul_f64(m))
             .collect();
-        let (seed_sin, seed_cos) = sincos_double_double(&seeds);
         let (offset_sin, offset_cos) = sincos_double_double(&offsets);
         Self {
             len: grid.len,
@@ -298,10 +312,10 @@ pub(crate) enum PreparedPhi<'a> {
 }
 
 impl<'a> PreparedPhi<'a> {
-    pub(crate) fn new(phi: Phi<'a>) -> Self {
+    pub(crate) fn new(phi: Phi<'a>, parallelism: Parallelism) -> Self {
         match phi {
             Phi::Points(points) => PreparedPhi::Points(points),
-            Phi::Uniform(grid) => PreparedPhi::Uniform(Rotations::new(&grid, 1)),
+            Phi::Uniform(grid) => PreparedPhi::Uniform(Rotations::new(&grid, 1, parallelism)),
         }
     }
 
@@ -339,7 +353,7 @@ mod tests {
         ] {
             let grid = UniformGrid::new(start, step, len).unwrap();
             for multiplier in [1, 6, 24] {
-                let rotations = Rotations::new(&grid, multiplier);
+                let rotations = Rotations::new(&grid, multiplier, Parallelism::SERIAL);
                 let mut worst_head: f64 = 0.0;
                 let mut worst_tail: f64 = 0.0;
                 for first in (0..len).step_by(16) {
@@ -376,7 +390,7 @@ mod tests {
     #[test]
     fn a_point_does_not_depend_on_the_block_it_is_computed_in() {
         let grid = UniformGrid::new(0.25, 0.001, 5000).unwrap();
-        let rotations = Rotations::new(&grid, 1);
+        let rotations = Rotations::new(&grid, 1, Parallelism::SERIAL);
         let (s16, c16) = (0..5000)
             .step_by(16)
             .map(|f| rotations.block::<Unfused, 16>(f))
@@ -396,6 +410,16 @@ mod tests {
         let (s, c) = rotations.block::<Unfused, 1>(0);
         let (ts, tc) = sincos_table(&[0.25]);
         assert_eq!((s[0], c[0]), (ts[0], tc[0]));
+    }
+
+    #[test]
+    fn seeds_do_not_depend_on_the_thread_count() {
+        let grid = UniformGrid::new(0.1, 1.0e-5, 3_000_001).unwrap();
+        let serial = Rotations::new(&grid, 7, Parallelism::SERIAL);
+        let parallel = Rotations::new(&grid, 7, Parallelism { threshold: 0 });
+        assert_eq!(serial.seed_sin, parallel.seed_sin);
+        assert_eq!(serial.seed_cos, parallel.seed_cos);
+        assert_eq!(serial.seed_sin.len(), 3_000_001_usize.div_ceil(SPAN));
     }
 
     #[test]

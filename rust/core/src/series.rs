@@ -404,7 +404,7 @@ struct SeriesPhi<'a> {
 }
 
 impl<'a> SeriesPhi<'a> {
-    fn new(phi: Phi<'a>, series: &[FourierSeries]) -> Self {
+    fn new(phi: Phi<'a>, series: &[FourierSeries], parallelism: Parallelism) -> Self {
         let mut harmonics: Vec<(usize, Rotations)> = Vec::new();
         if let Phi::Uniform(grid) = phi {
             let mut steps: Vec<usize> = series
@@ -416,11 +416,11 @@ impl<'a> SeriesPhi<'a> {
             steps.dedup();
             harmonics = steps
                 .into_iter()
-                .map(|p| (p, Rotations::new(&grid, p)))
+                .map(|p| (p, Rotations::new(&grid, p, parallelism)))
                 .collect();
         }
         Self {
-            phi: PreparedPhi::new(phi),
+            phi: PreparedPhi::new(phi, parallelism),
             harmonics,
         }
     }
@@ -481,7 +481,7 @@ pub fn evaluate_series_or_exact<'a>(
     out: &mut [f64],
     parallelism: Parallelism,
 ) -> Result<()> {
-    let phi = SeriesPhi::new(phi.into(), series);
+    let phi = SeriesPhi::new(phi.into(), series, parallelism);
     let n_phi = phi.phi.len();
     check_length("designs", series.len(), designs.len())?;
     check_length("out", series.len() * n_phi, out.len())?;
@@ -507,7 +507,7 @@ pub fn evaluate_series<'a>(
     out: &mut [f64],
     parallelism: Parallelism,
 ) -> Result<()> {
-    let phi = SeriesPhi::new(phi.into(), series);
+    let phi = SeriesPhi::new(phi.into(), series, parallelism);
     let n_phi = phi.phi.len();
     check_length("out", series.len() * n_phi, out.len())?;
     let work = out.len().saturating_mul(4);

@@ -5,7 +5,7 @@
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 
 use multicrank_core as core;
-use numpy::{IntoPyArray, PyArray1, PyReadonlyArray1};
+use numpy::{IntoPyArray, PyArray1, PyArrayMethods, PyReadonlyArray1};
 use pyo3::create_exception;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
@@ -48,6 +48,30 @@ fn phi_from(points: &[f64], uniform: Option<(f64, f64, usize)>) -> core::Result<
         Some((start, step, len)) => core::UniformGrid::new(start, step, len)?.into(),
         None => points.into(),
     })
+}
+
+/// A new float64 array of `len`, filled by `fill` with the GIL released. It is not zeroed
+/// first: that would be a serial pass over the whole output before the (parallel) kernels,
+/// which write every element anyway.
+fn filled<'py>(
+    py: Python<'py>,
+    len: usize,
+    fill: impl FnOnce(&mut [f64]) -> core::Result<()> + Send,
+) -> PyResult<Bound<'py, PyArray1<f64>>> {
+    // SAFETY: a fresh C-contiguous array that nothing else can see until it is returned;
+    // `fill` writes all of it or fails, and then the array is dropped unseen.
+    let array = unsafe { PyArray1::<f64>::new(py, len, false) };
+    let buffer = unsafe { array.as_slice_mut() }?;
+    py.detach(|| fill(buffer)).map_err(to_py_err)?;
+    Ok(array)
+}
+
+/// Two arrays returned together, e.g. (u1, u2) or (a, b).
+type ArrayPair<'py> = (Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>);
+
+/// The number of crank angles: the grid's, or the points'.
+fn phi_len(points: &[f64], uniform: Option<(f64, f64, usize)>) -> usize {
+    uniform.map_or(points.len(), |(_, _, len)| len)
 }
 
 /// The slices of several arrays at once (design or unit columns).
@@ -175,17 +199,13 @@ mod _native {
         let (phi, phases) = (slice(&phi)?, slice(&phases)?);
         let columns = slices([&crank_ratio, &inclination, &u1, &u2])?;
         let parallelism = parallelism();
-        let out = py
-            .detach(|| -> core::Result<Vec<f64>> {
-                let phi = phi_from(phi, uniform)?;
-                let phases = core::Phases::new(phases)?;
-                let designs = designs_from(columns)?;
-                let mut out = vec![0.0; designs.len() * phi.len()];
-                core::evaluate(quantity, &designs, &phases, phi, &mut out, parallelism)?;
-                Ok(out)
-            })
-            .map_err(to_py_err)?;
-        Ok(out.into_pyarray(py))
+        let len = columns[0].len() * phi_len(phi, uniform);
+        filled(py, len, |out| {
+            let phi = phi_from(phi, uniform)?;
+            let phases = core::Phases::new(phases)?;
+            let designs = designs_from(columns)?;
+            core::evaluate(quantity, &designs, &phases, phi, out, parallelism)
+        })
     }
 
     /// dimensionless_moments(...) over equal-length 1-D arrays -> (u1, u2); see
@@ -206,7 +226,7 @@ mod _native {
         shaft_inertia: PyReadonlyArray1<'py, f64>,
         rpm: PyReadonlyArray1<'py, f64>,
         g: PyReadonlyArray1<'py, f64>,
-    ) -> PyResult<(Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>)> {
+    ) -> PyResult<ArrayPair<'py>> {
         let c = [
             slice(&crank_radius)?,
             slice(&rod_length)?,
@@ -275,26 +295,15 @@ mod _native {
         let (phi, phases) = (slice(&phi)?, slice(&phases)?);
         let columns = slices([&crank_ratio, &inclination, &u1, &u2])?;
         let parallelism = parallelism();
-        let out = py
-            .detach(|| -> core::Result<Vec<f64>> {
-                let phi = phi_from(phi, uniform)?;
-                let alphas = phases;
-                let phases = core::Phases::new(alphas)?;
-                let designs = designs_from(columns)?;
-                let series = core::build_series(kind, &designs, alphas, parallelism);
-                let mut out = vec![0.0; designs.len() * phi.len()];
-                core::evaluate_series_or_exact(
-                    &series,
-                    &designs,
-                    &phases,
-                    phi,
-                    &mut out,
-                    parallelism,
-                )?;
-                Ok(out)
-            })
-            .map_err(to_py_err)?;
-        Ok(out.into_pyarray(py))
+        let len = columns[0].len() * phi_len(phi, uniform);
+        filled(py, len, |out| {
+            let phi = phi_from(phi, uniform)?;
+            let alphas = phases;
+            let phases = core::Phases::new(alphas)?;
+            let designs = designs_from(columns)?;
+            let series = core::build_series(kind, &designs, alphas, parallelism);
+            core::evaluate_series_or_exact(&series, &designs, &phases, phi, out, parallelism)
+        })
     }
 
     /// lambda_coefficients(crank_ratio, n_max, method) -> flat (len(crank_ratio) * (n_max+1)),
@@ -365,7 +374,7 @@ mod _native {
         u2: PyReadonlyArray1<'py, f64>,
         phases: PyReadonlyArray1<'py, f64>,
         n_max: usize,
-    ) -> PyResult<(Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>)> {
+    ) -> PyResult<ArrayPair<'py>> {
         let phases = slice(&phases)?;
         let columns = slices([&crank_ratio, &inclination, &u1, &u2])?;
         let (a, b) = py
@@ -535,19 +544,14 @@ mod _native {
         let phi = slice(&phi)?;
         let columns = slices([&phase, &inclination, &crank_ratio, &u1, &u2])?;
         let parallelism = parallelism();
-        let out = py
-            .detach(|| -> core::Result<Vec<f64>> {
-                let phi = phi_from(phi, uniform)?;
-                let engine = engine_from(columns)?;
-                let mut out = vec![0.0; phi.len()];
-                match quantity {
-                    Some(q) => engine.evaluate(q, phi, &mut out, parallelism)?,
-                    None => engine.evaluate_series(phi, &mut out, parallelism)?,
-                }
-                Ok(out)
-            })
-            .map_err(to_py_err)?;
-        Ok(out.into_pyarray(py))
+        filled(py, phi_len(phi, uniform), |out| {
+            let phi = phi_from(phi, uniform)?;
+            let engine = engine_from(columns)?;
+            match quantity {
+                Some(q) => engine.evaluate(q, phi, out, parallelism),
+                None => engine.evaluate_series(phi, out, parallelism),
+            }
+        })
     }
 
     /// engine_fourier(phase, inclination, crank_ratio, u1, u2, n_max) -> (a, b).
@@ -561,7 +565,7 @@ mod _native {
         u1: PyReadonlyArray1<'py, f64>,
         u2: PyReadonlyArray1<'py, f64>,
         n_max: usize,
-    ) -> PyResult<(Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>)> {
+    ) -> PyResult<ArrayPair<'py>> {
         let columns = slices([&phase, &inclination, &crank_ratio, &u1, &u2])?;
         let (a, b) = py
             .detach(|| -> core::Result<(Vec<f64>, Vec<f64>)> {
