@@ -1,7 +1,8 @@
 //! Throughput of the kernels on 10⁶ points, k = 1, 4, 6, 12, λ = 0.3: the closed form and
 //! the Fourier series, on any points and on a uniform grid (rotations), serial (one thread)
 //! and parallel (all threads); Λ_0…Λ_24 per λ; and the machine's floor for the closed form
-//! (the output write alone, and one sqrt and one division per point, vectorised).
+//! (the output write alone, on one thread and on all, and one sqrt and one division per
+//! point, vectorised).
 //! Run: `cargo bench -p multicrank-benches` (release profile).
 
 use std::f64::consts::TAU;
@@ -12,6 +13,7 @@ use multicrank_core::{
     Parallelism, Phases, Phi, Quantity, SeriesKind, Strokes, UniformGrid,
 };
 use multiversion::multiversion;
+use rayon::prelude::*;
 
 const POINTS: usize = 1_000_000;
 
@@ -75,6 +77,12 @@ fn kernels(c: &mut Criterion) {
     group.throughput(Throughput::Elements(POINTS as u64));
     group.sample_size(20);
     group.bench_function("write", |b| b.iter(|| write_only(&mut out)));
+    group.bench_function("write_parallel", |b| {
+        b.iter(|| {
+            out.par_chunks_mut(8 * 1024)
+                .for_each(|chunk| write_only(chunk))
+        })
+    });
     group.bench_function("sqrt_div", |b| b.iter(|| sqrt_and_division(&phi, &mut out)));
     group.finish();
 

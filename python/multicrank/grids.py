@@ -1,7 +1,7 @@
 """Uniform crank-angle grids that the kernels evaluate by rotation instead of a sincos per point.
 
 On a uniform grid φ_i = start + i·step the kernels take e^{iφ_i} as one complex
-multiplication of two exact values — a seed e^{iφ} every 256 points and a table of offsets
+multiplication of two exact values — a seed e^{iφ} every 1024 points and a table of offsets
 e^{i·r·step} — so sin/cos cost almost nothing and the rounding does not accumulate along
 the grid (≤ 2 ulp at every point, however long). The values agree with evaluation at the
 same points given as a plain array to ~1e-15 relative to max|Q|, but not bit for bit: with a
