@@ -279,8 +279,10 @@ fn series_points<M: MulAdd, const N: usize>(
             b1[l] = next_b;
         }
     }
+    // a₁·cos θ as (a₁/2)·(2 cos θ): the same value (halving is exact above the subnormals),
+    // and cos θ need not stay in a register through the recurrence (fewer spills).
     for l in 0..N {
-        sum[l] += M::mul_add(b1[l], w.1[l], M::mul_add(a1[l], w.0[l], -a2[l]));
+        sum[l] += M::mul_add(b1[l], w.1[l], M::mul_add(0.5 * a1[l], two_cos[l], -a2[l]));
     }
     sum
 }
