@@ -191,3 +191,12 @@ def test_anything_derived_from_a_grid_is_a_plain_array():
 def test_bad_grids_raise_mechanism_error(args, kwargs, names):
     with pytest.raises(mc.MechanismError, match=names.split()[0]):
         mc.uniform_grid(*args, **kwargs)
+
+
+def test_a_grid_costs_no_memory_until_its_points_are_asked_for():
+    huge = mc.uniform_grid(10**10)  # 80 GB of points, were they formed
+    assert len(huge) == 10**10 and huge.count == 10**10
+    grid = mc.uniform_grid(5000)
+    mc.generalized_force(grid, crank_ratio=0.3, inclination=1.0, u1=0.5, u2=0.2, phases=mc.crank_phases(4))
+    assert grid._cache is None  # the kernels got (start, step, count) only
+    assert grid.max() == grid.step * 4999 and grid._cache is not None

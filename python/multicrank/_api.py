@@ -59,17 +59,19 @@ def as_angles(phi: Any, name: str = "phi") -> np.ndarray:
     return as_real_array(phi, name)
 
 
-def as_phi(phi: Any) -> tuple[np.ndarray, np.ndarray, tuple[float, float, int] | None]:
-    """φ for the kernels: (angles as given, flat contiguous points, uniform grid or None).
+def as_phi(phi: Any) -> tuple[tuple[int, ...], np.ndarray, tuple[float, float, int] | None]:
+    """φ for the kernels: (its shape, flat contiguous points, uniform grid or None).
 
-    For an intact :class:`~multicrank.UniformGrid` the kernels rotate and get no points.
+    For a :class:`~multicrank.UniformGrid` the kernels rotate: they get (start, step, count)
+    and no points, which are then never formed.
     """
     from .grids import grid_of
 
-    angles = as_angles(phi)
     uniform = grid_of(phi)
-    points = np.empty(0) if uniform else contiguous(angles).reshape(-1)
-    return angles, points, uniform
+    if uniform:
+        return (uniform[2],), np.empty(0), uniform
+    angles = as_angles(phi)
+    return angles.shape, contiguous(angles).reshape(-1), None
 
 
 def as_design(value: Any, name: str, *, low: float | None = None, high: float | None = None) -> np.ndarray:

@@ -117,9 +117,9 @@ class Engine:
 
     # -- evaluation ---------------------------------------------------------------------
     def _evaluate(self, quantity: str, phi: Any):
-        angles, points, uniform = as_phi(phi)
+        phi_shape, points, uniform = as_phi(phi)
         flat = _native.engine_evaluate(quantity, points, *self._args(), uniform)
-        return finish(flat, angles.shape)
+        return finish(flat, phi_shape)
 
     def potential_energy(self, phi: Any):
         """U_w*(φ) = Σ_j U*_j(φ + α_j), each unit from its own ψ = 0 position; shape of φ."""

@@ -30,7 +30,7 @@ FORCE_METHODS = ("exact", "series", "paper")
 def _evaluate(quantity: str, phi: Any, crank_ratio: Any, inclination: Any, u1: Any, u2: Any, phases: Any):
     """`quantity` ("potential_energy", "generalized_force", "force_derivative" or, through
     the Fourier form, "series" / "paper") of the broadcast designs over all of φ."""
-    angles, points, uniform = as_phi(phi)
+    phi_shape, points, uniform = as_phi(phi)
     shape, design = broadcast_designs(**design_keywords(crank_ratio, inclination, u1, u2))
     kernel = _native.evaluate_series if quantity in ("series", "paper") else _native.evaluate
     flat = kernel(
@@ -43,7 +43,7 @@ def _evaluate(quantity: str, phi: Any, crank_ratio: Any, inclination: Any, u1: A
         as_phases(phases),
         uniform,
     )
-    return finish(flat, shape + angles.shape)
+    return finish(flat, shape + phi_shape)
 
 
 def potential_energy(phi, *, crank_ratio, inclination, u1, u2, phases=None):

@@ -32,13 +32,20 @@ class UniformGrid(np.lib.mixins.NDArrayOperatorsMixin):
     :func:`uniform_grid`.
     """
 
-    __slots__ = ("start", "step", "_points")
+    __slots__ = ("start", "step", "count", "_cache")
 
     def __init__(self, count: int, start: float, step: float) -> None:
-        self.start, self.step = float(start), float(step)
-        points = self.start + np.arange(count) * self.step  # as the kernels index them
-        points.flags.writeable = False
-        self._points = points
+        self.start, self.step, self.count = float(start), float(step), int(count)
+        self._cache: np.ndarray | None = None
+
+    @property
+    def _points(self) -> np.ndarray:
+        # Formed on first use only: evaluation on the grid never needs them.
+        if self._cache is None:
+            points = self.start + np.arange(self.count) * self.step  # as the kernels index them
+            points.flags.writeable = False
+            self._cache = points
+        return self._cache
 
     def __array__(self, dtype: Any = None, copy: bool | None = None) -> np.ndarray:
         if copy:
@@ -54,7 +61,7 @@ class UniformGrid(np.lib.mixins.NDArrayOperatorsMixin):
         return getattr(self._points, name)
 
     def __len__(self) -> int:
-        return len(self._points)
+        return self.count
 
     def __getitem__(self, key: Any) -> Any:
         return self._points[key]
@@ -63,10 +70,10 @@ class UniformGrid(np.lib.mixins.NDArrayOperatorsMixin):
         return iter(self._points)
 
     def __reduce__(self) -> tuple:
-        return (UniformGrid, (len(self), self.start, self.step))
+        return (UniformGrid, (self.count, self.start, self.step))
 
     def __repr__(self) -> str:
-        return f"UniformGrid(count={len(self)}, start={self.start!r}, step={self.step!r})"
+        return f"UniformGrid(count={self.count}, start={self.start!r}, step={self.step!r})"
 
 
 def uniform_grid(count: int, start: float = 0.0, stop: float = 2 * math.pi, *, endpoint: bool = False) -> UniformGrid:
@@ -101,5 +108,5 @@ def uniform_grid(count: int, start: float = 0.0, stop: float = 2 * math.pi, *, e
 def grid_of(phi: Any) -> tuple[float, float, int] | None:
     """(start, step, count) when ``phi`` is an intact :class:`UniformGrid`, else None."""
     if isinstance(phi, UniformGrid):
-        return (phi.start, phi.step, len(phi))
+        return (phi.start, phi.step, phi.count)
     return None
