@@ -204,7 +204,9 @@ def test_ctrl_c_stops_within_a_second(tmp_path):
     code = textwrap.dedent(
         f"""
         import numpy as np, multicrank as mc, sys
-        grid = mc.DesignGrid(crank_ratio=np.linspace(0.1, 0.9, 400), inclination=np.linspace(0, 3, 400),
+        # 6.4 million designs: tens of seconds, so the sweep is surely running when
+        # SIGINT arrives however fast the kernels get
+        grid = mc.DesignGrid(crank_ratio=np.linspace(0.1, 0.9, 4000), inclination=np.linspace(0, 3, 400),
                              u1=[0.2, 0.7], u2=[-0.1, 0.1], cranks=[1, 12])
         print("started", flush=True)
         try:
