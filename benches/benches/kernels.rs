@@ -78,10 +78,7 @@ fn kernels(c: &mut Criterion) {
     group.sample_size(20);
     group.bench_function("write", |b| b.iter(|| write_only(&mut out)));
     group.bench_function("write_parallel", |b| {
-        b.iter(|| {
-            out.par_chunks_mut(8 * 1024)
-                .for_each(|chunk| write_only(chunk))
-        })
+        b.iter(|| out.par_chunks_mut(8 * 1024).for_each(write_only))
     });
     group.bench_function("sqrt_div", |b| b.iter(|| sqrt_and_division(&phi, &mut out)));
     group.finish();

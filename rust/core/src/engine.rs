@@ -11,11 +11,11 @@
 use crate::error::{check, check_length, MechanismError, Result};
 use crate::exact::{evaluate_units, Coefficients, Quantity};
 use crate::extrema::{extrema_of_units, EnergyExtrema};
-use crate::grid::{Phi, PreparedPhi, Rotations};
+use crate::grid::{Phi, PreparedPhi};
 use crate::harmonics::{harmonic_reach, ExactLambdas};
 use crate::mechanism::{Design, Phases};
 use crate::parallel::{for_each_row_segment, Parallelism};
-use crate::series::{series_or_closed, FourierSeries};
+use crate::series::{series_or_closed, FourierSeries, SeriesPhi};
 
 /// One slider-crank unit of an engine (dimensionless, like `Design`).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -176,16 +176,9 @@ impl Engine {
         out: &mut [f64],
         parallelism: Parallelism,
     ) -> Result<()> {
-        let phi = phi.into();
-        check_length("out", phi.len(), out.len())?;
         let series = self.series();
-        let harmonic = match phi {
-            Phi::Uniform(grid) if series.complete && !series.cos.is_empty() => {
-                Some(Rotations::new(&grid, series.step, parallelism))
-            }
-            _ => None,
-        };
-        let phi = PreparedPhi::new(phi, parallelism);
+        let phi = SeriesPhi::new(phi.into(), std::slice::from_ref(&series), parallelism);
+        check_length("out", phi.len(), out.len())?;
         let work = phi.len().saturating_mul(4);
         for_each_row_segment(out, phi.len(), work, parallelism, |_, col, segment| {
             series_or_closed(
@@ -193,7 +186,7 @@ impl Engine {
                 &self.coefficients,
                 &self.phases,
                 phi.run(col, segment.len()),
-                harmonic.as_ref(),
+                phi.harmonic(series.step),
                 segment,
             )
         });

@@ -13,9 +13,7 @@ use multiversion::multiversion;
 use multiversion::target::target_cfg_f;
 
 use crate::error::{check_length, Result};
-use crate::grid::{
-    AngleSource, Angles, GridAngles, Phi, PointAngles, PreparedPhi, Run, TableAngles,
-};
+use crate::grid::{AngleSource, Phi, PreparedPhi, Run};
 use crate::mechanism::{Design, Phases};
 use crate::parallel::{for_each_row_segment, Parallelism};
 use crate::trig::{Fused, MulAdd, Unfused};
@@ -114,15 +112,10 @@ fn sum_over_cranks<K: CrankTerm, M: MulAdd>(
     run: Run,
     out: &mut [f64],
 ) {
-    match run.angles {
-        Angles::Points(points) => crank_blocks::<K, M, _>(units, phases, PointAngles(points), out),
-        Angles::Table { sin, cos } => {
-            crank_blocks::<K, M, _>(units, phases, TableAngles { sin, cos }, out)
-        }
-        Angles::Uniform(rotations) => {
-            let first = run.first;
-            crank_blocks::<K, M, _>(units, phases, GridAngles { rotations, first }, out)
-        }
+    match run {
+        Run::Points(angles) => crank_blocks::<K, M, _>(units, phases, angles, out),
+        Run::Table(angles) => crank_blocks::<K, M, _>(units, phases, angles, out),
+        Run::Grid(angles) => crank_blocks::<K, M, _>(units, phases, angles, out),
     }
 }
 
@@ -180,30 +173,14 @@ fn crank_sum<K: CrankTerm, M: MulAdd, const N: usize>(
 /// Points per register block.
 const LANES: usize = 16;
 
+/// One clone per instruction set of the kernel for crank term K, with fused multiply-adds
+/// where the clone has FMA.
 #[multiversion(targets("x86_64+avx512f+avx512vl+avx512dq+avx2+fma", "x86_64+avx2+fma"))]
-fn energy_run(units: &[Coefficients], phases: &Phases, run: Run, out: &mut [f64]) {
+fn crank_run<K: CrankTerm>(units: &[Coefficients], phases: &Phases, run: Run, out: &mut [f64]) {
     if target_cfg_f!(target_feature = "fma") {
-        sum_over_cranks::<Energy, Fused>(units, phases, run, out)
+        sum_over_cranks::<K, Fused>(units, phases, run, out)
     } else {
-        sum_over_cranks::<Energy, Unfused>(units, phases, run, out)
-    }
-}
-
-#[multiversion(targets("x86_64+avx512f+avx512vl+avx512dq+avx2+fma", "x86_64+avx2+fma"))]
-fn force_run(units: &[Coefficients], phases: &Phases, run: Run, out: &mut [f64]) {
-    if target_cfg_f!(target_feature = "fma") {
-        sum_over_cranks::<Force, Fused>(units, phases, run, out)
-    } else {
-        sum_over_cranks::<Force, Unfused>(units, phases, run, out)
-    }
-}
-
-#[multiversion(targets("x86_64+avx512f+avx512vl+avx512dq+avx2+fma", "x86_64+avx2+fma"))]
-fn derivative_run(units: &[Coefficients], phases: &Phases, run: Run, out: &mut [f64]) {
-    if target_cfg_f!(target_feature = "fma") {
-        sum_over_cranks::<ForceDerivative, Fused>(units, phases, run, out)
-    } else {
-        sum_over_cranks::<ForceDerivative, Unfused>(units, phases, run, out)
+        sum_over_cranks::<K, Unfused>(units, phases, run, out)
     }
 }
 
@@ -227,9 +204,9 @@ pub(crate) fn evaluate_units(
     out: &mut [f64],
 ) {
     match quantity {
-        Quantity::PotentialEnergy => energy_run(units, phases, run, out),
-        Quantity::GeneralizedForce => force_run(units, phases, run, out),
-        Quantity::ForceDerivative => derivative_run(units, phases, run, out),
+        Quantity::PotentialEnergy => crank_run::<Energy>(units, phases, run, out),
+        Quantity::GeneralizedForce => crank_run::<Force>(units, phases, run, out),
+        Quantity::ForceDerivative => crank_run::<ForceDerivative>(units, phases, run, out),
     }
 }
 
@@ -283,7 +260,7 @@ pub fn evaluate_one<'a>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::grid::{Rotations, UniformGrid};
+    use crate::grid::{GridAngles, Rotations, UniformGrid};
     use crate::mechanism::{crank_phases, Acting, Strokes};
 
     /// The portable clone (no FMA) cannot be reached through dispatch on a machine with
@@ -304,10 +281,10 @@ mod tests {
                 let scale = 2.0 * cranks as f64 * 10.0 * (design.u1.abs() + design.u2.abs());
                 for run in [
                     Run::points(&points),
-                    Run {
-                        angles: Angles::Uniform(&rotations),
+                    Run::Grid(GridAngles {
+                        rotations: &rotations,
                         first: 0,
-                    },
+                    }),
                 ] {
                     let (mut fused, mut unfused) = (vec![0.0; 3001], vec![0.0; 3001]);
                     sum_over_cranks::<Force, Fused>(&units, &phases, run, &mut fused);

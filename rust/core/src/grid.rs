@@ -182,22 +182,26 @@ impl Rotations {
             let (ss, sc) = (self.seed_sin[q], self.seed_cos[q]);
             let (os, oc) = (&self.offset_sin[r..r + N], &self.offset_cos[r..r + N]);
             for l in 0..N {
-                s[l] = M::mul_add(ss, oc[l], sc * os[l]);
-                c[l] = M::mul_add(sc, oc[l], -(ss * os[l]));
+                (s[l], c[l]) = rotate::<M>((ss, sc), (os[l], oc[l]));
             }
         } else {
             // A block across a seed boundary or the grid's end: the same arithmetic per lane.
             for l in 0..N {
                 let i = (first + l).min(self.len.saturating_sub(1));
                 let (q, r) = (i / SPAN, i % SPAN);
-                let (ss, sc) = (self.seed_sin[q], self.seed_cos[q]);
-                let (os, oc) = (self.offset_sin[r], self.offset_cos[r]);
-                s[l] = M::mul_add(ss, oc, sc * os);
-                c[l] = M::mul_add(sc, oc, -(ss * os));
+                let seed = (self.seed_sin[q], self.seed_cos[q]);
+                (s[l], c[l]) = rotate::<M>(seed, (self.offset_sin[r], self.offset_cos[r]));
             }
         }
         (s, c)
     }
+}
+
+/// (sin, cos) of a + b from those of a and b: one complex multiplication, the same
+/// operations for every point of a grid whichever path of `Rotations::block` it takes.
+#[inline(always)]
+fn rotate<M: MulAdd>((sa, ca): (f64, f64), (sb, cb): (f64, f64)) -> (f64, f64) {
+    (M::mul_add(sa, cb, ca * sb), M::mul_add(ca, cb, -(sa * sb)))
 }
 
 /// (sin, cos) of angles hi + lo: sin(hi + lo) = sin hi + lo·cos hi to within lo², far
@@ -213,19 +217,8 @@ fn sincos_double_double(angles: &[DoubleDouble]) -> (Vec<f64>, Vec<f64>) {
     (sin, cos)
 }
 
-/// sin φ and cos φ, block by block, for the closed-form kernels.
-#[derive(Debug, Clone, Copy)]
-pub(crate) enum Angles<'a> {
-    /// A vectorised sincos of each point.
-    Points(&'a [f64]),
-    /// Precomputed sin φ and cos φ.
-    Table { sin: &'a [f64], cos: &'a [f64] },
-    /// Rotations on a uniform grid (multiplier 1).
-    Uniform(&'a Rotations),
-}
-
 /// Where a kernel's register block gets (sin φ, cos φ): one implementation per kind of
-/// `Angles`, so that each block loop is compiled for its source (no branch inside it).
+/// `Run`, so that each block loop is compiled for its source (no branch inside it).
 pub(crate) trait AngleSource: Copy {
     /// Points offset … offset + len − 1 of the run (len ≤ N); the other lanes padded.
     fn block<M: MulAdd, const N: usize>(self, offset: usize, len: usize) -> ([f64; N], [f64; N]);
@@ -288,20 +281,17 @@ impl AngleSource for GridAngles<'_> {
     }
 }
 
-/// Points of φ whose angles are given — the kernels' unit of work: `len` points from
-/// index `first` of `angles`.
+/// The kernels' unit of work: a run of points of φ and where their sin/cos come from.
 #[derive(Debug, Clone, Copy)]
-pub(crate) struct Run<'a> {
-    pub angles: Angles<'a>,
-    pub first: usize,
+pub(crate) enum Run<'a> {
+    Points(PointAngles<'a>),
+    Table(TableAngles<'a>),
+    Grid(GridAngles<'a>),
 }
 
 impl<'a> Run<'a> {
     pub(crate) fn points(points: &'a [f64]) -> Self {
-        Self {
-            angles: Angles::Points(points),
-            first: 0,
-        }
+        Run::Points(PointAngles(points))
     }
 }
 
@@ -331,10 +321,7 @@ impl<'a> PreparedPhi<'a> {
     pub(crate) fn run(&self, first: usize, len: usize) -> Run<'_> {
         match self {
             PreparedPhi::Points(points) => Run::points(&points[first..first + len]),
-            PreparedPhi::Uniform(rotations) => Run {
-                angles: Angles::Uniform(rotations),
-                first,
-            },
+            PreparedPhi::Uniform(rotations) => Run::Grid(GridAngles { rotations, first }),
         }
     }
 }

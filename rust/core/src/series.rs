@@ -11,9 +11,7 @@ use multiversion::target::target_cfg_f;
 
 use crate::error::{check_length, Result};
 use crate::exact::{evaluate_units, store, Coefficients, Quantity};
-use crate::grid::{
-    AngleSource, Angles, GridAngles, Phi, PointAngles, PreparedPhi, Rotations, Run, TableAngles,
-};
+use crate::grid::{AngleSource, GridAngles, Phi, PreparedPhi, Rotations, Run};
 use crate::harmonics::{lambda_paper, ExactLambdas, PhaseSums, UnitAmplitudes, PAPER_MAX_HARMONIC};
 use crate::mechanism::{Design, Phases};
 use crate::parallel::{for_each_row_segment, map_indices, Parallelism};
@@ -340,26 +338,14 @@ fn series_segment<M: MulAdd>(
     harmonic: Option<&Rotations>,
     out: &mut [f64],
 ) {
-    let first = run.first;
-    match (run.angles, harmonic) {
-        (Angles::Uniform(base), Some(rotations)) => series_blocks::<M, _, _>(
-            series,
-            GridAngles {
-                rotations: base,
-                first,
-            },
-            GridAngles { rotations, first },
-            out,
-        ),
-        (Angles::Uniform(rotations), None) => {
-            series_blocks::<M, _, _>(series, GridAngles { rotations, first }, Powering, out)
+    match (run, harmonic) {
+        (Run::Grid(angles), Some(rotations)) => {
+            let first = angles.first;
+            series_blocks::<M, _, _>(series, angles, GridAngles { rotations, first }, out)
         }
-        (Angles::Points(points), _) => {
-            series_blocks::<M, _, _>(series, PointAngles(points), Powering, out)
-        }
-        (Angles::Table { sin, cos }, _) => {
-            series_blocks::<M, _, _>(series, TableAngles { sin, cos }, Powering, out)
-        }
+        (Run::Grid(angles), None) => series_blocks::<M, _, _>(series, angles, Powering, out),
+        (Run::Points(angles), _) => series_blocks::<M, _, _>(series, angles, Powering, out),
+        (Run::Table(angles), _) => series_blocks::<M, _, _>(series, angles, Powering, out),
     }
 }
 
@@ -400,13 +386,13 @@ pub fn evaluate_series_one(series: &FourierSeries, phi: &[f64], out: &mut [f64])
 
 /// φ prepared for series: on a uniform grid, the rotations of φ and of pφ for every
 /// harmonic step p among the series.
-struct SeriesPhi<'a> {
+pub(crate) struct SeriesPhi<'a> {
     phi: PreparedPhi<'a>,
     harmonics: Vec<(usize, Rotations)>,
 }
 
 impl<'a> SeriesPhi<'a> {
-    fn new(phi: Phi<'a>, series: &[FourierSeries], parallelism: Parallelism) -> Self {
+    pub(crate) fn new(phi: Phi<'a>, series: &[FourierSeries], parallelism: Parallelism) -> Self {
         let mut harmonics: Vec<(usize, Rotations)> = Vec::new();
         if let Phi::Uniform(grid) = phi {
             let mut steps: Vec<usize> = series
@@ -427,7 +413,15 @@ impl<'a> SeriesPhi<'a> {
         }
     }
 
-    fn harmonic(&self, step: usize) -> Option<&Rotations> {
+    pub(crate) fn len(&self) -> usize {
+        self.phi.len()
+    }
+
+    pub(crate) fn run(&self, first: usize, len: usize) -> Run<'_> {
+        self.phi.run(first, len)
+    }
+
+    pub(crate) fn harmonic(&self, step: usize) -> Option<&Rotations> {
         self.harmonics
             .iter()
             .find(|(p, _)| *p == step)
@@ -484,7 +478,7 @@ pub fn evaluate_series_or_exact<'a>(
     parallelism: Parallelism,
 ) -> Result<()> {
     let phi = SeriesPhi::new(phi.into(), series, parallelism);
-    let n_phi = phi.phi.len();
+    let n_phi = phi.len();
     check_length("designs", series.len(), designs.len())?;
     check_length("out", series.len() * n_phi, out.len())?;
     let work = out.len().saturating_mul(4);
@@ -494,7 +488,7 @@ pub fn evaluate_series_or_exact<'a>(
             &series[row],
             &units,
             phases,
-            phi.phi.run(col, segment.len()),
+            phi.run(col, segment.len()),
             phi.harmonic(series[row].step),
             segment,
         )
@@ -510,13 +504,13 @@ pub fn evaluate_series<'a>(
     parallelism: Parallelism,
 ) -> Result<()> {
     let phi = SeriesPhi::new(phi.into(), series, parallelism);
-    let n_phi = phi.phi.len();
+    let n_phi = phi.len();
     check_length("out", series.len() * n_phi, out.len())?;
     let work = out.len().saturating_mul(4);
     for_each_row_segment(out, n_phi, work, parallelism, |row, col, segment| {
         series_run(
             &series[row],
-            phi.phi.run(col, segment.len()),
+            phi.run(col, segment.len()),
             phi.harmonic(series[row].step),
             segment,
         )

@@ -6,7 +6,7 @@
 use crate::error::{MechanismError, Result};
 use crate::exact::{evaluate_run, Quantity};
 use crate::extrema::energy_extrema;
-use crate::grid::{Angles, Run};
+use crate::grid::{Run, TableAngles};
 use crate::harmonics::{harmonic_reach, PhaseSums};
 use crate::mechanism::{Design, Phases};
 use crate::parallel::{map_indices_with, Parallelism};
@@ -110,25 +110,11 @@ fn leading_harmonic(series: &FourierSeries) -> (f64, f64) {
     }
 }
 
-/// sin φ and cos φ of the sweep's grid, computed once and shared by every design: the
-/// same values each design would compute itself, so results do not change.
-struct GridAngles {
-    sin: Vec<f64>,
-    cos: Vec<f64>,
-}
-
-impl GridAngles {
-    fn new(phi: &[f64]) -> Self {
-        let (sin, cos) = sincos_table(phi);
-        Self { sin, cos }
-    }
-}
-
 fn sweep_one(
     design: &Design,
     phases: &Phases,
     sums: &PhaseSums,
-    grid: &GridAngles,
+    grid: TableAngles,
     outputs: SweepOutputs,
     buffer: &mut Vec<f64>,
 ) -> SweepRow {
@@ -146,14 +132,13 @@ fn sweep_one(
         // which beats building and summing a series for the short grids of a sweep.
         let n = grid.sin.len();
         buffer.resize(n, 0.0);
-        let run = Run {
-            angles: Angles::Table {
-                sin: &grid.sin,
-                cos: &grid.cos,
-            },
-            first: 0,
-        };
-        evaluate_run(Quantity::GeneralizedForce, design, phases, run, buffer);
+        evaluate_run(
+            Quantity::GeneralizedForce,
+            design,
+            phases,
+            Run::Table(grid),
+            buffer,
+        );
         let (peak, squares) = peak_and_sum_of_squares(buffer);
         row.force_max_abs = peak;
         row.force_rms = (squares / n as f64).sqrt();
@@ -202,7 +187,13 @@ pub fn sweep(
         return Err(MechanismError::Empty { parameter: "phi" });
     }
     let work = designs.len().saturating_mul(phi.len().max(64));
-    let grid = GridAngles::new(if outputs.force { phi } else { &[] });
+    // sin φ and cos φ of the grid, computed once and shared by every design: the same
+    // values each design would compute itself, so results do not change.
+    let (sin, cos) = sincos_table(if outputs.force { phi } else { &[] });
+    let grid = TableAngles {
+        sin: &sin,
+        cos: &cos,
+    };
     // A grid buffer per worker, overwritten by each design: results do not depend on it.
     Ok(map_indices_with(
         designs.len(),
@@ -215,7 +206,7 @@ pub fn sweep(
                 &designs[i],
                 &table.phases[set],
                 &table.sums[set],
-                &grid,
+                grid,
                 outputs,
                 buffer,
             )

@@ -100,6 +100,18 @@ fn designs_from(columns: [&[f64]; 4]) -> core::Result<Vec<core::Design>> {
         .collect()
 }
 
+/// The closed-form quantity named `name`, if it names one.
+fn closed_form(name: &str) -> Option<core::Quantity> {
+    match name {
+        "potential_energy" => Some(core::Quantity::PotentialEnergy),
+        "generalized_force" => Some(core::Quantity::GeneralizedForce),
+        "force_derivative" => Some(core::Quantity::ForceDerivative),
+        _ => None,
+    }
+}
+
+const CLOSED_FORM_NAMES: &str = "\"potential_energy\", \"generalized_force\", \"force_derivative\"";
+
 fn series_kind(method: &str) -> PyResult<core::SeriesKind> {
     match method {
         "exact" | "series" => Ok(core::SeriesKind::Exact),
@@ -185,17 +197,11 @@ mod _native {
         phases: PyReadonlyArray1<'py, f64>,
         uniform: Option<(f64, f64, usize)>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let quantity = match quantity {
-            "potential_energy" => core::Quantity::PotentialEnergy,
-            "generalized_force" => core::Quantity::GeneralizedForce,
-            "force_derivative" => core::Quantity::ForceDerivative,
-            other => {
-                return Err(MechanismError::new_err(format!(
-                    "quantity = {other:?} is not allowed; allowed: \"potential_energy\", \
-                     \"generalized_force\", \"force_derivative\""
-                )))
-            }
-        };
+        let quantity = closed_form(quantity).ok_or_else(|| {
+            MechanismError::new_err(format!(
+                "quantity = {quantity:?} is not allowed; allowed: {CLOSED_FORM_NAMES}"
+            ))
+        })?;
         let (phi, phases) = (slice(&phi)?, slice(&phases)?);
         let columns = slices([&crank_ratio, &inclination, &u1, &u2])?;
         let parallelism = parallelism();
@@ -530,14 +536,13 @@ mod _native {
         u2: PyReadonlyArray1<'py, f64>,
         uniform: Option<(f64, f64, usize)>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let quantity = match quantity {
-            "potential_energy" => Some(core::Quantity::PotentialEnergy),
-            "generalized_force" => Some(core::Quantity::GeneralizedForce),
-            "force_derivative" => Some(core::Quantity::ForceDerivative),
-            "series" => None,
-            other => {
+        // None: the series
+        let quantity = match (quantity, closed_form(quantity)) {
+            ("series", _) => None,
+            (_, Some(q)) => Some(q),
+            (other, None) => {
                 return Err(MechanismError::new_err(format!(
-                    "quantity = {other:?} is not allowed; allowed: \"potential_energy\", \"generalized_force\", \"force_derivative\", \"series\""
+                    "quantity = {other:?} is not allowed; allowed: {CLOSED_FORM_NAMES}, \"series\""
                 )))
             }
         };
