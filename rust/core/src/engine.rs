@@ -1,6 +1,7 @@
 //! Engines of any layout (V, boxer, W, odd-fire, unequal cylinders): a list of slider-crank
 //! units, each with its own crank phase, cylinder inclination, crank ratio and gravity
-//! moments.
+//! moments. A regular in-line machine is the special case whose units share one design
+//! (`Engine::inline`): one set of kernel coefficients and one group of phase sums.
 //!
 //! A unit's crank pin sits at the absolute angle ψ_j + γ_j (mathematics.md §1). Cylinders that
 //! share a crank pin of absolute angle φ + β (V, W, the 180° V) therefore have the phases
@@ -8,14 +9,15 @@
 //! the in-line formulas with its own γ_j, so the kernels are those of `exact.rs`, with one set
 //! of coefficients per unit, at the same speed.
 
+use crate::angles::{Phi, PreparedPhi};
 use crate::error::{check, check_length, MechanismError, Result};
 use crate::exact::{evaluate_units, Coefficients, Quantity};
 use crate::extrema::{extrema_of_units, EnergyExtrema};
-use crate::grid::{Phi, PreparedPhi};
-use crate::harmonics::{harmonic_reach, ExactLambdas};
+use crate::harmonics::{harmonic_reach, harmonic_width, PhaseSums};
 use crate::mechanism::{Design, Phases};
 use crate::parallel::{for_each_row_segment, Parallelism};
-use crate::series::{series_or_closed, FourierSeries, SeriesPhi};
+use crate::series::{self, FourierSeries, SeriesKind, UnitGroup};
+use crate::series_kernels::{series_or_closed, SeriesPhi};
 
 /// One slider-crank unit of an engine (dimensionless, like `Design`).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -29,39 +31,121 @@ pub struct Cylinder {
     pub u2: f64,
 }
 
-/// A validated engine: its units and their kernel coefficients.
+/// A validated engine: its units, their kernel coefficients (one set shared by every unit,
+/// or one per unit) and the groups of units that share one design.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Engine {
     cylinders: Vec<Cylinder>,
     phases: Phases,
     coefficients: Vec<Coefficients>,
+    /// Each group's design and the phases of its units.
+    groups: Vec<(Design, Vec<f64>)>,
 }
 
 impl Engine {
+    /// An engine of independent units (one group each).
     pub fn new(cylinders: Vec<Cylinder>) -> Result<Self> {
         if cylinders.is_empty() {
             return Err(MechanismError::Empty {
                 parameter: "cylinders",
             });
         }
-        let mut alphas = Vec::with_capacity(cylinders.len());
-        let mut coefficients = Vec::with_capacity(cylinders.len());
+        let mut groups = Vec::with_capacity(cylinders.len());
         for c in &cylinders {
-            alphas.push(check("phase", c.phase, "finite angles in radians", |_| {
-                true
-            })?);
-            let design = Design::new(c.crank_ratio, c.inclination, c.u1, c.u2)?;
-            coefficients.push(Coefficients::new(&design));
+            let phase = check("phase", c.phase, "finite angles in radians", |_| true)?;
+            groups.push((
+                Design::new(c.crank_ratio, c.inclination, c.u1, c.u2)?,
+                vec![phase],
+            ));
         }
+        let alphas: Vec<f64> = cylinders.iter().map(|c| c.phase).collect();
         Ok(Self {
             phases: Phases::new(&alphas)?,
+            coefficients: groups.iter().map(|(d, _)| Coefficients::new(d)).collect(),
             cylinders,
-            coefficients,
+            groups,
         })
+    }
+
+    /// A regular in-line machine: identical units of `design` at the crank phases `phases`.
+    pub fn inline(design: Design, phases: &[f64]) -> Result<Self> {
+        let phase_set = Phases::new(phases)?;
+        Ok(Self {
+            cylinders: phases
+                .iter()
+                .map(|&phase| Cylinder {
+                    phase,
+                    inclination: design.inclination,
+                    crank_ratio: design.crank_ratio,
+                    u1: design.u1,
+                    u2: design.u2,
+                })
+                .collect(),
+            phases: phase_set,
+            coefficients: vec![Coefficients::new(&design)],
+            groups: vec![(design, phases.to_vec())],
+        })
+    }
+
+    /// An engine from per-unit columns of equal length.
+    pub fn from_columns(
+        phase: &[f64],
+        inclination: &[f64],
+        crank_ratio: &[f64],
+        u1: &[f64],
+        u2: &[f64],
+    ) -> Result<Self> {
+        for column in [inclination, crank_ratio, u1, u2] {
+            check_length("cylinder arrays", phase.len(), column.len())?;
+        }
+        Self::new(
+            (0..phase.len())
+                .map(|i| Cylinder {
+                    phase: phase[i],
+                    inclination: inclination[i],
+                    crank_ratio: crank_ratio[i],
+                    u1: u1[i],
+                    u2: u2[i],
+                })
+                .collect(),
+        )
     }
 
     pub fn cylinders(&self) -> &[Cylinder] {
         &self.cylinders
+    }
+
+    pub(crate) fn coefficients(&self) -> &[Coefficients] {
+        &self.coefficients
+    }
+
+    pub(crate) fn phases(&self) -> &Phases {
+        &self.phases
+    }
+
+    /// The harmonic reach the series of this engine can need.
+    pub(crate) fn reach(&self) -> usize {
+        self.groups
+            .iter()
+            .map(|(d, _)| harmonic_reach(d.crank_ratio))
+            .max()
+            .unwrap_or(24)
+    }
+
+    /// `f` of the unit groups with phase sums through harmonic `n_max`.
+    pub(crate) fn with_groups<R>(&self, n_max: usize, f: impl FnOnce(&[UnitGroup]) -> R) -> R {
+        let sums: Vec<PhaseSums> = self
+            .groups
+            .iter()
+            .map(|(_, phases)| PhaseSums::new(phases, n_max.max(1)))
+            .collect();
+        let groups: Vec<UnitGroup> = self
+            .groups
+            .iter()
+            .zip(&sums)
+            .map(|((design, _), sums)| UnitGroup { design, sums })
+            .collect();
+        f(&groups)
     }
 
     /// `quantity` at every φ into `out` (same length as `phi`).
@@ -87,86 +171,22 @@ impl Engine {
         Ok(())
     }
 
-    /// Fourier coefficients a_n, b_n (n = 0 … len − 1) of Q_u*, exact Λ_n, every harmonic.
-    pub fn fourier_coefficients(&self, a: &mut [f64], b: &mut [f64]) {
-        let n_max = a.len().saturating_sub(1);
-        let (terms, _) = self.harmonics(n_max, false);
-        a.fill(0.0);
-        b.fill(0.0);
-        for (n, an, bn) in terms {
-            a[n] = an;
-            b[n] = bn;
-        }
+    /// Fourier coefficients (a_n, b_n), n = 0 … n_max, of Q_u*, exact Λ_n, every harmonic;
+    /// a cancelled harmonic is exactly 0.
+    pub fn fourier_coefficients(&self, n_max: usize) -> Result<(Vec<f64>, Vec<f64>)> {
+        let width = harmonic_width(n_max)?;
+        let (mut a, mut b) = (vec![0.0; width], vec![0.0; width]);
+        self.with_groups(n_max, |groups| {
+            series::fourier_coefficients(groups, &mut a, &mut b)
+        });
+        Ok((a, b))
     }
 
-    /// (n, a_n, b_n) of Q_u* for n = 1 and even n ≤ n_max. Per unit
-    /// Q = N cos ψ + W1 sin ψ + Σ_{n even} N1 Λ_n(λ_j) sin nψ, ψ = φ + α_j, so
-    /// a_1 = Σ N_j cos α_j + W1_j sin α_j, b_1 = Σ W1_j cos α_j − N_j sin α_j,
-    /// a_n = Σ W_nj sin nα_j, b_n = Σ W_nj cos nα_j. A sum below its own rounding noise
-    /// is zero (the harmonic cancelled). With `cut`, stop where a bound on the rest is
-    /// below ε·rms(Q)/2 (as `FourierSeries::exact`).
-    /// Also returns whether the rest is provably negligible (always true without `cut`).
-    fn harmonics(&self, n_max: usize, cut: bool) -> (Vec<(usize, f64, f64)>, bool) {
-        let units: Vec<(f64, f64, f64)> = self
-            .cylinders
-            .iter()
-            .map(|c| {
-                let (sin_g, cos_g) = c.inclination.sin_cos();
-                let n1 = -c.u1 * sin_g;
-                (c.u2 * cos_g, n1 - c.u2 * sin_g, n1)
-            })
-            .collect();
-        let mut out = Vec::new();
-        let (mut a1, mut b1, mut noise1) = (0.0, 0.0, 0.0);
-        for (c, &(n, w1, _)) in self.cylinders.iter().zip(&units) {
-            let (sa, ca) = c.phase.sin_cos();
-            a1 += n * ca + w1 * sa;
-            b1 += w1 * ca - n * sa;
-            noise1 += (n.abs() + w1.abs()) * (1.0 + c.phase.abs());
-        }
-        let keep = |a: f64, b: f64, noise: f64| a.hypot(b) > 8.0 * f64::EPSILON * noise;
-        if n_max >= 1 && keep(a1, b1, noise1) {
-            out.push((1, a1, b1));
-        }
-        let mut mean_square = 0.5 * (a1 * a1 + b1 * b1);
-        let mut lambdas: Vec<ExactLambdas> = self
-            .cylinders
-            .iter()
-            .map(|c| ExactLambdas::new(c.crank_ratio))
-            .collect();
-        // Tail bound: Σ_j |N1_j| t_j^{2M+1}/((1 − t_j²)(1 − t_j⁴)) with t_j^{2M+1} tracked per unit.
-        let t: Vec<f64> = lambdas.iter().map(ExactLambdas::t).collect();
-        let mut t_power = t.clone();
-        let mut complete = !cut || units.iter().all(|&(_, _, n1)| n1 == 0.0);
-        for n in (2..=n_max).step_by(2) {
-            if cut && complete {
-                break;
-            }
-            let (mut a, mut b, mut noise) = (0.0, 0.0, 0.0);
-            for ((c, &(_, _, n1)), lambda) in
-                self.cylinders.iter().zip(&units).zip(lambdas.iter_mut())
-            {
-                let w = n1 * lambda.next().unwrap_or(0.0);
-                let (s, co) = (n as f64 * c.phase).sin_cos();
-                a += w * s;
-                b += w * co;
-                noise += w.abs() * (1.0 + n as f64 * c.phase.abs());
-            }
-            if keep(a, b, noise) {
-                out.push((n, a, b));
-                mean_square += 0.5 * (a * a + b * b);
-            }
-            if cut {
-                let mut tail = 0.0;
-                for ((tp, &tj), &(_, _, n1)) in t_power.iter_mut().zip(&t).zip(&units) {
-                    *tp *= tj * tj;
-                    tail += n1.abs() * *tp / ((1.0 - tj * tj) * (1.0 - tj.powi(4)));
-                }
-                let negligible = t_power.iter().all(|&tp| tp <= 1e-30);
-                complete = tail <= 0.5 * f64::EPSILON * mean_square.sqrt() || negligible;
-            }
-        }
-        (out, complete)
+    /// Q_u* as a machine-precision series (every surviving harmonic, cut by a rigorous bound).
+    pub fn series(&self) -> FourierSeries {
+        self.with_groups(self.reach(), |groups| {
+            FourierSeries::new(SeriesKind::Exact, groups)
+        })
     }
 
     /// Q_u* at every φ from its series where that is complete, else the closed form.
@@ -193,84 +213,53 @@ impl Engine {
         Ok(())
     }
 
-    /// Q_u* as a machine-precision series (every surviving harmonic, cut by a rigorous bound).
-    pub fn series(&self) -> FourierSeries {
-        let reach = self
-            .cylinders
-            .iter()
-            .map(|c| harmonic_reach(c.crank_ratio))
-            .max()
-            .unwrap_or(24);
-        let (harmonics, complete) = self.harmonics(reach, true);
-        let (a1, b1) = match harmonics.first() {
-            Some(&(1, a, b)) => (a, b),
-            _ => (0.0, 0.0),
-        };
-        let even: Vec<_> = harmonics.into_iter().filter(|&(n, _, _)| n > 1).collect();
-        FourierSeries {
-            complete,
-            ..FourierSeries::from_terms(a1, b1, &even)
-        }
-    }
-
     /// The exact extrema of U_w* over a revolution (δ_g = range).
     pub fn energy_extrema(&self) -> EnergyExtrema {
         extrema_of_units(&self.coefficients, &self.phases, &self.series())
+    }
+
+    /// (n, amplitude) of the largest harmonic of Q_u*; (0, 0) when Q ≡ 0.
+    pub fn leading_harmonic(&self) -> (usize, f64) {
+        self.series().leading_harmonic()
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::evaluate;
     use crate::mechanism::{crank_phases, Acting, Strokes};
-    use crate::{evaluate, harmonics::PhaseSums};
 
     #[test]
     fn identical_cylinders_are_the_inline_engine() {
         let alphas = crank_phases(6, Strokes::Four, Acting::Single).unwrap();
         let design = Design::new(0.3, 1.2, 0.7, -0.2).unwrap();
-        let engine = Engine::new(
-            alphas
-                .iter()
-                .map(|&phase| Cylinder {
-                    phase,
-                    inclination: 1.2,
-                    crank_ratio: 0.3,
-                    u1: 0.7,
-                    u2: -0.2,
-                })
-                .collect(),
-        )
-        .unwrap();
+        let inline = Engine::inline(design, &alphas).unwrap();
+        let engine = Engine::new(inline.cylinders().to_vec()).unwrap();
         let phi: Vec<f64> = (0..1000).map(|i| i as f64 * 0.0123 - 3.0).collect();
-        let (mut a, mut b) = (vec![0.0; phi.len()], vec![0.0; phi.len()]);
+        let (mut a, mut b, mut c) = (
+            vec![0.0; phi.len()],
+            vec![0.0; phi.len()],
+            vec![0.0; phi.len()],
+        );
+        let force = Quantity::GeneralizedForce;
         engine
-            .evaluate(
-                Quantity::GeneralizedForce,
-                &phi,
-                &mut a,
-                Parallelism::SERIAL,
-            )
+            .evaluate(force, &phi, &mut a, Parallelism::SERIAL)
+            .unwrap();
+        inline
+            .evaluate(force, &phi, &mut b, Parallelism::SERIAL)
             .unwrap();
         let phases = Phases::new(&alphas).unwrap();
-        evaluate(
-            Quantity::GeneralizedForce,
-            &[design],
-            &phases,
-            &phi,
-            &mut b,
-            Parallelism::SERIAL,
-        )
-        .unwrap();
+        evaluate(force, &[design], &phases, &phi, &mut c, Parallelism::SERIAL).unwrap();
         assert_eq!(a, b);
-        let inline = FourierSeries::exact(&design, &PhaseSums::new(&alphas, 60));
-        let general = engine.series();
-        assert_eq!(inline.step, general.step);
-        for (x, y) in inline
+        assert_eq!(b, c);
+        let (shared, general) = (inline.series(), engine.series());
+        assert_eq!(shared.step, general.step);
+        for (x, y) in shared
             .cos
             .iter()
             .zip(&general.cos)
-            .chain(inline.sin.iter().zip(&general.sin))
+            .chain(shared.sin.iter().zip(&general.sin))
         {
             assert!((x - y).abs() <= 1e-15 * x.abs().max(1e-300) + 1e-300);
         }
@@ -290,5 +279,8 @@ mod tests {
             .unwrap_err()
             .to_string()
             .contains("crank_ratio"));
+        let short =
+            Engine::from_columns(&[0.0, 1.0], &[0.0], &[0.1, 0.1], &[0.0, 0.0], &[0.0, 0.0]);
+        assert!(short.unwrap_err().to_string().contains("cylinder arrays"));
     }
 }

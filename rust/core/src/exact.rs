@@ -12,8 +12,8 @@
 use multiversion::multiversion;
 use multiversion::target::target_cfg_f;
 
+use crate::angles::{AngleSource, Phi, PreparedPhi, Run};
 use crate::error::{check_length, Result};
-use crate::grid::{AngleSource, Phi, PreparedPhi, Run};
 use crate::mechanism::{Design, Phases};
 use crate::parallel::{for_each_row_segment, Parallelism};
 use crate::trig::{Fused, MulAdd, Unfused};
@@ -260,7 +260,7 @@ pub fn evaluate_one<'a>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::grid::{GridAngles, Rotations, UniformGrid};
+    use crate::angles::{GridAngles, Rotations, UniformGrid};
     use crate::mechanism::{crank_phases, Acting, Strokes};
 
     /// The portable clone (no FMA) cannot be reached through dispatch on a machine with

@@ -1,7 +1,7 @@
 //! The exact extrema of U_w* over one revolution and the speed fluctuation due to gravity,
 //! δ_g = max U_w* − min U_w* (mathematics.md §6).
 //!
-//! Everything is done on the machine-precision Fourier form of Q_u* (series.rs) and its
+//! Everything is done on the machine-precision Fourier form of Q_u* (`series`) and its
 //! antiderivative and derivative, not on the closed form: where the crank sum cancels all
 //! but a tiny high harmonic (k = 7, say), the closed form's rounding noise (ε times the
 //! single-crank terms) would swamp U_w*'s variation, while the series carries exactly the
@@ -16,11 +16,12 @@
 
 use std::f64::consts::TAU;
 
+use crate::angles::Run;
 use crate::exact::{evaluate_units, Coefficients, Quantity};
-use crate::grid::Run;
 use crate::mechanism::{Design, Phases};
 use crate::parallel::{map_indices, Parallelism};
-use crate::series::{evaluate_series_one, FourierSeries};
+use crate::series::FourierSeries;
+use crate::series_kernels::evaluate_series_one;
 
 /// min and max of U_w* over one revolution, the angles where they occur, and their
 /// difference δ_g.
@@ -38,6 +39,21 @@ pub struct EnergyExtrema {
 impl EnergyExtrema {
     pub fn range(&self) -> f64 {
         self.range
+    }
+
+    /// The field names, in order.
+    pub const NAMES: [&'static str; 5] = ["min", "min_at", "max", "max_at", "range"];
+
+    /// The field called `name` (one of `NAMES`).
+    pub fn get(&self, name: &str) -> Option<f64> {
+        Some(match name {
+            "min" => self.min,
+            "min_at" => self.min_at,
+            "max" => self.max,
+            "max_at" => self.max_at,
+            "range" => self.range,
+            _ => return None,
+        })
     }
 }
 

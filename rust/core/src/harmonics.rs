@@ -4,7 +4,9 @@
 //! and the Fourier coefficients of Q_u* for any phase set.
 
 use crate::doubledouble::DoubleDouble;
-use crate::mechanism::{Acting, Design, Strokes};
+use crate::error::{check, MechanismError, Result};
+use crate::mechanism::{Acting, Strokes};
+use crate::parallel::{for_each_row_segment, Parallelism};
 
 /// The highest harmonic any series here carries (λ → 1 would need ever more).
 pub const MAX_HARMONIC: usize = 2048;
@@ -116,18 +118,69 @@ pub fn lambda_exact(crank_ratio: f64, out: &mut [f64]) {
     }
 }
 
+/// n_max + 1 entries (Λ_0 … Λ_{n_max}, a_0 … a_{n_max}), without overflow.
+pub(crate) fn harmonic_width(n_max: usize) -> Result<usize> {
+    n_max.checked_add(1).ok_or(MechanismError::InvalidChoice {
+        parameter: "n_max",
+        value: n_max.to_string(),
+        allowed: "an integer small enough to allocate",
+    })
+}
+
+/// Λ_0 … Λ_{n_max} for every crank ratio, row by row (`crank_ratios.len()` rows of
+/// n_max + 1), exact or as the paper's λ-series; in parallel for many rows.
+pub fn lambda_table(
+    paper: bool,
+    crank_ratios: &[f64],
+    n_max: usize,
+    parallelism: Parallelism,
+) -> Result<Vec<f64>> {
+    for &lambda in crank_ratios {
+        check("crank_ratio", lambda, "0 <= crank_ratio < 1", |x| {
+            (0.0..1.0).contains(&x)
+        })?;
+    }
+    let width = harmonic_width(n_max)?;
+    let mut out = vec![0.0; crank_ratios.len() * width];
+    // Λ_n costs far more than one output point: weigh each row like 64 points.
+    let work = out.len().saturating_mul(64);
+    for_each_row_segment(&mut out, width, work, parallelism, |row, first, segment| {
+        if first == 0 && segment.len() == width {
+            if paper {
+                lambda_paper(crank_ratios[row], segment)
+            } else {
+                lambda_exact(crank_ratios[row], segment)
+            }
+        } else {
+            // A row split across chunks: compute it whole, keep this segment.
+            let mut whole = vec![0.0; width];
+            if paper {
+                lambda_paper(crank_ratios[row], &mut whole)
+            } else {
+                lambda_exact(crank_ratios[row], &mut whole)
+            }
+            segment.copy_from_slice(&whole[first..first + segment.len()]);
+        }
+    });
+    Ok(out)
+}
+
 /// The paper's truncation: powers of λ through λ¹¹, harmonics through n = 12.
 pub const PAPER_MAX_POWER: u32 = 11;
 pub const PAPER_MAX_HARMONIC: usize = 12;
 
-fn binomial(n: u64, k: u64) -> u64 {
+/// The largest j for which `paper_coefficient` is exact in 128-bit integers.
+pub const PAPER_MAX_J: u32 = 20;
+
+fn binomial(n: u128, k: u128) -> u128 {
     if k > n {
         return 0;
     }
     (0..k).fold(1, |acc, i| acc * (n - i) / (i + 1))
 }
 
-fn gcd(a: u64, b: u64) -> u64 {
+/// The greatest common divisor (Euclid).
+pub(crate) fn gcd(a: u64, b: u64) -> u64 {
     if b == 0 {
         a
     } else {
@@ -135,19 +188,34 @@ fn gcd(a: u64, b: u64) -> u64 {
     }
 }
 
-/// The exact rational [λ^{2j+1}] Λ_{2i} = (−1)^{i+1}·(2i/(j+1))·C(2j, j)·C(2j+2, j+1−i)/4^{2j+1}
-/// (eq. 15's general coefficient), as a reduced (numerator, denominator); 0/1 for j < i − 1.
-/// Valid for j ≤ 20 (the integers stay within u64).
-pub fn paper_coefficient(i: u32, j: u32) -> (i64, u64) {
+/// [λ^{2j+1}] Λ_{2i} as a reduced fraction, for j ≤ PAPER_MAX_J (no overflow in u128).
+fn paper_fraction(i: u32, j: u32) -> (i128, u128) {
     if i == 0 || j + 1 < i {
         return (0, 1);
     }
-    let (i, j) = (i as u64, j as u64);
+    let (i, j) = (i as u128, j as u128);
     let numerator = 2 * i * binomial(2 * j, j) * binomial(2 * j + 2, j + 1 - i);
-    let denominator = (j + 1) * 4u64.pow(2 * j as u32 + 1);
-    let common = gcd(numerator, denominator);
+    let denominator = (j + 1) * 4u128.pow(2 * j as u32 + 1);
+    let (mut x, mut y) = (numerator, denominator);
+    while y != 0 {
+        (x, y) = (y, x % y);
+    }
     let sign = if i % 2 == 1 { 1 } else { -1 };
-    (sign * (numerator / common) as i64, denominator / common)
+    (sign * (numerator / x) as i128, denominator / x)
+}
+
+/// The exact rational [λ^{2j+1}] Λ_{2i} = (−1)^{i+1}·(2i/(j+1))·C(2j, j)·C(2j+2, j+1−i)/4^{2j+1}
+/// (eq. 15's general coefficient), as a reduced (numerator, denominator); 0/1 for j < i − 1.
+/// Valid for j ≤ PAPER_MAX_J = 20, where the integers fit 128 bits.
+pub fn paper_coefficient(i: u32, j: u32) -> Result<(i128, u128)> {
+    if j > PAPER_MAX_J {
+        return Err(MechanismError::InvalidChoice {
+            parameter: "j",
+            value: j.to_string(),
+            allowed: "an integer 0 <= j <= 20",
+        });
+    }
+    Ok(paper_fraction(i, j))
 }
 
 /// Λ_0 … Λ_{n_max} as the paper computes them: the λ-series through λ¹¹, zero above n = 12.
@@ -157,7 +225,7 @@ pub fn lambda_paper(crank_ratio: f64, out: &mut [f64]) {
         let i = (n / 2) as u32;
         out[n] = (i - 1..=(PAPER_MAX_POWER - 1) / 2)
             .map(|j| {
-                let (p, q) = paper_coefficient(i, j);
+                let (p, q) = paper_fraction(i, j);
                 (p as f64 / q as f64) * crank_ratio.powi(2 * j as i32 + 1)
             })
             .sum();
@@ -195,12 +263,15 @@ pub fn surviving_harmonics(cranks: u64, strokes: Strokes, acting: Acting, n_max:
 /// The phase sums C_n = Σ_j cos nα_j and S_n = Σ_j sin nα_j for n = 0 … n_max.
 ///
 /// A sum whose modulus is below its own rounding noise (8ε·k·(1 + n·max|α_j|)) is set to
-/// exactly zero: for a regular crank set it is zero, and the harmonic has cancelled.
+/// exactly zero: for a regular crank set it is zero, and the harmonic has cancelled. One
+/// unit's sum is e^{inα_j} itself, the building block of an engine of any layout.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PhaseSums {
     pub cos: Vec<f64>,
     pub sin: Vec<f64>,
     pub cranks: usize,
+    /// max |α_j|: the rounding of n·α_j grows with it.
+    reach: f64,
 }
 
 impl PhaseSums {
@@ -215,8 +286,7 @@ impl PhaseSums {
                 c += ca;
                 s += sa;
             }
-            let noise = 8.0 * f64::EPSILON * phases.len() as f64 * (1.0 + n as f64 * reach);
-            if c.hypot(s) > noise {
+            if c.hypot(s) > 8.0 * f64::EPSILON * noise(phases.len(), reach, n) {
                 cos[n] = c;
                 sin[n] = s;
             }
@@ -225,12 +295,23 @@ impl PhaseSums {
             cos,
             sin,
             cranks: phases.len(),
+            reach,
         }
     }
 
     pub fn n_max(&self) -> usize {
         self.cos.len() - 1
     }
+
+    /// The size of the rounding of S_n in units of 8ε: a sum below it has cancelled.
+    pub(crate) fn noise(&self, n: usize) -> f64 {
+        noise(self.cranks, self.reach, n)
+    }
+}
+
+/// k·(1 + n·max|α_j|): the rounding of Σ_j e^{inα_j} in units of 8ε.
+fn noise(cranks: usize, reach: f64, n: usize) -> f64 {
+    cranks as f64 * (1.0 + n as f64 * reach)
 }
 
 /// The harmonic reach a series at crank ratio λ can need: the smallest even n with
@@ -243,55 +324,6 @@ pub fn harmonic_reach(crank_ratio: f64) -> usize {
     let n = 1.0 + (-40.0 * std::f64::consts::LN_10) / t.ln();
     let n = (n.ceil() as usize).clamp(24, MAX_HARMONIC);
     n + n % 2
-}
-
-/// The per-unit amplitudes of §4: N = U2 cos γ, W1 = N1 + N2, N1 = −U1 sin γ.
-#[derive(Debug, Clone, Copy)]
-pub(crate) struct UnitAmplitudes {
-    pub n: f64,
-    pub w1: f64,
-    pub n1: f64,
-}
-
-impl UnitAmplitudes {
-    pub fn new(design: &Design) -> Self {
-        let (sin_g, cos_g) = design.inclination.sin_cos();
-        let n1 = -design.u1 * sin_g;
-        Self {
-            n: design.u2 * cos_g,
-            w1: n1 - design.u2 * sin_g,
-            n1,
-        }
-    }
-
-    /// (a_1, b_1): Σ_j N cos ψ_j + W1 sin ψ_j = a_1 cos φ + b_1 sin φ.
-    pub fn first_harmonic(&self, sums: &PhaseSums) -> (f64, f64) {
-        let (c, s) = (sums.cos[1], sums.sin[1]);
-        (self.n * c + self.w1 * s, self.w1 * c - self.n * s)
-    }
-
-    /// (a_n, b_n) for even n: Σ_j W_n sin nψ_j = W_n (S_n cos nφ + C_n sin nφ), W_n = N1 Λ_n.
-    pub fn even_harmonic(&self, lambda_n: f64, n: usize, sums: &PhaseSums) -> (f64, f64) {
-        let w = self.n1 * lambda_n;
-        (w * sums.sin[n], w * sums.cos[n])
-    }
-}
-
-/// Fourier coefficients of Q_u*(φ) = Σ_{n=0}^{n_max} a_n cos nφ + b_n sin nφ with exact Λ_n,
-/// into `a` and `b` (each of length n_max + 1; `sums` must reach n_max).
-pub fn fourier_coefficients(design: &Design, sums: &PhaseSums, a: &mut [f64], b: &mut [f64]) {
-    a.fill(0.0);
-    b.fill(0.0);
-    let n_max = a.len() - 1;
-    let unit = UnitAmplitudes::new(design);
-    if n_max >= 1 {
-        (a[1], b[1]) = unit.first_harmonic(sums);
-    }
-    let mut lambdas = ExactLambdas::new(design.crank_ratio);
-    for n in (2..=n_max).step_by(2) {
-        let lambda_n = lambdas.next().unwrap_or(0.0);
-        (a[n], b[n]) = unit.even_harmonic(lambda_n, n, sums);
-    }
 }
 
 #[cfg(test)]
@@ -310,11 +342,12 @@ mod tests {
             (2079, 131072),
         ];
         for (j, &(p, q)) in expected.iter().enumerate() {
-            assert_eq!(paper_coefficient(1, j as u32), (p, q));
+            assert_eq!(paper_coefficient(1, j as u32), Ok((p, q)));
         }
-        assert_eq!(paper_coefficient(2, 1), (-1, 16));
-        assert_eq!(paper_coefficient(6, 5), (-63, 524288));
-        assert_eq!(paper_coefficient(3, 1), (0, 1));
+        assert_eq!(paper_coefficient(2, 1), Ok((-1, 16)));
+        assert_eq!(paper_coefficient(6, 5), Ok((-63, 524288)));
+        assert_eq!(paper_coefficient(3, 1), Ok((0, 1)));
+        assert!(paper_coefficient(1, 21).is_err());
     }
 
     #[test]

@@ -1,38 +1,53 @@
 //! multicrank-core: gravitational potential energy U* and the generalised Lagrange force
 //! Q_u* = dU*/dφ of multi-crank piston mechanisms, after M. Stańczak, with the corrections
-//! of `shared/spec/mathematics.md`. Pure Rust; the Python bindings live in `rust/python`.
+//! listed in the project's `docs/theory.md`. Pure Rust; the Python bindings live in
+//! `rust/python`.
 //!
 //! Conventions: angles in radians; γ = +π/2 is an upright cylinder; φ is measured from
 //! outer dead centre; every crank unit's energy is measured from its own ψ = 0 position;
 //! energies are dimensionless, U* = U/(I_w ω²).
+//!
+//! The rooms: `mechanism` (validated parameters, phase sets, physical → dimensionless),
+//! `trig` and `doubledouble` (vectorisable sincos, double-double arithmetic), `angles`
+//! (where the kernels get sin/cos: points, a shared table, a uniform grid), `exact` (the
+//! closed-form kernels), `harmonics` (Λ_n, phase sums, surviving harmonics), `series` (the
+//! one series model) and `series_kernels` (its SIMD evaluation), `engine` (units of any
+//! layout; an in-line machine is an engine whose units share one design), `extrema`
+//! (δ_g), `tolerances` (scatter of harmonics), `sweep` (machines reduced on the fly),
+//! `parallel` and `error`.
 
+#![forbid(unsafe_code)]
+
+mod angles;
 mod doubledouble;
-pub mod engine;
-pub mod error;
-pub mod exact;
-pub mod extrema;
-pub mod grid;
-pub mod harmonics;
-pub mod mechanism;
-pub mod parallel;
-pub mod series;
-pub mod sweep;
-pub mod trig;
+mod engine;
+mod error;
+mod exact;
+mod extrema;
+mod harmonics;
+mod mechanism;
+mod parallel;
+mod series;
+mod series_kernels;
+mod sweep;
+mod tolerances;
+mod trig;
 
+pub use angles::{Phi, UniformGrid};
 pub use engine::{Cylinder, Engine};
 pub use error::{MechanismError, Result};
 pub use exact::{evaluate, evaluate_one, Quantity};
 pub use extrema::{all_energy_extrema, energy_extrema, EnergyExtrema};
-pub use grid::{Phi, UniformGrid};
 pub use harmonics::{
-    fourier_coefficients, harmonic_survives, lambda_exact, lambda_paper, paper_coefficient,
-    surviving_harmonics, PhaseSums,
+    harmonic_survives, lambda_exact, lambda_paper, lambda_table, paper_coefficient,
+    surviving_harmonics, PhaseSums, PAPER_MAX_J,
 };
 pub use mechanism::{
-    crank_phases, Acting, Design, Phases, PhysicalUnit, Strokes, STANDARD_GRAVITY,
+    crank_phases, dimensionless_moments, Acting, Design, Phases, PhysicalColumns, PhysicalUnit,
+    Strokes, STANDARD_GRAVITY,
 };
 pub use parallel::Parallelism;
-pub use series::{
-    build_series, evaluate_series, evaluate_series_or_exact, FourierSeries, SeriesKind,
-};
-pub use sweep::{sweep, PhaseSetTable, SweepOutputs, SweepRow};
+pub use series::{build_series, fourier_table, FourierSeries, SeriesKind};
+pub use series_kernels::{evaluate_series, evaluate_series_or_exact};
+pub use sweep::{sweep, sweep_engines, PhaseSetTable, SweepOutputs, SweepRow};
+pub use tolerances::{HarmonicScatter, UnitErrors};

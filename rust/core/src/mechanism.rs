@@ -4,7 +4,7 @@
 
 use std::f64::consts::{PI, TAU};
 
-use crate::error::{check, MechanismError, Result};
+use crate::error::{check, check_length, MechanismError, Result};
 
 /// Two- or four-stroke working cycle: one cycle spans T = 2π or 4π of crank angle.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -95,6 +95,23 @@ impl Design {
             u1: check("u1", u1, "any finite real", |_| true)?,
             u2: check("u2", u2, "any finite real", |_| true)?,
         })
+    }
+}
+
+impl Design {
+    /// Validated designs from four columns of equal length (the broadcast design arrays).
+    pub fn from_columns(
+        crank_ratio: &[f64],
+        inclination: &[f64],
+        u1: &[f64],
+        u2: &[f64],
+    ) -> Result<Vec<Self>> {
+        for column in [inclination, u1, u2] {
+            check_length("design arrays", crank_ratio.len(), column.len())?;
+        }
+        (0..crank_ratio.len())
+            .map(|i| Self::new(crank_ratio[i], inclination[i], u1[i], u2[i]))
+            .collect()
     }
 }
 
@@ -242,6 +259,64 @@ impl PhysicalUnit {
                 + self.crank_radius * rod_share_pin * self.rod_mass);
         Ok((u1, u2))
     }
+}
+
+/// Columns of `PhysicalUnit` fields, one entry per unit, all of one length.
+#[derive(Debug, Clone, Copy)]
+pub struct PhysicalColumns<'a> {
+    pub crank_radius: &'a [f64],
+    pub rod_length: &'a [f64],
+    pub rod_cg: &'a [f64],
+    pub piston_mass: &'a [f64],
+    pub rod_mass: &'a [f64],
+    pub crank_mass: &'a [f64],
+    pub crank_cg_radius: &'a [f64],
+    pub counterweight_mass: &'a [f64],
+    pub counterweight_radius: &'a [f64],
+    pub shaft_inertia: &'a [f64],
+    pub rpm: &'a [f64],
+    pub g: &'a [f64],
+}
+
+/// (U1, U2) of every unit of `columns` (see `PhysicalUnit::dimensionless_moments`).
+pub fn dimensionless_moments(columns: &PhysicalColumns) -> Result<(Vec<f64>, Vec<f64>)> {
+    let c = columns;
+    let n = c.crank_radius.len();
+    for column in [
+        c.rod_length,
+        c.rod_cg,
+        c.piston_mass,
+        c.rod_mass,
+        c.crank_mass,
+        c.crank_cg_radius,
+        c.counterweight_mass,
+        c.counterweight_radius,
+        c.shaft_inertia,
+        c.rpm,
+        c.g,
+    ] {
+        check_length("physical parameter arrays", n, column.len())?;
+    }
+    (0..n)
+        .map(|i| {
+            PhysicalUnit {
+                crank_radius: c.crank_radius[i],
+                rod_length: c.rod_length[i],
+                rod_cg: c.rod_cg[i],
+                piston_mass: c.piston_mass[i],
+                rod_mass: c.rod_mass[i],
+                crank_mass: c.crank_mass[i],
+                crank_cg_radius: c.crank_cg_radius[i],
+                counterweight_mass: c.counterweight_mass[i],
+                counterweight_radius: c.counterweight_radius[i],
+                shaft_inertia: c.shaft_inertia[i],
+                rpm: c.rpm[i],
+                g: c.g[i],
+            }
+            .dimensionless_moments()
+        })
+        .collect::<Result<Vec<_>>>()
+        .map(|moments| moments.into_iter().unzip())
 }
 
 #[cfg(test)]

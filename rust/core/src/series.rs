@@ -1,21 +1,20 @@
-//! Q_u*(φ) from its Fourier form (mathematics.md §4): only the harmonics that survive the
-//! crank sum, evaluated by rotation so that the cost per point hardly depends on k.
+//! Q_u*(φ) as a short trigonometric series (mathematics.md §4): the one series model of the
+//! crate. Every machine is a list of *unit groups* — units that share one design, with the
+//! sums of their phases: a regular in-line machine is one group of k identical units, an
+//! engine of any layout one group per unit. One builder turns groups into harmonics, with
+//! one rule for when a harmonic has cancelled and one cut-off rule for the tail; the series,
+//! the Fourier coefficients, the extrema, the leading harmonic and the sweeps all use it.
 //!
 //! A series is a₁ cos φ + b₁ sin φ + Σ_{ν=1}^{V} A_ν cos(νpφ) + B_ν sin(νpφ), where p is
 //! the step of the surviving even harmonics (p = k for a two-stroke single-acting machine).
-//! Per point: one sincos of φ, w = e^{ipφ} by binary powering, then one complex rotation
-//! and one multiply-add pair per harmonic.
+//! Its SIMD evaluation lives in `series_kernels`.
 
-use multiversion::multiversion;
-use multiversion::target::target_cfg_f;
-
-use crate::error::{check_length, Result};
-use crate::exact::{evaluate_units, store, Coefficients, Quantity};
-use crate::grid::{AngleSource, GridAngles, Phi, PreparedPhi, Rotations, Run};
-use crate::harmonics::{lambda_paper, ExactLambdas, PhaseSums, UnitAmplitudes, PAPER_MAX_HARMONIC};
+use crate::error::Result;
+use crate::harmonics::{
+    gcd, harmonic_reach, harmonic_width, lambda_paper, ExactLambdas, PhaseSums, PAPER_MAX_HARMONIC,
+};
 use crate::mechanism::{Design, Phases};
-use crate::parallel::{for_each_row_segment, map_indices, Parallelism};
-use crate::trig::{Fused, MulAdd, Unfused};
+use crate::parallel::{map_indices, Parallelism};
 
 /// Which Λ_n and which cut.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -26,34 +25,223 @@ pub enum SeriesKind {
     Paper,
 }
 
+/// Units that share one design, with the sums of their phases: a whole regular in-line
+/// machine, or one unit of an engine of any layout.
+#[derive(Debug, Clone, Copy)]
+pub struct UnitGroup<'a> {
+    pub design: &'a Design,
+    pub sums: &'a PhaseSums,
+}
+
 /// One design's Q_u* as a short trigonometric series (see the module docs).
 #[derive(Debug, Clone, PartialEq)]
 pub struct FourierSeries {
-    pub a1: f64,
-    pub b1: f64,
+    pub(crate) a1: f64,
+    pub(crate) b1: f64,
     /// Step p of the even harmonics (0 when there are none).
-    pub step: usize,
+    pub(crate) step: usize,
     /// A_ν, B_ν for harmonic ν·step, ν = 1 … V.
-    pub cos: Vec<f64>,
-    pub sin: Vec<f64>,
+    pub(crate) cos: Vec<f64>,
+    pub(crate) sin: Vec<f64>,
     /// Whether the harmonics carried reach machine precision. As λ → 1 the harmonics decay
     /// ever more slowly; past MAX_HARMONIC (λ ≳ 0.9998) the series is incomplete, and the
     /// evaluation and extrema use the closed form instead of returning a truncation.
-    pub complete: bool,
+    pub(crate) complete: bool,
 }
 
-fn gcd(a: usize, b: usize) -> usize {
-    if b == 0 {
-        a
-    } else {
-        gcd(b, a % b)
+/// The per-unit amplitudes of eq. 14: N = U2 cos γ, W1 = N1 + N2, N1 = −U1 sin γ, so that
+/// Q = N cos ψ + W1 sin ψ + Σ_{n even} N1 Λ_n sin nψ.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Amplitudes {
+    pub n: f64,
+    pub w1: f64,
+    pub n1: f64,
+}
+
+impl Amplitudes {
+    pub(crate) fn new(design: &Design) -> Self {
+        let (sin_g, cos_g) = design.inclination.sin_cos();
+        let n1 = -design.u1 * sin_g;
+        Self {
+            n: design.u2 * cos_g,
+            w1: n1 - design.u2 * sin_g,
+            n1,
+        }
+    }
+}
+
+/// Where a group's Λ_2, Λ_4, … come from.
+enum Lambdas {
+    Exact(ExactLambdas),
+    /// The paper's λ-series; entries above n = 12 are 0, as the paper cuts there.
+    Paper([f64; PAPER_MAX_HARMONIC + 1], usize),
+}
+
+impl Lambdas {
+    fn new(kind: SeriesKind, crank_ratio: f64) -> Self {
+        match kind {
+            SeriesKind::Exact => Self::Exact(ExactLambdas::new(crank_ratio)),
+            SeriesKind::Paper => {
+                let mut values = [0.0; PAPER_MAX_HARMONIC + 1];
+                lambda_paper(crank_ratio, &mut values);
+                Self::Paper(values, 0)
+            }
+        }
+    }
+
+    /// Λ_n for the next even n.
+    fn next_even(&mut self) -> f64 {
+        match self {
+            Self::Exact(lambdas) => lambdas.next().unwrap_or(0.0),
+            Self::Paper(values, n) => {
+                *n += 2;
+                values.get(*n).copied().unwrap_or(0.0)
+            }
+        }
+    }
+}
+
+/// A group while its harmonics are summed.
+struct GroupState<'a> {
+    amplitudes: Amplitudes,
+    sums: &'a PhaseSums,
+    lambdas: Lambdas,
+    /// t = λ/(1 + √(1 − λ²)) and the tail's factor k·|N1|/((1 − t²)(1 − t⁴)).
+    t: f64,
+    tail_factor: f64,
+    /// t^{2M+1} after harmonic 2M.
+    t_power: f64,
+}
+
+/// Whether a harmonic sum stands above its own rounding noise: a sum of terms whose phase
+/// factors cancel to below 8ε of their size has cancelled, and is exactly zero.
+fn stands_out(a: f64, b: f64, noise: f64) -> bool {
+    a.hypot(b) > 8.0 * f64::EPSILON * noise
+}
+
+/// The harmonics of Q_u* of `groups`: (n, a_n, b_n) for n = 1 and the even n ≤ n_max that
+/// do not cancel, and whether the rest is provably negligible.
+///
+/// Per group g with C_n + iS_n its phase sums, a_1 = N C_1 + W1 S_1, b_1 = W1 C_1 − N S_1,
+/// and for even n a_n = W_n S_n, b_n = W_n C_n with W_n = N1 Λ_n; summed over the groups.
+///
+/// With `cut` (exact Λ_n only) the sum stops where a rigorous bound on the rest is below
+/// ε·rms(Q)/2: |Λ_{2m}| ≤ t^{2m−1}/(1 − t⁴) (2m·|C(½, m)| ≤ 1 and the ₂F₁ terms are dominated
+/// by t^{4b}) and |S_n| ≤ k, so the harmonics above 2M add at most
+/// Σ_g k_g·|N1_g|·t_g^{2M+1}/((1 − t_g²)(1 − t_g⁴)); by Parseval max|Q| ≥ rms(Q) =
+/// √(Σ (a_n² + b_n²)/2) over the harmonics kept so far. Without `cut` every harmonic up to
+/// n_max is summed and the result counts as complete.
+pub(crate) fn harmonic_terms(
+    groups: &[UnitGroup],
+    kind: SeriesKind,
+    n_max: usize,
+    cut: bool,
+) -> (Vec<(usize, f64, f64)>, bool) {
+    let reach = groups.iter().map(|g| g.sums.n_max()).min().unwrap_or(0);
+    let mut n_max = n_max.min(reach);
+    if kind == SeriesKind::Paper {
+        n_max = n_max.min(PAPER_MAX_HARMONIC);
+    }
+    let cut = cut && kind == SeriesKind::Exact;
+    let mut states: Vec<GroupState> = groups
+        .iter()
+        .map(|g| {
+            let amplitudes = Amplitudes::new(g.design);
+            let lambdas = Lambdas::new(kind, g.design.crank_ratio);
+            let t = match &lambdas {
+                Lambdas::Exact(exact) => exact.t(),
+                Lambdas::Paper(..) => 0.0,
+            };
+            let (t2, t4) = (t * t, t * t * t * t);
+            GroupState {
+                amplitudes,
+                sums: g.sums,
+                lambdas,
+                t,
+                tail_factor: g.sums.cranks as f64 * amplitudes.n1.abs() / ((1.0 - t2) * (1.0 - t4)),
+                t_power: t,
+            }
+        })
+        .collect();
+
+    let mut terms = Vec::new();
+    let (mut a1, mut b1, mut noise) = (0.0, 0.0, 0.0);
+    for s in &states {
+        let (c, sn, u) = (s.sums.cos[1], s.sums.sin[1], &s.amplitudes);
+        a1 += u.n * c + u.w1 * sn;
+        b1 += u.w1 * c - u.n * sn;
+        noise += (u.n.abs() + u.w1.abs()) * s.sums.noise(1);
+    }
+    let mut mean_square = 0.0;
+    if n_max >= 1 && stands_out(a1, b1, noise) {
+        terms.push((1, a1, b1));
+        mean_square = 0.5 * (a1 * a1 + b1 * b1);
+    }
+    // N1 = 0 in every group (γ = 0 or π, or U1 = 0): no even harmonics at all.
+    let mut complete = !cut || states.iter().all(|s| s.tail_factor == 0.0);
+    for n in (2..=n_max).step_by(2) {
+        if cut && complete {
+            break;
+        }
+        let (mut a, mut b, mut noise) = (0.0, 0.0, 0.0);
+        for s in states.iter_mut() {
+            let w = s.amplitudes.n1 * s.lambdas.next_even();
+            a += w * s.sums.sin[n];
+            b += w * s.sums.cos[n];
+            noise += w.abs() * s.sums.noise(n);
+        }
+        if stands_out(a, b, noise) {
+            terms.push((n, a, b));
+            mean_square += 0.5 * (a * a + b * b);
+        }
+        if cut {
+            let mut tail = 0.0;
+            for s in states.iter_mut() {
+                s.t_power *= s.t * s.t;
+                tail += s.tail_factor * s.t_power;
+            }
+            // Done when the rest is below ε·rms/2, or negligible outright (all cancelled).
+            complete = tail <= 0.5 * f64::EPSILON * mean_square.sqrt()
+                || states.iter().all(|s| s.t_power <= 1e-30);
+        }
+    }
+    (terms, complete)
+}
+
+/// Fourier coefficients a_n, b_n (n = 0 … a.len() − 1) of Q_u* of `groups`, exact Λ_n,
+/// every harmonic; a cancelled harmonic is exactly 0. The groups' phase sums must reach
+/// a.len() − 1.
+pub(crate) fn fourier_coefficients(groups: &[UnitGroup], a: &mut [f64], b: &mut [f64]) {
+    a.fill(0.0);
+    b.fill(0.0);
+    let (terms, _) = harmonic_terms(groups, SeriesKind::Exact, a.len().saturating_sub(1), false);
+    for (n, an, bn) in terms {
+        a[n] = an;
+        b[n] = bn;
     }
 }
 
 impl FourierSeries {
+    /// The series of `groups`: with exact Λ_n cut where the rest is provably below
+    /// ε·max|Q|/2, or the paper's eq. (16) (λ-series Λ_n, n ≤ 12).
+    pub(crate) fn new(kind: SeriesKind, groups: &[UnitGroup]) -> Self {
+        let (terms, complete) = harmonic_terms(groups, kind, usize::MAX, true);
+        let (a1, b1) = match terms.first() {
+            Some(&(1, a, b)) => (a, b),
+            _ => (0.0, 0.0),
+        };
+        let even: Vec<_> = terms.into_iter().filter(|&(n, _, _)| n > 1).collect();
+        Self {
+            complete,
+            ..Self::from_terms(a1, b1, &even)
+        }
+    }
+
     /// a₁ cos φ + b₁ sin φ + Σ (a_n cos nφ + b_n sin nφ) over `even` = [(n, a_n, b_n)], n even ascending.
-    pub fn from_terms(a1: f64, b1: f64, even: &[(usize, f64, f64)]) -> Self {
-        let step = even.iter().fold(0, |g, &(n, _, _)| gcd(g, n));
+    fn from_terms(a1: f64, b1: f64, even: &[(usize, f64, f64)]) -> Self {
+        let step = even
+            .iter()
+            .fold(0, |g, &(n, _, _)| gcd(g as u64, n as u64) as usize);
         let count = even.last().map_or(0, |&(n, _, _)| n / step.max(1));
         let (mut cos, mut sin) = (vec![0.0; count], vec![0.0; count]);
         for &(n, a, b) in even {
@@ -67,70 +255,6 @@ impl FourierSeries {
             cos,
             sin,
             complete: true,
-        }
-    }
-
-    /// The series with exact Λ_n, cut where the rest is provably below ε·max|Q|/2.
-    ///
-    /// Bound: |Λ_{2m}| ≤ t^{2m−1}/(1 − t⁴) (2m·|C(½, m)| ≤ 1 and the ₂F₁ terms are
-    /// dominated by t^{4b}), and |S_n| ≤ k, so the harmonics above 2M add at most
-    /// k·|N1|·t^{2M+1}/((1 − t²)(1 − t⁴)). By Parseval max|Q| ≥ rms(Q) =
-    /// √(Σ (a_n² + b_n²)/2) over the harmonics kept so far.
-    pub fn exact(design: &Design, sums: &PhaseSums) -> Self {
-        let unit = UnitAmplitudes::new(design);
-        let (a1, b1) = unit.first_harmonic(sums);
-        let mut mean_square = 0.5 * (a1 * a1 + b1 * b1);
-        let mut lambdas = ExactLambdas::new(design.crank_ratio);
-        let t = lambdas.t();
-        let (t2, t4) = (t * t, t * t * t * t);
-        let tail_factor = sums.cranks as f64 * unit.n1.abs() / ((1.0 - t2) * (1.0 - t4));
-        let mut even = Vec::new();
-        let mut t_power = t; // t^{2M+1} after harmonic 2M
-                             // N1 = 0 (γ = 0 or π, or U1 = 0): no even harmonics at all.
-        let mut complete = tail_factor == 0.0;
-        for n in (2..=sums.n_max()).step_by(2) {
-            if complete {
-                break;
-            }
-            let lambda_n = lambdas.next().unwrap_or(0.0);
-            let (a, b) = unit.even_harmonic(lambda_n, n, sums);
-            if a != 0.0 || b != 0.0 {
-                even.push((n, a, b));
-                mean_square += 0.5 * (a * a + b * b);
-            }
-            t_power *= t2;
-            // Done when the rest is below ε·rms/2, or negligible outright (all cancelled).
-            complete = tail_factor * t_power <= 0.5 * f64::EPSILON * mean_square.sqrt()
-                || t_power <= 1e-30;
-        }
-        Self {
-            complete,
-            ..Self::from_terms(a1, b1, &even)
-        }
-    }
-
-    /// The paper's eq. (16): Λ_n from the λ-series through λ¹¹, n ≤ 12, every harmonic
-    /// whose phase sum survives.
-    pub fn paper(design: &Design, sums: &PhaseSums) -> Self {
-        let unit = UnitAmplitudes::new(design);
-        let (a1, b1) = unit.first_harmonic(sums);
-        let mut lambdas = [0.0; PAPER_MAX_HARMONIC + 1];
-        lambda_paper(design.crank_ratio, &mut lambdas);
-        let even: Vec<_> = (2..=PAPER_MAX_HARMONIC.min(sums.n_max()))
-            .step_by(2)
-            .map(|n| {
-                let (a, b) = unit.even_harmonic(lambdas[n], n, sums);
-                (n, a, b)
-            })
-            .filter(|&(_, a, b)| a != 0.0 || b != 0.0)
-            .collect();
-        Self::from_terms(a1, b1, &even)
-    }
-
-    pub fn new(kind: SeriesKind, design: &Design, sums: &PhaseSums) -> Self {
-        match kind {
-            SeriesKind::Exact => Self::exact(design, sums),
-            SeriesKind::Paper => Self::paper(design, sums),
         }
     }
 
@@ -155,18 +279,13 @@ impl FourierSeries {
     }
 
     /// The antiderivative with zero constant term: for Q_u*, U_w* up to a constant.
-    pub fn integral(&self) -> Self {
+    pub(crate) fn integral(&self) -> Self {
         self.map_terms(|n, a, b| (-b / n as f64, a / n as f64))
-    }
-
-    /// The derivative: for Q_u*, dQ_u*/dφ.
-    pub fn derivative(&self) -> Self {
-        self.map_terms(|n, a, b| (n as f64 * b, -(n as f64) * a))
     }
 
     /// The series and its derivative at one angle (scalar: for root polishing, where a
     /// block kernel's set-up would cost more than the arithmetic).
-    pub fn value_and_slope_at(&self, phi: f64) -> (f64, f64) {
+    pub(crate) fn value_and_slope_at(&self, phi: f64) -> (f64, f64) {
         let (s, c) = phi.sin_cos();
         let mut value = self.a1 * c + self.b1 * s;
         let mut slope = self.b1 * c - self.a1 * s;
@@ -185,13 +304,24 @@ impl FourierSeries {
     }
 
     /// The series at one angle.
-    pub fn value_at(&self, phi: f64) -> f64 {
+    pub(crate) fn value_at(&self, phi: f64) -> f64 {
         self.value_and_slope_at(phi).0
     }
 
-    /// The highest harmonic carried.
-    pub fn highest_harmonic(&self) -> usize {
-        (self.step * self.cos.len()).max(usize::from(self.a1 != 0.0 || self.b1 != 0.0))
+    /// (n, √(a_n² + b_n²)) of the largest harmonic; (0, 0) when Q ≡ 0 (no harmonic leads).
+    pub(crate) fn leading_harmonic(&self) -> (usize, f64) {
+        let mut best = (1, self.a1.hypot(self.b1));
+        for (nu, (a, b)) in self.cos.iter().zip(&self.sin).enumerate() {
+            let amplitude = a.hypot(*b);
+            if amplitude > best.1 {
+                best = ((nu + 1) * self.step, amplitude);
+            }
+        }
+        if best.1 == 0.0 {
+            (0, 0.0)
+        } else {
+            best
+        }
     }
 }
 
@@ -210,226 +340,8 @@ fn power(c: f64, s: f64, mut e: usize) -> (f64, f64) {
     }
 }
 
-/// (re, im) of w·z, lane by lane.
-#[inline(always)]
-fn multiply<M: MulAdd, const N: usize>(w: &mut ([f64; N], [f64; N]), z: &([f64; N], [f64; N])) {
-    for l in 0..N {
-        let re = M::mul_add(w.0[l], z.0[l], -(w.1[l] * z.1[l]));
-        w.1[l] = M::mul_add(w.0[l], z.1[l], w.1[l] * z.0[l]);
-        w.0[l] = re;
-    }
-}
-
-/// (cos pφ, sin pφ) at N points from (cos φ, sin φ) by binary powering.
-#[inline(always)]
-fn power_lanes<M: MulAdd, const N: usize>(
-    c: &[f64; N],
-    s: &[f64; N],
-    mut e: usize,
-) -> ([f64; N], [f64; N]) {
-    let mut w = ([1.0; N], [0.0; N]);
-    let mut z = (*c, *s);
-    loop {
-        if e & 1 == 1 {
-            multiply::<M, N>(&mut w, &z);
-        }
-        e >>= 1;
-        if e == 0 {
-            return w;
-        }
-        let square = z;
-        multiply::<M, N>(&mut z, &square);
-    }
-}
-
-/// The series at N points, entirely in registers, given (cos φ, sin φ) and
-/// w = (cos pφ, sin pφ): a₁ cos φ + b₁ sin φ, then the harmonics of θ = pφ. Every point
-/// sees the same operations in the same order.
-#[inline(always)]
-fn series_points<M: MulAdd, const N: usize>(
-    series: &FourierSeries,
-    c: &[f64; N],
-    s: &[f64; N],
-    w: &([f64; N], [f64; N]),
-) -> [f64; N] {
-    let mut sum = [0.0; N];
-    for l in 0..N {
-        sum[l] = M::mul_add(series.a1, c[l], series.b1 * s[l]);
-    }
-    if series.cos.is_empty() {
-        return sum;
-    }
-    // Clenshaw's recurrence in θ = pφ, from the highest harmonic down:
-    // b_ν = c_ν + 2 cos θ·b_{ν+1} − b_{ν+2}; then Σ A_ν cos νθ = b^A_1 cos θ − b^A_2 and
-    // Σ B_ν sin νθ = b^B_1 sin θ. Three operations per harmonic and sequence, against ten
-    // for rotating e^{iνθ}; with the geometrically decaying coefficients of Q its rounding
-    // stays at a few ulps of the largest term.
-    let two_cos = w.0.map(|c| 2.0 * c);
-    let (mut a1, mut a2) = ([0.0; N], [0.0; N]);
-    let (mut b1, mut b2) = ([0.0; N], [0.0; N]);
-    for (&a, &b) in series.cos.iter().zip(&series.sin).rev() {
-        for l in 0..N {
-            let next_a = M::mul_add(two_cos[l], a1[l], a - a2[l]);
-            a2[l] = a1[l];
-            a1[l] = next_a;
-            let next_b = M::mul_add(two_cos[l], b1[l], b - b2[l]);
-            b2[l] = b1[l];
-            b1[l] = next_b;
-        }
-    }
-    // a₁·cos θ as (a₁/2)·(2 cos θ): the same value (halving is exact above the subnormals),
-    // and cos θ need not stay in a register through the recurrence (fewer spills).
-    for l in 0..N {
-        sum[l] += M::mul_add(b1[l], w.1[l], M::mul_add(0.5 * a1[l], two_cos[l], -a2[l]));
-    }
-    sum
-}
-
-/// Points per register block (four AVX-512 vectors).
-const LANES: usize = 32;
-
-/// Where a series block gets e^{ipφ}.
-trait HarmonicSource: Copy {
-    fn block<M: MulAdd, const N: usize>(
-        self,
-        offset: usize,
-        c: &[f64; N],
-        s: &[f64; N],
-        step: usize,
-    ) -> ([f64; N], [f64; N]);
-}
-
-/// e^{ipφ} = (e^{iφ})^p by binary powering.
-#[derive(Clone, Copy)]
-struct Powering;
-
-impl HarmonicSource for Powering {
-    #[inline(always)]
-    fn block<M: MulAdd, const N: usize>(
-        self,
-        _offset: usize,
-        c: &[f64; N],
-        s: &[f64; N],
-        step: usize,
-    ) -> ([f64; N], [f64; N]) {
-        power_lanes::<M, N>(c, s, step)
-    }
-}
-
-/// e^{ipφ} by rotation on a uniform grid, like e^{iφ}.
-impl HarmonicSource for GridAngles<'_> {
-    #[inline(always)]
-    fn block<M: MulAdd, const N: usize>(
-        self,
-        offset: usize,
-        _c: &[f64; N],
-        _s: &[f64; N],
-        _step: usize,
-    ) -> ([f64; N], [f64; N]) {
-        let (ws, wc) = AngleSource::block::<M, N>(self, offset, N);
-        (wc, ws)
-    }
-}
-
-#[inline(always)]
-fn series_segment<M: MulAdd>(
-    series: &FourierSeries,
-    run: Run,
-    harmonic: Option<&Rotations>,
-    out: &mut [f64],
-) {
-    match (run, harmonic) {
-        (Run::Grid(angles), Some(rotations)) => {
-            let first = angles.first;
-            series_blocks::<M, _, _>(series, angles, GridAngles { rotations, first }, out)
-        }
-        (Run::Grid(angles), None) => series_blocks::<M, _, _>(series, angles, Powering, out),
-        (Run::Points(angles), _) => series_blocks::<M, _, _>(series, angles, Powering, out),
-        (Run::Table(angles), _) => series_blocks::<M, _, _>(series, angles, Powering, out),
-    }
-}
-
-#[inline(always)]
-fn series_blocks<M: MulAdd, A: AngleSource, H: HarmonicSource>(
-    series: &FourierSeries,
-    angles: A,
-    harmonic: H,
-    out: &mut [f64],
-) {
-    // Register blocks of LANES points — sin/cos, e^{ipφ} and the harmonic sum without a
-    // pass over memory in between (several independent chains hide each step's latency);
-    // the last block padded.
-    for (b, o) in out.chunks_mut(LANES).enumerate() {
-        let (s, c) = angles.block::<M, LANES>(b * LANES, o.len());
-        let w = if series.cos.is_empty() {
-            ([1.0; LANES], [0.0; LANES]) // unused
-        } else {
-            harmonic.block::<M, LANES>(b * LANES, &c, &s, series.step)
-        };
-        store(o, &series_points::<M, LANES>(series, &c, &s, &w));
-    }
-}
-
-#[multiversion(targets("x86_64+avx512f+avx512vl+avx512dq+avx2+fma", "x86_64+avx2+fma"))]
-fn series_run(series: &FourierSeries, run: Run, harmonic: Option<&Rotations>, out: &mut [f64]) {
-    if target_cfg_f!(target_feature = "fma") {
-        series_segment::<Fused>(series, run, harmonic, out)
-    } else {
-        series_segment::<Unfused>(series, run, harmonic, out)
-    }
-}
-
-/// Evaluate a series at every φ of `phi` into `out`.
-pub fn evaluate_series_one(series: &FourierSeries, phi: &[f64], out: &mut [f64]) {
-    series_run(series, Run::points(phi), None, out)
-}
-
-/// φ prepared for series: on a uniform grid, the rotations of φ and of pφ for every
-/// harmonic step p among the series.
-pub(crate) struct SeriesPhi<'a> {
-    phi: PreparedPhi<'a>,
-    harmonics: Vec<(usize, Rotations)>,
-}
-
-impl<'a> SeriesPhi<'a> {
-    pub(crate) fn new(phi: Phi<'a>, series: &[FourierSeries], parallelism: Parallelism) -> Self {
-        let mut harmonics: Vec<(usize, Rotations)> = Vec::new();
-        if let Phi::Uniform(grid) = phi {
-            let mut steps: Vec<usize> = series
-                .iter()
-                .filter(|s| s.complete && !s.cos.is_empty())
-                .map(|s| s.step)
-                .collect();
-            steps.sort_unstable();
-            steps.dedup();
-            harmonics = steps
-                .into_iter()
-                .map(|p| (p, Rotations::new(&grid, p, parallelism)))
-                .collect();
-        }
-        Self {
-            phi: PreparedPhi::new(phi, parallelism),
-            harmonics,
-        }
-    }
-
-    pub(crate) fn len(&self) -> usize {
-        self.phi.len()
-    }
-
-    pub(crate) fn run(&self, first: usize, len: usize) -> Run<'_> {
-        self.phi.run(first, len)
-    }
-
-    pub(crate) fn harmonic(&self, step: usize) -> Option<&Rotations> {
-        self.harmonics
-            .iter()
-            .find(|(p, _)| *p == step)
-            .map(|(_, r)| r)
-    }
-}
-
-/// The series of every design (parallel for many designs).
+/// The series of every design of an in-line machine with crank phases `phases` (parallel
+/// for many designs).
 pub fn build_series(
     kind: SeriesKind,
     designs: &[Design],
@@ -439,81 +351,48 @@ pub fn build_series(
     let reach = match kind {
         SeriesKind::Exact => designs
             .iter()
-            .map(|d| crate::harmonics::harmonic_reach(d.crank_ratio))
+            .map(|d| harmonic_reach(d.crank_ratio))
             .max()
             .unwrap_or(24),
         SeriesKind::Paper => PAPER_MAX_HARMONIC,
     };
     let sums = PhaseSums::new(phases, reach);
     map_indices(designs.len(), designs.len() * 64, parallelism, |i| {
-        FourierSeries::new(kind, &designs[i], &sums)
+        FourierSeries::new(
+            kind,
+            &[UnitGroup {
+                design: &designs[i],
+                sums: &sums,
+            }],
+        )
     })
 }
 
-/// Q_u* from `series` where it is complete, else from the closed form of the same units,
-/// at the `out.len()` points of `run`.
-pub(crate) fn series_or_closed(
-    series: &FourierSeries,
-    units: &[Coefficients],
-    phases: &Phases,
-    run: Run,
-    harmonic: Option<&Rotations>,
-    out: &mut [f64],
-) {
-    if series.complete {
-        series_run(series, run, harmonic, out)
-    } else {
-        evaluate_units(Quantity::GeneralizedForce, units, phases, run, out)
-    }
-}
-
-/// Q_u* of each design at every φ from its series, or from the closed form where the
-/// series is incomplete (λ too close to 1 for MAX_HARMONIC harmonics), design-major.
-pub fn evaluate_series_or_exact<'a>(
-    series: &[FourierSeries],
+/// Fourier coefficients a_n, b_n (n = 0 … n_max) of every design of an in-line machine with
+/// crank phases `phases`, design-major rows of n_max + 1; in parallel for many designs.
+pub fn fourier_table(
     designs: &[Design],
-    phases: &Phases,
-    phi: impl Into<Phi<'a>>,
-    out: &mut [f64],
+    phases: &[f64],
+    n_max: usize,
     parallelism: Parallelism,
-) -> Result<()> {
-    let phi = SeriesPhi::new(phi.into(), series, parallelism);
-    let n_phi = phi.len();
-    check_length("designs", series.len(), designs.len())?;
-    check_length("out", series.len() * n_phi, out.len())?;
-    let work = out.len().saturating_mul(4);
-    for_each_row_segment(out, n_phi, work, parallelism, |row, col, segment| {
-        let units = [Coefficients::new(&designs[row])];
-        series_or_closed(
-            &series[row],
-            &units,
-            phases,
-            phi.run(col, segment.len()),
-            phi.harmonic(series[row].step),
-            segment,
-        )
+) -> Result<(Vec<f64>, Vec<f64>)> {
+    Phases::new(phases)?;
+    let width = harmonic_width(n_max)?;
+    let sums = PhaseSums::new(phases, n_max.max(1));
+    let rows = map_indices(designs.len(), designs.len() * 64, parallelism, |i| {
+        let (mut a, mut b) = (vec![0.0; width], vec![0.0; width]);
+        let group = UnitGroup {
+            design: &designs[i],
+            sums: &sums,
+        };
+        fourier_coefficients(&[group], &mut a, &mut b);
+        (a, b)
     });
-    Ok(())
-}
-
-/// Q_u* from the series of each design at every φ, design-major like `exact::evaluate`.
-pub fn evaluate_series<'a>(
-    series: &[FourierSeries],
-    phi: impl Into<Phi<'a>>,
-    out: &mut [f64],
-    parallelism: Parallelism,
-) -> Result<()> {
-    let phi = SeriesPhi::new(phi.into(), series, parallelism);
-    let n_phi = phi.len();
-    check_length("out", series.len() * n_phi, out.len())?;
-    let work = out.len().saturating_mul(4);
-    for_each_row_segment(out, n_phi, work, parallelism, |row, col, segment| {
-        series_run(
-            &series[row],
-            phi.run(col, segment.len()),
-            phi.harmonic(series[row].step),
-            segment,
-        )
-    });
-    Ok(())
+    let (mut a, mut b) = (Vec::with_capacity(designs.len() * width), Vec::new());
+    b.reserve(a.capacity());
+    for (row_a, row_b) in rows {
+        a.extend(row_a);
+        b.extend(row_b);
+    }
+    Ok((a, b))
 }

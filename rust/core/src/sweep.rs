@@ -1,16 +1,19 @@
-//! Design sweeps: many machines, each reduced on the fly to a handful of numbers, never a
-//! designs × φ matrix. The grid outputs come from the closed form; the extrema and the
-//! leading harmonic from the machine-precision Fourier series. Each design is processed independently (its own series, its own
-//! grid buffer), so results are bit-identical for any thread count and chunking.
+//! Design sweeps: many machines — in-line designs sharing phase sets, or engines of any
+//! layout — each reduced on the fly to a handful of numbers, never a machines × φ matrix.
+//! The grid outputs come from the closed form; the extrema and the leading harmonic from
+//! the machine-precision Fourier series. Each machine is processed independently (its own
+//! series, its own grid buffer), so results are bit-identical for any thread count and
+//! chunking.
 
+use crate::angles::{Run, TableAngles};
+use crate::engine::Engine;
 use crate::error::{MechanismError, Result};
-use crate::exact::{evaluate_run, Quantity};
-use crate::extrema::energy_extrema;
-use crate::grid::{Run, TableAngles};
+use crate::exact::{evaluate_units, Coefficients, Quantity};
+use crate::extrema::extrema_of_units;
 use crate::harmonics::{harmonic_reach, PhaseSums};
 use crate::mechanism::{Design, Phases};
 use crate::parallel::{map_indices_with, Parallelism};
-use crate::series::FourierSeries;
+use crate::series::{FourierSeries, SeriesKind, UnitGroup};
 use crate::trig::sincos_table;
 
 /// What to compute for each design.
@@ -24,6 +27,29 @@ pub struct SweepOutputs {
     pub harmonic: bool,
 }
 
+impl SweepOutputs {
+    /// The groups to compute for outputs named as `SweepRow::NAMES`.
+    pub fn from_names<S: AsRef<str>>(names: &[S]) -> Result<Self> {
+        let mut outputs = Self::default();
+        for name in names {
+            match name.as_ref() {
+                "force_max_abs" | "force_rms" => outputs.force = true,
+                "energy_min" | "energy_max" | "energy_range" => outputs.energy = true,
+                "leading_harmonic" | "leading_amplitude" => outputs.harmonic = true,
+                other => {
+                    return Err(MechanismError::InvalidChoice {
+                        parameter: "outputs",
+                        value: format!("{other:?}"),
+                        allowed: "force_max_abs, force_rms, energy_min, energy_max, \
+                                  energy_range, leading_harmonic, leading_amplitude",
+                    })
+                }
+            }
+        }
+        Ok(outputs)
+    }
+}
+
 /// One design's reductions (NaN where not requested).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SweepRow {
@@ -34,6 +60,33 @@ pub struct SweepRow {
     pub energy_range: f64,
     pub leading_harmonic: f64,
     pub leading_amplitude: f64,
+}
+
+impl SweepRow {
+    /// Every output a sweep can compute, in column order.
+    pub const NAMES: [&'static str; 7] = [
+        "force_max_abs",
+        "force_rms",
+        "energy_min",
+        "energy_max",
+        "energy_range",
+        "leading_harmonic",
+        "leading_amplitude",
+    ];
+
+    /// The output called `name` (one of `NAMES`).
+    pub fn get(&self, name: &str) -> Option<f64> {
+        Some(match name {
+            "force_max_abs" => self.force_max_abs,
+            "force_rms" => self.force_rms,
+            "energy_min" => self.energy_min,
+            "energy_max" => self.energy_max,
+            "energy_range" => self.energy_range,
+            "leading_harmonic" => self.leading_harmonic,
+            "leading_amplitude" => self.leading_amplitude,
+            _ => return None,
+        })
+    }
 }
 
 /// The distinct crank phase sets of a sweep, each with its phase sums.
@@ -94,26 +147,12 @@ fn peak_and_sum_of_squares(values: &[f64]) -> (f64, f64) {
     (peak, squares.iter().sum())
 }
 
-/// The largest harmonic of a series and its amplitude √(a_n² + b_n²).
-fn leading_harmonic(series: &FourierSeries) -> (f64, f64) {
-    let mut best = (1.0, series.a1.hypot(series.b1));
-    for (nu, (a, b)) in series.cos.iter().zip(&series.sin).enumerate() {
-        let amplitude = a.hypot(*b);
-        if amplitude > best.1 {
-            best = (((nu + 1) * series.step) as f64, amplitude);
-        }
-    }
-    if best.1 == 0.0 {
-        (0.0, 0.0) // Q ≡ 0: no harmonic leads
-    } else {
-        best
-    }
-}
-
+/// The reductions of one machine: its kernel coefficients (shared or per unit), phases and
+/// unit groups; `buffer` is scratch for the grid values.
 fn sweep_one(
-    design: &Design,
+    coefficients: &[Coefficients],
     phases: &Phases,
-    sums: &PhaseSums,
+    groups: &[UnitGroup],
     grid: TableAngles,
     outputs: SweepOutputs,
     buffer: &mut Vec<f64>,
@@ -132,9 +171,9 @@ fn sweep_one(
         // which beats building and summing a series for the short grids of a sweep.
         let n = grid.sin.len();
         buffer.resize(n, 0.0);
-        evaluate_run(
+        evaluate_units(
             Quantity::GeneralizedForce,
-            design,
+            coefficients,
             phases,
             Run::Table(grid),
             buffer,
@@ -146,17 +185,27 @@ fn sweep_one(
     if !(outputs.energy || outputs.harmonic) {
         return row;
     }
-    let series = FourierSeries::exact(design, sums);
+    let series = FourierSeries::new(SeriesKind::Exact, groups);
     if outputs.energy {
-        let extrema = energy_extrema(design, phases, &series);
+        let extrema = extrema_of_units(coefficients, phases, &series);
         row.energy_min = extrema.min;
         row.energy_max = extrema.max;
         row.energy_range = extrema.range;
     }
     if outputs.harmonic {
-        (row.leading_harmonic, row.leading_amplitude) = leading_harmonic(&series);
+        let (n, amplitude) = series.leading_harmonic();
+        (row.leading_harmonic, row.leading_amplitude) = (n as f64, amplitude);
     }
     row
+}
+
+/// sin φ and cos φ of the force grid (empty when no force output is asked), computed once
+/// and shared by every machine: the same values each would compute itself.
+fn grid_table(phi: &[f64], outputs: SweepOutputs) -> Result<(Vec<f64>, Vec<f64>)> {
+    if outputs.force && phi.is_empty() {
+        return Err(MechanismError::Empty { parameter: "phi" });
+    }
+    Ok(sincos_table(if outputs.force { phi } else { &[] }))
 }
 
 /// Reduce every design: `phase_set[i]` indexes `table` for design i; `phi` is the grid for
@@ -183,13 +232,8 @@ pub fn sweep(
             allowed: "an index into the phase-set table",
         });
     }
-    if outputs.force && phi.is_empty() {
-        return Err(MechanismError::Empty { parameter: "phi" });
-    }
     let work = designs.len().saturating_mul(phi.len().max(64));
-    // sin φ and cos φ of the grid, computed once and shared by every design: the same
-    // values each design would compute itself, so results do not change.
-    let (sin, cos) = sincos_table(if outputs.force { phi } else { &[] });
+    let (sin, cos) = grid_table(phi, outputs)?;
     let grid = TableAngles {
         sin: &sin,
         cos: &cos,
@@ -202,14 +246,55 @@ pub fn sweep(
         Vec::new,
         |buffer, i| {
             let set = phase_set[i] as usize;
+            let group = UnitGroup {
+                design: &designs[i],
+                sums: &table.sums[set],
+            };
+            let coefficients = [Coefficients::new(&designs[i])];
             sweep_one(
-                &designs[i],
+                &coefficients,
                 &table.phases[set],
-                &table.sums[set],
+                &[group],
                 grid,
                 outputs,
                 buffer,
             )
+        },
+    ))
+}
+
+/// Reduce every engine (any layout, unequal cylinders, Monte-Carlo samples of tolerances)
+/// as `sweep` reduces designs; `phi` is the grid for the force outputs.
+pub fn sweep_engines(
+    engines: &[Engine],
+    phi: &[f64],
+    outputs: SweepOutputs,
+    parallelism: Parallelism,
+) -> Result<Vec<SweepRow>> {
+    let cylinders: usize = engines.iter().map(|e| e.cylinders().len()).sum();
+    let work = cylinders.saturating_mul(phi.len().max(64));
+    let (sin, cos) = grid_table(phi, outputs)?;
+    let grid = TableAngles {
+        sin: &sin,
+        cos: &cos,
+    };
+    Ok(map_indices_with(
+        engines.len(),
+        work,
+        parallelism,
+        Vec::new,
+        |buffer, i| {
+            let engine = &engines[i];
+            engine.with_groups(engine.reach(), |groups| {
+                sweep_one(
+                    engine.coefficients(),
+                    engine.phases(),
+                    groups,
+                    grid,
+                    outputs,
+                    buffer,
+                )
+            })
         },
     ))
 }

@@ -50,7 +50,7 @@ const PIO2_LO: f64 = 2.022_266_248_795_950_6e-21; // 0x1.3198a2e037073p-69
 const ROUND_MAGIC: f64 = 6_755_399_441_055_744.0;
 
 /// Above this |x| the reduction is handed to libm.
-pub const REDUCTION_LIMIT: f64 = 1.0e5;
+pub(crate) const REDUCTION_LIMIT: f64 = 1.0e5;
 
 // Taylor coefficients ±1/n!; every n! here (n ≤ 18) is exact in f64.
 const S3: f64 = -1.0 / 6.0;
@@ -72,8 +72,8 @@ const C16: f64 = 1.0 / 20_922_789_888_000.0;
 const C18: f64 = -1.0 / 6_402_373_705_728_000.0;
 
 /// (sin x, cos x) for |x| ≤ `REDUCTION_LIMIT`; NaN for non-finite x (unfused arithmetic).
-#[inline(always)]
-pub fn sincos_reduced(x: f64) -> (f64, f64) {
+#[cfg(test)]
+fn sincos_reduced(x: f64) -> (f64, f64) {
     sincos_with::<Unfused>(x)
 }
 

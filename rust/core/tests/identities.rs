@@ -18,7 +18,7 @@ fn designs() -> Vec<Design> {
     let mut out = Vec::new();
     for &lambda in &[0.0, 1e-7, 0.25, 0.45, 0.8, 0.95] {
         for &gamma in &[0.0, FRAC_PI_2, -FRAC_PI_2, PI, 0.7, -2.3] {
-            out.push(Design::new(lambda, gamma, 0.9, -0.35).unwrap());
+            out.push(Design::new(lambda, gamma, 0.9, -0.35).expect("valid design"));
         }
     }
     out

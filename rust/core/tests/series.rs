@@ -19,7 +19,7 @@ fn machines() -> Vec<Vec<f64>> {
     for k in 1..=12 {
         for strokes in [Strokes::Two, Strokes::Four] {
             for acting in [Acting::Single, Acting::Double] {
-                sets.push(crank_phases(k, strokes, acting).unwrap());
+                sets.push(crank_phases(k, strokes, acting).expect("k >= 1"));
             }
         }
     }

@@ -1,0 +1,303 @@
+//! The SIMD evaluation of a `FourierSeries` (the model is in `series`): only the harmonics
+//! that survive the crank sum, so that the cost per point hardly depends on k.
+//!
+//! Per point: one sincos of φ (or a rotation on a uniform grid), w = e^{ipφ} by binary
+//! powering (or by rotation), then Clenshaw's recurrence over the harmonics of θ = pφ.
+
+use multiversion::multiversion;
+use multiversion::target::target_cfg_f;
+
+use crate::angles::{AngleSource, GridAngles, Phi, PreparedPhi, Rotations, Run};
+use crate::error::{check_length, Result};
+use crate::exact::{evaluate_units, store, Coefficients, Quantity};
+use crate::mechanism::{Design, Phases};
+use crate::parallel::{for_each_row_segment, Parallelism};
+use crate::series::FourierSeries;
+use crate::trig::{Fused, MulAdd, Unfused};
+
+/// (re, im) of w·z, lane by lane.
+#[inline(always)]
+fn multiply<M: MulAdd, const N: usize>(w: &mut ([f64; N], [f64; N]), z: &([f64; N], [f64; N])) {
+    for l in 0..N {
+        let re = M::mul_add(w.0[l], z.0[l], -(w.1[l] * z.1[l]));
+        w.1[l] = M::mul_add(w.0[l], z.1[l], w.1[l] * z.0[l]);
+        w.0[l] = re;
+    }
+}
+
+/// (cos pφ, sin pφ) at N points from (cos φ, sin φ) by binary powering.
+#[inline(always)]
+fn power_lanes<M: MulAdd, const N: usize>(
+    c: &[f64; N],
+    s: &[f64; N],
+    mut e: usize,
+) -> ([f64; N], [f64; N]) {
+    let mut w = ([1.0; N], [0.0; N]);
+    let mut z = (*c, *s);
+    loop {
+        if e & 1 == 1 {
+            multiply::<M, N>(&mut w, &z);
+        }
+        e >>= 1;
+        if e == 0 {
+            return w;
+        }
+        let square = z;
+        multiply::<M, N>(&mut z, &square);
+    }
+}
+
+/// The series at N points, entirely in registers, given (cos φ, sin φ) and
+/// w = (cos pφ, sin pφ): a₁ cos φ + b₁ sin φ, then the harmonics of θ = pφ. Every point
+/// sees the same operations in the same order.
+#[inline(always)]
+fn series_points<M: MulAdd, const N: usize>(
+    series: &FourierSeries,
+    c: &[f64; N],
+    s: &[f64; N],
+    w: &([f64; N], [f64; N]),
+) -> [f64; N] {
+    let mut sum = [0.0; N];
+    for l in 0..N {
+        sum[l] = M::mul_add(series.a1, c[l], series.b1 * s[l]);
+    }
+    if series.cos.is_empty() {
+        return sum;
+    }
+    // Clenshaw's recurrence in θ = pφ, from the highest harmonic down:
+    // b_ν = c_ν + 2 cos θ·b_{ν+1} − b_{ν+2}; then Σ A_ν cos νθ = b^A_1 cos θ − b^A_2 and
+    // Σ B_ν sin νθ = b^B_1 sin θ. Three operations per harmonic and sequence, against ten
+    // for rotating e^{iνθ}; with the geometrically decaying coefficients of Q its rounding
+    // stays at a few ulps of the largest term.
+    let two_cos = w.0.map(|c| 2.0 * c);
+    let (mut a1, mut a2) = ([0.0; N], [0.0; N]);
+    let (mut b1, mut b2) = ([0.0; N], [0.0; N]);
+    for (&a, &b) in series.cos.iter().zip(&series.sin).rev() {
+        for l in 0..N {
+            let next_a = M::mul_add(two_cos[l], a1[l], a - a2[l]);
+            a2[l] = a1[l];
+            a1[l] = next_a;
+            let next_b = M::mul_add(two_cos[l], b1[l], b - b2[l]);
+            b2[l] = b1[l];
+            b1[l] = next_b;
+        }
+    }
+    // a₁·cos θ as (a₁/2)·(2 cos θ): the same value (halving is exact above the subnormals),
+    // and cos θ need not stay in a register through the recurrence (fewer spills).
+    for l in 0..N {
+        sum[l] += M::mul_add(b1[l], w.1[l], M::mul_add(0.5 * a1[l], two_cos[l], -a2[l]));
+    }
+    sum
+}
+
+/// Points per register block (four AVX-512 vectors).
+const LANES: usize = 32;
+
+/// Where a series block gets e^{ipφ}.
+trait HarmonicSource: Copy {
+    fn block<M: MulAdd, const N: usize>(
+        self,
+        offset: usize,
+        c: &[f64; N],
+        s: &[f64; N],
+        step: usize,
+    ) -> ([f64; N], [f64; N]);
+}
+
+/// e^{ipφ} = (e^{iφ})^p by binary powering.
+#[derive(Clone, Copy)]
+struct Powering;
+
+impl HarmonicSource for Powering {
+    #[inline(always)]
+    fn block<M: MulAdd, const N: usize>(
+        self,
+        _offset: usize,
+        c: &[f64; N],
+        s: &[f64; N],
+        step: usize,
+    ) -> ([f64; N], [f64; N]) {
+        power_lanes::<M, N>(c, s, step)
+    }
+}
+
+/// e^{ipφ} by rotation on a uniform grid, like e^{iφ}.
+impl HarmonicSource for GridAngles<'_> {
+    #[inline(always)]
+    fn block<M: MulAdd, const N: usize>(
+        self,
+        offset: usize,
+        _c: &[f64; N],
+        _s: &[f64; N],
+        _step: usize,
+    ) -> ([f64; N], [f64; N]) {
+        let (ws, wc) = AngleSource::block::<M, N>(self, offset, N);
+        (wc, ws)
+    }
+}
+
+#[inline(always)]
+fn series_segment<M: MulAdd>(
+    series: &FourierSeries,
+    run: Run,
+    harmonic: Option<&Rotations>,
+    out: &mut [f64],
+) {
+    match (run, harmonic) {
+        (Run::Grid(angles), Some(rotations)) => {
+            let first = angles.first;
+            series_blocks::<M, _, _>(series, angles, GridAngles { rotations, first }, out)
+        }
+        (Run::Grid(angles), None) => series_blocks::<M, _, _>(series, angles, Powering, out),
+        (Run::Points(angles), _) => series_blocks::<M, _, _>(series, angles, Powering, out),
+        (Run::Table(angles), _) => series_blocks::<M, _, _>(series, angles, Powering, out),
+    }
+}
+
+#[inline(always)]
+fn series_blocks<M: MulAdd, A: AngleSource, H: HarmonicSource>(
+    series: &FourierSeries,
+    angles: A,
+    harmonic: H,
+    out: &mut [f64],
+) {
+    // Register blocks of LANES points — sin/cos, e^{ipφ} and the harmonic sum without a
+    // pass over memory in between (several independent chains hide each step's latency);
+    // the last block padded.
+    for (b, o) in out.chunks_mut(LANES).enumerate() {
+        let (s, c) = angles.block::<M, LANES>(b * LANES, o.len());
+        let w = if series.cos.is_empty() {
+            ([1.0; LANES], [0.0; LANES]) // unused
+        } else {
+            harmonic.block::<M, LANES>(b * LANES, &c, &s, series.step)
+        };
+        store(o, &series_points::<M, LANES>(series, &c, &s, &w));
+    }
+}
+
+#[multiversion(targets("x86_64+avx512f+avx512vl+avx512dq+avx2+fma", "x86_64+avx2+fma"))]
+fn series_run(series: &FourierSeries, run: Run, harmonic: Option<&Rotations>, out: &mut [f64]) {
+    if target_cfg_f!(target_feature = "fma") {
+        series_segment::<Fused>(series, run, harmonic, out)
+    } else {
+        series_segment::<Unfused>(series, run, harmonic, out)
+    }
+}
+
+/// Evaluate a series at every φ of `phi` into `out`.
+pub(crate) fn evaluate_series_one(series: &FourierSeries, phi: &[f64], out: &mut [f64]) {
+    series_run(series, Run::points(phi), None, out)
+}
+
+/// φ prepared for series: on a uniform grid, the rotations of φ and of pφ for every
+/// harmonic step p among the series.
+pub(crate) struct SeriesPhi<'a> {
+    phi: PreparedPhi<'a>,
+    harmonics: Vec<(usize, Rotations)>,
+}
+
+impl<'a> SeriesPhi<'a> {
+    pub(crate) fn new(phi: Phi<'a>, series: &[FourierSeries], parallelism: Parallelism) -> Self {
+        let mut harmonics: Vec<(usize, Rotations)> = Vec::new();
+        if let Phi::Uniform(grid) = phi {
+            let mut steps: Vec<usize> = series
+                .iter()
+                .filter(|s| s.complete && !s.cos.is_empty())
+                .map(|s| s.step)
+                .collect();
+            steps.sort_unstable();
+            steps.dedup();
+            harmonics = steps
+                .into_iter()
+                .map(|p| (p, Rotations::new(&grid, p, parallelism)))
+                .collect();
+        }
+        Self {
+            phi: PreparedPhi::new(phi, parallelism),
+            harmonics,
+        }
+    }
+
+    pub(crate) fn len(&self) -> usize {
+        self.phi.len()
+    }
+
+    pub(crate) fn run(&self, first: usize, len: usize) -> Run<'_> {
+        self.phi.run(first, len)
+    }
+
+    pub(crate) fn harmonic(&self, step: usize) -> Option<&Rotations> {
+        self.harmonics
+            .iter()
+            .find(|(p, _)| *p == step)
+            .map(|(_, r)| r)
+    }
+}
+
+/// Q_u* from `series` where it is complete, else from the closed form of the same units,
+/// at the `out.len()` points of `run`.
+pub(crate) fn series_or_closed(
+    series: &FourierSeries,
+    units: &[Coefficients],
+    phases: &Phases,
+    run: Run,
+    harmonic: Option<&Rotations>,
+    out: &mut [f64],
+) {
+    if series.complete {
+        series_run(series, run, harmonic, out)
+    } else {
+        evaluate_units(Quantity::GeneralizedForce, units, phases, run, out)
+    }
+}
+
+/// Q_u* of each design at every φ from its series, or from the closed form where the
+/// series is incomplete (λ too close to 1 for MAX_HARMONIC harmonics), design-major.
+pub fn evaluate_series_or_exact<'a>(
+    series: &[FourierSeries],
+    designs: &[Design],
+    phases: &Phases,
+    phi: impl Into<Phi<'a>>,
+    out: &mut [f64],
+    parallelism: Parallelism,
+) -> Result<()> {
+    let phi = SeriesPhi::new(phi.into(), series, parallelism);
+    let n_phi = phi.len();
+    check_length("designs", series.len(), designs.len())?;
+    check_length("out", series.len() * n_phi, out.len())?;
+    let work = out.len().saturating_mul(4);
+    for_each_row_segment(out, n_phi, work, parallelism, |row, col, segment| {
+        let units = [Coefficients::new(&designs[row])];
+        series_or_closed(
+            &series[row],
+            &units,
+            phases,
+            phi.run(col, segment.len()),
+            phi.harmonic(series[row].step),
+            segment,
+        )
+    });
+    Ok(())
+}
+
+/// Q_u* from the series of each design at every φ, design-major like `exact::evaluate`.
+pub fn evaluate_series<'a>(
+    series: &[FourierSeries],
+    phi: impl Into<Phi<'a>>,
+    out: &mut [f64],
+    parallelism: Parallelism,
+) -> Result<()> {
+    let phi = SeriesPhi::new(phi.into(), series, parallelism);
+    let n_phi = phi.len();
+    check_length("out", series.len() * n_phi, out.len())?;
+    let work = out.len().saturating_mul(4);
+    for_each_row_segment(out, n_phi, work, parallelism, |row, col, segment| {
+        series_run(
+            &series[row],
+            phi.run(col, segment.len()),
+            phi.harmonic(series[row].step),
+            segment,
+        )
+    });
+    Ok(())
+}

@@ -1,0 +1,101 @@
+//! Manufacturing tolerances: how far harmonics that cancel for identical cylinders come
+//! back when the units' masses and phases scatter.
+//!
+//! For harmonic n, c_n = a_n + i b_n is linear in u1_j and u2_j and depends on α_j through
+//! e^{±inα_j}, so for small independent errors, to first order,
+//! E|δc_n|² = Σ_j |∂c_n/∂u1_j|²·(σ_u1·u1_j)² + |∂c_n/∂u2_j|²·(σ_u2·u2_j)² + |∂c_n/∂α_j|²·σ_α².
+
+use crate::engine::Engine;
+use crate::error::{check, Result};
+use crate::harmonics::lambda_exact;
+
+/// Standard deviations of independent per-unit errors.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct UnitErrors {
+    /// Relative standard deviation of each u1_j (unequal reciprocating masses).
+    pub u1_rel: f64,
+    /// Relative standard deviation of each u2_j (unequal rotating unbalance).
+    pub u2_rel: f64,
+    /// Standard deviation of each phase α_j, in radians.
+    pub phase: f64,
+}
+
+impl UnitErrors {
+    fn validate(&self) -> Result<()> {
+        let non_negative = |x: f64| x >= 0.0;
+        check("u1_rel", self.u1_rel, "a finite u1_rel >= 0", non_negative)?;
+        check("u2_rel", self.u2_rel, "a finite u2_rel >= 0", non_negative)?;
+        check(
+            "phase",
+            self.phase,
+            "a finite phase >= 0 (radians)",
+            non_negative,
+        )?;
+        Ok(())
+    }
+}
+
+/// One harmonic's nominal amplitude √(a_n² + b_n²) and the rms of its first-order scatter.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HarmonicScatter {
+    pub n: usize,
+    pub amplitude: f64,
+    pub scatter_rms: f64,
+}
+
+impl Engine {
+    /// The nominal amplitude and first-order scatter of harmonics n = 1 and the even
+    /// n ≤ n_max of Q_u* under the errors `errors` (see the module docs).
+    pub fn harmonic_sensitivity(
+        &self,
+        errors: UnitErrors,
+        n_max: usize,
+    ) -> Result<Vec<HarmonicScatter>> {
+        errors.validate()?;
+        let (a, b) = self.fourier_coefficients(n_max)?;
+        let width = a.len();
+        let mut lambdas = vec![0.0; width];
+        let mut variance = vec![0.0; width];
+        for c in self.cylinders() {
+            let (sin_g, cos_g) = c.inclination.sin_cos();
+            let (sin_a, cos_a) = c.phase.sin_cos();
+            let (sd_u1, sd_u2) = (errors.u1_rel * c.u1, errors.u2_rel * c.u2);
+            let phase_var = errors.phase * errors.phase;
+            if n_max >= 1 {
+                // a_1 = N cos α + W1 sin α, b_1 = W1 cos α − N sin α;
+                // N = u2 cos γ, W1 = −(u1 + u2) sin γ.
+                let (big_n, w1) = (c.u2 * cos_g, -(c.u1 + c.u2) * sin_g);
+                let d_u1 = (-sin_g * sin_a, -sin_g * cos_a);
+                let d_u2 = (
+                    cos_g * cos_a - sin_g * sin_a,
+                    -sin_g * cos_a - cos_g * sin_a,
+                );
+                let d_alpha = (-big_n * sin_a + w1 * cos_a, -w1 * sin_a - big_n * cos_a);
+                variance[1] += squared(d_u1) * sd_u1 * sd_u1
+                    + squared(d_u2) * sd_u2 * sd_u2
+                    + squared(d_alpha) * phase_var;
+            }
+            // a_n = W_n sin nα, b_n = W_n cos nα with W_n = −u1 sin γ Λ_n (n even).
+            lambda_exact(c.crank_ratio, &mut lambdas);
+            for n in (2..width).step_by(2) {
+                let (s, co) = (n as f64 * c.phase).sin_cos();
+                let w = -c.u1 * sin_g * lambdas[n];
+                let d_u1 = (-sin_g * lambdas[n] * s, -sin_g * lambdas[n] * co);
+                let d_alpha = (w * n as f64 * co, -w * n as f64 * s);
+                variance[n] += squared(d_u1) * sd_u1 * sd_u1 + squared(d_alpha) * phase_var;
+            }
+        }
+        Ok((1..width)
+            .filter(|&n| n == 1 || n % 2 == 0)
+            .map(|n| HarmonicScatter {
+                n,
+                amplitude: a[n].hypot(b[n]),
+                scatter_rms: variance[n].sqrt(),
+            })
+            .collect())
+    }
+}
+
+fn squared((x, y): (f64, f64)) -> f64 {
+    x * x + y * y
+}
