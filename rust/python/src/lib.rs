@@ -1,6 +1,13 @@
-//! The `multicrank._native` extension: converts numpy arrays to slices, releases the GIL
-//! around the core kernels and converts the results back. Broadcasting, coercion and the
-//! user-facing conveniences live in the Python package (`python/multicrank/_api.py`).
+//! The `multicrank._native` extension: borrows numpy arrays as slices, releases the GIL
+//! around the core and returns fresh numpy arrays — with names where there are several.
+//! Validation of values and all the mathematics live in the core (`multicrank-core`);
+//! broadcasting, coercion and the user-facing conveniences in the Python package.
+//!
+//! Bundles: a design is a dict of four equal-length float64 arrays (`crank_ratio`,
+//! `inclination`, `u1`, `u2`), an engine a dict of five (`phase`, `inclination`,
+//! `crank_ratio`, `u1`, `u2`), φ either an array of points or a uniform grid
+//! `(start, step, count)`. Every call that can run in parallel takes `parallel_threshold`
+//! (work size from which it goes parallel; None = the global default).
 
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 
@@ -9,6 +16,7 @@ use numpy::{IntoPyArray, PyArray1, PyArrayMethods, PyReadonlyArray1};
 use pyo3::create_exception;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
+use pyo3::types::PyDict;
 
 create_exception!(
     multicrank,
@@ -22,32 +30,145 @@ fn to_py_err(error: core::MechanismError) -> PyErr {
     MechanismError::new_err(error.to_string())
 }
 
-/// Work (points × cranks) from which kernels run on rayon's pool.
+/// Work (points × cranks) from which kernels run on rayon's pool, unless a call says.
 static PARALLEL_THRESHOLD: AtomicUsize = AtomicUsize::new(core::Parallelism::DEFAULT_THRESHOLD);
 /// Set in a forked child: rayon's pool threads do not survive fork, so stay serial there.
 static FORKED_CHILD: AtomicBool = AtomicBool::new(false);
 
-fn parallelism() -> core::Parallelism {
+fn parallelism(threshold: Option<usize>) -> core::Parallelism {
     if FORKED_CHILD.load(Ordering::Relaxed) {
         core::Parallelism::SERIAL
     } else {
         core::Parallelism {
-            threshold: PARALLEL_THRESHOLD.load(Ordering::Relaxed),
+            threshold: threshold.unwrap_or_else(|| PARALLEL_THRESHOLD.load(Ordering::Relaxed)),
         }
     }
 }
 
-fn slice<'a>(array: &'a PyReadonlyArray1<'_, f64>) -> PyResult<&'a [f64]> {
-    Ok(array.as_slice()?)
+/// The crank angles of an evaluation: points, or a uniform grid (start, step, count).
+#[derive(FromPyObject)]
+enum PhiArg<'py> {
+    Grid((f64, f64, usize)),
+    Points(PyReadonlyArray1<'py, f64>),
 }
 
-/// The crank angles: the points given, or a uniform grid (start, step, len) when the
-/// Python side passes one (then `points` is empty and ignored).
-fn phi_from(points: &[f64], uniform: Option<(f64, f64, usize)>) -> core::Result<core::Phi<'_>> {
-    Ok(match uniform {
-        Some((start, step, len)) => core::UniformGrid::new(start, step, len)?.into(),
-        None => points.into(),
-    })
+/// `PhiArg` borrowed, ready to cross into a detached closure.
+#[derive(Clone, Copy)]
+enum PhiSlice<'a> {
+    Grid(f64, f64, usize),
+    Points(&'a [f64]),
+}
+
+impl PhiArg<'_> {
+    fn slice(&self) -> PyResult<PhiSlice<'_>> {
+        Ok(match self {
+            Self::Grid((start, step, count)) => PhiSlice::Grid(*start, *step, *count),
+            Self::Points(points) => PhiSlice::Points(points.as_slice()?),
+        })
+    }
+}
+
+impl<'a> PhiSlice<'a> {
+    fn len(self) -> usize {
+        match self {
+            Self::Grid(_, _, count) => count,
+            Self::Points(points) => points.len(),
+        }
+    }
+
+    fn phi(self) -> core::Result<core::Phi<'a>> {
+        Ok(match self {
+            Self::Grid(start, step, count) => core::UniformGrid::new(start, step, count)?.into(),
+            Self::Points(points) => points.into(),
+        })
+    }
+}
+
+/// Designs as four broadcast columns of one length.
+#[derive(FromPyObject)]
+#[pyo3(from_item_all)]
+struct DesignColumns<'py> {
+    crank_ratio: PyReadonlyArray1<'py, f64>,
+    inclination: PyReadonlyArray1<'py, f64>,
+    u1: PyReadonlyArray1<'py, f64>,
+    u2: PyReadonlyArray1<'py, f64>,
+}
+
+impl DesignColumns<'_> {
+    fn slices(&self) -> PyResult<[&[f64]; 4]> {
+        Ok([
+            self.crank_ratio.as_slice()?,
+            self.inclination.as_slice()?,
+            self.u1.as_slice()?,
+            self.u2.as_slice()?,
+        ])
+    }
+}
+
+fn designs([crank_ratio, inclination, u1, u2]: [&[f64]; 4]) -> core::Result<Vec<core::Design>> {
+    core::Design::from_columns(crank_ratio, inclination, u1, u2)
+}
+
+/// An engine as five per-unit columns of one length.
+#[derive(FromPyObject)]
+#[pyo3(from_item_all)]
+struct EngineColumns<'py> {
+    phase: PyReadonlyArray1<'py, f64>,
+    inclination: PyReadonlyArray1<'py, f64>,
+    crank_ratio: PyReadonlyArray1<'py, f64>,
+    u1: PyReadonlyArray1<'py, f64>,
+    u2: PyReadonlyArray1<'py, f64>,
+}
+
+impl EngineColumns<'_> {
+    /// The validated engine (O(units): built with the GIL held).
+    fn engine(&self) -> PyResult<core::Engine> {
+        core::Engine::from_columns(
+            self.phase.as_slice()?,
+            self.inclination.as_slice()?,
+            self.crank_ratio.as_slice()?,
+            self.u1.as_slice()?,
+            self.u2.as_slice()?,
+        )
+        .map_err(to_py_err)
+    }
+}
+
+/// The physical parameters of units, one column per field of `core::PhysicalUnit`.
+#[derive(FromPyObject)]
+#[pyo3(from_item_all)]
+struct PhysicalArrays<'py> {
+    crank_radius: PyReadonlyArray1<'py, f64>,
+    rod_length: PyReadonlyArray1<'py, f64>,
+    rod_cg: PyReadonlyArray1<'py, f64>,
+    piston_mass: PyReadonlyArray1<'py, f64>,
+    rod_mass: PyReadonlyArray1<'py, f64>,
+    crank_mass: PyReadonlyArray1<'py, f64>,
+    crank_cg_radius: PyReadonlyArray1<'py, f64>,
+    counterweight_mass: PyReadonlyArray1<'py, f64>,
+    counterweight_radius: PyReadonlyArray1<'py, f64>,
+    shaft_inertia: PyReadonlyArray1<'py, f64>,
+    rpm: PyReadonlyArray1<'py, f64>,
+    g: PyReadonlyArray1<'py, f64>,
+}
+
+impl PhysicalArrays<'_> {
+    fn columns(&self) -> PyResult<core::PhysicalColumns<'_>> {
+        Ok(core::PhysicalColumns {
+            crank_radius: self.crank_radius.as_slice()?,
+            rod_length: self.rod_length.as_slice()?,
+            rod_cg: self.rod_cg.as_slice()?,
+            piston_mass: self.piston_mass.as_slice()?,
+            rod_mass: self.rod_mass.as_slice()?,
+            crank_mass: self.crank_mass.as_slice()?,
+            crank_cg_radius: self.crank_cg_radius.as_slice()?,
+            counterweight_mass: self.counterweight_mass.as_slice()?,
+            counterweight_radius: self.counterweight_radius.as_slice()?,
+            shaft_inertia: self.shaft_inertia.as_slice()?,
+            rpm: self.rpm.as_slice()?,
+            g: self.g.as_slice()?,
+        })
+    }
 }
 
 /// A new float64 array of `len`, filled by `fill` with the GIL released. It is not zeroed
@@ -66,51 +187,43 @@ fn filled<'py>(
     Ok(array)
 }
 
-/// Two arrays returned together, e.g. (u1, u2) or (a, b).
-type ArrayPair<'py> = (Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>);
-
-/// The number of crank angles: the grid's, or the points'.
-fn phi_len(points: &[f64], uniform: Option<(f64, f64, usize)>) -> usize {
-    uniform.map_or(points.len(), |(_, _, len)| len)
-}
-
-/// The slices of several arrays at once (design or unit columns).
-fn slices<'a, const N: usize>(
-    arrays: [&'a PyReadonlyArray1<'_, f64>; N],
-) -> PyResult<[&'a [f64]; N]> {
-    let mut out: [&[f64]; N] = [&[]; N];
-    for (slot, array) in out.iter_mut().zip(arrays) {
-        *slot = slice(array)?;
+/// A dict of named float64 arrays.
+fn named<'py>(
+    py: Python<'py>,
+    columns: impl IntoIterator<Item = (&'static str, Vec<f64>)>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let dict = PyDict::new(py);
+    for (name, values) in columns {
+        dict.set_item(name, values.into_pyarray(py))?;
     }
-    Ok(out)
+    Ok(dict)
 }
 
-/// The four broadcast design columns as validated designs.
-fn designs_from(columns: [&[f64]; 4]) -> core::Result<Vec<core::Design>> {
-    let n = columns[0].len();
-    if let Some(bad) = columns.iter().find(|c| c.len() != n) {
-        return Err(core::MechanismError::LengthMismatch {
-            parameter: "design arrays",
-            expected: n,
-            found: bad.len(),
-        });
-    }
-    (0..n)
-        .map(|i| core::Design::new(columns[0][i], columns[1][i], columns[2][i], columns[3][i]))
-        .collect()
+/// The columns `names` of records that answer `get(name)`.
+fn record_columns<'py, T>(
+    py: Python<'py>,
+    records: &[T],
+    names: &[&'static str],
+    get: impl Fn(&T, &str) -> Option<f64>,
+) -> PyResult<Bound<'py, PyDict>> {
+    named(
+        py,
+        names.iter().map(|&name| {
+            let column = records.iter().map(|r| get(r, name).unwrap_or(f64::NAN));
+            (name, column.collect())
+        }),
+    )
 }
 
-/// The closed-form quantity named `name`, if it names one.
-fn closed_form(name: &str) -> Option<core::Quantity> {
-    match name {
-        "potential_energy" => Some(core::Quantity::PotentialEnergy),
-        "generalized_force" => Some(core::Quantity::GeneralizedForce),
-        "force_derivative" => Some(core::Quantity::ForceDerivative),
-        _ => None,
-    }
+/// The output names a sweep was asked for, as the core knows them.
+fn sweep_names(outputs: &[String]) -> PyResult<(core::SweepOutputs, Vec<&'static str>)> {
+    let groups = core::SweepOutputs::from_names(outputs).map_err(to_py_err)?;
+    let names = core::SweepRow::NAMES
+        .into_iter()
+        .filter(|name| outputs.iter().any(|o| o == name))
+        .collect();
+    Ok((groups, names))
 }
-
-const CLOSED_FORM_NAMES: &str = "\"potential_energy\", \"generalized_force\", \"force_derivative\"";
 
 fn series_kind(method: &str) -> PyResult<core::SeriesKind> {
     match method {
@@ -122,27 +235,26 @@ fn series_kind(method: &str) -> PyResult<core::SeriesKind> {
     }
 }
 
-/// A validated engine from its per-unit columns.
-fn engine_from(columns: [&[f64]; 5]) -> core::Result<core::Engine> {
-    let n = columns[0].len();
-    if let Some(bad) = columns.iter().find(|c| c.len() != n) {
-        return Err(core::MechanismError::LengthMismatch {
-            parameter: "cylinder arrays",
-            expected: n,
-            found: bad.len(),
-        });
-    }
-    core::Engine::new(
-        (0..n)
-            .map(|i| core::Cylinder {
-                phase: columns[0][i],
-                inclination: columns[1][i],
-                crank_ratio: columns[2][i],
-                u1: columns[3][i],
-                u2: columns[4][i],
-            })
-            .collect(),
-    )
+/// What `evaluate` and `engine_evaluate` compute: a closed-form quantity, or Q_u* from a
+/// Fourier form.
+enum Evaluation {
+    Closed(core::Quantity),
+    Series(core::SeriesKind),
+}
+
+fn evaluation(quantity: &str) -> PyResult<Evaluation> {
+    Ok(match quantity {
+        "potential_energy" => Evaluation::Closed(core::Quantity::PotentialEnergy),
+        "generalized_force" => Evaluation::Closed(core::Quantity::GeneralizedForce),
+        "force_derivative" => Evaluation::Closed(core::Quantity::ForceDerivative),
+        "series" | "paper" => Evaluation::Series(series_kind(quantity)?),
+        other => {
+            return Err(MechanismError::new_err(format!(
+                "quantity = {other:?} is not allowed; allowed: \"potential_energy\", \
+                 \"generalized_force\", \"force_derivative\", \"series\", \"paper\""
+            )))
+        }
+    })
 }
 
 #[pymodule]
@@ -161,6 +273,9 @@ mod _native {
                 "release"
             },
         )?;
+        m.add("STANDARD_GRAVITY", core::STANDARD_GRAVITY)?;
+        m.add("SWEEP_OUTPUTS", core::SweepRow::NAMES.to_vec())?;
+        m.add("EXTREMA_FIELDS", core::EnergyExtrema::NAMES.to_vec())?;
         Ok(())
     }
 
@@ -178,181 +293,91 @@ mod _native {
         Ok(phases.into_pyarray(py))
     }
 
-    /// evaluate(quantity, phi, crank_ratio, inclination, u1, u2, phases, uniform=None) ->
-    /// flat array of length len(crank_ratio) * len(phi), design-major. The four design
-    /// arrays are already broadcast to one length; `quantity` is "potential_energy",
-    /// "generalized_force" or "force_derivative"; `uniform` = (start, step, len) evaluates
-    /// on that uniform grid instead of `phi`.
+    /// evaluate(quantity, phi, design, phases, parallel_threshold=None) -> flat array of
+    /// len(design) * len(phi), design-major: "potential_energy", "generalized_force",
+    /// "force_derivative" (closed form), "series" (the machine-precision Fourier form) or
+    /// "paper" (eq. 16).
     #[pyfunction]
-    #[pyo3(signature = (quantity, phi, crank_ratio, inclination, u1, u2, phases, uniform=None))]
-    #[allow(clippy::too_many_arguments)]
+    #[pyo3(signature = (quantity, phi, design, phases, parallel_threshold=None))]
     fn evaluate<'py>(
         py: Python<'py>,
         quantity: &str,
-        phi: PyReadonlyArray1<'py, f64>,
-        crank_ratio: PyReadonlyArray1<'py, f64>,
-        inclination: PyReadonlyArray1<'py, f64>,
-        u1: PyReadonlyArray1<'py, f64>,
-        u2: PyReadonlyArray1<'py, f64>,
+        phi: PhiArg<'py>,
+        design: DesignColumns<'py>,
         phases: PyReadonlyArray1<'py, f64>,
-        uniform: Option<(f64, f64, usize)>,
+        parallel_threshold: Option<usize>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let quantity = closed_form(quantity).ok_or_else(|| {
-            MechanismError::new_err(format!(
-                "quantity = {quantity:?} is not allowed; allowed: {CLOSED_FORM_NAMES}"
-            ))
-        })?;
-        let (phi, phases) = (slice(&phi)?, slice(&phases)?);
-        let columns = slices([&crank_ratio, &inclination, &u1, &u2])?;
-        let parallelism = parallelism();
-        let len = columns[0].len() * phi_len(phi, uniform);
-        filled(py, len, |out| {
-            let phi = phi_from(phi, uniform)?;
-            let phases = core::Phases::new(phases)?;
-            let designs = designs_from(columns)?;
-            core::evaluate(quantity, &designs, &phases, phi, out, parallelism)
+        let evaluation = evaluation(quantity)?;
+        let (phi, columns, alphas) = (phi.slice()?, design.slices()?, phases.as_slice()?);
+        let parallelism = parallelism(parallel_threshold);
+        filled(py, columns[0].len() * phi.len(), |out| {
+            let (phi, phases, designs) =
+                (phi.phi()?, core::Phases::new(alphas)?, designs(columns)?);
+            match evaluation {
+                Evaluation::Closed(q) => {
+                    core::evaluate(q, &designs, &phases, phi, out, parallelism)
+                }
+                Evaluation::Series(kind) => {
+                    let series = core::build_series(kind, &designs, alphas, parallelism);
+                    core::evaluate_series_or_exact(
+                        &series,
+                        &designs,
+                        &phases,
+                        phi,
+                        out,
+                        parallelism,
+                    )
+                }
+            }
         })
     }
 
-    /// dimensionless_moments(...) over equal-length 1-D arrays -> (u1, u2); see
-    /// `multicrank_core::PhysicalUnit::dimensionless_moments`.
+    /// dimensionless_moments(units) -> {"u1", "u2"}: `units` holds equal-length arrays of
+    /// every `PhysicalUnit` field (see `multicrank_core::PhysicalUnit::dimensionless_moments`).
     #[pyfunction]
-    #[allow(clippy::too_many_arguments)]
     fn dimensionless_moments<'py>(
         py: Python<'py>,
-        crank_radius: PyReadonlyArray1<'py, f64>,
-        rod_length: PyReadonlyArray1<'py, f64>,
-        rod_cg: PyReadonlyArray1<'py, f64>,
-        piston_mass: PyReadonlyArray1<'py, f64>,
-        rod_mass: PyReadonlyArray1<'py, f64>,
-        crank_mass: PyReadonlyArray1<'py, f64>,
-        crank_cg_radius: PyReadonlyArray1<'py, f64>,
-        counterweight_mass: PyReadonlyArray1<'py, f64>,
-        counterweight_radius: PyReadonlyArray1<'py, f64>,
-        shaft_inertia: PyReadonlyArray1<'py, f64>,
-        rpm: PyReadonlyArray1<'py, f64>,
-        g: PyReadonlyArray1<'py, f64>,
-    ) -> PyResult<ArrayPair<'py>> {
-        let c = [
-            slice(&crank_radius)?,
-            slice(&rod_length)?,
-            slice(&rod_cg)?,
-            slice(&piston_mass)?,
-            slice(&rod_mass)?,
-            slice(&crank_mass)?,
-            slice(&crank_cg_radius)?,
-            slice(&counterweight_mass)?,
-            slice(&counterweight_radius)?,
-            slice(&shaft_inertia)?,
-            slice(&rpm)?,
-            slice(&g)?,
-        ];
-        let n = c[0].len();
-        if let Some(bad) = c.iter().find(|col| col.len() != n) {
-            return Err(to_py_err(core::MechanismError::LengthMismatch {
-                parameter: "physical parameter arrays",
-                expected: n,
-                found: bad.len(),
-            }));
-        }
-        let (u1, u2): (Vec<f64>, Vec<f64>) = (0..n)
-            .map(|i| {
-                core::PhysicalUnit {
-                    crank_radius: c[0][i],
-                    rod_length: c[1][i],
-                    rod_cg: c[2][i],
-                    piston_mass: c[3][i],
-                    rod_mass: c[4][i],
-                    crank_mass: c[5][i],
-                    crank_cg_radius: c[6][i],
-                    counterweight_mass: c[7][i],
-                    counterweight_radius: c[8][i],
-                    shaft_inertia: c[9][i],
-                    rpm: c[10][i],
-                    g: c[11][i],
-                }
-                .dimensionless_moments()
-            })
-            .collect::<core::Result<Vec<_>>>()
-            .map_err(to_py_err)?
-            .into_iter()
-            .unzip();
-        Ok((u1.into_pyarray(py), u2.into_pyarray(py)))
+        units: PhysicalArrays<'py>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let columns = units.columns()?;
+        let (u1, u2) = py
+            .detach(|| core::dimensionless_moments(&columns))
+            .map_err(to_py_err)?;
+        named(py, [("u1", u1), ("u2", u2)])
     }
 
-    /// evaluate_series(method, phi, crank_ratio, inclination, u1, u2, phases, uniform=None)
-    /// -> flat Q_u* from the Fourier form ("series": exact Λ_n to machine precision;
-    /// "paper": eq. 16); `uniform` as in `evaluate`.
+    /// lambda_coefficients(crank_ratio, n_max, method, parallel_threshold=None) -> flat
+    /// (len(crank_ratio) * (n_max + 1)), method "exact" or "paper".
     #[pyfunction]
-    #[pyo3(signature = (method, phi, crank_ratio, inclination, u1, u2, phases, uniform=None))]
-    #[allow(clippy::too_many_arguments)]
-    fn evaluate_series<'py>(
-        py: Python<'py>,
-        method: &str,
-        phi: PyReadonlyArray1<'py, f64>,
-        crank_ratio: PyReadonlyArray1<'py, f64>,
-        inclination: PyReadonlyArray1<'py, f64>,
-        u1: PyReadonlyArray1<'py, f64>,
-        u2: PyReadonlyArray1<'py, f64>,
-        phases: PyReadonlyArray1<'py, f64>,
-        uniform: Option<(f64, f64, usize)>,
-    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let kind = series_kind(method)?;
-        let (phi, phases) = (slice(&phi)?, slice(&phases)?);
-        let columns = slices([&crank_ratio, &inclination, &u1, &u2])?;
-        let parallelism = parallelism();
-        let len = columns[0].len() * phi_len(phi, uniform);
-        filled(py, len, |out| {
-            let phi = phi_from(phi, uniform)?;
-            let alphas = phases;
-            let phases = core::Phases::new(alphas)?;
-            let designs = designs_from(columns)?;
-            let series = core::build_series(kind, &designs, alphas, parallelism);
-            core::evaluate_series_or_exact(&series, &designs, &phases, phi, out, parallelism)
-        })
-    }
-
-    /// lambda_coefficients(crank_ratio, n_max, method) -> flat (len(crank_ratio) * (n_max+1)),
-    /// method "exact" or "paper". crank_ratio already validated.
-    #[pyfunction]
+    #[pyo3(signature = (crank_ratio, n_max, method, parallel_threshold=None))]
     fn lambda_coefficients<'py>(
         py: Python<'py>,
         crank_ratio: PyReadonlyArray1<'py, f64>,
         n_max: usize,
         method: &str,
+        parallel_threshold: Option<usize>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let kind = match method {
-            "exact" => core::SeriesKind::Exact,
-            "paper" => core::SeriesKind::Paper,
+        let paper = match method {
+            "exact" => false,
+            "paper" => true,
             other => {
                 return Err(MechanismError::new_err(format!(
                     "method = {other:?} is not allowed; allowed: \"exact\", \"paper\""
                 )))
             }
         };
-        let lambdas = slice(&crank_ratio)?;
-        let out = py.detach(|| {
-            let mut out = vec![0.0; lambdas.len() * (n_max + 1)];
-            for (row, &lambda) in out.chunks_mut(n_max + 1).zip(lambdas) {
-                match kind {
-                    core::SeriesKind::Exact => core::lambda_exact(lambda, row),
-                    core::SeriesKind::Paper => core::lambda_paper(lambda, row),
-                }
-            }
-            out
-        });
-        Ok(out.into_pyarray(py))
+        let lambdas = crank_ratio.as_slice()?;
+        let parallelism = parallelism(parallel_threshold);
+        let table = py
+            .detach(|| core::lambda_table(paper, lambdas, n_max, parallelism))
+            .map_err(to_py_err)?;
+        Ok(table.into_pyarray(py))
     }
 
     /// paper_coefficient(i, j) -> (numerator, denominator) of [λ^(2j+1)] Λ_(2i), exact.
     #[pyfunction]
-    fn paper_coefficient(i: u32, j: u32) -> PyResult<(i64, u64)> {
-        if j > 20 {
-            return Err(MechanismError::new_err(format!(
-                "j = {j} is out of range; allowed: 0 <= j <= 20"
-            )));
-        }
-        Ok(core::paper_coefficient(i, j))
+    fn paper_coefficient(i: u32, j: u32) -> PyResult<(i128, u128)> {
+        core::paper_coefficient(i, j).map_err(to_py_err)
     }
 
     /// surviving_harmonics(cranks, strokes, acting, n_max) -> the n <= n_max that survive.
@@ -368,67 +393,40 @@ mod _native {
         Ok(core::surviving_harmonics(cranks, strokes, acting, n_max))
     }
 
-    /// fourier_coefficients(crank_ratio, inclination, u1, u2, phases, n_max) -> (a, b),
-    /// each flat of length len(crank_ratio) * (n_max + 1).
+    /// fourier_coefficients(design, phases, n_max, parallel_threshold=None) -> {"a", "b"},
+    /// each flat of len(design) * (n_max + 1).
     #[pyfunction]
-    #[allow(clippy::too_many_arguments)]
+    #[pyo3(signature = (design, phases, n_max, parallel_threshold=None))]
     fn fourier_coefficients<'py>(
         py: Python<'py>,
-        crank_ratio: PyReadonlyArray1<'py, f64>,
-        inclination: PyReadonlyArray1<'py, f64>,
-        u1: PyReadonlyArray1<'py, f64>,
-        u2: PyReadonlyArray1<'py, f64>,
+        design: DesignColumns<'py>,
         phases: PyReadonlyArray1<'py, f64>,
         n_max: usize,
-    ) -> PyResult<ArrayPair<'py>> {
-        let phases = slice(&phases)?;
-        let columns = slices([&crank_ratio, &inclination, &u1, &u2])?;
+        parallel_threshold: Option<usize>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let (columns, alphas) = (design.slices()?, phases.as_slice()?);
+        let parallelism = parallelism(parallel_threshold);
         let (a, b) = py
-            .detach(|| -> core::Result<(Vec<f64>, Vec<f64>)> {
-                core::Phases::new(phases)?;
-                let designs = designs_from(columns)?;
-                let sums = core::PhaseSums::new(phases, n_max.max(1));
-                let width = n_max + 1;
-                let mut a = vec![0.0; designs.len() * width];
-                let mut b = vec![0.0; designs.len() * width];
-                for ((design, a), b) in designs
-                    .iter()
-                    .zip(a.chunks_mut(width))
-                    .zip(b.chunks_mut(width))
-                {
-                    core::fourier_coefficients(design, &sums, a, b);
-                }
-                Ok((a, b))
-            })
+            .detach(|| core::fourier_table(&designs(columns)?, alphas, n_max, parallelism))
             .map_err(to_py_err)?;
-        Ok((a.into_pyarray(py), b.into_pyarray(py)))
+        named(py, [("a", a), ("b", b)])
     }
 
-    /// energy_extrema(crank_ratio, inclination, u1, u2, phases) -> (min, min_at, max, max_at, range)
-    /// of U_w* over one revolution, exact (roots of Q_u* polished by Newton).
+    /// energy_extrema(design, phases, parallel_threshold=None) -> {"min", "min_at", "max",
+    /// "max_at", "range"}: the exact extrema of U_w* over one revolution, per design.
     #[pyfunction]
-    #[allow(clippy::type_complexity)]
+    #[pyo3(signature = (design, phases, parallel_threshold=None))]
     fn energy_extrema<'py>(
         py: Python<'py>,
-        crank_ratio: PyReadonlyArray1<'py, f64>,
-        inclination: PyReadonlyArray1<'py, f64>,
-        u1: PyReadonlyArray1<'py, f64>,
-        u2: PyReadonlyArray1<'py, f64>,
+        design: DesignColumns<'py>,
         phases: PyReadonlyArray1<'py, f64>,
-    ) -> PyResult<(
-        Bound<'py, PyArray1<f64>>,
-        Bound<'py, PyArray1<f64>>,
-        Bound<'py, PyArray1<f64>>,
-        Bound<'py, PyArray1<f64>>,
-        Bound<'py, PyArray1<f64>>,
-    )> {
-        let alphas = slice(&phases)?;
-        let columns = slices([&crank_ratio, &inclination, &u1, &u2])?;
-        let parallelism = parallelism();
+        parallel_threshold: Option<usize>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let (columns, alphas) = (design.slices()?, phases.as_slice()?);
+        let parallelism = parallelism(parallel_threshold);
         let extrema = py
             .detach(|| -> core::Result<Vec<core::EnergyExtrema>> {
-                let phases = core::Phases::new(alphas)?;
-                let designs = designs_from(columns)?;
+                let (phases, designs) = (core::Phases::new(alphas)?, designs(columns)?);
                 let series =
                     core::build_series(core::SeriesKind::Exact, &designs, alphas, parallelism);
                 Ok(core::all_energy_extrema(
@@ -439,174 +437,181 @@ mod _native {
                 ))
             })
             .map_err(to_py_err)?;
-        let column = |f: fn(&core::EnergyExtrema) -> f64| {
-            extrema.iter().map(f).collect::<Vec<_>>().into_pyarray(py)
-        };
-        Ok((
-            column(|e| e.min),
-            column(|e| e.min_at),
-            column(|e| e.max),
-            column(|e| e.max_at),
-            column(|e| e.range),
-        ))
+        record_columns(
+            py,
+            &extrema,
+            &core::EnergyExtrema::NAMES,
+            core::EnergyExtrema::get,
+        )
     }
 
-    /// sweep(crank_ratio, inclination, u1, u2, phase_set, set_phases, set_offsets, phi,
-    /// force, energy, harmonic) -> (force_max_abs, force_rms, energy_min, energy_max,
-    /// energy_range, leading_harmonic, leading_amplitude), one value per design (NaN where
-    /// not asked).
-    /// Phase set i is set_phases[set_offsets[i]..set_offsets[i+1]].
+    /// sweep(design, phase_set, phase_sets, phi, outputs, parallel_threshold=None) ->
+    /// {output: array}, one value per design: design i has the crank phases
+    /// phase_sets[phase_set[i]]; `outputs` are names from SWEEP_OUTPUTS.
     #[pyfunction]
-    #[allow(clippy::too_many_arguments, clippy::type_complexity)]
+    #[pyo3(signature = (design, phase_set, phase_sets, phi, outputs, parallel_threshold=None))]
     fn sweep<'py>(
         py: Python<'py>,
-        crank_ratio: PyReadonlyArray1<'py, f64>,
-        inclination: PyReadonlyArray1<'py, f64>,
-        u1: PyReadonlyArray1<'py, f64>,
-        u2: PyReadonlyArray1<'py, f64>,
+        design: DesignColumns<'py>,
         phase_set: PyReadonlyArray1<'py, u32>,
-        set_phases: PyReadonlyArray1<'py, f64>,
-        set_offsets: PyReadonlyArray1<'py, u64>,
+        phase_sets: Vec<PyReadonlyArray1<'py, f64>>,
         phi: PyReadonlyArray1<'py, f64>,
-        force: bool,
-        energy: bool,
-        harmonic: bool,
-    ) -> PyResult<Vec<Bound<'py, PyArray1<f64>>>> {
-        let columns = slices([&crank_ratio, &inclination, &u1, &u2])?;
-        let phase_set = phase_set.as_slice()?;
-        let (set_phases, set_offsets, phi) =
-            (slice(&set_phases)?, set_offsets.as_slice()?, slice(&phi)?);
-        let outputs = core::SweepOutputs {
-            force,
-            energy,
-            harmonic,
-        };
-        let parallelism = parallelism();
+        outputs: Vec<String>,
+        parallel_threshold: Option<usize>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let (groups, names) = sweep_names(&outputs)?;
+        let (columns, phase_set, phi) = (design.slices()?, phase_set.as_slice()?, phi.as_slice()?);
+        let sets = phase_sets
+            .iter()
+            .map(|set| Ok(set.as_slice()?.to_vec()))
+            .collect::<PyResult<Vec<_>>>()?;
+        let parallelism = parallelism(parallel_threshold);
         let rows = py
             .detach(|| -> core::Result<Vec<core::SweepRow>> {
-                let designs = designs_from(columns)?;
-                let sets = set_offsets
-                    .windows(2)
-                    .map(|w| {
-                        set_phases
-                            .get(w[0] as usize..w[1] as usize)
-                            .map(<[f64]>::to_vec)
-                    })
-                    .collect::<Option<Vec<_>>>()
-                    .ok_or(core::MechanismError::InvalidChoice {
-                        parameter: "set_offsets",
-                        value: format!("{set_offsets:?}"),
-                        allowed: "ascending offsets into set_phases",
-                    })?;
+                let designs = designs(columns)?;
                 let max_ratio = designs.iter().map(|d| d.crank_ratio).fold(0.0, f64::max);
                 let table = core::PhaseSetTable::new(&sets, max_ratio)?;
-                core::sweep(&designs, phase_set, &table, phi, outputs, parallelism)
+                core::sweep(&designs, phase_set, &table, phi, groups, parallelism)
             })
             .map_err(to_py_err)?;
-        let fields: [fn(&core::SweepRow) -> f64; 7] = [
-            |r| r.force_max_abs,
-            |r| r.force_rms,
-            |r| r.energy_min,
-            |r| r.energy_max,
-            |r| r.energy_range,
-            |r| r.leading_harmonic,
-            |r| r.leading_amplitude,
-        ];
-        Ok(fields
-            .iter()
-            .map(|f| rows.iter().map(f).collect::<Vec<_>>().into_pyarray(py))
-            .collect())
+        record_columns(py, &rows, &names, core::SweepRow::get)
     }
 
-    /// engine_evaluate(quantity, phi, phase, inclination, crank_ratio, u1, u2, uniform=None)
-    /// -> array like phi: "potential_energy", "generalized_force", "force_derivative"
-    /// (closed form) or "series" (the machine-precision Fourier form) of a cylinder-level
-    /// engine; `uniform` as in `evaluate`.
+    /// sweep_engines(engines, phi, outputs, parallel_threshold=None) -> {output: array},
+    /// one value per engine (a list of engine dicts).
     #[pyfunction]
-    #[pyo3(signature = (quantity, phi, phase, inclination, crank_ratio, u1, u2, uniform=None))]
-    #[allow(clippy::too_many_arguments)]
+    #[pyo3(signature = (engines, phi, outputs, parallel_threshold=None))]
+    fn sweep_engines<'py>(
+        py: Python<'py>,
+        engines: Vec<EngineColumns<'py>>,
+        phi: PyReadonlyArray1<'py, f64>,
+        outputs: Vec<String>,
+        parallel_threshold: Option<usize>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let (groups, names) = sweep_names(&outputs)?;
+        let engines = engines
+            .iter()
+            .map(EngineColumns::engine)
+            .collect::<PyResult<Vec<_>>>()?;
+        let phi = phi.as_slice()?;
+        let parallelism = parallelism(parallel_threshold);
+        let rows = py
+            .detach(|| core::sweep_engines(&engines, phi, groups, parallelism))
+            .map_err(to_py_err)?;
+        record_columns(py, &rows, &names, core::SweepRow::get)
+    }
+
+    /// engine_evaluate(quantity, phi, engine, parallel_threshold=None) -> array like phi:
+    /// "potential_energy", "generalized_force", "force_derivative" (closed form) or
+    /// "series" (the machine-precision Fourier form) of an engine.
+    #[pyfunction]
+    #[pyo3(signature = (quantity, phi, engine, parallel_threshold=None))]
     fn engine_evaluate<'py>(
         py: Python<'py>,
         quantity: &str,
-        phi: PyReadonlyArray1<'py, f64>,
-        phase: PyReadonlyArray1<'py, f64>,
-        inclination: PyReadonlyArray1<'py, f64>,
-        crank_ratio: PyReadonlyArray1<'py, f64>,
-        u1: PyReadonlyArray1<'py, f64>,
-        u2: PyReadonlyArray1<'py, f64>,
-        uniform: Option<(f64, f64, usize)>,
+        phi: PhiArg<'py>,
+        engine: EngineColumns<'py>,
+        parallel_threshold: Option<usize>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        // None: the series
-        let quantity = match (quantity, closed_form(quantity)) {
-            ("series", _) => None,
-            (_, Some(q)) => Some(q),
-            (other, None) => {
-                return Err(MechanismError::new_err(format!(
-                    "quantity = {other:?} is not allowed; allowed: {CLOSED_FORM_NAMES}, \"series\""
-                )))
+        let evaluation = match evaluation(quantity)? {
+            Evaluation::Series(core::SeriesKind::Paper) => {
+                return Err(MechanismError::new_err(
+                    "quantity = \"paper\" is not allowed for an engine; allowed: \
+                     \"potential_energy\", \"generalized_force\", \"force_derivative\", \"series\"",
+                ))
             }
+            other => other,
         };
-        let phi = slice(&phi)?;
-        let columns = slices([&phase, &inclination, &crank_ratio, &u1, &u2])?;
-        let parallelism = parallelism();
-        filled(py, phi_len(phi, uniform), |out| {
-            let phi = phi_from(phi, uniform)?;
-            let engine = engine_from(columns)?;
-            match quantity {
-                Some(q) => engine.evaluate(q, phi, out, parallelism),
-                None => engine.evaluate_series(phi, out, parallelism),
-            }
+        let (phi, engine) = (phi.slice()?, engine.engine()?);
+        let parallelism = parallelism(parallel_threshold);
+        filled(py, phi.len(), |out| match evaluation {
+            Evaluation::Closed(q) => engine.evaluate(q, phi.phi()?, out, parallelism),
+            Evaluation::Series(_) => engine.evaluate_series(phi.phi()?, out, parallelism),
         })
     }
 
-    /// engine_fourier(phase, inclination, crank_ratio, u1, u2, n_max) -> (a, b).
+    /// engine_fourier(engine, n_max) -> {"a", "b"}, each of length n_max + 1.
     #[pyfunction]
-    #[allow(clippy::too_many_arguments)]
     fn engine_fourier<'py>(
         py: Python<'py>,
-        phase: PyReadonlyArray1<'py, f64>,
-        inclination: PyReadonlyArray1<'py, f64>,
-        crank_ratio: PyReadonlyArray1<'py, f64>,
-        u1: PyReadonlyArray1<'py, f64>,
-        u2: PyReadonlyArray1<'py, f64>,
+        engine: EngineColumns<'py>,
         n_max: usize,
-    ) -> PyResult<ArrayPair<'py>> {
-        let columns = slices([&phase, &inclination, &crank_ratio, &u1, &u2])?;
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let engine = engine.engine()?;
         let (a, b) = py
-            .detach(|| -> core::Result<(Vec<f64>, Vec<f64>)> {
-                let engine = engine_from(columns)?;
-                let (mut a, mut b) = (vec![0.0; n_max + 1], vec![0.0; n_max + 1]);
-                engine.fourier_coefficients(&mut a, &mut b);
-                Ok((a, b))
-            })
+            .detach(|| engine.fourier_coefficients(n_max))
             .map_err(to_py_err)?;
-        Ok((a.into_pyarray(py), b.into_pyarray(py)))
+        named(py, [("a", a), ("b", b)])
     }
 
-    /// engine_extrema(phase, inclination, crank_ratio, u1, u2) -> (min, min_at, max, max_at, range).
+    /// engine_extrema(engine) -> {"min", "min_at", "max", "max_at", "range"} (floats).
     #[pyfunction]
     fn engine_extrema<'py>(
         py: Python<'py>,
-        phase: PyReadonlyArray1<'py, f64>,
-        inclination: PyReadonlyArray1<'py, f64>,
-        crank_ratio: PyReadonlyArray1<'py, f64>,
-        u1: PyReadonlyArray1<'py, f64>,
-        u2: PyReadonlyArray1<'py, f64>,
-    ) -> PyResult<(f64, f64, f64, f64, f64)> {
-        let columns = slices([&phase, &inclination, &crank_ratio, &u1, &u2])?;
-        let e = py
-            .detach(|| engine_from(columns).map(|engine| engine.energy_extrema()))
-            .map_err(to_py_err)?;
-        Ok((e.min, e.min_at, e.max, e.max_at, e.range))
+        engine: EngineColumns<'py>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let engine = engine.engine()?;
+        let extrema = py.detach(|| engine.energy_extrema());
+        let dict = PyDict::new(py);
+        for name in core::EnergyExtrema::NAMES {
+            dict.set_item(name, extrema.get(name))?;
+        }
+        Ok(dict)
     }
 
-    /// The work size (points × cranks) from which kernels run in parallel.
+    /// engine_leading_harmonic(engine) -> {"n", "amplitude"}: the largest harmonic of
+    /// Q_u* (n = 0, amplitude 0 when Q ≡ 0).
+    #[pyfunction]
+    fn engine_leading_harmonic<'py>(
+        py: Python<'py>,
+        engine: EngineColumns<'py>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let engine = engine.engine()?;
+        let (n, amplitude) = py.detach(|| engine.leading_harmonic());
+        let dict = PyDict::new(py);
+        dict.set_item("n", n)?;
+        dict.set_item("amplitude", amplitude)?;
+        Ok(dict)
+    }
+
+    /// engine_sensitivity(engine, u1_rel, u2_rel, phase, n_max) -> {"n", "amplitude",
+    /// "scatter_rms"}: harmonics n = 1 and even n <= n_max, nominal amplitude and the rms
+    /// of their first-order scatter under independent unit errors.
+    #[pyfunction]
+    fn engine_sensitivity<'py>(
+        py: Python<'py>,
+        engine: EngineColumns<'py>,
+        u1_rel: f64,
+        u2_rel: f64,
+        phase: f64,
+        n_max: usize,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let engine = engine.engine()?;
+        let errors = core::UnitErrors {
+            u1_rel,
+            u2_rel,
+            phase,
+        };
+        let rows = py
+            .detach(|| engine.harmonic_sensitivity(errors, n_max))
+            .map_err(to_py_err)?;
+        named(
+            py,
+            [
+                ("n", rows.iter().map(|r| r.n as f64).collect()),
+                ("amplitude", rows.iter().map(|r| r.amplitude).collect()),
+                ("scatter_rms", rows.iter().map(|r| r.scatter_rms).collect()),
+            ],
+        )
+    }
+
+    /// The work size (points × cranks) from which kernels run in parallel by default.
     #[pyfunction]
     fn get_parallel_threshold() -> usize {
         PARALLEL_THRESHOLD.load(Ordering::Relaxed)
     }
 
-    /// Set the work size (points × cranks) from which kernels run in parallel;
+    /// Set the default work size (points × cranks) from which kernels run in parallel;
     /// 0 = always parallel, a huge value = always serial. Results do not depend on it.
     #[pyfunction]
     fn set_parallel_threshold(threshold: usize) {
