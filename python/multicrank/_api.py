@@ -17,6 +17,8 @@ __all__ = [
     "MechanismError",
     "as_angles",
     "as_phi",
+    "as_scalar",
+    "as_threshold",
     "as_real_array",
     "contiguous",
     "as_design",
@@ -59,8 +61,8 @@ def as_angles(phi: Any, name: str = "phi") -> np.ndarray:
     return as_real_array(phi, name)
 
 
-def as_phi(phi: Any) -> tuple[tuple[int, ...], np.ndarray, tuple[float, float, int] | None]:
-    """φ for the kernels: (its shape, flat contiguous points, uniform grid or None).
+def as_phi(phi: Any) -> tuple[tuple[int, ...], np.ndarray | tuple[float, float, int]]:
+    """φ for the kernels: (its shape, the flat contiguous points or a uniform grid).
 
     For a :class:`~multicrank.UniformGrid` the kernels rotate: they get (start, step, count)
     and no points, which are then never formed.
@@ -69,9 +71,24 @@ def as_phi(phi: Any) -> tuple[tuple[int, ...], np.ndarray, tuple[float, float, i
 
     uniform = grid_of(phi)
     if uniform:
-        return (uniform[2],), np.empty(0), uniform
+        return (uniform[2],), uniform
     angles = as_angles(phi)
-    return angles.shape, contiguous(angles).reshape(-1), None
+    return angles.shape, contiguous(angles).reshape(-1)
+
+
+def as_threshold(value: Any, name: str = "parallel_threshold") -> int | None:
+    """A parallel threshold (work size ≥ 0; huge values mean serial), or None."""
+    if value is None and name == "parallel_threshold":
+        return None
+    return min(as_count(value, name, minimum=0), 2**63 - 1)
+
+
+def as_scalar(value: Any, name: str) -> float:
+    """One real number (its range is checked where it is used)."""
+    array = as_real_array(value, name)
+    if array.ndim != 0:
+        raise MechanismError(f"{name} must be a single real number, got shape {array.shape}")
+    return float(array)
 
 
 def as_design(value: Any, name: str, *, low: float | None = None, high: float | None = None) -> np.ndarray:

@@ -1,134 +1,87 @@
-"""Type stubs of the Rust extension module (checked by mypy.stubtest in the tests)."""
+"""Type stubs of the Rust extension module (checked by mypy.stubtest in the tests).
+
+Bundles: ``design`` is a dict of four equal-length float64 arrays (crank_ratio, inclination,
+u1, u2); ``engine`` a dict of five (phase, inclination, crank_ratio, u1, u2); ``phi`` the
+points or a uniform grid (start, step, count). Several results come back as dicts keyed
+by name.
+"""
+
+from collections.abc import Mapping, Sequence
 
 import numpy as np
 import numpy.typing as npt
 
 __all__ = [
+    "EXTREMA_FIELDS",
+    "MechanismError",
+    "STANDARD_GRAVITY",
+    "SWEEP_OUTPUTS",
+    "__version__",
+    "_after_fork_in_child",
+    "build_profile",
     "crank_phases",
-    "evaluate",
     "dimensionless_moments",
-    "evaluate_series",
+    "energy_extrema",
+    "engine_evaluate",
+    "engine_extrema",
+    "engine_fourier",
+    "engine_leading_harmonic",
+    "engine_sensitivity",
+    "evaluate",
+    "fourier_coefficients",
+    "get_parallel_threshold",
     "lambda_coefficients",
     "paper_coefficient",
-    "surviving_harmonics",
-    "fourier_coefficients",
-    "energy_extrema",
-    "sweep",
-    "engine_evaluate",
-    "engine_fourier",
-    "engine_extrema",
-    "get_parallel_threshold",
     "set_parallel_threshold",
-    "_after_fork_in_child",
-    "MechanismError",
-    "__version__",
-    "build_profile",
+    "surviving_harmonics",
+    "sweep",
+    "sweep_engines",
 ]
+
+_Array = npt.NDArray[np.float64]
+_Columns = Mapping[str, _Array]
+_Phi = _Array | tuple[float, float, int]
 
 __version__: str
 build_profile: str
+STANDARD_GRAVITY: float
+SWEEP_OUTPUTS: list[str]
+EXTREMA_FIELDS: list[str]
 
 class MechanismError(ValueError): ...
 
-def crank_phases(cranks: int, strokes: int, acting: str) -> npt.NDArray[np.float64]: ...
+def crank_phases(cranks: int, strokes: int, acting: str) -> _Array: ...
 def evaluate(
-    quantity: str,
-    phi: npt.NDArray[np.float64],
-    crank_ratio: npt.NDArray[np.float64],
-    inclination: npt.NDArray[np.float64],
-    u1: npt.NDArray[np.float64],
-    u2: npt.NDArray[np.float64],
-    phases: npt.NDArray[np.float64],
-    uniform: tuple[float, float, int] | None = None,
-) -> npt.NDArray[np.float64]: ...
-def dimensionless_moments(
-    crank_radius: npt.NDArray[np.float64],
-    rod_length: npt.NDArray[np.float64],
-    rod_cg: npt.NDArray[np.float64],
-    piston_mass: npt.NDArray[np.float64],
-    rod_mass: npt.NDArray[np.float64],
-    crank_mass: npt.NDArray[np.float64],
-    crank_cg_radius: npt.NDArray[np.float64],
-    counterweight_mass: npt.NDArray[np.float64],
-    counterweight_radius: npt.NDArray[np.float64],
-    shaft_inertia: npt.NDArray[np.float64],
-    rpm: npt.NDArray[np.float64],
-    g: npt.NDArray[np.float64],
-) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]: ...
-def get_parallel_threshold() -> int: ...
-def set_parallel_threshold(threshold: int) -> None: ...
-def _after_fork_in_child() -> None: ...
-def evaluate_series(
-    method: str,
-    phi: npt.NDArray[np.float64],
-    crank_ratio: npt.NDArray[np.float64],
-    inclination: npt.NDArray[np.float64],
-    u1: npt.NDArray[np.float64],
-    u2: npt.NDArray[np.float64],
-    phases: npt.NDArray[np.float64],
-    uniform: tuple[float, float, int] | None = None,
-) -> npt.NDArray[np.float64]: ...
+    quantity: str, phi: _Phi, design: _Columns, phases: _Array, parallel_threshold: int | None = None
+) -> _Array: ...
+def dimensionless_moments(units: _Columns) -> dict[str, _Array]: ...
 def lambda_coefficients(
-    crank_ratio: npt.NDArray[np.float64], n_max: int, method: str
-) -> npt.NDArray[np.float64]: ...
+    crank_ratio: _Array, n_max: int, method: str, parallel_threshold: int | None = None
+) -> _Array: ...
 def paper_coefficient(i: int, j: int) -> tuple[int, int]: ...
 def surviving_harmonics(cranks: int, strokes: int, acting: str, n_max: int) -> list[int]: ...
 def fourier_coefficients(
-    crank_ratio: npt.NDArray[np.float64],
-    inclination: npt.NDArray[np.float64],
-    u1: npt.NDArray[np.float64],
-    u2: npt.NDArray[np.float64],
-    phases: npt.NDArray[np.float64],
-    n_max: int,
-) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]: ...
-def energy_extrema(
-    crank_ratio: npt.NDArray[np.float64],
-    inclination: npt.NDArray[np.float64],
-    u1: npt.NDArray[np.float64],
-    u2: npt.NDArray[np.float64],
-    phases: npt.NDArray[np.float64],
-) -> tuple[
-    npt.NDArray[np.float64],
-    npt.NDArray[np.float64],
-    npt.NDArray[np.float64],
-    npt.NDArray[np.float64],
-    npt.NDArray[np.float64],
-]: ...
+    design: _Columns, phases: _Array, n_max: int, parallel_threshold: int | None = None
+) -> dict[str, _Array]: ...
+def energy_extrema(design: _Columns, phases: _Array, parallel_threshold: int | None = None) -> dict[str, _Array]: ...
 def sweep(
-    crank_ratio: npt.NDArray[np.float64],
-    inclination: npt.NDArray[np.float64],
-    u1: npt.NDArray[np.float64],
-    u2: npt.NDArray[np.float64],
+    design: _Columns,
     phase_set: npt.NDArray[np.uint32],
-    set_phases: npt.NDArray[np.float64],
-    set_offsets: npt.NDArray[np.uint64],
-    phi: npt.NDArray[np.float64],
-    force: bool,
-    energy: bool,
-    harmonic: bool,
-) -> list[npt.NDArray[np.float64]]: ...
-def engine_evaluate(
-    quantity: str,
-    phi: npt.NDArray[np.float64],
-    phase: npt.NDArray[np.float64],
-    inclination: npt.NDArray[np.float64],
-    crank_ratio: npt.NDArray[np.float64],
-    u1: npt.NDArray[np.float64],
-    u2: npt.NDArray[np.float64],
-    uniform: tuple[float, float, int] | None = None,
-) -> npt.NDArray[np.float64]: ...
-def engine_fourier(
-    phase: npt.NDArray[np.float64],
-    inclination: npt.NDArray[np.float64],
-    crank_ratio: npt.NDArray[np.float64],
-    u1: npt.NDArray[np.float64],
-    u2: npt.NDArray[np.float64],
-    n_max: int,
-) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]: ...
-def engine_extrema(
-    phase: npt.NDArray[np.float64],
-    inclination: npt.NDArray[np.float64],
-    crank_ratio: npt.NDArray[np.float64],
-    u1: npt.NDArray[np.float64],
-    u2: npt.NDArray[np.float64],
-) -> tuple[float, float, float, float, float]: ...
+    phase_sets: Sequence[_Array],
+    phi: _Array,
+    outputs: Sequence[str],
+    parallel_threshold: int | None = None,
+) -> dict[str, _Array]: ...
+def sweep_engines(
+    engines: Sequence[_Columns], phi: _Array, outputs: Sequence[str], parallel_threshold: int | None = None
+) -> dict[str, _Array]: ...
+def engine_evaluate(quantity: str, phi: _Phi, engine: _Columns, parallel_threshold: int | None = None) -> _Array: ...
+def engine_fourier(engine: _Columns, n_max: int) -> dict[str, _Array]: ...
+def engine_extrema(engine: _Columns) -> dict[str, float]: ...
+def engine_leading_harmonic(engine: _Columns) -> dict[str, float]: ...
+def engine_sensitivity(
+    engine: _Columns, u1_rel: float, u2_rel: float, phase: float, n_max: int
+) -> dict[str, _Array]: ...
+def get_parallel_threshold() -> int: ...
+def set_parallel_threshold(threshold: int) -> None: ...
+def _after_fork_in_child() -> None: ...

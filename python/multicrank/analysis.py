@@ -7,7 +7,7 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from . import _native
-from ._api import as_phases, broadcast_designs, design_keywords, finish
+from ._api import as_phases, as_threshold, broadcast_designs, design_keywords, finish
 
 __all__ = ["EnergyExtrema", "energy_extrema", "speed_fluctuation"]
 
@@ -24,7 +24,9 @@ class EnergyExtrema(NamedTuple):
     range: np.ndarray
 
 
-def energy_extrema(*, crank_ratio: Any, inclination: Any, u1: Any, u2: Any, phases: Any = None) -> EnergyExtrema:
+def energy_extrema(
+    *, crank_ratio: Any, inclination: Any, u1: Any, u2: Any, phases: Any = None, parallel_threshold: Any = None
+) -> EnergyExtrema:
     """The exact minimum and maximum of U_w*(φ) over one revolution.
 
     Q_u* = dU_w*/dφ is sampled on a grid of 16 points per period of its highest significant
@@ -33,13 +35,13 @@ def energy_extrema(*, crank_ratio: Any, inclination: Any, u1: Any, u2: Any, phas
     design shape D.
     """
     shape, design = broadcast_designs(**design_keywords(crank_ratio, inclination, u1, u2))
-    fields = _native.energy_extrema(
-        design["crank_ratio"], design["inclination"], design["u1"], design["u2"], as_phases(phases)
-    )
-    return EnergyExtrema(*(finish(f, shape) for f in fields))
+    fields = _native.energy_extrema(design, as_phases(phases), as_threshold(parallel_threshold))
+    return EnergyExtrema(**{name: finish(values, shape) for name, values in fields.items()})
 
 
-def speed_fluctuation(*, crank_ratio: Any, inclination: Any, u1: Any, u2: Any, phases: Any = None):
+def speed_fluctuation(
+    *, crank_ratio: Any, inclination: Any, u1: Any, u2: Any, phases: Any = None, parallel_threshold: Any = None
+):
     """δ_g = max U_w* − min U_w* over one revolution (mathematics.md §6).
 
     With constant reduced inertia I_w and gravity alone, ½I_w ω² + U is constant, so to
@@ -47,4 +49,7 @@ def speed_fluctuation(*, crank_ratio: Any, inclination: Any, u1: Any, u2: Any, p
     (ω_max − ω_min)/ω_mean is δ_g. Computed from the exact extrema (roots of Q_u*), so it is
     never below a sampled max − min. Returns shape D (a numpy float64 for scalar input).
     """
-    return energy_extrema(crank_ratio=crank_ratio, inclination=inclination, u1=u1, u2=u2, phases=phases).range
+    return energy_extrema(
+        crank_ratio=crank_ratio, inclination=inclination, u1=u1, u2=u2, phases=phases,
+        parallel_threshold=parallel_threshold,
+    ).range

@@ -17,7 +17,7 @@ from typing import Any, Sequence
 import numpy as np
 
 from . import _native
-from ._api import MechanismError, as_count, as_design, as_option, as_phi, contiguous, finish
+from ._api import MechanismError, as_count, as_design, as_option, as_phi, as_scalar, contiguous, finish
 from .mechanism import crank_phases
 
 __all__ = ["Engine", "Layout", "LAYOUTS", "layout_engine"]
@@ -112,13 +112,10 @@ class Engine:
 
         return pd.DataFrame(self._columns)
 
-    def _args(self) -> list[np.ndarray]:
-        return [self._columns[k] for k in _FIELDS]
-
     # -- evaluation ---------------------------------------------------------------------
     def _evaluate(self, quantity: str, phi: Any):
-        phi_shape, points, uniform = as_phi(phi)
-        flat = _native.engine_evaluate(quantity, points, *self._args(), uniform)
+        phi_shape, angles = as_phi(phi)
+        flat = _native.engine_evaluate(quantity, angles, self._columns)
         return finish(flat, phi_shape)
 
     def potential_energy(self, phi: Any):
@@ -141,7 +138,8 @@ class Engine:
         n a_n = Σ_j W_nj sin nα_j, b_n = Σ_j W_nj cos nα_j, W_nj = −u1_j sin γ_j Λ_n(λ_j); a sum
         below its rounding noise is exactly 0 (the harmonic cancelled).
         """
-        return _native.engine_fourier(*self._args(), as_count(n_max, "n_max", minimum=0))
+        coefficients = _native.engine_fourier(self._columns, as_count(n_max, "n_max", minimum=0))
+        return coefficients["a"], coefficients["b"]
 
     def surviving_harmonics(self, n_max: int = 24) -> list[int]:
         """The harmonics n ≤ n_max of Q_u* that do not cancel (numerically, from the weighted
@@ -149,18 +147,19 @@ class Engine:
         a, b = self.fourier_coefficients(n_max)
         return [int(n) for n in np.flatnonzero(np.hypot(a, b) > 0)]
 
-    def leading_harmonic(self, n_max: int = 48) -> tuple[int, float]:
-        """(n, amplitude √(a_n² + b_n²)) of the largest harmonic of Q_u*; (0, 0) if Q ≡ 0."""
-        a, b = self.fourier_coefficients(n_max)
-        amplitude = np.hypot(a, b)
-        n = int(np.argmax(amplitude))
-        return (n, float(amplitude[n])) if amplitude[n] > 0 else (0, 0.0)
+    def leading_harmonic(self) -> tuple[int, float]:
+        """(n, amplitude √(a_n² + b_n²)) of the largest harmonic of Q_u*; (0, 0) if Q ≡ 0.
+
+        Every harmonic of the machine-precision series is considered (the same as a sweep's
+        ``leading_harmonic``)."""
+        leading = _native.engine_leading_harmonic(self._columns)
+        return int(leading["n"]), float(leading["amplitude"])
 
     def energy_extrema(self):
         """The exact extrema of U_w* over a revolution (see :func:`multicrank.energy_extrema`)."""
         from .analysis import EnergyExtrema
 
-        return EnergyExtrema(*(np.float64(v) for v in _native.engine_extrema(*self._args())))
+        return EnergyExtrema(**{k: np.float64(v) for k, v in _native.engine_extrema(self._columns).items()})
 
     def speed_fluctuation(self) -> np.float64:
         """δ_g = max U_w* − min U_w* over a revolution, from the exact extrema."""
@@ -183,40 +182,11 @@ class Engine:
         import pandas as pd
 
         n_max = as_count(n_max, "n_max", minimum=1)
-        n = np.arange(n_max + 1)
-        lam = self.crank_ratio
-        lambdas = _native.lambda_coefficients(contiguous(lam), n_max, "exact").reshape(len(self), n_max + 1)
-        sin_g, cos_g = np.sin(self.inclination), np.cos(self.inclination)
-        alpha = self.phase[:, None]
-        # ∂a_n/∂x_j and ∂b_n/∂x_j of the formulas of fourier_coefficients, per unit j and n.
-        d_a_u1 = np.zeros((len(self), n_max + 1))
-        d_b_u1 = np.zeros_like(d_a_u1)
-        d_a_u2 = np.zeros_like(d_a_u1)
-        d_b_u2 = np.zeros_like(d_a_u1)
-        d_a_alpha = np.zeros_like(d_a_u1)
-        d_b_alpha = np.zeros_like(d_a_u1)
-        ca, sa = np.cos(self.phase), np.sin(self.phase)
-        if n_max >= 1:
-            # a_1 = N cos α + W1 sin α, b_1 = W1 cos α − N sin α; N = u2 cos γ, W1 = −(u1+u2) sin γ
-            big_n, w1 = self.u2 * cos_g, -(self.u1 + self.u2) * sin_g
-            d_a_u1[:, 1], d_b_u1[:, 1] = -sin_g * sa, -sin_g * ca
-            d_a_u2[:, 1], d_b_u2[:, 1] = cos_g * ca - sin_g * sa, -sin_g * ca - cos_g * sa
-            d_a_alpha[:, 1] = -big_n * sa + w1 * ca
-            d_b_alpha[:, 1] = -w1 * sa - big_n * ca
-        even = n[2::2]
-        if even.size:
-            w = -self.u1[:, None] * sin_g[:, None] * lambdas[:, even]  # W_nj
-            s, c = np.sin(even * alpha), np.cos(even * alpha)
-            d_a_u1[:, even], d_b_u1[:, even] = -sin_g[:, None] * lambdas[:, even] * s, -sin_g[:, None] * lambdas[:, even] * c
-            d_a_alpha[:, even], d_b_alpha[:, even] = w * even * c, -w * even * s
-        variance = (
-            (d_a_u1**2 + d_b_u1**2) * (u1_rel * self.u1[:, None]) ** 2
-            + (d_a_u2**2 + d_b_u2**2) * (u2_rel * self.u2[:, None]) ** 2
-            + (d_a_alpha**2 + d_b_alpha**2) * phase**2
-        ).sum(axis=0)
-        a, b = self.fourier_coefficients(n_max)
-        frame = pd.DataFrame({"amplitude": np.hypot(a, b), "scatter_rms": np.sqrt(variance)}, index=pd.Index(n, name="n"))
-        return frame.loc[(n == 1) | ((n % 2 == 0) & (n > 0))]
+        errors = {name: as_scalar(value, name) for name, value in
+                  (("u1_rel", u1_rel), ("u2_rel", u2_rel), ("phase", phase))}
+        rows = _native.engine_sensitivity(self._columns, errors["u1_rel"], errors["u2_rel"], errors["phase"], n_max)
+        n = rows.pop("n").astype(np.int64)
+        return pd.DataFrame(rows, index=pd.Index(n, name="n"))
 
     def perturbed(self, rng: np.random.Generator, *, u1_rel: float = 0.0, u2_rel: float = 0.0,
                   phase: float = 0.0) -> "Engine":

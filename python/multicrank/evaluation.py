@@ -13,7 +13,7 @@ from typing import Any
 import numpy as np
 
 from . import _native
-from ._api import as_count, as_option, as_phases, as_phi, broadcast_designs, design_keywords, finish
+from ._api import as_count, as_option, as_phases, as_phi, as_threshold, broadcast_designs, design_keywords, finish
 
 __all__ = [
     "potential_energy",
@@ -27,26 +27,17 @@ __all__ = [
 FORCE_METHODS = ("exact", "series", "paper")
 
 
-def _evaluate(quantity: str, phi: Any, crank_ratio: Any, inclination: Any, u1: Any, u2: Any, phases: Any):
+def _evaluate(quantity: str, phi: Any, crank_ratio: Any, inclination: Any, u1: Any, u2: Any, phases: Any,
+              parallel_threshold: Any = None):
     """`quantity` ("potential_energy", "generalized_force", "force_derivative" or, through
     the Fourier form, "series" / "paper") of the broadcast designs over all of φ."""
-    phi_shape, points, uniform = as_phi(phi)
+    phi_shape, angles = as_phi(phi)
     shape, design = broadcast_designs(**design_keywords(crank_ratio, inclination, u1, u2))
-    kernel = _native.evaluate_series if quantity in ("series", "paper") else _native.evaluate
-    flat = kernel(
-        quantity,
-        points,
-        design["crank_ratio"],
-        design["inclination"],
-        design["u1"],
-        design["u2"],
-        as_phases(phases),
-        uniform,
-    )
+    flat = _native.evaluate(quantity, angles, design, as_phases(phases), as_threshold(parallel_threshold))
     return finish(flat, shape + phi_shape)
 
 
-def potential_energy(phi, *, crank_ratio, inclination, u1, u2, phases=None):
+def potential_energy(phi, *, crank_ratio, inclination, u1, u2, phases=None, parallel_threshold=None):
     """Dimensionless potential energy U_w*(φ) = U_w/(I_w ω²) of a k-crank machine (eq. 3, 12).
 
     .. math::
@@ -68,16 +59,20 @@ def potential_energy(phi, *, crank_ratio, inclination, u1, u2, phases=None):
     u1, u2 : dimensionless gravity moments (see :func:`dimensionless_moments`)
     phases : 1-D array_like of crank phases α_j [rad]; None means one crank at 0
         (see :func:`crank_phases`).
+    parallel_threshold : int, optional
+        The work size (output points × cranks) from which this call runs on all cores;
+        None uses the global default (:func:`set_parallel_threshold`). Results are
+        bit-identical either way.
 
     Returns
     -------
     ndarray of shape D + phi.shape (D: the broadcast shape of the design keywords), or a
     numpy float64 for all-scalar input.
     """
-    return _evaluate("potential_energy", phi, crank_ratio, inclination, u1, u2, phases)
+    return _evaluate("potential_energy", phi, crank_ratio, inclination, u1, u2, phases, parallel_threshold)
 
 
-def generalized_force(phi, *, crank_ratio, inclination, u1, u2, phases=None, method="exact"):
+def generalized_force(phi, *, crank_ratio, inclination, u1, u2, phases=None, method="exact", parallel_threshold=None):
     """Generalised Lagrange force due to gravity, Q_u*(φ) = +dU_w*/dφ (eq. 13).
 
     .. math::
@@ -99,15 +94,15 @@ def generalized_force(phi, *, crank_ratio, inclination, u1, u2, phases=None, met
     """
     method = as_option(method, "method", FORCE_METHODS)
     quantity = "generalized_force" if method == "exact" else method
-    return _evaluate(quantity, phi, crank_ratio, inclination, u1, u2, phases)
+    return _evaluate(quantity, phi, crank_ratio, inclination, u1, u2, phases, parallel_threshold)
 
 
-def force_derivative(phi, *, crank_ratio, inclination, u1, u2, phases=None):
+def force_derivative(phi, *, crank_ratio, inclination, u1, u2, phases=None, parallel_threshold=None):
     """dQ_u*/dφ = d²U_w*/dφ², the closed form used for Newton steps on the extrema of U_w*.
 
     Parameters and result shape as in :func:`potential_energy`.
     """
-    return _evaluate("force_derivative", phi, crank_ratio, inclination, u1, u2, phases)
+    return _evaluate("force_derivative", phi, crank_ratio, inclination, u1, u2, phases, parallel_threshold)
 
 
 def get_parallel_threshold() -> int:
@@ -121,5 +116,4 @@ def set_parallel_threshold(threshold: int) -> None:
     0 means always parallel, a huge value always serial. Results are bit-identical either
     way. The number of threads is rayon's: set ``RAYON_NUM_THREADS`` before the first call.
     """
-    threshold = as_count(threshold, "threshold", minimum=0)
-    _native.set_parallel_threshold(min(threshold, 2**63 - 1))
+    _native.set_parallel_threshold(as_threshold(threshold, "threshold"))

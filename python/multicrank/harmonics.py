@@ -129,10 +129,8 @@ def fourier_coefficients(
     """
     shape, design = broadcast_designs(**design_keywords(crank_ratio, inclination, u1, u2))
     n_max = as_count(n_max, "n_max", minimum=0)
-    a, b = _native.fourier_coefficients(
-        design["crank_ratio"], design["inclination"], design["u1"], design["u2"], as_phases(phases), n_max
-    )
+    coefficients = _native.fourier_coefficients(design, as_phases(phases), n_max)
     width = (n_max + 1,)
-    return a.reshape(shape + width), b.reshape(shape + width)
+    return coefficients["a"].reshape(shape + width), coefficients["b"].reshape(shape + width)
 
 

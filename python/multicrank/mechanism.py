@@ -11,7 +11,8 @@ from ._api import as_count, as_option, as_real_array, as_strokes, broadcast_desi
 
 __all__ = ["crank_phases", "dimensionless_moments", "STANDARD_GRAVITY"]
 
-STANDARD_GRAVITY = 9.80665  # m/s²
+#: Standard gravity [m/s²], the core's constant.
+STANDARD_GRAVITY: float = _native.STANDARD_GRAVITY
 
 
 def crank_phases(cranks: int, strokes: int = 2, acting: str = "single") -> np.ndarray:
@@ -120,5 +121,5 @@ def dimensionless_moments(
     )
     arrays = {name: as_real_array(value, name) for name, value in values.items()}
     shape, flat = broadcast_designs("physical parameters", **arrays)
-    u1, u2 = _native.dimensionless_moments(*flat.values())
-    return finish(u1, shape), finish(u2, shape)
+    moments = _native.dimensionless_moments(flat)
+    return finish(moments["u1"], shape), finish(moments["u2"], shape)

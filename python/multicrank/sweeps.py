@@ -27,16 +27,8 @@ from .mechanism import crank_phases
 
 __all__ = ["SWEEP_OUTPUTS", "DesignGrid", "design_grid", "sweep", "to_xarray"]
 
-#: Every output a sweep can compute, in column order.
-SWEEP_OUTPUTS = (
-    "force_max_abs",
-    "force_rms",
-    "energy_min",
-    "energy_max",
-    "energy_range",
-    "leading_harmonic",
-    "leading_amplitude",
-)
+#: Every output a sweep can compute, in column order (the core's names).
+SWEEP_OUTPUTS: tuple[str, ...] = tuple(_native.SWEEP_OUTPUTS)
 DESIGN_COLUMNS = ("crank_ratio", "inclination", "u1", "u2")
 OPTIONAL_COLUMNS = {"cranks": 1, "strokes": 2, "acting": "single"}
 _GROUPS = {
@@ -48,6 +40,8 @@ _GROUPS = {
 # (the energy extrema cost ~15 µs per design, the grid outputs ~2 µs), long enough that the
 # per-call synchronisation of the thread pool does not show.
 _CALL_SIZE = {"energy": 8192, "grid": 65536}
+# Engines per call: a few thousand units, for the same reasons.
+_ENGINE_CALL_SIZE = 1024
 
 
 # ----------------------------------------------------------------------------- designs
@@ -121,17 +115,14 @@ def _machine_columns(frame: pd.DataFrame) -> dict[str, np.ndarray]:
     return out
 
 
-def _phase_table(columns: dict[str, np.ndarray]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(per-design set index, flat phases of the distinct sets, offsets into them)."""
+def _phase_table(columns: dict[str, np.ndarray]) -> tuple[np.ndarray, list[np.ndarray]]:
+    """(per-design index into the distinct phase sets, those sets)."""
     double = columns["double"]
     # One integer per machine kind: cheaper to make unique than tuples of objects.
     kinds = columns["cranks"] * 4 + (columns["strokes"] == 4) * 2 + double
     unique, codes = np.unique(kinds, return_inverse=True)
     sets = [crank_phases(int(key // 4), 4 if key % 4 >= 2 else 2, "double" if key % 2 else "single") for key in unique]
-    offsets = np.zeros(len(sets) + 1, dtype=np.uint64)
-    offsets[1:] = np.cumsum([len(p) for p in sets])
-    flat = np.concatenate(sets) if sets else np.zeros(0)
-    return codes.astype(np.uint32), contiguous(flat), offsets
+    return codes.astype(np.uint32), sets
 
 
 def _as_phi(phi: Any) -> np.ndarray:
@@ -232,32 +223,19 @@ def to_xarray(result: pd.DataFrame, axes: Mapping[str, Any] | None = None):
 # ----------------------------------------------------------------------------- the sweep
 def _reduce(columns: dict[str, np.ndarray], phi: np.ndarray, outputs: tuple[str, ...]) -> dict[str, np.ndarray]:
     """One call into Rust per _CALL_SIZE designs; returns the requested output columns."""
-    wanted = {group: any(o in outputs for o in names) for group, names in _GROUPS.items()}
-    set_index, set_phases, offsets = _phase_table(columns)
+    set_index, phase_sets = _phase_table(columns)
     phi = contiguous(phi)  # arrays unpickled on a Dask worker may be misaligned
-    parts: list[list[np.ndarray]] = []
+    parts: list[dict[str, np.ndarray]] = []
     n = len(set_index)
-    call_size = _CALL_SIZE["energy" if wanted["energy"] else "grid"]
+    call_size = _CALL_SIZE["energy" if any(o in outputs for o in _GROUPS["energy"]) else "grid"]
     for start in range(0, n, call_size):
         part = slice(start, min(start + call_size, n))
-        parts.append(
-            _native.sweep(
-                *(contiguous(columns[c][part]) for c in DESIGN_COLUMNS),
-                np.ascontiguousarray(set_index[part]),
-                set_phases,
-                offsets,
-                phi,
-                wanted["force"],
-                wanted["energy"],
-                wanted["harmonic"],
-            )
-        )
-    names = ("force_max_abs", "force_rms", "energy_min", "energy_max", "energy_range", "leading_harmonic",
-             "leading_amplitude")
-    raw = {name: np.concatenate([p[i] for p in parts]) if parts else np.zeros(0) for i, name in enumerate(names)}
-    if wanted["harmonic"]:
-        raw["leading_harmonic"] = raw["leading_harmonic"].astype(np.int64)
-    return {name: raw[name] for name in outputs}
+        design = {c: contiguous(columns[c][part]) for c in DESIGN_COLUMNS}
+        parts.append(_native.sweep(design, np.ascontiguousarray(set_index[part]), phase_sets, phi, list(outputs)))
+    reduced = {name: np.concatenate([p[name] for p in parts]) if parts else np.zeros(0) for name in outputs}
+    if "leading_harmonic" in reduced:
+        reduced["leading_harmonic"] = reduced["leading_harmonic"].astype(np.int64)
+    return reduced
 
 
 def _sweep_frame(frame: pd.DataFrame, phi: np.ndarray, outputs: tuple[str, ...]) -> pd.DataFrame:
@@ -396,7 +374,7 @@ def _curves(frame: pd.DataFrame, phi: np.ndarray) -> np.ndarray:
     from .evaluation import generalized_force
 
     columns = _machine_columns(frame)
-    set_index, set_phases, offsets = _phase_table(columns)
+    set_index, phase_sets = _phase_table(columns)
     curves = np.empty((len(frame), len(phi)))
     for code in np.unique(set_index):
         rows = np.flatnonzero(set_index == code)
@@ -406,7 +384,7 @@ def _curves(frame: pd.DataFrame, phi: np.ndarray) -> np.ndarray:
             inclination=columns["inclination"][rows],
             u1=columns["u1"][rows],
             u2=columns["u2"][rows],
-            phases=set_phases[int(offsets[code]) : int(offsets[code + 1])],
+            phases=phase_sets[code],
         )
     return curves
 
@@ -420,25 +398,23 @@ def _is_engine_list(designs: Any) -> bool:
 def _sweep_engines(engines: list, phi: np.ndarray, outputs: tuple[str, ...], progress: bool) -> pd.DataFrame:
     """The outputs of each cylinder-level engine (one Rust call per engine and output group):
     for layouts, unequal cylinders and Monte-Carlo samples of manufacturing tolerances."""
-    rows = []
     bar = _progress_bar(len(engines), progress)
-    for engine in engines:
-        row: dict[str, Any] = {"engine": engine.name, "cylinders": len(engine)}
-        if any(o in outputs for o in _GROUPS["force"]):
-            q = engine.generalized_force(phi)
-            row["force_max_abs"], row["force_rms"] = float(np.max(np.abs(q))), float(np.sqrt(np.mean(q * q)))
-        if any(o in outputs for o in _GROUPS["energy"]):
-            extrema = engine.energy_extrema()
-            row["energy_min"], row["energy_max"], row["energy_range"] = extrema.min, extrema.max, extrema.range
-        if any(o in outputs for o in _GROUPS["harmonic"]):
-            row["leading_harmonic"], row["leading_amplitude"] = engine.leading_harmonic()
-        rows.append(row)
+    parts: list[dict[str, np.ndarray]] = []
+    try:
+        for start in range(0, len(engines), _ENGINE_CALL_SIZE):
+            batch = engines[start : start + _ENGINE_CALL_SIZE]
+            parts.append(_native.sweep_engines([e._columns for e in batch], contiguous(phi), list(outputs)))
+            if bar is not None:
+                bar.update(len(batch))
+    finally:
         if bar is not None:
-            bar.update(1)
-    if bar is not None:
-        bar.close()
-    frame = pd.DataFrame(rows)
-    return frame[["engine", "cylinders", *outputs]]
+            bar.close()
+    frame = pd.DataFrame({"engine": [e.name for e in engines], "cylinders": [len(e) for e in engines]})
+    for name in outputs:
+        frame[name] = np.concatenate([p[name] for p in parts])
+    if "leading_harmonic" in outputs:
+        frame["leading_harmonic"] = frame["leading_harmonic"].astype(np.int64)
+    return frame
 
 
 def _is_dask(designs: Any) -> bool:
