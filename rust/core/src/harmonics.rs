@@ -364,6 +364,29 @@ mod tests {
     }
 
     #[test]
+    fn lambda_table_rows_across_chunks() {
+        // Rows of 10001 entries span the parallel chunks of 8192: each must still be whole.
+        let ratios = [0.2, 0.6, 0.95];
+        for paper in [false, true] {
+            let serial = lambda_table(paper, &ratios, 10_000, Parallelism::SERIAL).unwrap();
+            let parallel =
+                lambda_table(paper, &ratios, 10_000, Parallelism { threshold: 0 }).unwrap();
+            assert_eq!(serial, parallel);
+            for (row, &lambda) in serial.chunks(10_001).zip(&ratios) {
+                let mut direct = vec![0.0; 10_001];
+                if paper {
+                    lambda_paper(lambda, &mut direct)
+                } else {
+                    lambda_exact(lambda, &mut direct)
+                }
+                assert_eq!(row, direct.as_slice());
+            }
+        }
+        assert!(lambda_table(false, &[1.0], 4, Parallelism::SERIAL).is_err());
+        assert!(lambda_table(false, &[0.1], usize::MAX, Parallelism::SERIAL).is_err());
+    }
+
+    #[test]
     fn paper_table_1() {
         // W_1: k=1; W_2: 1,2; W_4: 1,2,4; W_6: 1,2,3,6; W_8: 1,2,4,8; W_10: 1,2,5,10;
         // W_12: 1,2,3,4,6,12 (two-stroke, single acting).

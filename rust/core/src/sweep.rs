@@ -199,13 +199,36 @@ fn sweep_one(
     row
 }
 
-/// sin φ and cos φ of the force grid (empty when no force output is asked), computed once
-/// and shared by every machine: the same values each would compute itself.
-fn grid_table(phi: &[f64], outputs: SweepOutputs) -> Result<(Vec<f64>, Vec<f64>)> {
+/// Reduce `count` machines, `reduce(i, grid, buffer)` each, in parallel when `work`
+/// reaches the threshold. sin φ and cos φ of the force grid are computed once and shared by
+/// every machine — the same values each would compute itself — and each worker keeps one
+/// grid buffer, overwritten by each machine: results depend on neither.
+fn reduce_each<F>(
+    count: usize,
+    work: usize,
+    phi: &[f64],
+    outputs: SweepOutputs,
+    parallelism: Parallelism,
+    reduce: F,
+) -> Result<Vec<SweepRow>>
+where
+    F: Fn(usize, TableAngles, &mut Vec<f64>) -> SweepRow + Sync + Send,
+{
     if outputs.force && phi.is_empty() {
         return Err(MechanismError::Empty { parameter: "phi" });
     }
-    Ok(sincos_table(if outputs.force { phi } else { &[] }))
+    let (sin, cos) = sincos_table(if outputs.force { phi } else { &[] });
+    let grid = TableAngles {
+        sin: &sin,
+        cos: &cos,
+    };
+    Ok(map_indices_with(
+        count,
+        work,
+        parallelism,
+        Vec::new,
+        |buffer, i| reduce(i, grid, buffer),
+    ))
 }
 
 /// Reduce every design: `phase_set[i]` indexes `table` for design i; `phi` is the grid for
@@ -233,18 +256,13 @@ pub fn sweep(
         });
     }
     let work = designs.len().saturating_mul(phi.len().max(64));
-    let (sin, cos) = grid_table(phi, outputs)?;
-    let grid = TableAngles {
-        sin: &sin,
-        cos: &cos,
-    };
-    // A grid buffer per worker, overwritten by each design: results do not depend on it.
-    Ok(map_indices_with(
+    reduce_each(
         designs.len(),
         work,
+        phi,
+        outputs,
         parallelism,
-        Vec::new,
-        |buffer, i| {
+        |i, grid, buffer| {
             let set = phase_set[i] as usize;
             let group = UnitGroup {
                 design: &designs[i],
@@ -260,7 +278,7 @@ pub fn sweep(
                 buffer,
             )
         },
-    ))
+    )
 }
 
 /// Reduce every engine (any layout, unequal cylinders, Monte-Carlo samples of tolerances)
@@ -273,17 +291,13 @@ pub fn sweep_engines(
 ) -> Result<Vec<SweepRow>> {
     let cylinders: usize = engines.iter().map(|e| e.cylinders().len()).sum();
     let work = cylinders.saturating_mul(phi.len().max(64));
-    let (sin, cos) = grid_table(phi, outputs)?;
-    let grid = TableAngles {
-        sin: &sin,
-        cos: &cos,
-    };
-    Ok(map_indices_with(
+    reduce_each(
         engines.len(),
         work,
+        phi,
+        outputs,
         parallelism,
-        Vec::new,
-        |buffer, i| {
+        |i, grid, buffer| {
             let engine = &engines[i];
             engine.with_groups(engine.reach(), |groups| {
                 sweep_one(
@@ -296,5 +310,108 @@ pub fn sweep_engines(
                 )
             })
         },
-    ))
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::engine::Cylinder;
+    use crate::mechanism::{crank_phases, Acting, Strokes};
+
+    fn engines() -> Vec<Engine> {
+        (0..40)
+            .map(|i| {
+                let x = i as f64;
+                let alphas = crank_phases(1 + i % 7, Strokes::Four, Acting::Single).unwrap();
+                Engine::new(
+                    alphas
+                        .iter()
+                        .enumerate()
+                        .map(|(j, &phase)| Cylinder {
+                            phase: phase + 1e-3 * (x + j as f64).sin(),
+                            inclination: 0.3 + 0.1 * x - 0.2 * j as f64,
+                            crank_ratio: 0.05 + 0.02 * x,
+                            u1: 0.9 - 0.01 * x,
+                            u2: -0.3 + 0.02 * j as f64,
+                        })
+                        .collect(),
+                )
+                .unwrap()
+            })
+            .collect()
+    }
+
+    #[test]
+    fn engine_rows_are_each_engines_own_values() {
+        let phi: Vec<f64> = (0..360)
+            .map(|i| std::f64::consts::TAU * i as f64 / 360.0)
+            .collect();
+        let all = SweepOutputs {
+            force: true,
+            energy: true,
+            harmonic: true,
+        };
+        let engines = engines();
+        let rows = sweep_engines(&engines, &phi, all, Parallelism::SERIAL).unwrap();
+        let parallel = sweep_engines(&engines, &phi, all, Parallelism { threshold: 0 }).unwrap();
+        assert_eq!(rows, parallel);
+        for (engine, row) in engines.iter().zip(&rows) {
+            let extrema = engine.energy_extrema();
+            assert_eq!(
+                (row.energy_min, row.energy_max, row.energy_range),
+                (extrema.min, extrema.max, extrema.range)
+            );
+            let (n, amplitude) = engine.leading_harmonic();
+            assert_eq!(
+                (row.leading_harmonic, row.leading_amplitude),
+                (n as f64, amplitude)
+            );
+            let mut q = vec![0.0; phi.len()];
+            engine
+                .evaluate(
+                    Quantity::GeneralizedForce,
+                    &phi,
+                    &mut q,
+                    Parallelism::SERIAL,
+                )
+                .unwrap();
+            let peak = q.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+            let rms = (q.iter().map(|x| x * x).sum::<f64>() / q.len() as f64).sqrt();
+            assert!((row.force_max_abs - peak).abs() <= 1e-14 * peak);
+            assert!((row.force_rms - rms).abs() <= 1e-14 * rms);
+        }
+    }
+
+    #[test]
+    fn output_names() {
+        let outputs = SweepOutputs::from_names(&["force_rms", "leading_amplitude"]).unwrap();
+        assert_eq!(
+            outputs,
+            SweepOutputs {
+                force: true,
+                energy: false,
+                harmonic: true
+            }
+        );
+        let error = SweepOutputs::from_names(&["force"])
+            .unwrap_err()
+            .to_string();
+        assert!(error.contains("outputs"), "{error}");
+        let row = SweepRow {
+            force_max_abs: 1.0,
+            force_rms: 2.0,
+            energy_min: 3.0,
+            energy_max: 4.0,
+            energy_range: 5.0,
+            leading_harmonic: 6.0,
+            leading_amplitude: 7.0,
+        };
+        let values: Vec<f64> = SweepRow::NAMES
+            .iter()
+            .map(|n| row.get(n).unwrap())
+            .collect();
+        assert_eq!(values, [1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0]);
+        assert_eq!(row.get("cylinders"), None);
+    }
 }

@@ -99,3 +99,124 @@ impl Engine {
 fn squared((x, y): (f64, f64)) -> f64 {
     x * x + y * y
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::engine::Cylinder;
+
+    fn v_twin() -> Engine {
+        let cylinder = |phase, inclination, u1, u2| Cylinder {
+            phase,
+            inclination,
+            crank_ratio: 0.28,
+            u1,
+            u2,
+        };
+        Engine::new(vec![
+            cylinder(0.3, 1.2, 0.8, -0.2),
+            cylinder(-0.9, 1.9, 0.7, 0.1),
+            cylinder(2.0, 0.4, 0.9, 0.3),
+        ])
+        .unwrap()
+    }
+
+    /// |∂c_n/∂x|² by central differences of the Fourier coefficients of perturbed engines.
+    fn squared_slope(
+        engine: &Engine,
+        n_max: usize,
+        perturb: impl Fn(&mut Cylinder, f64),
+    ) -> Vec<f64> {
+        let h = 1e-6;
+        let shifted = |sign: f64| {
+            let mut cylinders = engine.cylinders().to_vec();
+            perturb(&mut cylinders[0], sign * h);
+            Engine::new(cylinders)
+                .unwrap()
+                .fourier_coefficients(n_max)
+                .unwrap()
+        };
+        let ((ap, bp), (am, bm)) = (shifted(1.0), shifted(-1.0));
+        (0..=n_max)
+            .map(|n| ((ap[n] - am[n]) / (2.0 * h)).powi(2) + ((bp[n] - bm[n]) / (2.0 * h)).powi(2))
+            .collect()
+    }
+
+    #[test]
+    fn scatter_matches_numerical_derivatives() {
+        // One error at a time, on the first unit only: the variance is |∂c_n/∂x_0|²·σ².
+        let n_max = 8;
+        let first = v_twin().cylinders()[0];
+        let others: Vec<Cylinder> = v_twin().cylinders()[1..]
+            .iter()
+            .map(|c| Cylinder {
+                u1: 0.0,
+                u2: 0.0,
+                ..*c
+            })
+            .collect();
+        let engine = Engine::new([vec![first], others].concat()).unwrap();
+        let cases: [(UnitErrors, Box<dyn Fn(&mut Cylinder, f64)>, f64); 3] = [
+            (
+                UnitErrors {
+                    u1_rel: 0.1,
+                    ..Default::default()
+                },
+                Box::new(|c, d| c.u1 += d),
+                0.1 * first.u1,
+            ),
+            (
+                UnitErrors {
+                    u2_rel: 0.1,
+                    ..Default::default()
+                },
+                Box::new(|c, d| c.u2 += d),
+                0.1 * first.u2,
+            ),
+            (
+                UnitErrors {
+                    phase: 0.01,
+                    ..Default::default()
+                },
+                Box::new(|c, d| c.phase += d),
+                0.01,
+            ),
+        ];
+        for (errors, perturb, sigma) in cases {
+            let slopes = squared_slope(&engine, n_max, perturb);
+            for row in engine.harmonic_sensitivity(errors, n_max).unwrap() {
+                let expected = slopes[row.n].sqrt() * sigma.abs();
+                assert!(
+                    (row.scatter_rms - expected).abs() <= 1e-7 * (1.0 + expected),
+                    "{errors:?} n={}: {} vs {expected}",
+                    row.n,
+                    row.scatter_rms
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn rows_and_validation() {
+        let rows = v_twin()
+            .harmonic_sensitivity(UnitErrors::default(), 7)
+            .unwrap();
+        let ns: Vec<usize> = rows.iter().map(|r| r.n).collect();
+        assert_eq!(ns, vec![1, 2, 4, 6]);
+        assert!(rows.iter().all(|r| r.scatter_rms == 0.0));
+        let bad = UnitErrors {
+            u1_rel: f64::NAN,
+            ..Default::default()
+        };
+        let message = v_twin()
+            .harmonic_sensitivity(bad, 4)
+            .unwrap_err()
+            .to_string();
+        assert!(message.contains("u1_rel"), "{message}");
+        let negative = UnitErrors {
+            phase: -0.1,
+            ..Default::default()
+        };
+        assert!(v_twin().harmonic_sensitivity(negative, 4).is_err());
+    }
+}
