@@ -121,6 +121,8 @@ mod tests {
         .unwrap()
     }
 
+    type Perturbation = fn(&mut Cylinder, f64);
+
     /// |∂c_n/∂x|² by central differences of the Fourier coefficients of perturbed engines.
     fn squared_slope(
         engine: &Engine,
@@ -156,13 +158,13 @@ mod tests {
             })
             .collect();
         let engine = Engine::new([vec![first], others].concat()).unwrap();
-        let cases: [(UnitErrors, Box<dyn Fn(&mut Cylinder, f64)>, f64); 3] = [
+        let cases: [(UnitErrors, Perturbation, f64); 3] = [
             (
                 UnitErrors {
                     u1_rel: 0.1,
                     ..Default::default()
                 },
-                Box::new(|c, d| c.u1 += d),
+                |c, d| c.u1 += d,
                 0.1 * first.u1,
             ),
             (
@@ -170,7 +172,7 @@ mod tests {
                     u2_rel: 0.1,
                     ..Default::default()
                 },
-                Box::new(|c, d| c.u2 += d),
+                |c, d| c.u2 += d,
                 0.1 * first.u2,
             ),
             (
@@ -178,7 +180,7 @@ mod tests {
                     phase: 0.01,
                     ..Default::default()
                 },
-                Box::new(|c, d| c.phase += d),
+                |c, d| c.phase += d,
                 0.01,
             ),
         ];
