@@ -180,7 +180,7 @@ fn binomial(n: u128, k: u128) -> u128 {
 }
 
 /// The greatest common divisor (Euclid).
-pub(crate) fn gcd(a: u64, b: u64) -> u64 {
+pub(crate) fn gcd(a: u128, b: u128) -> u128 {
     if b == 0 {
         a
     } else {
@@ -196,12 +196,9 @@ fn paper_fraction(i: u32, j: u32) -> (i128, u128) {
     let (i, j) = (i as u128, j as u128);
     let numerator = 2 * i * binomial(2 * j, j) * binomial(2 * j + 2, j + 1 - i);
     let denominator = (j + 1) * 4u128.pow(2 * j as u32 + 1);
-    let (mut x, mut y) = (numerator, denominator);
-    while y != 0 {
-        (x, y) = (y, x % y);
-    }
+    let common = gcd(numerator, denominator);
     let sign = if i % 2 == 1 { 1 } else { -1 };
-    (sign * (numerator / x) as i128, denominator / x)
+    (sign * (numerator / common) as i128, denominator / common)
 }
 
 /// The exact rational [λ^{2j+1}] Λ_{2i} = (−1)^{i+1}·(2i/(j+1))·C(2j, j)·C(2j+2, j+1−i)/4^{2j+1}

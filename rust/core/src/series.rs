@@ -241,7 +241,7 @@ impl FourierSeries {
     fn from_terms(a1: f64, b1: f64, even: &[(usize, f64, f64)]) -> Self {
         let step = even
             .iter()
-            .fold(0, |g, &(n, _, _)| gcd(g as u64, n as u64) as usize);
+            .fold(0, |g, &(n, _, _)| gcd(g as u128, n as u128) as usize);
         let count = even.last().map_or(0, |&(n, _, _)| n / step.max(1));
         let (mut cos, mut sin) = (vec![0.0; count], vec![0.0; count]);
         for &(n, a, b) in even {
