@@ -8,8 +8,7 @@ import sys
 import click
 import numpy as np
 
-from . import __version__
-from ._api import MechanismError
+from ._native import MechanismError, __version__
 from .evaluation import generalized_force, potential_energy
 from .presets import DEFAULT_ENGINE, ENGINES
 

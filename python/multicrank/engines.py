@@ -16,8 +16,14 @@ from typing import Any, Sequence
 
 import numpy as np
 
-from . import _native
-from ._api import MechanismError, as_count, as_design, as_option, as_phi, contiguous, finish
+from ._native import MechanismError
+from ._native import engine_evaluate as _native_engine_evaluate
+from ._native import engine_extrema as _native_engine_extrema
+from ._native import engine_fourier as _native_engine_fourier
+from ._native import lambda_coefficients as _native_lambda_coefficients
+from ._validation import as_count, as_design, as_option, contiguous, finish
+from .extrema import EnergyExtrema
+from .grids import as_phi
 from .mechanism import crank_phases
 
 __all__ = ["Engine", "Layout", "LAYOUTS", "layout_engine"]
@@ -118,7 +124,7 @@ class Engine:
     # -- evaluation ---------------------------------------------------------------------
     def _evaluate(self, quantity: str, phi: Any):
         phi_shape, points, uniform = as_phi(phi)
-        flat = _native.engine_evaluate(quantity, points, *self._args(), uniform)
+        flat = _native_engine_evaluate(quantity, points, *self._args(), uniform)
         return finish(flat, phi_shape)
 
     def potential_energy(self, phi: Any):
@@ -141,7 +147,7 @@ class Engine:
         n a_n = Σ_j W_nj sin nα_j, b_n = Σ_j W_nj cos nα_j, W_nj = −u1_j sin γ_j Λ_n(λ_j); a sum
         below its rounding noise is exactly 0 (the harmonic cancelled).
         """
-        return _native.engine_fourier(*self._args(), as_count(n_max, "n_max", minimum=0))
+        return _native_engine_fourier(*self._args(), as_count(n_max, "n_max", minimum=0))
 
     def surviving_harmonics(self, n_max: int = 24) -> list[int]:
         """The harmonics n ≤ n_max of Q_u* that do not cancel (numerically, from the weighted
@@ -158,9 +164,7 @@ class Engine:
 
     def energy_extrema(self):
         """The exact extrema of U_w* over a revolution (see :func:`multicrank.energy_extrema`)."""
-        from .analysis import EnergyExtrema
-
-        return EnergyExtrema(*(np.float64(v) for v in _native.engine_extrema(*self._args())))
+        return EnergyExtrema(*(np.float64(v) for v in _native_engine_extrema(*self._args())))
 
     def speed_fluctuation(self) -> np.float64:
         """δ_g = max U_w* − min U_w* over a revolution, from the exact extrema."""
@@ -185,7 +189,7 @@ class Engine:
         n_max = as_count(n_max, "n_max", minimum=1)
         n = np.arange(n_max + 1)
         lam = self.crank_ratio
-        lambdas = _native.lambda_coefficients(contiguous(lam), n_max, "exact").reshape(len(self), n_max + 1)
+        lambdas = _native_lambda_coefficients(contiguous(lam), n_max, "exact").reshape(len(self), n_max + 1)
         sin_g, cos_g = np.sin(self.inclination), np.cos(self.inclination)
         alpha = self.phase[:, None]
         # ∂a_n/∂x_j and ∂b_n/∂x_j of the formulas of fourier_coefficients, per unit j and n.

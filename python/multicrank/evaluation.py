@@ -12,8 +12,12 @@ from typing import Any
 
 import numpy as np
 
-from . import _native
-from ._api import as_count, as_option, as_phases, as_phi, broadcast_designs, design_keywords, finish
+from ._native import evaluate as _native_evaluate
+from ._native import evaluate_series as _native_evaluate_series
+from ._native import get_parallel_threshold as _native_get_parallel_threshold
+from ._native import set_parallel_threshold as _native_set_parallel_threshold
+from ._validation import as_count, as_option, as_phases, broadcast_designs, design_keywords, finish
+from .grids import as_phi
 
 __all__ = [
     "potential_energy",
@@ -32,7 +36,7 @@ def _evaluate(quantity: str, phi: Any, crank_ratio: Any, inclination: Any, u1: A
     the Fourier form, "series" / "paper") of the broadcast designs over all of φ."""
     phi_shape, points, uniform = as_phi(phi)
     shape, design = broadcast_designs(**design_keywords(crank_ratio, inclination, u1, u2))
-    kernel = _native.evaluate_series if quantity in ("series", "paper") else _native.evaluate
+    kernel = _native_evaluate_series if quantity in ("series", "paper") else _native_evaluate
     flat = kernel(
         quantity,
         points,
@@ -112,7 +116,7 @@ def force_derivative(phi, *, crank_ratio, inclination, u1, u2, phases=None):
 
 def get_parallel_threshold() -> int:
     """The work size (output points × cranks) from which evaluation runs on all cores."""
-    return _native.get_parallel_threshold()
+    return _native_get_parallel_threshold()
 
 
 def set_parallel_threshold(threshold: int) -> None:
@@ -122,4 +126,4 @@ def set_parallel_threshold(threshold: int) -> None:
     way. The number of threads is rayon's: set ``RAYON_NUM_THREADS`` before the first call.
     """
     threshold = as_count(threshold, "threshold", minimum=0)
-    _native.set_parallel_threshold(min(threshold, 2**63 - 1))
+    _native_set_parallel_threshold(min(threshold, 2**63 - 1))

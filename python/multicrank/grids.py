@@ -15,10 +15,10 @@ from typing import Any
 
 import numpy as np
 
-from ._api import as_count, as_real_array
 from ._native import MechanismError
+from ._validation import as_angles, as_count, as_real_array, contiguous
 
-__all__ = ["UniformGrid", "uniform_grid"]
+__all__ = ["UniformGrid", "as_phi", "grid_of", "uniform_grid"]
 
 
 class UniformGrid(np.lib.mixins.NDArrayOperatorsMixin):
@@ -110,3 +110,16 @@ def grid_of(phi: Any) -> tuple[float, float, int] | None:
     if isinstance(phi, UniformGrid):
         return (phi.start, phi.step, phi.count)
     return None
+
+
+def as_phi(phi: Any) -> tuple[tuple[int, ...], np.ndarray, tuple[float, float, int] | None]:
+    """φ for the kernels: (its shape, flat contiguous points, uniform grid or None).
+
+    For a :class:`~multicrank.UniformGrid` the kernels rotate: they get (start, step, count)
+    and no points, which are then never formed.
+    """
+    uniform = grid_of(phi)
+    if uniform:
+        return (uniform[2],), np.empty(0), uniform
+    angles = as_angles(phi)
+    return angles.shape, contiguous(angles).reshape(-1), None

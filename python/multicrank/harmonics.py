@@ -8,8 +8,11 @@ from typing import Any
 
 import numpy as np
 
-from . import _native
-from ._api import (
+from ._native import fourier_coefficients as _native_fourier_coefficients
+from ._native import lambda_coefficients as _native_lambda_coefficients
+from ._native import paper_coefficient as _native_paper_coefficient
+from ._native import surviving_harmonics as _native_surviving_harmonics
+from ._validation import (
     as_count,
     as_design,
     as_option,
@@ -56,7 +59,7 @@ def lambda_coefficients(crank_ratio: Any, n_max: int, method: str = "exact") -> 
     lam = as_design(crank_ratio, "crank_ratio", low=0.0, high=1.0)
     n_max = as_count(n_max, "n_max", minimum=0)
     method = as_option(method, "method", ("exact", "paper"))
-    flat = _native.lambda_coefficients(contiguous(lam).reshape(-1), n_max, method)
+    flat = _native_lambda_coefficients(contiguous(lam).reshape(-1), n_max, method)
     return flat.reshape(lam.shape + (n_max + 1,))
 
 
@@ -65,7 +68,7 @@ def paper_coefficient(i: int, j: int) -> Fraction:
 
     (−1)^{i+1} · (2i/(j+1)) · C(2j, j) · C(2j+2, j+1−i) / 4^{2j+1}.
     """
-    numerator, denominator = _native.paper_coefficient(as_count(i, "i", minimum=1), as_count(j, "j", minimum=0))
+    numerator, denominator = _native_paper_coefficient(as_count(i, "i", minimum=1), as_count(j, "j", minimum=0))
     return Fraction(numerator, denominator)
 
 
@@ -76,7 +79,7 @@ def surviving_harmonics(cranks: int, strokes: int = 2, acting: str = "single", n
     survives when its phase sum S_n = Σ_j e^{inα_j} is non-zero. With α = 2πp/q the sum is
     k when q | np and zero when q ∤ np but q | npk — decided in exact integer arithmetic.
     """
-    return _native.surviving_harmonics(
+    return _native_surviving_harmonics(
         as_count(cranks, "cranks", minimum=1),
         as_strokes(strokes),
         as_option(acting, "acting", ("single", "double")),
@@ -129,7 +132,7 @@ def fourier_coefficients(
     """
     shape, design = broadcast_designs(**design_keywords(crank_ratio, inclination, u1, u2))
     n_max = as_count(n_max, "n_max", minimum=0)
-    a, b = _native.fourier_coefficients(
+    a, b = _native_fourier_coefficients(
         design["crank_ratio"], design["inclination"], design["u1"], design["u2"], as_phases(phases), n_max
     )
     width = (n_max + 1,)

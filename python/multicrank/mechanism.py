@@ -6,8 +6,9 @@ from typing import Any
 
 import numpy as np
 
-from . import _native
-from ._api import as_count, as_option, as_real_array, as_strokes, broadcast_designs, finish
+from ._native import crank_phases as _native_crank_phases
+from ._native import dimensionless_moments as _native_dimensionless_moments
+from ._validation import as_count, as_option, as_real_array, as_strokes, broadcast_designs, finish
 
 __all__ = ["crank_phases", "dimensionless_moments", "STANDARD_GRAVITY"]
 
@@ -31,7 +32,7 @@ def crank_phases(cranks: int, strokes: int = 2, acting: str = "single") -> np.nd
     -------
     ndarray of shape (cranks,)
     """
-    return _native.crank_phases(
+    return _native_crank_phases(
         as_count(cranks, "cranks", minimum=1),
         as_strokes(strokes),
         as_option(acting, "acting", ("single", "double")),
@@ -120,5 +121,5 @@ def dimensionless_moments(
     )
     arrays = {name: as_real_array(value, name) for name, value in values.items()}
     shape, flat = broadcast_designs("physical parameters", **arrays)
-    u1, u2 = _native.dimensionless_moments(*flat.values())
+    u1, u2 = _native_dimensionless_moments(*flat.values())
     return finish(u1, shape), finish(u2, shape)

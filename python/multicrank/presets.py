@@ -14,7 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ._api import MechanismError
+from ._native import MechanismError
 from .mechanism import STANDARD_GRAVITY, crank_phases, dimensionless_moments
 
 __all__ = ["Machine", "DEFAULT_ENGINE", "ENGINES", "load_engine", "engine_by_name_or_file"]

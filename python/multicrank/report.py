@@ -24,7 +24,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from .analysis import speed_fluctuation
+from .extrema import speed_fluctuation
 from .evaluation import generalized_force, potential_energy
 from .harmonics import fourier_coefficients, harmonic_table, lambda_coefficients
 from .mechanism import crank_phases, dimensionless_moments
@@ -510,7 +510,7 @@ at λ = 0.4 (dotted) its Λ<sub>12</sub> is tens of percent off. Right: the erro
         "<h2>Conventions</h2><ul>" + "".join(f"<li>{html.escape(c)}</li>" for c in CONVENTIONS) + "</ul>"
         + "<h2>Errata of the paper</h2><ol>" + "".join(f"<li>{html.escape(e)}</li>" for e in ERRATA) + "</ol>"
     )
-    from . import __version__
+    from ._native import __version__
 
     page = f"""<!DOCTYPE html>
 <html lang="en"><head><meta charset="utf-8"><title>multicrank report — {html.escape(engine.name)}</title>

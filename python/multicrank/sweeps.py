@@ -21,8 +21,9 @@ from typing import Any, Iterator
 import numpy as np
 import pandas as pd
 
-from . import _native
-from ._api import MechanismError, as_count, as_design, as_option, contiguous
+from ._native import MechanismError
+from ._native import sweep as _native_sweep
+from ._validation import as_count, as_design, as_option, contiguous
 from .mechanism import crank_phases
 
 __all__ = ["SWEEP_OUTPUTS", "DesignGrid", "design_grid", "sweep", "to_xarray"]
@@ -241,7 +242,7 @@ def _reduce(columns: dict[str, np.ndarray], phi: np.ndarray, outputs: tuple[str,
     for start in range(0, n, call_size):
         part = slice(start, min(start + call_size, n))
         parts.append(
-            _native.sweep(
+            _native_sweep(
                 *(contiguous(columns[c][part]) for c in DESIGN_COLUMNS),
                 np.ascontiguousarray(set_index[part]),
                 set_phases,

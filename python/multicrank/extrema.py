@@ -6,8 +6,8 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from . import _native
-from ._api import as_phases, broadcast_designs, design_keywords, finish
+from ._native import energy_extrema as _native_energy_extrema
+from ._validation import as_phases, broadcast_designs, design_keywords, finish
 
 __all__ = ["EnergyExtrema", "energy_extrema", "speed_fluctuation"]
 
@@ -33,7 +33,7 @@ def energy_extrema(*, crank_ratio: Any, inclination: Any, u1: Any, u2: Any, phas
     design shape D.
     """
     shape, design = broadcast_designs(**design_keywords(crank_ratio, inclination, u1, u2))
-    fields = _native.energy_extrema(
+    fields = _native_energy_extrema(
         design["crank_ratio"], design["inclination"], design["u1"], design["u2"], as_phases(phases)
     )
     return EnergyExtrema(*(finish(f, shape) for f in fields))

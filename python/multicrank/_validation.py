@@ -2,6 +2,8 @@
 
 Everything that reaches the Rust kernels leaves here as a contiguous float64 array, and
 every kind of bad input leaves here as a :class:`MechanismError` that names the parameter.
+It depends on nothing of the package but that error class (from the extension), so every
+other module can use it without an import circle.
 """
 
 from __future__ import annotations
@@ -14,17 +16,16 @@ import numpy as np
 from ._native import MechanismError
 
 __all__ = [
-    "MechanismError",
     "as_angles",
-    "as_phi",
-    "as_real_array",
-    "contiguous",
-    "as_design",
-    "as_phases",
     "as_count",
+    "as_design",
     "as_option",
+    "as_phases",
+    "as_real_array",
     "as_strokes",
     "broadcast_designs",
+    "contiguous",
+    "design_keywords",
     "finish",
 ]
 
@@ -57,21 +58,6 @@ def contiguous(array: np.ndarray) -> np.ndarray:
 def as_angles(phi: Any, name: str = "phi") -> np.ndarray:
     """Crank angles of any shape as float64 (rad). NaN/inf are allowed (they give NaN)."""
     return as_real_array(phi, name)
-
-
-def as_phi(phi: Any) -> tuple[tuple[int, ...], np.ndarray, tuple[float, float, int] | None]:
-    """φ for the kernels: (its shape, flat contiguous points, uniform grid or None).
-
-    For a :class:`~multicrank.UniformGrid` the kernels rotate: they get (start, step, count)
-    and no points, which are then never formed.
-    """
-    from .grids import grid_of
-
-    uniform = grid_of(phi)
-    if uniform:
-        return (uniform[2],), np.empty(0), uniform
-    angles = as_angles(phi)
-    return angles.shape, contiguous(angles).reshape(-1), None
 
 
 def as_design(value: Any, name: str, *, low: float | None = None, high: float | None = None) -> np.ndarray:
