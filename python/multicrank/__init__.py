@@ -38,10 +38,10 @@ from .mechanism import STANDARD_GRAVITY, crank_phases, dimensionless_moments
 # The sweep machinery pulls in pandas (and, where installed, pyarrow's thread pools): load
 # it on first use, so that `import multicrank` stays light and starts no threads.
 _LAZY = {
-    "SWEEP_OUTPUTS": "sweeps",
-    "DesignGrid": "sweeps",
-    "design_grid": "sweeps",
-    "to_xarray": "sweeps",
+    "SWEEP_OUTPUTS": "designs",
+    "DesignGrid": "designs",
+    "design_grid": "designs",
+    "to_xarray": "designs",
     "sweep": "sweeps",
 }
 

@@ -182,7 +182,8 @@ def sweep_command(config, phi, outputs, out, resume, chunk_size, progress, **axi
     import time
     import tomllib
 
-    from .sweeps import SWEEP_OUTPUTS, DesignGrid, sweep
+    from .designs import SWEEP_OUTPUTS, DesignGrid
+    from .sweeps import sweep
 
     table = {}
     if config:
