@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import multicrank as mc
-from multicrank.engines import LAYOUTS
+from multicrank.presets import LAYOUTS
 
 mp.mp.dps = 40
 G = mp.mpf("9.80665")

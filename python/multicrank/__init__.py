@@ -15,7 +15,7 @@ from typing import Any as _Any
 from . import presets
 from ._native import MechanismError, __version__, build_profile
 from ._native import _after_fork_in_child as _native_after_fork_in_child
-from .engines import LAYOUTS, Engine, Layout, layout_engine
+from .engines import Engine
 from .evaluation import (
     FORCE_METHODS,
     force_derivative,
@@ -34,6 +34,7 @@ from .harmonics import (
     surviving_harmonics,
 )
 from .mechanism import STANDARD_GRAVITY, crank_phases, dimensionless_moments
+from .presets import LAYOUTS, Layout, layout_engine
 
 # The sweep machinery pulls in pandas (and, where installed, pyarrow's thread pools): load
 # it on first use, so that `import multicrank` stays light and starts no threads.

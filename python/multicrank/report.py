@@ -277,7 +277,7 @@ def layouts_figure(settings: ReportSettings):
     """δ_g and the leading gravity harmonic of every preset layout, with the engine's
     per-cylinder λ, U1 and U2 at its speed (in-line layouts upright)."""
     plt = _pyplot()
-    from .engines import LAYOUTS
+    from .presets import LAYOUTS
     from .sweeps import sweep
 
     engine = settings.engine
