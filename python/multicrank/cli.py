@@ -9,13 +9,28 @@ import click
 import numpy as np
 
 from ._native import MechanismError, __version__
+from ._optional import OptionalDependencyError, require
 from .evaluation import generalized_force, potential_energy
 from .presets import DEFAULT_ENGINE, ENGINES
 
 FORMATS = ("table", "csv", "json")
 
 
-@click.group(context_settings={"help_option_names": ["-h", "--help"]})
+class MissingExtra(click.ClickException):
+    """An optional dependency is missing: one line on stderr, exit status 2 (as a usage error)."""
+
+    exit_code = 2
+
+
+class _Commands(click.Group):
+    def invoke(self, ctx: click.Context) -> object:
+        try:
+            return super().invoke(ctx)
+        except OptionalDependencyError as error:
+            raise MissingExtra(str(error)) from None
+
+
+@click.group(cls=_Commands, context_settings={"help_option_names": ["-h", "--help"]})
 @click.version_option(__version__, prog_name="multicrank")
 def main() -> None:
     """Gravitational potential energy U* and generalised force Q_u* = dU*/dφ of
@@ -206,8 +221,7 @@ def sweep_command(config, phi, outputs, out, resume, chunk_size, progress, **axi
         click.echo(f"\ninterrupted: finished chunks are kept; rerun with --resume to continue into {out}", err=True)
         sys.exit(130)
     elapsed = time.perf_counter() - started
-    import pyarrow.parquet as pq
-
+    pq = require("pyarrow.parquet", "parquet")
     result = pq.read_table(path, columns=[c for c in chosen]).to_pandas()
     click.echo(
         f"{len(grid):,} designs × {phi} φ points in {elapsed:.2f} s "

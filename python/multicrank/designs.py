@@ -17,6 +17,7 @@ import numpy as np
 import pandas as pd
 
 from ._native import MechanismError
+from ._optional import require
 from ._validation import as_design, contiguous
 from .mechanism import crank_phases
 
@@ -200,7 +201,7 @@ def grid_axes_of(designs: Any) -> dict[str, list] | None:
 def to_xarray(result: pd.DataFrame, axes: Mapping[str, Any] | None = None) -> Any:
     """A grid sweep's result as an ``xarray.Dataset``: one dimension per grid axis, one
     variable per output. ``axes`` defaults to the ``grid_axes`` the grid left in ``attrs``."""
-    import xarray as xr
+    xr = require("xarray", "xarray")
 
     axes = axes if axes is not None else result.attrs.get("grid_axes")
     if not axes:

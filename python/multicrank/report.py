@@ -27,6 +27,7 @@ import pandas as pd
 from .extrema import speed_fluctuation
 from .evaluation import generalized_force, potential_energy
 from .harmonics import fourier_coefficients, harmonic_table, lambda_coefficients
+from ._optional import require
 from .mechanism import crank_phases, dimensionless_moments
 from .presets import DEFAULT_ENGINE, ENGINES, Machine
 
@@ -77,8 +78,7 @@ class ReportSettings:
 
 # ----------------------------------------------------------------------------- figures
 def _pyplot():
-    import matplotlib
-
+    matplotlib = require("matplotlib", "report")
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
@@ -371,6 +371,7 @@ def write_report(out: str | Path, settings: ReportSettings | None = None, progre
     """Write the report into ``out`` (created if needed); returns the path of index.html."""
     from tqdm.auto import tqdm
 
+    require("matplotlib", "report")  # before anything is written
     settings = settings or ReportSettings()
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)

@@ -22,6 +22,7 @@ import numpy as np
 import pandas as pd
 
 from ._native import MechanismError
+from ._optional import require
 
 __all__ = ["PartStore", "fingerprint"]
 
@@ -47,10 +48,8 @@ class PartStore:
     """
 
     def __init__(self, out: Path, manifest: dict, *, resume: bool) -> None:
-        import pyarrow as pa
-        import pyarrow.parquet as pq
-
-        self._pa, self._pq = pa, pq
+        self._pa = require("pyarrow", "parquet")
+        self._pq = require("pyarrow.parquet", "parquet")
         self.out = out
         self.parts = out.with_name(out.name + ".parts")
         manifest_file = self.parts / "manifest.json"
