@@ -1,4 +1,4 @@
-"""Tests of the public Python API of multicrank (spec/api.md) against the numpy reference.
+"""Tests of the public Python API of multicrank against the numpy reference.
 
 Covered: input validation (every bad input → MechanismError naming the parameter), accepted
 input kinds (scalars, ints, lists, float16/32, n-D, non-contiguous, reversed, read-only,

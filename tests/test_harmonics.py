@@ -1,4 +1,5 @@
-"""The harmonics of Q_u* (mathematics.md §4–5) and the speed fluctuation (§6).
+"""The harmonics of Q_u* and the speed fluctuation (docs/theory.md, "Fourier form and Λ_n",
+"Which harmonics survive", "Speed fluctuation due to gravity").
 
 Every expected value here is computed independently of the formulas under test:
 
@@ -10,7 +11,7 @@ Every expected value here is computed independently of the formulas under test:
   installed) and against the decimals printed in the paper;
 - surviving harmonics against numerical phase sums Σ_j e^{inα_j};
 - Fourier coefficients against an FFT of the closed-form Q;
-- the special cases eq. (19)–(22) written out from §5;
+- the special cases eq. (19)–(22) written out from "Which harmonics survive";
 - the speed fluctuation against a dense grid and against mpmath root finding on the
   closed forms of U and Q.
 
@@ -48,7 +49,8 @@ KINDS = [(2, "single"), (4, "single"), (2, "double"), (4, "double")]
 
 
 def regular_phases(k: int, strokes: int, acting: str) -> np.ndarray:
-    """α_j = j·α, α = T/k (single) or T/(2k) (double), T = 2π or 4π (§2), written out here."""
+    """α_j = j·α, α = T/k (single) or T/(2k) (double), T = 2π or 4π (docs/theory.md, "Crank phases"),
+    written out here."""
     period = 2 * PI if strokes == 2 else 4 * PI
     step = period / k if acting == "single" else period / (2 * k)
     return np.arange(k) * step
@@ -103,7 +105,7 @@ def q_mp(phi, lam, gamma, u1, u2, alphas):
 
 
 def u_mp(phi, lam, gamma, u1, u2, alphas):
-    """U_w* (§1–2) in mpmath: Σ_j U2[sin(ψ+γ) − sin γ] − U1 (s(ψ)/r) sin γ."""
+    """U_w* ("Potential energy and generalised force") in mpmath: Σ_j U2[sin(ψ+γ) − sin γ] − U1 (s(ψ)/r) sin γ."""
     L, G = mpf(lam), mpf(gamma)
     sin_g = mp.sin(G)
     total = mpf(0)
@@ -450,7 +452,7 @@ def test_paper_coefficient_invalid_input():
 
 
 # --------------------------------------------------------------------------------------
-# 3. Surviving harmonics (§5, Tables 1 and 2)
+# 3. Surviving harmonics ("Which harmonics survive", Tables 1 and 2)
 # --------------------------------------------------------------------------------------
 
 # The paper's Table 1 (two-stroke, single acting), as printed: n -> the k with W_n ≠ 0.
@@ -513,7 +515,7 @@ def test_surviving_harmonics_match_phase_sums(strokes, acting):
 
 
 def rule_survives(n: int, k: int, strokes: int, acting: str) -> bool:
-    """The table of mathematics.md §5, verbatim."""
+    """The table of docs/theory.md, "Which harmonics survive", verbatim."""
     if n == 1:
         return {(2, "single"): k == 1, (4, "single"): k in (1, 2), (4, "double"): k == 1, (2, "double"): True}[
             (strokes, acting)
@@ -803,7 +805,7 @@ def test_vertical_engines(strokes, k, lam, gamma):
 
 
 # --------------------------------------------------------------------------------------
-# 7. Speed fluctuation and energy extrema (§6)
+# 7. Speed fluctuation and energy extrema ("Speed fluctuation due to gravity")
 # --------------------------------------------------------------------------------------
 
 FLUCTUATION_CASES = [

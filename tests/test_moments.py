@@ -6,7 +6,7 @@ The engine (SI):
     m_t = 1.2 kg, m_k = 0.9 kg, m_s = 2 kg at r_s = 0.03 m,
     counterweight m_p = 3 kg at r_p = 0.04 m, I_w = 0.5 kg m², n = 1500 rpm, g = 9.80665.
 
-By hand (mathematics.md §1, corrected eq. 5–7):
+By hand (docs/theory.md, "Dimensionless moments": the corrected eq. 5–7):
     ω = π·1500/30 = 50π,   I_w ω² = 0.5·2500π² = 1250π²
     rod shares: piston (l − z_k)/l = 0.15/0.2 = 3/4,  crank pin z_k/l = 1/4
     U1 = r g [m_t + 3/4·m_k] / (1250π²) = 0.05·(1.2 + 0.675)·g/(1250π²)

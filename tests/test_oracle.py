@@ -1,6 +1,6 @@
 """An independent, first-principles oracle for `potential_energy` and `generalized_force`.
 
-Nothing here reuses the closed forms of mathematics.md §1/§3 (or the paper's). For each
+Nothing here reuses the closed forms of docs/theory.md (or the paper's). For each
 slider-crank unit the oracle places every body in the plane (mpmath, 40 digits):
 
     shaft centre            at the origin
@@ -13,7 +13,7 @@ slider-crank unit the oracle places every body in the plane (mpmath, 40 digits):
 
 and sums U = g·Σ m·h (h = the vertical coordinate). Each unit's energy is measured from its
 own ψ = 0 configuration, divided by I_w ω² (ω = π·rpm/30), and the units are summed at
-ψ_j = φ + α_j with the phases α_j written out from §2 in exact arithmetic (not taken from the
+ψ_j = φ + α_j with the phases α_j written out from docs/theory.md, "Crank phases", in exact arithmetic (not taken from the
 library). Q* is mpmath.diff of that energy. The library is fed the SI engine through
 `mc.dimensionless_moments`, so these tests check the moments, the energy and the force
 together against physics.
@@ -83,7 +83,7 @@ class Engine:
 
 
 def exact_phases(k, strokes, acting):
-    """§2 written out: α_j = j·α, α = T/k (single) or T/(2k) (double), T = 2π or 4π."""
+    """docs/theory.md, "Crank phases", written out: α_j = j·α, α = T/k (single) or T/(2k) (double), T = 2π or 4π."""
     with mp.workdps(DPS):
         period = 2 * mp.pi if strokes == 2 else 4 * mp.pi
         alpha = period / k if acting == "single" else period / (2 * k)
@@ -404,7 +404,7 @@ def test_oracle_geometry_and_derivative_self_consistent():
 
 
 # --------------------------------------------------------------------------------------
-# The crank phase sets of §2, written out by hand
+# The crank phase sets of docs/theory.md, "Crank phases", written out by hand
 # --------------------------------------------------------------------------------------
 
 HAND_PHASES = [

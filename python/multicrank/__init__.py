@@ -1,7 +1,7 @@
 """multicrank — gravitational potential energy and generalised Lagrange forces of
 multi-crank piston mechanisms (after M. Stańczak), exact and fast, with a Rust core.
 
-Conventions (mathematics.md §1–3): angles in radians, φ from outer dead centre, γ the
+Conventions (docs/theory.md, "Conventions"): angles in radians, φ from outer dead centre, γ the
 cylinder's inclination to the horizontal (+π/2 upright), energies dimensionless
 (U* = U/(I_w ω²)), Q_u* = +dU_w*/dφ.
 """

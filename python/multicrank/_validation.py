@@ -141,7 +141,7 @@ def finish(flat: np.ndarray, shape: tuple[int, ...]) -> np.ndarray | np.float64:
 
 
 def design_keywords(crank_ratio: Any, inclination: Any, u1: Any, u2: Any) -> dict[str, np.ndarray]:
-    """The four design keywords of the evaluation functions, validated (api.md ranges)."""
+    """The four design keywords of the evaluation functions, validated (0 ≤ λ < 1, all finite)."""
     return {
         "crank_ratio": as_design(crank_ratio, "crank_ratio", low=0.0, high=1.0),
         "inclination": as_design(inclination, "inclination"),

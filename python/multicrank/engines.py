@@ -3,7 +3,7 @@
 An :class:`Engine` is a list of slider-crank units, each with its own crank phase α_j,
 cylinder inclination γ_j, crank ratio λ_j and gravity moments u1_j, u2_j. Unit j's crank
 angle is ψ_j = φ + α_j from its own outer dead centre, and its crank pin sits at the
-absolute angle ψ_j + γ_j (mathematics.md §1). So cylinders that share a crank pin whose
+absolute angle ψ_j + γ_j (docs/theory.md, "Conventions"). So cylinders that share a crank pin whose
 absolute angle is φ + β (V, W, a 180° V) have α_j = β − γ_j; :meth:`Engine.from_throws`
 does that bookkeeping. Everything runs in the Rust core with one set of coefficients per
 unit, at the speed of the in-line path. The preset layouts (``LAYOUTS``, ``layout_engine``)
@@ -71,7 +71,7 @@ class Engine:
     @classmethod
     def inline(cls, cranks: int, strokes: int = 2, acting: str = "single", *, crank_ratio, inclination, u1, u2,
                name: str | None = None) -> "Engine":
-        """A regular in-line machine (mathematics.md §2): identical units at α_j = j·α."""
+        """A regular in-line machine (docs/theory.md, "Crank phases"): identical units at α_j = j·α."""
         phases = crank_phases(cranks, strokes, acting)
         return cls(phase=phases, inclination=inclination, crank_ratio=crank_ratio, u1=u1, u2=u2,
                    name=name or f"inline-{cranks} {strokes}-stroke {acting}-acting")

@@ -1,4 +1,5 @@
-"""Evaluation of U_w*(φ) and Q_u*(φ) over crank-angle grids and design arrays (§1–3).
+"""Evaluation of U_w*(φ) and Q_u*(φ) over crank-angle grids and design arrays
+(docs/theory.md, "Potential energy and generalised force").
 
 All design keywords broadcast together, numpy-style, to a design shape D; the result has
 shape D + phi.shape. The work runs in the Rust core with the GIL released, in parallel

@@ -1,4 +1,5 @@
-"""What the numbers mean: the extrema of U_w* and the speed fluctuation due to gravity (§6)."""
+"""What the numbers mean: the extrema of U_w* and the speed fluctuation due to gravity
+(docs/theory.md, "Speed fluctuation due to gravity")."""
 
 from __future__ import annotations
 
@@ -40,7 +41,7 @@ def energy_extrema(*, crank_ratio: Any, inclination: Any, u1: Any, u2: Any, phas
 
 
 def speed_fluctuation(*, crank_ratio: Any, inclination: Any, u1: Any, u2: Any, phases: Any = None):
-    """δ_g = max U_w* − min U_w* over one revolution (mathematics.md §6).
+    """δ_g = max U_w* − min U_w* over one revolution (docs/theory.md, "Speed fluctuation due to gravity").
 
     With constant reduced inertia I_w and gravity alone, ½I_w ω² + U is constant, so to
     first order the gravity contribution to the coefficient of speed fluctuation

@@ -1,5 +1,6 @@
-"""Harmonics of Q_u* (mathematics.md §4–5): Λ_n, the surviving harmonics, the paper's
-Tables 1–2 and the Fourier coefficients of any machine."""
+"""Harmonics of Q_u*: Λ_n, the surviving harmonics, the paper's Tables 1–2 and the Fourier
+coefficients of any machine (docs/theory.md, "Fourier form and Λ_n" and "Which harmonics
+survive")."""
 
 from __future__ import annotations
 
@@ -73,7 +74,8 @@ def paper_coefficient(i: int, j: int) -> Fraction:
 
 
 def surviving_harmonics(cranks: int, strokes: int = 2, acting: str = "single", n_max: int = 24) -> list[int]:
-    """The harmonics n ≤ n_max of Q_u* that survive the sum over a regular crank set (§5).
+    """The harmonics n ≤ n_max of Q_u* that survive the sum over a regular crank set
+    (docs/theory.md, "Which harmonics survive").
 
     Only n = 1 (the N and W1 terms) and even n (the W_n terms) carry coefficients; each
     survives when its phase sum S_n = Σ_j e^{inα_j} is non-zero. With α = 2πp/q the sum is

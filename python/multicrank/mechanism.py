@@ -1,4 +1,5 @@
-"""Machine description: crank phase sets and the dimensionless gravity moments (§1–2)."""
+"""Machine description: crank phase sets and the dimensionless gravity moments
+(docs/theory.md, "Crank phases" and "Dimensionless moments")."""
 
 from __future__ import annotations
 
@@ -80,7 +81,7 @@ def dimensionless_moments(
 
     The rod's mass is split exactly for potential energy: (l − z_k)/l of it translates with
     the piston, z_k/l rotates with the crank pin. (The paper's printed eq. 5–6 swap the two
-    shares; see mathematics.md §7, erratum 3.) u2 is negative when the counterweight
+    shares; see docs/theory.md, "Errata of the paper".) u2 is negative when the counterweight
     outweighs the rotating parts.
 
     Parameters (SI units; arrays broadcast together)

@@ -2,7 +2,7 @@
 
 Same signatures as the public API. Each function is the paper's formula written the
 obvious way — a Python loop over the k cranks, each crank one vectorised numpy expression
-over all φ, accumulated into one output array (performance.md's baseline). It is the test
+over all φ, accumulated into one output array (the baseline of BENCHMARKS.md). It is the test
 oracle for the Rust kernels and the baseline every benchmark ratio is quoted against.
 """
 
