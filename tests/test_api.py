@@ -863,7 +863,6 @@ print(before, count())
 
 def test_metadata():
     assert isinstance(mc.__version__, str) and mc.__version__
-    assert mc.build_profile in ("release", "debug")
     assert mc._native.build_profile == mc.build_profile
     assert "MechanismError" in mc.__all__
     assert issubclass(mc.MechanismError, ValueError)
@@ -872,3 +871,12 @@ def test_metadata():
                  "force_derivative", "set_parallel_threshold", "get_parallel_threshold"):
         assert callable(getattr(mc, name))
     assert math.isclose(float(mc.crank_phases(2)[1]), math.pi)
+
+
+@pytest.mark.skipif(
+    "MULTICRANK_EXPECT_BUILD_PROFILE" not in os.environ, reason="only where the build's profile is known (scripts/test)"
+)
+def test_build_profile_is_the_one_built():
+    # scripts/test builds the wheel with pyproject's profile = "release" and says so here; a
+    # debug extension would pass every other test, 10-50x slower.
+    assert mc.build_profile == os.environ["MULTICRANK_EXPECT_BUILD_PROFILE"]

@@ -26,10 +26,6 @@ def run(*args: str) -> str:
     return result.stdout
 
 
-def test_console_script_is_installed():
-    assert SCRIPT.is_file(), f"no console script at {SCRIPT}"
-
-
 def test_eval_table_names_the_engine():
     out = run("eval", "--points", "6")
     assert DEFAULT_ENGINE.name in out

@@ -95,24 +95,6 @@ def assert_rel(got, want, rtol, label):
     )
 
 
-def test_hand_arithmetic_is_consistent():
-    """The hand-simplified fractions in the docstring equal the formula evaluated exactly."""
-    c1, c2 = exact_moments(D)
-    assert D["rod_length"] - D["rod_cg"] == F(3, 20)
-    assert (D["rod_length"] - D["rod_cg"]) / D["rod_length"] == F(3, 4)
-    assert D["shaft_inertia"] * D["rpm"] ** 2 / 900 == 1250  # I ω² = 1250 π²
-    assert D["crank_radius"] * (D["piston_mass"] + F(3, 4) * D["rod_mass"]) == F(3, 32)
-    assert c1 == F(3, 40000)
-    assert c2 == F(-39, 1000000)
-    p1, p2 = exact_moments(D, paper=True)
-    assert p1 == F(57, 1000000)
-    assert p2 == F(-21, 1000000)
-    # decimal sanity: ω = 50π
-    assert math.isclose(math.pi * 1500 / 30, 50 * math.pi, rel_tol=1e-16)
-    assert math.isclose(to_float(c1), 7.4515e-5, rel_tol=1e-4)
-    assert math.isclose(to_float(c2), -3.8750e-5, rel_tol=1e-4)
-
-
 def test_worked_example_matches_hand_computation():
     u1, u2 = mc.dimensionless_moments(**ENGINE)
     assert np.ndim(u1) == 0 and np.ndim(u2) == 0

@@ -193,6 +193,9 @@ def sweep_command(config, phi, outputs, out, resume, chunk_size, progress, **axi
     also take "start:stop"), or a comma-separated list. Axes not given default to
     u2 = 0, cranks = 1, strokes = 2, acting = single; crank-ratio, inclination and u1 are
     required (on the command line or in --config).
+
+    Ctrl-C stops the sweep with exit status 130; the finished chunks are kept next to --out,
+    and the same command with --resume continues from them.
     """
     import time
     import tomllib
