@@ -156,8 +156,21 @@ def test_non_finite_design_value(name, keyword, value):
     assert_mechanism_error(lambda: FAST[name](PHI, **design), keyword)
 
 
-WRONG_TYPES = ["0.3", "abc", 0.3 + 0.0j, 1j, None, True, False, np.bool_(True), np.array([True, False]),
-               np.array([0.1 + 0j]), [0.1, "a"], b"0.3", object()]
+WRONG_TYPES = [
+    "0.3",
+    "abc",
+    0.3 + 0.0j,
+    1j,
+    None,
+    True,
+    False,
+    np.bool_(True),
+    np.array([True, False]),
+    np.array([0.1 + 0j]),
+    [0.1, "a"],
+    b"0.3",
+    object(),
+]
 
 
 @pytest.mark.parametrize("name", QUANTITIES)
@@ -465,7 +478,11 @@ def test_broadcasting_designs(name):
     for i in range(3):
         for j in range(4):
             alone = FAST[name](
-                phi, crank_ratio=float(crank_ratio[i, 0]), inclination=float(inclination[j]), u1=u1, u2=float(u2[j]),
+                phi,
+                crank_ratio=float(crank_ratio[i, 0]),
+                inclination=float(inclination[j]),
+                u1=u1,
+                u2=float(u2[j]),
                 phases=phases,
             )
             assert_bits_equal(result[i, j], alone)
@@ -556,9 +573,7 @@ def test_random_views_are_bit_identical_to_contiguous_copies(name, shape, data, 
         view = view.T
     if data.draw(st.booleans()):
         view.setflags(write=False)
-    design = dict(
-        crank_ratio=rng.uniform(0, 0.9, size=(2, 1)), inclination=rng.uniform(-3, 3, size=3), u1=0.7, u2=-0.4
-    )
+    design = dict(crank_ratio=rng.uniform(0, 0.9, size=(2, 1)), inclination=rng.uniform(-3, 3, size=3), u1=0.7, u2=-0.4)
     phases = mc.crank_phases(int(rng.integers(1, 6)), 4)
     result = FAST[name](view, phases=phases, **design)
     assert result.shape == (2, 3) + view.shape
@@ -642,9 +657,7 @@ def test_crank_phases_feed_the_evaluation(k):
     phi = np.linspace(0, 2 * np.pi, 91)
     for strokes in (2, 4):
         for acting in ("single", "double"):
-            assert_matches_reference(
-                "generalized_force", phi, phases=mc.crank_phases(k, strokes, acting), **DESIGN
-            )
+            assert_matches_reference("generalized_force", phi, phases=mc.crank_phases(k, strokes, acting), **DESIGN)
 
 
 # ---------------------------------------------------------------------------------------
@@ -786,7 +799,9 @@ def test_fork_after_parallel_run(restore_threshold):
     assert np.array_equal(child, parent)
     assert child_energy == parent_energy
     mc.set_parallel_threshold(0)
-    assert_bits_equal(again, mc.generalized_force(np.linspace(-12.0, 12.0, 1001), phases=mc.crank_phases(3), **FORK_DESIGN))
+    assert_bits_equal(
+        again, mc.generalized_force(np.linspace(-12.0, 12.0, 1001), phases=mc.crank_phases(3), **FORK_DESIGN)
+    )
     # the parent's pool still works after the fork
     assert np.array_equal(mc.generalized_force(phi, phases=mc.crank_phases(3), **FORK_DESIGN), parent)
 
@@ -867,8 +882,15 @@ def test_metadata():
     assert "MechanismError" in mc.__all__
     assert issubclass(mc.MechanismError, ValueError)
     assert mc.MechanismError is mc._native.MechanismError
-    for name in ("crank_phases", "dimensionless_moments", "potential_energy", "generalized_force",
-                 "force_derivative", "set_parallel_threshold", "get_parallel_threshold"):
+    for name in (
+        "crank_phases",
+        "dimensionless_moments",
+        "potential_energy",
+        "generalized_force",
+        "force_derivative",
+        "set_parallel_threshold",
+        "get_parallel_threshold",
+    ):
         assert callable(getattr(mc, name))
     assert math.isclose(float(mc.crank_phases(2)[1]), math.pi)
 

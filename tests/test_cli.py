@@ -40,8 +40,12 @@ def test_eval_csv_numbers_match_the_api():
     assert len(rows) == 12
     engine = DEFAULT_ENGINE.replace(cranks=3, strokes=4, inclination_deg=60.0)
     phi = np.radians([float(r["phi_deg"]) for r in rows])
-    np.testing.assert_array_equal([float(r["potential_energy"]) for r in rows], mc.potential_energy(phi, **engine.design()))
-    np.testing.assert_array_equal([float(r["generalized_force"]) for r in rows], mc.generalized_force(phi, **engine.design()))
+    np.testing.assert_array_equal(
+        [float(r["potential_energy"]) for r in rows], mc.potential_energy(phi, **engine.design())
+    )
+    np.testing.assert_array_equal(
+        [float(r["generalized_force"]) for r in rows], mc.generalized_force(phi, **engine.design())
+    )
 
 
 def test_eval_json():
@@ -60,5 +64,7 @@ def test_bad_option_is_a_clear_error():
 def test_eval_takes_any_builtin_engine_and_rejects_unknown_ones():
     out = run("eval", "--engine", "inline-6", "--points", "4", "--format", "json")
     assert json.loads(out)["engine"]["cranks"] == 6
-    result = subprocess.run([str(SCRIPT), "eval", "--engine", "steam-hammer"], capture_output=True, text=True, timeout=60)
+    result = subprocess.run(
+        [str(SCRIPT), "eval", "--engine", "steam-hammer"], capture_output=True, text=True, timeout=60
+    )
     assert result.returncode == 2 and "steam-hammer" in result.stderr

@@ -100,7 +100,9 @@ def q_mp(phi, lam, gamma, u1, u2, alphas):
     for alpha in alphas:
         psi = mpf(phi) + alpha
         s = mp.sin(psi)
-        total += mpf(u2) * mp.cos(psi + G) - mpf(u1) * (s + L * mp.sin(2 * psi) / (2 * mp.sqrt(1 - L**2 * s**2))) * sin_g
+        total += (
+            mpf(u2) * mp.cos(psi + G) - mpf(u1) * (s + L * mp.sin(2 * psi) / (2 * mp.sqrt(1 - L**2 * s**2))) * sin_g
+        )
     return total
 
 
@@ -269,7 +271,10 @@ def test_lambda_matches_reference(lam):
         if abs(slow[n]) > 1e-290:
             assert abs(got[n] - slow[n]) <= 4e-16 * n * abs(slow[n]), n
     np.testing.assert_allclose(
-        mc.lambda_coefficients(lam, 20, method="paper"), ref.lambda_coefficients(lam, 20, method="paper"), rtol=1e-15, atol=0
+        mc.lambda_coefficients(lam, 20, method="paper"),
+        ref.lambda_coefficients(lam, 20, method="paper"),
+        rtol=1e-15,
+        atol=0,
     )
 
 
@@ -456,7 +461,15 @@ def test_paper_coefficient_invalid_input():
 # --------------------------------------------------------------------------------------
 
 # The paper's Table 1 (two-stroke, single acting), as printed: n -> the k with W_n ≠ 0.
-TABLE_1 = {1: [1], 2: [1, 2], 4: [1, 2, 4], 6: [1, 2, 3, 6], 8: [1, 2, 4, 8], 10: [1, 2, 5, 10], 12: [1, 2, 3, 4, 6, 12]}
+TABLE_1 = {
+    1: [1],
+    2: [1, 2],
+    4: [1, 2, 4],
+    6: [1, 2, 3, 6],
+    8: [1, 2, 4, 8],
+    10: [1, 2, 5, 10],
+    12: [1, 2, 3, 4, 6, 12],
+}
 
 # Table 2 (four-stroke, single acting; not printed, derived by hand from α = 4π/k):
 # n = 1 survives for k = 1, 2; even n for k | 2n.
@@ -549,7 +562,13 @@ def test_surviving_harmonics_examples():
 
 @pytest.mark.parametrize(
     "args",
-    [dict(cranks=0), dict(cranks=2.5), dict(cranks=3, strokes=3), dict(cranks=3, acting="triple"), dict(cranks=3, n_max=-2)],
+    [
+        dict(cranks=0),
+        dict(cranks=2.5),
+        dict(cranks=3, strokes=3),
+        dict(cranks=3, acting="triple"),
+        dict(cranks=3, n_max=-2),
+    ],
 )
 def test_surviving_harmonics_invalid_input(args):
     with pytest.raises(mc.MechanismError):
@@ -559,7 +578,9 @@ def test_surviving_harmonics_invalid_input(args):
 @pytest.mark.parametrize("strokes,acting", KINDS)
 def test_crank_phases_are_the_regular_sets(strokes, acting):
     for k in range(1, 13):
-        np.testing.assert_allclose(mc.crank_phases(k, strokes, acting), regular_phases(k, strokes, acting), rtol=1e-15, atol=0)
+        np.testing.assert_allclose(
+            mc.crank_phases(k, strokes, acting), regular_phases(k, strokes, acting), rtol=1e-15, atol=0
+        )
 
 
 # --------------------------------------------------------------------------------------
@@ -626,7 +647,9 @@ def test_fourier_coefficients_broadcast():
     a, b = mc.fourier_coefficients(crank_ratio=lam, inclination=1.0, u1=u1, u2=0.2, phases=V8_CROSS_PLANE, n_max=10)
     assert a.shape == b.shape == (3, 2, 11)
     for i, j in np.ndindex(3, 2):
-        sa, sb = mc.fourier_coefficients(crank_ratio=lam[i, 0], inclination=1.0, u1=u1[j], u2=0.2, phases=V8_CROSS_PLANE, n_max=10)
+        sa, sb = mc.fourier_coefficients(
+            crank_ratio=lam[i, 0], inclination=1.0, u1=u1[j], u2=0.2, phases=V8_CROSS_PLANE, n_max=10
+        )
         np.testing.assert_array_equal(a[i, j], sa)
         np.testing.assert_array_equal(b[i, j], sb)
     a, b = mc.fourier_coefficients(crank_ratio=0.3, inclination=1.0, u1=1.0, u2=0.2)
@@ -637,9 +660,7 @@ def test_fourier_coefficients_broadcast():
 # 5. series / paper against exact
 # --------------------------------------------------------------------------------------
 
-nonzero_moment = st.one_of(
-    st.just(0.0), st.floats(1e-3, 4.0), st.floats(-4.0, -1e-3)
-)
+nonzero_moment = st.one_of(st.just(0.0), st.floats(1e-3, 4.0), st.floats(-4.0, -1e-3))
 
 
 @st.composite
@@ -726,7 +747,13 @@ def test_series_near_lambda_one(lam):
 @pytest.mark.parametrize("lam", [0.1, 0.3, 0.4, 0.5])
 @pytest.mark.parametrize(
     "phases",
-    [None, regular_phases(2, 2, "single"), regular_phases(4, 4, "single"), regular_phases(7, 2, "single"), RANDOM_PHASES],
+    [
+        None,
+        regular_phases(2, 2, "single"),
+        regular_phases(4, 4, "single"),
+        regular_phases(7, 2, "single"),
+        RANDOM_PHASES,
+    ],
     ids=["k1", "k2", "k4-four-stroke", "k7", "random"],
 )
 def test_paper_method_truncation(lam, phases):

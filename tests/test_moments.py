@@ -162,12 +162,14 @@ def test_default_gravity_is_standard():
 
 
 def test_optional_masses_default_to_zero():
-    required = {k: ENGINE[k] for k in
-                ("crank_radius", "rod_length", "rod_cg", "piston_mass", "rod_mass",
-                 "shaft_inertia", "rpm")}
+    required = {
+        k: ENGINE[k]
+        for k in ("crank_radius", "rod_length", "rod_cg", "piston_mass", "rod_mass", "shaft_inertia", "rpm")
+    }
     u1, u2 = mc.dimensionless_moments(**required)
-    w1, w2 = mc.dimensionless_moments(**dict(required, crank_mass=0, crank_cg_radius=0,
-                                             counterweight_mass=0, counterweight_radius=0))
+    w1, w2 = mc.dimensionless_moments(
+        **dict(required, crank_mass=0, crank_cg_radius=0, counterweight_mass=0, counterweight_radius=0)
+    )
     assert float(u1) == float(w1) and float(u2) == float(w2)
     # u2 is the rod's rotating share only: r·(1/4)·m_k·g/(1250π²)
     assert_rel(u2, to_float(F("0.05") * F(1, 4) * F("0.9") / 1250), 1e-15, "u2")
@@ -268,8 +270,7 @@ BAD = [
 ]
 
 
-@pytest.mark.parametrize("name,value,needle", BAD,
-                         ids=[f"{n}={v!r}".replace(" ", "") for n, v, _ in BAD])
+@pytest.mark.parametrize("name,value,needle", BAD, ids=[f"{n}={v!r}".replace(" ", "") for n, v, _ in BAD])
 def test_invalid_inputs_raise_mechanism_error_naming_the_parameter(name, value, needle):
     with pytest.raises(mc.MechanismError) as info:
         mc.dimensionless_moments(**dict(ENGINE, **{name: value}))
@@ -280,7 +281,11 @@ def test_invalid_inputs_raise_mechanism_error_naming_the_parameter(name, value, 
 
 
 def test_boundary_values_are_accepted():
-    for override in (dict(rod_cg=0.0), dict(rod_cg=0.2), dict(piston_mass=0.0, rod_mass=0.0),
-                     dict(crank_cg_radius=0.0, counterweight_radius=0.0)):
+    for override in (
+        dict(rod_cg=0.0),
+        dict(rod_cg=0.2),
+        dict(piston_mass=0.0, rod_mass=0.0),
+        dict(crank_cg_radius=0.0, counterweight_radius=0.0),
+    ):
         u1, u2 = mc.dimensionless_moments(**dict(ENGINE, **override))
         assert np.isfinite(float(u1)) and np.isfinite(float(u2))

@@ -39,8 +39,6 @@ def test_shell_sweep_example_runs(tmp_path):
     args = command.split("#")[0].replace("\\\n", " ").split()[2:]
     # The README's grid, written into tmp_path.
     args[args.index("--out") + 1] = str(tmp_path / "sweep.parquet")
-    result = subprocess.run(
-        [str(SCRIPT), "sweep", *args, "--no-progress"], capture_output=True, text=True, timeout=300
-    )
+    result = subprocess.run([str(SCRIPT), "sweep", *args, "--no-progress"], capture_output=True, text=True, timeout=300)
     assert result.returncode == 0, result.stderr
     assert "designs" in result.stdout and (tmp_path / "sweep.parquet").exists()

@@ -157,7 +157,9 @@ def test_grid_to_xarray():
     data = mc.to_xarray(result)
     assert dict(data.sizes) == {"crank_ratio": 3, "inclination": 4, "cranks": 2}
     one = data["energy_range"].sel(crank_ratio=0.3, cranks=2).isel(inclination=2).item()
-    row = result[(result.crank_ratio == 0.3) & (result.cranks == 2) & (result.inclination == grid.inclination.unique()[2])]
+    row = result[
+        (result.crank_ratio == 0.3) & (result.cranks == 2) & (result.inclination == grid.inclination.unique()[2])
+    ]
     assert one == row["energy_range"].item()
     # A lazy DesignGrid sweeps to the same numbers.
     lazy = mc.sweep(mc.DesignGrid(**axes, u2=0.002), phi=120, chunk_size=5)
@@ -261,8 +263,24 @@ def test_cli_sweep_writes_parquet_and_summary(tmp_path):
     out = tmp_path / "cli.parquet"
     result = subprocess.run(
         [
-            str(SCRIPT), "sweep", "--crank-ratio", "0.2:0.4:3", "--inclination", "0,90", "--u1", "0.05",
-            "--u2=-0.01", "--cranks", "1:3", "--strokes", "2,4", "--phi", "180", "--out", str(out), "--no-progress",
+            str(SCRIPT),
+            "sweep",
+            "--crank-ratio",
+            "0.2:0.4:3",
+            "--inclination",
+            "0,90",
+            "--u1",
+            "0.05",
+            "--u2=-0.01",
+            "--cranks",
+            "1:3",
+            "--strokes",
+            "2,4",
+            "--phi",
+            "180",
+            "--out",
+            str(out),
+            "--no-progress",
         ],
         capture_output=True,
         text=True,
@@ -272,8 +290,14 @@ def test_cli_sweep_writes_parquet_and_summary(tmp_path):
     assert "36 designs" in result.stdout and "energy_range" in result.stdout
     table = pq.read_table(out).to_pandas()
     expected = mc.sweep(
-        mc.DesignGrid(crank_ratio=[0.2, 0.3, 0.4], inclination=np.radians([0.0, 90.0]), u1=0.05, u2=-0.01,
-                      cranks=[1, 2, 3], strokes=[2, 4]),
+        mc.DesignGrid(
+            crank_ratio=[0.2, 0.3, 0.4],
+            inclination=np.radians([0.0, 90.0]),
+            u1=0.05,
+            u2=-0.01,
+            cranks=[1, 2, 3],
+            strokes=[2, 4],
+        ),
         phi=180,
     )
     np.testing.assert_allclose(table["energy_range"], expected["energy_range"], rtol=1e-12, atol=1e-15)
@@ -281,11 +305,17 @@ def test_cli_sweep_writes_parquet_and_summary(tmp_path):
 
 def test_cli_sweep_from_toml(tmp_path):
     config = tmp_path / "sweep.toml"
-    config.write_text('phi = 90\noutputs = ["force_max_abs", "energy_range"]\n[axes]\ncrank_ratio = "0.2:0.3:2"\n'
-                      'inclination = [90.0]\nu1 = "0.1"\ncranks = "4,6"\n')
+    config.write_text(
+        'phi = 90\noutputs = ["force_max_abs", "energy_range"]\n[axes]\ncrank_ratio = "0.2:0.3:2"\n'
+        'inclination = [90.0]\nu1 = "0.1"\ncranks = "4,6"\n'
+    )
     out = tmp_path / "toml.parquet"
-    result = subprocess.run([str(SCRIPT), "sweep", "--config", str(config), "--out", str(out), "--no-progress"],
-                            capture_output=True, text=True, timeout=120)
+    result = subprocess.run(
+        [str(SCRIPT), "sweep", "--config", str(config), "--out", str(out), "--no-progress"],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
     assert result.returncode == 0, result.stderr
     table = pq.read_table(out).to_pandas()
     assert len(table) == 4 and list(table.columns)[-2:] == ["force_max_abs", "energy_range"]
@@ -293,8 +323,12 @@ def test_cli_sweep_from_toml(tmp_path):
 
 
 def test_cli_sweep_errors_are_usage_errors(tmp_path):
-    result = subprocess.run([str(SCRIPT), "sweep", "--crank-ratio", "0.2", "--out", str(tmp_path / "x.parquet")],
-                            capture_output=True, text=True, timeout=60)
+    result = subprocess.run(
+        [str(SCRIPT), "sweep", "--crank-ratio", "0.2", "--out", str(tmp_path / "x.parquet")],
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
     assert result.returncode == 2 and "inclination" in result.stderr
 
 

@@ -94,8 +94,12 @@ def eval_command(engine, cranks, strokes, acting, inclination, rpm, points, fmt)
         meta.update(engine=engine.name, cranks=engine.cranks, strokes=engine.strokes, acting=engine.acting)
         meta["phases_deg"] = np.degrees(design["phases"]).tolist()
         json.dump(
-            {"engine": meta, "phi_deg": phi_deg.tolist(), "potential_energy": energy.tolist(),
-             "generalized_force": force.tolist()},
+            {
+                "engine": meta,
+                "phi_deg": phi_deg.tolist(),
+                "potential_energy": energy.tolist(),
+                "generalized_force": force.tolist(),
+            },
             out,
             indent=2,
         )
@@ -227,8 +231,7 @@ def sweep_command(config, phi, outputs, out, resume, chunk_size, progress, **axi
     pq = require("pyarrow.parquet", "parquet")
     result = pq.read_table(path, columns=[c for c in chosen]).to_pandas()
     click.echo(
-        f"{len(grid):,} designs × {phi} φ points in {elapsed:.2f} s "
-        f"({len(grid) / elapsed:,.0f} designs/s) → {path}"
+        f"{len(grid):,} designs × {phi} φ points in {elapsed:.2f} s ({len(grid) / elapsed:,.0f} designs/s) → {path}"
     )
     summary = result.describe().T[["min", "mean", "max"]]
     click.echo(summary.to_string(float_format=lambda v: f"{v:.6g}"))
@@ -252,7 +255,9 @@ def tables_command(strokes, acting, k_max, n_max, fmt) -> None:
     if fmt == "csv":
         sys.stdout.write(table.astype(int).to_csv())
     elif fmt == "json":
-        json.dump({str(n): [int(k) for k in table.columns if table.loc[n, k]] for n in table.index}, sys.stdout, indent=2)
+        json.dump(
+            {str(n): [int(k) for k in table.columns if table.loc[n, k]] for n in table.index}, sys.stdout, indent=2
+        )
         sys.stdout.write("\n")
     else:
         sys.stdout.write(f"W_n that survive: {strokes}-stroke, {acting}-acting (● = non-zero)\n\n")
@@ -269,16 +274,21 @@ def tables_command(strokes, acting, k_max, n_max, fmt) -> None:
 @click.option("--k-max", type=click.IntRange(min=1, max=24), default=12, show_default=True)
 @click.option("--n-max", type=click.IntRange(min=2), default=24, show_default=True)
 @click.option("--points", type=click.IntRange(min=8), default=721, show_default=True, help="φ points per curve.")
-@click.option("--threshold", type=click.FloatRange(min=0, min_open=True), default=None,
-              help="δ_g below which gravity may be neglected [default: 1/3000].")
+@click.option(
+    "--threshold",
+    type=click.FloatRange(min=0, min_open=True),
+    default=None,
+    help="δ_g below which gravity may be neglected [default: 1/3000].",
+)
 @click.option("--progress/--no-progress", default=True, show_default=True)
 def report_command(out_dir, engine, k_max, n_max, points, threshold, progress) -> None:
     """Write the report: curves, spectra, Tables 1–2, the paper's truncation error, the
     gravity-significance map, conventions and errata, as index.html + PNG + CSV."""
     from .report import DEFAULT_THRESHOLD, ReportSettings, write_report
 
-    settings = ReportSettings(engine=engine, k_max=k_max, n_max=n_max, points=points,
-                              threshold=threshold or DEFAULT_THRESHOLD)
+    settings = ReportSettings(
+        engine=engine, k_max=k_max, n_max=n_max, points=points, threshold=threshold or DEFAULT_THRESHOLD
+    )
     index = write_report(out_dir, settings, progress=progress)
     click.echo(f"report written: {index}")
 

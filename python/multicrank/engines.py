@@ -69,16 +69,33 @@ class Engine:
 
     # -- construction -------------------------------------------------------------------
     @classmethod
-    def inline(cls, cranks: int, strokes: int = 2, acting: str = "single", *, crank_ratio, inclination, u1, u2,
-               name: str | None = None) -> "Engine":
+    def inline(
+        cls,
+        cranks: int,
+        strokes: int = 2,
+        acting: str = "single",
+        *,
+        crank_ratio,
+        inclination,
+        u1,
+        u2,
+        name: str | None = None,
+    ) -> "Engine":
         """A regular in-line machine (docs/theory.md, "Crank phases"): identical units at α_j = j·α."""
         phases = crank_phases(cranks, strokes, acting)
-        return cls(phase=phases, inclination=inclination, crank_ratio=crank_ratio, u1=u1, u2=u2,
-                   name=name or f"inline-{cranks} {strokes}-stroke {acting}-acting")
+        return cls(
+            phase=phases,
+            inclination=inclination,
+            crank_ratio=crank_ratio,
+            u1=u1,
+            u2=u2,
+            name=name or f"inline-{cranks} {strokes}-stroke {acting}-acting",
+        )
 
     @classmethod
-    def from_throws(cls, throws: Sequence[float], banks: Sequence[Sequence[float]], *, crank_ratio, u1, u2,
-                    name: str = "engine") -> "Engine":
+    def from_throws(
+        cls, throws: Sequence[float], banks: Sequence[Sequence[float]], *, crank_ratio, u1, u2, name: str = "engine"
+    ) -> "Engine":
         """Cylinders on crank throws: throw t's pin is at the absolute angle φ + β_t
         (``throws``, rad), and carries one cylinder per inclination in ``banks[t]`` (rad).
         Each cylinder's phase is α = β_t − γ. ``crank_ratio``, ``u1``, ``u2`` are per
@@ -171,8 +188,7 @@ class Engine:
         return self.energy_extrema().range
 
     # -- tolerances ---------------------------------------------------------------------
-    def harmonic_sensitivity(self, *, u1_rel: float = 0.0, u2_rel: float = 0.0, phase: float = 0.0,
-                             n_max: int = 24):
+    def harmonic_sensitivity(self, *, u1_rel: float = 0.0, u2_rel: float = 0.0, phase: float = 0.0, n_max: int = 24):
         """First-order scatter of every harmonic of Q_u* under independent random errors of
         the units: relative standard deviations ``u1_rel``, ``u2_rel`` of u1_j, u2_j (unequal
         masses) and a standard deviation ``phase`` [rad] of α_j (phase errors).
@@ -211,7 +227,10 @@ class Engine:
         if even.size:
             w = -self.u1[:, None] * sin_g[:, None] * lambdas[:, even]  # W_nj
             s, c = np.sin(even * alpha), np.cos(even * alpha)
-            d_a_u1[:, even], d_b_u1[:, even] = -sin_g[:, None] * lambdas[:, even] * s, -sin_g[:, None] * lambdas[:, even] * c
+            d_a_u1[:, even], d_b_u1[:, even] = (
+                -sin_g[:, None] * lambdas[:, even] * s,
+                -sin_g[:, None] * lambdas[:, even] * c,
+            )
             d_a_alpha[:, even], d_b_alpha[:, even] = w * even * c, -w * even * s
         variance = (
             (d_a_u1**2 + d_b_u1**2) * (u1_rel * self.u1[:, None]) ** 2
@@ -219,11 +238,14 @@ class Engine:
             + (d_a_alpha**2 + d_b_alpha**2) * phase**2
         ).sum(axis=0)
         a, b = self.fourier_coefficients(n_max)
-        frame = pd.DataFrame({"amplitude": np.hypot(a, b), "scatter_rms": np.sqrt(variance)}, index=pd.Index(n, name="n"))
+        frame = pd.DataFrame(
+            {"amplitude": np.hypot(a, b), "scatter_rms": np.sqrt(variance)}, index=pd.Index(n, name="n")
+        )
         return frame.loc[(n == 1) | ((n % 2 == 0) & (n > 0))]
 
-    def perturbed(self, rng: np.random.Generator, *, u1_rel: float = 0.0, u2_rel: float = 0.0,
-                  phase: float = 0.0) -> "Engine":
+    def perturbed(
+        self, rng: np.random.Generator, *, u1_rel: float = 0.0, u2_rel: float = 0.0, phase: float = 0.0
+    ) -> "Engine":
         """A random sample of this engine with the errors of :meth:`harmonic_sensitivity`."""
         size = len(self)
         return self.replace(

@@ -139,5 +139,3 @@ def fourier_coefficients(
     )
     width = (n_max + 1,)
     return a.reshape(shape + width), b.reshape(shape + width)
-
-

@@ -256,7 +256,9 @@ def load_engine(path: str | os.PathLike) -> Machine:
     unknown = sorted(set(data) - known)
     if unknown:
         raise MechanismError(f"{path}: unknown engine field(s) {', '.join(unknown)}; known: {', '.join(sorted(known))}")
-    missing = sorted(f.name for f in dataclasses.fields(Machine) if f.name not in data and f.default is dataclasses.MISSING)
+    missing = sorted(
+        f.name for f in dataclasses.fields(Machine) if f.name not in data and f.default is dataclasses.MISSING
+    )
     if missing:
         raise MechanismError(f"{path}: missing engine field(s) {', '.join(missing)}")
     if "rpm_range" in data:
@@ -290,8 +292,12 @@ class Layout:
     def engine(self, *, crank_ratio, u1, u2) -> Engine:
         """This layout with the given per-cylinder λ, u1, u2 (scalars or arrays)."""
         return Engine.from_throws(
-            np.radians(self.throws), [np.radians(b) for b in self.banks],
-            crank_ratio=crank_ratio, u1=u1, u2=u2, name=self.name,
+            np.radians(self.throws),
+            [np.radians(b) for b in self.banks],
+            crank_ratio=crank_ratio,
+            u1=u1,
+            u2=u2,
+            name=self.name,
         )
 
     def physical_engine(self, machine) -> Engine:
@@ -300,12 +306,24 @@ class Layout:
         its mass rotating with the shared pin), and every throw one crank web with its
         counterweight as a purely rotating unit (u1 = 0, γ = 0, α = β): counterweights are
         per throw, not per cylinder, so a V's shared pin carries one web for two cylinders."""
-        common = dict(crank_radius=machine.crank_radius, rod_length=machine.rod_length, rod_cg=machine.rod_cg,
-                      shaft_inertia=machine.shaft_inertia, rpm=machine.rpm, g=machine.g)
+        common = dict(
+            crank_radius=machine.crank_radius,
+            rod_length=machine.rod_length,
+            rod_cg=machine.rod_cg,
+            shaft_inertia=machine.shaft_inertia,
+            rpm=machine.rpm,
+            g=machine.g,
+        )
         u1, rod_u2 = dimensionless_moments(piston_mass=machine.piston_mass, rod_mass=machine.rod_mass, **common)
         _, web_u2 = dimensionless_moments(
-            piston_mass=0.0, rod_mass=0.0, crank_mass=machine.crank_mass, crank_cg_radius=machine.crank_cg_radius,
-            counterweight_mass=machine.counterweight_mass, counterweight_radius=machine.counterweight_radius, **common)
+            piston_mass=0.0,
+            rod_mass=0.0,
+            crank_mass=machine.crank_mass,
+            crank_cg_radius=machine.crank_cg_radius,
+            counterweight_mass=machine.counterweight_mass,
+            counterweight_radius=machine.counterweight_radius,
+            **common,
+        )
         cylinders = self.engine(crank_ratio=machine.crank_ratio, u1=float(u1), u2=float(rod_u2))
         throws = np.radians(self.throws)
         return Engine(
@@ -325,8 +343,12 @@ class Layout:
 def _inline(cranks: int, strokes: int) -> Layout:
     # Upright in-line: the pin of crank j is at φ + α_j + 90°.
     phases = np.degrees(crank_phases(cranks, strokes, "single"))
-    return Layout(f"inline-{cranks}-{strokes}t", f"in-line {cranks}, {strokes}-stroke, upright",
-                  tuple(float(p) + 90.0 for p in phases), tuple((90.0,) for _ in range(cranks)))
+    return Layout(
+        f"inline-{cranks}-{strokes}t",
+        f"in-line {cranks}, {strokes}-stroke, upright",
+        tuple(float(p) + 90.0 for p in phases),
+        tuple((90.0,) for _ in range(cranks)),
+    )
 
 
 def _vee(name: str, note: str, bank_angle: float, throws: Sequence[float]) -> Layout:
@@ -353,7 +375,9 @@ for _k in range(1, 13):
 for _layout in (
     _vee("v-twin-45", "45° V-twin, one shared pin (the classic American V-twin)", 45.0, [0.0]),
     _vee("v-twin-90", "90° V-twin, one shared pin", 90.0, [0.0]),
-    Layout("twin-270", "parallel twin with a 270° crank (odd fire 270°/450°), upright", (90.0, 0.0), ((90.0,), (90.0,))),
+    Layout(
+        "twin-270", "parallel twin with a 270° crank (odd fire 270°/450°), upright", (90.0, 0.0), ((90.0,), (90.0,))
+    ),
     _vee("v6-60", "60° V6, three shared pins at 120°", 60.0, [0.0, 120.0, 240.0]),
     _vee("v6-90", "90° V6, three shared pins at 120°", 90.0, [0.0, 120.0, 240.0]),
     _vee("v8-flat", "90° V8, flat-plane crank (pins 0°, 180°, 180°, 0°)", 90.0, [0.0, 180.0, 180.0, 0.0]),
@@ -364,8 +388,12 @@ for _layout in (
     _boxer("boxer-6", "flat six, opposed cylinders on throws 180° apart", [0.0, 120.0, 240.0]),
     _vee("v-180-2", "180° V twin: opposed cylinders sharing one pin (not a boxer)", 180.0, [0.0]),
     _vee("v-180-4", "180° V four: opposed cylinders sharing two pins at 180°", 180.0, [0.0, 180.0]),
-    Layout("w12", "broad-arrow W12: three banks 60° apart (30°, 90°, 150°) on a flat-plane four-throw crank",
-           (90.0, 270.0, 270.0, 90.0), tuple((30.0, 90.0, 150.0) for _ in range(4))),
+    Layout(
+        "w12",
+        "broad-arrow W12: three banks 60° apart (30°, 90°, 150°) on a flat-plane four-throw crank",
+        (90.0, 270.0, 270.0, 90.0),
+        tuple((30.0, 90.0, 150.0) for _ in range(4)),
+    ),
 ):
     LAYOUTS[_layout.name] = _layout
 
@@ -375,4 +403,3 @@ def layout_engine(name: str, *, crank_ratio, u1, u2) -> Engine:
     if name not in LAYOUTS:
         raise MechanismError(f"layout = {name!r} is not known; known: {', '.join(LAYOUTS)}")
     return LAYOUTS[name].engine(crank_ratio=crank_ratio, u1=u1, u2=u2)
-

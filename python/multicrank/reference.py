@@ -14,7 +14,16 @@ from typing import Any
 
 import numpy as np
 
-from ._validation import as_angles, as_count, as_design, as_option, as_phases, broadcast_designs, design_keywords, finish
+from ._validation import (
+    as_angles,
+    as_count,
+    as_design,
+    as_option,
+    as_phases,
+    broadcast_designs,
+    design_keywords,
+    finish,
+)
 
 __all__ = ["potential_energy", "generalized_force", "force_derivative", "lambda_coefficients"]
 

@@ -73,7 +73,6 @@ def _as_outputs(outputs: Any) -> tuple[str, ...]:
     return outputs
 
 
-
 # ----------------------------------------------------------------------------- the sweep
 def _reduce(columns: dict[str, np.ndarray], phi: np.ndarray, outputs: tuple[str, ...]) -> dict[str, np.ndarray]:
     """One call into Rust per _CALL_SIZE designs; returns the requested output columns."""
@@ -97,8 +96,15 @@ def _reduce(columns: dict[str, np.ndarray], phi: np.ndarray, outputs: tuple[str,
                 wanted["harmonic"],
             )
         )
-    names = ("force_max_abs", "force_rms", "energy_min", "energy_max", "energy_range", "leading_harmonic",
-             "leading_amplitude")
+    names = (
+        "force_max_abs",
+        "force_rms",
+        "energy_min",
+        "energy_max",
+        "energy_range",
+        "leading_harmonic",
+        "leading_amplitude",
+    )
     raw = {name: np.concatenate([p[i] for p in parts]) if parts else np.zeros(0) for i, name in enumerate(names)}
     if wanted["harmonic"]:
         raw["leading_harmonic"] = raw["leading_harmonic"].astype(np.int64)
