@@ -134,7 +134,9 @@ def test_bad_crank_ratio(name, value):
 def test_crank_ratio_message_gives_range():
     for value in (-0.5, 1.0, 3.0):
         design = {**DESIGN, "crank_ratio": value}
-        assert_mechanism_error(lambda: mc.generalized_force(PHI, **design), "crank_ratio", allowed=("< 1", "<1"))
+        assert_mechanism_error(
+            lambda design=design: mc.generalized_force(PHI, **design), "crank_ratio", allowed=("< 1", "<1")
+        )
 
 
 NON_FINITE = [
@@ -182,7 +184,7 @@ def test_wrong_type_design_value(name, keyword, value):
 
 
 @pytest.mark.parametrize("name", QUANTITIES)
-@pytest.mark.parametrize("value", WRONG_TYPES + [[[0.0, 1.0], [2.0]]], ids=repr)
+@pytest.mark.parametrize("value", [*WRONG_TYPES, [[0.0, 1.0], [2.0]]], ids=repr)
 def test_wrong_type_phi(name, value):
     assert_mechanism_error(lambda: FAST[name](value, **DESIGN), "phi")
 
@@ -458,7 +460,7 @@ def test_empty_phi(name):
 @pytest.mark.parametrize("name", QUANTITIES)
 def test_empty_design(name):
     result = FAST[name](PHI, **{**DESIGN, "crank_ratio": np.zeros((0, 2))})
-    assert result.shape == (0, 2) + PHI.shape and result.dtype == np.float64
+    assert result.shape == (0, 2, *PHI.shape) and result.dtype == np.float64
 
 
 @pytest.mark.parametrize("name", QUANTITIES)
@@ -472,7 +474,7 @@ def test_broadcasting_designs(name):
     result = assert_matches_reference(
         name, phi, crank_ratio=crank_ratio, inclination=inclination, u1=u1, u2=u2, phases=phases
     )
-    assert result.shape == (3, 4) + phi.shape
+    assert result.shape == (3, 4, *phi.shape)
     assert result.dtype == np.float64
     # every design's slice is bit-identical to evaluating that design alone
     for i in range(3):
@@ -576,7 +578,7 @@ def test_random_views_are_bit_identical_to_contiguous_copies(name, shape, data, 
     design = dict(crank_ratio=rng.uniform(0, 0.9, size=(2, 1)), inclination=rng.uniform(-3, 3, size=3), u1=0.7, u2=-0.4)
     phases = mc.crank_phases(int(rng.integers(1, 6)), 4)
     result = FAST[name](view, phases=phases, **design)
-    assert result.shape == (2, 3) + view.shape
+    assert result.shape == (2, 3, *view.shape)
     assert_bits_equal(result, FAST[name](np.array(view, order="C"), phases=phases, **design))
 
 

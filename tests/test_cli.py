@@ -15,7 +15,6 @@ import pytest
 import multicrank as mc
 from multicrank.presets import DEFAULT_ENGINE
 
-
 # The console script installed beside this interpreter (a venv need not be on PATH).
 SCRIPT = Path(sys.executable).with_name("multicrank")
 

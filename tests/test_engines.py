@@ -30,16 +30,16 @@ def oracle_energy(phi, throws, banks, r, l, zk, mt, mk, web=(0.0, 0.0)):
     where it points horizontally."""
     phi = mp.mpf(phi)
     total = mp.mpf(0)
-    for beta, gammas in zip(throws, banks):
+    for beta, gammas in zip(throws, banks, strict=True):
         beta = mp.mpf(beta)
         for gamma in gammas:
             gamma = mp.mpf(gamma)
 
-            def height(theta):
+            def height(theta, gamma=gamma):
                 pin = (r * mp.cos(theta), r * mp.sin(theta))
                 x = r * mp.cos(theta - gamma) + mp.sqrt(l**2 - (r * mp.sin(theta - gamma)) ** 2)
                 piston = (x * mp.cos(gamma), x * mp.sin(gamma))
-                rod_cg = tuple(p + zk / l * (c - p) for p, c in zip(piston, pin))
+                rod_cg = tuple(p + zk / l * (c - p) for p, c in zip(piston, pin, strict=True))
                 return mt * piston[1] + mk * rod_cg[1]
 
             # This cylinder's own outer dead centre: the pin on its axis, θ = γ.

@@ -69,7 +69,7 @@ def phase_sum(n: int, alphas) -> complex:
 
 def numerical_survivors(k: int, strokes: int, acting: str, n_max: int) -> list[int]:
     alphas = regular_phases(k, strokes, acting)
-    candidates = [1] + list(range(2, n_max + 1, 2))
+    candidates = [1, *list(range(2, n_max + 1, 2))]
     return [n for n in candidates if n <= n_max and abs(phase_sum(n, alphas)) > 1e-9]
 
 
@@ -157,7 +157,7 @@ def working_digits(lam: float, n: int) -> int:
     """Enough digits that the cancellation in the integral (Λ_n ~ t^{n−1}·λ⁰ against an
     integrand of size λ) leaves ≥ 30 correct digits."""
     t = lam / (1 + math.sqrt(1 - lam * lam))
-    return 30 + max(0, int(math.ceil(-(n - 1) * math.log10(t))))
+    return 30 + max(0, math.ceil(-(n - 1) * math.log10(t)))
 
 
 def assert_lambda_close(got: float, true, n: int, lam: float):
@@ -512,7 +512,7 @@ def test_table_2_four_stroke():
 def test_harmonic_table_matches_phase_sums(strokes, acting):
     table = mc.harmonic_table(strokes=strokes, acting=acting, k_max=9, n_max=20)
     assert table.shape == (11, 9)
-    assert list(table.index) == [1] + list(range(2, 21, 2))
+    assert list(table.index) == [1, *list(range(2, 21, 2))]
     for k in range(1, 10):
         survivors = set(numerical_survivors(k, strokes, acting, 20))
         assert [bool(v) for v in table[k]] == [n in survivors for n in table.index], k
@@ -545,7 +545,7 @@ def rule_survives(n: int, k: int, strokes: int, acting: str) -> bool:
 @pytest.mark.parametrize("strokes,acting", KINDS)
 def test_surviving_harmonics_rule_table(strokes, acting):
     for k in range(1, 17):
-        expected = [n for n in [1] + list(range(2, 61, 2)) if rule_survives(n, k, strokes, acting)]
+        expected = [n for n in [1, *list(range(2, 61, 2))] if rule_survives(n, k, strokes, acting)]
         assert mc.surviving_harmonics(k, strokes, acting, n_max=60) == expected, k
 
 
@@ -816,7 +816,7 @@ def test_vertical_engines(strokes, k, lam, gamma):
     u1, u2 = 1.25, -0.45
     alphas = regular_phases(k, strokes, "single")
     n_top = 240
-    survivors = [n for n in [1] + list(range(2, n_top + 1, 2)) if abs(phase_sum(n, alphas)) > 1e-9]
+    survivors = [n for n in [1, *list(range(2, n_top + 1, 2))] if abs(phase_sum(n, alphas)) > 1e-9]
     for n in survivors:
         assert abs(phase_sum(n, alphas) - k) < 1e-9  # a surviving sum is k (single acting)
     sign = 1.0 if gamma > 0 else -1.0
@@ -905,7 +905,7 @@ def mp_extrema(lam, gamma, u1, u2, alphas, samples=360):
         grid = [2 * mp.pi * i / samples for i in range(samples + 1)]
         values = [q_mp(p, lam, gamma, u1, u2, alphas) for p in grid]
         points = [mpf(0)]
-        for a, b, qa, qb in zip(grid, grid[1:], values, values[1:]):
+        for a, b, qa, qb in zip(grid, grid[1:], values, values[1:], strict=False):  # neighbours
             if qa == 0:
                 points.append(a)
             elif qa * qb < 0:

@@ -21,7 +21,6 @@ The paper's printed eq. 5/6 swap the shares (z_k/l to the piston, (l − z_k)/l 
 
 from __future__ import annotations
 
-import math
 import re
 from fractions import Fraction as F
 

@@ -13,8 +13,8 @@ slider-crank unit the oracle places every body in the plane (mpmath, 40 digits):
 
 and sums U = g·Σ m·h (h = the vertical coordinate). Each unit's energy is measured from its
 own ψ = 0 configuration, divided by I_w ω² (ω = π·rpm/30), and the units are summed at
-ψ_j = φ + α_j with the phases α_j written out from docs/theory.md, "Crank phases", in exact arithmetic (not taken from the
-library). Q* is mpmath.diff of that energy. The library is fed the SI engine through
+ψ_j = φ + α_j with the phases α_j written out from docs/theory.md, "Crank phases", in exact
+arithmetic (not taken from the library). Q* is mpmath.diff of that energy. The library is fed the SI engine through
 `mc.dimensionless_moments`, so these tests check the moments, the energy and the force
 together against physics.
 
@@ -305,7 +305,7 @@ def test_design_arrays_broadcast_against_oracle():
     gammas = np.array([[PI / 2], [0.3], [-2.0]])
     base = engine_for(0.45, heavy_cw=False)
     engines = [base, replace(base, mcw=25.0, rcw=0.1)]
-    u1s, u2s = zip(*(e.moments() for e in engines))
+    u1s, u2s = zip(*(e.moments() for e in engines), strict=True)
     assert float(u1s[0]) == float(u1s[1])
     # the counterweight array through dimensionless_moments gives the same u2 pair
     u1_arr, u2_arr = mc.dimensionless_moments(

@@ -74,7 +74,7 @@ def test_mapping_defaults_and_phi_array():
     designs = {"crank_ratio": [0.3, 0.25], "inclination": [np.pi / 2, 0.0], "u1": [0.5, 0.5], "u2": [0.1, 0.1]}
     phi = np.linspace(0, 2 * np.pi, 101)
     result = mc.sweep(designs, phi=phi, outputs=["force_max_abs"])
-    assert list(result.columns) == list(designs) + ["force_max_abs"]
+    assert list(result.columns) == [*list(designs), "force_max_abs"]
     q = ref.generalized_force(phi, crank_ratio=0.3, inclination=np.pi / 2, u1=0.5, u2=0.1)
     assert result["force_max_abs"].iloc[0] == pytest.approx(np.abs(q).max(), rel=1e-14)
 
@@ -176,7 +176,10 @@ def test_parquet_streaming_matches_in_memory(tmp_path):
 
 
 def test_resume_after_a_kill_gives_the_same_file(tmp_path):
-    grid_code = "mc.DesignGrid(crank_ratio=np.linspace(0.1, 0.9, 60), inclination=np.linspace(0, 3, 50), u1=[0.2, 0.7], u2=[-0.1, 0.1], cranks=[1, 5, 12])"
+    grid_code = (
+        "mc.DesignGrid(crank_ratio=np.linspace(0.1, 0.9, 60), inclination=np.linspace(0, 3, 50), u1=[0.2, 0.7],"
+        " u2=[-0.1, 0.1], cranks=[1, 5, 12])"
+    )
     uninterrupted = tmp_path / "whole.parquet"
     grid = eval(grid_code, {"mc": mc, "np": np})
     mc.sweep(grid, phi=360, out=uninterrupted, chunk_size=500)

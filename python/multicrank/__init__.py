@@ -12,7 +12,7 @@ import importlib as _importlib
 import os as _os
 from typing import Any as _Any
 
-from . import presets
+from . import presets as presets  # public: mc.presets.ENGINES, mc.presets.Machine
 from ._native import MechanismError, __version__, build_profile
 from ._native import _after_fork_in_child as _native_after_fork_in_child
 from .engines import Engine
@@ -58,15 +58,16 @@ def __getattr__(name: str) -> _Any:
 _os.register_at_fork(after_in_child=_native_after_fork_in_child)
 
 __all__ = [
-    "DesignGrid",
-    "Engine",
-    "LAYOUTS",
-    "Layout",
-    "EnergyExtrema",
     "FORCE_METHODS",
-    "MechanismError",
+    "LAYOUTS",
     "STANDARD_GRAVITY",
     "SWEEP_OUTPUTS",
+    "DesignGrid",
+    "EnergyExtrema",
+    "Engine",
+    "Layout",
+    "MechanismError",
+    "UniformGrid",
     "__version__",
     "build_profile",
     "crank_phases",
@@ -78,8 +79,8 @@ __all__ = [
     "generalized_force",
     "get_parallel_threshold",
     "harmonic_table",
-    "layout_engine",
     "lambda_coefficients",
+    "layout_engine",
     "paper_coefficient",
     "potential_energy",
     "set_parallel_threshold",
@@ -87,6 +88,5 @@ __all__ = [
     "surviving_harmonics",
     "sweep",
     "to_xarray",
-    "UniformGrid",
     "uniform_grid",
 ]

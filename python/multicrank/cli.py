@@ -87,7 +87,7 @@ def eval_command(engine, cranks, strokes, acting, inclination, rpm, points, fmt)
     phi = np.radians(phi_deg)
     energy = potential_energy(phi, **design)
     force = generalized_force(phi, **design)
-    rows = list(zip(phi_deg.tolist(), energy.tolist(), force.tolist()))
+    rows = list(zip(phi_deg.tolist(), energy.tolist(), force.tolist(), strict=True))
     out = sys.stdout
     if fmt == "json":
         meta = {k: v for k, v in design.items() if k != "phases"}
@@ -148,7 +148,7 @@ def parse_axis(text: str, kind) -> list:
             raise click.BadParameter(f"{text!r}: a range is start:stop:count")
         start, stop, count = float(parts[0]), float(parts[1]), int(parts[2])
         values = np.linspace(start, stop, count).tolist()
-        return [int(round(v)) for v in values] if kind is int else values
+        return [round(v) for v in values] if kind is int else values
     convert = int if kind is int else float
     return [convert(item) for item in text.split(",") if item.strip()]
 

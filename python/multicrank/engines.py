@@ -12,7 +12,8 @@ are in :mod:`multicrank.presets`.
 
 from __future__ import annotations
 
-from typing import Any, Sequence
+from collections.abc import Sequence
+from typing import Any
 
 import numpy as np
 
@@ -80,7 +81,7 @@ class Engine:
         u1,
         u2,
         name: str | None = None,
-    ) -> "Engine":
+    ) -> Engine:
         """A regular in-line machine (docs/theory.md, "Crank phases"): identical units at α_j = j·α."""
         phases = crank_phases(cranks, strokes, acting)
         return cls(
@@ -95,7 +96,7 @@ class Engine:
     @classmethod
     def from_throws(
         cls, throws: Sequence[float], banks: Sequence[Sequence[float]], *, crank_ratio, u1, u2, name: str = "engine"
-    ) -> "Engine":
+    ) -> Engine:
         """Cylinders on crank throws: throw t's pin is at the absolute angle φ + β_t
         (``throws``, rad), and carries one cylinder per inclination in ``banks[t]`` (rad).
         Each cylinder's phase is α = β_t − γ. ``crank_ratio``, ``u1``, ``u2`` are per
@@ -103,13 +104,13 @@ class Engine:
         if len(throws) != len(banks):
             raise MechanismError(f"throws has {len(throws)} entries but banks {len(banks)}")
         phase, inclination = [], []
-        for beta, gammas in zip(throws, banks):
+        for beta, gammas in zip(throws, banks, strict=True):
             for gamma in gammas:
                 phase.append(beta - gamma)
                 inclination.append(gamma)
         return cls(phase=phase, inclination=inclination, crank_ratio=crank_ratio, u1=u1, u2=u2, name=name)
 
-    def replace(self, **changes) -> "Engine":
+    def replace(self, **changes) -> Engine:
         """A copy with some columns (or the name) replaced."""
         columns = {k: changes.pop(k, v) for k, v in self._columns.items()}
         name = changes.pop("name", self.name)
@@ -245,7 +246,7 @@ class Engine:
 
     def perturbed(
         self, rng: np.random.Generator, *, u1_rel: float = 0.0, u2_rel: float = 0.0, phase: float = 0.0
-    ) -> "Engine":
+    ) -> Engine:
         """A random sample of this engine with the errors of :meth:`harmonic_sensitivity`."""
         size = len(self)
         return self.replace(

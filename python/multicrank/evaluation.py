@@ -11,8 +11,6 @@ from __future__ import annotations
 
 from typing import Any
 
-import numpy as np
-
 from ._native import evaluate as _native_evaluate
 from ._native import evaluate_series as _native_evaluate_series
 from ._native import get_parallel_threshold as _native_get_parallel_threshold
@@ -21,11 +19,11 @@ from ._validation import as_count, as_option, as_phases, broadcast_designs, desi
 from .grids import as_phi
 
 __all__ = [
-    "potential_energy",
-    "generalized_force",
-    "force_derivative",
     "FORCE_METHODS",
+    "force_derivative",
+    "generalized_force",
     "get_parallel_threshold",
+    "potential_energy",
     "set_parallel_threshold",
 ]
 
@@ -88,7 +86,8 @@ def generalized_force(phi, *, crank_ratio, inclination, u1, u2, phases=None, met
     .. math::
 
         Q_u^*(\\varphi) = \\sum_j U_2\\cos(\\psi_j+\\gamma)
-            - U_1\\Big[\\sin\\psi_j + \\frac{\\lambda\\sin 2\\psi_j}{2\\sqrt{1-\\lambda^2\\sin^2\\psi_j}}\\Big]\\sin\\gamma.
+            - U_1\\Big[\\sin\\psi_j
+                + \\frac{\\lambda\\sin 2\\psi_j}{2\\sqrt{1-\\lambda^2\\sin^2\\psi_j}}\\Big]\\sin\\gamma.
 
     The gravity torque on the shaft is −Q_u*·I_w ω². Parameters and result shape as in
     :func:`potential_energy`.

@@ -32,7 +32,7 @@ class UniformGrid(np.lib.mixins.NDArrayOperatorsMixin):
     :func:`uniform_grid`.
     """
 
-    __slots__ = ("start", "step", "count", "_cache")
+    __slots__ = ("_cache", "count", "start", "step")
 
     def __init__(self, count: int, start: float, step: float) -> None:
         self.start, self.step, self.count = float(start), float(step), int(count)

@@ -61,7 +61,7 @@ def lambda_coefficients(crank_ratio: Any, n_max: int, method: str = "exact") -> 
     n_max = as_count(n_max, "n_max", minimum=0)
     method = as_option(method, "method", ("exact", "paper"))
     flat = _native_lambda_coefficients(contiguous(lam).reshape(-1), n_max, method)
-    return flat.reshape(lam.shape + (n_max + 1,))
+    return flat.reshape((*lam.shape, n_max + 1))
 
 
 def paper_coefficient(i: int, j: int) -> Fraction:
@@ -104,7 +104,7 @@ def harmonic_table(strokes: int = 2, acting: str = "single", k_max: int = 12, n_
     acting = as_option(acting, "acting", ("single", "double"))
     k_max = as_count(k_max, "k_max", minimum=1)
     n_max = as_count(n_max, "n_max", minimum=1)
-    rows = [1] + list(range(2, n_max + 1, 2))
+    rows = [1, *list(range(2, n_max + 1, 2))]
     table = pd.DataFrame(
         False, index=pd.Index(rows, name="n"), columns=pd.Index(range(1, k_max + 1), name="k"), dtype=bool
     )

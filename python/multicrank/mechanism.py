@@ -11,7 +11,7 @@ from ._native import crank_phases as _native_crank_phases
 from ._native import dimensionless_moments as _native_dimensionless_moments
 from ._validation import as_count, as_option, as_real_array, as_strokes, broadcast_designs, finish
 
-__all__ = ["crank_phases", "dimensionless_moments", "STANDARD_GRAVITY"]
+__all__ = ["STANDARD_GRAVITY", "crank_phases", "dimensionless_moments"]
 
 STANDARD_GRAVITY = 9.80665  # m/s²
 
@@ -118,6 +118,7 @@ def dimensionless_moments(
                 rpm,
                 g,
             ),
+            strict=True,
         )
     )
     arrays = {name: as_real_array(value, name) for name, value in values.items()}

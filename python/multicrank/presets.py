@@ -13,7 +13,6 @@ import os
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 
@@ -112,7 +111,7 @@ class Machine:
         low, high = self.rpm_range
         return (low, high) if high > low > 0 else (0.5 * self.rpm, 1.5 * self.rpm)
 
-    def replace(self, **changes) -> "Machine":
+    def replace(self, **changes) -> Machine:
         return dataclasses.replace(self, **changes)
 
 

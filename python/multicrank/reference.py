@@ -25,7 +25,7 @@ from ._validation import (
     finish,
 )
 
-__all__ = ["potential_energy", "generalized_force", "force_derivative", "lambda_coefficients"]
+__all__ = ["force_derivative", "generalized_force", "lambda_coefficients", "potential_energy"]
 
 
 def _prepare(phi: Any, crank_ratio: Any, inclination: Any, u1: Any, u2: Any, phases: Any):
@@ -101,7 +101,7 @@ def lambda_coefficients(crank_ratio, n_max, method="exact"):
     lam = as_design(crank_ratio, "crank_ratio", low=0.0, high=1.0)
     n_max = as_count(n_max, "n_max", minimum=0)
     method = as_option(method, "method", ("exact", "paper"))
-    out = np.zeros(lam.shape + (n_max + 1,))
+    out = np.zeros((*lam.shape, n_max + 1))
     t = lam / (1 + np.sqrt(1 - lam**2))
     for n in range(2, n_max + 1, 2):
         m = n // 2

@@ -24,14 +24,14 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from .extrema import speed_fluctuation
-from .evaluation import generalized_force, potential_energy
-from .harmonics import fourier_coefficients, harmonic_table, lambda_coefficients
 from ._optional import require
+from .evaluation import generalized_force, potential_energy
+from .extrema import speed_fluctuation
+from .harmonics import fourier_coefficients, harmonic_table, lambda_coefficients
 from .mechanism import crank_phases, dimensionless_moments
 from .presets import DEFAULT_ENGINE, ENGINES, Machine
 
-__all__ = ["PAPER_TABLE_1", "DEFAULT_THRESHOLD", "ReportSettings", "write_report"]
+__all__ = ["DEFAULT_THRESHOLD", "PAPER_TABLE_1", "ReportSettings", "write_report"]
 
 #: Table 1 as printed in the paper (two-stroke, single-acting): the k with non-zero W_n.
 PAPER_TABLE_1 = {
@@ -243,7 +243,7 @@ def significance_map(settings: ReportSettings):
     # Red: gravity matters (δ_g above the threshold); blue: negligible. White at the threshold.
     center = math.log10(settings.threshold)
     norm = TwoSlopeNorm(vcenter=center, vmin=min(-14.0, center - 1), vmax=max(0.0, center + 1))
-    for ax, strokes in zip(axes, (2, 4)):
+    for ax, strokes in zip(axes, (2, 4), strict=True):
         delta = np.empty((len(ks), len(lam)))
         for i, k in enumerate(ks):
             delta[i] = speed_fluctuation(
@@ -254,7 +254,8 @@ def significance_map(settings: ReportSettings):
                 phases=crank_phases(int(k), strokes, "single"),
             )
             records += [
-                {"strokes": strokes, "k": int(k), "crank_ratio": l, "delta_g": d} for l, d in zip(lam, delta[i])
+                {"strokes": strokes, "k": int(k), "crank_ratio": ratio, "delta_g": d}
+                for ratio, d in zip(lam, delta[i], strict=True)
             ]
         exponent = np.log10(np.maximum(delta, 1e-16))
         image = ax.pcolormesh(lam, ks, exponent, norm=norm, shading="nearest", cmap="RdBu_r")
@@ -299,7 +300,8 @@ def engines_figure(settings: ReportSettings):
         )
         ax.loglog(rpm, np.maximum(delta, 1e-18), color=f"C{i}", label=f"{engine.name} (k = {engine.cranks})")
         records += [
-            {"engine": engine.name, "rpm": r, "u1": a, "u2": b, "delta_g": d} for r, a, b, d in zip(rpm, u1, u2, delta)
+            {"engine": engine.name, "rpm": r, "u1": a, "u2": b, "delta_g": d}
+            for r, a, b, d in zip(rpm, u1, u2, delta, strict=True)
         ]
     ax.axhline(settings.threshold, color="black", ls="--", lw=1)
     ax.text(
@@ -341,7 +343,7 @@ def layouts_figure(settings: ReportSettings):
     ax.barh(table["engine"], shown, color=colours)
     ax.set_xscale("log")
     ax.axvline(settings.threshold, color="black", ls="--", lw=1)
-    for y, (d, n) in enumerate(zip(shown, table["leading_harmonic"])):
+    for y, (d, n) in enumerate(zip(shown, table["leading_harmonic"], strict=True)):
         ax.text(d * 1.3, y, f"n = {n}", va="center", fontsize=7)
     ax.invert_yaxis()
     ax.set_xlabel("δ_g (dashed: threshold; red above it)")
@@ -493,7 +495,8 @@ def write_report(out: str | Path, settings: ReportSettings | None = None, progre
             ),
             (
                 "piston / rod / crank / counterweight mass",
-                f"{engine.piston_mass:g} / {engine.rod_mass:g} / {engine.crank_mass:g} / {engine.counterweight_mass:g} kg",
+                f"{engine.piston_mass:g} / {engine.rod_mass:g} / {engine.crank_mass:g} / "
+                f"{engine.counterweight_mass:g} kg",
             ),
             ("shaft inertia I_w", f"{engine.shaft_inertia:g} kg·m²"),
             ("speed", f"{engine.rpm:g} rpm"),
@@ -536,7 +539,8 @@ throws 180° apart, unlike the 180° V whose opposed cylinders share a pin. Hori
 their rotating parts. With unequal cylinders or phase errors cancelled harmonics return; see
 <code>Engine.harmonic_sensitivity</code>.</p>
 <img src="{figures["layouts"]}" alt="δ_g per layout">
-<table><tr><th>layout</th><th>description</th><th>cylinders</th><th>δ<sub>g</sub></th><th>leading n</th><th>its amplitude</th></tr>
+<table><tr><th>layout</th><th>description</th><th>cylinders</th><th>δ<sub>g</sub></th><th>leading n</th>
+<th>its amplitude</th></tr>
 {layout_rows}</table>
 <p class="note">Data: layouts.csv</p>
 """)
@@ -545,12 +549,14 @@ their rotating parts. With unequal cylinders or phase errors cancelled harmonics
 <h2>U<sub>w</sub>*(φ) and Q<sub>u</sub>*(φ), {strokes}-stroke, k = 1 … {settings.k_max}</h2>
 <img src="{figures[f"energy_{strokes}stroke"]}" alt="U_w*, {strokes}-stroke">
 <img src="{figures[f"force_{strokes}stroke"]}" alt="Q_u*, {strokes}-stroke">
-<p class="note">Data: energy_{strokes}stroke.csv, force_{strokes}stroke.csv (columns φ [deg], k1 … k{settings.k_max})</p>
+<p class="note">Data: energy_{strokes}stroke.csv, force_{strokes}stroke.csv
+(columns φ [deg], k1 … k{settings.k_max})</p>
 """)
     sections.append(f"""
 <h2>Harmonic spectra of Q<sub>u</sub>*</h2>
-<p>Amplitudes √(a<sub>n</sub>² + b<sub>n</sub>²) of Q<sub>u</sub>* = Σ a<sub>n</sub> cos nφ + b<sub>n</sub> sin nφ with the exact
-Λ<sub>n</sub>, up to n = {settings.n_max}: only n = 1 and the harmonics whose phase sum survives appear.</p>
+<p>Amplitudes √(a<sub>n</sub>² + b<sub>n</sub>²) of Q<sub>u</sub>* = Σ a<sub>n</sub> cos nφ + b<sub>n</sub> sin nφ
+with the exact Λ<sub>n</sub>, up to n = {settings.n_max}: only n = 1 and the harmonics whose phase sum survives
+appear.</p>
 <img src="{figures["spectra_2stroke"]}" alt="spectra two-stroke">
 <img src="{figures["spectra_4stroke"]}" alt="spectra four-stroke">
 <p class="note">Data: spectra_2stroke.csv, spectra_4stroke.csv</p>
@@ -561,18 +567,22 @@ their rotating parts. With unequal cylinders or phase errors cancelled harmonics
             (tables["table1_two_stroke_single"], f"Table 1 (derived): two-stroke, single-acting, n ≤ {settings.n_max}"),
             (
                 tables["table2_four_stroke_single"],
-                f"Table 2 (derived; not printed in the paper): four-stroke, single-acting",
+                "Table 2 (derived; not printed in the paper): four-stroke, single-acting",
             ),
             (tables["two_stroke_double"], "Two-stroke, double-acting"),
             (tables["four_stroke_double"], "Four-stroke, double-acting"),
         ]
     )
+    verdict = (
+        "agrees with the derived one in every cell" if matches else "DIFFERS from the derived one in the red cells"
+    )
+    printed = _bool_table(paper, "The paper's Table 1 as printed (n ≤ 12)", tables["table1_two_stroke_single"])
     sections.append(f"""
 <h2>Which harmonics survive the sum over cranks (Tables 1 and 2)</h2>
 <p>● marks a non-zero W<sub>n</sub> for a machine of k cranks (rows n = 1 and even n). Derived from the phase sums
 S<sub>n</sub> = Σ<sub>j</sub> e<sup>inα<sub>j</sub></sup> in exact integer arithmetic, beyond the paper's cut at n = 12.
-The paper's printed Table 1 {"agrees with the derived one in every cell" if matches else "DIFFERS from the derived one in the red cells"}.</p>
-<div class="tables">{_bool_table(paper, "The paper's Table 1 as printed (n ≤ 12)", tables["table1_two_stroke_single"])}</div>
+The paper's printed Table 1 {verdict}.</p>
+<div class="tables">{printed}</div>
 <div class="tables">{table_html}</div>
 <p class="note">Data: table1_two_stroke_single.csv, table2_four_stroke_single.csv, two_stroke_double.csv,
 four_stroke_double.csv, paper_table1_printed.csv (1 = survives)</p>

@@ -146,9 +146,9 @@ def sweep(
     ----------
     designs : pandas.DataFrame, mapping of equal-length 1-D columns, DesignGrid,
         dask.dataframe.DataFrame, or a list of :class:`multicrank.Engine` (any layout; the
-        result then has one row per engine with its name and number of units). Columns ``crank_ratio``, ``inclination`` [rad], ``u1``,
-        ``u2``; optional ``cranks`` (default 1), ``strokes`` (2) and ``acting`` ("single").
-        Other columns are carried through.
+        result then has one row per engine with its name and number of units). Columns
+        ``crank_ratio``, ``inclination`` [rad], ``u1``, ``u2``; optional ``cranks`` (default 1),
+        ``strokes`` (2) and ``acting`` ("single"). Other columns are carried through.
     phi : int or 1-D array
         An int n is the uniform grid φ_i = 2πi/n, i < n (one revolution, endpoint excluded);
         an array is used as given. Used by ``force_max_abs`` and ``force_rms``.
