@@ -122,7 +122,7 @@ def as_strokes(value: Any) -> int:
 
 
 def broadcast_designs(
-    what: str = "design parameters", **columns: np.ndarray
+    what: str = "design parameters", /, **columns: np.ndarray
 ) -> tuple[tuple[int, ...], dict[str, np.ndarray]]:
     """Broadcast arrays together: (their shape D, flat contiguous columns)."""
     try:

@@ -146,8 +146,8 @@ def parse_axis(text: str, kind) -> list:
             return list(range(start, stop + 1))
         if len(parts) != 3:
             raise click.BadParameter(f"{text!r}: a range is start:stop:count")
-        start, stop, count = float(parts[0]), float(parts[1]), int(parts[2])
-        values = np.linspace(start, stop, count).tolist()
+        first, last, count = float(parts[0]), float(parts[1]), int(parts[2])
+        values = np.linspace(first, last, count).tolist()
         return [round(v) for v in values] if kind is int else values
     convert = int if kind is int else float
     return [convert(item) for item in text.split(",") if item.strip()]

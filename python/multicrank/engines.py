@@ -95,7 +95,14 @@ class Engine:
 
     @classmethod
     def from_throws(
-        cls, throws: Sequence[float], banks: Sequence[Sequence[float]], *, crank_ratio, u1, u2, name: str = "engine"
+        cls,
+        throws: Sequence[float] | np.ndarray,
+        banks: Sequence[Sequence[float] | np.ndarray],
+        *,
+        crank_ratio,
+        u1,
+        u2,
+        name: str = "engine",
     ) -> Engine:
         """Cylinders on crank throws: throw t's pin is at the absolute angle φ + β_t
         (``throws``, rad), and carries one cylinder per inclination in ``banks[t]`` (rad).
@@ -103,7 +110,8 @@ class Engine:
         cylinder (scalars or arrays in the cylinders' order)."""
         if len(throws) != len(banks):
             raise MechanismError(f"throws has {len(throws)} entries but banks {len(banks)}")
-        phase, inclination = [], []
+        phase: list[float] = []
+        inclination: list[float] = []
         for beta, gammas in zip(throws, banks, strict=True):
             for gamma in gammas:
                 phase.append(beta - gamma)
@@ -136,8 +144,10 @@ class Engine:
 
         return pd.DataFrame(self._columns)
 
-    def _args(self) -> list[np.ndarray]:
-        return [self._columns[k] for k in _FIELDS]
+    def _args(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """The columns in the order of _FIELDS, as the native engine functions take them."""
+        phase, inclination, crank_ratio, u1, u2 = (self._columns[k] for k in _FIELDS)
+        return phase, inclination, crank_ratio, u1, u2
 
     # -- evaluation ---------------------------------------------------------------------
     def _evaluate(self, quantity: str, phi: Any):

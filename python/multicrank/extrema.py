@@ -18,11 +18,11 @@ class EnergyExtrema(NamedTuple):
     occur, and δ_g = max − min (taken before the constant level is added, so a variation
     below one ulp of U_w* itself is kept)."""
 
-    min: np.ndarray
-    min_at: np.ndarray
-    max: np.ndarray
-    max_at: np.ndarray
-    range: np.ndarray
+    min: np.ndarray | np.float64
+    min_at: np.ndarray | np.float64
+    max: np.ndarray | np.float64
+    max_at: np.ndarray | np.float64
+    range: np.ndarray | np.float64
 
 
 def energy_extrema(*, crank_ratio: Any, inclination: Any, u1: Any, u2: Any, phases: Any = None) -> EnergyExtrema:

@@ -108,7 +108,7 @@ def harmonic_table(strokes: int = 2, acting: str = "single", k_max: int = 12, n_
     table = pd.DataFrame(
         False, index=pd.Index(rows, name="n"), columns=pd.Index(range(1, k_max + 1), name="k"), dtype=bool
     )
-    for k in table.columns:
+    for k in range(1, k_max + 1):
         surviving = set(surviving_harmonics(k, strokes, acting, n_max))
         table[k] = [n in surviving for n in rows]
     return table

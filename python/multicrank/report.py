@@ -301,7 +301,7 @@ def engines_figure(settings: ReportSettings):
         ax.loglog(rpm, np.maximum(delta, 1e-18), color=f"C{i}", label=f"{engine.name} (k = {engine.cranks})")
         records += [
             {"engine": engine.name, "rpm": r, "u1": a, "u2": b, "delta_g": d}
-            for r, a, b, d in zip(rpm, u1, u2, delta, strict=True)
+            for r, a, b, d in zip(rpm, np.asarray(u1), np.asarray(u2), np.asarray(delta), strict=True)
         ]
     ax.axhline(settings.threshold, color="black", ls="--", lw=1)
     ax.text(
@@ -402,7 +402,7 @@ def _bool_table(frame: pd.DataFrame, caption: str, highlight: pd.DataFrame | Non
                 highlight is not None
                 and n in highlight.index
                 and k in highlight.columns
-                and highlight.loc[n, k] != value
+                and highlight.at[n, k] != value
             ):
                 extra = ' class="diff"'
             cells.append(f"<td{extra}>{mark}</td>")

@@ -22,7 +22,6 @@ from ._native import MechanismError
 from ._native import sweep as _native_sweep
 from ._validation import as_count, as_option, contiguous
 from .designs import (
-    DESIGN_COLUMNS,
     SWEEP_OUTPUTS,
     DesignGrid,
     check_columns,
@@ -86,7 +85,10 @@ def _reduce(columns: dict[str, np.ndarray], phi: np.ndarray, outputs: tuple[str,
         part = slice(start, min(start + call_size, n))
         parts.append(
             _native_sweep(
-                *(contiguous(columns[c][part]) for c in DESIGN_COLUMNS),
+                contiguous(columns["crank_ratio"][part]),
+                contiguous(columns["inclination"][part]),
+                contiguous(columns["u1"][part]),
+                contiguous(columns["u2"][part]),
                 np.ascontiguousarray(set_index[part]),
                 set_phases,
                 offsets,
