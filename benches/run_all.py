@@ -30,7 +30,9 @@ def run(*command: str) -> str:
 def criterion_table() -> str:
     out = run("cargo", "bench", "-p", "multicrank-benches", "--bench", "kernels", "--", "--quick")
     rows = ["| kernel | throughput |", "|---|---|"]
-    for name, value, unit in re.findall(r"^(\S+/\S+)\s*\n?\s*time:.*?\n\s*thrpt:\s*\[\S+ \S+ (\S+) (\S+)", out, re.M | re.S):
+    for name, value, unit in re.findall(
+        r"^(\S+/\S+)\s*\n?\s*time:.*?\n\s*thrpt:\s*\[\S+ \S+ (\S+) (\S+)", out, re.M | re.S
+    ):
         rows.append(f"| {name} | {value} {unit} |")
     return "\n".join(rows)
 
@@ -41,8 +43,14 @@ def main() -> None:
     args = parser.parse_args()
     kernels = run(sys.executable, "benches/python/bench_kernels.py", "--markdown")
     sweeps = run(sys.executable, "benches/python/bench_sweep.py", "--markdown")
-    cpu = next((line.split(":", 1)[1].strip() for line in Path("/proc/cpuinfo").read_text().splitlines()
-                if line.startswith("model name")), platform.processor())
+    cpu = next(
+        (
+            line.split(":", 1)[1].strip()
+            for line in Path("/proc/cpuinfo").read_text().splitlines()
+            if line.startswith("model name")
+        ),
+        platform.processor(),
+    )
     parts = [
         "# Benchmarks",
         "",

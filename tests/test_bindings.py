@@ -41,7 +41,7 @@ def test_threshold_per_call_changes_no_bit(evaluate, phi):
 def test_threshold_per_call_for_extrema():
     serial = mc.energy_extrema(parallel_threshold=HUGE, **DESIGNS)
     parallel = mc.energy_extrema(parallel_threshold=0, **DESIGNS)
-    for a, b in zip(serial, parallel):
+    for a, b in zip(serial, parallel, strict=True):
         assert a.tobytes() == b.tobytes()
     delta = mc.speed_fluctuation(parallel_threshold=0, **DESIGNS)
     assert delta.tobytes() == serial.range.tobytes()
@@ -60,7 +60,8 @@ def test_paper_coefficients_exact_through_j_20():
             expected = (
                 Fraction(0)
                 if j < i - 1
-                else (-1) ** (i + 1) * Fraction(2 * i * comb(2 * j, j) * comb(2 * j + 2, j + 1 - i), (j + 1) * 4 ** (2 * j + 1))
+                else (-1) ** (i + 1)
+                * Fraction(2 * i * comb(2 * j, j) * comb(2 * j + 2, j + 1 - i), (j + 1) * 4 ** (2 * j + 1))
             )
             assert mc.paper_coefficient(i, j) == expected, (i, j)
     with pytest.raises(mc.MechanismError, match="j = 21"):
@@ -69,8 +70,13 @@ def test_paper_coefficients_exact_through_j_20():
 
 @pytest.mark.parametrize(
     "errors, name",
-    [({"u1_rel": np.nan}, "u1_rel"), ({"u2_rel": -0.1}, "u2_rel"), ({"phase": np.inf}, "phase"),
-     ({"u1_rel": "a lot"}, "u1_rel"), ({"phase": [0.1, 0.2]}, "phase")],
+    [
+        ({"u1_rel": np.nan}, "u1_rel"),
+        ({"u2_rel": -0.1}, "u2_rel"),
+        ({"phase": np.inf}, "phase"),
+        ({"u1_rel": "a lot"}, "u1_rel"),
+        ({"phase": [0.1, 0.2]}, "phase"),
+    ],
 )
 def test_sensitivity_errors_name_the_parameter(errors, name):
     engine = mc.layout_engine("v8-cross", crank_ratio=0.3, u1=1e-3, u2=2e-4)
@@ -80,6 +86,7 @@ def test_sensitivity_errors_name_the_parameter(errors, name):
 
 def test_standard_gravity_is_the_conventional_value():
     assert mc.STANDARD_GRAVITY == 9.80665  # CGPM 1901, exact by definition
-    u1, _ = mc.dimensionless_moments(crank_radius=0.1, rod_length=0.4, rod_cg=0.3, piston_mass=1.0, rod_mass=0.0,
-                                     shaft_inertia=1.0, rpm=30 / np.pi)
+    u1, _ = mc.dimensionless_moments(
+        crank_radius=0.1, rod_length=0.4, rod_cg=0.3, piston_mass=1.0, rod_mass=0.0, shaft_inertia=1.0, rpm=30 / np.pi
+    )
     assert u1 == pytest.approx(0.1 * 9.80665, rel=1e-15)

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import multicrank as mc
-from multicrank.engines import LAYOUTS
+from multicrank.presets import LAYOUTS
 
 mp.mp.dps = 40
 G = mp.mpf("9.80665")
@@ -30,16 +30,16 @@ def oracle_energy(phi, throws, banks, r, l, zk, mt, mk, web=(0.0, 0.0)):
     where it points horizontally."""
     phi = mp.mpf(phi)
     total = mp.mpf(0)
-    for beta, gammas in zip(throws, banks):
+    for beta, gammas in zip(throws, banks, strict=True):
         beta = mp.mpf(beta)
         for gamma in gammas:
             gamma = mp.mpf(gamma)
 
-            def height(theta):
+            def height(theta, gamma=gamma):
                 pin = (r * mp.cos(theta), r * mp.sin(theta))
                 x = r * mp.cos(theta - gamma) + mp.sqrt(l**2 - (r * mp.sin(theta - gamma)) ** 2)
                 piston = (x * mp.cos(gamma), x * mp.sin(gamma))
-                rod_cg = tuple(p + zk / l * (c - p) for p, c in zip(piston, pin))
+                rod_cg = tuple(p + zk / l * (c - p) for p, c in zip(piston, pin, strict=True))
                 return mt * piston[1] + mk * rod_cg[1]
 
             # This cylinder's own outer dead centre: the pin on its axis, θ = γ.
@@ -55,8 +55,23 @@ def oracle_force(phi, *args, **kwargs):
 GEOMETRY = dict(r=mp.mpf("0.045"), l=mp.mpf("0.15"), zk=mp.mpf("0.105"), mt=mp.mpf("0.5"), mk=mp.mpf("0.6"))
 
 
-@pytest.mark.parametrize("name", ["v-twin-45", "v-twin-90", "v6-60", "v8-cross", "v8-flat", "boxer-2", "boxer-4",
-                                  "boxer-6", "v-180-2", "w12", "twin-270", "v12-60"])
+@pytest.mark.parametrize(
+    "name",
+    [
+        "v-twin-45",
+        "v-twin-90",
+        "v6-60",
+        "v8-cross",
+        "v8-flat",
+        "boxer-2",
+        "boxer-4",
+        "boxer-6",
+        "v-180-2",
+        "w12",
+        "twin-270",
+        "v12-60",
+    ],
+)
 def test_layouts_against_first_principles(name):
     layout = LAYOUTS[name]
     throws = [mp.radians(mp.mpf(t)) for t in layout.throws]
@@ -115,14 +130,16 @@ def test_inline_layouts_match_the_inline_path(cranks, strokes):
     engine = LAYOUTS[f"inline-{cranks}-{strokes}t"].engine(crank_ratio=0.35, u1=0.3, u2=-0.1)
     phases = mc.crank_phases(cranks, strokes)
     phi = np.linspace(0, 2 * np.pi, 97)
-    np.testing.assert_allclose(engine.generalized_force(phi), mc.generalized_force(phi, phases=phases, **design),
-                               rtol=0, atol=1e-14 * cranks)
+    np.testing.assert_allclose(
+        engine.generalized_force(phi), mc.generalized_force(phi, phases=phases, **design), rtol=0, atol=1e-14 * cranks
+    )
     a, b = engine.fourier_coefficients(24)
     a_inline, b_inline = mc.fourier_coefficients(phases=phases, n_max=24, **design)
     np.testing.assert_allclose(np.hypot(a, b), np.hypot(a_inline, b_inline), rtol=1e-12, atol=1e-15 * cranks)
     assert engine.surviving_harmonics(24) == [n for n in mc.surviving_harmonics(cranks, strokes, n_max=24)]
-    assert engine.speed_fluctuation() == pytest.approx(mc.speed_fluctuation(phases=phases, **design), rel=1e-10,
-                                                      abs=1e-16)
+    assert engine.speed_fluctuation() == pytest.approx(
+        mc.speed_fluctuation(phases=phases, **design), rel=1e-10, abs=1e-16
+    )
 
 
 def test_boxer_is_not_the_180_degree_vee():
@@ -138,8 +155,11 @@ def test_boxer_is_not_the_180_degree_vee():
 
 
 def test_fourier_coefficients_against_fft():
-    engine = LAYOUTS["v8-cross"].engine(crank_ratio=0.3, u1=np.linspace(0.1, 0.2, 8), u2=0.02).replace(
-        phase=LAYOUTS["v8-cross"].engine(crank_ratio=0.3, u1=0.1, u2=0.02).phase + np.linspace(0, 0.01, 8))
+    engine = (
+        LAYOUTS["v8-cross"]
+        .engine(crank_ratio=0.3, u1=np.linspace(0.1, 0.2, 8), u2=0.02)
+        .replace(phase=LAYOUTS["v8-cross"].engine(crank_ratio=0.3, u1=0.1, u2=0.02).phase + np.linspace(0, 0.01, 8))
+    )
     grid = np.arange(2048) * (2 * np.pi / 2048)
     spectrum = np.fft.rfft(engine.generalized_force(grid)) * 2 / grid.size
     a, b = engine.fourier_coefficients(24)
@@ -211,10 +231,18 @@ def test_physical_layout_counts_one_web_per_throw():
     r, l, zk = (mp.mpf(machine.crank_radius), mp.mpf(machine.rod_length), mp.mpf(machine.rod_cg))
     omega = mp.pi * mp.mpf(machine.rpm) / 30
     scale = mp.mpf(machine.shaft_inertia) * omega**2
-    web = (mp.mpf(machine.crank_mass) * mp.mpf(machine.crank_cg_radius)
-           - mp.mpf(machine.counterweight_mass) * mp.mpf(machine.counterweight_radius))
+    web = mp.mpf(machine.crank_mass) * mp.mpf(machine.crank_cg_radius) - mp.mpf(machine.counterweight_mass) * mp.mpf(
+        machine.counterweight_radius
+    )
     throws, banks = [mp.radians(90)], [[mp.radians(45), mp.radians(135)]]
     phi = np.linspace(0, 2 * np.pi, 13)
-    expected = [float(oracle_energy(p, throws, banks, r, l, zk, mp.mpf(machine.piston_mass), mp.mpf(machine.rod_mass),
-                                    web=(web, 0)) / scale) for p in phi]
+    expected = [
+        float(
+            oracle_energy(
+                p, throws, banks, r, l, zk, mp.mpf(machine.piston_mass), mp.mpf(machine.rod_mass), web=(web, 0)
+            )
+            / scale
+        )
+        for p in phi
+    ]
     np.testing.assert_allclose(engine.potential_energy(phi), expected, rtol=0, atol=1e-15)

@@ -139,7 +139,9 @@ def test_engines_take_grids():
         on_grid = engine.generalized_force(grid, method=method)
         at_points = engine.generalized_force(np.asarray(grid), method=method)
         np.testing.assert_allclose(on_grid, at_points, rtol=0, atol=1e-13)
-    np.testing.assert_allclose(engine.potential_energy(grid), engine.potential_energy(np.asarray(grid)), rtol=0, atol=1e-13)
+    np.testing.assert_allclose(
+        engine.potential_energy(grid), engine.potential_energy(np.asarray(grid)), rtol=0, atol=1e-13
+    )
 
 
 def test_points_are_numpys():
@@ -154,8 +156,19 @@ def test_points_are_numpys():
 
 def test_anything_derived_from_a_grid_is_a_plain_array():
     grid = mc.uniform_grid(100)
-    for derived in (grid[1:], grid[::2], grid * 2, 2 * grid, np.sin(grid), grid.copy(), np.asarray(grid), grid + 0,
-                    grid.reshape(10, 10), np.array(grid), -grid):
+    for derived in (
+        grid[1:],
+        grid[::2],
+        grid * 2,
+        2 * grid,
+        np.sin(grid),
+        grid.copy(),
+        np.asarray(grid),
+        grid + 0,
+        grid.reshape(10, 10),
+        np.array(grid),
+        -grid,
+    ):
         assert type(derived) is np.ndarray, type(derived)
     assert type(grid.sum()) is np.float64
     assert type(grid[3]) is np.float64
@@ -168,7 +181,9 @@ def test_anything_derived_from_a_grid_is_a_plain_array():
     assert np.array(grid).flags.writeable
     # a slice evaluates as the points it holds, bit for bit
     design = dict(crank_ratio=0.3, inclination=1.0, u1=0.5, u2=0.2)
-    assert np.array_equal(mc.generalized_force(grid[5:], **design), mc.generalized_force(np.asarray(grid)[5:], **design))
+    assert np.array_equal(
+        mc.generalized_force(grid[5:], **design), mc.generalized_force(np.asarray(grid)[5:], **design)
+    )
     again = pickle.loads(pickle.dumps(grid))
     assert type(again) is mc.UniformGrid and np.array_equal(again, grid)
     assert again.step == grid.step

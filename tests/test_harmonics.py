@@ -1,4 +1,5 @@
-"""The harmonics of Q_u* (mathematics.md §4–5) and the speed fluctuation (§6).
+"""The harmonics of Q_u* and the speed fluctuation (docs/theory.md, "Fourier form and Λ_n",
+"Which harmonics survive", "Speed fluctuation due to gravity").
 
 Every expected value here is computed independently of the formulas under test:
 
@@ -10,7 +11,7 @@ Every expected value here is computed independently of the formulas under test:
   installed) and against the decimals printed in the paper;
 - surviving harmonics against numerical phase sums Σ_j e^{inα_j};
 - Fourier coefficients against an FFT of the closed-form Q;
-- the special cases eq. (19)–(22) written out from §5;
+- the special cases eq. (19)–(22) written out from "Which harmonics survive";
 - the speed fluctuation against a dense grid and against mpmath root finding on the
   closed forms of U and Q.
 
@@ -48,7 +49,8 @@ KINDS = [(2, "single"), (4, "single"), (2, "double"), (4, "double")]
 
 
 def regular_phases(k: int, strokes: int, acting: str) -> np.ndarray:
-    """α_j = j·α, α = T/k (single) or T/(2k) (double), T = 2π or 4π (§2), written out here."""
+    """α_j = j·α, α = T/k (single) or T/(2k) (double), T = 2π or 4π (docs/theory.md, "Crank phases"),
+    written out here."""
     period = 2 * PI if strokes == 2 else 4 * PI
     step = period / k if acting == "single" else period / (2 * k)
     return np.arange(k) * step
@@ -67,7 +69,7 @@ def phase_sum(n: int, alphas) -> complex:
 
 def numerical_survivors(k: int, strokes: int, acting: str, n_max: int) -> list[int]:
     alphas = regular_phases(k, strokes, acting)
-    candidates = [1] + list(range(2, n_max + 1, 2))
+    candidates = [1, *list(range(2, n_max + 1, 2))]
     return [n for n in candidates if n <= n_max and abs(phase_sum(n, alphas)) > 1e-9]
 
 
@@ -98,12 +100,14 @@ def q_mp(phi, lam, gamma, u1, u2, alphas):
     for alpha in alphas:
         psi = mpf(phi) + alpha
         s = mp.sin(psi)
-        total += mpf(u2) * mp.cos(psi + G) - mpf(u1) * (s + L * mp.sin(2 * psi) / (2 * mp.sqrt(1 - L**2 * s**2))) * sin_g
+        total += (
+            mpf(u2) * mp.cos(psi + G) - mpf(u1) * (s + L * mp.sin(2 * psi) / (2 * mp.sqrt(1 - L**2 * s**2))) * sin_g
+        )
     return total
 
 
 def u_mp(phi, lam, gamma, u1, u2, alphas):
-    """U_w* (§1–2) in mpmath: Σ_j U2[sin(ψ+γ) − sin γ] − U1 (s(ψ)/r) sin γ."""
+    """U_w* ("Potential energy and generalised force") in mpmath: Σ_j U2[sin(ψ+γ) − sin γ] − U1 (s(ψ)/r) sin γ."""
     L, G = mpf(lam), mpf(gamma)
     sin_g = mp.sin(G)
     total = mpf(0)
@@ -153,7 +157,7 @@ def working_digits(lam: float, n: int) -> int:
     """Enough digits that the cancellation in the integral (Λ_n ~ t^{n−1}·λ⁰ against an
     integrand of size λ) leaves ≥ 30 correct digits."""
     t = lam / (1 + math.sqrt(1 - lam * lam))
-    return 30 + max(0, int(math.ceil(-(n - 1) * math.log10(t))))
+    return 30 + max(0, math.ceil(-(n - 1) * math.log10(t)))
 
 
 def assert_lambda_close(got: float, true, n: int, lam: float):
@@ -267,7 +271,10 @@ def test_lambda_matches_reference(lam):
         if abs(slow[n]) > 1e-290:
             assert abs(got[n] - slow[n]) <= 4e-16 * n * abs(slow[n]), n
     np.testing.assert_allclose(
-        mc.lambda_coefficients(lam, 20, method="paper"), ref.lambda_coefficients(lam, 20, method="paper"), rtol=1e-15, atol=0
+        mc.lambda_coefficients(lam, 20, method="paper"),
+        ref.lambda_coefficients(lam, 20, method="paper"),
+        rtol=1e-15,
+        atol=0,
     )
 
 
@@ -450,11 +457,19 @@ def test_paper_coefficient_invalid_input():
 
 
 # --------------------------------------------------------------------------------------
-# 3. Surviving harmonics (§5, Tables 1 and 2)
+# 3. Surviving harmonics ("Which harmonics survive", Tables 1 and 2)
 # --------------------------------------------------------------------------------------
 
 # The paper's Table 1 (two-stroke, single acting), as printed: n -> the k with W_n ≠ 0.
-TABLE_1 = {1: [1], 2: [1, 2], 4: [1, 2, 4], 6: [1, 2, 3, 6], 8: [1, 2, 4, 8], 10: [1, 2, 5, 10], 12: [1, 2, 3, 4, 6, 12]}
+TABLE_1 = {
+    1: [1],
+    2: [1, 2],
+    4: [1, 2, 4],
+    6: [1, 2, 3, 6],
+    8: [1, 2, 4, 8],
+    10: [1, 2, 5, 10],
+    12: [1, 2, 3, 4, 6, 12],
+}
 
 # Table 2 (four-stroke, single acting; not printed, derived by hand from α = 4π/k):
 # n = 1 survives for k = 1, 2; even n for k | 2n.
@@ -497,7 +512,7 @@ def test_table_2_four_stroke():
 def test_harmonic_table_matches_phase_sums(strokes, acting):
     table = mc.harmonic_table(strokes=strokes, acting=acting, k_max=9, n_max=20)
     assert table.shape == (11, 9)
-    assert list(table.index) == [1] + list(range(2, 21, 2))
+    assert list(table.index) == [1, *list(range(2, 21, 2))]
     for k in range(1, 10):
         survivors = set(numerical_survivors(k, strokes, acting, 20))
         assert [bool(v) for v in table[k]] == [n in survivors for n in table.index], k
@@ -513,7 +528,7 @@ def test_surviving_harmonics_match_phase_sums(strokes, acting):
 
 
 def rule_survives(n: int, k: int, strokes: int, acting: str) -> bool:
-    """The table of mathematics.md §5, verbatim."""
+    """The table of docs/theory.md, "Which harmonics survive", verbatim."""
     if n == 1:
         return {(2, "single"): k == 1, (4, "single"): k in (1, 2), (4, "double"): k == 1, (2, "double"): True}[
             (strokes, acting)
@@ -530,7 +545,7 @@ def rule_survives(n: int, k: int, strokes: int, acting: str) -> bool:
 @pytest.mark.parametrize("strokes,acting", KINDS)
 def test_surviving_harmonics_rule_table(strokes, acting):
     for k in range(1, 17):
-        expected = [n for n in [1] + list(range(2, 61, 2)) if rule_survives(n, k, strokes, acting)]
+        expected = [n for n in [1, *list(range(2, 61, 2))] if rule_survives(n, k, strokes, acting)]
         assert mc.surviving_harmonics(k, strokes, acting, n_max=60) == expected, k
 
 
@@ -547,7 +562,13 @@ def test_surviving_harmonics_examples():
 
 @pytest.mark.parametrize(
     "args",
-    [dict(cranks=0), dict(cranks=2.5), dict(cranks=3, strokes=3), dict(cranks=3, acting="triple"), dict(cranks=3, n_max=-2)],
+    [
+        dict(cranks=0),
+        dict(cranks=2.5),
+        dict(cranks=3, strokes=3),
+        dict(cranks=3, acting="triple"),
+        dict(cranks=3, n_max=-2),
+    ],
 )
 def test_surviving_harmonics_invalid_input(args):
     with pytest.raises(mc.MechanismError):
@@ -557,7 +578,9 @@ def test_surviving_harmonics_invalid_input(args):
 @pytest.mark.parametrize("strokes,acting", KINDS)
 def test_crank_phases_are_the_regular_sets(strokes, acting):
     for k in range(1, 13):
-        np.testing.assert_allclose(mc.crank_phases(k, strokes, acting), regular_phases(k, strokes, acting), rtol=1e-15, atol=0)
+        np.testing.assert_allclose(
+            mc.crank_phases(k, strokes, acting), regular_phases(k, strokes, acting), rtol=1e-15, atol=0
+        )
 
 
 # --------------------------------------------------------------------------------------
@@ -624,7 +647,9 @@ def test_fourier_coefficients_broadcast():
     a, b = mc.fourier_coefficients(crank_ratio=lam, inclination=1.0, u1=u1, u2=0.2, phases=V8_CROSS_PLANE, n_max=10)
     assert a.shape == b.shape == (3, 2, 11)
     for i, j in np.ndindex(3, 2):
-        sa, sb = mc.fourier_coefficients(crank_ratio=lam[i, 0], inclination=1.0, u1=u1[j], u2=0.2, phases=V8_CROSS_PLANE, n_max=10)
+        sa, sb = mc.fourier_coefficients(
+            crank_ratio=lam[i, 0], inclination=1.0, u1=u1[j], u2=0.2, phases=V8_CROSS_PLANE, n_max=10
+        )
         np.testing.assert_array_equal(a[i, j], sa)
         np.testing.assert_array_equal(b[i, j], sb)
     a, b = mc.fourier_coefficients(crank_ratio=0.3, inclination=1.0, u1=1.0, u2=0.2)
@@ -635,9 +660,7 @@ def test_fourier_coefficients_broadcast():
 # 5. series / paper against exact
 # --------------------------------------------------------------------------------------
 
-nonzero_moment = st.one_of(
-    st.just(0.0), st.floats(1e-3, 4.0), st.floats(-4.0, -1e-3)
-)
+nonzero_moment = st.one_of(st.just(0.0), st.floats(1e-3, 4.0), st.floats(-4.0, -1e-3))
 
 
 @st.composite
@@ -724,7 +747,13 @@ def test_series_near_lambda_one(lam):
 @pytest.mark.parametrize("lam", [0.1, 0.3, 0.4, 0.5])
 @pytest.mark.parametrize(
     "phases",
-    [None, regular_phases(2, 2, "single"), regular_phases(4, 4, "single"), regular_phases(7, 2, "single"), RANDOM_PHASES],
+    [
+        None,
+        regular_phases(2, 2, "single"),
+        regular_phases(4, 4, "single"),
+        regular_phases(7, 2, "single"),
+        RANDOM_PHASES,
+    ],
     ids=["k1", "k2", "k4-four-stroke", "k7", "random"],
 )
 def test_paper_method_truncation(lam, phases):
@@ -787,7 +816,7 @@ def test_vertical_engines(strokes, k, lam, gamma):
     u1, u2 = 1.25, -0.45
     alphas = regular_phases(k, strokes, "single")
     n_top = 240
-    survivors = [n for n in [1] + list(range(2, n_top + 1, 2)) if abs(phase_sum(n, alphas)) > 1e-9]
+    survivors = [n for n in [1, *list(range(2, n_top + 1, 2))] if abs(phase_sum(n, alphas)) > 1e-9]
     for n in survivors:
         assert abs(phase_sum(n, alphas) - k) < 1e-9  # a surviving sum is k (single acting)
     sign = 1.0 if gamma > 0 else -1.0
@@ -803,7 +832,7 @@ def test_vertical_engines(strokes, k, lam, gamma):
 
 
 # --------------------------------------------------------------------------------------
-# 7. Speed fluctuation and energy extrema (§6)
+# 7. Speed fluctuation and energy extrema ("Speed fluctuation due to gravity")
 # --------------------------------------------------------------------------------------
 
 FLUCTUATION_CASES = [
@@ -876,7 +905,7 @@ def mp_extrema(lam, gamma, u1, u2, alphas, samples=360):
         grid = [2 * mp.pi * i / samples for i in range(samples + 1)]
         values = [q_mp(p, lam, gamma, u1, u2, alphas) for p in grid]
         points = [mpf(0)]
-        for a, b, qa, qb in zip(grid, grid[1:], values, values[1:]):
+        for a, b, qa, qb in zip(grid, grid[1:], values, values[1:], strict=False):  # neighbours
             if qa == 0:
                 points.append(a)
             elif qa * qb < 0:

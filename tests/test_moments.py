@@ -6,7 +6,7 @@ The engine (SI):
     m_t = 1.2 kg, m_k = 0.9 kg, m_s = 2 kg at r_s = 0.03 m,
     counterweight m_p = 3 kg at r_p = 0.04 m, I_w = 0.5 kg m², n = 1500 rpm, g = 9.80665.
 
-By hand (mathematics.md §1, corrected eq. 5–7):
+By hand (docs/theory.md, "Dimensionless moments": the corrected eq. 5–7):
     ω = π·1500/30 = 50π,   I_w ω² = 0.5·2500π² = 1250π²
     rod shares: piston (l − z_k)/l = 0.15/0.2 = 3/4,  crank pin z_k/l = 1/4
     U1 = r g [m_t + 3/4·m_k] / (1250π²) = 0.05·(1.2 + 0.675)·g/(1250π²)
@@ -21,7 +21,6 @@ The paper's printed eq. 5/6 swap the shares (z_k/l to the piston, (l − z_k)/l 
 
 from __future__ import annotations
 
-import math
 import re
 from fractions import Fraction as F
 
@@ -95,24 +94,6 @@ def assert_rel(got, want, rtol, label):
     )
 
 
-def test_hand_arithmetic_is_consistent():
-    """The hand-simplified fractions in the docstring equal the formula evaluated exactly."""
-    c1, c2 = exact_moments(D)
-    assert D["rod_length"] - D["rod_cg"] == F(3, 20)
-    assert (D["rod_length"] - D["rod_cg"]) / D["rod_length"] == F(3, 4)
-    assert D["shaft_inertia"] * D["rpm"] ** 2 / 900 == 1250  # I ω² = 1250 π²
-    assert D["crank_radius"] * (D["piston_mass"] + F(3, 4) * D["rod_mass"]) == F(3, 32)
-    assert c1 == F(3, 40000)
-    assert c2 == F(-39, 1000000)
-    p1, p2 = exact_moments(D, paper=True)
-    assert p1 == F(57, 1000000)
-    assert p2 == F(-21, 1000000)
-    # decimal sanity: ω = 50π
-    assert math.isclose(math.pi * 1500 / 30, 50 * math.pi, rel_tol=1e-16)
-    assert math.isclose(to_float(c1), 7.4515e-5, rel_tol=1e-4)
-    assert math.isclose(to_float(c2), -3.8750e-5, rel_tol=1e-4)
-
-
 def test_worked_example_matches_hand_computation():
     u1, u2 = mc.dimensionless_moments(**ENGINE)
     assert np.ndim(u1) == 0 and np.ndim(u2) == 0
@@ -180,12 +161,14 @@ def test_default_gravity_is_standard():
 
 
 def test_optional_masses_default_to_zero():
-    required = {k: ENGINE[k] for k in
-                ("crank_radius", "rod_length", "rod_cg", "piston_mass", "rod_mass",
-                 "shaft_inertia", "rpm")}
+    required = {
+        k: ENGINE[k]
+        for k in ("crank_radius", "rod_length", "rod_cg", "piston_mass", "rod_mass", "shaft_inertia", "rpm")
+    }
     u1, u2 = mc.dimensionless_moments(**required)
-    w1, w2 = mc.dimensionless_moments(**dict(required, crank_mass=0, crank_cg_radius=0,
-                                             counterweight_mass=0, counterweight_radius=0))
+    w1, w2 = mc.dimensionless_moments(
+        **dict(required, crank_mass=0, crank_cg_radius=0, counterweight_mass=0, counterweight_radius=0)
+    )
     assert float(u1) == float(w1) and float(u2) == float(w2)
     # u2 is the rod's rotating share only: r·(1/4)·m_k·g/(1250π²)
     assert_rel(u2, to_float(F("0.05") * F(1, 4) * F("0.9") / 1250), 1e-15, "u2")
@@ -286,8 +269,7 @@ BAD = [
 ]
 
 
-@pytest.mark.parametrize("name,value,needle", BAD,
-                         ids=[f"{n}={v!r}".replace(" ", "") for n, v, _ in BAD])
+@pytest.mark.parametrize("name,value,needle", BAD, ids=[f"{n}={v!r}".replace(" ", "") for n, v, _ in BAD])
 def test_invalid_inputs_raise_mechanism_error_naming_the_parameter(name, value, needle):
     with pytest.raises(mc.MechanismError) as info:
         mc.dimensionless_moments(**dict(ENGINE, **{name: value}))
@@ -298,7 +280,11 @@ def test_invalid_inputs_raise_mechanism_error_naming_the_parameter(name, value, 
 
 
 def test_boundary_values_are_accepted():
-    for override in (dict(rod_cg=0.0), dict(rod_cg=0.2), dict(piston_mass=0.0, rod_mass=0.0),
-                     dict(crank_cg_radius=0.0, counterweight_radius=0.0)):
+    for override in (
+        dict(rod_cg=0.0),
+        dict(rod_cg=0.2),
+        dict(piston_mass=0.0, rod_mass=0.0),
+        dict(crank_cg_radius=0.0, counterweight_radius=0.0),
+    ):
         u1, u2 = mc.dimensionless_moments(**dict(ENGINE, **override))
         assert np.isfinite(float(u1)) and np.isfinite(float(u2))

@@ -1,6 +1,6 @@
 """An independent, first-principles oracle for `potential_energy` and `generalized_force`.
 
-Nothing here reuses the closed forms of mathematics.md §1/§3 (or the paper's). For each
+Nothing here reuses the closed forms of docs/theory.md (or the paper's). For each
 slider-crank unit the oracle places every body in the plane (mpmath, 40 digits):
 
     shaft centre            at the origin
@@ -13,8 +13,8 @@ slider-crank unit the oracle places every body in the plane (mpmath, 40 digits):
 
 and sums U = g·Σ m·h (h = the vertical coordinate). Each unit's energy is measured from its
 own ψ = 0 configuration, divided by I_w ω² (ω = π·rpm/30), and the units are summed at
-ψ_j = φ + α_j with the phases α_j written out from §2 in exact arithmetic (not taken from the
-library). Q* is mpmath.diff of that energy. The library is fed the SI engine through
+ψ_j = φ + α_j with the phases α_j written out from docs/theory.md, "Crank phases", in exact
+arithmetic (not taken from the library). Q* is mpmath.diff of that energy. The library is fed the SI engine through
 `mc.dimensionless_moments`, so these tests check the moments, the energy and the force
 together against physics.
 
@@ -83,7 +83,7 @@ class Engine:
 
 
 def exact_phases(k, strokes, acting):
-    """§2 written out: α_j = j·α, α = T/k (single) or T/(2k) (double), T = 2π or 4π."""
+    """docs/theory.md, "Crank phases", written out: α_j = j·α, α = T/k (single) or T/(2k) (double), T = 2π or 4π."""
     with mp.workdps(DPS):
         period = 2 * mp.pi if strokes == 2 else 4 * mp.pi
         alpha = period / k if acting == "single" else period / (2 * k)
@@ -123,9 +123,7 @@ class Oracle:
 
     def _raw(self, psi):
         piston, _pin, rod, crank, cw = self.positions(psi)
-        return self.g * (
-            self.mt * piston[1] + self.mk * rod[1] + self.ms * crank[1] + self.mcw * cw[1]
-        )
+        return self.g * (self.mt * piston[1] + self.mk * rod[1] + self.ms * crank[1] + self.mcw * cw[1])
 
     def unit_energy(self, psi):
         # No precision change in here: mpmath.diff raises the working precision itself.
@@ -183,18 +181,18 @@ def phi_grid(n, seed=0):
 
 ENGINES = {
     # λ = 1e-6: an (unphysically) long rod; lengths are only ratios here.
-    1e-6: Engine(r=0.05, l=5.0e4, zk=2.0e4, mt=1.4, mk=0.8, ms=1.5, rs=0.03,
-                 mcw=0.5, rcw=0.04, inertia=0.35, rpm=900.0),
-    0.05: Engine(r=0.01, l=0.2, zk=0.13, mt=0.6, mk=0.4, ms=0.7, rs=0.008,
-                 mcw=0.2, rcw=0.01, inertia=0.02, rpm=3000.0),
-    0.3: Engine(r=0.06, l=0.2, zk=0.13, mt=1.2, mk=0.9, ms=2.0, rs=0.03,
-                mcw=1.0, rcw=0.05, inertia=0.5, rpm=1500.0),
-    0.45: Engine(r=0.09, l=0.2, zk=0.05, mt=2.5, mk=1.7, ms=3.0, rs=0.05,
-                 mcw=1.5, rcw=0.06, inertia=1.2, rpm=600.0, g=9.81),
-    0.8: Engine(r=0.16, l=0.2, zk=0.1, mt=0.9, mk=0.5, ms=1.0, rs=0.1,
-                mcw=0.4, rcw=0.12, inertia=0.3, rpm=250.0),
-    0.95: Engine(r=0.19, l=0.2, zk=0.2, mt=3.0, mk=2.0, ms=0.0, rs=0.0,
-                 mcw=0.0, rcw=0.0, inertia=2.0, rpm=120.0, g=1.62),
+    1e-6: Engine(
+        r=0.05, l=5.0e4, zk=2.0e4, mt=1.4, mk=0.8, ms=1.5, rs=0.03, mcw=0.5, rcw=0.04, inertia=0.35, rpm=900.0
+    ),
+    0.05: Engine(r=0.01, l=0.2, zk=0.13, mt=0.6, mk=0.4, ms=0.7, rs=0.008, mcw=0.2, rcw=0.01, inertia=0.02, rpm=3000.0),
+    0.3: Engine(r=0.06, l=0.2, zk=0.13, mt=1.2, mk=0.9, ms=2.0, rs=0.03, mcw=1.0, rcw=0.05, inertia=0.5, rpm=1500.0),
+    0.45: Engine(
+        r=0.09, l=0.2, zk=0.05, mt=2.5, mk=1.7, ms=3.0, rs=0.05, mcw=1.5, rcw=0.06, inertia=1.2, rpm=600.0, g=9.81
+    ),
+    0.8: Engine(r=0.16, l=0.2, zk=0.1, mt=0.9, mk=0.5, ms=1.0, rs=0.1, mcw=0.4, rcw=0.12, inertia=0.3, rpm=250.0),
+    0.95: Engine(
+        r=0.19, l=0.2, zk=0.2, mt=3.0, mk=2.0, ms=0.0, rs=0.0, mcw=0.0, rcw=0.0, inertia=2.0, rpm=120.0, g=1.62
+    ),
 }
 
 
@@ -261,8 +259,7 @@ def test_energy_and_force_match_first_principles(case):
     assert_matches(mc.potential_energy(phis, **kw), u_ref, u_cond, "potential_energy")
 
     q_ref, q_cond = oracle.force(phis)
-    assert_matches(mc.generalized_force(phis, method="exact", **kw), q_ref, q_cond,
-                   "generalized_force(exact)")
+    assert_matches(mc.generalized_force(phis, method="exact", **kw), q_ref, q_cond, "generalized_force(exact)")
     # the default method is "exact"
     assert_matches(mc.generalized_force(phis, **kw), q_ref, q_cond, "generalized_force()")
 
@@ -281,26 +278,22 @@ def test_arbitrary_phase_sets(phases, gamma):
     u1, u2 = engine.moments()
     oracle = Oracle(engine, gamma, phases)
     phis = phi_grid(40, seed=3)
-    kw = dict(crank_ratio=engine.r / engine.l, inclination=gamma, u1=u1, u2=u2,
-              phases=np.array(phases))
+    kw = dict(crank_ratio=engine.r / engine.l, inclination=gamma, u1=u1, u2=u2, phases=np.array(phases))
     u_ref, u_cond = oracle.energy(phis)
     assert_matches(mc.potential_energy(phis, **kw), u_ref, u_cond, "potential_energy")
     q_ref, q_cond = oracle.force(phis)
-    assert_matches(mc.generalized_force(phis, method="exact", **kw), q_ref, q_cond,
-                   "generalized_force")
+    assert_matches(mc.generalized_force(phis, method="exact", **kw), q_ref, q_cond, "generalized_force")
 
 
 @pytest.mark.parametrize("gamma", [PI / 2, 0.3, PI])
 def test_infinite_rod_limit_lambda_zero(gamma):
     """λ = 0 exactly (allowed by the API) is the l → ∞ limit: the oracle uses l = 1e18·r
     (its λ effect, ~r²/l, is 1e-18; 40 digits of l leave 1e-22 absolute)."""
-    engine = Engine(r=1.0, l=1e18, zk=0.35e18, mt=1.1, mk=0.7, ms=0.9, rs=0.6,
-                    mcw=2.5, rcw=0.8, inertia=1.0, rpm=60.0)
+    engine = Engine(r=1.0, l=1e18, zk=0.35e18, mt=1.1, mk=0.7, ms=0.9, rs=0.6, mcw=2.5, rcw=0.8, inertia=1.0, rpm=60.0)
     u1, u2 = engine.moments()
     oracle = Oracle(engine, gamma, exact_phases(3, 4, "single"))
     phis = phi_grid(40, seed=5)
-    kw = dict(crank_ratio=0.0, inclination=gamma, u1=u1, u2=u2,
-              phases=mc.crank_phases(3, 4, "single"))
+    kw = dict(crank_ratio=0.0, inclination=gamma, u1=u1, u2=u2, phases=mc.crank_phases(3, 4, "single"))
     u_ref, u_cond = oracle.energy(phis)
     assert_matches(mc.potential_energy(phis, **kw), u_ref, u_cond, "potential_energy")
     q_ref, q_cond = oracle.force(phis)
@@ -312,22 +305,29 @@ def test_design_arrays_broadcast_against_oracle():
     gammas = np.array([[PI / 2], [0.3], [-2.0]])
     base = engine_for(0.45, heavy_cw=False)
     engines = [base, replace(base, mcw=25.0, rcw=0.1)]
-    u1s, u2s = zip(*(e.moments() for e in engines))
+    u1s, u2s = zip(*(e.moments() for e in engines), strict=True)
     assert float(u1s[0]) == float(u1s[1])
     # the counterweight array through dimensionless_moments gives the same u2 pair
     u1_arr, u2_arr = mc.dimensionless_moments(
-        crank_radius=base.r, rod_length=base.l, rod_cg=base.zk, piston_mass=base.mt,
-        rod_mass=base.mk, crank_mass=base.ms, crank_cg_radius=base.rs,
+        crank_radius=base.r,
+        rod_length=base.l,
+        rod_cg=base.zk,
+        piston_mass=base.mt,
+        rod_mass=base.mk,
+        crank_mass=base.ms,
+        crank_cg_radius=base.rs,
         counterweight_mass=np.array([base.mcw, 25.0]),
         counterweight_radius=np.array([base.rcw, 0.1]),
-        shaft_inertia=base.inertia, rpm=base.rpm, g=base.g)
+        shaft_inertia=base.inertia,
+        rpm=base.rpm,
+        g=base.g,
+    )
     np.testing.assert_array_equal(np.asarray(u2_arr), np.array([float(u) for u in u2s]))
     np.testing.assert_array_equal(np.asarray(u1_arr), np.full(2, float(u1s[0])))
 
     phases = mc.crank_phases(2, 4, "single")
     phis = phi_grid(6, seed=9).reshape(2, 3)
-    kw = dict(crank_ratio=base.r / base.l, inclination=gammas, u1=u1s[0], u2=np.asarray(u2_arr),
-              phases=phases)
+    kw = dict(crank_ratio=base.r / base.l, inclination=gammas, u1=u1s[0], u2=np.asarray(u2_arr), phases=phases)
     energy = np.asarray(mc.potential_energy(phis, **kw))
     force = np.asarray(mc.generalized_force(phis, **kw))
     assert energy.shape == force.shape == (3, 2, 2, 3)
@@ -357,17 +357,26 @@ ratio = st.integers(0, 20).map(lambda i: i / 10)
     radii=st.tuples(ratio, ratio),
     rpm=st.floats(10.0, 1e4),
 )
-def test_random_engines_match_first_principles(k, strokes, acting, gamma, lam, zk_frac,
-                                               masses, radii, rpm):
+def test_random_engines_match_first_principles(k, strokes, acting, gamma, lam, zk_frac, masses, radii, rpm):
     l = 1.0
     r = lam * l
-    engine = Engine(r=r, l=l, zk=zk_frac * l, mt=masses[0], mk=masses[1], ms=masses[2],
-                    rs=radii[0] * r, mcw=masses[3], rcw=radii[1] * r, inertia=0.7, rpm=rpm)
+    engine = Engine(
+        r=r,
+        l=l,
+        zk=zk_frac * l,
+        mt=masses[0],
+        mk=masses[1],
+        ms=masses[2],
+        rs=radii[0] * r,
+        mcw=masses[3],
+        rcw=radii[1] * r,
+        inertia=0.7,
+        rpm=rpm,
+    )
     u1, u2 = engine.moments()
     oracle = Oracle(engine, gamma, exact_phases(k, strokes, acting))
     phis = phi_grid(16, seed=k)
-    kw = dict(crank_ratio=lam, inclination=gamma, u1=u1, u2=u2,
-              phases=mc.crank_phases(k, strokes, acting))
+    kw = dict(crank_ratio=lam, inclination=gamma, u1=u1, u2=u2, phases=mc.crank_phases(k, strokes, acting))
     u_ref, u_cond = oracle.energy(phis)
     q_ref, q_cond = oracle.force(phis)
     if u_cond == 0.0:  # all masses zero: everything vanishes
@@ -396,15 +405,16 @@ def test_oracle_geometry_and_derivative_self_consistent():
         # the derivative against a central difference
         h = mpf(10) ** -12
         for phi in [-1.9, 0.0, 0.4, 8.8]:
-            fd = (mpmath.fsum(oracle.energy_terms(mpf(phi) + h))
-                  - mpmath.fsum(oracle.energy_terms(mpf(phi) - h))) / (2 * h)
+            fd = (mpmath.fsum(oracle.energy_terms(mpf(phi) + h)) - mpmath.fsum(oracle.energy_terms(mpf(phi) - h))) / (
+                2 * h
+            )
             assert abs(fd - mpmath.fsum(oracle.force_terms(phi))) < mpf(10) ** -20
         # ψ = 0: each unit measured from its own zero
         assert oracle.unit_energy(mpf(0)) == 0
 
 
 # --------------------------------------------------------------------------------------
-# The crank phase sets of §2, written out by hand
+# The crank phase sets of docs/theory.md, "Crank phases", written out by hand
 # --------------------------------------------------------------------------------------
 
 HAND_PHASES = [
@@ -433,8 +443,7 @@ def test_crank_phases_by_hand(k, strokes, acting, expected):
 
 def test_crank_phases_defaults():
     np.testing.assert_allclose(mc.crank_phases(3), [0.0, 2 * PI / 3, 4 * PI / 3], rtol=0, atol=1e-14)
-    np.testing.assert_allclose(mc.crank_phases(4, strokes=4), [0.0, PI, 2 * PI, 3 * PI],
-                               rtol=0, atol=1e-14)
+    np.testing.assert_allclose(mc.crank_phases(4, strokes=4), [0.0, PI, 2 * PI, 3 * PI], rtol=0, atol=1e-14)
 
 
 # --------------------------------------------------------------------------------------
@@ -453,8 +462,7 @@ CONVENTION_DESIGNS = [
 def test_single_crank_energy_zero_at_odc(lam, gamma, u1, u2):
     eps = np.finfo(float).eps
     for phases in (None, [0.0]):
-        val = mc.potential_energy(0.0, crank_ratio=lam, inclination=gamma, u1=u1, u2=u2,
-                                  phases=phases)
+        val = mc.potential_energy(0.0, crank_ratio=lam, inclination=gamma, u1=u1, u2=u2, phases=phases)
         assert np.ndim(val) == 0
         assert abs(float(val)) <= 4 * eps * (abs(u1) + abs(u2))
 
@@ -463,39 +471,33 @@ def test_single_crank_energy_zero_at_odc(lam, gamma, u1, u2):
 @pytest.mark.parametrize("k,strokes,acting", [(1, 2, "single"), (3, 4, "single"), (5, 2, "double")])
 def test_energy_and_force_are_2pi_periodic(lam, gamma, u1, u2, k, strokes, acting):
     phis = np.linspace(-2.0, 4.5, 37)
-    kw = dict(crank_ratio=lam, inclination=gamma, u1=u1, u2=u2,
-              phases=mc.crank_phases(k, strokes, acting))
+    kw = dict(crank_ratio=lam, inclination=gamma, u1=u1, u2=u2, phases=mc.crank_phases(k, strokes, acting))
     scale = k * (abs(u1) + abs(u2)) * 4
     for f in (mc.potential_energy, mc.generalized_force):
         base = np.asarray(f(phis, **kw))
         for shift in (2 * PI, -2 * PI, 6 * PI):
-            np.testing.assert_allclose(np.asarray(f(phis + shift, **kw)), base, rtol=0,
-                                       atol=5e-14 * scale)
+            np.testing.assert_allclose(np.asarray(f(phis + shift, **kw)), base, rtol=0, atol=5e-14 * scale)
 
 
 @pytest.mark.parametrize("lam", [0.0, 1e-6, 0.3, 0.95])
 def test_upright_piston_only_energy_is_nonpositive(lam):
     """γ = π/2 (piston above the shaft), u2 = 0: the piston only goes down from ODC."""
     phis = np.linspace(-7.0, 13.0, 2001)
-    energy = np.asarray(mc.potential_energy(phis, crank_ratio=lam, inclination=PI / 2,
-                                            u1=0.8, u2=0.0))
+    energy = np.asarray(mc.potential_energy(phis, crank_ratio=lam, inclination=PI / 2, u1=0.8, u2=0.0))
     assert np.all(energy <= 0.0)
     # bottom dead centre: the piston is 2r lower, U* = −2·u1
     bdc = float(mc.potential_energy(PI, crank_ratio=lam, inclination=PI / 2, u1=0.8, u2=0.0))
     assert bdc == pytest.approx(-1.6, rel=1e-14)
     # hanging engine: the piston goes up from ODC
-    hanging = np.asarray(mc.potential_energy(phis, crank_ratio=lam, inclination=-PI / 2,
-                                             u1=0.8, u2=0.0))
+    hanging = np.asarray(mc.potential_energy(phis, crank_ratio=lam, inclination=-PI / 2, u1=0.8, u2=0.0))
     assert np.all(hanging >= 0.0)
 
 
 def test_upright_crank_pin_convention():
     """u1 = 0, γ = π/2: only a rotating mass at the pin, which is at the top at φ = 0."""
     phis = np.linspace(-3.0, 3.0, 61)
-    energy = np.asarray(mc.potential_energy(phis, crank_ratio=0.3, inclination=PI / 2,
-                                            u1=0.0, u2=1.0))
+    energy = np.asarray(mc.potential_energy(phis, crank_ratio=0.3, inclination=PI / 2, u1=0.0, u2=1.0))
     np.testing.assert_allclose(energy, np.cos(phis) - 1.0, rtol=0, atol=2e-15)
     # γ = 0: the pin rises as φ grows (φ turns the way γ is measured)
-    force = np.asarray(mc.generalized_force(phis, crank_ratio=0.3, inclination=0.0,
-                                            u1=5.0, u2=1.0))
+    force = np.asarray(mc.generalized_force(phis, crank_ratio=0.3, inclination=0.0, u1=5.0, u2=1.0))
     np.testing.assert_allclose(force, np.cos(phis), rtol=0, atol=1e-15)

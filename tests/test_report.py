@@ -28,26 +28,60 @@ def run(*args: str, check: bool = True) -> subprocess.CompletedProcess:
 @pytest.fixture(scope="module")
 def report(tmp_path_factory) -> Path:
     out = tmp_path_factory.mktemp("report")
-    result = run("report", "--out", str(out), "--engine", "inline-4", "--k-max", "4", "--n-max", "12",
-                 "--points", "91", "--no-progress")
+    result = run(
+        "report",
+        "--out",
+        str(out),
+        "--engine",
+        "inline-4",
+        "--k-max",
+        "4",
+        "--n-max",
+        "12",
+        "--points",
+        "91",
+        "--no-progress",
+    )
     assert "report written" in result.stdout
     return out
 
 
 def test_report_files(report):
     names = {p.name for p in report.iterdir()}
-    for stem in ["energy_2stroke", "energy_4stroke", "force_2stroke", "force_4stroke", "spectra_2stroke",
-                 "spectra_4stroke", "paper_truncation_error", "gravity_significance_k_lambda",
-                 "gravity_significance_engines", "layouts"]:
+    for stem in [
+        "energy_2stroke",
+        "energy_4stroke",
+        "force_2stroke",
+        "force_4stroke",
+        "spectra_2stroke",
+        "spectra_4stroke",
+        "paper_truncation_error",
+        "gravity_significance_k_lambda",
+        "gravity_significance_engines",
+        "layouts",
+    ]:
         assert f"{stem}.png" in names and f"{stem}.csv" in names
         assert (report / f"{stem}.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
-    for table in ["table1_two_stroke_single", "table2_four_stroke_single", "two_stroke_double",
-                  "four_stroke_double", "paper_table1_printed"]:
+    for table in [
+        "table1_two_stroke_single",
+        "table2_four_stroke_single",
+        "two_stroke_double",
+        "four_stroke_double",
+        "paper_table1_printed",
+    ]:
         assert f"{table}.csv" in names
     page = (report / "index.html").read_text(encoding="utf-8")
     assert page.count("data:image/png;base64,") == 10  # self-contained
-    for heading in ["The engine", "Gravity significance", "Layouts", "Harmonic spectra", "Tables 1 and 2",
-                    "truncated series", "Conventions", "Errata"]:
+    for heading in [
+        "The engine",
+        "Gravity significance",
+        "Layouts",
+        "Harmonic spectra",
+        "Tables 1 and 2",
+        "truncated series",
+        "Conventions",
+        "Errata",
+    ]:
         assert heading in page
     assert "agrees with the derived one in every cell" in page
 
@@ -77,8 +111,15 @@ def test_report_numbers_match_the_api(report):
     compressor = ENGINES["slow-compressor"]
     u1, u2 = compressor.moments(rpm=row.rpm)
     assert row.delta_g == pytest.approx(
-        mc.speed_fluctuation(crank_ratio=compressor.crank_ratio, inclination=compressor.inclination, u1=u1, u2=u2,
-                             phases=compressor.phases()), rel=1e-12)
+        mc.speed_fluctuation(
+            crank_ratio=compressor.crank_ratio,
+            inclination=compressor.inclination,
+            u1=u1,
+            u2=u2,
+            phases=compressor.phases(),
+        ),
+        rel=1e-12,
+    )
     truncation = pd.read_csv(report / "paper_truncation_error.csv")
     at = (truncation.crank_ratio - 0.4).abs().idxmin()
     assert 0.2 < truncation.loc[at, "Lambda12_relative_error"] < 0.6  # "Λ_12 is 37 % off at λ = 0.4"
@@ -102,8 +143,20 @@ def test_report_from_a_toml_engine(tmp_path):
     loaded = load_engine(toml)
     assert loaded.design()["u1"] == engine.design()["u1"]
     out = tmp_path / "rep"
-    run("report", "--out", str(out), "--engine", str(toml), "--k-max", "2", "--n-max", "4", "--points", "17",
-        "--no-progress")
+    run(
+        "report",
+        "--out",
+        str(out),
+        "--engine",
+        str(toml),
+        "--k-max",
+        "2",
+        "--n-max",
+        "4",
+        "--points",
+        "17",
+        "--no-progress",
+    )
     assert "my-twin" in (out / "index.html").read_text(encoding="utf-8")
 
 
@@ -118,7 +171,11 @@ def test_report_rejects_unknown_engines(tmp_path):
 
 def test_tables_command_formats():
     text = run("tables", "--strokes", "2", "--k-max", "12", "--n-max", "12").stdout
-    rows = [line for line in text.splitlines() if line.split()[:1] and line.split()[0].startswith("W_") and len(line.split()) == 13]
+    rows = [
+        line
+        for line in text.splitlines()
+        if line.split()[:1] and line.split()[0].startswith("W_") and len(line.split()) == 13
+    ]
     assert len(rows) == 7 and "".join(rows).count("●") == sum(len(v) for v in PAPER_TABLE_1.values())
     data = json.loads(run("tables", "--format", "json", "--n-max", "12").stdout)
     assert {int(n): ks for n, ks in data.items()} == PAPER_TABLE_1

@@ -4,7 +4,6 @@ import subprocess
 import sys
 
 
-
 def test_native_stub_matches_module():
     result = subprocess.run(
         [sys.executable, "-m", "mypy.stubtest", "multicrank._native"],

@@ -75,8 +75,15 @@ def measure(points: int, repeat: int) -> list[dict]:
     lam = np.linspace(0.0, 0.95, 10_000)
     fast = best_time(lambda: mc.lambda_coefficients(lam, 24), repeat)
     base = best_time(lambda: ref.lambda_coefficients(lam, 24), 1)
-    rows.append(dict(function="lambda_coefficients", phi="-", cranks="-", fast_ns=fast / lam.size * 1e9,
-                     base_ns=base / lam.size * 1e9))
+    rows.append(
+        dict(
+            function="lambda_coefficients",
+            phi="-",
+            cranks="-",
+            fast_ns=fast / lam.size * 1e9,
+            base_ns=base / lam.size * 1e9,
+        )
+    )
     return rows
 
 
@@ -108,11 +115,15 @@ def main() -> None:
             for r in rows:
                 ratio = r["base_ns"] / r["fast_ns"]
                 per_crank = f"{r['fast_ns'] / r['cranks']:.2f}" if "exact" in r["function"] else ""
-                print(f"| {r['function']} | {r['phi']} | {r['cranks']} | {threads} | {r['base_ns']:.1f} | "
-                      f"{r['fast_ns']:.2f} | {per_crank} | {ratio:.1f}× |")
+                print(
+                    f"| {r['function']} | {r['phi']} | {r['cranks']} | {threads} | {r['base_ns']:.1f} | "
+                    f"{r['fast_ns']:.2f} | {per_crank} | {ratio:.1f}× |"
+                )
         return
-    print(f"{args.points:,} points, λ = 0.3, two-stroke phases; ns per point (best of {args.repeat}); "
-          "ratio = baseline time / multicrank time\n")
+    print(
+        f"{args.points:,} points, λ = 0.3, two-stroke phases; ns per point (best of {args.repeat}); "
+        "ratio = baseline time / multicrank time\n"
+    )
     print("lambda_coefficients: ns per λ for Λ_0…Λ_24, λ spread over [0, 0.95]\n")
     print(f"{'function':<28} {'phi':>6} {'k':>3} {'threads':>7} {'baseline':>9} {'multicrank':>10} {'ratio':>7}")
     for threads, rows in results.items():

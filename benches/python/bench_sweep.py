@@ -60,7 +60,11 @@ def child_rates(n: int) -> dict:
     def loop():
         for row in subset.itertuples():
             q = ref.generalized_force(
-                phi, crank_ratio=row.crank_ratio, inclination=row.inclination, u1=row.u1, u2=row.u2,
+                phi,
+                crank_ratio=row.crank_ratio,
+                inclination=row.inclination,
+                u1=row.u1,
+                u2=row.u2,
                 phases=mc.crank_phases(int(row.cranks), int(row.strokes)),
             )
             np.abs(q).max(), np.sqrt(np.mean(q**2))
@@ -74,7 +78,7 @@ def child_stream(n: int) -> dict:
 
     import multicrank as mc
 
-    side = round(n ** 0.25)
+    side = round(n**0.25)
     grid = mc.DesignGrid(
         crank_ratio=np.linspace(0.2, 0.45, side),
         inclination=np.linspace(0, np.pi, side),
@@ -82,8 +86,14 @@ def child_stream(n: int) -> dict:
         u2=np.linspace(-0.05, 0.05, -(-n // side**3)),
     )
     with tempfile.TemporaryDirectory() as tmp:
-        elapsed = _timed(lambda: mc.sweep(grid, phi=360, outputs=("force_max_abs", "force_rms"), out=os.path.join(tmp, "s.parquet")))
-    return {"designs": len(grid), "seconds": elapsed, "peak_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024}
+        elapsed = _timed(
+            lambda: mc.sweep(grid, phi=360, outputs=("force_max_abs", "force_rms"), out=os.path.join(tmp, "s.parquet"))
+        )
+    return {
+        "designs": len(grid),
+        "seconds": elapsed,
+        "peak_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024,
+    }
 
 
 def _timed(function) -> float:
@@ -108,7 +118,16 @@ def main() -> None:
 
     def run(kind: str, threads: str) -> dict:
         env = dict(os.environ, RAYON_NUM_THREADS=threads)
-        command = [sys.executable, __file__, "--child", kind, "--designs", str(args.designs), "--stream", str(args.stream)]
+        command = [
+            sys.executable,
+            __file__,
+            "--child",
+            kind,
+            "--designs",
+            str(args.designs),
+            "--stream",
+            str(args.stream),
+        ]
         return json.loads(subprocess.run(command, env=env, capture_output=True, text=True, check=True).stdout)
 
     if args.markdown:
@@ -116,12 +135,16 @@ def main() -> None:
         print("|---|---|---|---|---|")
         for threads in ("1", str(os.cpu_count())):
             r = run("rates", threads)
-            print(f"| {threads} | {r['grid_rate']:.3e} | {r['baseline_rate']:.3e} | "
-                  f"{r['grid_rate'] / r['baseline_rate']:.0f}× | {r['all_rate']:,.0f} |")
+            print(
+                f"| {threads} | {r['grid_rate']:.3e} | {r['baseline_rate']:.3e} | "
+                f"{r['grid_rate'] / r['baseline_rate']:.0f}× | {r['all_rate']:,.0f} |"
+            )
         if args.stream:
             s = run("stream", str(os.cpu_count()))
-            print(f"\nStreamed {s['designs']:,} designs to Parquet in {s['seconds']:.1f} s "
-                  f"({s['designs'] / s['seconds']:,.0f} designs/s); peak resident memory {s['peak_mb']:.0f} MB.")
+            print(
+                f"\nStreamed {s['designs']:,} designs to Parquet in {s['seconds']:.1f} s "
+                f"({s['designs'] / s['seconds']:,.0f} designs/s); peak resident memory {s['peak_mb']:.0f} MB."
+            )
         return
     print(f"{args.designs:,} designs, mixed k = 1…12, phi = 360; design-points/s (grid outputs)\n")
     print(f"{'threads':>7} {'multicrank':>14} {'reference loop':>15} {'ratio':>8} {'all outputs, designs/s':>24}")

@@ -1,19 +1,21 @@
 """multicrank — gravitational potential energy and generalised Lagrange forces of
 multi-crank piston mechanisms (after M. Stańczak), exact and fast, with a Rust core.
 
-Conventions (mathematics.md §1–3): angles in radians, φ from outer dead centre, γ the
+Conventions (docs/theory.md, "Conventions"): angles in radians, φ from outer dead centre, γ the
 cylinder's inclination to the horizontal (+π/2 upright), energies dimensionless
 (U* = U/(I_w ω²)), Q_u* = +dU_w*/dφ.
 """
 
 from __future__ import annotations
 
+import importlib as _importlib
 import os as _os
+from typing import Any as _Any
 
-from . import _native, presets
-from ._native import MechanismError, build_profile
-from .engines import LAYOUTS, Engine, Layout, layout_engine
-from .grids import UniformGrid, uniform_grid
+from . import presets as presets  # public: mc.presets.ENGINES, mc.presets.Machine
+from ._native import MechanismError, __version__, build_profile
+from ._native import _after_fork_in_child as _native_after_fork_in_child
+from .engines import Engine
 from .evaluation import (
     FORCE_METHODS,
     force_derivative,
@@ -22,7 +24,8 @@ from .evaluation import (
     potential_energy,
     set_parallel_threshold,
 )
-from .analysis import EnergyExtrema, energy_extrema, speed_fluctuation
+from .extrema import EnergyExtrema, energy_extrema, speed_fluctuation
+from .grids import UniformGrid, uniform_grid
 from .harmonics import (
     fourier_coefficients,
     harmonic_table,
@@ -31,34 +34,40 @@ from .harmonics import (
     surviving_harmonics,
 )
 from .mechanism import STANDARD_GRAVITY, crank_phases, dimensionless_moments
+from .presets import LAYOUTS, Layout, layout_engine
 
-__version__: str = _native.__version__
+# The sweep machinery pulls in pandas (and, where installed, pyarrow's thread pools): load
+# it on first use, so that `import multicrank` stays light and starts no threads.
+_LAZY = {
+    "SWEEP_OUTPUTS": "designs",
+    "DesignGrid": "designs",
+    "design_grid": "designs",
+    "to_xarray": "designs",
+    "sweep": "sweeps",
+}
 
-# The sweep machinery pulls in pandas (and with it pyarrow's thread pools): load it on
-# first use, so that `import multicrank` stays light and starts no threads.
-_LAZY = {"SWEEP_OUTPUTS", "DesignGrid", "design_grid", "sweep", "to_xarray"}
 
-
-def __getattr__(name: str):
+def __getattr__(name: str) -> _Any:
     if name in _LAZY:
-        from . import sweeps as _sweep_module
-
-        return getattr(_sweep_module, name)
+        module = _importlib.import_module(f"{__name__}.{_LAZY[name]}")
+        return getattr(module, name)
     raise AttributeError(f"module 'multicrank' has no attribute {name!r}")
 
+
 # rayon's worker threads do not survive fork(): a forked child computes serially.
-_os.register_at_fork(after_in_child=_native._after_fork_in_child)
+_os.register_at_fork(after_in_child=_native_after_fork_in_child)
 
 __all__ = [
-    "DesignGrid",
-    "Engine",
-    "LAYOUTS",
-    "Layout",
-    "EnergyExtrema",
     "FORCE_METHODS",
-    "MechanismError",
+    "LAYOUTS",
     "STANDARD_GRAVITY",
     "SWEEP_OUTPUTS",
+    "DesignGrid",
+    "EnergyExtrema",
+    "Engine",
+    "Layout",
+    "MechanismError",
+    "UniformGrid",
     "__version__",
     "build_profile",
     "crank_phases",
@@ -70,8 +79,8 @@ __all__ = [
     "generalized_force",
     "get_parallel_threshold",
     "harmonic_table",
-    "layout_engine",
     "lambda_coefficients",
+    "layout_engine",
     "paper_coefficient",
     "potential_energy",
     "set_parallel_threshold",
@@ -79,6 +88,5 @@ __all__ = [
     "surviving_harmonics",
     "sweep",
     "to_xarray",
-    "UniformGrid",
     "uniform_grid",
 ]

@@ -1,3 +1,3 @@
-from multicrank.cli import main
+from .cli import main
 
 main()

@@ -8,15 +8,29 @@ import sys
 import click
 import numpy as np
 
-from . import __version__
-from ._api import MechanismError
+from ._native import MechanismError, __version__
+from ._optional import OptionalDependencyError, require
 from .evaluation import generalized_force, potential_energy
 from .presets import DEFAULT_ENGINE, ENGINES
 
 FORMATS = ("table", "csv", "json")
 
 
-@click.group(context_settings={"help_option_names": ["-h", "--help"]})
+class MissingExtra(click.ClickException):
+    """An optional dependency is missing: one line on stderr, exit status 2 (as a usage error)."""
+
+    exit_code = 2
+
+
+class _Commands(click.Group):
+    def invoke(self, ctx: click.Context) -> object:
+        try:
+            return super().invoke(ctx)
+        except OptionalDependencyError as error:
+            raise MissingExtra(str(error)) from None
+
+
+@click.group(cls=_Commands, context_settings={"help_option_names": ["-h", "--help"]})
 @click.version_option(__version__, prog_name="multicrank")
 def main() -> None:
     """Gravitational potential energy U* and generalised force Q_u* = dU*/dφ of
@@ -73,15 +87,19 @@ def eval_command(engine, cranks, strokes, acting, inclination, rpm, points, fmt)
     phi = np.radians(phi_deg)
     energy = potential_energy(phi, **design)
     force = generalized_force(phi, **design)
-    rows = list(zip(phi_deg.tolist(), energy.tolist(), force.tolist()))
+    rows = list(zip(phi_deg.tolist(), energy.tolist(), force.tolist(), strict=True))
     out = sys.stdout
     if fmt == "json":
         meta = {k: v for k, v in design.items() if k != "phases"}
         meta.update(engine=engine.name, cranks=engine.cranks, strokes=engine.strokes, acting=engine.acting)
         meta["phases_deg"] = np.degrees(design["phases"]).tolist()
         json.dump(
-            {"engine": meta, "phi_deg": phi_deg.tolist(), "potential_energy": energy.tolist(),
-             "generalized_force": force.tolist()},
+            {
+                "engine": meta,
+                "phi_deg": phi_deg.tolist(),
+                "potential_energy": energy.tolist(),
+                "generalized_force": force.tolist(),
+            },
             out,
             indent=2,
         )
@@ -128,9 +146,9 @@ def parse_axis(text: str, kind) -> list:
             return list(range(start, stop + 1))
         if len(parts) != 3:
             raise click.BadParameter(f"{text!r}: a range is start:stop:count")
-        start, stop, count = float(parts[0]), float(parts[1]), int(parts[2])
-        values = np.linspace(start, stop, count).tolist()
-        return [int(round(v)) for v in values] if kind is int else values
+        first, last, count = float(parts[0]), float(parts[1]), int(parts[2])
+        values = np.linspace(first, last, count).tolist()
+        return [round(v) for v in values] if kind is int else values
     convert = int if kind is int else float
     return [convert(item) for item in text.split(",") if item.strip()]
 
@@ -179,11 +197,15 @@ def sweep_command(config, phi, outputs, out, resume, chunk_size, progress, **axi
     also take "start:stop"), or a comma-separated list. Axes not given default to
     u2 = 0, cranks = 1, strokes = 2, acting = single; crank-ratio, inclination and u1 are
     required (on the command line or in --config).
+
+    Ctrl-C stops the sweep with exit status 130; the finished chunks are kept next to --out,
+    and the same command with --resume continues from them.
     """
     import time
     import tomllib
 
-    from .sweeps import SWEEP_OUTPUTS, DesignGrid, sweep
+    from .designs import SWEEP_OUTPUTS, DesignGrid
+    from .sweeps import sweep
 
     table = {}
     if config:
@@ -206,12 +228,10 @@ def sweep_command(config, phi, outputs, out, resume, chunk_size, progress, **axi
         click.echo(f"\ninterrupted: finished chunks are kept; rerun with --resume to continue into {out}", err=True)
         sys.exit(130)
     elapsed = time.perf_counter() - started
-    import pyarrow.parquet as pq
-
+    pq = require("pyarrow.parquet", "parquet")
     result = pq.read_table(path, columns=[c for c in chosen]).to_pandas()
     click.echo(
-        f"{len(grid):,} designs × {phi} φ points in {elapsed:.2f} s "
-        f"({len(grid) / elapsed:,.0f} designs/s) → {path}"
+        f"{len(grid):,} designs × {phi} φ points in {elapsed:.2f} s ({len(grid) / elapsed:,.0f} designs/s) → {path}"
     )
     summary = result.describe().T[["min", "mean", "max"]]
     click.echo(summary.to_string(float_format=lambda v: f"{v:.6g}"))
@@ -235,7 +255,9 @@ def tables_command(strokes, acting, k_max, n_max, fmt) -> None:
     if fmt == "csv":
         sys.stdout.write(table.astype(int).to_csv())
     elif fmt == "json":
-        json.dump({str(n): [int(k) for k in table.columns if table.loc[n, k]] for n in table.index}, sys.stdout, indent=2)
+        json.dump(
+            {str(n): [int(k) for k in table.columns if table.loc[n, k]] for n in table.index}, sys.stdout, indent=2
+        )
         sys.stdout.write("\n")
     else:
         sys.stdout.write(f"W_n that survive: {strokes}-stroke, {acting}-acting (● = non-zero)\n\n")
@@ -252,16 +274,21 @@ def tables_command(strokes, acting, k_max, n_max, fmt) -> None:
 @click.option("--k-max", type=click.IntRange(min=1, max=24), default=12, show_default=True)
 @click.option("--n-max", type=click.IntRange(min=2), default=24, show_default=True)
 @click.option("--points", type=click.IntRange(min=8), default=721, show_default=True, help="φ points per curve.")
-@click.option("--threshold", type=click.FloatRange(min=0, min_open=True), default=None,
-              help="δ_g below which gravity may be neglected [default: 1/3000].")
+@click.option(
+    "--threshold",
+    type=click.FloatRange(min=0, min_open=True),
+    default=None,
+    help="δ_g below which gravity may be neglected [default: 1/3000].",
+)
 @click.option("--progress/--no-progress", default=True, show_default=True)
 def report_command(out_dir, engine, k_max, n_max, points, threshold, progress) -> None:
     """Write the report: curves, spectra, Tables 1–2, the paper's truncation error, the
     gravity-significance map, conventions and errata, as index.html + PNG + CSV."""
     from .report import DEFAULT_THRESHOLD, ReportSettings, write_report
 
-    settings = ReportSettings(engine=engine, k_max=k_max, n_max=n_max, points=points,
-                              threshold=threshold or DEFAULT_THRESHOLD)
+    settings = ReportSettings(
+        engine=engine, k_max=k_max, n_max=n_max, points=points, threshold=threshold or DEFAULT_THRESHOLD
+    )
     index = write_report(out_dir, settings, progress=progress)
     click.echo(f"report written: {index}")
 

@@ -3,24 +3,32 @@
 An :class:`Engine` is a list of slider-crank units, each with its own crank phase α_j,
 cylinder inclination γ_j, crank ratio λ_j and gravity moments u1_j, u2_j. Unit j's crank
 angle is ψ_j = φ + α_j from its own outer dead centre, and its crank pin sits at the
-absolute angle ψ_j + γ_j (mathematics.md §1). So cylinders that share a crank pin whose
+absolute angle ψ_j + γ_j (docs/theory.md, "Conventions"). So cylinders that share a crank pin whose
 absolute angle is φ + β (V, W, a 180° V) have α_j = β − γ_j; :meth:`Engine.from_throws`
 does that bookkeeping. Everything runs in the Rust core with one set of coefficients per
-unit, at the speed of the in-line path.
+unit, at the speed of the in-line path. The preset layouts (``LAYOUTS``, ``layout_engine``)
+are in :mod:`multicrank.presets`.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-from typing import Any, Sequence
+from collections.abc import Sequence
+from typing import Any
 
 import numpy as np
 
-from . import _native
-from ._api import MechanismError, as_count, as_design, as_option, as_phi, as_scalar, contiguous, finish
+from ._native import MechanismError
+from ._native import engine_evaluate as _native_engine_evaluate
+from ._native import engine_extrema as _native_engine_extrema
+from ._native import engine_fourier as _native_engine_fourier
+from ._native import engine_leading_harmonic as _native_engine_leading_harmonic
+from ._native import engine_sensitivity as _native_engine_sensitivity
+from ._validation import as_count, as_design, as_option, as_scalar, contiguous, finish
+from .extrema import EnergyExtrema
+from .grids import as_phi
 from .mechanism import crank_phases
 
-__all__ = ["Engine", "Layout", "LAYOUTS", "layout_engine"]
+__all__ = ["Engine"]
 
 _FIELDS = ("phase", "inclination", "crank_ratio", "u1", "u2")
 
@@ -63,30 +71,55 @@ class Engine:
 
     # -- construction -------------------------------------------------------------------
     @classmethod
-    def inline(cls, cranks: int, strokes: int = 2, acting: str = "single", *, crank_ratio, inclination, u1, u2,
-               name: str | None = None) -> "Engine":
-        """A regular in-line machine (mathematics.md §2): identical units at α_j = j·α."""
+    def inline(
+        cls,
+        cranks: int,
+        strokes: int = 2,
+        acting: str = "single",
+        *,
+        crank_ratio,
+        inclination,
+        u1,
+        u2,
+        name: str | None = None,
+    ) -> Engine:
+        """A regular in-line machine (docs/theory.md, "Crank phases"): identical units at α_j = j·α."""
         phases = crank_phases(cranks, strokes, acting)
-        return cls(phase=phases, inclination=inclination, crank_ratio=crank_ratio, u1=u1, u2=u2,
-                   name=name or f"inline-{cranks} {strokes}-stroke {acting}-acting")
+        return cls(
+            phase=phases,
+            inclination=inclination,
+            crank_ratio=crank_ratio,
+            u1=u1,
+            u2=u2,
+            name=name or f"inline-{cranks} {strokes}-stroke {acting}-acting",
+        )
 
     @classmethod
-    def from_throws(cls, throws: Sequence[float], banks: Sequence[Sequence[float]], *, crank_ratio, u1, u2,
-                    name: str = "engine") -> "Engine":
+    def from_throws(
+        cls,
+        throws: Sequence[float] | np.ndarray,
+        banks: Sequence[Sequence[float] | np.ndarray],
+        *,
+        crank_ratio,
+        u1,
+        u2,
+        name: str = "engine",
+    ) -> Engine:
         """Cylinders on crank throws: throw t's pin is at the absolute angle φ + β_t
         (``throws``, rad), and carries one cylinder per inclination in ``banks[t]`` (rad).
         Each cylinder's phase is α = β_t − γ. ``crank_ratio``, ``u1``, ``u2`` are per
         cylinder (scalars or arrays in the cylinders' order)."""
         if len(throws) != len(banks):
             raise MechanismError(f"throws has {len(throws)} entries but banks {len(banks)}")
-        phase, inclination = [], []
-        for beta, gammas in zip(throws, banks):
+        phase: list[float] = []
+        inclination: list[float] = []
+        for beta, gammas in zip(throws, banks, strict=True):
             for gamma in gammas:
                 phase.append(beta - gamma)
                 inclination.append(gamma)
         return cls(phase=phase, inclination=inclination, crank_ratio=crank_ratio, u1=u1, u2=u2, name=name)
 
-    def replace(self, **changes) -> "Engine":
+    def replace(self, **changes) -> Engine:
         """A copy with some columns (or the name) replaced."""
         columns = {k: changes.pop(k, v) for k, v in self._columns.items()}
         name = changes.pop("name", self.name)
@@ -106,6 +139,10 @@ class Engine:
     def __repr__(self) -> str:
         return f"Engine({self.name!r}, {len(self)} units)"
 
+    def columns(self) -> dict[str, np.ndarray]:
+        """The units' columns (read-only float64 arrays), keyed by field name."""
+        return self._columns
+
     def to_frame(self):
         """The units as a pandas DataFrame (angles in radians)."""
         import pandas as pd
@@ -115,7 +152,7 @@ class Engine:
     # -- evaluation ---------------------------------------------------------------------
     def _evaluate(self, quantity: str, phi: Any):
         phi_shape, angles = as_phi(phi)
-        flat = _native.engine_evaluate(quantity, angles, self._columns)
+        flat = _native_engine_evaluate(quantity, angles, self.columns())
         return finish(flat, phi_shape)
 
     def potential_energy(self, phi: Any):
@@ -138,7 +175,7 @@ class Engine:
         n a_n = Σ_j W_nj sin nα_j, b_n = Σ_j W_nj cos nα_j, W_nj = −u1_j sin γ_j Λ_n(λ_j); a sum
         below its rounding noise is exactly 0 (the harmonic cancelled).
         """
-        coefficients = _native.engine_fourier(self._columns, as_count(n_max, "n_max", minimum=0))
+        coefficients = _native_engine_fourier(self.columns(), as_count(n_max, "n_max", minimum=0))
         return coefficients["a"], coefficients["b"]
 
     def surviving_harmonics(self, n_max: int = 24) -> list[int]:
@@ -150,24 +187,21 @@ class Engine:
     def leading_harmonic(self) -> tuple[int, float]:
         """(n, amplitude √(a_n² + b_n²)) of the largest harmonic of Q_u*; (0, 0) if Q ≡ 0.
 
-        Every harmonic of the machine-precision series is considered (the same as a sweep's
-        ``leading_harmonic``)."""
-        leading = _native.engine_leading_harmonic(self._columns)
+        Every harmonic of the machine-precision series is considered: the same as a sweep's
+        ``leading_harmonic``."""
+        leading = _native_engine_leading_harmonic(self.columns())
         return int(leading["n"]), float(leading["amplitude"])
 
     def energy_extrema(self):
         """The exact extrema of U_w* over a revolution (see :func:`multicrank.energy_extrema`)."""
-        from .analysis import EnergyExtrema
-
-        return EnergyExtrema(**{k: np.float64(v) for k, v in _native.engine_extrema(self._columns).items()})
+        return EnergyExtrema(**{k: np.float64(v) for k, v in _native_engine_extrema(self.columns()).items()})
 
     def speed_fluctuation(self) -> np.float64:
         """δ_g = max U_w* − min U_w* over a revolution, from the exact extrema."""
         return self.energy_extrema().range
 
     # -- tolerances ---------------------------------------------------------------------
-    def harmonic_sensitivity(self, *, u1_rel: float = 0.0, u2_rel: float = 0.0, phase: float = 0.0,
-                             n_max: int = 24):
+    def harmonic_sensitivity(self, *, u1_rel: float = 0.0, u2_rel: float = 0.0, phase: float = 0.0, n_max: int = 24):
         """First-order scatter of every harmonic of Q_u* under independent random errors of
         the units: relative standard deviations ``u1_rel``, ``u2_rel`` of u1_j, u2_j (unequal
         masses) and a standard deviation ``phase`` [rad] of α_j (phase errors).
@@ -182,14 +216,15 @@ class Engine:
         import pandas as pd
 
         n_max = as_count(n_max, "n_max", minimum=1)
-        errors = {name: as_scalar(value, name) for name, value in
-                  (("u1_rel", u1_rel), ("u2_rel", u2_rel), ("phase", phase))}
-        rows = _native.engine_sensitivity(self._columns, errors["u1_rel"], errors["u2_rel"], errors["phase"], n_max)
+        rows = _native_engine_sensitivity(
+            self.columns(), as_scalar(u1_rel, "u1_rel"), as_scalar(u2_rel, "u2_rel"), as_scalar(phase, "phase"), n_max
+        )
         n = rows.pop("n").astype(np.int64)
         return pd.DataFrame(rows, index=pd.Index(n, name="n"))
 
-    def perturbed(self, rng: np.random.Generator, *, u1_rel: float = 0.0, u2_rel: float = 0.0,
-                  phase: float = 0.0) -> "Engine":
+    def perturbed(
+        self, rng: np.random.Generator, *, u1_rel: float = 0.0, u2_rel: float = 0.0, phase: float = 0.0
+    ) -> Engine:
         """A random sample of this engine with the errors of :meth:`harmonic_sensitivity`."""
         size = len(self)
         return self.replace(
@@ -197,108 +232,3 @@ class Engine:
             u2=self.u2 * (1 + u2_rel * rng.standard_normal(size)),
             phase=self.phase + phase * rng.standard_normal(size),
         )
-
-
-# ----------------------------------------------------------------------------- layouts
-@dataclass(frozen=True)
-class Layout:
-    """A crank and cylinder arrangement: throw angles β_t of the crank pins (degrees, the
-    pin's absolute angle at φ = 0) and the bank inclinations (degrees) of the cylinders on
-    each throw."""
-
-    name: str
-    note: str
-    throws: tuple[float, ...]
-    banks: tuple[tuple[float, ...], ...]
-
-    def engine(self, *, crank_ratio, u1, u2) -> Engine:
-        """This layout with the given per-cylinder λ, u1, u2 (scalars or arrays)."""
-        return Engine.from_throws(
-            np.radians(self.throws), [np.radians(b) for b in self.banks],
-            crank_ratio=crank_ratio, u1=u1, u2=u2, name=self.name,
-        )
-
-    def physical_engine(self, machine) -> Engine:
-        """This layout built from a :class:`multicrank.presets.Machine`'s physical data: every
-        cylinder gets the machine's piston and rod (U1, and the rod's big-end share z_k/l of
-        its mass rotating with the shared pin), and every throw one crank web with its
-        counterweight as a purely rotating unit (u1 = 0, γ = 0, α = β): counterweights are
-        per throw, not per cylinder, so a V's shared pin carries one web for two cylinders."""
-        from .mechanism import dimensionless_moments
-
-        common = dict(crank_radius=machine.crank_radius, rod_length=machine.rod_length, rod_cg=machine.rod_cg,
-                      shaft_inertia=machine.shaft_inertia, rpm=machine.rpm, g=machine.g)
-        u1, rod_u2 = dimensionless_moments(piston_mass=machine.piston_mass, rod_mass=machine.rod_mass, **common)
-        _, web_u2 = dimensionless_moments(
-            piston_mass=0.0, rod_mass=0.0, crank_mass=machine.crank_mass, crank_cg_radius=machine.crank_cg_radius,
-            counterweight_mass=machine.counterweight_mass, counterweight_radius=machine.counterweight_radius, **common)
-        cylinders = self.engine(crank_ratio=machine.crank_ratio, u1=float(u1), u2=float(rod_u2))
-        throws = np.radians(self.throws)
-        return Engine(
-            phase=np.concatenate([cylinders.phase, throws]),
-            inclination=np.concatenate([cylinders.inclination, np.zeros(len(throws))]),
-            crank_ratio=machine.crank_ratio,
-            u1=np.concatenate([cylinders.u1, np.zeros(len(throws))]),
-            u2=np.concatenate([cylinders.u2, np.full(len(throws), float(web_u2))]),
-            name=f"{self.name} ({machine.name} cylinders)",
-        )
-
-    @property
-    def cylinders(self) -> int:
-        return sum(len(b) for b in self.banks)
-
-
-def _inline(cranks: int, strokes: int) -> Layout:
-    # Upright in-line: the pin of crank j is at φ + α_j + 90°.
-    phases = np.degrees(crank_phases(cranks, strokes, "single"))
-    return Layout(f"inline-{cranks}-{strokes}t", f"in-line {cranks}, {strokes}-stroke, upright",
-                  tuple(float(p) + 90.0 for p in phases), tuple((90.0,) for _ in range(cranks)))
-
-
-def _vee(name: str, note: str, bank_angle: float, throws: Sequence[float]) -> Layout:
-    """Two banks symmetric about the vertical, one cylinder of each on every throw."""
-    banks = (90.0 - bank_angle / 2, 90.0 + bank_angle / 2)
-    return Layout(name, note, tuple(t + 90.0 for t in throws), tuple(banks for _ in throws))
-
-
-def _boxer(name: str, note: str, throws: Sequence[float]) -> Layout:
-    """Opposed cylinders: each throw β carries a right-hand cylinder (γ = 0); its opposed
-    partner on the left (γ = 180°) sits on its own throw β + 180°."""
-    pins, banks = [], []
-    for t in throws:
-        pins += [t, t + 180.0]
-        banks += [(0.0,), (180.0,)]
-    return Layout(name, note, tuple(pins), tuple(banks))
-
-
-LAYOUTS: dict[str, Layout] = {}
-for _k in range(1, 13):
-    for _s in (2, 4):
-        _layout = _inline(_k, _s)
-        LAYOUTS[_layout.name] = _layout
-for _layout in (
-    _vee("v-twin-45", "45° V-twin, one shared pin (the classic American V-twin)", 45.0, [0.0]),
-    _vee("v-twin-90", "90° V-twin, one shared pin", 90.0, [0.0]),
-    Layout("twin-270", "parallel twin with a 270° crank (odd fire 270°/450°), upright", (90.0, 0.0), ((90.0,), (90.0,))),
-    _vee("v6-60", "60° V6, three shared pins at 120°", 60.0, [0.0, 120.0, 240.0]),
-    _vee("v6-90", "90° V6, three shared pins at 120°", 90.0, [0.0, 120.0, 240.0]),
-    _vee("v8-flat", "90° V8, flat-plane crank (pins 0°, 180°, 180°, 0°)", 90.0, [0.0, 180.0, 180.0, 0.0]),
-    _vee("v8-cross", "90° V8, cross-plane crank (pins 0°, 90°, 270°, 180°)", 90.0, [0.0, 90.0, 270.0, 180.0]),
-    _vee("v12-60", "60° V12, six shared pins as an in-line six", 60.0, [0.0, 120.0, 240.0, 240.0, 120.0, 0.0]),
-    _boxer("boxer-2", "flat twin, opposed cylinders on throws 180° apart", [0.0]),
-    _boxer("boxer-4", "flat four, opposed cylinders on throws 180° apart", [0.0, 180.0]),
-    _boxer("boxer-6", "flat six, opposed cylinders on throws 180° apart", [0.0, 120.0, 240.0]),
-    _vee("v-180-2", "180° V twin: opposed cylinders sharing one pin (not a boxer)", 180.0, [0.0]),
-    _vee("v-180-4", "180° V four: opposed cylinders sharing two pins at 180°", 180.0, [0.0, 180.0]),
-    Layout("w12", "broad-arrow W12: three banks 60° apart (30°, 90°, 150°) on a flat-plane four-throw crank",
-           (90.0, 270.0, 270.0, 90.0), tuple((30.0, 90.0, 150.0) for _ in range(4))),
-):
-    LAYOUTS[_layout.name] = _layout
-
-
-def layout_engine(name: str, *, crank_ratio, u1, u2) -> Engine:
-    """The preset layout ``name`` (see LAYOUTS) with per-cylinder λ, u1, u2."""
-    if name not in LAYOUTS:
-        raise MechanismError(f"layout = {name!r} is not known; known: {', '.join(LAYOUTS)}")
-    return LAYOUTS[name].engine(crank_ratio=crank_ratio, u1=u1, u2=u2)
-

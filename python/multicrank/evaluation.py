@@ -1,4 +1,5 @@
-"""Evaluation of U_w*(φ) and Q_u*(φ) over crank-angle grids and design arrays (§1–3).
+"""Evaluation of U_w*(φ) and Q_u*(φ) over crank-angle grids and design arrays
+(docs/theory.md, "Potential energy and generalised force").
 
 All design keywords broadcast together, numpy-style, to a design shape D; the result has
 shape D + phi.shape. The work runs in the Rust core with the GIL released, in parallel
@@ -12,28 +13,47 @@ from typing import Any
 
 import numpy as np
 
-from . import _native
-from ._api import as_count, as_option, as_phases, as_phi, as_threshold, broadcast_designs, design_keywords, finish
+from ._native import evaluate as _native_evaluate
+from ._native import get_parallel_threshold as _native_get_parallel_threshold
+from ._native import set_parallel_threshold as _native_set_parallel_threshold
+from ._validation import (
+    as_option,
+    as_phases,
+    as_threshold,
+    as_work_size,
+    broadcast_designs,
+    design_keywords,
+    finish,
+)
+from .grids import as_phi
 
 __all__ = [
-    "potential_energy",
-    "generalized_force",
-    "force_derivative",
     "FORCE_METHODS",
+    "force_derivative",
+    "generalized_force",
     "get_parallel_threshold",
+    "potential_energy",
     "set_parallel_threshold",
 ]
 
 FORCE_METHODS = ("exact", "series", "paper")
 
 
-def _evaluate(quantity: str, phi: Any, crank_ratio: Any, inclination: Any, u1: Any, u2: Any, phases: Any,
-              parallel_threshold: Any = None):
+def _evaluate(
+    quantity: str,
+    phi: Any,
+    crank_ratio: Any,
+    inclination: Any,
+    u1: Any,
+    u2: Any,
+    phases: Any,
+    parallel_threshold: Any = None,
+) -> np.ndarray | np.float64:
     """`quantity` ("potential_energy", "generalized_force", "force_derivative" or, through
     the Fourier form, "series" / "paper") of the broadcast designs over all of φ."""
     phi_shape, angles = as_phi(phi)
     shape, design = broadcast_designs(**design_keywords(crank_ratio, inclination, u1, u2))
-    flat = _native.evaluate(quantity, angles, design, as_phases(phases), as_threshold(parallel_threshold))
+    flat = _native_evaluate(quantity, angles, design, as_phases(phases), as_threshold(parallel_threshold))
     return finish(flat, shape + phi_shape)
 
 
@@ -78,7 +98,8 @@ def generalized_force(phi, *, crank_ratio, inclination, u1, u2, phases=None, met
     .. math::
 
         Q_u^*(\\varphi) = \\sum_j U_2\\cos(\\psi_j+\\gamma)
-            - U_1\\Big[\\sin\\psi_j + \\frac{\\lambda\\sin 2\\psi_j}{2\\sqrt{1-\\lambda^2\\sin^2\\psi_j}}\\Big]\\sin\\gamma.
+            - U_1\\Big[\\sin\\psi_j
+                + \\frac{\\lambda\\sin 2\\psi_j}{2\\sqrt{1-\\lambda^2\\sin^2\\psi_j}}\\Big]\\sin\\gamma.
 
     The gravity torque on the shaft is −Q_u*·I_w ω². Parameters and result shape as in
     :func:`potential_energy`.
@@ -107,7 +128,7 @@ def force_derivative(phi, *, crank_ratio, inclination, u1, u2, phases=None, para
 
 def get_parallel_threshold() -> int:
     """The work size (output points × cranks) from which evaluation runs on all cores."""
-    return _native.get_parallel_threshold()
+    return _native_get_parallel_threshold()
 
 
 def set_parallel_threshold(threshold: int) -> None:
@@ -116,4 +137,4 @@ def set_parallel_threshold(threshold: int) -> None:
     0 means always parallel, a huge value always serial. Results are bit-identical either
     way. The number of threads is rayon's: set ``RAYON_NUM_THREADS`` before the first call.
     """
-    _native.set_parallel_threshold(as_threshold(threshold, "threshold"))
+    _native_set_parallel_threshold(as_work_size(threshold, "threshold"))

@@ -15,10 +15,10 @@ from typing import Any
 
 import numpy as np
 
-from ._api import as_count, as_real_array
 from ._native import MechanismError
+from ._validation import as_angles, as_count, as_real_array, contiguous
 
-__all__ = ["UniformGrid", "uniform_grid"]
+__all__ = ["UniformGrid", "as_phi", "grid_of", "uniform_grid"]
 
 
 class UniformGrid(np.lib.mixins.NDArrayOperatorsMixin):
@@ -32,7 +32,7 @@ class UniformGrid(np.lib.mixins.NDArrayOperatorsMixin):
     :func:`uniform_grid`.
     """
 
-    __slots__ = ("start", "step", "count", "_cache")
+    __slots__ = ("_cache", "count", "start", "step")
 
     def __init__(self, count: int, start: float, step: float) -> None:
         self.start, self.step, self.count = float(start), float(step), int(count)
@@ -110,3 +110,16 @@ def grid_of(phi: Any) -> tuple[float, float, int] | None:
     if isinstance(phi, UniformGrid):
         return (phi.start, phi.step, phi.count)
     return None
+
+
+def as_phi(phi: Any) -> tuple[tuple[int, ...], np.ndarray | tuple[float, float, int]]:
+    """φ for the kernels: (its shape, the flat contiguous points or the uniform grid).
+
+    For a :class:`~multicrank.UniformGrid` the kernels rotate: they get (start, step, count)
+    and no points, which are then never formed.
+    """
+    uniform = grid_of(phi)
+    if uniform:
+        return (uniform[2],), uniform
+    angles = as_angles(phi)
+    return angles.shape, contiguous(angles).reshape(-1)

@@ -1,5 +1,6 @@
-"""Harmonics of Q_u* (mathematics.md §4–5): Λ_n, the surviving harmonics, the paper's
-Tables 1–2 and the Fourier coefficients of any machine."""
+"""Harmonics of Q_u*: Λ_n, the surviving harmonics, the paper's Tables 1–2 and the Fourier
+coefficients of any machine (docs/theory.md, "Fourier form and Λ_n" and "Which harmonics
+survive")."""
 
 from __future__ import annotations
 
@@ -8,8 +9,11 @@ from typing import Any
 
 import numpy as np
 
-from . import _native
-from ._api import (
+from ._native import fourier_coefficients as _native_fourier_coefficients
+from ._native import lambda_coefficients as _native_lambda_coefficients
+from ._native import paper_coefficient as _native_paper_coefficient
+from ._native import surviving_harmonics as _native_surviving_harmonics
+from ._validation import (
     as_count,
     as_design,
     as_option,
@@ -56,8 +60,8 @@ def lambda_coefficients(crank_ratio: Any, n_max: int, method: str = "exact") -> 
     lam = as_design(crank_ratio, "crank_ratio", low=0.0, high=1.0)
     n_max = as_count(n_max, "n_max", minimum=0)
     method = as_option(method, "method", ("exact", "paper"))
-    flat = _native.lambda_coefficients(contiguous(lam).reshape(-1), n_max, method)
-    return flat.reshape(lam.shape + (n_max + 1,))
+    flat = _native_lambda_coefficients(contiguous(lam).reshape(-1), n_max, method)
+    return flat.reshape((*lam.shape, n_max + 1))
 
 
 def paper_coefficient(i: int, j: int) -> Fraction:
@@ -65,18 +69,19 @@ def paper_coefficient(i: int, j: int) -> Fraction:
 
     (−1)^{i+1} · (2i/(j+1)) · C(2j, j) · C(2j+2, j+1−i) / 4^{2j+1}.
     """
-    numerator, denominator = _native.paper_coefficient(as_count(i, "i", minimum=1), as_count(j, "j", minimum=0))
+    numerator, denominator = _native_paper_coefficient(as_count(i, "i", minimum=1), as_count(j, "j", minimum=0))
     return Fraction(numerator, denominator)
 
 
 def surviving_harmonics(cranks: int, strokes: int = 2, acting: str = "single", n_max: int = 24) -> list[int]:
-    """The harmonics n ≤ n_max of Q_u* that survive the sum over a regular crank set (§5).
+    """The harmonics n ≤ n_max of Q_u* that survive the sum over a regular crank set
+    (docs/theory.md, "Which harmonics survive").
 
     Only n = 1 (the N and W1 terms) and even n (the W_n terms) carry coefficients; each
     survives when its phase sum S_n = Σ_j e^{inα_j} is non-zero. With α = 2πp/q the sum is
     k when q | np and zero when q ∤ np but q | npk — decided in exact integer arithmetic.
     """
-    return _native.surviving_harmonics(
+    return _native_surviving_harmonics(
         as_count(cranks, "cranks", minimum=1),
         as_strokes(strokes),
         as_option(acting, "acting", ("single", "double")),
@@ -99,11 +104,11 @@ def harmonic_table(strokes: int = 2, acting: str = "single", k_max: int = 12, n_
     acting = as_option(acting, "acting", ("single", "double"))
     k_max = as_count(k_max, "k_max", minimum=1)
     n_max = as_count(n_max, "n_max", minimum=1)
-    rows = [1] + list(range(2, n_max + 1, 2))
+    rows = [1, *list(range(2, n_max + 1, 2))]
     table = pd.DataFrame(
         False, index=pd.Index(rows, name="n"), columns=pd.Index(range(1, k_max + 1), name="k"), dtype=bool
     )
-    for k in table.columns:
+    for k in range(1, k_max + 1):
         surviving = set(surviving_harmonics(k, strokes, acting, n_max))
         table[k] = [n in surviving for n in rows]
     return table
@@ -129,8 +134,6 @@ def fourier_coefficients(
     """
     shape, design = broadcast_designs(**design_keywords(crank_ratio, inclination, u1, u2))
     n_max = as_count(n_max, "n_max", minimum=0)
-    coefficients = _native.fourier_coefficients(design, as_phases(phases), n_max)
+    coefficients = _native_fourier_coefficients(design, as_phases(phases), n_max)
     width = (n_max + 1,)
     return coefficients["a"].reshape(shape + width), coefficients["b"].reshape(shape + width)
-
-

@@ -1,4 +1,5 @@
-"""Machine description: crank phase sets and the dimensionless gravity moments (§1–2)."""
+"""Machine description: crank phase sets and the dimensionless gravity moments
+(docs/theory.md, "Crank phases" and "Dimensionless moments")."""
 
 from __future__ import annotations
 
@@ -6,13 +7,15 @@ from typing import Any
 
 import numpy as np
 
-from . import _native
-from ._api import as_count, as_option, as_real_array, as_strokes, broadcast_designs, finish
+from ._native import STANDARD_GRAVITY as _NATIVE_STANDARD_GRAVITY
+from ._native import crank_phases as _native_crank_phases
+from ._native import dimensionless_moments as _native_dimensionless_moments
+from ._validation import as_count, as_option, as_real_array, as_strokes, broadcast_designs, finish
 
-__all__ = ["crank_phases", "dimensionless_moments", "STANDARD_GRAVITY"]
+__all__ = ["STANDARD_GRAVITY", "crank_phases", "dimensionless_moments"]
 
 #: Standard gravity [m/s²], the core's constant.
-STANDARD_GRAVITY: float = _native.STANDARD_GRAVITY
+STANDARD_GRAVITY: float = _NATIVE_STANDARD_GRAVITY
 
 
 def crank_phases(cranks: int, strokes: int = 2, acting: str = "single") -> np.ndarray:
@@ -32,7 +35,7 @@ def crank_phases(cranks: int, strokes: int = 2, acting: str = "single") -> np.nd
     -------
     ndarray of shape (cranks,)
     """
-    return _native.crank_phases(
+    return _native_crank_phases(
         as_count(cranks, "cranks", minimum=1),
         as_strokes(strokes),
         as_option(acting, "acting", ("single", "double")),
@@ -80,7 +83,7 @@ def dimensionless_moments(
 
     The rod's mass is split exactly for potential energy: (l − z_k)/l of it translates with
     the piston, z_k/l rotates with the crank pin. (The paper's printed eq. 5–6 swap the two
-    shares; see mathematics.md §7, erratum 3.) u2 is negative when the counterweight
+    shares; see docs/theory.md, "Errata of the paper".) u2 is negative when the counterweight
     outweighs the rotating parts.
 
     Parameters (SI units; arrays broadcast together)
@@ -117,9 +120,10 @@ def dimensionless_moments(
                 rpm,
                 g,
             ),
+            strict=True,
         )
     )
     arrays = {name: as_real_array(value, name) for name, value in values.items()}
     shape, flat = broadcast_designs("physical parameters", **arrays)
-    moments = _native.dimensionless_moments(flat)
+    moments = _native_dimensionless_moments(flat)
     return finish(moments["u1"], shape), finish(moments["u2"], shape)

@@ -2,7 +2,7 @@
 
 Same signatures as the public API. Each function is the paper's formula written the
 obvious way — a Python loop over the k cranks, each crank one vectorised numpy expression
-over all φ, accumulated into one output array (performance.md's baseline). It is the test
+over all φ, accumulated into one output array (the baseline of BENCHMARKS.md). It is the test
 oracle for the Rust kernels and the baseline every benchmark ratio is quoted against.
 """
 
@@ -14,9 +14,18 @@ from typing import Any
 
 import numpy as np
 
-from ._api import as_angles, as_count, as_design, as_option, as_phases, broadcast_designs, design_keywords, finish
+from ._validation import (
+    as_angles,
+    as_count,
+    as_design,
+    as_option,
+    as_phases,
+    broadcast_designs,
+    design_keywords,
+    finish,
+)
 
-__all__ = ["potential_energy", "generalized_force", "force_derivative", "lambda_coefficients"]
+__all__ = ["force_derivative", "generalized_force", "lambda_coefficients", "potential_energy"]
 
 
 def _prepare(phi: Any, crank_ratio: Any, inclination: Any, u1: Any, u2: Any, phases: Any):
@@ -92,7 +101,7 @@ def lambda_coefficients(crank_ratio, n_max, method="exact"):
     lam = as_design(crank_ratio, "crank_ratio", low=0.0, high=1.0)
     n_max = as_count(n_max, "n_max", minimum=0)
     method = as_option(method, "method", ("exact", "paper"))
-    out = np.zeros(lam.shape + (n_max + 1,))
+    out = np.zeros((*lam.shape, n_max + 1))
     t = lam / (1 + np.sqrt(1 - lam**2))
     for n in range(2, n_max + 1, 2):
         m = n // 2

@@ -24,16 +24,25 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from .analysis import speed_fluctuation
+from ._optional import require
 from .evaluation import generalized_force, potential_energy
+from .extrema import speed_fluctuation
 from .harmonics import fourier_coefficients, harmonic_table, lambda_coefficients
 from .mechanism import crank_phases, dimensionless_moments
 from .presets import DEFAULT_ENGINE, ENGINES, Machine
 
-__all__ = ["PAPER_TABLE_1", "DEFAULT_THRESHOLD", "ReportSettings", "write_report"]
+__all__ = ["DEFAULT_THRESHOLD", "PAPER_TABLE_1", "ReportSettings", "write_report"]
 
 #: Table 1 as printed in the paper (two-stroke, single-acting): the k with non-zero W_n.
-PAPER_TABLE_1 = {1: [1], 2: [1, 2], 4: [1, 2, 4], 6: [1, 2, 3, 6], 8: [1, 2, 4, 8], 10: [1, 2, 5, 10], 12: [1, 2, 3, 4, 6, 12]}
+PAPER_TABLE_1 = {
+    1: [1],
+    2: [1, 2],
+    4: [1, 2, 4],
+    6: [1, 2, 3, 6],
+    8: [1, 2, 4, 8],
+    10: [1, 2, 5, 10],
+    12: [1, 2, 3, 4, 6, 12],
+}
 
 #: δ_g below which gravity may be neglected in the speed fluctuation: a tenth of 1/300,
 #: the tightest coefficient of speed fluctuation usually asked of machines (AC generators;
@@ -77,8 +86,7 @@ class ReportSettings:
 
 # ----------------------------------------------------------------------------- figures
 def _pyplot():
-    import matplotlib
-
+    matplotlib = require("matplotlib", "report")
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
@@ -103,8 +111,16 @@ def _small_multiples(plt, count: int, xlabel: str, ylabel: str, **options):
     for ax in axes[:, 0]:
         ax.set_ylabel(ylabel)
     for k, ax in enumerate(axes.flat[:count], start=1):
-        ax.text(0.97, 0.92, f"k = {k}", transform=ax.transAxes, ha="right", va="top", fontsize=9,
-                bbox=dict(facecolor="white", edgecolor="none", alpha=0.8))
+        ax.text(
+            0.97,
+            0.92,
+            f"k = {k}",
+            transform=ax.transAxes,
+            ha="right",
+            va="top",
+            fontsize=9,
+            bbox=dict(facecolor="white", edgecolor="none", alpha=0.8),
+        )
     return fig, list(axes.flat[:count])
 
 
@@ -135,8 +151,15 @@ def curves_figure(settings: ReportSettings, strokes: int, quantity: str):
             # Cancelled to below the closed form's rounding: say so rather than plot noise.
             ax.axhline(0.0, color="grey", lw=1.0)
             delta = float(speed_fluctuation(**design))
-            ax.text(0.5, 0.4, f"constant to rounding\nδ_g = {delta:.2g} (exact)", transform=ax.transAxes,
-                    ha="center", fontsize=8, color="grey")
+            ax.text(
+                0.5,
+                0.4,
+                f"constant to rounding\nδ_g = {delta:.2g} (exact)",
+                transform=ax.transAxes,
+                ha="center",
+                fontsize=8,
+                color="grey",
+            )
         else:
             ax.plot(phi_deg, shown, color="C0" if quantity == "energy" else "C3", lw=1.2)
         ax.set_xticks([0, 90, 180, 270, 360])
@@ -220,14 +243,20 @@ def significance_map(settings: ReportSettings):
     # Red: gravity matters (δ_g above the threshold); blue: negligible. White at the threshold.
     center = math.log10(settings.threshold)
     norm = TwoSlopeNorm(vcenter=center, vmin=min(-14.0, center - 1), vmax=max(0.0, center + 1))
-    for ax, strokes in zip(axes, (2, 4)):
+    for ax, strokes in zip(axes, (2, 4), strict=True):
         delta = np.empty((len(ks), len(lam)))
         for i, k in enumerate(ks):
             delta[i] = speed_fluctuation(
-                crank_ratio=lam, inclination=engine.inclination, u1=u1, u2=u2,
+                crank_ratio=lam,
+                inclination=engine.inclination,
+                u1=u1,
+                u2=u2,
                 phases=crank_phases(int(k), strokes, "single"),
             )
-            records += [{"strokes": strokes, "k": int(k), "crank_ratio": l, "delta_g": d} for l, d in zip(lam, delta[i])]
+            records += [
+                {"strokes": strokes, "k": int(k), "crank_ratio": ratio, "delta_g": d}
+                for ratio, d in zip(lam, delta[i], strict=True)
+            ]
         exponent = np.log10(np.maximum(delta, 1e-16))
         image = ax.pcolormesh(lam, ks, exponent, norm=norm, shading="nearest", cmap="RdBu_r")
         ax.set_title(f"{strokes}-stroke, single-acting")
@@ -253,18 +282,34 @@ def engines_figure(settings: ReportSettings):
         low, high = engine.speeds()
         rpm = np.geomspace(low, high, 40)
         u1, u2 = dimensionless_moments(
-            crank_radius=engine.crank_radius, rod_length=engine.rod_length, rod_cg=engine.rod_cg,
-            piston_mass=engine.piston_mass, rod_mass=engine.rod_mass, crank_mass=engine.crank_mass,
-            crank_cg_radius=engine.crank_cg_radius, counterweight_mass=engine.counterweight_mass,
-            counterweight_radius=engine.counterweight_radius, shaft_inertia=engine.shaft_inertia, rpm=rpm, g=engine.g,
+            crank_radius=engine.crank_radius,
+            rod_length=engine.rod_length,
+            rod_cg=engine.rod_cg,
+            piston_mass=engine.piston_mass,
+            rod_mass=engine.rod_mass,
+            crank_mass=engine.crank_mass,
+            crank_cg_radius=engine.crank_cg_radius,
+            counterweight_mass=engine.counterweight_mass,
+            counterweight_radius=engine.counterweight_radius,
+            shaft_inertia=engine.shaft_inertia,
+            rpm=rpm,
+            g=engine.g,
         )
-        delta = speed_fluctuation(crank_ratio=engine.crank_ratio, inclination=engine.inclination, u1=u1, u2=u2,
-                                  phases=engine.phases())
+        delta = speed_fluctuation(
+            crank_ratio=engine.crank_ratio, inclination=engine.inclination, u1=u1, u2=u2, phases=engine.phases()
+        )
         ax.loglog(rpm, np.maximum(delta, 1e-18), color=f"C{i}", label=f"{engine.name} (k = {engine.cranks})")
-        records += [{"engine": engine.name, "rpm": r, "u1": a, "u2": b, "delta_g": d} for r, a, b, d in zip(rpm, u1, u2, delta)]
+        records += [
+            {"engine": engine.name, "rpm": r, "u1": a, "u2": b, "delta_g": d}
+            for r, a, b, d in zip(rpm, np.asarray(u1), np.asarray(u2), np.asarray(delta), strict=True)
+        ]
     ax.axhline(settings.threshold, color="black", ls="--", lw=1)
-    ax.text(ax.get_xlim()[0] * 1.1, settings.threshold * 1.4, f"threshold {settings.threshold:.2g}: below, gravity may be neglected",
-            fontsize=8)
+    ax.text(
+        ax.get_xlim()[0] * 1.1,
+        settings.threshold * 1.4,
+        f"threshold {settings.threshold:.2g}: below, gravity may be neglected",
+        fontsize=8,
+    )
     ax.set_xlabel("speed n [rpm]")
     ax.set_ylabel("δ_g")
     ax.set_title("Gravity's share of the coefficient of speed fluctuation over each engine's speed range")
@@ -277,13 +322,18 @@ def layouts_figure(settings: ReportSettings):
     """δ_g and the leading gravity harmonic of every preset layout, with the engine's
     per-cylinder λ, U1 and U2 at its speed (in-line layouts upright)."""
     plt = _pyplot()
-    from .engines import LAYOUTS
+    from .presets import LAYOUTS
     from .sweeps import sweep
 
     engine = settings.engine
     u1, u2 = engine.moments()
-    chosen = [name for name in LAYOUTS if not name.startswith("inline-") or name in (
-        "inline-1-2t", "inline-2-2t", "inline-3-4t", "inline-4-4t", "inline-6-4t", "inline-8-4t", "inline-12-2t")]
+    chosen = [
+        name
+        for name in LAYOUTS
+        if not name.startswith("inline-")
+        or name
+        in ("inline-1-2t", "inline-2-2t", "inline-3-4t", "inline-4-4t", "inline-6-4t", "inline-8-4t", "inline-12-2t")
+    ]
     engines = [LAYOUTS[name].engine(crank_ratio=engine.crank_ratio, u1=u1, u2=u2) for name in chosen]
     table = sweep(engines, outputs=["energy_range", "leading_harmonic", "leading_amplitude"])
     table.insert(1, "description", [LAYOUTS[name].note for name in chosen])
@@ -293,12 +343,15 @@ def layouts_figure(settings: ReportSettings):
     ax.barh(table["engine"], shown, color=colours)
     ax.set_xscale("log")
     ax.axvline(settings.threshold, color="black", ls="--", lw=1)
-    for y, (d, n) in enumerate(zip(shown, table["leading_harmonic"])):
+    for y, (d, n) in enumerate(zip(shown, table["leading_harmonic"], strict=True)):
         ax.text(d * 1.3, y, f"n = {n}", va="center", fontsize=7)
     ax.invert_yaxis()
     ax.set_xlabel("δ_g (dashed: threshold; red above it)")
-    ax.set_title(f"Layouts with {engine.name}'s cylinder (λ = {engine.crank_ratio:.3g}, {engine.rpm:g} rpm): "
-                 "gravity's δ_g and leading harmonic n", fontsize=10)
+    ax.set_title(
+        f"Layouts with {engine.name}'s cylinder (λ = {engine.crank_ratio:.3g}, {engine.rpm:g} rpm): "
+        "gravity's δ_g and leading harmonic n",
+        fontsize=10,
+    )
     fig.tight_layout()
     return fig, table
 
@@ -345,12 +398,19 @@ def _bool_table(frame: pd.DataFrame, caption: str, highlight: pd.DataFrame | Non
         for k, value in row.items():
             mark = "●" if value else ""
             extra = ""
-            if highlight is not None and n in highlight.index and k in highlight.columns and highlight.loc[n, k] != value:
+            if (
+                highlight is not None
+                and n in highlight.index
+                and k in highlight.columns
+                and highlight.at[n, k] != value
+            ):
                 extra = ' class="diff"'
             cells.append(f"<td{extra}>{mark}</td>")
         body.append(f"<tr><th>W<sub>{n}</sub></th>{''.join(cells)}</tr>")
-    return (f'<table class="bool"><caption>{html.escape(caption)}</caption>'
-            f"<tr><th>n \\ k</th>{head}</tr>{''.join(body)}</table>")
+    return (
+        f'<table class="bool"><caption>{html.escape(caption)}</caption>'
+        f"<tr><th>n \\ k</th>{head}</tr>{''.join(body)}</table>"
+    )
 
 
 STYLE = """
@@ -371,13 +431,20 @@ def write_report(out: str | Path, settings: ReportSettings | None = None, progre
     """Write the report into ``out`` (created if needed); returns the path of index.html."""
     from tqdm.auto import tqdm
 
+    require("matplotlib", "report")  # before anything is written
     settings = settings or ReportSettings()
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     engine = settings.engine
     sections: list[str] = []
     steps = [
-        "curves", "spectra", "tables", "truncation", "significance", "engines", "layouts",
+        "curves",
+        "spectra",
+        "tables",
+        "truncation",
+        "significance",
+        "engines",
+        "layouts",
     ]
     bar = tqdm(steps, desc="report", unit="part", disable=not progress)
     figures: dict[str, str] = {}
@@ -418,12 +485,23 @@ def write_report(out: str | Path, settings: ReportSettings | None = None, progre
     engine_rows = "".join(
         f"<tr><th>{html.escape(k)}</th><td>{html.escape(str(v))}</td></tr>"
         for k, v in [
-            ("cranks k", engine.cranks), ("cycle", f"{engine.strokes}-stroke, {engine.acting}-acting"),
-            ("inclination γ", f"{engine.inclination_deg:g}°"), ("crank ratio λ = r/l", f"{engine.crank_ratio:.4g}"),
-            ("crank radius r / rod length l / rod CG z_k", f"{engine.crank_radius:g} m / {engine.rod_length:g} m / {engine.rod_cg:g} m"),
-            ("piston / rod / crank / counterweight mass", f"{engine.piston_mass:g} / {engine.rod_mass:g} / {engine.crank_mass:g} / {engine.counterweight_mass:g} kg"),
-            ("shaft inertia I_w", f"{engine.shaft_inertia:g} kg·m²"), ("speed", f"{engine.rpm:g} rpm"),
-            ("U1, U2", f"{u1:.6g}, {u2:.6g}"), ("δ_g at this speed", f"{delta:.4g}"),
+            ("cranks k", engine.cranks),
+            ("cycle", f"{engine.strokes}-stroke, {engine.acting}-acting"),
+            ("inclination γ", f"{engine.inclination_deg:g}°"),
+            ("crank ratio λ = r/l", f"{engine.crank_ratio:.4g}"),
+            (
+                "crank radius r / rod length l / rod CG z_k",
+                f"{engine.crank_radius:g} m / {engine.rod_length:g} m / {engine.rod_cg:g} m",
+            ),
+            (
+                "piston / rod / crank / counterweight mass",
+                f"{engine.piston_mass:g} / {engine.rod_mass:g} / {engine.crank_mass:g} / "
+                f"{engine.counterweight_mass:g} kg",
+            ),
+            ("shaft inertia I_w", f"{engine.shaft_inertia:g} kg·m²"),
+            ("speed", f"{engine.rpm:g} rpm"),
+            ("U1, U2", f"{u1:.6g}, {u2:.6g}"),
+            ("δ_g at this speed", f"{delta:.4g}"),
         ]
     )
     derived_12 = tables["table1_two_stroke_single"].loc[[n for n in paper.index if n <= settings.n_max]]
@@ -444,8 +522,8 @@ Q<sub>u</sub>*), is to first order gravity's share of the coefficient of speed f
 neglected where δ<sub>g</sub> &lt; {settings.threshold:.2g}. Below: the engine's crank unit on k cranks over λ
 (left two-stroke, right four-stroke), and every preset engine over its speed range (δ<sub>g</sub> ∝ 1/n²).
 Balanced crank sets (where only harmonics of order ≥ k survive) make gravity negligible by many orders of magnitude.</p>
-<img src="{figures['gravity_significance_k_lambda']}" alt="δ_g over k and λ">
-<img src="{figures['gravity_significance_engines']}" alt="δ_g per engine over its speed range">
+<img src="{figures["gravity_significance_k_lambda"]}" alt="δ_g over k and λ">
+<img src="{figures["gravity_significance_engines"]}" alt="δ_g per engine over its speed range">
 <p class="note">Data: gravity_significance_k_lambda.csv, gravity_significance_engines.csv</p>
 """)
     layout_rows = "".join(
@@ -460,41 +538,51 @@ Cylinders sharing a crank pin have phases α = β − γ (pin angle β, bank γ)
 throws 180° apart, unlike the 180° V whose opposed cylinders share a pin. Horizontal cylinders (boxers) feel only
 their rotating parts. With unequal cylinders or phase errors cancelled harmonics return; see
 <code>Engine.harmonic_sensitivity</code>.</p>
-<img src="{figures['layouts']}" alt="δ_g per layout">
-<table><tr><th>layout</th><th>description</th><th>cylinders</th><th>δ<sub>g</sub></th><th>leading n</th><th>its amplitude</th></tr>
+<img src="{figures["layouts"]}" alt="δ_g per layout">
+<table><tr><th>layout</th><th>description</th><th>cylinders</th><th>δ<sub>g</sub></th><th>leading n</th>
+<th>its amplitude</th></tr>
 {layout_rows}</table>
 <p class="note">Data: layouts.csv</p>
 """)
     for strokes in (2, 4):
         sections.append(f"""
 <h2>U<sub>w</sub>*(φ) and Q<sub>u</sub>*(φ), {strokes}-stroke, k = 1 … {settings.k_max}</h2>
-<img src="{figures[f'energy_{strokes}stroke']}" alt="U_w*, {strokes}-stroke">
-<img src="{figures[f'force_{strokes}stroke']}" alt="Q_u*, {strokes}-stroke">
-<p class="note">Data: energy_{strokes}stroke.csv, force_{strokes}stroke.csv (columns φ [deg], k1 … k{settings.k_max})</p>
+<img src="{figures[f"energy_{strokes}stroke"]}" alt="U_w*, {strokes}-stroke">
+<img src="{figures[f"force_{strokes}stroke"]}" alt="Q_u*, {strokes}-stroke">
+<p class="note">Data: energy_{strokes}stroke.csv, force_{strokes}stroke.csv
+(columns φ [deg], k1 … k{settings.k_max})</p>
 """)
     sections.append(f"""
 <h2>Harmonic spectra of Q<sub>u</sub>*</h2>
-<p>Amplitudes √(a<sub>n</sub>² + b<sub>n</sub>²) of Q<sub>u</sub>* = Σ a<sub>n</sub> cos nφ + b<sub>n</sub> sin nφ with the exact
-Λ<sub>n</sub>, up to n = {settings.n_max}: only n = 1 and the harmonics whose phase sum survives appear.</p>
-<img src="{figures['spectra_2stroke']}" alt="spectra two-stroke">
-<img src="{figures['spectra_4stroke']}" alt="spectra four-stroke">
+<p>Amplitudes √(a<sub>n</sub>² + b<sub>n</sub>²) of Q<sub>u</sub>* = Σ a<sub>n</sub> cos nφ + b<sub>n</sub> sin nφ
+with the exact Λ<sub>n</sub>, up to n = {settings.n_max}: only n = 1 and the harmonics whose phase sum survives
+appear.</p>
+<img src="{figures["spectra_2stroke"]}" alt="spectra two-stroke">
+<img src="{figures["spectra_4stroke"]}" alt="spectra four-stroke">
 <p class="note">Data: spectra_2stroke.csv, spectra_4stroke.csv</p>
 """)
     table_html = "".join(
         _bool_table(frame, caption)
         for frame, caption in [
             (tables["table1_two_stroke_single"], f"Table 1 (derived): two-stroke, single-acting, n ≤ {settings.n_max}"),
-            (tables["table2_four_stroke_single"], f"Table 2 (derived; not printed in the paper): four-stroke, single-acting"),
+            (
+                tables["table2_four_stroke_single"],
+                "Table 2 (derived; not printed in the paper): four-stroke, single-acting",
+            ),
             (tables["two_stroke_double"], "Two-stroke, double-acting"),
             (tables["four_stroke_double"], "Four-stroke, double-acting"),
         ]
     )
+    verdict = (
+        "agrees with the derived one in every cell" if matches else "DIFFERS from the derived one in the red cells"
+    )
+    printed = _bool_table(paper, "The paper's Table 1 as printed (n ≤ 12)", tables["table1_two_stroke_single"])
     sections.append(f"""
 <h2>Which harmonics survive the sum over cranks (Tables 1 and 2)</h2>
 <p>● marks a non-zero W<sub>n</sub> for a machine of k cranks (rows n = 1 and even n). Derived from the phase sums
 S<sub>n</sub> = Σ<sub>j</sub> e<sup>inα<sub>j</sub></sup> in exact integer arithmetic, beyond the paper's cut at n = 12.
-The paper's printed Table 1 {'agrees with the derived one in every cell' if matches else 'DIFFERS from the derived one in the red cells'}.</p>
-<div class="tables">{_bool_table(paper, "The paper's Table 1 as printed (n ≤ 12)", tables['table1_two_stroke_single'])}</div>
+The paper's printed Table 1 {verdict}.</p>
+<div class="tables">{printed}</div>
 <div class="tables">{table_html}</div>
 <p class="note">Data: table1_two_stroke_single.csv, table2_four_stroke_single.csv, two_stroke_double.csv,
 four_stroke_double.csv, paper_table1_printed.csv (1 = survives)</p>
@@ -503,14 +591,18 @@ four_stroke_double.csv, paper_table1_printed.csv (1 = survives)</p>
 <h2>The paper's truncated series against the exact form</h2>
 <p>The paper expands Λ<sub>n</sub> in λ through λ¹¹ and keeps n ≤ 12. Left: the relative error of each Λ<sub>n</sub>;
 at λ = 0.4 (dotted) its Λ<sub>12</sub> is tens of percent off. Right: the error of the truncated f(ψ).</p>
-<img src="{figures['paper_truncation_error']}" alt="paper truncation error">
+<img src="{figures["paper_truncation_error"]}" alt="paper truncation error">
 <p class="note">Data: paper_truncation_error.csv</p>
 """)
     sections.append(
-        "<h2>Conventions</h2><ul>" + "".join(f"<li>{html.escape(c)}</li>" for c in CONVENTIONS) + "</ul>"
-        + "<h2>Errata of the paper</h2><ol>" + "".join(f"<li>{html.escape(e)}</li>" for e in ERRATA) + "</ol>"
+        "<h2>Conventions</h2><ul>"
+        + "".join(f"<li>{html.escape(c)}</li>" for c in CONVENTIONS)
+        + "</ul>"
+        + "<h2>Errata of the paper</h2><ol>"
+        + "".join(f"<li>{html.escape(e)}</li>" for e in ERRATA)
+        + "</ol>"
     )
-    from . import __version__
+    from ._native import __version__
 
     page = f"""<!DOCTYPE html>
 <html lang="en"><head><meta charset="utf-8"><title>multicrank report — {html.escape(engine.name)}</title>
@@ -518,7 +610,7 @@ at λ = 0.4 (dotted) its Λ<sub>12</sub> is tens of percent off. Right: the erro
 <h1>Gravity in multi-crank mechanisms — report for <i>{html.escape(engine.name)}</i></h1>
 <p>Generalised Lagrange forces due to potential energy after M. Stańczak, corrected and extended by
 multicrank {html.escape(__version__)}: exact Λ<sub>n</sub>, every surviving harmonic, exact extrema.</p>
-{''.join(sections)}
+{"".join(sections)}
 </body></html>
 """
     index = out / "index.html"

@@ -2,6 +2,8 @@
 
 Everything that reaches the Rust kernels leaves here as a contiguous float64 array, and
 every kind of bad input leaves here as a :class:`MechanismError` that names the parameter.
+It depends on nothing of the package but that error class (from the extension), so every
+other module can use it without an import circle.
 """
 
 from __future__ import annotations
@@ -14,19 +16,19 @@ import numpy as np
 from ._native import MechanismError
 
 __all__ = [
-    "MechanismError",
     "as_angles",
-    "as_phi",
-    "as_scalar",
-    "as_threshold",
-    "as_real_array",
-    "contiguous",
-    "as_design",
-    "as_phases",
     "as_count",
+    "as_design",
     "as_option",
+    "as_phases",
+    "as_real_array",
+    "as_scalar",
     "as_strokes",
+    "as_threshold",
+    "as_work_size",
     "broadcast_designs",
+    "contiguous",
+    "design_keywords",
     "finish",
 ]
 
@@ -61,26 +63,14 @@ def as_angles(phi: Any, name: str = "phi") -> np.ndarray:
     return as_real_array(phi, name)
 
 
-def as_phi(phi: Any) -> tuple[tuple[int, ...], np.ndarray | tuple[float, float, int]]:
-    """φ for the kernels: (its shape, the flat contiguous points or a uniform grid).
-
-    For a :class:`~multicrank.UniformGrid` the kernels rotate: they get (start, step, count)
-    and no points, which are then never formed.
-    """
-    from .grids import grid_of
-
-    uniform = grid_of(phi)
-    if uniform:
-        return (uniform[2],), uniform
-    angles = as_angles(phi)
-    return angles.shape, contiguous(angles).reshape(-1)
-
-
-def as_threshold(value: Any, name: str = "parallel_threshold") -> int | None:
-    """A parallel threshold (work size ≥ 0; huge values mean serial), or None."""
-    if value is None and name == "parallel_threshold":
-        return None
+def as_work_size(value: Any, name: str) -> int:
+    """A parallel threshold: a work size ≥ 0 (huge values, clamped to 2⁶³ − 1, mean serial)."""
     return min(as_count(value, name, minimum=0), 2**63 - 1)
+
+
+def as_threshold(value: Any) -> int | None:
+    """The ``parallel_threshold`` of one call, or None for the global default."""
+    return None if value is None else as_work_size(value, "parallel_threshold")
 
 
 def as_scalar(value: Any, name: str) -> float:
@@ -153,7 +143,7 @@ def as_strokes(value: Any) -> int:
 
 
 def broadcast_designs(
-    what: str = "design parameters", **columns: np.ndarray
+    what: str = "design parameters", /, **columns: np.ndarray
 ) -> tuple[tuple[int, ...], dict[str, np.ndarray]]:
     """Broadcast arrays together: (their shape D, flat contiguous columns)."""
     try:
@@ -172,7 +162,7 @@ def finish(flat: np.ndarray, shape: tuple[int, ...]) -> np.ndarray | np.float64:
 
 
 def design_keywords(crank_ratio: Any, inclination: Any, u1: Any, u2: Any) -> dict[str, np.ndarray]:
-    """The four design keywords of the evaluation functions, validated (api.md ranges)."""
+    """The four design keywords of the evaluation functions, validated (0 ≤ λ < 1, all finite)."""
     return {
         "crank_ratio": as_design(crank_ratio, "crank_ratio", low=0.0, high=1.0),
         "inclination": as_design(inclination, "inclination"),
