@@ -3,7 +3,7 @@
 //! moments. A regular in-line machine is the special case whose units share one design
 //! (`Engine::inline`): one set of kernel coefficients and one group of phase sums.
 //!
-//! A unit's crank pin sits at the absolute angle ψ_j + γ_j (mathematics.md §1). Cylinders that
+//! A unit's crank pin sits at the absolute angle ψ_j + γ_j (docs/theory.md, "Conventions"). Cylinders that
 //! share a crank pin of absolute angle φ + β (V, W, the 180° V) therefore have the phases
 //! α_j = β − γ_j; opposed cylinders of a boxer sit on throws π apart. Each unit contributes
 //! the in-line formulas with its own γ_j, so the kernels are those of `exact.rs`, with one set

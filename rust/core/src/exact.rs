@@ -1,4 +1,4 @@
-//! Closed-form kernels (mathematics.md §1–3): U_w*(φ), Q_u*(φ) = dU_w*/dφ and dQ_u*/dφ,
+//! Closed-form kernels (docs/theory.md, "Potential energy and generalised force"): U_w*(φ), Q_u*(φ) = dU_w*/dφ and dQ_u*/dφ,
 //! summed over the cranks ψ_j = φ + α_j.
 //!
 //! Per point one sincos of φ (or, on a uniform grid, one rotation from exact values: see

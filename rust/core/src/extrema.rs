@@ -1,5 +1,5 @@
 //! The exact extrema of U_w* over one revolution and the speed fluctuation due to gravity,
-//! δ_g = max U_w* − min U_w* (mathematics.md §6).
+//! δ_g = max U_w* − min U_w* (docs/theory.md, "Speed fluctuation due to gravity").
 //!
 //! Everything is done on the machine-precision Fourier form of Q_u* (`series`) and its
 //! antiderivative and derivative, not on the closed form: where the crank sum cancels all

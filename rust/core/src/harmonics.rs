@@ -1,4 +1,4 @@
-//! Harmonics of Q_u* (mathematics.md §4–5): the coefficients Λ_n of
+//! Harmonics of Q_u* (docs/theory.md, "Fourier form and Λ_n", "Which harmonics survive"): the coefficients Λ_n of
 //! f(ψ) = (λ/2) sin 2ψ / √(1 − λ² sin² ψ) = Σ_{n even} Λ_n sin nψ — exact and as the paper's
 //! λ-series —, the crank phase sums S_n = Σ_j e^{i n α_j}, which harmonics survive them,
 //! and the Fourier coefficients of Q_u* for any phase set.

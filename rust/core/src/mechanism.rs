@@ -1,4 +1,4 @@
-//! Validated descriptions of a multi-crank mechanism (mathematics.md §1–2):
+//! Validated descriptions of a multi-crank mechanism (docs/theory.md, "Crank phases", "Dimensionless moments"):
 //! the dimensionless design (λ, γ, U1, U2), crank phase sets, and the conversion
 //! from physical masses and lengths to the dimensionless gravity moments U1, U2.
 

@@ -1,4 +1,4 @@
-//! Q_u*(φ) as a short trigonometric series (mathematics.md §4): the one series model of the
+//! Q_u*(φ) as a short trigonometric series (docs/theory.md, "Fourier form and Λ_n"): the one series model of the
 //! crate. Every machine is a list of *unit groups* — units that share one design, with the
 //! sums of their phases: a regular in-line machine is one group of k identical units, an
 //! engine of any layout one group per unit. One builder turns groups into harmonics, with
