@@ -13,6 +13,7 @@ import os
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -79,7 +80,12 @@ class Machine:
 
     def moments(self, rpm: float | None = None) -> tuple[float, float]:
         """(u1, u2) at ``rpm`` (default: the engine's own speed)."""
-        u1, u2 = dimensionless_moments(
+        u1, u2 = self.moments_over(self.rpm if rpm is None else rpm)
+        return float(u1), float(u2)
+
+    def moments_over(self, rpm: Any) -> tuple[Any, Any]:
+        """(u1, u2) at every speed of ``rpm`` [1/min] (arrays of its shape)."""
+        return dimensionless_moments(
             crank_radius=self.crank_radius,
             rod_length=self.rod_length,
             rod_cg=self.rod_cg,
@@ -90,10 +96,9 @@ class Machine:
             counterweight_mass=self.counterweight_mass,
             counterweight_radius=self.counterweight_radius,
             shaft_inertia=self.shaft_inertia,
-            rpm=self.rpm if rpm is None else rpm,
+            rpm=rpm,
             g=self.g,
         )
-        return float(u1), float(u2)
 
     def design(self, rpm: float | None = None) -> dict:
         """The keywords of the evaluation functions for this engine."""

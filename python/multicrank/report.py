@@ -28,7 +28,7 @@ from ._optional import require
 from .evaluation import generalized_force, potential_energy
 from .extrema import speed_fluctuation
 from .harmonics import fourier_coefficients, harmonic_table, lambda_coefficients
-from .mechanism import crank_phases, dimensionless_moments
+from .mechanism import crank_phases
 from .presets import DEFAULT_ENGINE, ENGINES, Machine
 
 __all__ = ["DEFAULT_THRESHOLD", "PAPER_TABLE_1", "ReportSettings", "write_report"]
@@ -281,20 +281,7 @@ def engines_figure(settings: ReportSettings):
     for i, engine in enumerate(settings.engines.values()):
         low, high = engine.speeds()
         rpm = np.geomspace(low, high, 40)
-        u1, u2 = dimensionless_moments(
-            crank_radius=engine.crank_radius,
-            rod_length=engine.rod_length,
-            rod_cg=engine.rod_cg,
-            piston_mass=engine.piston_mass,
-            rod_mass=engine.rod_mass,
-            crank_mass=engine.crank_mass,
-            crank_cg_radius=engine.crank_cg_radius,
-            counterweight_mass=engine.counterweight_mass,
-            counterweight_radius=engine.counterweight_radius,
-            shaft_inertia=engine.shaft_inertia,
-            rpm=rpm,
-            g=engine.g,
-        )
+        u1, u2 = engine.moments_over(rpm)
         delta = speed_fluctuation(
             crank_ratio=engine.crank_ratio, inclination=engine.inclination, u1=u1, u2=u2, phases=engine.phases()
         )
