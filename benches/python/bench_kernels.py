@@ -15,6 +15,7 @@ speed-up over the baseline. Refuses a debug build of the extension.
 from __future__ import annotations
 
 import argparse
+import functools
 import json
 import os
 import subprocess
@@ -60,9 +61,10 @@ def measure(points: int, repeat: int) -> list[dict]:
         baselines = {}
         for name, method, angles, options in cases:
             where = grid if angles == "grid" else phi
-            fast = best_time(lambda: getattr(mc, name)(where, **design, **options), repeat)
+            # partial binds this iteration's values (a lambda would see the loop's last ones).
+            fast = best_time(functools.partial(getattr(mc, name), where, **design, **options), repeat)
             if name not in baselines:
-                baselines[name] = best_time(lambda: getattr(ref, name)(phi, **design), max(3, repeat // 2))
+                baselines[name] = best_time(functools.partial(getattr(ref, name), phi, **design), max(3, repeat // 2))
             rows.append(
                 dict(
                     function=f"{name}[{method}]",

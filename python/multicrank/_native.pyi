@@ -13,9 +13,9 @@ import numpy.typing as npt
 
 __all__ = [
     "EXTREMA_FIELDS",
-    "MechanismError",
     "STANDARD_GRAVITY",
     "SWEEP_OUTPUTS",
+    "MechanismError",
     "__version__",
     "_after_fork_in_child",
     "build_profile",
