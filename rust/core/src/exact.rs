@@ -29,9 +29,12 @@ pub enum Quantity {
     ForceDerivative,
 }
 
-/// The contribution of one crank at angle ψ, given (sin ψ, cos ψ).
-trait CrankTerm {
-    fn term<M: MulAdd>(k: &Coefficients, s: f64, c: f64) -> f64;
+/// The contribution of one crank unit at angle ψ, given (sin ψ, cos ψ): gravity's U, Q and
+/// dQ/dψ here, the reduced inertia and the piston's kinematics in `dynamics`.
+pub(crate) trait CrankTerm {
+    /// What the term needs to know of a unit.
+    type Unit: Sync;
+    fn term<M: MulAdd>(k: &Self::Unit, s: f64, c: f64) -> f64;
 }
 
 /// One crank unit's coefficients for the three quantities; λ² and the γ products precomputed.
@@ -65,6 +68,8 @@ struct Force;
 struct ForceDerivative;
 
 impl CrankTerm for Energy {
+    type Unit = Coefficients;
+
     /// U* = U2[sin(ψ+γ) − sin γ] − U1 sin γ [(1 − cos ψ) + λ sin²ψ / (1 + √(1 − λ² sin²ψ))]
     /// (the stable form of s(ψ)/r: no cancellation as λ → 0; exactly 0 at ψ = 0).
     #[inline(always)]
@@ -80,6 +85,8 @@ impl CrankTerm for Energy {
 }
 
 impl CrankTerm for Force {
+    type Unit = Coefficients;
+
     /// Q = U2 cos(ψ+γ) − U1 sin γ [sin ψ + λ sin ψ cos ψ / √(1 − λ² sin²ψ)]
     #[inline(always)]
     fn term<M: MulAdd>(k: &Coefficients, s: f64, c: f64) -> f64 {
@@ -89,6 +96,8 @@ impl CrankTerm for Force {
 }
 
 impl CrankTerm for ForceDerivative {
+    type Unit = Coefficients;
+
     /// dQ/dψ = −U2 sin(ψ+γ) − U1 sin γ [cos ψ + λ (cos 2ψ + λ² sin⁴ψ) / (1 − λ² sin²ψ)^{3/2}]
     #[inline(always)]
     fn term<M: MulAdd>(k: &Coefficients, s: f64, c: f64) -> f64 {
@@ -107,7 +116,7 @@ impl CrankTerm for ForceDerivative {
 /// every crank (an in-line machine) or one per crank (a general engine).
 #[inline(always)]
 fn sum_over_cranks<K: CrankTerm, M: MulAdd>(
-    units: &[Coefficients],
+    units: &[K::Unit],
     phases: &Phases,
     run: Run,
     out: &mut [f64],
@@ -121,7 +130,7 @@ fn sum_over_cranks<K: CrankTerm, M: MulAdd>(
 
 #[inline(always)]
 fn crank_blocks<K: CrankTerm, M: MulAdd, A: AngleSource>(
-    units: &[Coefficients],
+    units: &[K::Unit],
     phases: &Phases,
     angles: A,
     out: &mut [f64],
@@ -149,7 +158,7 @@ pub(crate) fn store<const N: usize>(out: &mut [f64], lanes: &[f64; N]) {
 /// Σ_j term_j at N points given their (sin φ, cos φ).
 #[inline(always)]
 fn crank_sum<K: CrankTerm, M: MulAdd, const N: usize>(
-    units: &[Coefficients],
+    units: &[K::Unit],
     phases: &Phases,
     s: &[f64; N],
     c: &[f64; N],
@@ -173,10 +182,16 @@ fn crank_sum<K: CrankTerm, M: MulAdd, const N: usize>(
 /// Points per register block.
 const LANES: usize = 16;
 
-/// One clone per instruction set of the kernel for crank term K, with fused multiply-adds
-/// where the clone has FMA.
+/// Σ_j K(unit_j, φ + α_j) at the points of `run`: one clone per instruction set of the
+/// kernel for crank term K, with fused multiply-adds where the clone has FMA. `units` holds
+/// one unit shared by every phase, or one per phase.
 #[multiversion(targets("x86_64+avx512f+avx512vl+avx512dq+avx2+fma", "x86_64+avx2+fma"))]
-fn crank_run<K: CrankTerm>(units: &[Coefficients], phases: &Phases, run: Run, out: &mut [f64]) {
+pub(crate) fn crank_run<K: CrankTerm>(
+    units: &[K::Unit],
+    phases: &Phases,
+    run: Run,
+    out: &mut [f64],
+) {
     if target_cfg_f!(target_feature = "fma") {
         sum_over_cranks::<K, Fused>(units, phases, run, out)
     } else {

@@ -12,7 +12,8 @@
 //! (where the kernels get sin/cos: points, a shared table, a uniform grid), `exact` (the
 //! closed-form kernels), `harmonics` (Λ_n, phase sums, surviving harmonics), `series` (the
 //! one series model) and `series_kernels` (its SIMD evaluation), `engine` (units of any
-//! layout; an in-line machine is an engine whose units share one design), `extrema`
+//! layout; an in-line machine is an engine whose units share one design), `dynamics`
+//! (reduced inertia, piston kinematics and gas torque in SI units), `extrema`
 //! (δ_g), `tolerances` (scatter of harmonics), `sweep` (machines reduced on the fly),
 //! `parallel` and `error`.
 
@@ -20,6 +21,7 @@
 
 mod angles;
 mod doubledouble;
+mod dynamics;
 mod engine;
 mod error;
 mod exact;
@@ -34,6 +36,7 @@ mod tolerances;
 mod trig;
 
 pub use angles::{Phi, UniformGrid};
+pub use dynamics::{Dynamics, Kinematics, PhysicalCylinder};
 pub use engine::{Cylinder, Engine};
 pub use error::{MechanismError, Result};
 pub use exact::{evaluate, evaluate_one, Quantity};

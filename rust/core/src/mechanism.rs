@@ -139,6 +139,14 @@ impl Phases {
         })
     }
 
+    /// The one phase α_j, as a set of its own.
+    pub(crate) fn one(&self, j: usize) -> Self {
+        Self {
+            cos: vec![self.cos[j]],
+            sin: vec![self.sin[j]],
+        }
+    }
+
     /// One crank at phase 0.
     pub fn single() -> Self {
         Self {
@@ -250,14 +258,21 @@ impl PhysicalUnit {
         self.validate()?;
         let omega = PI * self.rpm / 30.0;
         let scale = self.g / (self.shaft_inertia * omega * omega);
+        let (reciprocating, rotating) = self.moment_arms();
+        Ok((scale * reciprocating, scale * rotating))
+    }
+
+    /// The first moments [kg·m] whose weight makes U1 and U2 (eq. 5–7 without g/(I_w ω²)):
+    /// r·[m_t + (l − z_k)/l · m_k] and r_s·m_s − r_p·m_p + r·(z_k/l)·m_k.
+    pub(crate) fn moment_arms(&self) -> (f64, f64) {
         let rod_share_pin = self.rod_cg / self.rod_length;
         let rod_share_piston = (self.rod_length - self.rod_cg) / self.rod_length;
-        let u1 = scale * self.crank_radius * (self.piston_mass + rod_share_piston * self.rod_mass);
-        let u2 = scale
-            * (self.crank_cg_radius * self.crank_mass
+        (
+            self.crank_radius * (self.piston_mass + rod_share_piston * self.rod_mass),
+            self.crank_cg_radius * self.crank_mass
                 - self.counterweight_radius * self.counterweight_mass
-                + self.crank_radius * rod_share_pin * self.rod_mass);
-        Ok((u1, u2))
+                + self.crank_radius * rod_share_pin * self.rod_mass,
+        )
     }
 }
 

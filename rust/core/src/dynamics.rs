@@ -1,0 +1,649 @@
+//! The machine in motion: the reduced moment of inertia J(φ), its slope J'(φ), the piston's
+//! travel s(ψ) and velocity ratio s'(ψ), and the gas torque Σ_j F_j·s'(ψ_j) of physical
+//! slider-crank units in SI units.
+//!
+//! The rod (mass m_k, centre of gravity z_k from the piston pin, moment of inertia I_k about
+//! it) is replaced exactly by m_k1 = m_k (l − z_k)/l at the piston pin, m_k3 = m_k z_k/l at the
+//! crank pin and ΔI = I_k − m_k z_k (l − z_k) turning with the rod angle β (sin β = λ sin ψ):
+//! the same mass, first moment and moment of inertia as the rigid rod. So, with the
+//! reciprocating mass m = m_t + m_k1,
+//!
+//!   J(φ)  = I_w + Σ_j [m_k3 r² + m s'(ψ_j)² + ΔI β'(ψ_j)²],
+//!   J'(φ) = Σ_j [2 m s' s'' + 2 ΔI β' β''],
+//!
+//! with s' = r[sin ψ + λ sin ψ cos ψ / w], s'' = r[cos ψ + λ (cos 2ψ + λ² sin⁴ψ)/w³],
+//! β' = λ cos ψ / w, β'' = −λ(1 − λ²) sin ψ / w³, w = √(1 − λ² sin²ψ). Each is a crank term
+//! of `exact`'s block kernels, so it runs on the same vectorised sincos, rotations, angle
+//! sources and threads as the gravity kernels.
+
+use std::f64::consts::PI;
+
+use crate::angles::{Phi, PreparedPhi};
+use crate::engine::{Cylinder, Engine};
+use crate::error::{check, check_length, MechanismError, Result};
+use crate::exact::{crank_run, CrankTerm, Quantity};
+use crate::mechanism::{Phases, PhysicalUnit};
+use crate::parallel::{for_each_row_segment, Parallelism};
+use crate::trig::MulAdd;
+
+/// One slider-crank unit's geometry and moving masses (SI: m, kg, kg·m², rad).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PhysicalCylinder {
+    pub crank_radius: f64,
+    pub rod_length: f64,
+    /// m_t: piston with rings and pin (and crosshead and piston rod where there are).
+    pub piston_mass: f64,
+    pub rod_mass: f64,
+    /// z_k: the rod's centre of gravity, measured from the piston-pin axis.
+    pub rod_cg: f64,
+    /// I_k: the rod's moment of inertia about its own centre of gravity.
+    pub rod_inertia: f64,
+    /// This unit's crank web and counterweight: only their first moments enter (gravity);
+    /// their inertia is part of the shaft's.
+    pub crank_mass: f64,
+    pub crank_cg_radius: f64,
+    pub counterweight_mass: f64,
+    pub counterweight_radius: f64,
+    /// α_j: the unit's crank angle is ψ_j = φ + α_j.
+    pub phase: f64,
+    /// γ_j: its cylinder axis to the horizontal (+π/2 upright).
+    pub inclination: f64,
+}
+
+/// What the kernels need of a unit: r, λ, λ², the reciprocating mass and ΔI.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Slider {
+    r: f64,
+    lambda: f64,
+    l2: f64,
+    reciprocating: f64,
+    delta_inertia: f64,
+}
+
+impl PhysicalCylinder {
+    fn validate(&self) -> Result<()> {
+        let non_negative = |x: f64| x >= 0.0;
+        check("crank_radius", self.crank_radius, "crank_radius > 0", |r| {
+            r > 0.0
+        })?;
+        check(
+            "rod_length",
+            self.rod_length,
+            "rod_length > crank_radius",
+            |l| l > self.crank_radius,
+        )?;
+        check(
+            "piston_mass",
+            self.piston_mass,
+            "piston_mass >= 0",
+            non_negative,
+        )?;
+        check("rod_mass", self.rod_mass, "rod_mass >= 0", non_negative)?;
+        check("rod_cg", self.rod_cg, "0 <= rod_cg <= rod_length", |z| {
+            (0.0..=self.rod_length).contains(&z)
+        })?;
+        check(
+            "rod_inertia",
+            self.rod_inertia,
+            "rod_inertia >= 0",
+            non_negative,
+        )?;
+        check("phase", self.phase, "a finite angle in radians", |_| true)?;
+        check(
+            "inclination",
+            self.inclination,
+            "a finite angle in radians",
+            |_| true,
+        )?;
+        check(
+            "crank_mass",
+            self.crank_mass,
+            "crank_mass >= 0",
+            non_negative,
+        )?;
+        check(
+            "crank_cg_radius",
+            self.crank_cg_radius,
+            "crank_cg_radius >= 0",
+            non_negative,
+        )?;
+        check(
+            "counterweight_mass",
+            self.counterweight_mass,
+            "counterweight_mass >= 0",
+            non_negative,
+        )?;
+        check(
+            "counterweight_radius",
+            self.counterweight_radius,
+            "counterweight_radius >= 0",
+            non_negative,
+        )?;
+        Ok(())
+    }
+
+    /// The gravity moments U1, U2 [J] of this unit (eq. 5–7 times I_w ω²: g times the
+    /// moment arms), as the unit of an SI engine whose U* is U in joules.
+    fn gravity_unit(&self, g: f64) -> Cylinder {
+        let masses = PhysicalUnit {
+            crank_radius: self.crank_radius,
+            rod_length: self.rod_length,
+            rod_cg: self.rod_cg,
+            piston_mass: self.piston_mass,
+            rod_mass: self.rod_mass,
+            crank_mass: self.crank_mass,
+            crank_cg_radius: self.crank_cg_radius,
+            counterweight_mass: self.counterweight_mass,
+            counterweight_radius: self.counterweight_radius,
+            // Not used by the moment arms: the energies here are in joules, not ÷ I_w ω².
+            shaft_inertia: 1.0,
+            rpm: 1.0,
+            g,
+        };
+        let (reciprocating, rotating) = masses.moment_arms();
+        Cylinder {
+            phase: self.phase,
+            inclination: self.inclination,
+            crank_ratio: self.crank_radius / self.rod_length,
+            u1: g * reciprocating,
+            u2: g * rotating,
+        }
+    }
+
+    /// m_k3 = m_k z_k / l, the rod's share that turns with the crank pin.
+    fn rod_share_pin(&self) -> f64 {
+        self.rod_mass * self.rod_cg / self.rod_length
+    }
+
+    fn slider(&self) -> Slider {
+        let lambda = self.crank_radius / self.rod_length;
+        let rod_share_piston = self.rod_mass * (self.rod_length - self.rod_cg) / self.rod_length;
+        Slider {
+            r: self.crank_radius,
+            lambda,
+            l2: lambda * lambda,
+            reciprocating: self.piston_mass + rod_share_piston,
+            delta_inertia: self.rod_inertia
+                - self.rod_mass * self.rod_cg * (self.rod_length - self.rod_cg),
+        }
+    }
+}
+
+/// w = √(1 − λ² sin²ψ) at sin ψ.
+#[inline(always)]
+fn root<M: MulAdd>(k: &Slider, s: f64) -> f64 {
+    M::mul_add(-k.l2, s * s, 1.0).sqrt()
+}
+
+/// s'(ψ) = ds/dψ = r[sin ψ + λ sin ψ cos ψ / w].
+struct Velocity;
+/// s(ψ) = r[(1 − cos ψ) + λ sin²ψ/(1 + w)], the travel from outer dead centre (the stable
+/// form of (1 − w)/λ: exact to the last bits as λ → 0).
+struct Travel;
+/// J_j − m_k3 r² = m s'² + ΔI β'².
+struct Inertia;
+/// J'_j = 2 m s' s'' + 2 ΔI β' β''.
+struct InertiaSlope;
+
+impl CrankTerm for Velocity {
+    type Unit = Slider;
+    #[inline(always)]
+    fn term<M: MulAdd>(k: &Slider, s: f64, c: f64) -> f64 {
+        k.r * M::mul_add(k.lambda * s, c / root::<M>(k, s), s)
+    }
+}
+
+impl CrankTerm for Travel {
+    type Unit = Slider;
+    #[inline(always)]
+    fn term<M: MulAdd>(k: &Slider, s: f64, c: f64) -> f64 {
+        k.r * M::mul_add(k.lambda * s, s / (1.0 + root::<M>(k, s)), 1.0 - c)
+    }
+}
+
+impl CrankTerm for Inertia {
+    type Unit = Slider;
+    #[inline(always)]
+    fn term<M: MulAdd>(k: &Slider, s: f64, c: f64) -> f64 {
+        let w = root::<M>(k, s);
+        let velocity = k.r * M::mul_add(k.lambda * s, c / w, s);
+        let rod_rate = k.lambda * c / w;
+        M::mul_add(
+            k.reciprocating * velocity,
+            velocity,
+            k.delta_inertia * rod_rate * rod_rate,
+        )
+    }
+}
+
+impl CrankTerm for InertiaSlope {
+    type Unit = Slider;
+    #[inline(always)]
+    fn term<M: MulAdd>(k: &Slider, s: f64, c: f64) -> f64 {
+        let s2 = s * s;
+        let w2 = M::mul_add(-k.l2, s2, 1.0);
+        let w = w2.sqrt();
+        let w3 = w2 * w;
+        let velocity = k.r * M::mul_add(k.lambda * s, c / w, s);
+        let curvature = M::mul_add(k.l2, s2 * s2, M::mul_add(c, c, -s2));
+        let acceleration = k.r * M::mul_add(k.lambda, curvature / w3, c);
+        let rod_rate = k.lambda * c / w;
+        let rod_acceleration = -k.lambda * (1.0 - k.l2) * s / w3;
+        2.0 * M::mul_add(
+            k.reciprocating * velocity,
+            acceleration,
+            k.delta_inertia * rod_rate * rod_acceleration,
+        )
+    }
+}
+
+/// The moving units of a machine, validated, ready for the kernels.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Dynamics {
+    sliders: Vec<Slider>,
+    phases: Phases,
+    /// Σ_j m_k3 r²: the rods' big-end shares, turning with the crank pins.
+    rotating: f64,
+    /// The units' gravity as an engine whose U1, U2 are in joules: its U* is U [J], its Q*
+    /// is dU/dφ [N·m].
+    gravity: Engine,
+}
+
+/// Which per-unit kinematic quantity `Dynamics::kinematics` evaluates.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Kinematics {
+    /// s(ψ_j) [m], the piston travel from outer dead centre.
+    Travel,
+    /// s'(ψ_j) = ds/dφ [m/rad].
+    Velocity,
+}
+
+impl Dynamics {
+    /// The units of a machine under gravity `g` [m/s²] (0: none).
+    pub fn new(units: &[PhysicalCylinder], g: f64) -> Result<Self> {
+        if units.is_empty() {
+            return Err(MechanismError::Empty {
+                parameter: "cylinders",
+            });
+        }
+        for unit in units {
+            unit.validate()?;
+        }
+        check("g", g, "any finite real", |_| true)?;
+        let phases: Vec<f64> = units.iter().map(|u| u.phase).collect();
+        Ok(Self {
+            sliders: units.iter().map(PhysicalCylinder::slider).collect(),
+            phases: Phases::new(&phases)?,
+            rotating: units
+                .iter()
+                .map(|u| u.rod_share_pin() * u.crank_radius * u.crank_radius)
+                .sum(),
+            gravity: Engine::new(units.iter().map(|u| u.gravity_unit(g)).collect())?,
+        })
+    }
+
+    /// U(φ) [J]: Σ m·g·height, each unit from its own ψ = 0 configuration.
+    pub fn potential_energy<'a>(
+        &self,
+        phi: impl Into<Phi<'a>>,
+        out: &mut [f64],
+        parallelism: Parallelism,
+    ) -> Result<()> {
+        self.gravity
+            .evaluate(Quantity::PotentialEnergy, phi, out, parallelism)
+    }
+
+    /// The gravity torque on the shaft, −dU/dφ [N·m].
+    pub fn gravity_torque<'a>(
+        &self,
+        phi: impl Into<Phi<'a>>,
+        out: &mut [f64],
+        parallelism: Parallelism,
+    ) -> Result<()> {
+        self.gravity
+            .evaluate(Quantity::GeneralizedForce, phi, out, parallelism)?;
+        out.iter_mut().for_each(|m| *m = -*m);
+        Ok(())
+    }
+
+    /// The dimensionless engine of these units at `rpm` with shaft inertia I_w:
+    /// U1, U2 divided by I_w ω², ω = π·rpm/30.
+    pub fn dimensionless(&self, shaft_inertia: f64, rpm: f64) -> Result<Engine> {
+        check("shaft_inertia", shaft_inertia, "shaft_inertia > 0", |i| {
+            i > 0.0
+        })?;
+        check("rpm", rpm, "rpm > 0", |n| n > 0.0)?;
+        let omega = PI * rpm / 30.0;
+        let scale = shaft_inertia * omega * omega;
+        Engine::new(
+            self.gravity
+                .cylinders()
+                .iter()
+                .map(|c| Cylinder {
+                    u1: c.u1 / scale,
+                    u2: c.u2 / scale,
+                    ..*c
+                })
+                .collect(),
+        )
+    }
+
+    pub fn len(&self) -> usize {
+        self.sliders.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.sliders.is_empty()
+    }
+
+    /// J(φ) [kg·m²] into `inertia` and J'(φ) [kg·m²/rad] into `slope`, with `shaft_inertia`
+    /// I_w (everything that turns rigidly with the shaft) added to J.
+    pub fn reduced_inertia<'a>(
+        &self,
+        shaft_inertia: f64,
+        phi: impl Into<Phi<'a>>,
+        inertia: &mut [f64],
+        slope: &mut [f64],
+        parallelism: Parallelism,
+    ) -> Result<()> {
+        check("shaft_inertia", shaft_inertia, "shaft_inertia > 0", |i| {
+            i > 0.0
+        })?;
+        let phi = PreparedPhi::new(phi.into(), parallelism);
+        check_length("inertia", phi.len(), inertia.len())?;
+        check_length("slope", phi.len(), slope.len())?;
+        let work = phi.len().saturating_mul(self.len());
+        let constant = shaft_inertia + self.rotating;
+        for_each_row_segment(inertia, phi.len(), work, parallelism, |_, col, segment| {
+            let run = phi.run(col, segment.len());
+            crank_run::<Inertia>(&self.sliders, &self.phases, run, segment);
+            segment.iter_mut().for_each(|j| *j += constant);
+        });
+        for_each_row_segment(slope, phi.len(), work, parallelism, |_, col, segment| {
+            let run = phi.run(col, segment.len());
+            crank_run::<InertiaSlope>(&self.sliders, &self.phases, run, segment)
+        });
+        Ok(())
+    }
+
+    /// s or s' of every unit at every φ, unit-major (`out[j * phi.len() + i]`).
+    pub fn kinematics<'a>(
+        &self,
+        quantity: Kinematics,
+        phi: impl Into<Phi<'a>>,
+        out: &mut [f64],
+        parallelism: Parallelism,
+    ) -> Result<()> {
+        let phi = PreparedPhi::new(phi.into(), parallelism);
+        check_length("out", self.len() * phi.len(), out.len())?;
+        let work = out.len();
+        for_each_row_segment(out, phi.len(), work, parallelism, |row, col, segment| {
+            let unit = std::slice::from_ref(&self.sliders[row]);
+            let phase = self.phases.one(row);
+            let run = phi.run(col, segment.len());
+            match quantity {
+                Kinematics::Travel => crank_run::<Travel>(unit, &phase, run, segment),
+                Kinematics::Velocity => crank_run::<Velocity>(unit, &phase, run, segment),
+            }
+        });
+        Ok(())
+    }
+
+    /// The gas torque Σ_j F_j(φ_i)·s'(ψ_j) [N·m], given the net piston force of every unit at
+    /// every φ (`forces`, unit-major like `kinematics`; positive pushes the piston toward
+    /// the shaft, along increasing s).
+    pub fn gas_torque<'a>(
+        &self,
+        phi: impl Into<Phi<'a>>,
+        forces: &[f64],
+        out: &mut [f64],
+        parallelism: Parallelism,
+    ) -> Result<()> {
+        let phi = PreparedPhi::new(phi.into(), parallelism);
+        let n = phi.len();
+        check_length("forces", self.len() * n, forces.len())?;
+        check_length("out", n, out.len())?;
+        let work = n.saturating_mul(self.len());
+        for_each_row_segment(out, n, work, parallelism, |_, col, segment| {
+            segment.fill(0.0);
+            let mut velocity = vec![0.0; segment.len()];
+            for (j, slider) in self.sliders.iter().enumerate() {
+                let run = phi.run(col, segment.len());
+                let phase = self.phases.one(j);
+                crank_run::<Velocity>(std::slice::from_ref(slider), &phase, run, &mut velocity);
+                let force = &forces[j * n + col..j * n + col + segment.len()];
+                for ((m, f), v) in segment.iter_mut().zip(force).zip(&velocity) {
+                    *m += f * v;
+                }
+            }
+        });
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn units() -> Vec<PhysicalCylinder> {
+        let unit = |r: f64, l: f64, z: f64, inertia_factor: f64, phase: f64| PhysicalCylinder {
+            crank_radius: r,
+            rod_length: l,
+            piston_mass: 3.0,
+            rod_mass: 2.0,
+            rod_cg: z,
+            rod_inertia: inertia_factor * 2.0 * z * (l - z),
+            crank_mass: 1.5,
+            crank_cg_radius: 0.05,
+            counterweight_mass: 1.0,
+            counterweight_radius: 0.08,
+            phase,
+            inclination: 1.2 - phase,
+        };
+        vec![
+            unit(0.1, 0.35, 0.25, 1.0, 0.0),
+            unit(0.1, 0.35, 0.25, 0.6, 2.1),
+            unit(0.12, 0.3, 0.1, 1.4, -0.7),
+        ]
+    }
+
+    /// Planar positions of one unit's piston pin and rod CG (cylinder axis along x; the
+    /// inclination turns everything rigidly and changes no speed), and the rod angle.
+    fn positions(u: &PhysicalCylinder, phi: f64) -> ([f64; 2], [f64; 2], f64) {
+        let psi = phi + u.phase;
+        let crank_pin = [u.crank_radius * psi.cos(), u.crank_radius * psi.sin()];
+        let piston_pin = [
+            crank_pin[0] + (u.rod_length.powi(2) - crank_pin[1].powi(2)).sqrt(),
+            0.0,
+        ];
+        let t = u.rod_cg / u.rod_length;
+        let cg = [
+            piston_pin[0] + t * (crank_pin[0] - piston_pin[0]),
+            t * crank_pin[1],
+        ];
+        (piston_pin, cg, (crank_pin[1] / u.rod_length).asin())
+    }
+
+    /// d/dφ by a fourth-order central difference.
+    fn slope(f: impl Fn(f64) -> f64, x: f64) -> f64 {
+        let h = 1e-3;
+        (8.0 * (f(x + h) - f(x - h)) - (f(x + 2.0 * h) - f(x - 2.0 * h))) / (12.0 * h)
+    }
+
+    /// 2T/φ̇² from Σ ½ m v² + ½ I β̇² with velocities from differentiated positions.
+    fn kinetic_inertia(units: &[PhysicalCylinder], shaft: f64, phi: f64) -> f64 {
+        let mut j = shaft;
+        for u in units {
+            let piston = slope(|p| positions(u, p).0[0], phi);
+            let cg_x = slope(|p| positions(u, p).1[0], phi);
+            let cg_y = slope(|p| positions(u, p).1[1], phi);
+            let rod = slope(|p| positions(u, p).2, phi);
+            j += u.piston_mass * piston * piston
+                + u.rod_mass * (cg_x * cg_x + cg_y * cg_y)
+                + u.rod_inertia * rod * rod;
+        }
+        j
+    }
+
+    #[test]
+    fn inertia_is_twice_the_kinetic_energy_and_its_slope_the_derivative() {
+        let units = units();
+        let machine = Dynamics::new(&units, 9.81).unwrap();
+        let phi: Vec<f64> = (0..97).map(|i| -3.0 + 0.0625 * i as f64).collect();
+        let (mut j, mut dj) = (vec![0.0; phi.len()], vec![0.0; phi.len()]);
+        machine
+            .reduced_inertia(0.7, &phi, &mut j, &mut dj, Parallelism::SERIAL)
+            .unwrap();
+        for (i, &p) in phi.iter().enumerate() {
+            let expected = kinetic_inertia(&units, 0.7, p);
+            assert!(
+                (j[i] - expected).abs() <= 1e-9 * expected,
+                "J at {p}: {} vs {expected}",
+                j[i]
+            );
+            let numerical = slope(
+                |x| {
+                    let (mut a, mut b) = ([0.0], [0.0]);
+                    machine
+                        .reduced_inertia(0.7, &[x], &mut a, &mut b, Parallelism::SERIAL)
+                        .unwrap();
+                    a[0]
+                },
+                p,
+            );
+            assert!(
+                (dj[i] - numerical).abs() <= 1e-9 * j[i],
+                "J' at {p}: {} vs {numerical}",
+                dj[i]
+            );
+        }
+    }
+
+    #[test]
+    fn travel_velocity_and_gas_torque_by_virtual_work() {
+        let units = units();
+        let machine = Dynamics::new(&units, 9.81).unwrap();
+        let phi: Vec<f64> = (0..61).map(|i| 0.1 * i as f64).collect();
+        let n = phi.len();
+        let (mut s, mut v) = (vec![0.0; 3 * n], vec![0.0; 3 * n]);
+        machine
+            .kinematics(Kinematics::Travel, &phi, &mut s, Parallelism::SERIAL)
+            .unwrap();
+        machine
+            .kinematics(Kinematics::Velocity, &phi, &mut v, Parallelism::SERIAL)
+            .unwrap();
+        let forces: Vec<f64> = (0..3 * n)
+            .map(|i| 1e4 * (1.0 + (0.37 * i as f64).sin()))
+            .collect();
+        let mut torque = vec![0.0; n];
+        machine
+            .gas_torque(&phi, &forces, &mut torque, Parallelism::SERIAL)
+            .unwrap();
+        for (j, u) in units.iter().enumerate() {
+            // s = r + l − x: the travel from outer dead centre, from the position.
+            let travel = |p: f64| u.crank_radius + u.rod_length - positions(u, p).0[0];
+            for (i, &p) in phi.iter().enumerate() {
+                assert!((s[j * n + i] - travel(p)).abs() <= 1e-15);
+                assert!((v[j * n + i] - slope(travel, p)).abs() <= 1e-10);
+            }
+        }
+        for i in 0..n {
+            let work: f64 = (0..3).map(|j| forces[j * n + i] * v[j * n + i]).sum();
+            assert!((torque[i] - work).abs() <= 1e-12 * work.abs().max(1.0));
+        }
+    }
+
+    /// Σ m·g·height of one unit's masses (rod and piston turned by γ from the cylinder
+    /// frame; web and counterweight on the crank), minus its value at ψ = 0.
+    fn weight_energy(u: &PhysicalCylinder, g: f64, phi: f64) -> f64 {
+        let height = |p: f64| {
+            let (piston, cg, _) = positions(u, p);
+            let up = |v: [f64; 2]| v[0] * u.inclination.sin() + v[1] * u.inclination.cos();
+            let crank = (p + u.phase + u.inclination).sin();
+            u.piston_mass * up(piston)
+                + u.rod_mass * up(cg)
+                + (u.crank_mass * u.crank_cg_radius - u.counterweight_mass * u.counterweight_radius)
+                    * crank
+        };
+        g * (height(phi) - height(-u.phase))
+    }
+
+    #[test]
+    fn potential_energy_is_the_weight_and_its_torque_the_slope() {
+        let units = units();
+        let machine = Dynamics::new(&units, 9.81).unwrap();
+        let phi: Vec<f64> = (0..73).map(|i| -2.0 + 0.1 * i as f64).collect();
+        let (mut u, mut torque) = (vec![0.0; phi.len()], vec![0.0; phi.len()]);
+        machine
+            .potential_energy(&phi, &mut u, Parallelism::SERIAL)
+            .unwrap();
+        machine
+            .gravity_torque(&phi, &mut torque, Parallelism::SERIAL)
+            .unwrap();
+        let energy = |p: f64| {
+            units
+                .iter()
+                .map(|unit| weight_energy(unit, 9.81, p))
+                .sum::<f64>()
+        };
+        for (i, &p) in phi.iter().enumerate() {
+            assert!(
+                (u[i] - energy(p)).abs() <= 1e-13 * 10.0,
+                "U at {p}: {} vs {}",
+                u[i],
+                energy(p)
+            );
+            assert!(
+                (torque[i] + slope(energy, p)).abs() <= 1e-9,
+                "torque at {p}"
+            );
+        }
+        // The dimensionless engine at a speed is the same energy over I_w ω².
+        let engine = machine.dimensionless(2.0, 300.0).unwrap();
+        let omega = std::f64::consts::PI * 300.0 / 30.0;
+        let mut star = vec![0.0; phi.len()];
+        engine
+            .evaluate(
+                Quantity::PotentialEnergy,
+                &phi,
+                &mut star,
+                Parallelism::SERIAL,
+            )
+            .unwrap();
+        for (a, b) in star.iter().zip(&u) {
+            assert!((a * 2.0 * omega * omega - b).abs() <= 1e-13 * 10.0);
+        }
+        let without = Dynamics::new(&units, 0.0).unwrap();
+        without
+            .potential_energy(&phi, &mut u, Parallelism::SERIAL)
+            .unwrap();
+        assert!(u.iter().all(|&x| x == 0.0));
+    }
+
+    #[test]
+    fn serial_equals_parallel_and_bad_units_are_named() {
+        let machine = Dynamics::new(&units(), 9.81).unwrap();
+        let phi: Vec<f64> = (0..50_000).map(|i| 1e-4 * i as f64).collect();
+        let run = |parallelism| {
+            let (mut j, mut dj) = (vec![0.0; phi.len()], vec![0.0; phi.len()]);
+            machine
+                .reduced_inertia(1.0, &phi, &mut j, &mut dj, parallelism)
+                .unwrap();
+            let forces = vec![1.0; 3 * phi.len()];
+            let mut gas = vec![0.0; phi.len()];
+            machine
+                .gas_torque(&phi, &forces, &mut gas, parallelism)
+                .unwrap();
+            (j, dj, gas)
+        };
+        assert_eq!(run(Parallelism::SERIAL), run(Parallelism { threshold: 0 }));
+        let mut bad = units()[0];
+        bad.rod_cg = 0.5;
+        let message = Dynamics::new(&[bad], 9.81).unwrap_err().to_string();
+        assert!(message.contains("rod_cg"), "{message}");
+        assert!(Dynamics::new(&[], 9.81).is_err());
+        let (mut a, mut b) = ([0.0], [0.0]);
+        let error = machine.reduced_inertia(0.0, &[0.0], &mut a, &mut b, Parallelism::SERIAL);
+        assert!(error.unwrap_err().to_string().contains("shaft_inertia"));
+    }
+}
