@@ -33,6 +33,7 @@ from .harmonics import (
     paper_coefficient,
     surviving_harmonics,
 )
+from .machine import Cylinder, Machine
 from .mechanism import STANDARD_GRAVITY, crank_phases, dimensionless_moments
 from .presets import LAYOUTS, Layout, layout_engine
 
@@ -62,10 +63,12 @@ __all__ = [
     "LAYOUTS",
     "STANDARD_GRAVITY",
     "SWEEP_OUTPUTS",
+    "Cylinder",
     "DesignGrid",
     "EnergyExtrema",
     "Engine",
     "Layout",
+    "Machine",
     "MechanismError",
     "UniformGrid",
     "__version__",

@@ -171,6 +171,69 @@ impl PhysicalArrays<'_> {
     }
 }
 
+/// The physical units of a machine, one column per field of `core::PhysicalCylinder`.
+#[derive(FromPyObject)]
+#[pyo3(from_item_all)]
+struct MachineColumns<'py> {
+    crank_radius: PyReadonlyArray1<'py, f64>,
+    rod_length: PyReadonlyArray1<'py, f64>,
+    piston_mass: PyReadonlyArray1<'py, f64>,
+    rod_mass: PyReadonlyArray1<'py, f64>,
+    rod_cg: PyReadonlyArray1<'py, f64>,
+    rod_inertia: PyReadonlyArray1<'py, f64>,
+    crank_mass: PyReadonlyArray1<'py, f64>,
+    crank_cg_radius: PyReadonlyArray1<'py, f64>,
+    counterweight_mass: PyReadonlyArray1<'py, f64>,
+    counterweight_radius: PyReadonlyArray1<'py, f64>,
+    phase: PyReadonlyArray1<'py, f64>,
+    inclination: PyReadonlyArray1<'py, f64>,
+}
+
+impl MachineColumns<'_> {
+    /// The validated units under gravity `g` (O(units): built with the GIL held).
+    fn dynamics(&self, g: f64) -> PyResult<core::Dynamics> {
+        let columns = [
+            self.crank_radius.as_slice()?,
+            self.rod_length.as_slice()?,
+            self.piston_mass.as_slice()?,
+            self.rod_mass.as_slice()?,
+            self.rod_cg.as_slice()?,
+            self.rod_inertia.as_slice()?,
+            self.crank_mass.as_slice()?,
+            self.crank_cg_radius.as_slice()?,
+            self.counterweight_mass.as_slice()?,
+            self.counterweight_radius.as_slice()?,
+            self.phase.as_slice()?,
+            self.inclination.as_slice()?,
+        ];
+        let n = columns[0].len();
+        if let Some(bad) = columns.iter().find(|c| c.len() != n) {
+            return Err(to_py_err(core::MechanismError::LengthMismatch {
+                parameter: "cylinder arrays",
+                expected: n,
+                found: bad.len(),
+            }));
+        }
+        let units: Vec<core::PhysicalCylinder> = (0..n)
+            .map(|i| core::PhysicalCylinder {
+                crank_radius: columns[0][i],
+                rod_length: columns[1][i],
+                piston_mass: columns[2][i],
+                rod_mass: columns[3][i],
+                rod_cg: columns[4][i],
+                rod_inertia: columns[5][i],
+                crank_mass: columns[6][i],
+                crank_cg_radius: columns[7][i],
+                counterweight_mass: columns[8][i],
+                counterweight_radius: columns[9][i],
+                phase: columns[10][i],
+                inclination: columns[11][i],
+            })
+            .collect();
+        core::Dynamics::new(&units, g).map_err(to_py_err)
+    }
+}
+
 /// A new float64 array of `len`, filled by `fill` with the GIL released. It is not zeroed
 /// first: that would be a serial pass over the whole output before the (parallel) kernels,
 /// which write every element anyway.
@@ -601,6 +664,109 @@ mod _native {
                 ("n", rows.iter().map(|r| r.n as f64).collect()),
                 ("amplitude", rows.iter().map(|r| r.amplitude).collect()),
                 ("scatter_rms", rows.iter().map(|r| r.scatter_rms).collect()),
+            ],
+        )
+    }
+
+    /// machine_evaluate(quantity, units, g, phi, parallel_threshold=None) -> flat array:
+    /// "potential_energy" U [J] or "gravity_torque" −dU/dφ [N·m] (like phi), or the piston
+    /// "travel" s [m] or "velocity" ds/dφ [m/rad] of every unit (unit-major, units × phi).
+    #[pyfunction]
+    #[pyo3(signature = (quantity, units, g, phi, parallel_threshold=None))]
+    fn machine_evaluate<'py>(
+        py: Python<'py>,
+        quantity: &str,
+        units: MachineColumns<'py>,
+        g: f64,
+        phi: PhiArg<'py>,
+        parallel_threshold: Option<usize>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let (machine, phi) = (units.dynamics(g)?, phi.slice()?);
+        let parallelism = parallelism(parallel_threshold);
+        let per_unit = |kinematics| (machine.len() * phi.len(), Some(kinematics));
+        let (len, kinematics) = match quantity {
+            "potential_energy" | "gravity_torque" => (phi.len(), None),
+            "travel" => per_unit(core::Kinematics::Travel),
+            "velocity" => per_unit(core::Kinematics::Velocity),
+            other => {
+                return Err(MechanismError::new_err(format!(
+                    "quantity = {other:?} is not allowed; allowed: \"potential_energy\", \
+                     \"gravity_torque\", \"travel\", \"velocity\""
+                )))
+            }
+        };
+        let gravity_torque = quantity == "gravity_torque";
+        filled(py, len, |out| match kinematics {
+            Some(k) => machine.kinematics(k, phi.phi()?, out, parallelism),
+            None if gravity_torque => machine.gravity_torque(phi.phi()?, out, parallelism),
+            None => machine.potential_energy(phi.phi()?, out, parallelism),
+        })
+    }
+
+    /// machine_inertia(units, shaft_inertia, phi, parallel_threshold=None) ->
+    /// {"J", "dJ_dphi"}: the reduced moment of inertia [kg·m²] and its slope [kg·m²/rad].
+    #[pyfunction]
+    #[pyo3(signature = (units, shaft_inertia, phi, parallel_threshold=None))]
+    fn machine_inertia<'py>(
+        py: Python<'py>,
+        units: MachineColumns<'py>,
+        shaft_inertia: f64,
+        phi: PhiArg<'py>,
+        parallel_threshold: Option<usize>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let (machine, phi) = (units.dynamics(0.0)?, phi.slice()?);
+        let parallelism = parallelism(parallel_threshold);
+        let (inertia, slope) = py
+            .detach(|| -> core::Result<(Vec<f64>, Vec<f64>)> {
+                let (mut j, mut dj) = (vec![0.0; phi.len()], vec![0.0; phi.len()]);
+                machine.reduced_inertia(shaft_inertia, phi.phi()?, &mut j, &mut dj, parallelism)?;
+                Ok((j, dj))
+            })
+            .map_err(to_py_err)?;
+        named(py, [("J", inertia), ("dJ_dphi", slope)])
+    }
+
+    /// machine_gas_torque(units, phi, forces, parallel_threshold=None) -> Σ_j F_j s'_j [N·m];
+    /// `forces` [N] are unit-major (units × phi), positive toward the shaft.
+    #[pyfunction]
+    #[pyo3(signature = (units, phi, forces, parallel_threshold=None))]
+    fn machine_gas_torque<'py>(
+        py: Python<'py>,
+        units: MachineColumns<'py>,
+        phi: PhiArg<'py>,
+        forces: PyReadonlyArray1<'py, f64>,
+        parallel_threshold: Option<usize>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let (machine, phi, forces) = (units.dynamics(0.0)?, phi.slice()?, forces.as_slice()?);
+        let parallelism = parallelism(parallel_threshold);
+        filled(py, phi.len(), |out| {
+            machine.gas_torque(phi.phi()?, forces, out, parallelism)
+        })
+    }
+
+    /// machine_engine(units, g, shaft_inertia, rpm) -> the dimensionless engine's columns
+    /// {"phase", "inclination", "crank_ratio", "u1", "u2"} at that speed.
+    #[pyfunction]
+    fn machine_engine<'py>(
+        py: Python<'py>,
+        units: MachineColumns<'py>,
+        g: f64,
+        shaft_inertia: f64,
+        rpm: f64,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let engine = units
+            .dynamics(g)?
+            .dimensionless(shaft_inertia, rpm)
+            .map_err(to_py_err)?;
+        let column = |f: fn(&core::Cylinder) -> f64| engine.cylinders().iter().map(f).collect();
+        named(
+            py,
+            [
+                ("phase", column(|c| c.phase)),
+                ("inclination", column(|c| c.inclination)),
+                ("crank_ratio", column(|c| c.crank_ratio)),
+                ("u1", column(|c| c.u1)),
+                ("u2", column(|c| c.u2)),
             ],
         )
     }

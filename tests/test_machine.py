@@ -1,0 +1,138 @@
+"""mc.Cylinder and mc.Machine: their relation to the dimensionless API, their errors, and
+the parallel threshold. (The first-principles mpmath oracle is tests/test_machine_oracle.py.)"""
+
+import math
+
+import numpy as np
+import pytest
+
+import multicrank as mc
+
+CYLINDER = dict(
+    crank_radius=0.15,
+    rod_length=0.6,
+    piston_mass=85.0,
+    rod_mass=60.0,
+    rod_cg=0.4,
+    crank_mass=40.0,
+    crank_cg_radius=0.08,
+    counterweight_mass=30.0,
+    counterweight_radius=0.12,
+)
+
+
+def inline_machine(cranks=3, strokes=4, **changes):
+    phases = mc.crank_phases(cranks, strokes)
+    cylinder = mc.Cylinder(**{**CYLINDER, **changes})
+    return mc.Machine([cylinder.replace(phase=a) for a in phases], shaft_inertia=45.0, strokes=strokes)
+
+
+def test_engine_at_a_speed_is_the_dimensionless_moments():
+    machine = inline_machine(inclination=1.1)
+    engine = machine.engine(120)
+    u1, u2 = mc.dimensionless_moments(**{k: v for k, v in CYLINDER.items()}, shaft_inertia=45.0, rpm=120)
+    np.testing.assert_allclose(engine.u1, u1, rtol=1e-15)
+    np.testing.assert_allclose(engine.u2, u2, rtol=1e-15)
+    np.testing.assert_array_equal(engine.phase, mc.crank_phases(3, 4))
+    np.testing.assert_array_equal(engine.inclination, 1.1)
+    assert engine.crank_ratio[0] == pytest.approx(0.25, rel=1e-15)
+
+
+def test_energy_and_torque_are_the_engines_times_i_omega_squared():
+    machine = inline_machine(inclination=0.7)
+    phi = np.linspace(-1, 8, 301)
+    omega = math.pi * 300 / 30
+    scale = machine.shaft_inertia * omega**2
+    engine = machine.engine(300)
+    np.testing.assert_allclose(
+        machine.potential_energy(phi), scale * engine.potential_energy(phi), rtol=1e-13, atol=1e-11
+    )
+    np.testing.assert_allclose(
+        machine.gravity_torque(phi), -scale * engine.generalized_force(phi), rtol=1e-13, atol=1e-11
+    )
+    assert np.all(machine.replace(g=0.0).potential_energy(phi) == 0.0)
+
+
+def test_shapes_grids_and_the_inertia_torque():
+    machine = inline_machine()
+    phi = np.linspace(0, 4 * np.pi, 24).reshape(2, 3, 4)
+    j, dj = machine.reduced_inertia(phi)
+    assert j.shape == dj.shape == (2, 3, 4)
+    assert machine.piston_travel(phi).shape == (3, 2, 3, 4)
+    np.testing.assert_array_equal(machine.inertia_torque(phi, 20.0), -0.5 * dj * 400.0)
+    grid = mc.uniform_grid(1000, 0, 4 * np.pi)
+    j_grid, _ = machine.reduced_inertia(grid)
+    j_points, _ = machine.reduced_inertia(np.asarray(grid))
+    np.testing.assert_allclose(j_grid, j_points, rtol=1e-14)
+    # J never falls below the shaft's own inertia plus the rods' big ends.
+    big_ends = 3 * 60.0 * (0.4 / 0.6) * 0.15**2
+    assert j.min() >= 45.0 + big_ends - 1e-12
+
+
+def test_threshold_per_call_changes_no_bit():
+    machine = inline_machine(cranks=6, bore=0.2, pressure=lambda t: 1e5 * (1 + np.cos(t)))
+    phi = np.linspace(0, 4 * np.pi, 50_001)
+    serial = [
+        machine.reduced_inertia(phi, parallel_threshold=2**62)[1],
+        machine.gas_torque(phi, parallel_threshold=2**62),
+    ]
+    parallel = [machine.reduced_inertia(phi, parallel_threshold=0)[1], machine.gas_torque(phi, parallel_threshold=0)]
+    for a, b in zip(serial, parallel, strict=True):
+        assert a.tobytes() == b.tobytes()
+
+
+def test_a_constant_pressure_does_its_work_over_each_stroke():
+    # ∫ M_gas dφ over a revolution = Σ p·A·(stroke down) for a pressure on the way down only:
+    # p = const while θ ∈ [0, π) (outer → inner dead centre), else 0.
+    p = 3e5
+    cylinder = dict(CYLINDER, bore=0.25, pressure=lambda t: np.where(np.mod(t, 2 * np.pi) < np.pi, p, 0.0))
+    machine = mc.Machine([mc.Cylinder(**cylinder)], shaft_inertia=10.0)
+    phi = np.linspace(0, np.pi, 200_001)
+    work = np.trapezoid(machine.gas_torque(phi), phi)
+    assert work == pytest.approx(p * math.pi * 0.25**2 / 4 * 2 * 0.15, rel=1e-9)
+
+
+@pytest.mark.parametrize(
+    "changes, name",
+    [
+        ({"bore": -0.1}, "bore"),
+        ({"bore": 0.1, "piston_rod_diameter": 0.1}, "piston_rod_diameter"),
+        ({"rod_length": 0.1}, "rod_length"),
+        ({"rod_cg": 0.7}, "rod_cg"),
+        ({"piston_mass": -1.0}, "piston_mass"),
+        ({"rod_inertia": float("nan")}, "rod_inertia"),
+        ({"crank_radius": "big"}, "crank_radius"),
+        ({"pressure": 3.0}, "pressure"),
+        ({"phase": float("inf")}, "phase"),
+        ({"counterweight_radius": -0.1}, "counterweight_radius"),
+    ],
+)
+def test_bad_cylinders_name_the_parameter(changes, name):
+    with pytest.raises(mc.MechanismError, match=name):
+        mc.Cylinder(**{**CYLINDER, **changes})
+
+
+@pytest.mark.parametrize(
+    "build, name",
+    [
+        (lambda c: mc.Machine([], shaft_inertia=1.0), "cylinders"),
+        (lambda c: mc.Machine(c, shaft_inertia=1.0), "cylinders"),
+        (lambda c: mc.Machine([c], shaft_inertia=0.0), "shaft_inertia"),
+        (lambda c: mc.Machine([c], shaft_inertia=1.0, strokes=3), "strokes"),
+        (lambda c: mc.Machine([c], shaft_inertia=1.0, g=float("nan")), "g"),
+        (lambda c: mc.Machine([c], shaft_inertia=1.0).engine(0.0), "rpm"),
+        (lambda c: mc.Machine([c], shaft_inertia=1.0).replace(bore=1), "bore"),
+    ],
+)
+def test_bad_machines_name_the_parameter(build, name):
+    with pytest.raises(mc.MechanismError, match=name):
+        build(mc.Cylinder(**CYLINDER))
+
+
+def test_a_pressure_that_fails_or_returns_nan_is_named():
+    nan = mc.Machine([mc.Cylinder(**CYLINDER, bore=0.2, pressure=lambda t: np.full_like(t, np.nan))], shaft_inertia=1)
+    with pytest.raises(mc.MechanismError, match="pressure"):
+        nan.gas_torque(np.linspace(0, 1, 5))
+    broken = mc.Machine([mc.Cylinder(**CYLINDER, bore=0.2, pressure_crank_end=lambda t: 1 / 0)], shaft_inertia=1)
+    with pytest.raises(mc.MechanismError, match="pressure_crank_end"):
+        broken.gas_torque(np.linspace(0, 1, 5))
