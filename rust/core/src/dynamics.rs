@@ -122,7 +122,7 @@ impl PhysicalCylinder {
         Ok(())
     }
 
-    /// The gravity moments U1, U2 [J] of this unit (eq. 5–7 times I_w ω²: g times the
+    /// The gravity moments U1, U2 (J) of this unit (eq. 5–7 times I_w ω²: g times the
     /// moment arms), as the unit of an SI engine whose U* is U in joules.
     fn gravity_unit(&self, g: f64) -> Cylinder {
         let masses = PhysicalUnit {
@@ -244,22 +244,22 @@ pub struct Dynamics {
     phases: Phases,
     /// Σ_j m_k3 r²: the rods' big-end shares, turning with the crank pins.
     rotating: f64,
-    /// The units' gravity as an engine whose U1, U2 are in joules: its U* is U [J], its Q*
-    /// is dU/dφ [N·m].
+    /// The units' gravity as an engine whose U1, U2 are in joules: its U* is U (J), its Q*
+    /// is dU/dφ (N·m).
     gravity: Engine,
 }
 
 /// Which per-unit kinematic quantity `Dynamics::kinematics` evaluates.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Kinematics {
-    /// s(ψ_j) [m], the piston travel from outer dead centre.
+    /// s(ψ_j) (m), the piston travel from outer dead centre.
     Travel,
-    /// s'(ψ_j) = ds/dφ [m/rad].
+    /// s'(ψ_j) = ds/dφ (m/rad).
     Velocity,
 }
 
 impl Dynamics {
-    /// The units of a machine under gravity `g` [m/s²] (0: none).
+    /// The units of a machine under gravity `g` (m/s²) (0: none).
     pub fn new(units: &[PhysicalCylinder], g: f64) -> Result<Self> {
         if units.is_empty() {
             return Err(MechanismError::Empty {
@@ -282,7 +282,7 @@ impl Dynamics {
         })
     }
 
-    /// U(φ) [J]: Σ m·g·height, each unit from its own ψ = 0 configuration.
+    /// U(φ) (J): Σ m·g·height, each unit from its own ψ = 0 configuration.
     pub fn potential_energy<'a>(
         &self,
         phi: impl Into<Phi<'a>>,
@@ -293,7 +293,7 @@ impl Dynamics {
             .evaluate(Quantity::PotentialEnergy, phi, out, parallelism)
     }
 
-    /// The gravity torque on the shaft, −dU/dφ [N·m].
+    /// The gravity torque on the shaft, −dU/dφ (N·m).
     pub fn gravity_torque<'a>(
         &self,
         phi: impl Into<Phi<'a>>,
@@ -336,7 +336,7 @@ impl Dynamics {
         self.sliders.is_empty()
     }
 
-    /// J(φ) [kg·m²] into `inertia` and J'(φ) [kg·m²/rad] into `slope`, with `shaft_inertia`
+    /// J(φ) (kg·m²) into `inertia` and J'(φ) (kg·m²/rad) into `slope`, with `shaft_inertia`
     /// I_w (everything that turns rigidly with the shaft) added to J.
     pub fn reduced_inertia<'a>(
         &self,
@@ -389,7 +389,7 @@ impl Dynamics {
         Ok(())
     }
 
-    /// The gas torque Σ_j F_j(φ_i)·s'(ψ_j) [N·m], given the net piston force of every unit at
+    /// The gas torque Σ_j F_j(φ_i)·s'(ψ_j) (N·m), given the net piston force of every unit at
     /// every φ (`forces`, unit-major like `kinematics`; positive pushes the piston toward
     /// the shaft, along increasing s).
     pub fn gas_torque<'a>(

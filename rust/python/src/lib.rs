@@ -669,8 +669,8 @@ mod _native {
     }
 
     /// machine_evaluate(quantity, units, g, phi, parallel_threshold=None) -> flat array:
-    /// "potential_energy" U [J] or "gravity_torque" −dU/dφ [N·m] (like phi), or the piston
-    /// "travel" s [m] or "velocity" ds/dφ [m/rad] of every unit (unit-major, units × phi).
+    /// "potential_energy" U (J) or "gravity_torque" −dU/dφ (N·m) (like phi), or the piston
+    /// "travel" s (m) or "velocity" ds/dφ (m/rad) of every unit (unit-major, units × phi).
     #[pyfunction]
     #[pyo3(signature = (quantity, units, g, phi, parallel_threshold=None))]
     fn machine_evaluate<'py>(
@@ -704,7 +704,7 @@ mod _native {
     }
 
     /// machine_inertia(units, shaft_inertia, phi, parallel_threshold=None) ->
-    /// {"J", "dJ_dphi"}: the reduced moment of inertia [kg·m²] and its slope [kg·m²/rad].
+    /// {"J", "dJ_dphi"}: the reduced moment of inertia (kg·m²) and its slope (kg·m²/rad).
     #[pyfunction]
     #[pyo3(signature = (units, shaft_inertia, phi, parallel_threshold=None))]
     fn machine_inertia<'py>(
@@ -726,8 +726,8 @@ mod _native {
         named(py, [("J", inertia), ("dJ_dphi", slope)])
     }
 
-    /// machine_gas_torque(units, phi, forces, parallel_threshold=None) -> Σ_j F_j s'_j [N·m];
-    /// `forces` [N] are unit-major (units × phi), positive toward the shaft.
+    /// machine_gas_torque(units, phi, forces, parallel_threshold=None) -> Σ_j F_j s'_j (N·m);
+    /// `forces` (N) are unit-major (units × phi), positive toward the shaft.
     #[pyfunction]
     #[pyo3(signature = (units, phi, forces, parallel_threshold=None))]
     fn machine_gas_torque<'py>(
