@@ -62,32 +62,11 @@ pub(crate) struct Slider {
 
 impl PhysicalCylinder {
     fn validate(&self) -> Result<()> {
-        let non_negative = |x: f64| x >= 0.0;
-        check("crank_radius", self.crank_radius, "crank_radius > 0", |r| {
-            r > 0.0
+        // The geometry and mass rules are those of the dimensionless moments.
+        self.masses(0.0).validate_masses()?;
+        check("rod_inertia", self.rod_inertia, "rod_inertia >= 0", |x| {
+            x >= 0.0
         })?;
-        check(
-            "rod_length",
-            self.rod_length,
-            "rod_length > crank_radius",
-            |l| l > self.crank_radius,
-        )?;
-        check(
-            "piston_mass",
-            self.piston_mass,
-            "piston_mass >= 0",
-            non_negative,
-        )?;
-        check("rod_mass", self.rod_mass, "rod_mass >= 0", non_negative)?;
-        check("rod_cg", self.rod_cg, "0 <= rod_cg <= rod_length", |z| {
-            (0.0..=self.rod_length).contains(&z)
-        })?;
-        check(
-            "rod_inertia",
-            self.rod_inertia,
-            "rod_inertia >= 0",
-            non_negative,
-        )?;
         check("phase", self.phase, "a finite angle in radians", |_| true)?;
         check(
             "inclination",
@@ -95,37 +74,12 @@ impl PhysicalCylinder {
             "a finite angle in radians",
             |_| true,
         )?;
-        check(
-            "crank_mass",
-            self.crank_mass,
-            "crank_mass >= 0",
-            non_negative,
-        )?;
-        check(
-            "crank_cg_radius",
-            self.crank_cg_radius,
-            "crank_cg_radius >= 0",
-            non_negative,
-        )?;
-        check(
-            "counterweight_mass",
-            self.counterweight_mass,
-            "counterweight_mass >= 0",
-            non_negative,
-        )?;
-        check(
-            "counterweight_radius",
-            self.counterweight_radius,
-            "counterweight_radius >= 0",
-            non_negative,
-        )?;
         Ok(())
     }
 
-    /// The gravity moments U1, U2 (J) of this unit (eq. 5–7 times I_w ω²: g times the
-    /// moment arms), as the unit of an SI engine whose U* is U in joules.
-    fn gravity_unit(&self, g: f64) -> Cylinder {
-        let masses = PhysicalUnit {
+    /// This unit's geometry and masses as a `PhysicalUnit`, for its rules and moment arms.
+    fn masses(&self, g: f64) -> PhysicalUnit {
+        PhysicalUnit {
             crank_radius: self.crank_radius,
             rod_length: self.rod_length,
             rod_cg: self.rod_cg,
@@ -135,12 +89,18 @@ impl PhysicalCylinder {
             crank_cg_radius: self.crank_cg_radius,
             counterweight_mass: self.counterweight_mass,
             counterweight_radius: self.counterweight_radius,
-            // Not used by the moment arms: the energies here are in joules, not ÷ I_w ω².
+            // Neither used by the rules nor by the moment arms: energies here are in
+            // joules, not ÷ I_w ω².
             shaft_inertia: 1.0,
             rpm: 1.0,
             g,
-        };
-        let (reciprocating, rotating) = masses.moment_arms();
+        }
+    }
+
+    /// The gravity moments U1, U2 (J) of this unit (eq. 5–7 times I_w ω²: g times the
+    /// moment arms), as the unit of an SI engine whose U* is U in joules.
+    fn gravity_unit(&self, g: f64) -> Cylinder {
+        let (reciprocating, rotating) = self.masses(g).moment_arms();
         Cylinder {
             phase: self.phase,
             inclination: self.inclination,

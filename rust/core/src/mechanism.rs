@@ -187,7 +187,8 @@ pub struct PhysicalUnit {
 }
 
 impl PhysicalUnit {
-    fn validate(&self) -> Result<()> {
+    /// The rules of the geometry and the masses (everything but I_w, the speed and g).
+    pub(crate) fn validate_masses(&self) -> Result<()> {
         let positive = |x: f64| x > 0.0;
         let non_negative = |x: f64| x >= 0.0;
         check(
@@ -236,6 +237,12 @@ impl PhysicalUnit {
             "counterweight_radius >= 0",
             non_negative,
         )?;
+        Ok(())
+    }
+
+    fn validate(&self) -> Result<()> {
+        let positive = |x: f64| x > 0.0;
+        self.validate_masses()?;
         check(
             "shaft_inertia",
             self.shaft_inertia,
