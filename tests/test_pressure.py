@@ -1,0 +1,694 @@
+"""Indicator diagrams (multicrank.pressure): tables, CSV files and the synthetic cycles.
+
+Checked: the interpolants pass through the table and are periodic (value, and slope where
+they are C¹), θ wraps and keeps its shape; every bad input is a MechanismError naming the
+parameter (or the file, line and column); CSV files round-trip in every unit, absolute
+pressures become gauge exactly; the ideal compressor has p_s and p_d on its suction and
+discharge branches, exact polytropes between and the closed-form indicated work; the engine
+cycle is an exact polytrope without heat release, agrees with the first law integrated by an
+ODE solver with it, is continuous, and holds the gas-exchange pressure where it should.
+"""
+
+from __future__ import annotations
+
+import math
+import pickle
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import multicrank as mc
+from multicrank.pressure import (
+    EXAMPLE_COMPRESSOR_CSV,
+    INTERPOLATIONS,
+    PRESSURE_UNITS,
+    STANDARD_ATMOSPHERE,
+    IndicatorDiagram,
+)
+
+TAU = 2 * math.pi
+REF = STANDARD_ATMOSPHERE
+
+# A cylinder of this library: θ = 0 at outer dead centre, where the volume is smallest.
+R, LAM, BORE, CLEARANCE = 0.05, 0.25, 0.08, 2.5e-5
+AREA = math.pi * BORE**2 / 4
+
+
+def volume(theta):
+    theta = np.asarray(theta, dtype=float)
+    return CLEARANCE + AREA * R * (1 - np.cos(theta) + (1 - np.sqrt(1 - LAM**2 * np.sin(theta) ** 2)) / LAM)
+
+
+def volume_rate(theta):
+    """dV/dθ [m³/rad] of `volume`, in closed form."""
+    s, c = np.sin(theta), np.cos(theta)
+    return AREA * R * (s + LAM * s * c / np.sqrt(1 - LAM**2 * s**2))
+
+
+V_MIN, V_MAX = CLEARANCE, CLEARANCE + 2 * AREA * R
+
+
+def crossing(target, lo, hi):
+    """θ in [lo, hi] with volume(θ) = target (volume monotone there), by bisection."""
+    f_lo = volume(lo) - target
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        if (volume(mid) - target) * f_lo > 0:
+            lo = mid
+        else:
+            hi = mid
+    return 0.5 * (lo + hi)
+
+
+def smooth_table(points=73, cycle=TAU, start=0.0):
+    angle = np.linspace(start, start + cycle, points)
+    pressure = 1e5 + 3e5 * np.cos(TAU / cycle * angle) + 1e5 * np.sin(2 * TAU / cycle * angle)
+    pressure[-1] = pressure[0]
+    return angle, pressure
+
+
+# -- interpolation ------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("kind", INTERPOLATIONS)
+@pytest.mark.parametrize("cycle", [TAU, 2 * TAU])
+def test_interpolant_passes_through_the_nodes_and_wraps(kind, cycle):
+    angle, pressure = smooth_table(points=37, cycle=cycle)
+    diagram = IndicatorDiagram(angle, pressure, cycle=cycle, kind=kind)
+    assert diagram.kind == kind and diagram.cycle == cycle and diagram.strokes == (2 if cycle == TAU else 4)
+    np.testing.assert_allclose(diagram(angle), pressure, rtol=0, atol=1e-9 * 4e5)
+    # θ outside [0, Φ) wraps: a whole number of cycles away gives the same pressure.
+    theta = np.linspace(-0.3, cycle + 0.3, 101)
+    for turns in (-3, -1, 1, 2, 7):
+        np.testing.assert_allclose(diagram(theta + turns * cycle), diagram(theta), rtol=0, atol=1e-6)
+    # Between the nodes it is an interpolant of the smooth function the table samples.
+    exact = 1e5 + 3e5 * np.cos(TAU / cycle * theta) + 1e5 * np.sin(2 * TAU / cycle * theta)
+    tolerance = {"periodic-cubic": 1e-3, "pchip": 2e-2, "linear": 4e-2}[kind]
+    np.testing.assert_allclose(diagram(theta), exact, rtol=0, atol=tolerance * 4e5)
+
+
+@pytest.mark.parametrize("kind", ["periodic-cubic", "pchip"])
+def test_slope_is_periodic_for_the_smooth_kinds(kind):
+    angle, pressure = smooth_table(points=25)
+    diagram = IndicatorDiagram(angle, pressure, cycle=TAU, kind=kind)
+    h = 1e-6
+    left = (diagram(TAU - h) - diagram(TAU - 2 * h)) / h  # one-sided, inside the last interval
+    right = (diagram(2 * h) - diagram(h)) / h  # inside the first
+    assert math.isclose(left, right, rel_tol=1e-4, abs_tol=1.0)
+    assert math.isclose(diagram.derivative(0.0), diagram.derivative(TAU - 1e-12), rel_tol=1e-6, abs_tol=1e-3)
+    np.testing.assert_allclose(diagram.derivative(0.0), right, rtol=1e-4)
+
+
+def test_linear_is_piecewise_linear_and_not_smoothed():
+    angle = np.array([0.0, 1.0, 2.0, 4.0, TAU])
+    pressure = np.array([0.0, 10.0, -5.0, 3.0, 0.0])
+    diagram = IndicatorDiagram(angle, pressure, cycle=TAU, kind="linear")
+    assert diagram(0.5) == pytest.approx(5.0) and diagram(3.0) == pytest.approx(-1.0)
+    assert diagram(TAU + 0.5) == pytest.approx(5.0)
+    assert diagram.derivative(1.5) == pytest.approx(-15.0)
+
+
+def test_shapes_are_kept():
+    diagram = IndicatorDiagram(*smooth_table(), cycle=TAU)
+    scalar = diagram(0.3)
+    assert isinstance(scalar, np.float64)
+    assert diagram(np.zeros((3, 4))).shape == (3, 4)
+    assert diagram(np.zeros((2, 0, 5))).shape == (2, 0, 5)
+    assert diagram([0.1, 0.2]).shape == (2,)
+    assert isinstance(diagram.derivative(0.3), np.float64)
+    assert np.isnan(diagram(np.nan)) and np.isnan(diagram(np.inf))
+
+
+def test_table_may_start_anywhere():
+    """A four-stroke table over [−360°, 360°] is the same diagram as over [0°, 720°]."""
+    shifted = IndicatorDiagram(*smooth_table(points=145, cycle=2 * TAU, start=-TAU), cycle=2 * TAU)
+    plain = IndicatorDiagram(*smooth_table(points=145, cycle=2 * TAU), cycle=2 * TAU)
+    theta = np.linspace(0, 2 * TAU, 333)
+    np.testing.assert_allclose(shifted(theta), plain(theta), rtol=0, atol=1e-6)
+    assert shifted.breakpoints[0] == -TAU and shifted.breakpoints[-1] == TAU
+
+
+def test_attributes_are_the_table_read_only():
+    angle, pressure = smooth_table()
+    diagram = IndicatorDiagram(angle, pressure, cycle=TAU)
+    np.testing.assert_array_equal(diagram.angle, angle)
+    np.testing.assert_array_equal(diagram.pressure, pressure)
+    np.testing.assert_array_equal(diagram.breakpoints, angle)
+    with pytest.raises(ValueError, match="read-only"):
+        diagram.pressure[0] = 1.0
+    angle[3] = 99.0  # the diagram holds its own copy
+    assert diagram.angle[3] != 99.0
+    assert "73 points" in repr(diagram) and "two-stroke" in repr(diagram) and "gauge" in repr(diagram)
+
+
+def test_closure_within_tolerance_is_made_exact():
+    angle, pressure = smooth_table()
+    pressure[-1] *= 1 + 1e-8
+    diagram = IndicatorDiagram(angle, pressure, cycle=TAU)
+    assert diagram.pressure[-1] == diagram.pressure[0]
+    angle[-1] += 1e-7  # within the span tolerance
+    assert IndicatorDiagram(angle, pressure, cycle=TAU).angle[-1] == TAU
+
+
+def test_mean_pressure_and_indicated_work_in_closed_form():
+    theta = np.linspace(0, TAU, 721)
+    # p = 2e5 + 1e5 sin θ: the mean is 2e5; with V = V0 + A(1 − cos θ), ∮p dV = ∫ 1e5 sin θ · A sin θ dθ = 1e5·A·π.
+    diagram = IndicatorDiagram(theta, 2e5 + 1e5 * np.sin(theta), cycle=TAU)
+    assert diagram.mean_pressure() == pytest.approx(2e5, rel=1e-12)
+    work = diagram.indicated_work(lambda t: 1e-4 + 2e-3 * (1 - np.cos(t)))
+    assert work == pytest.approx(1e5 * 2e-3 * math.pi, rel=1e-9)
+    # Clockwise in the p-V plane (pressure high while expanding): positive, an engine.
+    linear = IndicatorDiagram(theta, 2e5 + 1e5 * np.sin(theta), cycle=TAU, kind="linear")
+    assert linear.mean_pressure() == pytest.approx(2e5, rel=1e-12)
+    assert linear.indicated_work(lambda t: 1e-4 + 2e-3 * (1 - np.cos(t))) == pytest.approx(
+        1e5 * 2e-3 * math.pi, rel=1e-4
+    )
+
+
+def test_pickles():
+    diagram = IndicatorDiagram(*smooth_table(), cycle=TAU, kind="pchip")
+    again = pickle.loads(pickle.dumps(diagram))
+    theta = np.linspace(0, TAU, 50)
+    np.testing.assert_array_equal(again(theta), diagram(theta))
+
+
+def test_scipy_is_imported_only_when_used():
+    code = "import sys, multicrank.pressure; assert 'scipy' not in sys.modules, 'scipy imported eagerly'"
+    subprocess.run([sys.executable, "-c", code], check=True)
+
+
+# -- bad tables --------------------------------------------------------------------------------
+
+
+def bad(match, *args, **kwargs):
+    with pytest.raises(mc.MechanismError, match=match) as info:
+        IndicatorDiagram(*args, **kwargs)
+    assert isinstance(info.value, ValueError)
+    return str(info.value)
+
+
+def test_closure_failure_explains_the_mismatch():
+    angle, pressure = smooth_table()
+    pressure[-1] += 1e3
+    message = bad("does not close", angle, pressure, cycle=TAU)
+    assert "closure_tolerance" in message and "1000 Pa" in message
+    IndicatorDiagram(angle, pressure, cycle=TAU, closure_tolerance=1e-2)  # accepted when asked
+
+
+def test_tables_that_do_not_cover_the_cycle():
+    angle, pressure = smooth_table()
+    message = bad("cover exactly one cycle", angle[:-1], pressure[:-1], cycle=TAU)  # 0 … 355°, no closing point
+    assert "355°" in message and "repeated at the end" in message
+    bad("cover exactly one cycle", angle, pressure, cycle=2 * TAU)  # a two-stroke table as four-stroke
+    bad("cover exactly one cycle", angle * 1.01, pressure, cycle=TAU)
+
+
+@pytest.mark.parametrize("name", ["angle", "pressure"])
+@pytest.mark.parametrize("value", [np.nan, np.inf])
+def test_non_finite_values_name_the_array(name, value):
+    angle, pressure = smooth_table()
+    table = {"angle": angle, "pressure": pressure}
+    table[name][5] = value
+    bad(rf"{name}\[5\] = {value} is not finite", table["angle"], table["pressure"], cycle=TAU)
+
+
+def test_non_increasing_angles():
+    angle, pressure = smooth_table()
+    angle[10] = angle[9]
+    bad(r"angle must increase strictly: angle\[10\]", angle, pressure, cycle=TAU)
+    bad("angle must increase strictly", angle[::-1], pressure, cycle=TAU)
+
+
+@pytest.mark.parametrize(
+    ("keywords", "match"),
+    [
+        ({"cycle": 4}, r"cycle = 4.0 is not allowed.*4\*math.pi"),
+        ({"cycle": 3.0}, "cycle = 3.0 is not allowed"),
+        ({"cycle": "2pi"}, "cycle must be a real number"),
+        ({"cycle": TAU, "kind": "cubic"}, "kind = 'cubic' is not allowed"),
+        ({"cycle": TAU, "closure_tolerance": -1}, "closure_tolerance"),
+    ],
+)
+def test_bad_options(keywords, match):
+    bad(match, *smooth_table(), **keywords)
+
+
+def test_bad_shapes_and_lengths():
+    angle, pressure = smooth_table()
+    bad("angle must be a 1-D array", angle[None, :], pressure, cycle=TAU)
+    bad("pressure must be a 1-D array", angle, pressure[None, :], cycle=TAU)
+    bad("same length", angle, pressure[:-1], cycle=TAU)
+    bad("at least 4 points", [0.0, 1.0, TAU], [1.0, 2.0, 1.0], cycle=TAU)
+    bad("pressure must be a real number", angle, ["x"] * angle.size, cycle=TAU)
+    with pytest.raises(mc.MechanismError, match="theta"):
+        IndicatorDiagram(angle, pressure, cycle=TAU)("zero")
+
+
+def test_bad_volume_for_the_work():
+    diagram = IndicatorDiagram(*smooth_table(), cycle=TAU)
+    with pytest.raises(mc.MechanismError, match="volume must be a callable"):
+        diagram.indicated_work(1e-3)
+    with pytest.raises(mc.MechanismError, match="finite and positive"):
+        diagram.indicated_work(lambda t: np.cos(t))
+    with pytest.raises(mc.MechanismError, match="periodic"):
+        diagram.indicated_work(lambda t: 1.0 + t)
+
+
+# -- CSV files ---------------------------------------------------------------------------------
+
+
+def write(path, text):
+    path.write_text(text, encoding="utf-8")
+    return path
+
+
+@pytest.mark.parametrize("unit", sorted(PRESSURE_UNITS))
+@pytest.mark.parametrize("angle_unit", ["deg", "rad"])
+def test_csv_round_trip_in_every_unit(tmp_path, unit, angle_unit):
+    angle, pressure = smooth_table()
+    factor = {"Pa": 1.0, "kPa": 1e3, "bar": 1e5, "MPa": 1e6, "psi": 4.4482216152605 / 0.0254**2}[unit]
+    angles = np.degrees(angle) if angle_unit == "deg" else angle
+    rows = "".join(f"{float(a)!r},{float(p / factor)!r}\n" for a, p in zip(angles, pressure, strict=True))
+    path = write(tmp_path / "table.csv", f"angle,pressure\n{rows}")
+    diagram = IndicatorDiagram.from_csv(path, angle_unit=angle_unit, pressure_unit=unit)
+    assert diagram.cycle == TAU  # inferred
+    np.testing.assert_allclose(diagram.angle, angle, rtol=1e-15, atol=1e-15)
+    np.testing.assert_allclose(diagram.pressure, pressure, rtol=1e-14, atol=1e-9)
+
+
+def test_psi_is_the_exact_pound_force_per_square_inch():
+    assert PRESSURE_UNITS["psi"] == pytest.approx(0.45359237 * 9.80665 / 0.0254**2, rel=1e-15)
+    assert PRESSURE_UNITS["psi"] == pytest.approx(6894.757293168361, rel=1e-15)
+
+
+@pytest.mark.parametrize("reference", [STANDARD_ATMOSPHERE, 98_000.0, 0.0])
+def test_absolute_pressures_become_gauge_exactly(tmp_path, reference):
+    # Absolute kPa values; gauge = 1000·value − reference exactly (all values are exact in binary).
+    absolute_kpa = [300.0, 150.5, 100.0, 96.25, 300.0]
+    degrees = [0.0, 90.0, 180.0, 270.0, 360.0]
+    path = write(tmp_path / "abs.csv", "".join(f"{d},{p}\n" for d, p in zip(degrees, absolute_kpa, strict=True)))
+    keywords = {} if reference == STANDARD_ATMOSPHERE else {"reference_pressure": reference}
+    diagram = IndicatorDiagram.from_csv(path, pressure_unit="kPa", absolute=True, kind="linear", **keywords)
+    assert diagram.pressure.tolist() == [1000.0 * p - reference for p in absolute_kpa]
+    gauge = IndicatorDiagram.from_csv(path, pressure_unit="kPa", kind="linear")
+    assert gauge.pressure.tolist() == [1000.0 * p for p in absolute_kpa]
+
+
+def test_csv_layouts(tmp_path):
+    """Comments, a named header, other columns, semicolons, tabs, white space, four-stroke."""
+    degrees = np.linspace(0, 720, 9)
+    bar = [1.0, 2.0, 3.0, 2.0, 1.5, 1.0, 1.2, 1.1, 1.0]
+    lines = [f"{i};{d};{p}" for i, (d, p) in enumerate(zip(degrees, bar, strict=True))]
+    text = "# measured nowhere\n\n# another comment\nindex;theta;p_bar\n" + "\n".join(lines) + "\n"
+    path = write(tmp_path / "semicolon.csv", text)
+    expected = (np.radians(degrees), np.array(bar) * 1e5)
+    for diagram in (
+        IndicatorDiagram.from_csv(path, pressure_unit="bar", angle_column="theta", pressure_column="p_bar"),
+        IndicatorDiagram.from_csv(path, pressure_unit="bar", angle_column=1, pressure_column=2),
+    ):
+        assert diagram.cycle == 2 * TAU
+        np.testing.assert_allclose(diagram.angle, expected[0], rtol=1e-15)
+        np.testing.assert_allclose(diagram.pressure, expected[1], rtol=1e-15)
+    tabs = write(tmp_path / "tabs.tsv", text.replace(";", "\t"))
+    spaces = write(tmp_path / "spaces.txt", text.replace(";", "   "))
+    explicit = write(tmp_path / "pipes.txt", text.replace(";", "|"))
+    for p, delimiter in ((tabs, None), (spaces, None), (explicit, "|")):
+        diagram = IndicatorDiagram.from_csv(
+            p, pressure_unit="bar", angle_column=1, pressure_column=2, delimiter=delimiter
+        )
+        np.testing.assert_allclose(diagram.pressure, expected[1], rtol=1e-15)
+    # The cycle may be given; a 720° table is no two-stroke one.
+    IndicatorDiagram.from_csv(path, pressure_unit="bar", angle_column=1, pressure_column=2, cycle=4 * math.pi)
+    with pytest.raises(mc.MechanismError, match=r"semicolon.csv: angle must cover exactly one cycle"):
+        IndicatorDiagram.from_csv(path, angle_column=1, pressure_column=2, cycle=TAU)
+
+
+def test_the_example_file_is_the_synthetic_compressor():
+    assert EXAMPLE_COMPRESSOR_CSV.is_file()
+    text = EXAMPLE_COMPRESSOR_CSV.read_text(encoding="utf-8")
+    assert "SYNTHETIC" in text and "NOT measured" in text
+    diagram = IndicatorDiagram.from_csv(EXAMPLE_COMPRESSOR_CSV, pressure_unit="bar", absolute=True)
+    r, lam = 0.03, 0.25
+    area = math.pi * 0.08**2 / 4
+
+    def example_volume(theta):
+        return 1.5e-5 + area * r * (1 - np.cos(theta) + (1 - np.sqrt(1 - lam**2 * np.sin(theta) ** 2)) / lam)
+
+    made = IndicatorDiagram.compressor(
+        example_volume, suction_pressure=1.0e5, discharge_pressure=8.0e5, polytropic_exponent=1.3, points=73
+    )
+    np.testing.assert_allclose(diagram.angle, made.angle, rtol=0, atol=1e-11)
+    np.testing.assert_allclose(diagram.pressure, made.pressure, rtol=0, atol=1e-5)
+
+
+def csv_error(tmp_path, text, match, **keywords):
+    path = write(tmp_path / "bad.csv", text)
+    with pytest.raises(mc.MechanismError, match=match) as info:
+        IndicatorDiagram.from_csv(path, **keywords)
+    assert "bad.csv" in str(info.value)
+
+
+def test_csv_errors_name_file_line_and_column(tmp_path):
+    good = "angle,p\n0,1\n90,2\n180,3\n270,2\n360,1\n"
+    csv_error(tmp_path, good.replace("180,3", "180,three"), r"line 4, column 1 \(pressure_column\): 'three'")
+    csv_error(tmp_path, good.replace("180,3", "1.8e2x,3"), r"line 4, column 0 \(angle_column\)")
+    csv_error(tmp_path, good.replace("180,3", "180,nan"), r"line 4, column 1 .*not a finite number")
+    csv_error(tmp_path, good.replace("180,3", "180"), r"line 4: 1 column\(s\), but pressure_column = 1")
+    csv_error(tmp_path, good.replace("270,2", "170,2"), r"line 5, column 0 .*does not increase on line 4")
+    csv_error(tmp_path, good, r"pressure_column = 'bar' is not in the header", pressure_column="bar")
+    csv_error(tmp_path, "angle,p\n0,1\n90,2\n", "2 data row")
+    csv_error(tmp_path, good.replace("360,1", "350,1"), r"cannot infer the cycle.*350°")
+    csv_error(tmp_path, good.replace("360,1", "360,1.5"), "does not close")
+
+
+@pytest.mark.parametrize(
+    ("keywords", "match"),
+    [
+        ({"pressure_unit": "atm"}, "pressure_unit = 'atm' is not allowed"),
+        ({"pressure_unit": "pa"}, "pressure_unit = 'pa' is not allowed"),
+        ({"angle_unit": "grad"}, "angle_unit = 'grad' is not allowed"),
+        ({"absolute": "yes"}, "absolute must be True or False"),
+        ({"reference_pressure": np.nan}, "reference_pressure"),
+        ({"angle_column": -1}, "angle_column"),
+        ({"pressure_column": 0}, "angle_column and pressure_column must differ"),
+        ({"delimiter": ",,"}, "delimiter"),
+        ({"cycle": 5.0}, "cycle = 5.0"),
+    ],
+)
+def test_csv_bad_options(tmp_path, keywords, match):
+    path = write(tmp_path / "t.csv", "0,1\n90,2\n180,3\n270,2\n360,1\n")
+    with pytest.raises(mc.MechanismError, match=match):
+        IndicatorDiagram.from_csv(path, **keywords)
+
+
+def test_csv_unreadable_paths(tmp_path):
+    with pytest.raises(mc.MechanismError, match="is a directory"):
+        IndicatorDiagram.from_csv(tmp_path)
+    with pytest.raises(mc.MechanismError, match="no such file"):
+        IndicatorDiagram.from_csv(tmp_path / "missing.csv")
+    binary = tmp_path / "binary.csv"
+    binary.write_bytes(b"\x89PNG\r\n\x1a\n\xff\xfe\x00")
+    with pytest.raises(mc.MechanismError, match=r"binary\.csv' is not a UTF-8 text file"):
+        IndicatorDiagram.from_csv(binary)
+    with pytest.raises(mc.MechanismError, match="path must be a file path"):
+        IndicatorDiagram.from_csv(3)  # type: ignore[arg-type]
+
+
+# -- the ideal compressor -----------------------------------------------------------------------
+
+P_S, P_D, N = 1.0e5, 6.0e5, 1.3
+
+
+def compressor(**keywords):
+    options = {"suction_pressure": P_S, "discharge_pressure": P_D, "polytropic_exponent": N}
+    return IndicatorDiagram.compressor(volume, **{**options, **keywords})
+
+
+def test_compressor_branches_in_closed_form():
+    diagram = compressor()
+    theta, p = diagram.angle, diagram.pressure + REF  # absolute
+    v = volume(theta)
+    v4 = V_MIN * (P_D / P_S) ** (1 / N)  # suction opens
+    v2 = V_MAX * (P_S / P_D) ** (1 / N)  # discharge opens
+    theta4, theta2 = crossing(v4, 0.0, math.pi), crossing(v2, math.pi, TAU)
+    # The valve events are nodes of the table (kinks of the diagram).
+    assert np.min(np.abs(theta - theta4)) < 1e-9 and np.min(np.abs(theta - theta2)) < 1e-9
+    # θ = 0 is outer dead centre, the smallest volume: the end of discharge.
+    assert diagram(0.0) == P_D - REF and diagram(math.pi) == P_S - REF and diagram(TAU) == P_D - REF
+    reexpansion = theta < theta4 - 1e-9
+    suction = (theta >= theta4 - 1e-9) & (theta <= math.pi)
+    compression = (theta >= math.pi) & (theta <= theta2 + 1e-9)
+    discharge = theta >= theta2 - 1e-9
+    assert reexpansion.sum() > 50 and suction.sum() > 100 and compression.sum() > 100 and discharge.sum() > 20
+    np.testing.assert_allclose(p[suction], P_S, rtol=1e-15)
+    np.testing.assert_allclose(p[discharge], P_D, rtol=1e-15)
+    np.testing.assert_allclose(p[compression] * v[compression] ** N, P_S * V_MAX**N, rtol=1e-9)
+    np.testing.assert_allclose(p[reexpansion] * v[reexpansion] ** N, P_D * V_MIN**N, rtol=1e-9)
+
+
+@pytest.mark.parametrize("kind", INTERPOLATIONS)
+def test_compressor_indicated_work_is_the_ideal_work(kind):
+    """W = n/(n−1)·p_s·(V_1 − V_4)·[(p_d/p_s)^((n−1)/n) − 1] in absolute pressures, taken by the
+    gas (∮p dV < 0); gauge pressures give the same loop integral."""
+    v4 = V_MIN * (P_D / P_S) ** (1 / N)
+    ideal = N / (N - 1) * P_S * (V_MAX - v4) * ((P_D / P_S) ** ((N - 1) / N) - 1)
+    # The table is exact at its nodes; what is left is the interpolation between them, O(h²).
+    coarse = compressor(kind=kind)
+    assert coarse.indicated_work(volume) == pytest.approx(-ideal, rel=5e-5)
+    fine = compressor(kind=kind, points=2881)
+    assert fine.indicated_work(volume) == pytest.approx(-ideal, rel=5e-6)
+
+
+def test_compressor_gauge_input_is_the_same_cycle():
+    absolute = compressor()
+    gauge = compressor(suction_pressure=P_S - REF, discharge_pressure=P_D - REF, absolute=False)
+    np.testing.assert_allclose(gauge.pressure, absolute.pressure, rtol=0, atol=1e-9)
+    other = compressor(reference_pressure=0.0)  # a crankcase in vacuum: gauge = absolute
+    np.testing.assert_allclose(other.pressure, absolute.pressure + REF, rtol=1e-15)
+
+
+def test_compressor_events_follow_the_volume_not_the_angle():
+    """With V smallest at θ = π instead of 0, the whole cycle moves by π."""
+    shifted = IndicatorDiagram.compressor(
+        lambda t: volume(np.asarray(t) + math.pi), suction_pressure=P_S, discharge_pressure=P_D, polytropic_exponent=N
+    )
+    plain = compressor()
+    assert shifted(math.pi) == P_D - REF and shifted(0.0) == P_S - REF
+    theta4 = crossing(V_MIN * (P_D / P_S) ** (1 / N), 0.0, math.pi)
+    assert np.min(np.abs(shifted.breakpoints - (theta4 + math.pi))) < 1e-9
+    assert shifted.indicated_work(lambda t: volume(np.asarray(t) + math.pi)) == pytest.approx(
+        plain.indicated_work(volume), rel=1e-6
+    )
+
+
+def test_compressor_four_stroke_cycle_repeats_each_revolution():
+    diagram = compressor(cycle=2 * TAU, points=1441)
+    theta = np.linspace(0, TAU, 200)
+    np.testing.assert_allclose(diagram(theta + TAU), diagram(theta), rtol=0, atol=1e-6 * P_D)
+    assert diagram.indicated_work(volume) == pytest.approx(2 * compressor().indicated_work(volume), rel=1e-5)
+
+
+def test_compressor_bad_input():
+    with pytest.raises(mc.MechanismError, match="clearance is too large"):
+        compressor(discharge_pressure=P_S * 400)
+    with pytest.raises(mc.MechanismError, match=r"discharge_pressure = .* must exceed suction_pressure"):
+        compressor(discharge_pressure=P_S)
+    with pytest.raises(mc.MechanismError, match=r"suction_pressure .* above vacuum"):
+        compressor(suction_pressure=-2e5, absolute=False)
+    with pytest.raises(mc.MechanismError, match="polytropic_exponent"):
+        compressor(polytropic_exponent=0.0)
+    with pytest.raises(mc.MechanismError, match="points"):
+        compressor(points=3)
+    with pytest.raises(mc.MechanismError, match="volume must be a callable"):
+        IndicatorDiagram.compressor(2e-4, suction_pressure=P_S, discharge_pressure=P_D)
+    with pytest.raises(mc.MechanismError, match=r"volume\(θ\) must be finite and positive"):
+        IndicatorDiagram.compressor(lambda t: volume(t) - 1e-4, suction_pressure=P_S, discharge_pressure=P_D)
+    with pytest.raises(mc.MechanismError, match="constant"):
+        IndicatorDiagram.compressor(lambda t: np.full(np.shape(t), 1e-4), suction_pressure=P_S, discharge_pressure=P_D)
+    with pytest.raises(mc.MechanismError, match=r"volume\(θ\) must return an array of θ's shape"):
+        IndicatorDiagram.compressor(lambda t: np.ones(3), suction_pressure=P_S, discharge_pressure=P_D)
+
+
+# -- the engine ---------------------------------------------------------------------------------
+
+P_IN = 1.0e5
+
+
+def engine(**keywords):
+    return IndicatorDiagram.engine(volume, **{"intake_pressure": P_IN, "heat_release": 800.0, **keywords})
+
+
+def relative_to_firing(theta, cycle):
+    """θ as an angle relative to the firing dead centre, in [−Φ/2, Φ/2)."""
+    return np.remainder(np.asarray(theta) + cycle / 2, cycle) - cycle / 2
+
+
+@pytest.mark.parametrize("cycle", [TAU, 2 * TAU])
+def test_motored_engine_is_a_pure_polytrope(cycle):
+    kappa = 1.32
+    diagram = engine(cycle=cycle, heat_release=0.0, compression_exponent=kappa, expansion_exponent=kappa, kind="linear")
+    theta, p = diagram.angle, diagram.pressure + REF
+    t = relative_to_firing(theta, cycle)
+    closed = (t >= -math.pi) & (t <= math.pi - math.radians(40.0))  # intake closing … exhaust opening
+    invariant = p[closed] * volume(theta[closed]) ** kappa
+    np.testing.assert_allclose(invariant, P_IN * V_MAX**kappa, rtol=1e-9)
+    # Back to the start on expansion: the same pressure at the same volume either side of the firing dead centre.
+    assert diagram(math.radians(100.0)) == pytest.approx(diagram(cycle - math.radians(100.0)), rel=1e-9)
+    assert diagram(0.0) == pytest.approx(P_IN * (V_MAX / V_MIN) ** kappa - REF, rel=1e-12)
+
+
+def test_motored_engine_with_two_exponents():
+    diagram = engine(heat_release=0.0, compression_exponent=1.36, expansion_exponent=1.28)
+    theta, p = diagram.angle, diagram.pressure + REF
+    t = relative_to_firing(theta, 2 * TAU)
+    peak = P_IN * (V_MAX / V_MIN) ** 1.36
+    compression = (t >= -math.pi) & (t <= 0)
+    expansion = (t >= 0) & (t <= math.pi - math.radians(40.0))
+    np.testing.assert_allclose(p[compression] * volume(theta[compression]) ** 1.36, P_IN * V_MAX**1.36, rtol=1e-9)
+    np.testing.assert_allclose(p[expansion] * volume(theta[expansion]) ** 1.28, peak * V_MIN**1.28, rtol=1e-9)
+
+
+def wiebe_rate(t, heat, start, duration, a=5.0, m=2.0):
+    u = (t - start) / duration
+    if u < 0 or u > 1:
+        return 0.0
+    return heat * a * (m + 1) / duration * u**m * math.exp(-a * u ** (m + 1))
+
+
+@pytest.mark.parametrize("cycle", [TAU, 2 * TAU])
+def test_engine_follows_the_first_law(cycle):
+    """dp/dθ = (κ−1)/V·dQ/dθ − κ p/V·dV/dθ, integrated by an ODE solver from intake closing."""
+    from scipy.integrate import solve_ivp
+
+    start, duration, heat, closing = math.radians(-12.0), math.radians(55.0), 900.0, math.radians(30.0)
+    diagram = engine(
+        cycle=cycle, heat_release=heat, start_of_combustion=start, combustion_duration=duration, intake_closing=closing
+    )
+
+    def first_law(kappa):
+        def rate(t, p):
+            v = volume(t)
+            return (kappa - 1) / v * wiebe_rate(t, heat, start, duration) - kappa * p / v * volume_rate(t)
+
+        return rate
+
+    t = relative_to_firing(diagram.angle, cycle)
+    t_close, t_open = -math.pi + closing, math.pi - math.radians(40.0)
+    p, lo = P_IN, t_close
+    for hi, kappa in ((start, 1.35), (0.0, 1.35), (start + duration, 1.3), (t_open, 1.3)):
+        node = np.argmin(np.abs(t - hi))
+        # The events are nodes (the dead centres, found numerically, to ~1e-10 rad).
+        assert abs(t[node] - hi) < 1e-9
+        p = solve_ivp(first_law(kappa), (lo, t[node]), [p], method="DOP853", rtol=1e-12, atol=1e-6).y[0, -1]
+        assert diagram.pressure[node] + REF == pytest.approx(p, rel=1e-8)
+        lo = t[node]
+
+
+@pytest.mark.parametrize("cycle", [TAU, 2 * TAU])
+def test_fired_engine_peaks_after_ignition_and_does_work(cycle):
+    start, heat = math.radians(-8.0), 4000.0
+    fired = engine(cycle=cycle, start_of_combustion=start, heat_release=heat)
+    motored = engine(cycle=cycle, heat_release=0.0)
+    peak_at = relative_to_firing(fired.angle[np.argmax(fired.pressure)], cycle)
+    assert start < peak_at < start + math.radians(60.0)
+    assert np.max(fired.pressure) > 2 * np.max(motored.pressure)
+    # The heat only adds pressure, and only from the start of combustion on.
+    t = relative_to_firing(fired.angle, cycle)
+    before, burning = t <= start, (t > start) & (t < math.pi - math.radians(40.0))
+    np.testing.assert_array_equal(fired.pressure[before], motored.pressure[before])
+    assert np.all(fired.pressure[burning] >= motored.pressure[burning])
+    assert np.all(fired.pressure[burning & (t > start + 0.05)] > motored.pressure[burning & (t > start + 0.05)])
+    work = fired.indicated_work(volume)
+    # Positive, less than the heat released (the exhaust takes the rest), and not negligible.
+    assert 0.2 * heat < work < heat * (1 - math.exp(-5.0))
+    # Motored with equal exponents, the blowdown loses a little of the compression work.
+    assert engine(cycle=cycle, heat_release=0.0, expansion_exponent=1.35).indicated_work(volume) < 0
+
+
+@pytest.mark.parametrize("cycle", [TAU, 2 * TAU])
+@pytest.mark.parametrize("synthetic", ["engine", "compressor"])
+def test_synthetic_cycles_are_continuous(cycle, synthetic):
+    """The largest step between neighbouring table points halves with the step: no jump anywhere."""
+
+    def largest_step(points):
+        if synthetic == "engine":
+            diagram = engine(cycle=cycle, points=points, intake_closing=math.radians(35.0))
+        else:
+            diagram = compressor(cycle=cycle, points=points)
+        return np.max(np.abs(np.diff(diagram.pressure))), np.max(np.abs(diagram.pressure))
+
+    coarse, scale = largest_step(721)
+    fine, _ = largest_step(1441)
+    assert fine < 0.6 * coarse and coarse < 0.05 * scale
+
+
+def test_four_stroke_gas_exchange_is_at_constant_pressure():
+    closing = math.radians(30.0)
+    diagram = engine(intake_closing=closing, intake_pressure=1.4e5)
+    theta = diagram.angle
+    exchange = (theta >= math.pi) & (theta <= 3 * math.pi + closing)
+    assert exchange.sum() > 700
+    assert np.all(diagram.pressure[exchange] == 1.4e5 - REF)
+    between = np.linspace(math.pi, 3 * math.pi + closing, 1001)
+    np.testing.assert_allclose(diagram(between), 1.4e5 - REF, rtol=1e-12)
+    # Outside, the cylinder is closed: the pressure moves.
+    assert diagram(3 * math.pi + closing + 0.2) > 1.4e5 - REF
+    assert diagram(math.pi - 0.1) > 1.4e5 - REF
+
+
+def test_two_stroke_scavenging_is_at_constant_pressure():
+    closing = math.radians(45.0)
+    diagram = engine(cycle=TAU, intake_closing=closing, points=721)
+    theta = diagram.angle
+    exchange = (theta >= math.pi) & (theta <= math.pi + closing)
+    assert exchange.sum() > 80
+    assert np.all(diagram.pressure[exchange] == P_IN - REF)
+
+
+def test_engine_gauge_input_and_reference():
+    absolute = engine()
+    gauge = engine(intake_pressure=P_IN - REF, absolute=False)
+    np.testing.assert_allclose(gauge.pressure, absolute.pressure, rtol=0, atol=1e-6)
+
+
+@pytest.mark.parametrize(
+    ("keywords", "match"),
+    [
+        ({"start_of_combustion": -math.radians(200.0)}, "start_of_combustion = .* out of range"),
+        ({"combustion_duration": math.radians(150.0)}, "combustion_duration = .* out of range"),
+        ({"combustion_duration": 0.0}, "combustion_duration"),
+        ({"compression_exponent": 1.0}, "compression_exponent"),
+        ({"expansion_exponent": np.nan}, "expansion_exponent"),
+        ({"heat_release": -1.0}, "heat_release"),
+        ({"wiebe_a": 0.0}, "wiebe_a"),
+        ({"wiebe_m": -1.0}, "wiebe_m"),
+        ({"exhaust_opening": 0.0}, "exhaust_opening"),
+        ({"exhaust_opening": 4.0}, "exhaust_opening"),
+        ({"intake_closing": -0.1}, "intake_closing"),
+        ({"intake_closing": math.pi}, "intake_closing"),
+        ({"intake_pressure": 0.0}, "intake_pressure"),
+        ({"cycle": 2}, "cycle = 2.0"),
+        ({"absolute": 1}, "absolute must be True or False"),
+    ],
+)
+def test_engine_bad_input(keywords, match):
+    with pytest.raises(mc.MechanismError, match=match):
+        engine(**keywords)
+
+
+def test_engine_needs_the_smallest_volume_at_zero():
+    with pytest.raises(mc.MechanismError, match="smallest at θ = 0"):
+        IndicatorDiagram.engine(lambda t: volume(np.asarray(t) + 0.5), intake_pressure=P_IN, heat_release=0.0)
+    with pytest.raises(mc.MechanismError, match="one minimum and one maximum per revolution"):
+        IndicatorDiagram.engine(lambda t: volume(2 * np.asarray(t)), intake_pressure=P_IN, heat_release=0.0)
+
+
+# -- property -----------------------------------------------------------------------------------
+
+
+@settings(max_examples=30, deadline=None)
+@given(
+    steps=st.lists(st.floats(0.2, 1.0), min_size=3, max_size=30),
+    values=st.lists(st.floats(-1e6, 1e7), min_size=31, max_size=31),
+    start=st.floats(-10.0, 10.0),
+    cycle=st.sampled_from([TAU, 2 * TAU]),
+    kind=st.sampled_from(INTERPOLATIONS),
+)
+def test_random_tables_interpolate_through_the_nodes_periodically(steps, values, start, cycle, kind):
+    spacing = np.asarray(steps) / np.sum(steps) * cycle
+    angle = start + np.concatenate(([0.0], np.cumsum(spacing)))
+    angle[-1] = start + cycle
+    pressure = np.asarray(values[: angle.size])
+    pressure[-1] = pressure[0]
+    diagram = IndicatorDiagram(angle, pressure, cycle=cycle, kind=kind)
+    scale = 1.0 + np.max(np.abs(pressure))
+    np.testing.assert_allclose(diagram(angle), pressure, rtol=0, atol=1e-9 * scale)
+    for turns in (-2, 1, 3):
+        np.testing.assert_allclose(diagram(angle + turns * cycle), pressure, rtol=0, atol=1e-9 * scale)
+    between = 0.5 * (angle[:-1] + angle[1:])
+    np.testing.assert_allclose(diagram(between + cycle), diagram(between), rtol=0, atol=1e-9 * scale)
+    assert diagram(start) == pytest.approx(diagram(start + cycle), abs=1e-9 * scale)
