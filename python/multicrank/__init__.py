@@ -36,6 +36,7 @@ from .harmonics import (
 from .machine import Cylinder, Machine
 from .mechanism import STANDARD_GRAVITY, crank_phases, dimensionless_moments
 from .presets import LAYOUTS, Layout, layout_engine
+from .pressure import IndicatorDiagram
 
 # The sweep machinery pulls in pandas (and, where installed, pyarrow's thread pools): load
 # it on first use, so that `import multicrank` stays light and starts no threads.
@@ -67,6 +68,7 @@ __all__ = [
     "DesignGrid",
     "EnergyExtrema",
     "Engine",
+    "IndicatorDiagram",
     "Layout",
     "Machine",
     "MechanismError",

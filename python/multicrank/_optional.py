@@ -1,6 +1,7 @@
 """Optional dependencies: imported where they are used, with a clear message when missing.
 
-multicrank itself depends on numpy, pandas, click and tqdm only. The rest are extras of the
+multicrank itself depends on numpy, scipy, pandas, click and tqdm only (scipy is imported
+where it is used, so that ``import multicrank`` stays light). The rest are extras of the
 distribution, imported through :func:`require`:
 
 ======== ==================================== ==========================================
