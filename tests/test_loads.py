@@ -1,0 +1,121 @@
+"""Loads, drives and the cycle quadrature that steady running and "balance" use."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+
+import multicrank as mc
+from multicrank._quadrature import CycleQuadrature, cycle_breaks
+from multicrank.loads import BALANCE, PowerLawLoad, as_torque, balance_torque
+
+
+def test_power_law_load_is_the_law_with_the_sign_of_omega():
+    load = PowerLawLoad(torque=120.0, speed=50.0, exponent=2.0)
+    omega = np.array([-100.0, -50.0, 0.0, 25.0, 50.0])
+    np.testing.assert_allclose(load(0.0, omega), [-480.0, -120.0, 0.0, 30.0, 120.0], rtol=1e-15)
+    assert load.coefficient == pytest.approx(120.0 / 2500.0, rel=1e-15)
+    assert PowerLawLoad(7.0, 3.0, exponent=0)(np.zeros(2), np.array([2.0, -2.0])).tolist() == [7.0, -7.0]
+
+
+@pytest.mark.parametrize(
+    ("field", "value"), [("torque", -1.0), ("speed", 0.0), ("speed", math.nan), ("exponent", -0.5)]
+)
+def test_power_law_load_refuses_bad_numbers_naming_them(field, value):
+    arguments = {"torque": 1.0, "speed": 1.0, "exponent": 2.0, field: value}
+    with pytest.raises(mc.MechanismError, match=field):
+        PowerLawLoad(**arguments)
+
+
+def test_as_torque_resolves_numbers_callables_and_balance():
+    assert as_torque(None, "load") is None
+    assert as_torque(BALANCE, "load", balance=True) == BALANCE
+    constant = as_torque(3.5, "load")
+    assert constant.kind == "constant" and not constant.depends_on_speed
+    np.testing.assert_array_equal(constant(np.zeros((2, 3)), 1.0), np.full((2, 3), 3.5))
+    function = as_torque(lambda phi, omega: np.sin(phi) * omega, "drive")
+    np.testing.assert_allclose(function(np.array([0.5, 1.0]), 2.0), 2 * np.sin([0.5, 1.0]))
+
+
+@pytest.mark.parametrize(
+    ("value", "message"),
+    [
+        ("balance", "drive = 'balance' is not understood"),
+        ("fast", "drive = 'fast'"),
+        (math.inf, "drive = inf is out of range"),
+        ([1.0, 2.0], "drive"),
+    ],
+)
+def test_as_torque_refuses_what_it_cannot_use(value, message):
+    with pytest.raises(mc.MechanismError, match=message):
+        as_torque(value, "drive")
+
+
+def test_a_callable_that_fails_or_returns_nan_is_named():
+    with pytest.raises(mc.MechanismError, match="load failed: ZeroDivisionError"):
+        as_torque(lambda phi, omega: 1 / 0, "load")(np.zeros(2), 1.0)
+    with pytest.raises(mc.MechanismError, match="load returned a non-finite torque"):
+        as_torque(lambda phi, omega: np.full_like(phi, np.nan), "load")(np.zeros(2), 1.0)
+
+
+@given(
+    cut=st.floats(0.1, 6.0),
+    frequency=st.integers(0, 9),
+    width=st.floats(0.05, math.pi / 8),
+)
+def test_running_integral_matches_the_antiderivative(cut, frequency, width):
+    rule = CycleQuadrature(np.array([0.0, cut, 2 * math.pi]), max_width=width)
+    values = np.cos(frequency * rule.phi) + rule.phi**3
+    at_nodes, at_edges = rule.running(values)
+
+    def antiderivative(x):
+        return (np.sin(frequency * x) / frequency if frequency else x) + x**4 / 4
+
+    np.testing.assert_allclose(at_nodes, antiderivative(rule.phi), rtol=1e-12, atol=1e-11)
+    np.testing.assert_allclose(at_edges, antiderivative(rule.edges), rtol=1e-12, atol=1e-11)
+    assert rule.integral(values) == pytest.approx(antiderivative(2 * math.pi), rel=1e-12)
+    assert cut in rule.edges
+
+
+def test_a_kink_on_a_panel_edge_is_integrated_exactly():
+    # |φ − c| has a kink at c: split there, the panel rule is exact; not split, it is not.
+    kink = 2.0
+    exact = (kink**2 + (2 * math.pi - kink) ** 2) / 2
+    split = CycleQuadrature(np.array([0.0, kink, 2 * math.pi]))
+    whole = CycleQuadrature(np.array([0.0, 2 * math.pi]), max_width=2 * math.pi)
+    assert split.integral(np.abs(split.phi - kink)) == pytest.approx(exact, rel=1e-14)
+    assert abs(whole.integral(np.abs(whole.phi - kink)) - exact) > 1e-6
+
+
+def _cylinder(**changes):
+    base = dict(crank_radius=0.1, rod_length=0.35, piston_mass=2.0, rod_mass=1.0, rod_cg=0.25, bore=0.09)
+    return mc.Cylinder(**{**base, **changes})
+
+
+def test_breaks_are_the_gassed_units_dead_centres_and_table_angles():
+    table = mc.IndicatorDiagram([0.0, 1.0, 3.0, 2 * math.pi], [1e5, 3e5, 2e5, 1e5], cycle=2 * math.pi, kind="linear")
+    machine = mc.Machine(
+        [_cylinder(phase=0.5, pressure=table), _cylinder(phase=1.0, bore=0.0), _cylinder(phase=2.5)],
+        shaft_inertia=1.0,
+    )
+    # Dead centres at φ = kπ − α; table angles at φ = θ − α (mod Φ); the second unit has no
+    # bore and the third no pressure, so neither adds a break.
+    dead_centres = [math.pi - 0.5, 2 * math.pi - 0.5]
+    table_angles = [1.0 - 0.5, 3.0 - 0.5]
+    expected = np.sort([0.0, *dead_centres, *table_angles, 2 * math.pi])
+    np.testing.assert_allclose(cycle_breaks(machine), expected, atol=1e-15)
+
+
+def test_balance_is_the_cycle_mean_of_gas_and_drive():
+    # p = p0 (1 + cos θ) on a single cylinder: ∮ p A s'(φ) dφ checked with a dense trapezoid.
+    cylinder = _cylinder(pressure=lambda theta: 2e5 * (1 + np.cos(theta)))
+    machine = mc.Machine([cylinder, cylinder.replace(phase=1.3)], shaft_inertia=1.0, strokes=4)
+    phi = np.linspace(0, 4 * math.pi, 400_001)
+    dense = np.trapezoid(machine.gas_torque(phi), phi) / (4 * math.pi)
+    drive = as_torque(lambda phi, omega: 10.0 + 0 * phi + omega, "drive")
+    assert balance_torque(machine, None, 5.0) == pytest.approx(dense, rel=1e-8, abs=1e-9)
+    assert balance_torque(machine, drive, 5.0) == pytest.approx(dense + 15.0, rel=1e-8)
