@@ -12,6 +12,7 @@
 
 from __future__ import annotations
 
+import itertools
 import math
 
 import numpy as np
@@ -223,7 +224,7 @@ def test_balance_is_the_cycle_mean_and_the_speed_follows_the_energy_integral():
     machine = gassed_machine(strokes=4)
     drive = 12.0
     breaks = sorted({*np.arange(5) * math.pi})
-    mean_gas = sum(quad(machine.gas_torque, a, b, epsabs=0, epsrel=1e-13)[0] for a, b in zip(breaks, breaks[1:]))
+    mean_gas = sum(quad(machine.gas_torque, a, b, epsabs=0, epsrel=1e-13)[0] for a, b in itertools.pairwise(breaks))
     load = mean_gas / (4 * math.pi) + drive
     result = mc.simulate(machine, np.linspace(0.0, 1.5, 301), omega0=40.0, drive=drive, load="balance")
     np.testing.assert_allclose(result.load_torque, load, rtol=1e-12)

@@ -36,6 +36,7 @@ from .harmonics import (
 from .loads import PowerLawLoad
 from .machine import Cylinder, Machine
 from .mechanism import STANDARD_GRAVITY, crank_phases, dimensionless_moments
+from .orders import torque_orders
 from .presets import LAYOUTS, Layout, layout_engine
 from .pressure import IndicatorDiagram
 from .transient import Transient, simulate
@@ -98,5 +99,6 @@ __all__ = [
     "surviving_harmonics",
     "sweep",
     "to_xarray",
+    "torque_orders",
     "uniform_grid",
 ]
