@@ -27,8 +27,9 @@ import multicrank as mc
 
 TWO_PI = 2 * math.pi
 
-# A heavy inclined unit on a light shaft: J varies by a quarter over a revolution and gravity
-# changes the speed by a tenth (the mpmath oracle's "inclined-single-web-counterweight").
+# A heavy inclined unit on a light shaft: J varies by 30 % over a revolution and gravity
+# changes the speed by a fifth (the unit of the mpmath oracle's "inclined-single-web-counterweight",
+# on a shaft of 0.05 instead of 0.8 kg·m²).
 SWING = Spec(
     (Unit(r=0.08, l=0.26, mt=2.2, mk=1.6, zk=0.18, ik=0.009, ms=3.1, rs=0.035, mp=2.4, rp=0.07, gamma=math.pi / 6),),
     iw=0.05,
