@@ -405,7 +405,7 @@ def _integrate(
         from tqdm.auto import tqdm
 
         span = float(times[-1] - times[0])
-        bar = tqdm(total=span, desc="simulate", unit="s", unit_scale=True, bar_format=None)
+        bar = tqdm(total=span, desc="simulate", unit="s", unit_scale=True)
         reached = [float(times[0])]
 
         def rhs(t: float, y: np.ndarray) -> list[float]:
