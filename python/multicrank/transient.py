@@ -227,7 +227,7 @@ def simulate(
         starts with a step that could jump over it.
     balance_speed : float, optional
         ω [rad/s] at which a speed-dependent drive is frozen for ``load="balance"``; default
-        ``omega0``. Ignored for any other load.
+        ``omega0``. Refused with any other load.
     progress : bool
         Show a tqdm progress bar of the simulated time (it follows the integrator's farthest
         evaluation; the result does not depend on it).
@@ -252,7 +252,8 @@ def simulate(
     **Energy check.** E = ½ J(φ) ω² + U(φ) − W is constant along the exact motion for any
     torques, so ``energy_drift`` measures the integration's error; for a conservative run
     (no gas, drive or load) it is the drift of ½ J ω² + U itself. With the default
-    tolerances it is of the order of 1e-10 over tens of cycles (docs/theory.md).
+    tolerances it stays of the order of 1e-9 over tens of revolutions (docs/theory.md,
+    "Transients", gives measured figures).
 
     **Kinks.** Tabulated pressures have kinks (valve events, breakpoints); the adaptive
     step follows them at the cost of more steps, so runs with such gas torques take longer
