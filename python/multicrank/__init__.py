@@ -33,10 +33,13 @@ from .harmonics import (
     paper_coefficient,
     surviving_harmonics,
 )
+from .loads import PowerLawLoad
 from .machine import Cylinder, Machine
 from .mechanism import STANDARD_GRAVITY, crank_phases, dimensionless_moments
+from .orders import torque_orders
 from .presets import LAYOUTS, Layout, layout_engine
 from .pressure import IndicatorDiagram
+from .transient import Transient, simulate
 
 # The sweep machinery pulls in pandas (and, where installed, pyarrow's thread pools): load
 # it on first use, so that `import multicrank` stays light and starts no threads.
@@ -72,6 +75,8 @@ __all__ = [
     "Layout",
     "Machine",
     "MechanismError",
+    "PowerLawLoad",
+    "Transient",
     "UniformGrid",
     "__version__",
     "build_profile",
@@ -89,9 +94,11 @@ __all__ = [
     "paper_coefficient",
     "potential_energy",
     "set_parallel_threshold",
+    "simulate",
     "speed_fluctuation",
     "surviving_harmonics",
     "sweep",
     "to_xarray",
+    "torque_orders",
     "uniform_grid",
 ]

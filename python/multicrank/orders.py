@@ -1,0 +1,138 @@
+"""Orders of the shaft torques: their Fourier coefficients per revolution (motion.md §6).
+
+:func:`torque_orders` gives, for the order ν (the harmonic number per revolution: 0, 1, 2,
+… for a two-stroke machine, and 0, ½, 1, 1½, … for a four-stroke one, whose working cycle
+spans two revolutions), the coefficients of
+
+    M(φ) = Σ_ν [a_ν cos νφ + b_ν sin νφ] = Σ_ν A_ν cos(νφ − θ_ν)
+
+for the gas torque, the inertia torque −½ J'(φ) ω² at the mean speed, the gravity torque
+−U'(φ) and their sum, in N·m, as a table for torsional-vibration tools.
+
+- **Gravity** comes from the exact Fourier series of the Rust core (Λ_n exact): the
+  machine's dimensionless :class:`~multicrank.Engine` at the speed asked for gives Q_u* =
+  dU*/dφ with U = I_w ω² U*, so the gravity torque is −I_w ω² Q_u*.
+- **Inertia**: J(φ) is analytic and 2π-periodic, so the Gauss–Legendre panels of the cycle
+  quadrature give its coefficients to rounding (spectral convergence); its half orders are
+  exactly 0.
+- **Gas**: the same panels over the working cycle, cut at every gassed unit's dead centres and
+  at the breakpoints of its pressure tables, on each of which the integrand is smooth: for an
+  :class:`~multicrank.IndicatorDiagram` the coefficients of the interpolated diagram's
+  torque are exact to rounding as well. The torque itself has kinks there, so its series
+  converges only algebraically ("spectral for tabulated gas": the coefficients are right,
+  a truncated sum is not the torque). A callable pressure with kinks the library cannot
+  see (no ``breakpoints``) is integrated to the accuracy of the panels alone.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+from ._native import MechanismError
+from ._quadrature import CycleQuadrature
+from ._validation import as_count, as_scalar
+from .machine import Machine
+
+__all__ = ["ORDER_PARTS", "torque_orders"]
+
+#: The torques of :func:`torque_orders`, in column order.
+ORDER_PARTS = ("gas", "inertia", "gravity", "total")
+
+#: The widest quadrature panel [rad], and at most this fraction of the shortest period
+#: (2π/ν_max) per panel: with 12 nodes a panel then integrates cos νφ to rounding.
+_MAX_WIDTH = math.pi / 16
+_PERIOD_FRACTION = 0.25
+
+
+def torque_orders(machine: Machine, rpm: float, *, max_order: int = 12, gravity: bool = True) -> Any:
+    """The orders of the gas, inertia and gravity torques on the shaft [N·m].
+
+    Parameters
+    ----------
+    machine : Machine
+        The machine.
+    rpm : float
+        The mean speed n [1/min], > 0: the inertia torque is −½ J'(φ) ω² at ω = π n/30
+        (the gas and gravity torques do not depend on it).
+    max_order : int
+        The highest order ν, ≥ 1. Every order from 0 in steps of 1 (two-stroke) or ½
+        (four-stroke) up to it is listed.
+    gravity : bool
+        False gives zero gravity columns (as if g were 0).
+
+    Returns
+    -------
+    pandas.DataFrame
+        Indexed by ``order`` (float: ν per revolution), with the columns ``{part}_cos``,
+        ``{part}_sin`` (a_ν, b_ν [N·m]), ``{part}_amplitude`` (A_ν = √(a_ν² + b_ν²) [N·m])
+        and ``{part}_phase`` (θ_ν = atan2(b_ν, a_ν) [rad]) for each part in
+        :data:`ORDER_PARTS`: "gas", "inertia", "gravity" and their sum "total". Order 0 holds
+        the mean (a_0, b_0 = 0). φ is the crank angle of the machine (from the outer dead
+        centre of a unit with phase 0), so M(φ) = Σ_ν a_ν cos νφ + b_ν sin νφ. ``attrs``
+        holds ``rpm``, ``omega`` [rad/s], ``strokes`` and the ``units``.
+
+    Notes
+    -----
+    Inertia and gravity are 2π-periodic: their half orders are exactly 0, and only a
+    four-stroke gas cycle has half orders. Accuracy: gravity and inertia to rounding; gas
+    torques to rounding for smooth or tabulated pressures (docs/theory.md, "Orders").
+    """
+    import pandas as pd
+
+    if not isinstance(machine, Machine):
+        raise MechanismError(f"machine must be a multicrank.Machine, got {type(machine).__name__}")
+    speed = as_scalar(rpm, "rpm")
+    if not (math.isfinite(speed) and speed > 0):
+        raise MechanismError(f"rpm = {speed} is out of range; allowed: rpm > 0 [1/min]")
+    highest = as_count(max_order, "max_order", minimum=1)
+    if not isinstance(gravity, (bool, np.bool_)):
+        raise MechanismError(f"gravity must be True or False, got {gravity!r}")
+    omega = math.pi * speed / 30.0
+    per_cycle = machine.strokes // 2  # harmonics of the cycle per order
+    orders = np.arange(highest * per_cycle + 1) / per_cycle
+    width = min(_MAX_WIDTH, _PERIOD_FRACTION * 2 * math.pi / highest)
+
+    parts: dict[str, tuple[np.ndarray, np.ndarray]] = {}
+    gas = CycleQuadrature.of(machine, max_width=width)
+    parts["gas"] = _coefficients(gas, machine.gas_torque(gas.phi), orders)
+
+    revolution = CycleQuadrature(np.array([0.0, 2 * math.pi]), max_width=width)
+    integer = orders == np.round(orders)
+    inertia = np.zeros((2, orders.size))
+    inertia[:, integer] = _coefficients(revolution, machine.inertia_torque(revolution.phi, omega), orders[integer])
+    parts["inertia"] = (inertia[0], inertia[1])
+
+    series = np.zeros((2, orders.size))
+    if gravity and machine.g != 0.0:
+        a, b = machine.engine(speed).fourier_coefficients(highest)
+        scale = -machine.shaft_inertia * omega**2  # torque = −dU/dφ = −I_w ω² Q_u*
+        series[:, integer] = scale * np.stack([a, b])
+    parts["gravity"] = (series[0], series[1])
+    parts["total"] = (
+        parts["gas"][0] + parts["inertia"][0] + parts["gravity"][0],
+        parts["gas"][1] + parts["inertia"][1] + parts["gravity"][1],
+    )
+
+    columns: dict[str, np.ndarray] = {}
+    units: dict[str, str] = {}
+    for name in ORDER_PARTS:
+        cos, sin = parts[name]
+        columns[f"{name}_cos"], columns[f"{name}_sin"] = cos, sin
+        columns[f"{name}_amplitude"] = np.hypot(cos, sin)
+        columns[f"{name}_phase"] = np.arctan2(sin, cos)
+        units.update({f"{name}_cos": "N·m", f"{name}_sin": "N·m", f"{name}_amplitude": "N·m", f"{name}_phase": "rad"})
+    frame = pd.DataFrame(columns, index=pd.Index(orders, name="order"))
+    frame.attrs.update({"rpm": speed, "omega": omega, "strokes": machine.strokes, "units": units})
+    return frame
+
+
+def _coefficients(rule: CycleQuadrature, values: np.ndarray, orders: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(a_ν, b_ν) of f over the rule's period T = rule.cycle: a_ν = (2/T)∫ f cos νφ dφ
+    (a_0 the mean), b_ν = (2/T)∫ f sin νφ dφ."""
+    angle = orders[:, None] * rule.phi.reshape(-1)[None, :]
+    weighted = (rule.weights * values).reshape(-1)
+    factor = np.where(orders == 0, 1.0, 2.0) / rule.cycle
+    return factor * (np.cos(angle) @ weighted), factor * (np.sin(angle) @ weighted)

@@ -1,0 +1,493 @@
+"""The machine in time: start-up, run-down, load steps (motion.md §4).
+
+:func:`simulate` integrates the machine's equation of motion (docs/theory.md, "Transients")
+
+    J(φ) φ̈ + ½ J'(φ) φ̇² = M_gas(φ) − U'(φ) + M_drive(φ, φ̇) − M_load(φ, φ̇)
+
+in time with SciPy's ``solve_ivp``, together with the work W of the non-conservative
+torques (gas, drive, load), so that ½ J ω² + U − W is a constant of every run: the
+result's ``energy_drift`` is a built-in check of the whole chain (kinematics, torques,
+integrator). J, J', U, the gravity and the gas torques come from the Rust core through
+:class:`~multicrank.Machine`; here they are only put together.
+
+SciPy is imported when a run starts, pandas and xarray when a result is converted.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from ._native import MechanismError
+from ._optional import require
+from ._validation import as_real_array, as_scalar
+from .loads import BALANCE, Torque, as_torque, balance_torque
+from .machine import Machine
+
+__all__ = ["METHODS", "Transient", "simulate"]
+
+#: The integrators of ``scipy.integrate.solve_ivp`` that :func:`simulate` accepts.
+METHODS = ("DOP853", "RK45", "RK23", "Radau", "BDF", "LSODA")
+
+#: The smallest rtol solve_ivp honours (100 machine epsilons).
+_RTOL_FLOOR = 100 * float(np.finfo(float).eps)
+
+#: The per-sample arrays of a :class:`Transient`, in column order, with their units.
+COLUMNS = {
+    "phi": "rad",
+    "omega": "rad/s",
+    "acceleration": "rad/s²",
+    "reduced_inertia": "kg·m²",
+    "gas_torque": "N·m",
+    "gravity_torque": "N·m",
+    "inertia_torque": "N·m",
+    "drive_torque": "N·m",
+    "load_torque": "N·m",
+    "kinetic_energy": "J",
+    "potential_energy": "J",
+    "work": "J",
+}
+
+
+@dataclass(frozen=True, eq=False)
+class Transient:
+    """The result of :func:`simulate`: the machine's state and torques at the sample times.
+
+    Every array has one entry per sample: the times of ``t_eval`` up to the end of the run
+    and, when the machine stalled, the stall itself as the last sample. The arrays are
+    read-only.
+
+    Attributes
+    ----------
+    time : ndarray
+        t [s].
+    phi : ndarray
+        φ [rad], the crank angle, unwrapped (cumulative: it grows by 2π per revolution).
+    omega : ndarray
+        ω = φ̇ [rad/s]; exactly 0 at a stall.
+    acceleration : ndarray
+        φ̈ [rad/s²] from the equation of motion.
+    reduced_inertia : ndarray
+        J(φ) [kg·m²].
+    gas_torque, gravity_torque : ndarray
+        M_gas(φ) and −U'(φ) [N·m] (the gravity torque is 0 for ``gravity=False``).
+    inertia_torque : ndarray
+        −½ J'(φ) ω² [N·m], the velocity term of the equation of motion, so that
+        J·φ̈ = gas + gravity + inertia + drive − load at every sample.
+    drive_torque, load_torque : ndarray
+        M_drive and M_load [N·m] (zeros where none was given; the load positive resisting).
+    kinetic_energy, potential_energy : ndarray
+        ½ J ω² and U(φ) [J] (U = 0 for ``gravity=False``).
+    work : ndarray
+        W [J], the work of the gas, drive and load torques since the start,
+        ∫ (M_gas + M_drive − M_load) ω dt, integrated with the motion.
+    stalled : bool
+        Whether ω reached 0 (the run stops there).
+    stall_time : float or None
+        The time of the stall [s], None if the machine did not stall.
+    energy_drift : float
+        max_t |E(t) − E(t₀)| / max_t ½Jω² with E = ½ J ω² + U − W: a constant of the exact
+        motion, so this is the integration's error in energy relative to the largest kinetic
+        energy of the run (0 for a run that never moves).
+    nfev : int
+        The number of right-hand-side evaluations the integrator made.
+    message : str
+        The integrator's closing message.
+    """
+
+    time: np.ndarray
+    phi: np.ndarray
+    omega: np.ndarray
+    acceleration: np.ndarray
+    reduced_inertia: np.ndarray
+    gas_torque: np.ndarray
+    gravity_torque: np.ndarray
+    inertia_torque: np.ndarray
+    drive_torque: np.ndarray
+    load_torque: np.ndarray
+    kinetic_energy: np.ndarray
+    potential_energy: np.ndarray
+    work: np.ndarray
+    stalled: bool
+    stall_time: float | None
+    energy_drift: float
+    nfev: int
+    message: str
+
+    @property
+    def rpm(self) -> np.ndarray:
+        """The speed in revolutions per minute, 30 ω/π [1/min]."""
+        return self.omega * (30.0 / math.pi)
+
+    def __len__(self) -> int:
+        return int(self.time.size)
+
+    def __repr__(self) -> str:
+        end = f"stalled at t = {self.stall_time:.6g} s" if self.stalled else f"to t = {self.time[-1]:.6g} s"
+        return (
+            f"Transient({len(self)} samples from t = {self.time[0]:.6g} s {end}, "
+            f"ω {self.omega[0]:.6g} → {self.omega[-1]:.6g} rad/s, energy_drift = {self.energy_drift:.2g})"
+        )
+
+    def to_pandas(self) -> Any:
+        """The samples as a pandas DataFrame indexed by ``time`` [s], one column per array
+        (:data:`COLUMNS`); the units are in ``frame.attrs["units"]``, ``stalled``,
+        ``stall_time`` and ``energy_drift`` in ``frame.attrs`` as well."""
+        import pandas as pd
+
+        frame = pd.DataFrame(
+            {name: getattr(self, name) for name in COLUMNS},
+            index=pd.Index(self.time, name="time"),
+        )
+        frame.attrs.update(self._attributes())
+        frame.attrs["units"] = {"time": "s", **COLUMNS}
+        return frame
+
+    def to_xarray(self) -> Any:
+        """The samples as an ``xarray.Dataset`` on the dimension ``time`` [s], each variable
+        with its ``units`` attribute; needs the ``xarray`` extra."""
+        xr = require("xarray", "xarray")
+        variables = {name: ("time", getattr(self, name), {"units": unit}) for name, unit in COLUMNS.items()}
+        return xr.Dataset(
+            variables,
+            coords={"time": ("time", self.time, {"units": "s"})},
+            attrs=self._attributes(),
+        )
+
+    def _attributes(self) -> dict[str, Any]:
+        # netCDF attributes cannot be None or bool: a run that did not stall has NaN.
+        return {
+            "stalled": int(self.stalled),
+            "stall_time": math.nan if self.stall_time is None else self.stall_time,
+            "energy_drift": self.energy_drift,
+        }
+
+
+def simulate(
+    machine: Machine,
+    t_eval: Any,
+    *,
+    omega0: float,
+    phi0: float = 0.0,
+    load: Any = None,
+    drive: Any = None,
+    gravity: bool = True,
+    rtol: float = 1e-10,
+    atol: float = 1e-10,
+    method: str = "DOP853",
+    max_step: float = math.inf,
+    balance_speed: float | None = None,
+    progress: bool = False,
+) -> Transient:
+    """Integrate the machine's motion in time: start-up, run-down, a load step.
+
+    Solves J(φ) φ̈ + ½ J'(φ) φ̇² = M_gas(φ) − U'(φ) + M_drive(φ, φ̇) − M_load(φ, φ̇) with
+    ``scipy.integrate.solve_ivp`` for the state (φ, ω, W), W being the work of the gas,
+    drive and load torques, dW/dt = (M_gas + M_drive − M_load)·ω.
+
+    Parameters
+    ----------
+    machine : Machine
+        The machine.
+    t_eval : array_like, 1-D
+        The sample times [s]: finite, strictly increasing, at least two, the first ≥ 0.
+        **The run starts at t_eval[0]** (with φ = ``phi0``, ω = ``omega0``) and ends at
+        t_eval[-1] or at a stall. To continue a run (a load step, say), start the next one
+        at the last sample: ``simulate(machine, t_next, omega0=r.omega[-1],
+        phi0=r.phi[-1], load=new_load)`` with ``t_next[0] = r.time[-1]``.
+    omega0 : float
+        ω at the start [rad/s], finite and ≥ 0. Gas pressure given as a function of the
+        cycle angle assumes the machine turns forward (motion.md §2), so a negative start
+        speed is refused; from ω₀ = 0 a machine whose net torque at φ₀ is not positive
+        stalls at once.
+    phi0 : float
+        φ at the start [rad], any finite real.
+    load, drive : optional
+        A number (constant torque, N·m), a :class:`~multicrank.PowerLawLoad`, or a
+        vectorised callable ``f(phi, omega) -> N·m`` of the cumulative crank angle φ [rad]
+        and the speed ω [rad/s] (reduce φ modulo ``machine.cycle`` where a torque depends on
+        the place in the cycle); the load positive resisting rotation, the drive positive
+        driving it. The load may also be ``"balance"``: the constant load equal to the cycle
+        mean of the gas and drive torques, (1/Φ)∫₀^Φ (M_gas + M_drive) dφ, computed once, at
+        the start, a speed-dependent drive being called with ω = ``balance_speed`` there.
+    gravity : bool
+        False leaves gravity out (U ≡ 0), as if g were 0; J is the same either way.
+    rtol, atol : float
+        The integrator's relative and absolute tolerances, > 0 (atol applies to φ [rad],
+        ω [rad/s] and W [J] alike).
+    method : str
+        The ``solve_ivp`` method: "DOP853" (default; 8th-order explicit Runge–Kutta), "RK45",
+        "RK23", or an implicit one ("Radau", "BDF", "LSODA") for very stiff loads.
+    max_step : float
+        The largest time step [s], > 0 (default: no limit). Set it below the duration of
+        the shortest feature of the torques (a combustion spike, a valve event) when the run
+        starts with a step that could jump over it.
+    balance_speed : float, optional
+        ω [rad/s] at which a speed-dependent drive is frozen for ``load="balance"``; default
+        ``omega0``. Refused with any other load.
+    progress : bool
+        Show a tqdm progress bar of the simulated time (it follows the integrator's farthest
+        evaluation; the result does not depend on it).
+
+    Returns
+    -------
+    Transient
+        Times, φ, ω, the torques and energies at the samples, ``stalled``, ``stall_time``
+        and ``energy_drift``; ``to_pandas()`` and ``to_xarray()`` convert it.
+
+    Raises
+    ------
+    MechanismError
+        For bad input, naming the parameter; for an integrator that fails (its message).
+
+    Notes
+    -----
+    **Stall.** A terminal event at ω = 0 (ω falling) ends the run: the last sample is the
+    stall, at ``stall_time``, with ω = 0. The machine would then turn backwards or stay at
+    rest, neither of which a pressure given per cycle angle describes.
+
+    **Energy check.** E = ½ J(φ) ω² + U(φ) − W is constant along the exact motion for any
+    torques, so ``energy_drift`` measures the integration's error; for a conservative run
+    (no gas, drive or load) it is the drift of ½ J ω² + U itself. With the default
+    tolerances it stays of the order of 1e-9 over tens of revolutions (docs/theory.md,
+    "Transients", gives measured figures).
+
+    **Kinks.** Tabulated pressures have kinks (valve events, breakpoints); the adaptive
+    step follows them at the cost of more steps, so runs with such gas torques take longer
+    at tight tolerances than smooth ones.
+    """
+    if not isinstance(machine, Machine):
+        raise MechanismError(f"machine must be a multicrank.Machine, got {type(machine).__name__}")
+    times = _as_times(t_eval)
+    omega_start = _finite(omega0, "omega0")
+    if omega_start < 0:
+        raise MechanismError(
+            f"omega0 = {omega_start} is out of range; allowed: omega0 >= 0 [rad/s] (gas pressure per cycle angle "
+            "assumes forward rotation)"
+        )
+    phi_start = _finite(phi0, "phi0")
+    tolerances = {name: _positive(value, name) for name, value in (("rtol", rtol), ("atol", atol))}
+    if tolerances["rtol"] < _RTOL_FLOOR:
+        # solve_ivp would raise it to this with a warning; say so instead.
+        raise MechanismError(f"rtol = {tolerances['rtol']} is out of range; allowed: rtol >= {_RTOL_FLOOR:.3g}")
+    step_limit = as_scalar(max_step, "max_step")
+    if not step_limit > 0:
+        raise MechanismError(f"max_step = {step_limit} is out of range; allowed: max_step > 0 [s]")
+    if not isinstance(method, str) or method not in METHODS:
+        raise MechanismError(f"method = {method!r} is not allowed; allowed: {', '.join(map(repr, METHODS))}")
+    if not isinstance(gravity, (bool, np.bool_)):
+        raise MechanismError(f"gravity must be True or False, got {gravity!r}")
+    if not isinstance(progress, (bool, np.bool_)):
+        raise MechanismError(f"progress must be True or False, got {progress!r}")
+    drive_torque = as_torque(drive, "drive")
+    load_torque = as_torque(load, "load", balance=True)
+    assert not isinstance(drive_torque, str)  # as_torque gives "balance" only where allowed
+    if balance_speed is not None and load_torque != BALANCE:
+        raise MechanismError("balance_speed applies to load='balance' only")
+    if load_torque == BALANCE:
+        frozen = omega_start if balance_speed is None else _finite(balance_speed, "balance_speed")
+        load_torque = Torque("constant", balance_torque(machine, drive_torque, frozen), "load")
+    assert not isinstance(load_torque, str)
+
+    model = _Model(machine, drive_torque, load_torque, bool(gravity) and machine.g != 0.0)
+    solution = _integrate(model, times, phi_start, omega_start, tolerances, method, step_limit, bool(progress))
+    return model.result(solution)
+
+
+# -- the model --------------------------------------------------------------------------------
+
+
+class _Model:
+    """The right-hand side of the equation of motion and the torques at the samples."""
+
+    def __init__(self, machine: Machine, drive: Torque | None, load: Torque | None, gravity: bool) -> None:
+        self.machine, self.drive, self.load, self.gravity = machine, drive, load, gravity
+        # Without a gassed cylinder the gas torque is 0: skip its (Python) pressure calls.
+        self.gas = any(
+            c.bore > 0 and (c.pressure is not None or c.pressure_crank_end is not None) for c in machine.cylinders
+        )
+
+    def external(self, phi: np.ndarray, omega: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(M_gas, M_drive, M_load) [N·m] at φ, ω (arrays of one shape)."""
+        zero = np.zeros(np.shape(phi))
+        gas = self.machine.gas_torque(phi) if self.gas else zero
+        drive = self.drive(phi, omega) if self.drive is not None else zero
+        load = self.load(phi, omega) if self.load is not None else zero
+        return gas, drive, load
+
+    def gravity_torque(self, phi: np.ndarray) -> np.ndarray:
+        return self.machine.gravity_torque(phi) if self.gravity else np.zeros(np.shape(phi))
+
+    def potential_energy(self, phi: np.ndarray) -> np.ndarray:
+        return self.machine.potential_energy(phi) if self.gravity else np.zeros(np.shape(phi))
+
+    def rhs(self, t: float, y: np.ndarray) -> list[float]:
+        phi, omega = np.asarray(y[0]), np.asarray(y[1])
+        inertia, slope = self.machine.reduced_inertia(phi)
+        gas, drive, load = self.external(phi, omega)
+        external = float(gas + drive - load)
+        torque = external + float(self.gravity_torque(phi)) - 0.5 * float(slope) * float(omega) ** 2
+        return [float(omega), torque / float(inertia), external * float(omega)]
+
+    def result(self, solution: Any) -> Transient:
+        time, phi, omega, work = solution.time, solution.phi, solution.omega, solution.work
+        inertia, slope = self.machine.reduced_inertia(phi)
+        gas, drive, load = self.external(phi, omega)
+        gravity = self.gravity_torque(phi)
+        inertia_torque = -0.5 * slope * omega**2
+        kinetic = 0.5 * inertia * omega**2
+        potential = self.potential_energy(phi)
+        energy = kinetic + potential - work
+        scale = float(np.max(kinetic))
+        drift = float(np.max(np.abs(energy - energy[0]))) / scale if scale > 0 else 0.0
+        arrays = {
+            "time": time,
+            "phi": phi,
+            "omega": omega,
+            "acceleration": (gas + gravity + inertia_torque + drive - load) / inertia,
+            "reduced_inertia": inertia,
+            "gas_torque": gas,
+            "gravity_torque": gravity,
+            "inertia_torque": inertia_torque,
+            "drive_torque": drive,
+            "load_torque": load,
+            "kinetic_energy": kinetic,
+            "potential_energy": potential,
+            "work": work,
+        }
+        for array in arrays.values():
+            array.setflags(write=False)
+        return Transient(
+            **arrays,
+            stalled=solution.stalled,
+            stall_time=solution.stall_time,
+            energy_drift=drift,
+            nfev=solution.nfev,
+            message=solution.message,
+        )
+
+
+@dataclass(frozen=True)
+class _Solution:
+    time: np.ndarray
+    phi: np.ndarray
+    omega: np.ndarray
+    work: np.ndarray
+    stalled: bool
+    stall_time: float | None
+    nfev: int
+    message: str
+
+
+def _integrate(
+    model: _Model,
+    times: np.ndarray,
+    phi0: float,
+    omega0: float,
+    tolerances: dict[str, float],
+    method: str,
+    max_step: float,
+    progress: bool,
+) -> _Solution:
+    import scipy.integrate  # type: ignore[import-untyped,unused-ignore]
+
+    def stall(t: float, y: np.ndarray) -> float:
+        return float(y[1])
+
+    stall.terminal = True  # type: ignore[attr-defined]
+    stall.direction = -1  # type: ignore[attr-defined]
+
+    rhs = model.rhs
+    bar = None
+    if progress:
+        from tqdm.auto import tqdm
+
+        span = float(times[-1] - times[0])
+        bar = tqdm(total=span, desc="simulate", unit="s", unit_scale=True)
+        reached = [float(times[0])]
+
+        def rhs(t: float, y: np.ndarray) -> list[float]:
+            if t > reached[0]:
+                assert bar is not None
+                bar.update(min(t, float(times[-1])) - reached[0])
+                reached[0] = min(t, float(times[-1]))
+            return model.rhs(t, y)
+
+    try:
+        ode = scipy.integrate.solve_ivp(
+            rhs,
+            (float(times[0]), float(times[-1])),
+            np.array([phi0, omega0, 0.0]),
+            method=method,
+            t_eval=times,
+            events=stall,
+            max_step=max_step,
+            **tolerances,
+        )
+    finally:
+        if bar is not None:
+            bar.close()
+    if ode.status < 0:
+        raise MechanismError(f"the integration failed: {ode.message}")
+    time, state = np.asarray(ode.t, dtype=float), np.asarray(ode.y, dtype=float)
+    stalled = ode.status == 1 and len(ode.t_events[0]) > 0
+    stall_time = None
+    if stalled:
+        stall_time = float(ode.t_events[0][0])
+        at_stall = np.array(ode.y_events[0][0], dtype=float)
+        at_stall[1] = 0.0  # the event's root: ω = 0 up to rounding
+        keep = time < stall_time
+        time = np.append(time[keep], stall_time)
+        state = np.concatenate([state[:, keep], at_stall[:, None]], axis=1)
+    return _Solution(
+        time=time,
+        phi=state[0].copy(),
+        omega=state[1].copy(),
+        work=state[2].copy(),
+        stalled=bool(stalled),
+        stall_time=stall_time,
+        nfev=int(ode.nfev),
+        message=str(ode.message),
+    )
+
+
+# -- validation -------------------------------------------------------------------------------
+
+
+def _as_times(t_eval: Any) -> np.ndarray:
+    times = as_real_array(t_eval, "t_eval")
+    if times.ndim != 1:
+        raise MechanismError(f"t_eval must be a 1-D array of times [s], got shape {times.shape}")
+    if times.size < 2:
+        raise MechanismError(f"t_eval must hold at least 2 times [s] (the start and an end), got {times.size}")
+    if not np.all(np.isfinite(times)):
+        bad = int(np.flatnonzero(~np.isfinite(times))[0])
+        raise MechanismError(f"t_eval[{bad}] = {times[bad]} is not finite; t_eval must be finite times [s]")
+    if times[0] < 0:
+        raise MechanismError(
+            f"t_eval[0] = {times[0]} is out of range; allowed: t_eval[0] >= 0 [s] (the run starts there)"
+        )
+    steps = np.diff(times)
+    if not np.all(steps > 0):
+        i = int(np.flatnonzero(~(steps > 0))[0])
+        raise MechanismError(
+            f"t_eval must increase strictly: t_eval[{i + 1}] = {times[i + 1]!r} follows t_eval[{i}] = {times[i]!r}"
+        )
+    return np.array(times, dtype=float)
+
+
+def _finite(value: Any, name: str) -> float:
+    x = as_scalar(value, name)
+    if not math.isfinite(x):
+        raise MechanismError(f"{name} = {x} is out of range; allowed: a finite number")
+    return x
+
+
+def _positive(value: Any, name: str) -> float:
+    x = as_scalar(value, name)
+    if not (math.isfinite(x) and x > 0):
+        raise MechanismError(f"{name} = {x} is out of range; allowed: {name} > 0")
+    return x
