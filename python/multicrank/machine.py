@@ -49,6 +49,9 @@ _UNIT_FIELDS = (
 
 Pressure = Callable[[np.ndarray], Any]
 
+#: A machine's fields, as :meth:`Machine.replace` takes them.
+_MACHINE_FIELDS = ("cylinders", "shaft_inertia", "strokes", "g", "name", "rpm", "rpm_range", "note")
+
 
 @dataclass(frozen=True)
 class Cylinder:
@@ -180,6 +183,19 @@ class Machine:
         Gravity [m/s²], default standard gravity; 0 switches gravity off.
     name : str
         A label.
+    rpm : float, optional
+        The running speed n [1/min], > 0, where the machine has one: the default speed of
+        :meth:`engine` (and of the report). Descriptive; nothing else depends on it.
+    rpm_range : (float, float), optional
+        The speeds (low, high) [1/min] the machine runs at, 0 < low < high; ``rpm``, where
+        given too, must lie inside.
+    note : str
+        A description: what the machine is and where its numbers come from.
+
+    Raises
+    ------
+    MechanismError
+        For any bad field, naming it.
     """
 
     def __init__(
@@ -190,6 +206,9 @@ class Machine:
         strokes: int = 2,
         g: float = STANDARD_GRAVITY,
         name: str = "machine",
+        rpm: float | None = None,
+        rpm_range: tuple[float, float] | None = None,
+        note: str = "",
     ) -> None:
         if isinstance(cylinders, Cylinder) or not isinstance(cylinders, Sequence):
             raise MechanismError("cylinders must be a sequence of multicrank.Cylinder")
@@ -206,7 +225,20 @@ class Machine:
         self.g = as_scalar(g, "g")
         if not math.isfinite(self.g):
             raise MechanismError(f"g = {self.g} is out of range; allowed: any finite real")
-        self.name = str(name)
+        if not isinstance(name, str):
+            raise MechanismError(f"name must be a str, got {type(name).__name__}")
+        if not isinstance(note, str):
+            raise MechanismError(f"note must be a str, got {type(note).__name__}")
+        self.name = name
+        self.note = note
+        self.rpm: float | None = None if rpm is None else _speed(rpm, "rpm")
+        self.rpm_range: tuple[float, float] | None = None if rpm_range is None else _speed_range(rpm_range)
+        if self.rpm is not None and self.rpm_range is not None:
+            low, high = self.rpm_range
+            if not low <= self.rpm <= high:
+                raise MechanismError(
+                    f"rpm = {self.rpm:g} is out of range; allowed: inside rpm_range = ({low:g}, {high:g}) [1/min]"
+                )
         self._units = _columns(cylinders)
 
     # -- description ---------------------------------------------------------------------
@@ -219,29 +251,37 @@ class Machine:
         return len(self.cylinders)
 
     def __repr__(self) -> str:
+        speed = "" if self.rpm is None else f", {self.rpm:g} rpm"
         return (
             f"Machine({self.name!r}, {len(self)} cylinders, shaft_inertia={self.shaft_inertia:g} kg·m², "
-            f"{self.strokes}-stroke, g={self.g:g})"
+            f"{self.strokes}-stroke{speed}, g={self.g:g})"
         )
 
     def replace(self, **changes: Any) -> Machine:
-        """A copy with some of cylinders, shaft_inertia, strokes, g, name changed."""
-        known = ("cylinders", "shaft_inertia", "strokes", "g", "name")
-        unknown = set(changes) - set(known)
+        """A copy with some of its fields changed (cylinders, shaft_inertia, strokes, g, name, rpm,
+        rpm_range, note); ``rpm=None`` or ``rpm_range=None`` removes them."""
+        unknown = set(changes) - set(_MACHINE_FIELDS)
         if unknown:
-            raise MechanismError(f"unknown machine field(s) {', '.join(sorted(unknown))}; known: {', '.join(known)}")
-        return Machine(
-            changes.get("cylinders", self.cylinders),
-            shaft_inertia=changes.get("shaft_inertia", self.shaft_inertia),
-            strokes=changes.get("strokes", self.strokes),
-            g=changes.get("g", self.g),
-            name=changes.get("name", self.name),
-        )
+            raise MechanismError(
+                f"unknown machine field(s) {', '.join(sorted(unknown))}; known: {', '.join(_MACHINE_FIELDS)}"
+            )
+        fields = {field: changes.get(field, getattr(self, field)) for field in _MACHINE_FIELDS}
+        return Machine(fields.pop("cylinders"), **fields)
 
-    def engine(self, rpm: float) -> Engine:
-        """The dimensionless gravity engine at ``rpm`` [1/min]: U1, U2 ÷ I_w ω², ω = π·rpm/30."""
-        columns = _native_machine_engine(self._units, self.g, self.shaft_inertia, as_scalar(rpm, "rpm"))
-        return Engine(**columns, name=f"{self.name} at {float(rpm):g} rpm")
+    def engine(self, rpm: float | None = None) -> Engine:
+        """The dimensionless gravity engine at ``rpm`` [1/min] (default: the machine's own ``rpm``).
+
+        One unit per cylinder, with u1, u2 = U1, U2 ÷ I_w ω², ω = π·rpm/30; a cylinder's crank
+        web and counterweight are in its u2. U* × I_w ω² is :meth:`potential_energy` up to a
+        constant, and Q_u* × I_w ω² is −:meth:`gravity_torque`.
+        """
+        if rpm is None:
+            if self.rpm is None:
+                raise MechanismError(f"rpm is required: machine {self.name!r} has no running speed (rpm) of its own")
+            rpm = self.rpm
+        speed = _speed(rpm, "rpm")
+        columns = _native_machine_engine(self._units, self.g, self.shaft_inertia, speed)
+        return Engine(**columns, name=f"{self.name} at {speed:g} rpm")
 
     # -- the quantities of the equation of motion -----------------------------------------
     def reduced_inertia(self, phi: Any, *, parallel_threshold: Any = None) -> tuple[np.ndarray, np.ndarray]:
@@ -311,6 +351,25 @@ class Machine:
         _, slope = self.reduced_inertia(phi, parallel_threshold=parallel_threshold)
         speed = as_real_array(omega, "omega")
         return -0.5 * slope * speed**2
+
+
+def _speed(value: Any, name: str) -> float:
+    """A speed [1/min]: one finite number > 0."""
+    speed = as_scalar(value, name)
+    if not (math.isfinite(speed) and speed > 0):
+        raise MechanismError(f"{name} = {speed} is out of range; allowed: {name} > 0 [1/min]")
+    return speed
+
+
+def _speed_range(value: Any) -> tuple[float, float]:
+    """(low, high) [1/min] with 0 < low < high."""
+    bounds = as_real_array(value, "rpm_range")
+    if bounds.shape != (2,):
+        raise MechanismError(f"rpm_range must be two speeds (low, high) [1/min], got shape {bounds.shape}")
+    low, high = (float(b) for b in bounds)
+    if not (math.isfinite(low) and math.isfinite(high) and 0 < low < high):
+        raise MechanismError(f"rpm_range = ({low:g}, {high:g}) is out of range; allowed: 0 < low < high [1/min]")
+    return low, high
 
 
 def _pressure(function: Pressure, theta: np.ndarray, name: str) -> np.ndarray:
