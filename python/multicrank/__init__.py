@@ -33,9 +33,9 @@ from .harmonics import (
     paper_coefficient,
     surviving_harmonics,
 )
+from .layouts import LAYOUTS, Layout, layout_engine
 from .machine import Cylinder, Machine
 from .mechanism import STANDARD_GRAVITY, crank_phases, dimensionless_moments
-from .presets import LAYOUTS, Layout, layout_engine
 from .pressure import IndicatorDiagram
 
 # The sweep machinery pulls in pandas (and, where installed, pyarrow's thread pools): load

@@ -27,6 +27,7 @@ from ._native import machine_inertia as _native_machine_inertia
 from ._validation import as_real_array, as_scalar, as_strokes, as_threshold, contiguous
 from .engines import Engine
 from .grids import as_phi
+from .layouts import Layout, as_layout
 from .mechanism import STANDARD_GRAVITY
 
 __all__ = ["Cylinder", "Machine"]
@@ -241,6 +242,123 @@ class Machine:
                 )
         self._units = _columns(cylinders)
 
+    # -- construction --------------------------------------------------------------------
+    @classmethod
+    def from_layout(
+        cls,
+        layout: Layout | str,
+        cylinder: Cylinder,
+        *,
+        shaft_inertia: float,
+        strokes: int | None = None,
+        firing: Any = None,
+        g: float = STANDARD_GRAVITY,
+        name: str | None = None,
+        rpm: float | None = None,
+        rpm_range: tuple[float, float] | None = None,
+        note: str | None = None,
+    ) -> Machine:
+        """A machine of a layout with one cylinder template on every bank.
+
+        Parameters
+        ----------
+        layout : Layout or str
+            A :class:`~multicrank.Layout`, or the name of one in ``LAYOUTS``.
+        cylinder : Cylinder
+            The template: every cylinder is this one, with its ``phase`` and ``inclination``
+            replaced by the layout's. Crank webs and counterweights belong to the **throw**:
+            the first cylinder on each throw keeps the template's ``crank_mass`` and
+            ``counterweight_mass``, the others on that throw get 0 (a V's shared pin carries
+            one web, not two).
+        shaft_inertia : float
+            I_w [kg·m²], as for :class:`Machine`.
+        strokes : 2 or 4, optional
+            The working cycle; default the layout's own (``Layout.strokes``: the in-line
+            presets are made for one), else 2. A cycle that contradicts the layout's is refused.
+        firing : array_like, optional
+            The cylinders' phases α_j [rad] in the layout's order (throw by throw, bank by
+            bank), to choose the firing order of a four-stroke machine by hand. Each must be
+            β − γ of its cylinder plus a whole number of turns (2π); it is taken modulo the cycle.
+        g, name, rpm, rpm_range, note
+            As for :class:`Machine`; ``name`` and ``note`` default to the layout's.
+
+        Returns
+        -------
+        Machine
+            One cylinder per bank and throw, in the layout's order.
+
+        Notes
+        -----
+        A cylinder on a throw at absolute angle β (the crank pin at φ + β) with bank
+        inclination γ gets inclination γ and phase α = β − γ, as
+        :meth:`~multicrank.Engine.from_throws` does. On a two-stroke machine that is all:
+        α is reduced to [0, 2π). On a four-stroke machine the phase also places the
+        cylinder in its 4π cycle (θ = (φ + α) mod 4π; it fires at θ = 0), and β − γ fixes it
+        only modulo 2π: each cylinder gets α = β − γ or β − γ + 2π (reduced to [0, 4π)),
+        chosen so that the firing is as even as the crank allows. Of the 2ⁿ choices the
+        rule takes the one whose largest firing interval (gap between neighbouring phases
+        around 4π) is smallest; among equals, the one whose intervals' sum of squares is
+        smallest (closest to equal intervals); then the one that moves fewest cylinders
+        from β − γ as the layout writes its throws (unreduced angles count: the in-line
+        presets write the regular phase set j·4π/k of :func:`~multicrank.crank_phases`,
+        whose firing is perfectly even, so they keep it exactly); then the one that keeps
+        the earlier cylinders as written. Up to 16 cylinders; beyond, give ``firing``.
+
+        Raises
+        ------
+        MechanismError
+            For an unknown layout, a cylinder that is not a :class:`Cylinder`, a bad or
+            contradicting ``strokes``, ``firing`` of the wrong length or at a phase the crank
+            cannot have, and the fields :class:`Machine` checks.
+        """
+        layout = as_layout(layout)
+        if not isinstance(cylinder, Cylinder):
+            raise MechanismError(
+                f"cylinder must be a multicrank.Cylinder (the template), got {type(cylinder).__name__}"
+            )
+        if len(layout.throws) != len(layout.banks):
+            raise MechanismError(
+                f"layout {layout.name!r} has {len(layout.throws)} throws but {len(layout.banks)} banks entries"
+            )
+        cycle_strokes = as_strokes(layout.strokes or 2 if strokes is None else strokes)
+        if layout.strokes is not None and cycle_strokes != layout.strokes:
+            raise MechanismError(
+                f"strokes = {cycle_strokes} contradicts layout {layout.name!r}, whose throws are the "
+                f"{layout.strokes}-stroke phase set"
+            )
+        written: list[float] = []  # β − γ [deg], as the layout writes it
+        inclinations: list[float] = []
+        first: list[bool] = []
+        for beta, gammas in zip(layout.throws, layout.banks, strict=True):
+            if not len(gammas):
+                raise MechanismError(f"layout {layout.name!r} has a throw at {beta:g}° without a cylinder")
+            for index, gamma in enumerate(gammas):
+                written.append(float(beta) - float(gamma))
+                inclinations.append(float(gamma))
+                first.append(index == 0)
+        crank = np.asarray(written)
+        if not np.all(np.isfinite(crank)) or not np.all(np.isfinite(inclinations)):
+            raise MechanismError(f"layout {layout.name!r} has a throw or bank angle that is not finite")
+        if firing is None:
+            phases = _even_firing(crank, cycle_strokes)
+        else:
+            phases = _chosen_firing(firing, crank, cycle_strokes)
+        bare = {"crank_mass": 0.0, "counterweight_mass": 0.0}
+        cylinders = [
+            cylinder.replace(phase=phase, inclination=math.radians(gamma), **({} if keeps_web else bare))
+            for phase, gamma, keeps_web in zip(phases, inclinations, first, strict=True)
+        ]
+        return cls(
+            cylinders,
+            shaft_inertia=shaft_inertia,
+            strokes=cycle_strokes,
+            g=g,
+            name=layout.name if name is None else name,
+            rpm=rpm,
+            rpm_range=rpm_range,
+            note=layout.note if note is None else note,
+        )
+
     # -- description ---------------------------------------------------------------------
     @property
     def cycle(self) -> float:
@@ -351,6 +469,54 @@ class Machine:
         _, slope = self.reduced_inertia(phi, parallel_threshold=parallel_threshold)
         speed = as_real_array(omega, "omega")
         return -0.5 * slope * speed**2
+
+
+#: The most cylinders whose 2ⁿ firing choices :meth:`Machine.from_layout` tries (65536).
+_MAX_FIRING_SEARCH = 16
+
+
+def _even_firing(crank: np.ndarray, strokes: int) -> list[float]:
+    """The phases [rad] of cylinders whose crank phases β − γ are ``crank`` [deg]: the most even
+    firing over the cycle, by the rule of :meth:`Machine.from_layout` (done in degrees, where
+    the layouts' angles are exact)."""
+    if strokes == 2:
+        return [math.radians(a) for a in np.mod(crank, 360.0)]
+    count = crank.size
+    if count > _MAX_FIRING_SEARCH:
+        raise MechanismError(
+            f"firing: the even-firing search covers up to {_MAX_FIRING_SEARCH} cylinders of a four-stroke machine, "
+            f"this layout has {count}; give firing= (the phases in rad) explicitly"
+        )
+    moved = (np.arange(2**count)[:, None] >> np.arange(count)[None, :]) & 1  # row i: which cylinders get +360°
+    candidates = np.mod(crank[None, :] + 360.0 * moved, 720.0)
+    ordered = np.sort(candidates, axis=1)
+    gaps = np.diff(np.concatenate((ordered, ordered[:, :1] + 720.0), axis=1), axis=1)
+    # Equal to rounding (the angles are exact or within ~1e-13° of it): compared at 1e-9°.
+    largest = np.round(gaps.max(axis=1), 9)
+    squares = np.round(np.sum(gaps**2, axis=1) / 720.0, 9)
+    earliest = moved @ (2.0 ** np.arange(count - 1, -1, -1))  # moving a later cylinder is smaller
+    best = np.lexsort((earliest, moved.sum(axis=1), squares, largest))[0]
+    return [math.radians(a) for a in candidates[best]]
+
+
+def _chosen_firing(firing: Any, crank: np.ndarray, strokes: int) -> list[float]:
+    """The given phases [rad], checked against the crank (β − γ [deg] plus whole turns)."""
+    phases = as_real_array(firing, "firing")
+    if phases.shape != crank.shape:
+        raise MechanismError(
+            f"firing must hold one phase [rad] per cylinder ({crank.size}, in the layout's order), "
+            f"got shape {phases.shape}"
+        )
+    turns = (phases - np.radians(crank)) / (2 * math.pi)
+    whole = np.round(turns)
+    for j, (turn, nearest) in enumerate(zip(turns, whole, strict=True)):
+        if not (math.isfinite(turn) and abs(turn - nearest) <= 1e-9):
+            raise MechanismError(
+                f"firing[{j}] = {phases[j]!r} rad is not a phase the crank allows: cylinder {j} is at "
+                f"β − γ = {crank[j]:g}° plus whole turns (360°)"
+            )
+    cycle = 180.0 * strokes
+    return [math.radians(a) for a in np.mod(crank + 360.0 * whole, cycle)]
 
 
 def _speed(value: Any, name: str) -> float:
