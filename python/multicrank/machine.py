@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import os
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -24,11 +25,13 @@ from ._native import machine_engine as _native_machine_engine
 from ._native import machine_evaluate as _native_machine_evaluate
 from ._native import machine_gas_torque as _native_machine_gas_torque
 from ._native import machine_inertia as _native_machine_inertia
-from ._validation import as_real_array, as_scalar, as_strokes, as_threshold, contiguous
+from ._validation import as_option, as_real_array, as_scalar, as_strokes, as_threshold, contiguous
 from .engines import Engine
 from .grids import as_phi
 from .layouts import Layout, as_layout
+from .machine_files import read_machine_file
 from .mechanism import STANDARD_GRAVITY
+from .pressure import IndicatorDiagram
 
 __all__ = ["Cylinder", "Machine"]
 
@@ -156,6 +159,142 @@ class Cylinder:
     def crank_end_area(self) -> float:
         """π (D² − d²)/4 [m²], the crank-end face's area around the piston rod."""
         return math.pi * (self.bore**2 - self.piston_rod_diameter**2) / 4
+
+    @property
+    def stroke(self) -> float:
+        """2r [m]: the piston's travel from outer to inner dead centre."""
+        return 2.0 * self.crank_radius
+
+    def chamber_volume(self, theta: Any, clearance_volume: float, *, end: str = "head") -> np.ndarray:
+        """The volume [m³] of one of the cylinder's chambers at cycle angles θ [rad].
+
+        The head end (over the crown): V(θ) = V_c + A·s(θ), smallest at θ = 0 (outer dead
+        centre). The crank end of a double-acting cylinder (around the piston rod):
+        V(θ) = V_c + A_c·(2r − s(θ)), smallest at inner dead centre. s is the piston travel
+        of :meth:`Machine.piston_travel` with the cylinder's own crank angle ψ = θ (θ and ψ
+        differ by whole turns, and s has period 2π), so V is the volume the synthetic cycles
+        of :class:`~multicrank.IndicatorDiagram` take.
+
+        Parameters
+        ----------
+        theta : array_like
+            Cycle angles [rad], any shape.
+        clearance_volume : float
+            V_c [m³] > 0: the chamber's volume at its dead centre.
+        end : {"head", "crank"}
+            Which chamber.
+
+        Returns
+        -------
+        ndarray
+            V [m³], the shape of ``theta``.
+        """
+        end = as_option(end, "end", ("head", "crank"))
+        clearance = as_scalar(clearance_volume, "clearance_volume")
+        if not (math.isfinite(clearance) and clearance > 0):
+            raise MechanismError(f"clearance_volume = {clearance} is out of range; allowed: > 0 [m³]")
+        angles = as_real_array(theta, "theta")
+        own = dict(_columns([self]), phase=np.zeros(1))
+        travel = _native_machine_evaluate("travel", own, 0.0, contiguous(angles).reshape(-1)).reshape(angles.shape)
+        if end == "head":
+            return clearance + self.piston_area * travel
+        return clearance + self.crank_end_area * (self.stroke - travel)
+
+    def swept_volume(self, end: str = "head") -> float:
+        """The volume [m³] a chamber's face sweeps: A·2r at the head end, A_c·2r at the crank end."""
+        end = as_option(end, "end", ("head", "crank"))
+        return (self.piston_area if end == "head" else self.crank_end_area) * self.stroke
+
+    def _clearance(self, end: str, given: dict[str, Any]) -> float:
+        """V_c [m³] from exactly one of clearance_volume, clearance_ratio, compression_ratio."""
+        named = {name: value for name, value in given.items() if value is not None}
+        if len(named) != 1:
+            raise MechanismError(f"give exactly one of {', '.join(given)} (got {', '.join(named) or 'none'})")
+        if not self.bore > 0:
+            raise MechanismError(f"bore = {self.bore}: a synthetic cycle needs a piston (bore > 0) [m]")
+        ((name, value),) = named.items()
+        value = as_scalar(value, name)
+        swept = self.swept_volume(end)
+        if name == "clearance_volume" and math.isfinite(value) and value > 0:
+            return value
+        if name == "clearance_ratio" and math.isfinite(value) and value > 0:
+            return value * swept
+        if name == "compression_ratio" and math.isfinite(value) and value > 1:
+            return swept / (value - 1.0)
+        allowed = {
+            "clearance_volume": "> 0 [m³]",
+            "clearance_ratio": "> 0 (V_c over the swept volume)",
+            "compression_ratio": "> 1 ((V_s + V_c)/V_c)",
+        }
+        raise MechanismError(f"{name} = {value} is out of range; allowed: {allowed[name]}")
+
+    def compressor_diagram(
+        self,
+        *,
+        suction_pressure: float,
+        discharge_pressure: float,
+        clearance_ratio: float | None = None,
+        clearance_volume: float | None = None,
+        end: str = "head",
+        **options: Any,
+    ) -> IndicatorDiagram:
+        """The ideal compressor cycle (:meth:`IndicatorDiagram.compressor`) in one of this
+        cylinder's chambers, of volume :meth:`chamber_volume`.
+
+        Parameters
+        ----------
+        suction_pressure, discharge_pressure : float
+            [Pa], absolute unless ``absolute=False`` is among ``options``.
+        clearance_ratio, clearance_volume : float
+            Exactly one: V_c over the chamber's swept volume (:meth:`swept_volume`), or V_c [m³].
+        end : {"head", "crank"}
+            The chamber: "crank" for the crank end of a double-acting cylinder (its diagram
+            goes to ``pressure_crank_end``).
+        **options
+            The other keywords of :meth:`IndicatorDiagram.compressor` (``cycle`` 2π by
+            default: the machine's cycle is the one to give).
+        """
+        end = as_option(end, "end", ("head", "crank"))
+        clearance = self._clearance(end, {"clearance_ratio": clearance_ratio, "clearance_volume": clearance_volume})
+        return IndicatorDiagram.compressor(
+            lambda theta: self.chamber_volume(theta, clearance, end=end),
+            suction_pressure=suction_pressure,
+            discharge_pressure=discharge_pressure,
+            **options,
+        )
+
+    def engine_diagram(
+        self,
+        *,
+        intake_pressure: float,
+        heat_release: float,
+        compression_ratio: float | None = None,
+        clearance_volume: float | None = None,
+        **options: Any,
+    ) -> IndicatorDiagram:
+        """The single-zone engine cycle (:meth:`IndicatorDiagram.engine`) over this cylinder's
+        crown, in the head-end volume :meth:`chamber_volume`; it fires at θ = 0.
+
+        Parameters
+        ----------
+        intake_pressure : float
+            [Pa], absolute unless ``absolute=False`` is among ``options``.
+        heat_release : float
+            [J per cycle].
+        compression_ratio, clearance_volume : float
+            Exactly one: ε = (V_s + V_c)/V_c, or V_c [m³].
+        **options
+            The other keywords of :meth:`IndicatorDiagram.engine` (``cycle`` 4π by default).
+        """
+        clearance = self._clearance(
+            "head", {"compression_ratio": compression_ratio, "clearance_volume": clearance_volume}
+        )
+        return IndicatorDiagram.engine(
+            lambda theta: self.chamber_volume(theta, clearance),
+            intake_pressure=intake_pressure,
+            heat_release=heat_release,
+            **options,
+        )
 
     def replace(self, **changes: Any) -> Cylinder:
         """A copy with some fields changed."""
@@ -359,6 +498,102 @@ class Machine:
             note=layout.note if note is None else note,
         )
 
+    @classmethod
+    def from_toml(cls, path: str | os.PathLike[str]) -> Machine:
+        """A machine from a TOML machine file (docs/machine-files.md; examples in examples/machines/).
+
+        A file describes either (a) a ``layout`` (a name in ``LAYOUTS`` or a table of one's
+        own) with one ``[cylinder]`` template on every bank (see :meth:`from_layout`), or
+        (b) the cylinders one by one in ``[[cylinder]]`` tables (a single ``[cylinder]``
+        table: a one-cylinder machine). Keys are the fields of :class:`Machine` and
+        :class:`Cylinder`; angles are in degrees, with ``_deg`` in their names.
+
+        ========================== ============ ==================================================
+        key                        unit         meaning
+        ========================== ============ ==================================================
+        **top level**
+        ``name``, ``note``         text         default name: the file's stem
+        ``shaft_inertia``          kg·m²        required; I_w, everything turning with the shaft
+        ``strokes``                2 or 4       default 2 (with a layout: the layout's own)
+        ``g``                      m/s²         default 9.80665; 0 switches gravity off
+        ``rpm``                    1/min        the running speed (optional)
+        ``rpm_range``              1/min        [low, high] (optional)
+        ``layout``                 name, table  a name in LAYOUTS, or a table of one's own:
+                                                ``throws_deg`` (the throws β [deg]), ``banks_deg``
+                                                (per throw, the bank inclinations γ [deg]),
+                                                ``name``, ``note``, ``strokes``
+        ``firing_deg``             deg          with a layout: every cylinder's phase α (firing)
+        ``cylinder``               table(s)     required; ``[cylinder]`` (one cylinder, or the
+                                                layout's template) or ``[[cylinder]]`` (one each)
+        **[cylinder]**
+        ``crank_radius``           m            required; r
+        ``rod_length``             m            required; l
+        ``piston_mass``            kg           required; m_t (crosshead, piston rod included)
+        ``rod_mass``               kg           required; m_k
+        ``rod_cg``                 m            required; z_k from the piston-pin axis
+        ``rod_inertia``            kg·m²        I_k about the rod's centre of gravity
+        ``crank_mass``             kg           m_s, crank web and pin
+        ``crank_cg_radius``        m            r_s
+        ``counterweight_mass``     kg           m_p
+        ``counterweight_radius``   m            r_p
+        ``bore``                   m            D (0: no gas force)
+        ``piston_rod_diameter``    m            d, double acting
+        ``phase_deg``              deg          α (not with a layout)
+        ``inclination_deg``        deg          γ, 90 upright (not with a layout)
+        ``pressure``               table        the crown's (head end's) gas pressure, below
+        ``pressure_crank_end``     table        double acting: the crank end's, below
+        **pressure tables**        ``[cylinder.pressure]``, ``[cylinder.pressure_crank_end]``
+        ``type``                   text         "compressor", "engine" or "table" (required)
+        ``pressure_unit``          text         Pa (default), kPa, bar, MPa, psi: the unit of
+                                                every pressure in the table and in a CSV file
+        ``reference_pressure``     pressure     the crankcase pressure (default 101325 Pa)
+        ``kind``                   text         the interpolation, as IndicatorDiagram's
+        *compressor*               ``suction_pressure``, ``discharge_pressure`` (required),
+                                   ``polytropic_exponent``, ``points``, ``absolute`` (default
+                                   true) as :meth:`IndicatorDiagram.compressor`; one of
+                                   ``clearance_volume`` [m³] or ``clearance_ratio`` (V_c over
+                                   the chamber's swept volume)
+        *engine*                   ``intake_pressure``, ``heat_release`` [J] (required),
+                                   ``compression_exponent``, ``expansion_exponent``, ``wiebe_a``,
+                                   ``wiebe_m``, ``points``, ``absolute`` (default true), the
+                                   angles ``start_of_combustion_deg``,
+                                   ``combustion_duration_deg``, ``exhaust_opening_deg``,
+                                   ``intake_closing_deg`` as :meth:`IndicatorDiagram.engine`;
+                                   one of ``compression_ratio`` ((V_s + V_c)/V_c) or
+                                   ``clearance_volume`` [m³]; head end only
+        *table*                    ``path`` (required; relative to the TOML file),
+                                   ``angle_unit``, ``absolute`` (default false),
+                                   ``angle_column``, ``pressure_column``, ``delimiter``,
+                                   ``closure_tolerance`` as :meth:`IndicatorDiagram.from_csv`
+        ========================== ============ ==================================================
+
+        The synthetic cycles are built from the chamber's own volume,
+        :meth:`Cylinder.chamber_volume` (V_c + A·s(θ) at the head end, V_c + A_c·(2r − s(θ))
+        at the crank end), over the machine's cycle.
+
+        Raises
+        ------
+        MechanismError
+            Naming the file and the key: a file that cannot be read or is not TOML, an
+            unknown or missing key, a value of the wrong type or out of range.
+        """
+        file = read_machine_file(path)
+        cycle = math.pi * (file.strokes or _layout_strokes(file.layout))
+        cylinders = []
+        for spec in file.cylinders:
+            with file.context(spec.key):
+                cylinder = Cylinder(**spec.fields)
+            for end, pressure in spec.pressures.items():
+                with file.context(pressure.key):
+                    diagram = pressure.diagram(cylinder, "head" if end == "pressure" else "crank", cycle)
+                    cylinder = cylinder.replace(**{end: diagram})
+            cylinders.append(cylinder)
+        if file.layout is not None:
+            with file.context("firing_deg" if file.firing is not None else ""):
+                return cls.from_layout(file.layout, cylinders[0], firing=file.firing, **file.fields)
+        with file.context(""):
+            return cls(cylinders, **file.fields)
+
     # -- description ---------------------------------------------------------------------
     @property
     def cycle(self) -> float:
@@ -400,6 +635,33 @@ class Machine:
         speed = _speed(rpm, "rpm")
         columns = _native_machine_engine(self._units, self.g, self.shaft_inertia, speed)
         return Engine(**columns, name=f"{self.name} at {speed:g} rpm")
+
+    def design(self, rpm: float | None = None) -> dict[str, Any]:
+        """The keywords of the in-line functions (:func:`~multicrank.potential_energy`,
+        :func:`~multicrank.generalized_force`, :func:`~multicrank.speed_fluctuation`, …) at
+        ``rpm`` [1/min] (default: the machine's own): ``crank_ratio``, ``inclination`` [rad],
+        ``u1``, ``u2`` and ``phases`` [rad].
+
+        Only for a machine of identical units that differ in phase alone (an in-line machine
+        with a web on every crank, the paper's machine); any other has no single
+        (λ, γ, u1, u2): use :meth:`engine`.
+
+        Raises
+        ------
+        MechanismError
+            When the cylinders differ in anything but their phase.
+        """
+        engine = self.engine(rpm)
+        shared = {}
+        for field in ("crank_ratio", "inclination", "u1", "u2"):
+            column = getattr(engine, field)
+            if not np.all(column == column[0]):
+                raise MechanismError(
+                    f"machine {self.name!r} has cylinders that differ in {field}: the in-line design (one "
+                    f"crank_ratio, inclination, u1, u2 for all) is for machines of identical cylinders; use engine()"
+                )
+            shared[field] = float(column[0])
+        return {**shared, "phases": engine.phase.copy()}
 
     # -- the quantities of the equation of motion -----------------------------------------
     def reduced_inertia(self, phi: Any, *, parallel_threshold: Any = None) -> tuple[np.ndarray, np.ndarray]:
@@ -469,6 +731,11 @@ class Machine:
         _, slope = self.reduced_inertia(phi, parallel_threshold=parallel_threshold)
         speed = as_real_array(omega, "omega")
         return -0.5 * slope * speed**2
+
+
+def _layout_strokes(layout: Layout | None) -> int:
+    """The strokes a layout implies where a file gives none: its own, else 2."""
+    return 2 if layout is None else layout.strokes or 2
 
 
 #: The most cylinders whose 2ⁿ firing choices :meth:`Machine.from_layout` tries (65536).
