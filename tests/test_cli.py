@@ -37,7 +37,11 @@ def test_eval_csv_numbers_match_the_api():
     out = run("eval", "--points", "12", "--format", "csv", "--cranks", "3", "--strokes", "4", "--inclination", "60")
     rows = list(csv.DictReader(io.StringIO(out)))
     assert len(rows) == 12
-    engine = DEFAULT_ENGINE.replace(cranks=3, strokes=4, inclination_deg=60.0)
+    # The default machine (double acting) on three cranks of a four-stroke cycle, tilted to 60°.
+    first = DEFAULT_ENGINE.cylinders[0].replace(inclination=float(np.radians(60.0)))
+    engine = DEFAULT_ENGINE.replace(
+        cylinders=[first.replace(phase=float(a)) for a in mc.crank_phases(3, 4, "double")], strokes=4
+    )
     phi = np.radians([float(r["phi_deg"]) for r in rows])
     np.testing.assert_array_equal(
         [float(r["potential_energy"]) for r in rows], mc.potential_energy(phi, **engine.design())
@@ -51,7 +55,7 @@ def test_eval_json():
     data = json.loads(run("eval", "--points", "4", "--format", "json"))
     assert data["phi_deg"] == [0.0, 90.0, 180.0, 270.0]
     assert data["potential_energy"][0] == 0.0
-    assert data["engine"]["crank_ratio"] == pytest.approx(DEFAULT_ENGINE.crank_ratio)
+    assert data["engine"]["crank_ratio"] == pytest.approx(DEFAULT_ENGINE.cylinders[0].crank_ratio)
 
 
 def test_bad_option_is_a_clear_error():

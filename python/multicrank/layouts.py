@@ -16,7 +16,7 @@ import numpy as np
 
 from ._native import MechanismError
 from .engines import Engine
-from .mechanism import crank_phases, dimensionless_moments
+from .mechanism import crank_phases
 
 __all__ = ["LAYOUTS", "Layout", "layout_engine"]
 
@@ -48,41 +48,6 @@ class Layout:
             u1=u1,
             u2=u2,
             name=self.name,
-        )
-
-    def physical_engine(self, machine) -> Engine:
-        """This layout built from a :class:`multicrank.presets.Machine`'s physical data: every
-        cylinder gets the machine's piston and rod (U1, and the rod's big-end share z_k/l of
-        its mass rotating with the shared pin), and every throw one crank web with its
-        counterweight as a purely rotating unit (u1 = 0, γ = 0, α = β): counterweights are
-        per throw, not per cylinder, so a V's shared pin carries one web for two cylinders."""
-        common = dict(
-            crank_radius=machine.crank_radius,
-            rod_length=machine.rod_length,
-            rod_cg=machine.rod_cg,
-            shaft_inertia=machine.shaft_inertia,
-            rpm=machine.rpm,
-            g=machine.g,
-        )
-        u1, rod_u2 = dimensionless_moments(piston_mass=machine.piston_mass, rod_mass=machine.rod_mass, **common)
-        _, web_u2 = dimensionless_moments(
-            piston_mass=0.0,
-            rod_mass=0.0,
-            crank_mass=machine.crank_mass,
-            crank_cg_radius=machine.crank_cg_radius,
-            counterweight_mass=machine.counterweight_mass,
-            counterweight_radius=machine.counterweight_radius,
-            **common,
-        )
-        cylinders = self.engine(crank_ratio=machine.crank_ratio, u1=float(u1), u2=float(rod_u2))
-        throws = np.radians(self.throws)
-        return Engine(
-            phase=np.concatenate([cylinders.phase, throws]),
-            inclination=np.concatenate([cylinders.inclination, np.zeros(len(throws))]),
-            crank_ratio=machine.crank_ratio,
-            u1=np.concatenate([cylinders.u1, np.zeros(len(throws))]),
-            u2=np.concatenate([cylinders.u2, np.full(len(throws), float(web_u2))]),
-            name=f"{self.name} ({machine.name} cylinders)",
         )
 
     @property
