@@ -71,3 +71,49 @@ def test_eval_takes_any_builtin_engine_and_rejects_unknown_ones():
         [str(SCRIPT), "eval", "--engine", "steam-hammer"], capture_output=True, text=True, timeout=60
     )
     assert result.returncode == 2 and "steam-hammer" in result.stderr
+
+
+def _run_failing(*args: str) -> subprocess.CompletedProcess:
+    result = subprocess.run([str(SCRIPT), *args], capture_output=True, text=True, timeout=120)
+    assert result.returncode == 2 and "Traceback" not in result.stderr, result.stderr
+    return result
+
+
+def test_a_mistake_in_a_machine_file_is_one_line_and_status_two(tmp_path):
+    bad = tmp_path / "bad.toml"
+    bad.write_text(
+        'shaft_inertia = 1.0\n[cylinder]\ncrank_radius = 0.1\nrod_length = "long"\npiston_mass = 1\n'
+        "rod_mass = 1\nrod_cg = 0.2\n"
+    )
+    for command in (["eval"], ["report", "--out", str(tmp_path / "out"), "--no-progress"]):
+        result = _run_failing(*command, "--engine", str(bad))
+        (line,) = result.stderr.strip().splitlines()
+        assert line.startswith("Error: ") and str(bad) in line and "cylinder.rod_length" in line
+    assert not (tmp_path / "out").exists()
+
+
+def test_a_machine_without_a_speed_needs_one(tmp_path):
+    slow = tmp_path / "slow.toml"
+    slow.write_text(
+        "shaft_inertia = 45.0\n[cylinder]\ncrank_radius = 0.15\nrod_length = 0.6\npiston_mass = 85\n"
+        "rod_mass = 60\nrod_cg = 0.4\n"
+    )
+    (line,) = _run_failing("eval", "--engine", str(slow)).stderr.strip().splitlines()
+    assert "--rpm" in line
+    report = _run_failing("report", "--engine", str(slow), "--out", str(tmp_path / "out"), "--no-progress")
+    assert "rpm" in report.stderr and not (tmp_path / "out").exists()
+    data = json.loads(run("eval", "--engine", str(slow), "--rpm", "120", "--points", "4", "--format", "json"))
+    machine = mc.Machine.from_toml(slow)
+    np.testing.assert_array_equal(
+        data["generalized_force"], mc.generalized_force(np.radians(data["phi_deg"]), **machine.design(120))
+    )
+
+
+def test_eval_of_a_machine_of_unequal_cylinders_uses_its_engine():
+    data = json.loads(run("eval", "--engine", "genset-v12", "--points", "6", "--format", "json"))
+    from multicrank.presets import ENGINES
+
+    engine = ENGINES["genset-v12"].engine()
+    assert data["engine"]["cylinders"] == 12 and "cranks" not in data["engine"]
+    np.testing.assert_allclose(data["engine"]["phases_deg"], np.degrees(engine.phase), rtol=1e-15)
+    np.testing.assert_array_equal(data["potential_energy"], engine.potential_energy(np.radians(data["phi_deg"])))

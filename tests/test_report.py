@@ -194,3 +194,34 @@ def test_report_layouts_table(report):
     row = layouts[layouts.engine == "v-twin-90"].iloc[0]
     assert row.energy_range == pytest.approx(float(v_twin.speed_fluctuation()), rel=1e-12)
     assert row.leading_harmonic == v_twin.leading_harmonic()[0]
+
+
+def test_report_of_a_machine_that_is_not_in_line(tmp_path):
+    """A V8 from a layout file: δ_g is the whole machine's; the k-crank sections say they use
+    its first cylinder."""
+    example = Path(__file__).resolve().parents[1] / "examples" / "machines" / "v8-cross.toml"
+    out = tmp_path / "v8"
+    run(
+        "report",
+        "--out",
+        str(out),
+        "--engine",
+        str(example),
+        "--k-max",
+        "2",
+        "--n-max",
+        "4",
+        "--points",
+        "17",
+        "--no-progress",
+    )
+    page = (out / "index.html").read_text(encoding="utf-8")
+    machine = mc.Machine.from_toml(example)
+    assert f"{float(machine.engine().speed_fluctuation()):.3g}" in page
+    assert "is not a machine of identical cylinders" in page and "45°, 135°" in page
+    curves = pd.read_csv(out / "energy_2stroke.csv", dtype=str).astype(float)
+    unit = mc.Machine([machine.cylinders[0]], shaft_inertia=machine.shaft_inertia, rpm=machine.rpm).design()
+    phi = np.radians(curves["phi_deg"].to_numpy())
+    np.testing.assert_allclose(
+        curves["k2"], mc.potential_energy(phi, **{**unit, "phases": mc.crank_phases(2, 2)}), rtol=1e-15, atol=1e-18
+    )
