@@ -257,3 +257,20 @@ def test_firing_by_hand():
 def test_bad_layout_machines_name_the_parameter(call, name):
     with pytest.raises(mc.MechanismError, match=name):
         call()
+
+
+def test_a_four_stroke_diagram_needs_a_four_stroke_machine():
+    cylinder = CYLINDER.replace(bore=0.086)
+    four = cylinder.replace(
+        pressure=cylinder.engine_diagram(intake_pressure=1e5, heat_release=1300.0, compression_ratio=10.5)
+    )
+    with pytest.raises(mc.MechanismError, match=r"cylinders\[0\]\.pressure .*strokes=4"):
+        mc.Machine.from_layout("v8-cross", four, shaft_inertia=0.25)  # two-stroke by default
+    assert mc.Machine.from_layout("v8-cross", four, shaft_inertia=0.25, strokes=4).strokes == 4
+    # A compressor's 2π diagram repeats over a four-stroke cycle: allowed.
+    two = cylinder.replace(
+        pressure=cylinder.compressor_diagram(suction_pressure=1e5, discharge_pressure=4e5, clearance_ratio=0.1)
+    )
+    machine = mc.Machine([two], shaft_inertia=1.0, strokes=4)
+    phi = np.linspace(0, 2 * np.pi, 50)
+    np.testing.assert_allclose(machine.gas_torque(phi + 2 * np.pi), machine.gas_torque(phi), rtol=1e-12, atol=1e-9)

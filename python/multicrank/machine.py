@@ -379,6 +379,16 @@ class Machine:
                 raise MechanismError(
                     f"rpm = {self.rpm:g} is out of range; allowed: inside rpm_range = ({low:g}, {high:g}) [1/min]"
                 )
+        for j, cylinder in enumerate(cylinders):
+            for end in ("pressure", "pressure_crank_end"):
+                period = getattr(getattr(cylinder, end), "cycle", None)
+                if isinstance(period, float) and period > self.cycle * (1 + 1e-9):
+                    # A 2π diagram repeats over a 4π cycle; a 4π one over a 2π cycle would be cut in half.
+                    raise MechanismError(
+                        f"cylinders[{j}].{end} is a {round(period / math.pi)}-stroke indicator diagram (cycle "
+                        f"{period:.6g} rad), longer than this {self.strokes}-stroke machine's cycle; give strokes="
+                        f"{round(period / math.pi)} or a diagram of the machine's cycle"
+                    )
         self._units = _columns(cylinders)
 
     # -- construction --------------------------------------------------------------------
