@@ -117,3 +117,18 @@ def test_eval_of_a_machine_of_unequal_cylinders_uses_its_engine():
     assert data["engine"]["cylinders"] == 12 and "cranks" not in data["engine"]
     np.testing.assert_allclose(data["engine"]["phases_deg"], np.degrees(engine.phase), rtol=1e-15)
     np.testing.assert_array_equal(data["potential_energy"], engine.potential_energy(np.radians(data["phi_deg"])))
+
+
+def test_eval_overrides_keep_gravity_and_leave_the_gas_cycle_behind():
+    """--strokes 2 on a four-stroke engine: U* and Q* of its cylinder on a two-stroke crank."""
+    from multicrank.presets import ENGINES
+
+    data = json.loads(run("eval", "--engine", "inline-4", "--strokes", "2", "--cranks", "3", "--format", "json"))
+    preset = ENGINES["inline-4"]
+    first = preset.cylinders[0].replace(pressure=None)
+    machine = mc.Machine(
+        [first.replace(phase=float(a)) for a in mc.crank_phases(3, 2)], shaft_inertia=preset.shaft_inertia
+    )
+    np.testing.assert_array_equal(
+        data["generalized_force"], mc.generalized_force(np.radians(data["phi_deg"]), **machine.design(preset.rpm))
+    )

@@ -265,8 +265,12 @@ def test_a_four_stroke_diagram_needs_a_four_stroke_machine():
         pressure=cylinder.engine_diagram(intake_pressure=1e5, heat_release=1300.0, compression_ratio=10.5)
     )
     with pytest.raises(mc.MechanismError, match=r"cylinders\[0\]\.pressure .*strokes=4"):
-        mc.Machine.from_layout("v8-cross", four, shaft_inertia=0.25)  # two-stroke by default
-    assert mc.Machine.from_layout("v8-cross", four, shaft_inertia=0.25, strokes=4).strokes == 4
+        mc.Machine.from_layout("v8-cross", four, shaft_inertia=0.25, strokes=2)
+    with pytest.raises(mc.MechanismError, match=r"cylinders\[0\]\.pressure .*strokes=4"):
+        mc.Machine([four], shaft_inertia=0.25)
+    # Without strokes, the template's diagram says four (the layout has no cycle of its own).
+    assert mc.Machine.from_layout("v8-cross", four, shaft_inertia=0.25).strokes == 4
+    assert mc.Machine.from_layout("v8-cross", CYLINDER, shaft_inertia=0.25).strokes == 2
     # A compressor's 2π diagram repeats over a four-stroke cycle: allowed.
     two = cylinder.replace(
         pressure=cylinder.compressor_diagram(suction_pressure=1e5, discharge_pressure=4e5, clearance_ratio=0.1)

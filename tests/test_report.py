@@ -104,7 +104,9 @@ def test_report_numbers_match_the_api(report):
     curves = pd.read_csv(report / "force_4stroke.csv", dtype=str).astype(float)
     phi = np.radians(curves["phi_deg"].to_numpy())
     for k in range(1, 5):
-        unit = mc.Machine([engine.cylinders[0]], shaft_inertia=engine.shaft_inertia, rpm=engine.rpm)
+        unit = mc.Machine(
+            [engine.cylinders[0]], shaft_inertia=engine.shaft_inertia, strokes=engine.strokes, rpm=engine.rpm
+        )
         design = {**unit.design(), "phases": mc.crank_phases(k, 4, "single")}
         np.testing.assert_allclose(curves[f"k{k}"], mc.generalized_force(phi, **design), rtol=1e-15, atol=1e-18)
     engines = pd.read_csv(report / "gravity_significance_engines.csv")
@@ -220,7 +222,9 @@ def test_report_of_a_machine_that_is_not_in_line(tmp_path):
     assert f"{float(machine.engine().speed_fluctuation()):.3g}" in page
     assert "is not a machine of identical cylinders" in page and "45°, 135°" in page
     curves = pd.read_csv(out / "energy_2stroke.csv", dtype=str).astype(float)
-    unit = mc.Machine([machine.cylinders[0]], shaft_inertia=machine.shaft_inertia, rpm=machine.rpm).design()
+    unit = mc.Machine(
+        [machine.cylinders[0]], shaft_inertia=machine.shaft_inertia, strokes=machine.strokes, rpm=machine.rpm
+    ).design()
     phi = np.radians(curves["phi_deg"].to_numpy())
     np.testing.assert_allclose(
         curves["k2"], mc.potential_energy(phi, **{**unit, "phases": mc.crank_phases(2, 2)}), rtol=1e-15, atol=1e-18

@@ -73,6 +73,8 @@ def _inline_variant(machine, cranks, strokes, acting, inclination):
         cycle = machine.strokes if strokes is None else int(strokes)
         if acting is None:
             acting = "double" if first.pressure_crank_end is not None else "single"
+        # Gravity alone: the gas pressures (whose cycle --strokes may change) stay behind.
+        first = first.replace(pressure=None, pressure_crank_end=None)
         phases = crank_phases(len(machine) if cranks is None else cranks, cycle, acting)
         machine = machine.replace(cylinders=[first.replace(phase=float(a)) for a in phases], strokes=cycle)
     if inclination is not None:
@@ -119,7 +121,8 @@ def eval_command(engine, cranks, strokes, acting, inclination, rpm, points, fmt)
         energy = units.potential_energy(phi)
         force = units.generalized_force(phi)
     rows = list(zip(phi_deg.tolist(), energy.tolist(), force.tolist(), strict=True))
-    acting = "double" if any(c.pressure_crank_end is not None for c in machine.cylinders) else "single"
+    if acting is None:  # as the machine given is (the overrides leave its pressures behind)
+        acting = "double" if any(c.pressure_crank_end is not None for c in engine.cylinders) else "single"
     out = sys.stdout
     if fmt == "json":
         meta: dict = dict(

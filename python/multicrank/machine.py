@@ -423,7 +423,9 @@ class Machine:
             I_w [kg·m²], as for :class:`Machine`.
         strokes : 2 or 4, optional
             The working cycle; default the layout's own (``Layout.strokes``: the in-line
-            presets are made for one), else 2. A cycle that contradicts the layout's is refused.
+            presets are made for one), else that of the template's indicator diagrams (a
+            four-stroke engine cycle makes a four-stroke machine), else 2. A cycle that
+            contradicts the layout's is refused.
         firing : array_like, optional
             The cylinders' phases α_j [rad] in the layout's order (throw by throw, bank by
             bank), to choose the firing order of a four-stroke machine by hand. Each must be
@@ -469,7 +471,9 @@ class Machine:
             raise MechanismError(
                 f"layout {layout.name!r} has {len(layout.throws)} throws but {len(layout.banks)} banks entries"
             )
-        cycle_strokes = as_strokes(layout.strokes or 2 if strokes is None else strokes)
+        if strokes is None:
+            strokes = layout.strokes or _diagram_strokes(cylinder) or 2
+        cycle_strokes = as_strokes(strokes)
         if layout.strokes is not None and cycle_strokes != layout.strokes:
             raise MechanismError(
                 f"strokes = {cycle_strokes} contradicts layout {layout.name!r}, whose throws are the "
@@ -741,6 +745,13 @@ class Machine:
         _, slope = self.reduced_inertia(phi, parallel_threshold=parallel_threshold)
         speed = as_real_array(omega, "omega")
         return -0.5 * slope * speed**2
+
+
+def _diagram_strokes(cylinder: Cylinder) -> int | None:
+    """The strokes of the longest indicator diagram (one with a ``cycle``) on a cylinder, if any."""
+    cycles = [getattr(getattr(cylinder, end), "cycle", None) for end in ("pressure", "pressure_crank_end")]
+    longest = max((c for c in cycles if isinstance(c, float)), default=None)
+    return None if longest is None else round(longest / math.pi)
 
 
 def _layout_strokes(layout: Layout | None) -> int:

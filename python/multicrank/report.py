@@ -113,7 +113,12 @@ def _unit_machine(machine: Machine) -> Machine:
     """The machine's first cylinder alone, with its throw's crank web and counterweight: the
     crank unit that the paper's sections (identical units on k in-line cranks) are about."""
     return Machine(
-        [machine.cylinders[0]], shaft_inertia=machine.shaft_inertia, g=machine.g, rpm=_speed(machine), name=machine.name
+        [machine.cylinders[0]],
+        shaft_inertia=machine.shaft_inertia,
+        strokes=machine.strokes,
+        g=machine.g,
+        rpm=_speed(machine),
+        name=machine.name,
     )
 
 
@@ -353,7 +358,7 @@ def layouts_figure(settings: ReportSettings):
 
     engine = settings.engine
     rpm = _speed(engine)
-    cylinder = engine.cylinders[0]
+    cylinder = engine.cylinders[0].replace(pressure=None, pressure_crank_end=None)  # gravity alone, any cycle
     chosen = [
         name
         for name in LAYOUTS
