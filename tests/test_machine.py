@@ -136,3 +136,42 @@ def test_a_pressure_that_fails_or_returns_nan_is_named():
     broken = mc.Machine([mc.Cylinder(**CYLINDER, bore=0.2, pressure_crank_end=lambda t: 1 / 0)], shaft_inertia=1)
     with pytest.raises(mc.MechanismError, match="pressure_crank_end"):
         broken.gas_torque(np.linspace(0, 1, 5))
+
+
+def test_descriptive_fields_are_kept_and_carried_by_replace():
+    machine = inline_machine().replace(rpm=120, rpm_range=(60, 300), note="a test machine")
+    assert (machine.rpm, machine.rpm_range, machine.note) == (120.0, (60.0, 300.0), "a test machine")
+    faster = machine.replace(shaft_inertia=50.0)
+    assert (faster.rpm, faster.rpm_range, faster.note, faster.shaft_inertia) == (
+        120.0,
+        (60.0, 300.0),
+        "a test machine",
+        50.0,
+    )
+    assert machine.replace(rpm=None).rpm is None and machine.replace(rpm_range=None).rpm_range is None
+    assert "120 rpm" in repr(machine)
+    # engine() defaults to the machine's own speed and equals an explicit one.
+    np.testing.assert_array_equal(machine.engine().u1, machine.engine(120).u1)
+    assert machine.engine().u1[0] != machine.engine(240).u1[0]
+    with pytest.raises(mc.MechanismError, match="rpm is required"):
+        inline_machine().engine()
+
+
+@pytest.mark.parametrize(
+    "changes, name",
+    [
+        ({"rpm": 0.0}, "rpm"),
+        ({"rpm": float("nan")}, "rpm"),
+        ({"rpm": "fast"}, "rpm"),
+        ({"rpm_range": (300.0, 60.0)}, "rpm_range"),
+        ({"rpm_range": (0.0, 60.0)}, "rpm_range"),
+        ({"rpm_range": (60.0,)}, "rpm_range"),
+        ({"rpm": 400.0, "rpm_range": (60.0, 300.0)}, "rpm"),
+        ({"note": 3}, "note"),
+        ({"name": None}, "name"),
+        ({"flywheel": 3.0}, "flywheel"),
+    ],
+)
+def test_bad_descriptive_fields_name_the_parameter(changes, name):
+    with pytest.raises(mc.MechanismError, match=name):
+        inline_machine().replace(**changes)

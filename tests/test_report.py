@@ -104,23 +104,16 @@ def test_report_numbers_match_the_api(report):
     curves = pd.read_csv(report / "force_4stroke.csv", dtype=str).astype(float)
     phi = np.radians(curves["phi_deg"].to_numpy())
     for k in range(1, 5):
-        design = engine.replace(cranks=k, strokes=4, acting="single").design()
+        unit = mc.Machine(
+            [engine.cylinders[0]], shaft_inertia=engine.shaft_inertia, strokes=engine.strokes, rpm=engine.rpm
+        )
+        design = {**unit.design(), "phases": mc.crank_phases(k, 4, "single")}
         np.testing.assert_allclose(curves[f"k{k}"], mc.generalized_force(phi, **design), rtol=1e-15, atol=1e-18)
     engines = pd.read_csv(report / "gravity_significance_engines.csv")
     assert set(engines["engine"]) == set(ENGINES)
     row = engines[engines.engine == "slow-compressor"].iloc[0]
     compressor = ENGINES["slow-compressor"]
-    u1, u2 = compressor.moments(rpm=row.rpm)
-    assert row.delta_g == pytest.approx(
-        mc.speed_fluctuation(
-            crank_ratio=compressor.crank_ratio,
-            inclination=compressor.inclination,
-            u1=u1,
-            u2=u2,
-            phases=compressor.phases(),
-        ),
-        rel=1e-12,
-    )
+    assert row.delta_g == pytest.approx(mc.speed_fluctuation(**compressor.design(row.rpm)), rel=1e-12)
     truncation = pd.read_csv(report / "paper_truncation_error.csv")
     at = (truncation.crank_ratio - 0.4).abs().idxmin()
     assert 0.2 < truncation.loc[at, "Lambda12_relative_error"] < 0.6  # "Λ_12 is 37 % off at λ = 0.4"
@@ -135,10 +128,12 @@ def test_report_numbers_match_the_api(report):
 
 def test_report_from_a_toml_engine(tmp_path):
     engine = ENGINES["marine-2t-twin"]
-    fields = {k: v for k, v in vars(engine).items() if k not in ("name", "note")}
-    lines = ["[engine]", 'name = "my-twin"']
-    for key, value in fields.items():
-        lines.append(f"{key} = {json.dumps(list(value) if isinstance(value, tuple) else value)}")
+    cylinder = engine.cylinders[0]
+    fields = ["crank_radius", "rod_length", "rod_cg", "piston_mass", "rod_mass", "crank_mass", "crank_cg_radius"]
+    fields += ["counterweight_mass", "counterweight_radius", "bore"]
+    lines = ['name = "my-twin"', 'layout = "inline-2-2t"', f"shaft_inertia = {engine.shaft_inertia!r}"]
+    lines += [f"rpm = {engine.rpm!r}", f"rpm_range = {json.dumps(list(engine.rpm_range))}", "[cylinder]"]
+    lines += [f"{key} = {getattr(cylinder, key)!r}" for key in fields]
     toml = tmp_path / "twin.toml"
     toml.write_text("\n".join(lines) + "\n")
     loaded = load_engine(toml)
@@ -195,8 +190,42 @@ def test_report_layouts_table(report):
     layouts = pd.read_csv(report / "layouts.csv")
     assert {"v8-cross", "boxer-4", "w12", "v-180-2", "twin-270"} <= set(layouts["engine"])
     engine = ENGINES["inline-4"]
-    u1, u2 = engine.moments()
-    v_twin = mc.layout_engine("v-twin-90", crank_ratio=engine.crank_ratio, u1=u1, u2=u2)
+    v_twin = mc.Machine.from_layout("v-twin-90", engine.cylinders[0], shaft_inertia=engine.shaft_inertia).engine(
+        engine.rpm
+    )
     row = layouts[layouts.engine == "v-twin-90"].iloc[0]
     assert row.energy_range == pytest.approx(float(v_twin.speed_fluctuation()), rel=1e-12)
     assert row.leading_harmonic == v_twin.leading_harmonic()[0]
+
+
+def test_report_of_a_machine_that_is_not_in_line(tmp_path):
+    """A V8 from a layout file: δ_g is the whole machine's; the k-crank sections say they use
+    its first cylinder."""
+    example = Path(__file__).resolve().parents[1] / "docs" / "machines" / "v8-cross.toml"
+    out = tmp_path / "v8"
+    run(
+        "report",
+        "--out",
+        str(out),
+        "--engine",
+        str(example),
+        "--k-max",
+        "2",
+        "--n-max",
+        "4",
+        "--points",
+        "17",
+        "--no-progress",
+    )
+    page = (out / "index.html").read_text(encoding="utf-8")
+    machine = mc.Machine.from_toml(example)
+    assert f"{float(machine.engine().speed_fluctuation()):.3g}" in page
+    assert "is not a machine of identical cylinders" in page and "45°, 135°" in page
+    curves = pd.read_csv(out / "energy_2stroke.csv", dtype=str).astype(float)
+    unit = mc.Machine(
+        [machine.cylinders[0]], shaft_inertia=machine.shaft_inertia, strokes=machine.strokes, rpm=machine.rpm
+    ).design()
+    phi = np.radians(curves["phi_deg"].to_numpy())
+    np.testing.assert_allclose(
+        curves["k2"], mc.potential_energy(phi, **{**unit, "phases": mc.crank_phases(2, 2)}), rtol=1e-15, atol=1e-18
+    )

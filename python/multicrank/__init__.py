@@ -12,7 +12,7 @@ import importlib as _importlib
 import os as _os
 from typing import Any as _Any
 
-from . import presets as presets  # public: mc.presets.ENGINES, mc.presets.Machine
+from . import presets as presets  # public: mc.presets.ENGINES (the built-in machines), mc.presets.LAYOUTS
 from ._native import MechanismError, __version__, build_profile
 from ._native import _after_fork_in_child as _native_after_fork_in_child
 from .engines import Engine
@@ -33,11 +33,11 @@ from .harmonics import (
     paper_coefficient,
     surviving_harmonics,
 )
+from .layouts import LAYOUTS, Layout, layout_engine
 from .loads import PowerLawLoad
 from .machine import Cylinder, Machine
 from .mechanism import STANDARD_GRAVITY, crank_phases, dimensionless_moments
 from .orders import torque_orders
-from .presets import LAYOUTS, Layout, layout_engine
 from .pressure import IndicatorDiagram
 from .transient import Transient, simulate
 

@@ -11,13 +11,21 @@ import numpy as np
 from ._native import MechanismError, __version__
 from ._optional import OptionalDependencyError, require
 from .evaluation import generalized_force, potential_energy
-from .presets import DEFAULT_ENGINE, ENGINES
+from .mechanism import crank_phases
+from .presets import DEFAULT_ENGINE_NAME, ENGINES
 
 FORMATS = ("table", "csv", "json")
 
 
 class MissingExtra(click.ClickException):
     """An optional dependency is missing: one line on stderr, exit status 2 (as a usage error)."""
+
+    exit_code = 2
+
+
+class UserError(click.ClickException):
+    """A mistake in what the user gave (a machine file, a machine without a speed): one line on
+    stderr, exit status 2 (as a usage error)."""
 
     exit_code = 2
 
@@ -38,23 +46,41 @@ def main() -> None:
 
 
 def _load_engine(ctx, param, spec: str):
-    """--engine: a built-in engine's name or a TOML file, as a presets.Machine."""
+    """--engine: a built-in machine's name or a TOML machine file, as a multicrank.Machine."""
     from .presets import engine_by_name_or_file
 
     try:
         return engine_by_name_or_file(spec)
     except MechanismError as error:
-        raise click.BadParameter(str(error), ctx=ctx, param=param) from None
+        raise UserError(f"--engine: {error}") from None
 
 
 engine_option = click.option(
     "--engine",
     "engine",
-    default=DEFAULT_ENGINE.name,
+    default=DEFAULT_ENGINE_NAME,
     show_default=True,
     callback=_load_engine,
-    help=f"A built-in engine ({', '.join(ENGINES)}) or a TOML file describing one.",
+    help=f"A built-in machine ({', '.join(ENGINES)}) or a TOML machine file (docs/machine-files.md).",
 )
+
+
+def _inline_variant(machine, cranks, strokes, acting, inclination):
+    """The machine with the eval command's overrides: --cranks, --strokes and --acting make a
+    regular in-line machine of its first cylinder; --inclination tilts every cylinder."""
+    if cranks is not None or strokes is not None or acting is not None:
+        first = machine.cylinders[0]
+        cycle = machine.strokes if strokes is None else int(strokes)
+        if acting is None:
+            acting = "double" if first.pressure_crank_end is not None else "single"
+        # Gravity alone: the gas pressures (whose cycle --strokes may change) stay behind.
+        first = first.replace(pressure=None, pressure_crank_end=None)
+        phases = crank_phases(len(machine) if cranks is None else cranks, cycle, acting)
+        machine = machine.replace(cylinders=[first.replace(phase=float(a)) for a in phases], strokes=cycle)
+    if inclination is not None:
+        gamma = float(np.radians(inclination))
+        machine = machine.replace(cylinders=[c.replace(inclination=gamma) for c in machine.cylinders])
+    return machine
 
 
 @main.command("eval")
@@ -69,30 +95,44 @@ engine_option = click.option(
 )
 @click.option("--format", "fmt", type=click.Choice(FORMATS), default="table", show_default=True)
 def eval_command(engine, cranks, strokes, acting, inclination, rpm, points, fmt) -> None:
-    """Print U_w*(φ) and Q_u*(φ) of an engine on a coarse φ grid (φ in degrees)."""
-    changes = {
-        key: value
-        for key, value in dict(
-            cranks=cranks,
-            strokes=None if strokes is None else int(strokes),
-            acting=acting,
-            inclination_deg=inclination,
-            rpm=rpm,
-        ).items()
-        if value is not None
-    }
-    engine = engine.replace(**changes)
-    design = engine.design()
+    """Print U_w*(φ) and Q_u*(φ) of a machine on a coarse φ grid (φ in degrees).
+
+    --cranks, --strokes and --acting make a regular in-line machine of the machine's first
+    cylinder (k cranks at the cycle's phases); --inclination tilts every cylinder.
+    """
+    try:
+        machine = _inline_variant(engine, cranks, strokes, acting, inclination)
+        speed = machine.rpm if rpm is None else rpm
+        if speed is None:
+            raise MechanismError(f"machine {machine.name!r} has no running speed: give --rpm")
+        try:
+            design = machine.design(speed)  # the paper's machine: the in-line functions
+        except MechanismError:
+            design = None
+        units = machine.engine(speed)
+    except MechanismError as error:
+        raise UserError(str(error)) from None
     phi_deg = np.arange(points) * (360.0 / points)
     phi = np.radians(phi_deg)
-    energy = potential_energy(phi, **design)
-    force = generalized_force(phi, **design)
+    if design is not None:
+        energy = potential_energy(phi, **design)
+        force = generalized_force(phi, **design)
+    else:
+        energy = units.potential_energy(phi)
+        force = units.generalized_force(phi)
     rows = list(zip(phi_deg.tolist(), energy.tolist(), force.tolist(), strict=True))
+    if acting is None:  # as the machine given is (the overrides leave its pressures behind)
+        acting = "double" if any(c.pressure_crank_end is not None for c in engine.cylinders) else "single"
     out = sys.stdout
     if fmt == "json":
-        meta = {k: v for k, v in design.items() if k != "phases"}
-        meta.update(engine=engine.name, cranks=engine.cranks, strokes=engine.strokes, acting=engine.acting)
-        meta["phases_deg"] = np.degrees(design["phases"]).tolist()
+        meta: dict = dict(
+            engine=machine.name, cylinders=len(machine), strokes=machine.strokes, acting=acting, rpm=speed
+        )
+        if design is not None:
+            meta.update({k: v for k, v in design.items() if k != "phases"}, cranks=len(machine))
+        else:
+            meta.update({k: getattr(units, k).tolist() for k in ("crank_ratio", "inclination", "u1", "u2")})
+        meta["phases_deg"] = np.degrees(units.phase).tolist()
         json.dump(
             {
                 "engine": meta,
@@ -110,11 +150,17 @@ def eval_command(engine, cranks, strokes, acting, inclination, rpm, points, fmt)
         for p, u, q in rows:
             out.write(f"{p:.10g},{u:.17g},{q:.17g}\n")
         return
-    out.write(
-        f"{engine.name}: k = {engine.cranks}, {engine.strokes}-stroke, {engine.acting}-acting, "
-        f"γ = {engine.inclination_deg:g}°, λ = {engine.crank_ratio:.4g}, n = {engine.rpm:g} rpm\n"
-        f"u1 = {design['u1']:.6g}, u2 = {design['u2']:.6g} (dimensionless, ÷ I_w ω²)\n\n"
-    )
+    if design is not None:
+        out.write(
+            f"{machine.name}: k = {len(machine)}, {machine.strokes}-stroke, {acting}-acting, "
+            f"γ = {np.degrees(design['inclination']):g}°, λ = {design['crank_ratio']:.4g}, n = {speed:g} rpm\n"
+            f"u1 = {design['u1']:.6g}, u2 = {design['u2']:.6g} (dimensionless, ÷ I_w ω²)\n\n"
+        )
+    else:
+        out.write(
+            f"{machine.name}: {len(machine)} cylinders, {machine.strokes}-stroke, {acting}-acting, "
+            f"n = {speed:g} rpm (dimensionless, ÷ I_w ω²)\n\n"
+        )
     out.write(f"{'φ [deg]':>9}  {'U_w*':>14}  {'Q_u*':>14}\n")
     for p, u, q in rows:
         out.write(f"{p:9.2f}  {u:14.6e}  {q:14.6e}\n")
@@ -289,7 +335,10 @@ def report_command(out_dir, engine, k_max, n_max, points, threshold, progress) -
     settings = ReportSettings(
         engine=engine, k_max=k_max, n_max=n_max, points=points, threshold=threshold or DEFAULT_THRESHOLD
     )
-    index = write_report(out_dir, settings, progress=progress)
+    try:
+        index = write_report(out_dir, settings, progress=progress)
+    except MechanismError as error:
+        raise UserError(str(error)) from None
     click.echo(f"report written: {index}")
 
 

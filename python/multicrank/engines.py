@@ -7,7 +7,7 @@ absolute angle ψ_j + γ_j (docs/theory.md, "Conventions"). So cylinders that sh
 absolute angle is φ + β (V, W, a 180° V) have α_j = β − γ_j; :meth:`Engine.from_throws`
 does that bookkeeping. Everything runs in the Rust core with one set of coefficients per
 unit, at the speed of the in-line path. The preset layouts (``LAYOUTS``, ``layout_engine``)
-are in :mod:`multicrank.presets`.
+are in :mod:`multicrank.layouts` (and :mod:`multicrank.presets`).
 """
 
 from __future__ import annotations

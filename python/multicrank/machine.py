@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import os
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -24,10 +25,13 @@ from ._native import machine_engine as _native_machine_engine
 from ._native import machine_evaluate as _native_machine_evaluate
 from ._native import machine_gas_torque as _native_machine_gas_torque
 from ._native import machine_inertia as _native_machine_inertia
-from ._validation import as_real_array, as_scalar, as_strokes, as_threshold, contiguous
+from ._validation import as_option, as_real_array, as_scalar, as_strokes, as_threshold, contiguous
 from .engines import Engine
 from .grids import as_phi
+from .layouts import Layout, as_layout
+from .machine_files import read_machine_file
 from .mechanism import STANDARD_GRAVITY
+from .pressure import IndicatorDiagram
 
 __all__ = ["Cylinder", "Machine"]
 
@@ -48,6 +52,9 @@ _UNIT_FIELDS = (
 )
 
 Pressure = Callable[[np.ndarray], Any]
+
+#: A machine's fields, as :meth:`Machine.replace` takes them.
+_MACHINE_FIELDS = ("cylinders", "shaft_inertia", "strokes", "g", "name", "rpm", "rpm_range", "note")
 
 
 @dataclass(frozen=True)
@@ -153,6 +160,142 @@ class Cylinder:
         """π (D² − d²)/4 [m²], the crank-end face's area around the piston rod."""
         return math.pi * (self.bore**2 - self.piston_rod_diameter**2) / 4
 
+    @property
+    def stroke(self) -> float:
+        """2r [m]: the piston's travel from outer to inner dead centre."""
+        return 2.0 * self.crank_radius
+
+    def chamber_volume(self, theta: Any, clearance_volume: float, *, end: str = "head") -> np.ndarray:
+        """The volume [m³] of one of the cylinder's chambers at cycle angles θ [rad].
+
+        The head end (over the crown): V(θ) = V_c + A·s(θ), smallest at θ = 0 (outer dead
+        centre). The crank end of a double-acting cylinder (around the piston rod):
+        V(θ) = V_c + A_c·(2r − s(θ)), smallest at inner dead centre. s is the piston travel
+        of :meth:`Machine.piston_travel` with the cylinder's own crank angle ψ = θ (θ and ψ
+        differ by whole turns, and s has period 2π), so V is the volume the synthetic cycles
+        of :class:`~multicrank.IndicatorDiagram` take.
+
+        Parameters
+        ----------
+        theta : array_like
+            Cycle angles [rad], any shape.
+        clearance_volume : float
+            V_c [m³] > 0: the chamber's volume at its dead centre.
+        end : {"head", "crank"}
+            Which chamber.
+
+        Returns
+        -------
+        ndarray
+            V [m³], the shape of ``theta``.
+        """
+        end = as_option(end, "end", ("head", "crank"))
+        clearance = as_scalar(clearance_volume, "clearance_volume")
+        if not (math.isfinite(clearance) and clearance > 0):
+            raise MechanismError(f"clearance_volume = {clearance} is out of range; allowed: > 0 [m³]")
+        angles = as_real_array(theta, "theta")
+        own = dict(_columns([self]), phase=np.zeros(1))
+        travel = _native_machine_evaluate("travel", own, 0.0, contiguous(angles).reshape(-1)).reshape(angles.shape)
+        if end == "head":
+            return clearance + self.piston_area * travel
+        return clearance + self.crank_end_area * (self.stroke - travel)
+
+    def swept_volume(self, end: str = "head") -> float:
+        """The volume [m³] a chamber's face sweeps: A·2r at the head end, A_c·2r at the crank end."""
+        end = as_option(end, "end", ("head", "crank"))
+        return (self.piston_area if end == "head" else self.crank_end_area) * self.stroke
+
+    def _clearance(self, end: str, given: dict[str, Any]) -> float:
+        """V_c [m³] from exactly one of clearance_volume, clearance_ratio, compression_ratio."""
+        named = {name: value for name, value in given.items() if value is not None}
+        if len(named) != 1:
+            raise MechanismError(f"give exactly one of {', '.join(given)} (got {', '.join(named) or 'none'})")
+        if not self.bore > 0:
+            raise MechanismError(f"bore = {self.bore}: a synthetic cycle needs a piston (bore > 0) [m]")
+        ((name, value),) = named.items()
+        value = as_scalar(value, name)
+        swept = self.swept_volume(end)
+        if name == "clearance_volume" and math.isfinite(value) and value > 0:
+            return value
+        if name == "clearance_ratio" and math.isfinite(value) and value > 0:
+            return value * swept
+        if name == "compression_ratio" and math.isfinite(value) and value > 1:
+            return swept / (value - 1.0)
+        allowed = {
+            "clearance_volume": "> 0 [m³]",
+            "clearance_ratio": "> 0 (V_c over the swept volume)",
+            "compression_ratio": "> 1 ((V_s + V_c)/V_c)",
+        }
+        raise MechanismError(f"{name} = {value} is out of range; allowed: {allowed[name]}")
+
+    def compressor_diagram(
+        self,
+        *,
+        suction_pressure: float,
+        discharge_pressure: float,
+        clearance_ratio: float | None = None,
+        clearance_volume: float | None = None,
+        end: str = "head",
+        **options: Any,
+    ) -> IndicatorDiagram:
+        """The ideal compressor cycle (:meth:`IndicatorDiagram.compressor`) in one of this
+        cylinder's chambers, of volume :meth:`chamber_volume`.
+
+        Parameters
+        ----------
+        suction_pressure, discharge_pressure : float
+            [Pa], absolute unless ``absolute=False`` is among ``options``.
+        clearance_ratio, clearance_volume : float
+            Exactly one: V_c over the chamber's swept volume (:meth:`swept_volume`), or V_c [m³].
+        end : {"head", "crank"}
+            The chamber: "crank" for the crank end of a double-acting cylinder (its diagram
+            goes to ``pressure_crank_end``).
+        **options
+            The other keywords of :meth:`IndicatorDiagram.compressor` (``cycle`` 2π by
+            default: the machine's cycle is the one to give).
+        """
+        end = as_option(end, "end", ("head", "crank"))
+        clearance = self._clearance(end, {"clearance_ratio": clearance_ratio, "clearance_volume": clearance_volume})
+        return IndicatorDiagram.compressor(
+            lambda theta: self.chamber_volume(theta, clearance, end=end),
+            suction_pressure=suction_pressure,
+            discharge_pressure=discharge_pressure,
+            **options,
+        )
+
+    def engine_diagram(
+        self,
+        *,
+        intake_pressure: float,
+        heat_release: float,
+        compression_ratio: float | None = None,
+        clearance_volume: float | None = None,
+        **options: Any,
+    ) -> IndicatorDiagram:
+        """The single-zone engine cycle (:meth:`IndicatorDiagram.engine`) over this cylinder's
+        crown, in the head-end volume :meth:`chamber_volume`; it fires at θ = 0.
+
+        Parameters
+        ----------
+        intake_pressure : float
+            [Pa], absolute unless ``absolute=False`` is among ``options``.
+        heat_release : float
+            [J per cycle].
+        compression_ratio, clearance_volume : float
+            Exactly one: ε = (V_s + V_c)/V_c, or V_c [m³].
+        **options
+            The other keywords of :meth:`IndicatorDiagram.engine` (``cycle`` 4π by default).
+        """
+        clearance = self._clearance(
+            "head", {"compression_ratio": compression_ratio, "clearance_volume": clearance_volume}
+        )
+        return IndicatorDiagram.engine(
+            lambda theta: self.chamber_volume(theta, clearance),
+            intake_pressure=intake_pressure,
+            heat_release=heat_release,
+            **options,
+        )
+
     def replace(self, **changes: Any) -> Cylinder:
         """A copy with some fields changed."""
         return dataclasses.replace(self, **changes)
@@ -180,6 +323,19 @@ class Machine:
         Gravity [m/s²], default standard gravity; 0 switches gravity off.
     name : str
         A label.
+    rpm : float, optional
+        The running speed n [1/min], > 0, where the machine has one: the default speed of
+        :meth:`engine` (and of the report). Descriptive; nothing else depends on it.
+    rpm_range : (float, float), optional
+        The speeds (low, high) [1/min] the machine runs at, 0 < low < high; ``rpm``, where
+        given too, must lie inside.
+    note : str
+        A description: what the machine is and where its numbers come from.
+
+    Raises
+    ------
+    MechanismError
+        For any bad field, naming it.
     """
 
     def __init__(
@@ -190,6 +346,9 @@ class Machine:
         strokes: int = 2,
         g: float = STANDARD_GRAVITY,
         name: str = "machine",
+        rpm: float | None = None,
+        rpm_range: tuple[float, float] | None = None,
+        note: str = "",
     ) -> None:
         if isinstance(cylinders, Cylinder) or not isinstance(cylinders, Sequence):
             raise MechanismError("cylinders must be a sequence of multicrank.Cylinder")
@@ -206,8 +365,248 @@ class Machine:
         self.g = as_scalar(g, "g")
         if not math.isfinite(self.g):
             raise MechanismError(f"g = {self.g} is out of range; allowed: any finite real")
-        self.name = str(name)
+        if not isinstance(name, str):
+            raise MechanismError(f"name must be a str, got {type(name).__name__}")
+        if not isinstance(note, str):
+            raise MechanismError(f"note must be a str, got {type(note).__name__}")
+        self.name = name
+        self.note = note
+        self.rpm: float | None = None if rpm is None else _speed(rpm, "rpm")
+        self.rpm_range: tuple[float, float] | None = None if rpm_range is None else _speed_range(rpm_range)
+        if self.rpm is not None and self.rpm_range is not None:
+            low, high = self.rpm_range
+            if not low <= self.rpm <= high:
+                raise MechanismError(
+                    f"rpm = {self.rpm:g} is out of range; allowed: inside rpm_range = ({low:g}, {high:g}) [1/min]"
+                )
+        for j, cylinder in enumerate(cylinders):
+            for end in ("pressure", "pressure_crank_end"):
+                period = getattr(getattr(cylinder, end), "cycle", None)
+                if isinstance(period, float) and period > self.cycle * (1 + 1e-9):
+                    # A 2π diagram repeats over a 4π cycle; a 4π one over a 2π cycle would be cut in half.
+                    raise MechanismError(
+                        f"cylinders[{j}].{end} is a {round(period / math.pi)}-stroke indicator diagram (cycle "
+                        f"{period:.6g} rad), longer than this {self.strokes}-stroke machine's cycle; give strokes="
+                        f"{round(period / math.pi)} or a diagram of the machine's cycle"
+                    )
         self._units = _columns(cylinders)
+
+    # -- construction --------------------------------------------------------------------
+    @classmethod
+    def from_layout(
+        cls,
+        layout: Layout | str,
+        cylinder: Cylinder,
+        *,
+        shaft_inertia: float,
+        strokes: int | None = None,
+        firing: Any = None,
+        g: float = STANDARD_GRAVITY,
+        name: str | None = None,
+        rpm: float | None = None,
+        rpm_range: tuple[float, float] | None = None,
+        note: str | None = None,
+    ) -> Machine:
+        """A machine of a layout with one cylinder template on every bank.
+
+        Parameters
+        ----------
+        layout : Layout or str
+            A :class:`~multicrank.Layout`, or the name of one in ``LAYOUTS``.
+        cylinder : Cylinder
+            The template: every cylinder is this one, with its ``phase`` and ``inclination``
+            replaced by the layout's. Crank webs and counterweights belong to the **throw**:
+            the first cylinder on each throw keeps the template's ``crank_mass`` and
+            ``counterweight_mass``, the others on that throw get 0 (a V's shared pin carries
+            one web, not two).
+        shaft_inertia : float
+            I_w [kg·m²], as for :class:`Machine`.
+        strokes : 2 or 4, optional
+            The working cycle; default the layout's own (``Layout.strokes``: the in-line
+            presets are made for one), else that of the template's indicator diagrams (a
+            four-stroke engine cycle makes a four-stroke machine), else 2. A cycle that
+            contradicts the layout's is refused.
+        firing : array_like, optional
+            The cylinders' phases α_j [rad] in the layout's order (throw by throw, bank by
+            bank), to choose the firing order of a four-stroke machine by hand. Each must be
+            β − γ of its cylinder plus a whole number of turns (2π); it is taken modulo the cycle.
+        g, name, rpm, rpm_range, note
+            As for :class:`Machine`; ``name`` and ``note`` default to the layout's.
+
+        Returns
+        -------
+        Machine
+            One cylinder per bank and throw, in the layout's order.
+
+        Notes
+        -----
+        A cylinder on a throw at absolute angle β (the crank pin at φ + β) with bank
+        inclination γ gets inclination γ and phase α = β − γ, as
+        :meth:`~multicrank.Engine.from_throws` does. On a two-stroke machine that is all:
+        α is reduced to [0, 2π). On a four-stroke machine the phase also places the
+        cylinder in its 4π cycle (θ = (φ + α) mod 4π; it fires at θ = 0), and β − γ fixes it
+        only modulo 2π: each cylinder gets α = β − γ or β − γ + 2π (reduced to [0, 4π)),
+        chosen so that the firing is as even as the crank allows. Of the 2ⁿ choices the
+        rule takes the one whose largest firing interval (gap between neighbouring phases
+        around 4π) is smallest; among equals, the one whose intervals' sum of squares is
+        smallest (closest to equal intervals); then the one that moves fewest cylinders
+        from β − γ as the layout writes its throws (unreduced angles count: the in-line
+        presets write the regular phase set j·4π/k of :func:`~multicrank.crank_phases`,
+        whose firing is perfectly even, so they keep it exactly); then the one that keeps
+        the earlier cylinders as written. Up to 16 cylinders; beyond, give ``firing``.
+
+        Raises
+        ------
+        MechanismError
+            For an unknown layout, a cylinder that is not a :class:`Cylinder`, a bad or
+            contradicting ``strokes``, ``firing`` of the wrong length or at a phase the crank
+            cannot have, and the fields :class:`Machine` checks.
+        """
+        layout = as_layout(layout)
+        if not isinstance(cylinder, Cylinder):
+            raise MechanismError(
+                f"cylinder must be a multicrank.Cylinder (the template), got {type(cylinder).__name__}"
+            )
+        if len(layout.throws) != len(layout.banks):
+            raise MechanismError(
+                f"layout {layout.name!r} has {len(layout.throws)} throws but {len(layout.banks)} banks entries"
+            )
+        if strokes is None:
+            strokes = layout.strokes or _diagram_strokes(cylinder) or 2
+        cycle_strokes = as_strokes(strokes)
+        if layout.strokes is not None and cycle_strokes != layout.strokes:
+            raise MechanismError(
+                f"strokes = {cycle_strokes} contradicts layout {layout.name!r}, whose throws are the "
+                f"{layout.strokes}-stroke phase set"
+            )
+        written: list[float] = []  # β − γ [deg], as the layout writes it
+        inclinations: list[float] = []
+        first: list[bool] = []
+        for beta, gammas in zip(layout.throws, layout.banks, strict=True):
+            if not len(gammas):
+                raise MechanismError(f"layout {layout.name!r} has a throw at {beta:g}° without a cylinder")
+            for index, gamma in enumerate(gammas):
+                written.append(float(beta) - float(gamma))
+                inclinations.append(float(gamma))
+                first.append(index == 0)
+        crank = np.asarray(written)
+        if not np.all(np.isfinite(crank)) or not np.all(np.isfinite(inclinations)):
+            raise MechanismError(f"layout {layout.name!r} has a throw or bank angle that is not finite")
+        if firing is None:
+            phases = _even_firing(crank, cycle_strokes)
+        else:
+            phases = _chosen_firing(firing, crank, cycle_strokes)
+        bare = {"crank_mass": 0.0, "counterweight_mass": 0.0}
+        cylinders = [
+            cylinder.replace(phase=phase, inclination=math.radians(gamma), **({} if keeps_web else bare))
+            for phase, gamma, keeps_web in zip(phases, inclinations, first, strict=True)
+        ]
+        return cls(
+            cylinders,
+            shaft_inertia=shaft_inertia,
+            strokes=cycle_strokes,
+            g=g,
+            name=layout.name if name is None else name,
+            rpm=rpm,
+            rpm_range=rpm_range,
+            note=layout.note if note is None else note,
+        )
+
+    @classmethod
+    def from_toml(cls, path: str | os.PathLike[str]) -> Machine:
+        """A machine from a TOML machine file (docs/machine-files.md; examples in docs/machines/).
+
+        A file describes either (a) a ``layout`` (a name in ``LAYOUTS`` or a table of one's
+        own) with one ``[cylinder]`` template on every bank (see :meth:`from_layout`), or
+        (b) the cylinders one by one in ``[[cylinder]]`` tables (a single ``[cylinder]``
+        table: a one-cylinder machine). Keys are the fields of :class:`Machine` and
+        :class:`Cylinder`; angles are in degrees, with ``_deg`` in their names.
+
+        ========================== ============ ==================================================
+        key                        unit         meaning
+        ========================== ============ ==================================================
+        **top level**
+        ``name``, ``note``         text         default name: the file's stem
+        ``shaft_inertia``          kg·m²        required; I_w, everything turning with the shaft
+        ``strokes``                2 or 4       default 2 (with a layout: the layout's own)
+        ``g``                      m/s²         default 9.80665; 0 switches gravity off
+        ``rpm``                    1/min        the running speed (optional)
+        ``rpm_range``              1/min        [low, high] (optional)
+        ``layout``                 name, table  a name in LAYOUTS, or a table of one's own:
+                                                ``throws_deg`` (the throws β [deg]), ``banks_deg``
+                                                (per throw, the bank inclinations γ [deg]),
+                                                ``name``, ``note``, ``strokes``
+        ``firing_deg``             deg          with a layout: every cylinder's phase α (firing)
+        ``cylinder``               table(s)     required; ``[cylinder]`` (one cylinder, or the
+                                                layout's template) or ``[[cylinder]]`` (one each)
+        **[cylinder]**
+        ``crank_radius``           m            required; r
+        ``rod_length``             m            required; l
+        ``piston_mass``            kg           required; m_t (crosshead, piston rod included)
+        ``rod_mass``               kg           required; m_k
+        ``rod_cg``                 m            required; z_k from the piston-pin axis
+        ``rod_inertia``            kg·m²        I_k about the rod's centre of gravity
+        ``crank_mass``             kg           m_s, crank web and pin
+        ``crank_cg_radius``        m            r_s
+        ``counterweight_mass``     kg           m_p
+        ``counterweight_radius``   m            r_p
+        ``bore``                   m            D (0: no gas force)
+        ``piston_rod_diameter``    m            d, double acting
+        ``phase_deg``              deg          α (not with a layout)
+        ``inclination_deg``        deg          γ, 90 upright (not with a layout)
+        ``pressure``               table        the crown's (head end's) gas pressure, below
+        ``pressure_crank_end``     table        double acting: the crank end's, below
+        **pressure tables**        ``[cylinder.pressure]``, ``[cylinder.pressure_crank_end]``
+        ``type``                   text         "compressor", "engine" or "table" (required)
+        ``pressure_unit``          text         Pa (default), kPa, bar, MPa, psi: the unit of
+                                                every pressure in the table and in a CSV file
+        ``reference_pressure``     pressure     the crankcase pressure (default 101325 Pa)
+        ``kind``                   text         the interpolation, as IndicatorDiagram's
+        *compressor*               ``suction_pressure``, ``discharge_pressure`` (required),
+                                   ``polytropic_exponent``, ``points``, ``absolute`` (default
+                                   true) as :meth:`IndicatorDiagram.compressor`; one of
+                                   ``clearance_volume`` [m³] or ``clearance_ratio`` (V_c over
+                                   the chamber's swept volume)
+        *engine*                   ``intake_pressure``, ``heat_release`` [J] (required),
+                                   ``compression_exponent``, ``expansion_exponent``, ``wiebe_a``,
+                                   ``wiebe_m``, ``points``, ``absolute`` (default true), the
+                                   angles ``start_of_combustion_deg``,
+                                   ``combustion_duration_deg``, ``exhaust_opening_deg``,
+                                   ``intake_closing_deg`` as :meth:`IndicatorDiagram.engine`;
+                                   one of ``compression_ratio`` ((V_s + V_c)/V_c) or
+                                   ``clearance_volume`` [m³]; head end only
+        *table*                    ``path`` (required; relative to the TOML file),
+                                   ``angle_unit``, ``absolute`` (default false),
+                                   ``angle_column``, ``pressure_column``, ``delimiter``,
+                                   ``closure_tolerance`` as :meth:`IndicatorDiagram.from_csv`
+        ========================== ============ ==================================================
+
+        The synthetic cycles are built from the chamber's own volume,
+        :meth:`Cylinder.chamber_volume` (V_c + A·s(θ) at the head end, V_c + A_c·(2r − s(θ))
+        at the crank end), over the machine's cycle.
+
+        Raises
+        ------
+        MechanismError
+            Naming the file and the key: a file that cannot be read or is not TOML, an
+            unknown or missing key, a value of the wrong type or out of range.
+        """
+        file = read_machine_file(path)
+        cycle = math.pi * (file.strokes or _layout_strokes(file.layout))
+        cylinders = []
+        for spec in file.cylinders:
+            with file.context(spec.key):
+                cylinder = Cylinder(**spec.fields)
+            for end, pressure in spec.pressures.items():
+                with file.context(pressure.key):
+                    diagram = pressure.diagram(cylinder, "head" if end == "pressure" else "crank", cycle)
+                    cylinder = cylinder.replace(**{end: diagram})
+            cylinders.append(cylinder)
+        if file.layout is not None:
+            with file.context("firing_deg" if file.firing is not None else ""):
+                return cls.from_layout(file.layout, cylinders[0], firing=file.firing, **file.fields)
+        with file.context(""):
+            return cls(cylinders, **file.fields)
 
     # -- description ---------------------------------------------------------------------
     @property
@@ -219,29 +618,64 @@ class Machine:
         return len(self.cylinders)
 
     def __repr__(self) -> str:
+        speed = "" if self.rpm is None else f", {self.rpm:g} rpm"
         return (
             f"Machine({self.name!r}, {len(self)} cylinders, shaft_inertia={self.shaft_inertia:g} kg·m², "
-            f"{self.strokes}-stroke, g={self.g:g})"
+            f"{self.strokes}-stroke{speed}, g={self.g:g})"
         )
 
     def replace(self, **changes: Any) -> Machine:
-        """A copy with some of cylinders, shaft_inertia, strokes, g, name changed."""
-        known = ("cylinders", "shaft_inertia", "strokes", "g", "name")
-        unknown = set(changes) - set(known)
+        """A copy with some of its fields changed (cylinders, shaft_inertia, strokes, g, name, rpm,
+        rpm_range, note); ``rpm=None`` or ``rpm_range=None`` removes them."""
+        unknown = set(changes) - set(_MACHINE_FIELDS)
         if unknown:
-            raise MechanismError(f"unknown machine field(s) {', '.join(sorted(unknown))}; known: {', '.join(known)}")
-        return Machine(
-            changes.get("cylinders", self.cylinders),
-            shaft_inertia=changes.get("shaft_inertia", self.shaft_inertia),
-            strokes=changes.get("strokes", self.strokes),
-            g=changes.get("g", self.g),
-            name=changes.get("name", self.name),
-        )
+            raise MechanismError(
+                f"unknown machine field(s) {', '.join(sorted(unknown))}; known: {', '.join(_MACHINE_FIELDS)}"
+            )
+        fields = {field: changes.get(field, getattr(self, field)) for field in _MACHINE_FIELDS}
+        return Machine(fields.pop("cylinders"), **fields)
 
-    def engine(self, rpm: float) -> Engine:
-        """The dimensionless gravity engine at ``rpm`` [1/min]: U1, U2 ÷ I_w ω², ω = π·rpm/30."""
-        columns = _native_machine_engine(self._units, self.g, self.shaft_inertia, as_scalar(rpm, "rpm"))
-        return Engine(**columns, name=f"{self.name} at {float(rpm):g} rpm")
+    def engine(self, rpm: float | None = None) -> Engine:
+        """The dimensionless gravity engine at ``rpm`` [1/min] (default: the machine's own ``rpm``).
+
+        One unit per cylinder, with u1, u2 = U1, U2 ÷ I_w ω², ω = π·rpm/30; a cylinder's crank
+        web and counterweight are in its u2. U* × I_w ω² is :meth:`potential_energy` up to a
+        constant, and Q_u* × I_w ω² is −:meth:`gravity_torque`.
+        """
+        if rpm is None:
+            if self.rpm is None:
+                raise MechanismError(f"rpm is required: machine {self.name!r} has no running speed (rpm) of its own")
+            rpm = self.rpm
+        speed = _speed(rpm, "rpm")
+        columns = _native_machine_engine(self._units, self.g, self.shaft_inertia, speed)
+        return Engine(**columns, name=f"{self.name} at {speed:g} rpm")
+
+    def design(self, rpm: float | None = None) -> dict[str, Any]:
+        """The keywords of the in-line functions (:func:`~multicrank.potential_energy`,
+        :func:`~multicrank.generalized_force`, :func:`~multicrank.speed_fluctuation`, …) at
+        ``rpm`` [1/min] (default: the machine's own): ``crank_ratio``, ``inclination`` [rad],
+        ``u1``, ``u2`` and ``phases`` [rad].
+
+        Only for a machine of identical units that differ in phase alone (an in-line machine
+        with a web on every crank, the paper's machine); any other has no single
+        (λ, γ, u1, u2): use :meth:`engine`.
+
+        Raises
+        ------
+        MechanismError
+            When the cylinders differ in anything but their phase.
+        """
+        engine = self.engine(rpm)
+        shared = {}
+        for field in ("crank_ratio", "inclination", "u1", "u2"):
+            column = getattr(engine, field)
+            if not np.all(column == column[0]):
+                raise MechanismError(
+                    f"machine {self.name!r} has cylinders that differ in {field}: the in-line design (one "
+                    f"crank_ratio, inclination, u1, u2 for all) is for machines of identical cylinders; use engine()"
+                )
+            shared[field] = float(column[0])
+        return {**shared, "phases": engine.phase.copy()}
 
     # -- the quantities of the equation of motion -----------------------------------------
     def reduced_inertia(self, phi: Any, *, parallel_threshold: Any = None) -> tuple[np.ndarray, np.ndarray]:
@@ -311,6 +745,85 @@ class Machine:
         _, slope = self.reduced_inertia(phi, parallel_threshold=parallel_threshold)
         speed = as_real_array(omega, "omega")
         return -0.5 * slope * speed**2
+
+
+def _diagram_strokes(cylinder: Cylinder) -> int | None:
+    """The strokes of the longest indicator diagram (one with a ``cycle``) on a cylinder, if any."""
+    cycles = [getattr(getattr(cylinder, end), "cycle", None) for end in ("pressure", "pressure_crank_end")]
+    longest = max((c for c in cycles if isinstance(c, float)), default=None)
+    return None if longest is None else round(longest / math.pi)
+
+
+def _layout_strokes(layout: Layout | None) -> int:
+    """The strokes a layout implies where a file gives none: its own, else 2."""
+    return 2 if layout is None else layout.strokes or 2
+
+
+#: The most cylinders whose 2ⁿ firing choices :meth:`Machine.from_layout` tries (65536).
+_MAX_FIRING_SEARCH = 16
+
+
+def _even_firing(crank: np.ndarray, strokes: int) -> list[float]:
+    """The phases [rad] of cylinders whose crank phases β − γ are ``crank`` [deg]: the most even
+    firing over the cycle, by the rule of :meth:`Machine.from_layout` (done in degrees, where
+    the layouts' angles are exact)."""
+    if strokes == 2:
+        return [math.radians(a) for a in np.mod(crank, 360.0)]
+    count = crank.size
+    if count > _MAX_FIRING_SEARCH:
+        raise MechanismError(
+            f"firing: the even-firing search covers up to {_MAX_FIRING_SEARCH} cylinders of a four-stroke machine, "
+            f"this layout has {count}; give firing= (the phases in rad) explicitly"
+        )
+    moved = (np.arange(2**count)[:, None] >> np.arange(count)[None, :]) & 1  # row i: which cylinders get +360°
+    candidates = np.mod(crank[None, :] + 360.0 * moved, 720.0)
+    ordered = np.sort(candidates, axis=1)
+    gaps = np.diff(np.concatenate((ordered, ordered[:, :1] + 720.0), axis=1), axis=1)
+    # Equal to rounding (the angles are exact or within ~1e-13° of it): compared at 1e-9°.
+    largest = np.round(gaps.max(axis=1), 9)
+    squares = np.round(np.sum(gaps**2, axis=1) / 720.0, 9)
+    earliest = moved @ (2.0 ** np.arange(count - 1, -1, -1))  # moving a later cylinder is smaller
+    best = np.lexsort((earliest, moved.sum(axis=1), squares, largest))[0]
+    return [math.radians(a) for a in candidates[best]]
+
+
+def _chosen_firing(firing: Any, crank: np.ndarray, strokes: int) -> list[float]:
+    """The given phases [rad], checked against the crank (β − γ [deg] plus whole turns)."""
+    phases = as_real_array(firing, "firing")
+    if phases.shape != crank.shape:
+        raise MechanismError(
+            f"firing must hold one phase [rad] per cylinder ({crank.size}, in the layout's order), "
+            f"got shape {phases.shape}"
+        )
+    turns = (phases - np.radians(crank)) / (2 * math.pi)
+    whole = np.round(turns)
+    for j, (turn, nearest) in enumerate(zip(turns, whole, strict=True)):
+        if not (math.isfinite(turn) and abs(turn - nearest) <= 1e-9):
+            raise MechanismError(
+                f"firing[{j}] = {phases[j]!r} rad is not a phase the crank allows: cylinder {j} is at "
+                f"β − γ = {crank[j]:g}° plus whole turns (360°)"
+            )
+    cycle = 180.0 * strokes
+    return [math.radians(a) for a in np.mod(crank + 360.0 * whole, cycle)]
+
+
+def _speed(value: Any, name: str) -> float:
+    """A speed [1/min]: one finite number > 0."""
+    speed = as_scalar(value, name)
+    if not (math.isfinite(speed) and speed > 0):
+        raise MechanismError(f"{name} = {speed} is out of range; allowed: {name} > 0 [1/min]")
+    return speed
+
+
+def _speed_range(value: Any) -> tuple[float, float]:
+    """(low, high) [1/min] with 0 < low < high."""
+    bounds = as_real_array(value, "rpm_range")
+    if bounds.shape != (2,):
+        raise MechanismError(f"rpm_range must be two speeds (low, high) [1/min], got shape {bounds.shape}")
+    low, high = (float(b) for b in bounds)
+    if not (math.isfinite(low) and math.isfinite(high) and 0 < low < high):
+        raise MechanismError(f"rpm_range = ({low:g}, {high:g}) is out of range; allowed: 0 < low < high [1/min]")
+    return low, high
 
 
 def _pressure(function: Pressure, theta: np.ndarray, name: str) -> np.ndarray:

@@ -8,7 +8,7 @@ PNG and the tables as CSV:
 - the paper's Table 1, the derived Table 2 and the double-acting tables up to n_max, next
   to the paper's printed Table 1;
 - the error of the paper's truncated λ-series against the exact Λ_n, as a function of λ;
-- the gravity-significance map: δ_g over k and λ, and per preset engine over its speeds;
+- the gravity-significance map: δ_g over k and λ, and per preset machine over its speeds;
 - the conventions and the paper's errata.
 """
 
@@ -24,12 +24,15 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from ._native import MechanismError
 from ._optional import require
 from .evaluation import generalized_force, potential_energy
 from .extrema import speed_fluctuation
 from .harmonics import fourier_coefficients, harmonic_table, lambda_coefficients
+from .layouts import LAYOUTS
+from .machine import Machine
 from .mechanism import crank_phases
-from .presets import DEFAULT_ENGINE, ENGINES, Machine
+from .presets import DEFAULT_ENGINE_NAME, ENGINES
 
 __all__ = ["DEFAULT_THRESHOLD", "PAPER_TABLE_1", "ReportSettings", "write_report"]
 
@@ -75,13 +78,57 @@ CONVENTIONS = [
 
 @dataclass
 class ReportSettings:
-    engine: Machine = DEFAULT_ENGINE
+    """What the report is about: ``engine``, the machine (it needs a running speed, ``rpm``),
+    and ``engines``, the machines of the speed-range figure (by default every preset)."""
+
+    engine: Machine = field(default_factory=lambda: ENGINES[DEFAULT_ENGINE_NAME])
     k_max: int = 12
     n_max: int = 24
     points: int = 721
     threshold: float = DEFAULT_THRESHOLD
     lambdas: int = 60
     engines: dict = field(default_factory=lambda: dict(ENGINES))
+
+
+# ----------------------------------------------------------------------------- the machine
+def _speed(machine: Machine) -> float:
+    """The machine's running speed [rpm], which the report's gravity analysis needs."""
+    if machine.rpm is None:
+        raise MechanismError(
+            f"machine {machine.name!r} has no running speed: the report judges gravity at the machine's rpm; "
+            "give rpm (in a machine file: rpm = ...)"
+        )
+    return machine.rpm
+
+
+def _speeds(machine: Machine) -> tuple[float, float]:
+    """The machine's speed range [rpm]; its running speed ±50 % where it gives none."""
+    if machine.rpm_range is not None:
+        return machine.rpm_range
+    rpm = _speed(machine)
+    return 0.5 * rpm, 1.5 * rpm
+
+
+def _unit_machine(machine: Machine) -> Machine:
+    """The machine's first cylinder alone, with its throw's crank web and counterweight: the
+    crank unit that the paper's sections (identical units on k in-line cranks) are about."""
+    return Machine(
+        [machine.cylinders[0]],
+        shaft_inertia=machine.shaft_inertia,
+        strokes=machine.strokes,
+        g=machine.g,
+        rpm=_speed(machine),
+        name=machine.name,
+    )
+
+
+def _is_inline(machine: Machine) -> bool:
+    """Whether the machine is the paper's: identical units differing only in phase."""
+    try:
+        machine.design(_speed(machine))
+    except MechanismError:
+        return False
+    return True
 
 
 # ----------------------------------------------------------------------------- figures
@@ -125,9 +172,9 @@ def _small_multiples(plt, count: int, xlabel: str, ylabel: str, **options):
 
 
 def _unit(engine: Machine, cranks: int, strokes: int) -> dict:
-    """The engine's crank unit on a regular single-acting k-crank shaft of the given cycle
-    (the machines of the paper's eq. 16 and Tables 1–2)."""
-    return engine.replace(cranks=cranks, strokes=strokes, acting="single").design()
+    """The machine's crank unit (its first cylinder) on a regular single-acting k-crank shaft of
+    the given cycle (the machines of the paper's eq. 16 and Tables 1–2)."""
+    return {**_unit_machine(engine).design(), "phases": crank_phases(cranks, strokes, "single")}
 
 
 def curves_figure(settings: ReportSettings, strokes: int, quantity: str):
@@ -166,9 +213,10 @@ def curves_figure(settings: ReportSettings, strokes: int, quantity: str):
         formatter = ScalarFormatter(useMathText=True)
         formatter.set_powerlimits((-2, 3))
         ax.yaxis.set_major_formatter(formatter)
+    gamma = math.degrees(settings.engine.cylinders[0].inclination)
     fig.suptitle(
         f"{label} of {settings.engine.name}'s crank unit on k cranks, {strokes}-stroke, "
-        f"single-acting, γ = {settings.engine.inclination_deg:g}° (dimensionless, ÷ I_w ω²)",
+        f"single-acting, γ = {gamma:g}° (dimensionless, ÷ I_w ω²)",
         fontsize=10,
     )
     fig.tight_layout()
@@ -239,7 +287,7 @@ def significance_map(settings: ReportSettings):
     ks = np.arange(1, settings.k_max + 1)
     fig, axes = plt.subplots(1, 2, figsize=(10, 3.9), sharey=True)
     records = []
-    u1, u2 = engine.moments()
+    unit = _unit_machine(engine).design()
     # Red: gravity matters (δ_g above the threshold); blue: negligible. White at the threshold.
     center = math.log10(settings.threshold)
     norm = TwoSlopeNorm(vcenter=center, vmin=min(-14.0, center - 1), vmax=max(0.0, center + 1))
@@ -248,9 +296,9 @@ def significance_map(settings: ReportSettings):
         for i, k in enumerate(ks):
             delta[i] = speed_fluctuation(
                 crank_ratio=lam,
-                inclination=engine.inclination,
-                u1=u1,
-                u2=u2,
+                inclination=unit["inclination"],
+                u1=unit["u1"],
+                u2=unit["u2"],
                 phases=crank_phases(int(k), strokes, "single"),
             )
             records += [
@@ -266,7 +314,7 @@ def significance_map(settings: ReportSettings):
     bar = fig.colorbar(image, ax=axes, shrink=0.9)
     bar.set_label("log₁₀ δ_g  (δ_g = max U_w* − min U_w*)")
     fig.suptitle(
-        f"Gravity's share of the speed fluctuation δ_g, {engine.name}'s unit at {engine.rpm:g} rpm: "
+        f"Gravity's share of the speed fluctuation δ_g, {engine.name}'s unit at {_speed(engine):g} rpm: "
         f"red, gravity matters; blue, negligible (δ_g < {settings.threshold:.2g})",
         fontsize=10,
     )
@@ -274,21 +322,18 @@ def significance_map(settings: ReportSettings):
 
 
 def engines_figure(settings: ReportSettings):
-    """δ_g of every preset engine over its speed range (δ_g ∝ 1/n²)."""
+    """δ_g of every preset machine over its speed range (δ_g ∝ 1/n²), from its whole engine."""
     plt = _pyplot()
     fig, ax = plt.subplots(figsize=(9.5, 4.0))
     records = []
     for i, engine in enumerate(settings.engines.values()):
-        low, high = engine.speeds()
+        low, high = _speeds(engine)
         rpm = np.geomspace(low, high, 40)
-        u1, u2 = engine.moments_over(rpm)
-        delta = speed_fluctuation(
-            crank_ratio=engine.crank_ratio, inclination=engine.inclination, u1=u1, u2=u2, phases=engine.phases()
-        )
-        ax.loglog(rpm, np.maximum(delta, 1e-18), color=f"C{i}", label=f"{engine.name} (k = {engine.cranks})")
+        delta = np.array([float(engine.engine(r).speed_fluctuation()) for r in rpm])
+        ax.loglog(rpm, np.maximum(delta, 1e-18), color=f"C{i}", label=f"{engine.name} ({len(engine)} cyl.)")
         records += [
-            {"engine": engine.name, "rpm": r, "u1": a, "u2": b, "delta_g": d}
-            for r, a, b, d in zip(rpm, np.asarray(u1), np.asarray(u2), np.asarray(delta), strict=True)
+            {"engine": engine.name, "cylinders": len(engine), "rpm": r, "delta_g": d}
+            for r, d in zip(rpm, delta, strict=True)
         ]
     ax.axhline(settings.threshold, color="black", ls="--", lw=1)
     ax.text(
@@ -306,14 +351,14 @@ def engines_figure(settings: ReportSettings):
 
 
 def layouts_figure(settings: ReportSettings):
-    """δ_g and the leading gravity harmonic of every preset layout, with the engine's
-    per-cylinder λ, U1 and U2 at its speed (in-line layouts upright)."""
+    """δ_g and the leading gravity harmonic of every preset layout with the machine's first
+    cylinder on every bank (its crank web and counterweight once per throw), at its speed."""
     plt = _pyplot()
-    from .presets import LAYOUTS
     from .sweeps import sweep
 
     engine = settings.engine
-    u1, u2 = engine.moments()
+    rpm = _speed(engine)
+    cylinder = engine.cylinders[0].replace(pressure=None, pressure_crank_end=None)  # gravity alone, any cycle
     chosen = [
         name
         for name in LAYOUTS
@@ -321,7 +366,12 @@ def layouts_figure(settings: ReportSettings):
         or name
         in ("inline-1-2t", "inline-2-2t", "inline-3-4t", "inline-4-4t", "inline-6-4t", "inline-8-4t", "inline-12-2t")
     ]
-    engines = [LAYOUTS[name].engine(crank_ratio=engine.crank_ratio, u1=u1, u2=u2) for name in chosen]
+    engines = [
+        Machine.from_layout(name, cylinder, shaft_inertia=engine.shaft_inertia, g=engine.g)
+        .engine(rpm)
+        .replace(name=name)
+        for name in chosen
+    ]
     table = sweep(engines, outputs=["energy_range", "leading_harmonic", "leading_amplitude"])
     table.insert(1, "description", [LAYOUTS[name].note for name in chosen])
     fig, ax = plt.subplots(figsize=(9.5, 5.2))
@@ -335,7 +385,7 @@ def layouts_figure(settings: ReportSettings):
     ax.invert_yaxis()
     ax.set_xlabel("δ_g (dashed: threshold; red above it)")
     ax.set_title(
-        f"Layouts with {engine.name}'s cylinder (λ = {engine.crank_ratio:.3g}, {engine.rpm:g} rpm): "
+        f"Layouts with {engine.name}'s cylinder (λ = {cylinder.crank_ratio:.3g}, {rpm:g} rpm): "
         "gravity's δ_g and leading harmonic n",
         fontsize=10,
     )
@@ -420,6 +470,9 @@ def write_report(out: str | Path, settings: ReportSettings | None = None, progre
 
     require("matplotlib", "report")  # before anything is written
     settings = settings or ReportSettings()
+    rpm = _speed(settings.engine)  # likewise
+    for machine in settings.engines.values():
+        _speeds(machine)
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     engine = settings.engine
@@ -466,30 +519,42 @@ def write_report(out: str | Path, settings: ReportSettings | None = None, progre
             figure, layouts = layouts_figure(settings)
             save("layouts", figure, layouts)
 
-    u1, u2 = engine.moments()
-    delta = float(speed_fluctuation(**engine.design()))
+    unit = _unit_machine(engine).design()
+    delta = float(engine.engine(rpm).speed_fluctuation())
     verdict = "may be neglected" if delta < settings.threshold else "may NOT be neglected"
+    first = engine.cylinders[0]
+    inline = _is_inline(engine)
+    acting = "double" if any(c.pressure_crank_end is not None for c in engine.cylinders) else "single"
+    gammas = ", ".join(f"{g:g}°" for g in sorted({round(math.degrees(c.inclination), 9) for c in engine.cylinders}))
     engine_rows = "".join(
         f"<tr><th>{html.escape(k)}</th><td>{html.escape(str(v))}</td></tr>"
         for k, v in [
-            ("cranks k", engine.cranks),
-            ("cycle", f"{engine.strokes}-stroke, {engine.acting}-acting"),
-            ("inclination γ", f"{engine.inclination_deg:g}°"),
-            ("crank ratio λ = r/l", f"{engine.crank_ratio:.4g}"),
+            ("cylinders", len(engine)),
+            ("cycle", f"{engine.strokes}-stroke, {acting}-acting"),
+            ("inclination γ", gammas),
+            ("crank ratio λ = r/l", f"{first.crank_ratio:.4g}"),
             (
                 "crank radius r / rod length l / rod CG z_k",
-                f"{engine.crank_radius:g} m / {engine.rod_length:g} m / {engine.rod_cg:g} m",
+                f"{first.crank_radius:g} m / {first.rod_length:g} m / {first.rod_cg:g} m",
             ),
+            ("bore", f"{first.bore:g} m"),
             (
-                "piston / rod / crank / counterweight mass",
-                f"{engine.piston_mass:g} / {engine.rod_mass:g} / {engine.crank_mass:g} / "
-                f"{engine.counterweight_mass:g} kg",
+                "piston / rod / crank / counterweight mass (first cylinder)",
+                f"{first.piston_mass:g} / {first.rod_mass:g} / {first.crank_mass:g} / {first.counterweight_mass:g} kg",
             ),
             ("shaft inertia I_w", f"{engine.shaft_inertia:g} kg·m²"),
-            ("speed", f"{engine.rpm:g} rpm"),
-            ("U1, U2", f"{u1:.6g}, {u2:.6g}"),
-            ("δ_g at this speed", f"{delta:.4g}"),
+            ("speed", f"{rpm:g} rpm"),
+            ("U1, U2 (first cylinder)", f"{unit['u1']:.6g}, {unit['u2']:.6g}"),
+            ("δ_g at this speed (the whole machine)", f"{delta:.4g}"),
         ]
+    )
+    unit_note = (
+        ""
+        if inline
+        else f"""<p class="note">{html.escape(engine.name)} is not a machine of identical cylinders on one bank
+(the paper's machine): δ<sub>g</sub> above is the whole machine's, from its engine of {len(engine)} units; the
+sections on k cranks below put its first cylinder, with its throw's crank web and counterweight, on k in-line
+cranks.</p>"""
     )
     derived_12 = tables["table1_two_stroke_single"].loc[[n for n in paper.index if n <= settings.n_max]]
     matches = bool((derived_12 == paper.loc[derived_12.index]).all().all())
@@ -497,8 +562,9 @@ def write_report(out: str | Path, settings: ReportSettings | None = None, progre
 <h2>The engine</h2>
 <p>{html.escape(engine.note)}</p>
 <table>{engine_rows}</table>
+{unit_note}
 <p><b>Verdict:</b> with δ<sub>g</sub> = {delta:.3g} against the threshold {settings.threshold:.2g},
-gravity <b>{verdict}</b> in this machine's speed fluctuation at {engine.rpm:g} rpm.
+gravity <b>{verdict}</b> in this machine's speed fluctuation at {rpm:g} rpm.
 The threshold is a tenth of 1/300, the tightest coefficient of speed fluctuation usually asked of
 machines (AC generators); pumps and compressors allow 1/20–1/50 and vehicle engines 1/100–1/200.</p>
 """)
@@ -507,7 +573,7 @@ machines (AC generators); pumps and compressors allow 1/20–1/50 and vehicle en
 <p>δ<sub>g</sub> = max U<sub>w</sub>* − min U<sub>w</sub>* over a revolution, from the exact extrema (roots of
 Q<sub>u</sub>*), is to first order gravity's share of the coefficient of speed fluctuation. Gravity may be
 neglected where δ<sub>g</sub> &lt; {settings.threshold:.2g}. Below: the engine's crank unit on k cranks over λ
-(left two-stroke, right four-stroke), and every preset engine over its speed range (δ<sub>g</sub> ∝ 1/n²).
+(left two-stroke, right four-stroke), and every preset machine over its speed range (δ<sub>g</sub> ∝ 1/n²).
 Balanced crank sets (where only harmonics of order ≥ k survive) make gravity negligible by many orders of magnitude.</p>
 <img src="{figures["gravity_significance_k_lambda"]}" alt="δ_g over k and λ">
 <img src="{figures["gravity_significance_engines"]}" alt="δ_g per engine over its speed range">
@@ -520,7 +586,8 @@ Balanced crank sets (where only harmonics of order ≥ k survive) make gravity n
     )
     sections.append(f"""
 <h2>Layouts: V, boxer, W, odd-fire</h2>
-<p>The same cylinder (λ, U1, U2 of {html.escape(engine.name)} at {engine.rpm:g} rpm) in every preset layout.
+<p>The same cylinder ({html.escape(engine.name)}'s first, at {rpm:g} rpm) on every bank of every preset layout,
+its crank web and counterweight once per throw (<code>Machine.from_layout</code>).
 Cylinders sharing a crank pin have phases α = β − γ (pin angle β, bank γ); boxers have opposed cylinders on
 throws 180° apart, unlike the 180° V whose opposed cylinders share a pin. Horizontal cylinders (boxers) feel only
 their rotating parts. With unequal cylinders or phase errors cancelled harmonics return; see

@@ -1,0 +1,131 @@
+"""The crank and cylinder layouts: in-line, V, boxer, W, odd-fire.
+
+A :class:`Layout` is an arrangement without masses: the crank throws' angles and the
+cylinders' bank inclinations on each throw. It gives the dimensionless :class:`~multicrank.Engine`
+for per-cylinder λ, u1, u2 (:meth:`Layout.engine`), and, through
+:meth:`multicrank.Machine.from_layout`, a physical machine with one cylinder on every bank.
+``LAYOUTS`` holds the presets; :mod:`multicrank.presets` names them beside the built-in machines.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from ._native import MechanismError
+from .engines import Engine
+from .mechanism import crank_phases
+
+__all__ = ["LAYOUTS", "Layout", "layout_engine"]
+
+
+@dataclass(frozen=True)
+class Layout:
+    """A crank and cylinder arrangement: throw angles β_t of the crank pins (degrees, the
+    pin's absolute angle at φ = 0) and the bank inclinations (degrees) of the cylinders on
+    each throw.
+
+    ``strokes`` (2 or 4) is the working cycle a layout was made for, where it was made for
+    one (the in-line presets: their throws are the regular phase set of that cycle, written
+    unreduced, e.g. 0°, 180°, 360°, 540° for a four-stroke four); None where it serves
+    either.
+    """
+
+    name: str
+    note: str
+    throws: tuple[float, ...]
+    banks: tuple[tuple[float, ...], ...]
+    strokes: int | None = None
+
+    def engine(self, *, crank_ratio, u1, u2) -> Engine:
+        """This layout with the given per-cylinder λ, u1, u2 (scalars or arrays)."""
+        return Engine.from_throws(
+            np.radians(self.throws),
+            [np.radians(b) for b in self.banks],
+            crank_ratio=crank_ratio,
+            u1=u1,
+            u2=u2,
+            name=self.name,
+        )
+
+    @property
+    def cylinders(self) -> int:
+        """The number of cylinders (on all throws)."""
+        return sum(len(b) for b in self.banks)
+
+
+def _inline(cranks: int, strokes: int) -> Layout:
+    # Upright in-line: the pin of crank j is at φ + α_j + 90°.
+    phases = np.degrees(crank_phases(cranks, strokes, "single"))
+    return Layout(
+        f"inline-{cranks}-{strokes}t",
+        f"in-line {cranks}, {strokes}-stroke, upright",
+        tuple(float(p) + 90.0 for p in phases),
+        tuple((90.0,) for _ in range(cranks)),
+        strokes,
+    )
+
+
+def _vee(name: str, note: str, bank_angle: float, throws: Sequence[float]) -> Layout:
+    """Two banks symmetric about the vertical, one cylinder of each on every throw."""
+    banks = (90.0 - bank_angle / 2, 90.0 + bank_angle / 2)
+    return Layout(name, note, tuple(t + 90.0 for t in throws), tuple(banks for _ in throws))
+
+
+def _boxer(name: str, note: str, throws: Sequence[float]) -> Layout:
+    """Opposed cylinders: each throw β carries a right-hand cylinder (γ = 0); its opposed
+    partner on the left (γ = 180°) sits on its own throw β + 180°."""
+    pins, banks = [], []
+    for t in throws:
+        pins += [t, t + 180.0]
+        banks += [(0.0,), (180.0,)]
+    return Layout(name, note, tuple(pins), tuple(banks))
+
+
+LAYOUTS: dict[str, Layout] = {}
+for _k in range(1, 13):
+    for _s in (2, 4):
+        _layout = _inline(_k, _s)
+        LAYOUTS[_layout.name] = _layout
+for _layout in (
+    _vee("v-twin-45", "45° V-twin, one shared pin (the classic American V-twin)", 45.0, [0.0]),
+    _vee("v-twin-90", "90° V-twin, one shared pin", 90.0, [0.0]),
+    Layout(
+        "twin-270", "parallel twin with a 270° crank (odd fire 270°/450°), upright", (90.0, 0.0), ((90.0,), (90.0,))
+    ),
+    _vee("v6-60", "60° V6, three shared pins at 120°", 60.0, [0.0, 120.0, 240.0]),
+    _vee("v6-90", "90° V6, three shared pins at 120°", 90.0, [0.0, 120.0, 240.0]),
+    _vee("v8-flat", "90° V8, flat-plane crank (pins 0°, 180°, 180°, 0°)", 90.0, [0.0, 180.0, 180.0, 0.0]),
+    _vee("v8-cross", "90° V8, cross-plane crank (pins 0°, 90°, 270°, 180°)", 90.0, [0.0, 90.0, 270.0, 180.0]),
+    _vee("v12-60", "60° V12, six shared pins as an in-line six", 60.0, [0.0, 120.0, 240.0, 240.0, 120.0, 0.0]),
+    _boxer("boxer-2", "flat twin, opposed cylinders on throws 180° apart", [0.0]),
+    _boxer("boxer-4", "flat four, opposed cylinders on throws 180° apart", [0.0, 180.0]),
+    _boxer("boxer-6", "flat six, opposed cylinders on throws 180° apart", [0.0, 120.0, 240.0]),
+    _vee("v-180-2", "180° V twin: opposed cylinders sharing one pin (not a boxer)", 180.0, [0.0]),
+    _vee("v-180-4", "180° V four: opposed cylinders sharing two pins at 180°", 180.0, [0.0, 180.0]),
+    Layout(
+        "w12",
+        "broad-arrow W12: three banks 60° apart (30°, 90°, 150°) on a flat-plane four-throw crank",
+        (90.0, 270.0, 270.0, 90.0),
+        tuple((30.0, 90.0, 150.0) for _ in range(4)),
+    ),
+):
+    LAYOUTS[_layout.name] = _layout
+
+
+def as_layout(layout: Layout | str) -> Layout:
+    """A :class:`Layout`, or the preset of that name in ``LAYOUTS``."""
+    if isinstance(layout, Layout):
+        return layout
+    if isinstance(layout, str) and layout in LAYOUTS:
+        return LAYOUTS[layout]
+    raise MechanismError(f"layout = {layout!r} is not known; known: {', '.join(LAYOUTS)} (or a multicrank.Layout)")
+
+
+def layout_engine(name: str, *, crank_ratio, u1, u2) -> Engine:
+    """The preset layout ``name`` (see LAYOUTS) with per-cylinder λ, u1, u2."""
+    if name not in LAYOUTS:
+        raise MechanismError(f"layout = {name!r} is not known; known: {', '.join(LAYOUTS)}")
+    return LAYOUTS[name].engine(crank_ratio=crank_ratio, u1=u1, u2=u2)
