@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import math
 import sys
 
 import click
@@ -311,6 +312,163 @@ def tables_command(strokes, acting, k_max, n_max, fmt) -> None:
         sys.stdout.write(f"{corner:>6} " + " ".join(f"{k:>3}" for k in table.columns) + "\n")
         for n, row in table.iterrows():
             sys.stdout.write(f"{'W_' + str(n):>6} " + " ".join(f"{'●' if v else '·':>3}" for v in row) + "\n")
+
+
+# ----------------------------------------------------------------------------- motion
+def parse_torque(text: str, name: str, *, balance: bool) -> object:
+    """--load/--drive: "balance", a number [N·m], or power:TORQUE:RPM[:EXPONENT]."""
+    from .loads import BALANCE, PowerLawLoad
+
+    value = text.strip()
+    if balance and value == BALANCE:
+        return BALANCE
+    if value.startswith("power:"):
+        parts = value.split(":")[1:]
+        if len(parts) not in (2, 3):
+            raise MechanismError(f"--{name} = {text!r}: write power:TORQUE:RPM or power:TORQUE:RPM:EXPONENT")
+        try:
+            numbers = [float(p) for p in parts]
+        except ValueError:
+            raise MechanismError(f"--{name} = {text!r}: TORQUE, RPM and EXPONENT must be numbers") from None
+        torque, rpm = numbers[0], numbers[1]
+        if not (math.isfinite(rpm) and rpm > 0):
+            raise MechanismError(f"--{name} = {text!r}: RPM must be > 0 [1/min]")
+        return PowerLawLoad(torque, rpm * math.pi / 30, *numbers[2:])
+    try:
+        number = float(value)
+    except ValueError:
+        allowed = "'balance', " if balance else ""
+        raise MechanismError(
+            f"--{name} = {text!r} is not understood; allowed: {allowed}a torque in N·m, or power:TORQUE:RPM[:EXPONENT]"
+        ) from None
+    if not math.isfinite(number):
+        raise MechanismError(f"--{name} = {text!r} must be finite [N·m]")
+    return number
+
+
+def _table_or_file(frame, fmt: str, out_path, *, summary: list[str], json_meta: dict) -> None:
+    """Write a result frame as csv/json (to --out or stdout), or the summary and the table."""
+    if fmt == "csv":
+        text = frame.to_csv(float_format="%.12g")
+    elif fmt == "json":
+        payload = dict(json_meta, rows=json.loads(frame.reset_index().to_json(orient="records", double_precision=15)))
+        text = json.dumps(payload, indent=2) + "\n"
+    else:
+        text = "\n".join(summary) + "\n\n" + frame.to_string(float_format=lambda v: f"{v:.6g}") + "\n"
+    if out_path is None:
+        sys.stdout.write(text)
+    else:
+        _write_atomically(out_path, text)
+        click.echo(f"written: {out_path}", err=True)
+
+
+def _write_atomically(path, text: str) -> None:
+    """All of ``text`` in ``path`` or, on any failure, nothing new there."""
+    import os
+    import tempfile
+    from pathlib import Path
+
+    target = Path(path)
+    handle, temporary = tempfile.mkstemp(dir=target.parent if str(target.parent) else ".", prefix=f".{target.name}.")
+    try:
+        with os.fdopen(handle, "w", encoding="utf-8") as stream:
+            stream.write(text)
+        os.replace(temporary, target)
+    except BaseException:
+        Path(temporary).unlink(missing_ok=True)
+        raise
+
+
+@main.command("simulate")
+@engine_option
+@click.option("--rpm", type=float, help="The speed at the start [1/min] (default: the machine's running speed).")
+@click.option(
+    "--duration",
+    type=float,
+    default=None,
+    help="Seconds to simulate [default: 20 working cycles at the start speed].",
+)
+@click.option("--samples", type=click.IntRange(min=2, max=10_000_000), default=2001, show_default=True)
+@click.option(
+    "--load",
+    default="balance",
+    show_default=True,
+    help="balance, a constant torque [N·m], or power:TORQUE:RPM[:EXPONENT] (a fan/propeller law).",
+)
+@click.option("--drive", default=None, help="None, a constant torque [N·m], or power:TORQUE:RPM[:EXPONENT].")
+@click.option("--gas/--no-gas", default=True, show_default=True, help="With the cylinders' gas pressures.")
+@click.option("--gravity/--no-gravity", default=True, show_default=True)
+@click.option("--format", "fmt", type=click.Choice(FORMATS), default="table", show_default=True)
+@click.option("--out", "out_path", type=click.Path(dir_okay=False, writable=True), help="Write to FILE, not stdout.")
+@click.option("--progress/--no-progress", default=True, show_default=True)
+def simulate_command(engine, rpm, duration, samples, load, drive, gas, gravity, fmt, out_path, progress) -> None:
+    """Integrate the machine's motion in time from a start speed (start-up, run-down, load step).
+
+    The equation of motion J(φ)φ̈ + ½J'(φ)φ̇² = M_gas − dU/dφ + M_drive − M_load is integrated
+    with SciPy's DOP853; the run stops early if the machine stalls. Prints (or writes) the
+    time series: time [s], φ [rad, cumulative], ω [rad/s], rpm and the torques [N·m].
+    """
+    from .transient import simulate
+
+    try:
+        machine = engine if gas else _without_gas(engine)
+        start = _speed(machine, rpm, "--rpm")
+        omega0 = start * math.pi / 30
+        if duration is None:
+            duration = 20 * machine.cycle / omega0 if omega0 > 0 else 1.0
+        if not (math.isfinite(duration) and duration > 0):
+            raise MechanismError(f"--duration = {duration} is out of range; allowed: > 0 [s]")
+        t_eval = np.linspace(0.0, duration, samples)
+        result = simulate(
+            machine,
+            t_eval,
+            omega0=omega0,
+            load=parse_torque(load, "load", balance=True),
+            drive=None if drive is None else parse_torque(drive, "drive", balance=False),
+            gravity=gravity,
+            progress=progress,
+        )
+    except MechanismError as error:
+        raise UserError(str(error)) from None
+    frame = result.to_pandas()
+    frame.insert(2, "rpm", frame["omega"] * 30 / math.pi)
+    end = f"stalled at t = {result.stall_time:.6g} s" if result.stalled else f"ran {duration:.6g} s"
+    summary = [
+        f"{machine.name}: from {start:g} rpm, load {load}, drive {drive or 'none'}, gas "
+        f"{'on' if gas else 'off'}, gravity {'on' if gravity else 'off'}: {end}, last speed "
+        f"{frame['rpm'].iloc[-1]:.6g} rpm",
+        f"energy check (½Jω² + U − work, relative): {result.energy_drift:.2e}",
+    ]
+    shown = frame if fmt != "table" else frame.iloc[:: max(1, len(frame) // 20)]
+    meta = dict(
+        engine=machine.name,
+        start_rpm=start,
+        load=load,
+        drive=drive,
+        gas=gas,
+        gravity=gravity,
+        stalled=result.stalled,
+        stall_time=result.stall_time,
+        energy_drift=result.energy_drift,
+        units=frame.attrs.get("units", {}),
+    )
+    _table_or_file(shown, fmt, out_path, summary=summary, json_meta=meta)
+
+
+def _speed(machine, rpm, option: str) -> float:
+    """The speed [1/min] asked for, or the machine's own; checked."""
+    speed = machine.rpm if rpm is None else rpm
+    if speed is None:
+        raise MechanismError(f"machine {machine.name!r} has no running speed: give {option}")
+    if not (math.isfinite(speed) and speed > 0):
+        raise MechanismError(f"{option} = {speed} is out of range; allowed: > 0 [1/min]")
+    return float(speed)
+
+
+def _without_gas(machine):
+    """The machine with its gas pressures removed (a run-down, gravity and inertia alone)."""
+    cylinders = [c.replace(pressure=None, pressure_crank_end=None) for c in machine.cylinders]
+    return machine.replace(cylinders=cylinders, name=f"{machine.name} (no gas)")
 
 
 # ----------------------------------------------------------------------------- report

@@ -1,0 +1,80 @@
+"""`multicrank simulate` and `multicrank motion`, run as a user would (a real subprocess)."""
+
+from __future__ import annotations
+
+import io
+import json
+import math
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+import multicrank as mc
+from multicrank.presets import DEFAULT_ENGINE
+
+SCRIPT = Path(sys.executable).with_name("multicrank")
+
+
+def run(*args: str) -> str:
+    result = subprocess.run([str(SCRIPT), *args], capture_output=True, text=True, timeout=300)
+    assert result.returncode == 0, result.stderr
+    return result.stdout
+
+
+def run_failing(*args: str) -> str:
+    result = subprocess.run([str(SCRIPT), *args], capture_output=True, text=True, timeout=300)
+    assert result.returncode == 2 and "Traceback" not in result.stderr, result.stderr
+    # Our own checks print one line; click's own (a type, a range) add its usage above it.
+    return result.stderr.strip().splitlines()[-1]
+
+
+def test_simulate_csv_is_the_api_run():
+    out = run("simulate", "--duration", "0.5", "--samples", "51", "--format", "csv", "--no-progress")
+    frame = pd.read_csv(io.StringIO(out), index_col="time")
+    machine = DEFAULT_ENGINE
+    omega0 = machine.rpm * math.pi / 30
+    expected = mc.simulate(machine, np.linspace(0, 0.5, 51), omega0=omega0, load="balance")
+    np.testing.assert_allclose(frame["omega"], expected.omega, rtol=1e-10)
+    np.testing.assert_allclose(frame["rpm"], expected.omega * 30 / math.pi, rtol=1e-10)
+    np.testing.assert_allclose(frame["gas_torque"], expected.gas_torque, rtol=1e-9, atol=1e-6)
+
+
+def test_simulate_run_down_without_gas_stalls_and_says_so(tmp_path):
+    target = tmp_path / "run.json"
+    run(
+        "simulate", "--no-gas", "--load", "400", "--rpm", "60", "--duration", "30", "--samples", "301",
+        "--format", "json", "--out", str(target), "--no-progress",
+    )  # fmt: skip
+    data = json.loads(target.read_text())
+    assert data["stalled"] is True and data["stall_time"] > 0
+    assert data["rows"][-1]["omega"] == 0.0
+    assert data["energy_drift"] < 1e-7
+    # Pure run-down against a constant load: the energy at the start is spent by the load
+    # (and gravity's potential) when it stops: ½J₀ω₀² + U₀ = ∫M dφ + U_end.
+    last = data["rows"][-1]
+    first = data["rows"][0]
+    spent = 400.0 * (last["phi"] - first["phi"])
+    assert first["kinetic_energy"] + first["potential_energy"] == pytest.approx(
+        spent + last["potential_energy"], rel=1e-6
+    )
+
+
+@pytest.mark.parametrize(
+    ("args", "named"),
+    [
+        (["--load", "abc"], "--load"),
+        (["--load", "power:1:0"], "--load"),
+        (["--drive", "balance"], "--drive"),
+        (["--duration", "-1"], "--duration"),
+        (["--rpm", "0"], "--rpm"),
+        (["--rpm", "nan"], "--rpm"),
+        (["--samples", "1"], "--samples"),
+        (["--engine", "no-such-machine"], "--engine"),
+    ],
+)
+def test_simulate_mistakes_are_one_line_naming_the_option(args, named):
+    assert named in run_failing("simulate", "--no-progress", *args)
