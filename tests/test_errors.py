@@ -244,6 +244,16 @@ REGISTRY: dict[str, tuple[Callable[..., Any], dict[str, tuple[Any, str]]]] = {
         mc.to_xarray,
         {"result": (GRID_RESULT, "frame"), "axes": ({"crank_ratio": [0.2, 0.3], "u2": [0.1, 0.2]}, "axes_or_none")},
     ),
+    "IndicatorDiagram": (
+        mc.IndicatorDiagram,
+        {
+            "angle": (np.linspace(0, 2 * math.pi, 9), "angle_list"),
+            "pressure": (np.r_[np.cos(np.linspace(0, 2 * math.pi, 8, endpoint=False)), 1.0] * 1e5, "angle_list"),
+            "cycle": (2 * math.pi, "option"),
+            "kind": ("linear", "option"),
+            "closure_tolerance": (1e-6, "nonnegative"),
+        },
+    ),
     "reference.lambda_coefficients": (
         ref.lambda_coefficients,
         {"crank_ratio": (0.3, "ratio"), "n_max": (8, "count"), "method": ("exact", "option")},
@@ -273,8 +283,6 @@ OWNED_ELSEWHERE = {
     "Cylinder",
     "Layout",
     "layout_engine",
-    # pressure.py validates its own inputs (tests/test_pressure.py).
-    "IndicatorDiagram",
     # no user input
     "get_parallel_threshold",
     "EnergyExtrema",
