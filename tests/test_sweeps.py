@@ -33,7 +33,7 @@ def random_designs(n: int, seed: int = 0) -> pd.DataFrame:
             "cranks": rng.integers(1, 13, n),
             "strokes": rng.choice([2, 4], n),
             "acting": rng.choice(["single", "double"], n),
-            "label": [f"m{i}" for i in range(n)],
+            "label": [f"m{i}" for i in range(n)],  # carried through with passthrough="label"
         }
     )
 
@@ -46,7 +46,7 @@ def per_design(row, phi):
 
 def test_outputs_match_per_design_reference():
     designs = random_designs(60)
-    result = mc.sweep(designs, phi=360)
+    result = mc.sweep(designs, passthrough="label", phi=360)
     assert list(result.columns) == list(designs.columns) + list(mc.SWEEP_OUTPUTS)
     assert (result["label"] == designs["label"]).all() and (result.index == designs.index).all()
     phi = np.arange(360) * (2 * np.pi / 360)
@@ -81,15 +81,15 @@ def test_mapping_defaults_and_phi_array():
 
 def test_thread_count_and_chunking_do_not_change_a_bit():
     designs = random_designs(3000, seed=3)
-    base = mc.sweep(designs, phi=200, chunk_size=3000)
-    other = mc.sweep(designs, phi=200, chunk_size=7)
+    base = mc.sweep(designs, passthrough="label", phi=200, chunk_size=3000)
+    other = mc.sweep(designs, passthrough="label", phi=200, chunk_size=7)
     pd.testing.assert_frame_equal(base, other, check_exact=True)
     code = textwrap.dedent(
         """
         import sys, numpy as np, pandas as pd, multicrank as mc
         designs = pd.read_pickle(sys.argv[1])
         mc.set_parallel_threshold(0)
-        mc.sweep(designs, phi=200, chunk_size=512).to_pickle(sys.argv[2])
+        mc.sweep(designs, passthrough="label", phi=200, chunk_size=512).to_pickle(sys.argv[2])
         """
     )
     for threads in ("1", "2", "3"):
@@ -139,7 +139,7 @@ def test_bad_options():
 
 def test_curves_option_matches_evaluation():
     designs = random_designs(25, seed=5)
-    table, curves = mc.sweep(designs, phi=90, outputs=["force_max_abs"], curves=True)
+    table, curves = mc.sweep(designs, passthrough="label", phi=90, outputs=["force_max_abs"], curves=True)
     assert curves.shape == (25, 90)
     phi = np.arange(90) * (2 * np.pi / 90)
     for i, row in enumerate(table.itertuples()):
@@ -168,8 +168,8 @@ def test_grid_to_xarray():
 
 def test_parquet_streaming_matches_in_memory(tmp_path):
     designs = random_designs(1000, seed=7)
-    expected = mc.sweep(designs, phi=64)
-    path = mc.sweep(designs, phi=64, out=tmp_path / "r.parquet", chunk_size=128)
+    expected = mc.sweep(designs, passthrough="label", phi=64)
+    path = mc.sweep(designs, passthrough="label", phi=64, out=tmp_path / "r.parquet", chunk_size=128)
     assert path == tmp_path / "r.parquet" and not (tmp_path / "r.parquet.parts").exists()
     assert pq.ParquetFile(path).num_row_groups == 8
     pd.testing.assert_frame_equal(pq.read_table(path).to_pandas(), expected.reset_index(drop=True))
@@ -252,10 +252,10 @@ def test_dask_local_cluster_matches_in_process():
     from distributed import Client, LocalCluster
 
     designs = random_designs(2000, seed=11)
-    expected = mc.sweep(designs, phi=90)
+    expected = mc.sweep(designs, passthrough="label", phi=90)
     with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
         with Client(cluster) as client:
-            lazy = mc.sweep(dd.from_pandas(designs, npartitions=5), phi=90)
+            lazy = mc.sweep(dd.from_pandas(designs, npartitions=5), passthrough="label", phi=90)
             assert isinstance(lazy, dd.DataFrame)
             result = lazy.compute()
             assert len(client.scheduler_info()["workers"]) == 2
@@ -337,8 +337,8 @@ def test_cli_sweep_errors_are_usage_errors(tmp_path):
 
 def test_progress_bar_reports_designs(capsys):
     designs = random_designs(300, seed=13)
-    quiet = mc.sweep(designs, phi=32, outputs=["force_rms"], chunk_size=100)
-    shown = mc.sweep(designs, phi=32, outputs=["force_rms"], chunk_size=100, progress=True)
+    quiet = mc.sweep(designs, passthrough="label", phi=32, outputs=["force_rms"], chunk_size=100)
+    shown = mc.sweep(designs, passthrough="label", phi=32, outputs=["force_rms"], chunk_size=100, progress=True)
     pd.testing.assert_frame_equal(quiet, shown)
     err = capsys.readouterr().err
     assert "300/300" in err and "designs/s" in err

@@ -8,6 +8,7 @@ other module can use it without an import circle.
 
 from __future__ import annotations
 
+import math
 import operator
 from typing import Any
 
@@ -16,9 +17,13 @@ import numpy as np
 from ._native import MechanismError
 
 __all__ = [
+    "INDEX_MAX",
     "as_angles",
     "as_count",
     "as_design",
+    "as_flag",
+    "as_label",
+    "as_nonnegative",
     "as_option",
     "as_phases",
     "as_real_array",
@@ -33,6 +38,10 @@ __all__ = [
 ]
 
 _NUMERIC_KINDS = "iuf"
+
+#: The largest count the native layer takes (its integers are 64-bit): anything above is
+#: refused here, by name, rather than overflowing in the conversion.
+INDEX_MAX = 2**63 - 1
 
 
 def as_real_array(value: Any, name: str) -> np.ndarray:
@@ -65,7 +74,15 @@ def as_angles(phi: Any, name: str = "phi") -> np.ndarray:
 
 def as_work_size(value: Any, name: str) -> int:
     """A parallel threshold: a work size ≥ 0 (huge values, clamped to 2⁶³ − 1, mean serial)."""
-    return min(as_count(value, name, minimum=0), 2**63 - 1)
+    if isinstance(value, (bool, np.bool_)):
+        raise MechanismError(f"{name} must be an integer >= 0, got {value!r}")
+    try:
+        count = operator.index(value)
+    except TypeError:
+        raise MechanismError(f"{name} must be an integer >= 0, got {value!r}") from None
+    if count < 0:
+        raise MechanismError(f"{name} = {count} is out of range; allowed: an integer >= 0")
+    return min(count, INDEX_MAX)
 
 
 def as_threshold(value: Any) -> int | None:
@@ -84,19 +101,35 @@ def as_scalar(value: Any, name: str) -> float:
 def as_design(value: Any, name: str, *, low: float | None = None, high: float | None = None) -> np.ndarray:
     """A design parameter as float64; finite, and in [low, high) where those are given."""
     array = as_real_array(value, name)
-    if not np.all(np.isfinite(array)):
-        bad = array[~np.isfinite(array)].flat[0]
-        raise MechanismError(f"{name} = {bad} is out of range; allowed: any finite real")
-    if low is not None or high is not None:
-        inside = np.ones(array.shape, dtype=bool)
-        if low is not None:
-            inside &= array >= low
-        if high is not None:
-            inside &= array < high
-        if not np.all(inside):
-            bad = array[~inside].flat[0]
-            raise MechanismError(f"{name} = {bad} is out of range; allowed: {low} <= {name} < {high}")
+    # NaN fails every comparison, so it lands outside [low, high) with the others and the
+    # message gives the parameter's own range, not "any finite real".
+    inside = np.isfinite(array)
+    if low is not None:
+        inside &= array >= low
+    if high is not None:
+        inside &= array < high
+    if not np.all(inside):
+        bad = array[~inside].flat[0]
+        raise MechanismError(f"{name} = {bad} is out of range; allowed: {_range_text(name, low, high)}")
     return array
+
+
+def _range_text(name: str, low: float | None, high: float | None) -> str:
+    if low is None and high is None:
+        return "any finite real"
+    if high is None:
+        return f"{name} >= {low}, finite"
+    if low is None:
+        return f"{name} < {high}, finite"
+    return f"{low} <= {name} < {high}"
+
+
+def as_nonnegative(value: Any, name: str) -> float:
+    """One finite real number >= 0 (a standard deviation, a tolerance)."""
+    scalar = as_scalar(value, name)
+    if not (math.isfinite(scalar) and scalar >= 0):
+        raise MechanismError(f"{name} = {scalar} is out of range; allowed: a finite real >= 0")
+    return scalar
 
 
 def as_phases(phases: Any) -> np.ndarray:
@@ -113,17 +146,39 @@ def as_phases(phases: Any) -> np.ndarray:
     return contiguous(array)
 
 
-def as_count(value: Any, name: str, *, minimum: int) -> int:
-    """An integer ≥ minimum (bools and floats such as 2.0 are rejected)."""
+def as_count(value: Any, name: str, *, minimum: int, maximum: int = INDEX_MAX) -> int:
+    """An integer in [minimum, maximum] (bools and floats such as 2.0 are rejected).
+
+    ``maximum`` defaults to the native layer's 64-bit limit: a larger Python int would
+    otherwise escape as an OverflowError from the conversion.
+    """
+    allowed = f"an integer >= {minimum}" if maximum == INDEX_MAX else f"an integer {minimum} <= {name} <= {maximum}"
     if isinstance(value, (bool, np.bool_)):
-        raise MechanismError(f"{name} must be an integer >= {minimum}, got {value!r}")
+        raise MechanismError(f"{name} must be {allowed}, got {value!r}")
     try:
         count = operator.index(value)
     except TypeError:
-        raise MechanismError(f"{name} must be an integer >= {minimum}, got {value!r}") from None
+        raise MechanismError(f"{name} must be {allowed}, got {value!r}") from None
     if count < minimum:
-        raise MechanismError(f"{name} = {count} is out of range; allowed: an integer >= {minimum}")
+        raise MechanismError(f"{name} = {count} is out of range; allowed: {allowed}")
+    if count > maximum:
+        limit = "" if maximum != INDEX_MAX else f" (at most {maximum})"
+        raise MechanismError(f"{name} = {count} is out of range; allowed: {allowed}{limit}")
     return count
+
+
+def as_flag(value: Any, name: str) -> bool:
+    """True or False (numpy's bools too); anything else, truthy or not, is refused."""
+    if not isinstance(value, (bool, np.bool_)):
+        raise MechanismError(f"{name} must be True or False, got {value!r}")
+    return bool(value)
+
+
+def as_label(value: Any, name: str) -> str:
+    """A text label (a name shown in tables and reprs)."""
+    if not isinstance(value, str):
+        raise MechanismError(f"{name} must be a string, got {type(value).__name__} {value!r}")
+    return value
 
 
 def as_option(value: Any, name: str, allowed: tuple[str, ...]) -> str:

@@ -1,16 +1,21 @@
 """Designs for a sweep: the tables of machines, their validation, and grids of them.
 
 A design is one row: ``crank_ratio``, ``inclination`` [rad], ``u1``, ``u2`` and optionally
-``cranks``, ``strokes``, ``acting``; other columns are carried through. Designs come as a
-pandas DataFrame, a mapping of columns, or a lazy :class:`DesignGrid` (the Cartesian
-product of axes, generated chunk by chunk). The machines' crank phase sets are formed once
-per kind of machine (:func:`phase_table`), not once per design.
+``cranks``, ``strokes``, ``acting``. Any other column is refused (a misspelt ``cylinders``
+for ``cranks`` would otherwise be carried along while the sweep computes one crank), unless
+the sweep is told to pass it through. Designs come as a pandas DataFrame, a mapping of
+columns, or a lazy :class:`DesignGrid` (the Cartesian product of axes, generated chunk by
+chunk), and are validated before any work starts. The machines' crank phase sets are formed
+once per kind of machine (:func:`phase_table`), not once per design.
 """
 
 from __future__ import annotations
 
+import difflib
+import hashlib
+import json
 import math
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Iterable, Mapping
 from typing import Any
 
 import numpy as np
@@ -19,15 +24,27 @@ import pandas as pd
 from ._native import SWEEP_OUTPUTS as _NATIVE_SWEEP_OUTPUTS
 from ._native import MechanismError
 from ._optional import require
-from ._validation import as_design
+from ._validation import INDEX_MAX, as_design
 from .mechanism import crank_phases
 
-__all__ = ["DESIGN_COLUMNS", "OPTIONAL_COLUMNS", "SWEEP_OUTPUTS", "DesignGrid", "design_grid", "to_xarray"]
+__all__ = [
+    "DESIGN_COLUMNS",
+    "KNOWN_COLUMNS",
+    "OPTIONAL_COLUMNS",
+    "SWEEP_OUTPUTS",
+    "DesignGrid",
+    "design_grid",
+    "to_xarray",
+]
 
 #: Every output a sweep can compute, in column order (the core's names).
 SWEEP_OUTPUTS: tuple[str, ...] = tuple(_NATIVE_SWEEP_OUTPUTS)
 DESIGN_COLUMNS = ("crank_ratio", "inclination", "u1", "u2")
 OPTIONAL_COLUMNS = {"cranks": 1, "strokes": 2, "acting": "single"}
+#: Every column a design may have; others only when a sweep passes them through.
+KNOWN_COLUMNS: tuple[str, ...] = (*DESIGN_COLUMNS, *OPTIONAL_COLUMNS)
+# Rows validated at a time before a sweep of a table starts (bounded memory).
+_VALIDATION_ROWS = 1 << 20
 
 
 # ----------------------------------------------------------------------------- tables
@@ -38,7 +55,7 @@ def as_frame(designs: Any) -> pd.DataFrame:
     if isinstance(designs, Mapping):
         columns = {}
         for name, values in designs.items():
-            array = np.asarray(values)
+            array = _as_array(values, f"designs column {name!r}")
             if array.ndim != 1:
                 raise MechanismError(f"designs column {name!r} must be 1-D, got shape {array.shape}")
             columns[name] = array
@@ -53,53 +70,112 @@ def as_frame(designs: Any) -> pd.DataFrame:
     )
 
 
-def check_columns(columns: Any) -> None:
-    """Raise unless ``columns`` holds every required design column."""
-    missing = [c for c in DESIGN_COLUMNS if c not in columns]
+def _as_array(values: Any, what: str) -> np.ndarray:
+    """np.asarray, with numpy's errors for ragged or odd input turned into ours."""
+    try:
+        return np.asarray(values)
+    except (ValueError, TypeError) as exc:
+        raise MechanismError(f"{what} must be a scalar or a 1-D sequence: {exc}") from None
+
+
+def as_passthrough(passthrough: Any) -> tuple[str, ...]:
+    """The names of the extra columns a sweep carries through: one string or strings."""
+    if passthrough is None:
+        return ()
+    if isinstance(passthrough, str):
+        return (passthrough,)
+    if not isinstance(passthrough, Iterable) or isinstance(passthrough, (bytes, Mapping)):
+        raise MechanismError(f"passthrough must be a column name or a list of them, got {type(passthrough).__name__}")
+    names = tuple(passthrough)
+    bad = [n for n in names if not isinstance(n, str)]
+    if bad:
+        raise MechanismError(f"passthrough must hold column names (strings), got {bad[0]!r}")
+    return names
+
+
+def _suggestion(name: Any, known: Iterable[str]) -> str:
+    close = difflib.get_close_matches(str(name), list(known), n=1)
+    return f" (did you mean {close[0]!r}?)" if close else ""
+
+
+def check_columns(columns: Any, passthrough: tuple[str, ...] = (), outputs: tuple[str, ...] = ()) -> None:
+    """Raise unless ``columns`` holds every required design column, once, and no column
+    but the known ones and those in ``passthrough``; passthrough names must exist and be
+    neither design columns nor outputs (which the sweep would overwrite)."""
+    names = list(columns)
+    duplicated = sorted({str(n) for n in names if names.count(n) > 1})
+    if duplicated:
+        raise MechanismError(f"designs have the column(s) {', '.join(duplicated)} more than once")
+    missing = [c for c in DESIGN_COLUMNS if c not in names]
     if missing:
         raise MechanismError(
             f"designs lack the column(s) {', '.join(missing)}; required: {', '.join(DESIGN_COLUMNS)} "
             f"(optional: {', '.join(OPTIONAL_COLUMNS)})"
         )
+    clash = [n for n in passthrough if n in KNOWN_COLUMNS or n in outputs]
+    if clash:
+        raise MechanismError(
+            f"passthrough names {', '.join(map(repr, clash))}: design columns and outputs are not passed through"
+        )
+    absent = [n for n in passthrough if n not in names]
+    if absent:
+        raise MechanismError(f"passthrough names {', '.join(map(repr, absent))}, which the designs do not have")
+    unknown = [n for n in names if n not in KNOWN_COLUMNS and n not in passthrough]
+    if unknown:
+        first = unknown[0]
+        raise MechanismError(
+            f"designs have the unknown column(s) {', '.join(map(repr, unknown))}{_suggestion(first, KNOWN_COLUMNS)}; "
+            f"known: {', '.join(KNOWN_COLUMNS)}. Carry other columns through the sweep with "
+            f"passthrough=[{first!r}, ...]"
+        )
 
 
 def _integer_column(values: Any, name: str, allowed: tuple[int, ...] | None, minimum: int) -> np.ndarray:
-    array = np.asarray(values)
+    array = _as_array(values, name)
     if array.dtype.kind == "f" and np.all(np.isfinite(array)) and np.all(array == np.round(array)):
         array = array.astype(np.int64)
     if array.dtype.kind not in "iu":
         raise MechanismError(f"designs column {name!r} must hold integers, got dtype {array.dtype}")
     if array.size and array.min() < minimum:
         raise MechanismError(f"{name} = {array.min()} is out of range; allowed: an integer >= {minimum}")
+    if array.size and array.max() > INDEX_MAX:
+        raise MechanismError(f"{name} = {array.max()} is out of range; allowed: an integer >= {minimum}")
     if allowed is not None and array.size and not np.isin(array, allowed).all():
         bad = array[~np.isin(array, allowed)][0]
-        raise MechanismError(f"strokes = {bad} is not allowed; allowed: 2 or 4")
+        raise MechanismError(f"{name} = {bad} is not allowed; allowed: {' or '.join(map(str, allowed))}")
     return array.astype(np.int64)
+
+
+def _double_acting(values: Any) -> np.ndarray:
+    """The ``acting`` column as "is double-acting" (cheaper to key machine kinds by than strings)."""
+    acting = np.asarray(_as_array(values, "acting"), dtype=object)
+    bad = ~np.isin(acting, ["single", "double"])
+    if bad.any():
+        raise MechanismError(f"acting = {acting[bad][0]!r} is not allowed; allowed: 'single', 'double'")
+    return acting == "double"
+
+
+def _column(name: str, values: Any) -> np.ndarray:
+    """One design column, validated (``acting`` comes back as "is double-acting")."""
+    if name == "crank_ratio":
+        return as_design(values, name, low=0.0, high=1.0)
+    if name in ("inclination", "u1", "u2"):
+        return as_design(values, name)
+    if name == "cranks":
+        return _integer_column(values, name, None, 1)
+    if name == "strokes":
+        return _integer_column(values, name, (2, 4), 1)
+    return _double_acting(values)
 
 
 def machine_columns(frame: pd.DataFrame) -> dict[str, np.ndarray]:
     """The validated design columns of a frame (optional columns filled with defaults)."""
-    check_columns(frame.columns)
+    check_columns(frame.columns, passthrough=tuple(c for c in frame.columns if c not in KNOWN_COLUMNS))
     n = len(frame)
-    out = {
-        "crank_ratio": as_design(frame["crank_ratio"].to_numpy(), "crank_ratio", low=0.0, high=1.0),
-        "inclination": as_design(frame["inclination"].to_numpy(), "inclination"),
-        "u1": as_design(frame["u1"].to_numpy(), "u1"),
-        "u2": as_design(frame["u2"].to_numpy(), "u2"),
-    }
-    cranks = frame["cranks"].to_numpy() if "cranks" in frame else np.full(n, 1)
-    strokes = frame["strokes"].to_numpy() if "strokes" in frame else np.full(n, 2)
-    out["cranks"] = _integer_column(cranks, "cranks", None, 1)
-    out["strokes"] = _integer_column(strokes, "strokes", (2, 4), 1)
-    # Kept as "is double-acting", not as strings: cheaper to key machine kinds by.
-    if "acting" in frame:
-        acting = np.asarray(frame["acting"].to_numpy(), dtype=object)
-        bad = ~np.isin(acting, ["single", "double"])
-        if bad.any():
-            raise MechanismError(f"acting = {acting[bad][0]!r} is not allowed; allowed: 'single', 'double'")
-        out["double"] = acting == "double"
-    else:
-        out["double"] = np.zeros(n, dtype=bool)
+    out = {name: _column(name, frame[name].to_numpy()) for name in DESIGN_COLUMNS}
+    out["cranks"] = _column("cranks", frame["cranks"].to_numpy() if "cranks" in frame else np.full(n, 1))
+    out["strokes"] = _column("strokes", frame["strokes"].to_numpy() if "strokes" in frame else np.full(n, 2))
+    out["double"] = _column("acting", frame["acting"].to_numpy()) if "acting" in frame else np.zeros(n, dtype=bool)
     return out
 
 
@@ -121,22 +197,39 @@ class DesignGrid:
     cranks=range(1, 13))``: 1-D axes span the grid (C order, first axis slowest); scalars are
     constant columns. ``len(grid)`` is the number of designs; ``grid.frame(start, stop)``
     builds only those rows, so a sweep of 10⁷ designs never holds them all.
+
+    Only design columns (``crank_ratio``, ``inclination``, ``u1``, ``u2``, ``cranks``,
+    ``strokes``, ``acting``) are accepted, and every value is validated here, so that a
+    misspelt name or a bad value fails at once rather than chunks into a sweep.
     """
 
     def __init__(self, **axes: Any) -> None:
         if not axes:
             raise MechanismError("a design grid needs at least one axis")
+        unknown = [name for name in axes if name not in KNOWN_COLUMNS]
+        if unknown:
+            raise MechanismError(
+                f"grid axis {unknown[0]!r} is not a design column{_suggestion(unknown[0], KNOWN_COLUMNS)}; "
+                f"known: {', '.join(KNOWN_COLUMNS)}"
+            )
         self.axes: dict[str, np.ndarray] = {}
         self.constants: dict[str, Any] = {}
         for name, values in axes.items():
-            if isinstance(values, str) or np.ndim(values) == 0:
-                self.constants[name] = values
-            else:
-                array = np.asarray(list(values) if isinstance(values, range) else values)
-                if array.ndim != 1 or array.size == 0:
-                    raise MechanismError(f"grid axis {name!r} must be a scalar or a non-empty 1-D sequence")
-                self.axes[name] = array
+            array = _as_array(list(values) if isinstance(values, range) else values, f"grid axis {name!r}")
+            if array.ndim == 0:
+                _column(name, array.reshape(1))  # validated now, not chunks into a sweep
+                self.constants[name] = array.item()
+                continue
+            if array.ndim != 1 or array.size == 0:
+                raise MechanismError(
+                    f"grid axis {name!r} must be a scalar or a non-empty 1-D sequence, got shape {array.shape}"
+                )
+            _column(name, array)
+            self.axes[name] = array
         self.shape = tuple(len(v) for v in self.axes.values())
+        if math.prod(self.shape) > INDEX_MAX:
+            sizes = " × ".join(f"{len(v)} {k}" for k, v in self.axes.items())
+            raise MechanismError(f"the grid's axes make {math.prod(self.shape)} designs ({sizes}); at most {INDEX_MAX}")
 
     def __len__(self) -> int:
         return math.prod(self.shape)
@@ -163,9 +256,9 @@ def design_grid(**axes: Any) -> pd.DataFrame:
     """The Cartesian product of the given axes as a DataFrame (one row per design).
 
     1-D axes span the grid in C order (the first axis varies slowest); scalars become
-    constant columns. The frame remembers its axes (``frame.attrs["grid_axes"]``) so that a
-    sweep of it converts to an ``xarray.Dataset`` with one dimension per axis
-    (:func:`to_xarray`).
+    constant columns. Names and values are checked as by :class:`DesignGrid`. The frame
+    remembers its axes (``frame.attrs["grid_axes"]``) so that a sweep of it converts to an
+    ``xarray.Dataset`` with one dimension per axis (:func:`to_xarray`).
     """
     grid = DesignGrid(**axes)
     frame = grid.to_frame()
@@ -188,20 +281,87 @@ def grid_axes_of(designs: Any) -> dict[str, list] | None:
     return getattr(designs, "attrs", {}).get("grid_axes")
 
 
+def designs_digest(designs: Any) -> str:
+    """A SHA-256 of everything that makes the designs' rows: a grid's definition (axes and
+    constants, their names, order, dtypes and values), or a table's every column.
+
+    Values enter through pandas' per-element hash, which for numbers is a bijection of
+    their bits, so any changed value anywhere changes the digest. A table's index does not
+    enter: it is not written to Parquet.
+    """
+    digest = hashlib.sha256()
+
+    def update(kind: str, name: Any, values: pd.Series) -> None:
+        digest.update(json.dumps([kind, str(name), str(values.dtype), len(values)]).encode())
+        digest.update(pd.util.hash_pandas_object(values, index=False).to_numpy().tobytes())
+
+    if isinstance(designs, DesignGrid):
+        for name, array in designs.axes.items():
+            update("axis", name, pd.Series(array))
+        for name, value in designs.constants.items():
+            update("constant", name, pd.Series([value]))
+    else:
+        frame = as_frame(designs)
+        for name in frame.columns:
+            update("column", name, frame[name])
+    return digest.hexdigest()
+
+
+def validate_designs(designs: Any, passthrough: tuple[str, ...], outputs: tuple[str, ...]) -> None:
+    """Check every design before a sweep starts: column names (against ``passthrough``) and,
+    for a table, every value, chunk by chunk (a grid checked its axes when it was made)."""
+    if isinstance(designs, DesignGrid):
+        check_columns([*designs.axes, *designs.constants], passthrough, outputs)
+        return
+    frame = as_frame(designs)
+    check_columns(frame.columns, passthrough, outputs)
+    for start in range(0, len(frame), _VALIDATION_ROWS):
+        machine_columns(frame.iloc[start : start + _VALIDATION_ROWS])
+
+
 def to_xarray(result: pd.DataFrame, axes: Mapping[str, Any] | None = None) -> Any:
     """A grid sweep's result as an ``xarray.Dataset``: one dimension per grid axis, one
-    variable per output. ``axes`` defaults to the ``grid_axes`` the grid left in ``attrs``."""
+    variable per output. ``axes`` defaults to the ``grid_axes`` the grid left in ``attrs``.
+
+    The result's rows must be the grid's, in its order (C order, the first axis slowest):
+    each axis's column is checked against it, so a filtered or re-sorted result is refused
+    rather than reshaped into the wrong cells.
+    """
     xr = require("xarray", "xarray")
 
-    axes = axes if axes is not None else result.attrs.get("grid_axes")
-    if not axes:
-        raise MechanismError("result does not come from a design grid: pass axes={name: values, ...}")
-    shape = tuple(len(v) for v in axes.values())
+    if not isinstance(result, pd.DataFrame):
+        raise MechanismError(f"result must be the pandas DataFrame of a grid sweep, got {type(result).__name__}")
+    if axes is None:
+        axes = result.attrs.get("grid_axes")
+        if not axes:
+            raise MechanismError("result does not come from a design grid: pass axes={name: values, ...}")
+    if not isinstance(axes, Mapping) or not axes:
+        raise MechanismError(f"axes must be a non-empty mapping {{name: values, ...}}, got {type(axes).__name__}")
+    arrays: dict[str, np.ndarray] = {}
+    for name, values in axes.items():
+        if not isinstance(name, str):
+            raise MechanismError(f"axes must be keyed by column names (strings), got {name!r}")
+        array = _as_array(values, f"axes[{name!r}]")
+        if array.ndim != 1 or array.size == 0:
+            raise MechanismError(f"axes[{name!r}] must be a non-empty 1-D sequence, got shape {array.shape}")
+        arrays[name] = array
+    shape = tuple(len(v) for v in arrays.values())
     if math.prod(shape) != len(result):
         raise MechanismError(f"result has {len(result)} rows, the axes make {math.prod(shape)}")
+    for i, (name, array) in enumerate(arrays.items()):
+        if name not in result.columns:
+            raise MechanismError(f"axes[{name!r}]: result has no column {name!r}")
+        along = [1] * len(shape)
+        along[i] = shape[i]
+        expected = np.broadcast_to(array.reshape(along), shape).reshape(-1)
+        if not np.array_equal(result[name].to_numpy(), expected):
+            raise MechanismError(
+                f"axes[{name!r}]: result's column {name!r} does not run over this axis in grid order (C order, "
+                "the first axis slowest); pass the rows of the whole grid, in its order"
+            )
     outputs = [c for c in result.columns if c in SWEEP_OUTPUTS]
-    dims = list(axes)
+    dims = list(arrays)
     return xr.Dataset(
         {name: (dims, result[name].to_numpy().reshape(shape)) for name in outputs},
-        coords={name: np.asarray(values) for name, values in axes.items()},
+        coords=arrays,
     )

@@ -12,7 +12,7 @@ are in :mod:`multicrank.layouts` (and :mod:`multicrank.presets`).
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from typing import Any
 
 import numpy as np
@@ -23,7 +23,7 @@ from ._native import engine_extrema as _native_engine_extrema
 from ._native import engine_fourier as _native_engine_fourier
 from ._native import engine_leading_harmonic as _native_engine_leading_harmonic
 from ._native import engine_sensitivity as _native_engine_sensitivity
-from ._validation import as_count, as_design, as_option, as_scalar, contiguous, finish
+from ._validation import as_count, as_design, as_label, as_nonnegative, as_option, contiguous, finish
 from .extrema import EnergyExtrema
 from .grids import as_phi
 from .mechanism import crank_phases
@@ -55,16 +55,20 @@ class Engine:
             "u1": as_design(u1, "u1"),
             "u2": as_design(u2, "u2"),
         }
-        try:
-            shape = np.broadcast_shapes(*(c.shape for c in columns.values()))
-        except ValueError:
-            raise MechanismError("engine columns do not broadcast to one length") from None
-        if len(shape) > 1:
-            raise MechanismError(f"engine columns must be 1-D (one entry per unit), got shape {shape}")
-        shape = shape or (1,)
-        if shape[0] == 0:
-            raise MechanismError("an engine needs at least one unit")
-        self._columns = {k: contiguous(np.broadcast_to(v, shape)).copy() for k, v in columns.items()}
+        name = as_label(name, "name")
+        for key, column in columns.items():
+            if column.ndim > 1:
+                raise MechanismError(f"{key} must be a scalar or 1-D (one entry per unit), got shape {column.shape}")
+        lengths = {key: column.shape[0] for key, column in columns.items() if column.ndim == 1}
+        sizes = set(lengths.values()) - {1}
+        if len(sizes) > 1:
+            listed = ", ".join(f"{key} has {n}" for key, n in lengths.items())
+            raise MechanismError(f"engine columns do not broadcast to one length (the number of units): {listed}")
+        length = sizes.pop() if sizes else 1
+        if length == 0:
+            empty = ", ".join(key for key, n in lengths.items() if n == 0)
+            raise MechanismError(f"{empty}: an engine needs at least one unit, got an empty column")
+        self._columns = {k: contiguous(np.broadcast_to(v, (length,))).copy() for k, v in columns.items()}
         for column in self._columns.values():
             column.setflags(write=False)
         self.name = name
@@ -85,14 +89,9 @@ class Engine:
     ) -> Engine:
         """A regular in-line machine (docs/theory.md, "Crank phases"): identical units at α_j = j·α."""
         phases = crank_phases(cranks, strokes, acting)
-        return cls(
-            phase=phases,
-            inclination=inclination,
-            crank_ratio=crank_ratio,
-            u1=u1,
-            u2=u2,
-            name=name or f"inline-{cranks} {strokes}-stroke {acting}-acting",
-        )
+        if name is None:
+            name = f"inline-{cranks} {strokes}-stroke {acting}-acting"
+        return cls(phase=phases, inclination=inclination, crank_ratio=crank_ratio, u1=u1, u2=u2, name=name)
 
     @classmethod
     def from_throws(
@@ -109,15 +108,34 @@ class Engine:
         (``throws``, rad), and carries one cylinder per inclination in ``banks[t]`` (rad).
         Each cylinder's phase is α = β_t − γ. ``crank_ratio``, ``u1``, ``u2`` are per
         cylinder (scalars or arrays in the cylinders' order)."""
-        if len(throws) != len(banks):
-            raise MechanismError(f"throws has {len(throws)} entries but banks {len(banks)}")
-        phase: list[float] = []
-        inclination: list[float] = []
-        for beta, gammas in zip(throws, banks, strict=True):
-            for gamma in gammas:
-                phase.append(beta - gamma)
-                inclination.append(gamma)
-        return cls(phase=phase, inclination=inclination, crank_ratio=crank_ratio, u1=u1, u2=u2, name=name)
+        beta = as_design(throws, "throws")
+        if beta.ndim != 1:
+            raise MechanismError(f"throws must be a 1-D array of angles [rad], got shape {beta.shape}")
+        if isinstance(banks, (str, bytes, Mapping)) or not isinstance(banks, (Sequence, np.ndarray)):
+            raise MechanismError(
+                f"banks must be a sequence with one array of inclinations [rad] per throw, got {type(banks).__name__}"
+            )
+        if len(banks) != len(beta):
+            raise MechanismError(f"throws has {len(beta)} entries but banks {len(banks)}")
+        phase: list[np.ndarray] = []
+        inclination: list[np.ndarray] = []
+        for t, gammas in enumerate(banks):
+            gamma = as_design(gammas, f"banks[{t}]")
+            if gamma.ndim > 1:
+                raise MechanismError(f"banks[{t}] must be a 1-D array of inclinations [rad], got shape {gamma.shape}")
+            gamma = gamma.reshape(-1)
+            phase.append(beta[t] - gamma)
+            inclination.append(gamma)
+        if not sum(g.size for g in inclination):
+            raise MechanismError("banks hold no cylinder: an engine needs at least one unit")
+        return cls(
+            phase=np.concatenate(phase),
+            inclination=np.concatenate(inclination),
+            crank_ratio=crank_ratio,
+            u1=u1,
+            u2=u2,
+            name=name,
+        )
 
     def replace(self, **changes) -> Engine:
         """A copy with some columns (or the name) replaced."""
@@ -216,19 +234,29 @@ class Engine:
         import pandas as pd
 
         n_max = as_count(n_max, "n_max", minimum=1)
-        rows = _native_engine_sensitivity(
-            self.columns(), as_scalar(u1_rel, "u1_rel"), as_scalar(u2_rel, "u2_rel"), as_scalar(phase, "phase"), n_max
-        )
+        u1_rel, u2_rel, phase = _scatter(u1_rel, u2_rel, phase)
+        rows = _native_engine_sensitivity(self.columns(), u1_rel, u2_rel, phase, n_max)
         n = rows.pop("n").astype(np.int64)
         return pd.DataFrame(rows, index=pd.Index(n, name="n"))
 
     def perturbed(
         self, rng: np.random.Generator, *, u1_rel: float = 0.0, u2_rel: float = 0.0, phase: float = 0.0
     ) -> Engine:
-        """A random sample of this engine with the errors of :meth:`harmonic_sensitivity`."""
+        """A random sample of this engine with the errors of :meth:`harmonic_sensitivity`,
+        drawn from ``rng`` (a :class:`numpy.random.Generator`, e.g. ``np.random.default_rng(1)``)."""
+        if not isinstance(rng, np.random.Generator):
+            raise MechanismError(
+                f"rng must be a numpy.random.Generator (np.random.default_rng(seed)), got {type(rng).__name__}"
+            )
+        u1_rel, u2_rel, phase = _scatter(u1_rel, u2_rel, phase)
         size = len(self)
         return self.replace(
             u1=self.u1 * (1 + u1_rel * rng.standard_normal(size)),
             u2=self.u2 * (1 + u2_rel * rng.standard_normal(size)),
             phase=self.phase + phase * rng.standard_normal(size),
         )
+
+
+def _scatter(u1_rel: Any, u2_rel: Any, phase: Any) -> tuple[float, float, float]:
+    """The standard deviations of the tolerance model: finite and ≥ 0 (a NaN would give NaN)."""
+    return as_nonnegative(u1_rel, "u1_rel"), as_nonnegative(u2_rel, "u2_rel"), as_nonnegative(phase, "phase")

@@ -35,7 +35,9 @@ class UniformGrid(np.lib.mixins.NDArrayOperatorsMixin):
     __slots__ = ("_cache", "count", "start", "step")
 
     def __init__(self, count: int, start: float, step: float) -> None:
-        self.start, self.step, self.count = float(start), float(step), int(count)
+        self.count = as_count(count, "count", minimum=1)
+        self.start = _finite_angle(start, "start")
+        self.step = _finite_angle(step, "step")
         self._cache: np.ndarray | None = None
 
     @property
@@ -57,8 +59,20 @@ class UniformGrid(np.lib.mixins.NDArrayOperatorsMixin):
         return getattr(ufunc, method)(*inputs, **kwargs)
 
     def __getattr__(self, name: str) -> Any:
-        # shape, dtype, size, ndim, min, max, reshape, tolist, …: those of the points.
+        # shape, dtype, size, ndim, min, max, reshape, tolist, …: those of the points. Not
+        # private names: before __init__ (while unpickling or copying) `_cache` is unset,
+        # and asking the points for it would recurse.
+        if name.startswith("_") and not name.startswith("__array"):
+            raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
         return getattr(self._points, name)
+
+    # copy.deepcopy asks the instance for __deepcopy__, which would otherwise be the
+    # points' and return a plain ndarray: a copy of a grid is a grid.
+    def __copy__(self) -> UniformGrid:
+        return UniformGrid(self.count, self.start, self.step)
+
+    def __deepcopy__(self, memo: dict) -> UniformGrid:
+        return UniformGrid(self.count, self.start, self.step)
 
     def __len__(self) -> int:
         return self.count
@@ -88,14 +102,7 @@ def uniform_grid(count: int, start: float = 0.0, stop: float = 2 * math.pi, *, e
     as numpy computes them (with ``endpoint=True`` the last may differ from ``stop`` by an ulp).
     """
     count = as_count(count, "count", minimum=1)
-    bounds = []
-    for value, name in ((start, "start"), (stop, "stop")):
-        array = as_real_array(value, name)
-        if array.ndim != 0:
-            raise MechanismError(f"{name} must be a single angle [rad], got shape {array.shape}")
-        if not math.isfinite(array):
-            raise MechanismError(f"{name} = {float(array)} is out of range; allowed: a finite angle [rad]")
-        bounds.append(float(array))
+    bounds = [_finite_angle(start, "start"), _finite_angle(stop, "stop")]
     if not isinstance(endpoint, (bool, np.bool_)):
         raise MechanismError(f"endpoint must be True or False, got {endpoint!r}")
     intervals = count - 1 if endpoint else count
@@ -103,6 +110,15 @@ def uniform_grid(count: int, start: float = 0.0, stop: float = 2 * math.pi, *, e
     if not math.isfinite(step):
         raise MechanismError(f"stop - start = {bounds[1] - bounds[0]} is out of range; allowed: a finite span")
     return UniformGrid(count, bounds[0], step)
+
+
+def _finite_angle(value: Any, name: str) -> float:
+    array = as_real_array(value, name)
+    if array.ndim != 0:
+        raise MechanismError(f"{name} must be a single angle [rad], got shape {array.shape}")
+    if not math.isfinite(array):
+        raise MechanismError(f"{name} = {float(array)} is out of range; allowed: a finite angle [rad]")
+    return float(array)
 
 
 def grid_of(phi: Any) -> tuple[float, float, int] | None:

@@ -32,6 +32,8 @@ __all__ = [
     "surviving_harmonics",
 ]
 
+_U32_MAX = 2**32 - 1
+
 
 def lambda_coefficients(crank_ratio: Any, n_max: int, method: str = "exact") -> np.ndarray:
     """Λ_0 … Λ_{n_max}: the sine coefficients of f(ψ) = (λ/2) sin 2ψ / √(1 − λ² sin² ψ).
@@ -69,7 +71,10 @@ def paper_coefficient(i: int, j: int) -> Fraction:
 
     (−1)^{i+1} · (2i/(j+1)) · C(2j, j) · C(2j+2, j+1−i) / 4^{2j+1}.
     """
-    numerator, denominator = _native_paper_coefficient(as_count(i, "i", minimum=1), as_count(j, "j", minimum=0))
+    # The core takes 32-bit indices (and refuses j above the paper's λ¹¹ order itself).
+    i = as_count(i, "i", minimum=1, maximum=_U32_MAX)
+    j = as_count(j, "j", minimum=0, maximum=_U32_MAX)
+    numerator, denominator = _native_paper_coefficient(i, j)
     return Fraction(numerator, denominator)
 
 

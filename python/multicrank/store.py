@@ -1,11 +1,16 @@
-"""The Parquet store of a sweep: finished chunks as parts on disk, merged atomically.
+"""The Parquet store of a sweep: finished chunks as checksummed parts on disk, merged atomically.
 
-A sweep to ``out`` writes each finished chunk as ``<out>.parts/part-NNNNNNNN.parquet``
-(written to a temporary name and renamed, so a part exists whole or not at all), next to a
-``manifest.json`` that fingerprints the sweep. When every part is there they are merged in
+A sweep to ``out`` writes each finished chunk as ``<out>.parts/part-NNNNNNNN-<sha256>.parquet``:
+written under a temporary name and renamed, so a part exists whole or not at all, and named
+by the SHA-256 of its bytes, so a part damaged afterwards (a disk error, a stray edit) is
+recognised — recomputed on resume, never merged. Next to the parts, ``manifest.json``
+fingerprints the sweep: the whole definition of its designs (see
+:func:`multicrank.designs.designs_digest`), φ, the outputs, the chunking and the library's
+version; a resume proceeds only if it matches. When every part is there they are merged in
 order, one row group each, into a temporary file that is renamed to ``out``; the parts are
-then removed. A sweep interrupted in between (Ctrl-C, a kill) resumes from its parts if the
-fingerprint matches. Nothing here knows what the chunks contain.
+then removed. Whatever fails or is interrupted on the way (a full disk, Ctrl-C, a kill)
+leaves no half-written file at ``out`` or beside it, only whole, checksummed parts for a
+resume. Nothing here knows what the chunks contain.
 """
 
 from __future__ import annotations
@@ -13,7 +18,9 @@ from __future__ import annotations
 import hashlib
 import json
 import os
+import re
 import shutil
+import warnings
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
@@ -21,81 +28,182 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from ._native import MechanismError
+from ._native import MechanismError, __version__
 from ._optional import require
 
-__all__ = ["PartStore", "fingerprint"]
+__all__ = ["PartStore", "as_out", "fingerprint"]
+
+# The layout of parts and manifest; a store of another layout is never resumed.
+_FORMAT = 2
+_PART = re.compile(r"part-(\d{8,})-([0-9a-f]{64})\.parquet")
 
 
-def fingerprint(total: int, phi: np.ndarray, outputs: tuple[str, ...], chunk_size: int, first: pd.DataFrame) -> dict:
-    """What must match for a resume: the chunking, the grid, the outputs and the designs' start."""
-    digest = hashlib.sha256()
-    digest.update(np.ascontiguousarray(phi).tobytes())
-    digest.update(pd.util.hash_pandas_object(first, index=True).to_numpy().tobytes())
+def fingerprint(total: int, phi: np.ndarray, outputs: tuple[str, ...], chunk_size: int, designs: str) -> dict:
+    """What must match for a resume: the designs (``designs``, a digest of their whole
+    definition), their number and chunking, the φ grid, the outputs and the library version."""
     return {
+        "format": _FORMAT,
+        "multicrank": __version__,
         "designs": total,
+        "designs_sha256": designs,
         "chunk_size": chunk_size,
         "outputs": list(outputs),
-        "digest": digest.hexdigest(),
+        "phi_sha256": hashlib.sha256(np.ascontiguousarray(phi, dtype=np.float64).tobytes()).hexdigest(),
     }
+
+
+def as_out(out: Any) -> Path:
+    """The ``out=`` of a sweep, checked before any work: a path (str or os.PathLike) that is
+    not an existing directory, and whose parts directory is not taken by a file."""
+    if isinstance(out, (bytes, bytearray)) or not isinstance(out, (str, os.PathLike)):
+        raise MechanismError(f"out must be the path of a Parquet file (str or os.PathLike), got {type(out).__name__}")
+    try:
+        path = Path(out)
+    except TypeError as exc:  # an os.PathLike whose __fspath__ gives bytes
+        raise MechanismError(f"out must be the path of a Parquet file: {exc}") from None
+    if path.is_dir():
+        raise MechanismError(f"out = {str(out)!r} is an existing directory; allowed: the path of a Parquet file")
+    parts = _parts_of(path)
+    if parts.exists() and not parts.is_dir():
+        raise MechanismError(f"out = {str(out)!r}: {parts} exists and is not a directory of a sweep's parts")
+    return path
+
+
+def _parts_of(out: Path) -> Path:
+    return out.with_name(out.name + ".parts")
+
+
+def _sha256(data: bytes) -> str:
+    return hashlib.sha256(data).hexdigest()
+
+
+def _write_atomically(path: Path, data: bytes) -> None:
+    """``data`` at ``path`` whole or not at all: written beside it, then renamed."""
+    temporary = path.with_name(path.name + ".tmp")
+    try:
+        with open(temporary, "wb") as handle:
+            handle.write(data)
+            handle.flush()
+            os.fsync(handle.fileno())
+        os.replace(temporary, path)
+    except BaseException:
+        temporary.unlink(missing_ok=True)
+        raise
 
 
 class PartStore:
     """The parts directory of one sweep to ``out``, with the manifest ``manifest``.
 
     Opening it starts afresh (removing old parts) unless ``resume``; with ``resume`` the
-    existing parts must belong to a sweep with the same manifest.
+    existing parts must belong to a sweep with the same manifest. A directory that cannot be
+    made or written is a :class:`MechanismError` naming ``out``, raised before any work.
     """
 
     def __init__(self, out: Path, manifest: dict, *, resume: bool) -> None:
         self._pa = require("pyarrow", "parquet")
         self._pq = require("pyarrow.parquet", "parquet")
         self.out = out
-        self.parts = out.with_name(out.name + ".parts")
+        self.parts = _parts_of(out)
+        self._done: dict[int, tuple[Path, str]] = {}
         manifest_file = self.parts / "manifest.json"
-        if self.parts.exists():
-            if not resume:
-                shutil.rmtree(self.parts)
-            elif not manifest_file.exists() or json.loads(manifest_file.read_text()) != manifest:
-                raise MechanismError(
-                    f"cannot resume: {self.parts} belongs to a different sweep (designs, phi, outputs or chunk_size"
-                    " differ)"
-                )
-        self.parts.mkdir(parents=True, exist_ok=True)
-        manifest_file.write_text(json.dumps(manifest))
+        try:
+            if self.parts.exists():
+                if not resume:
+                    shutil.rmtree(self.parts)
+                elif self._read_manifest(manifest_file) != manifest and (
+                    manifest_file.exists() or any(self.parts.glob("part-*"))
+                ):
+                    raise MechanismError(
+                        f"cannot resume: {self.parts} belongs to a different sweep (designs, phi, outputs, chunk_size"
+                        " or multicrank version differ); run without resume to start afresh"
+                    )
+            self.parts.mkdir(parents=True, exist_ok=True)
+            _write_atomically(manifest_file, json.dumps(manifest, sort_keys=True).encode())
+        except OSError as exc:
+            raise MechanismError(f"out = {str(out)!r}: cannot write its parts to {self.parts}: {exc}") from None
 
-    def _part(self, index: int) -> Path:
-        return self.parts / f"part-{index:08d}.parquet"
+    @staticmethod
+    def _read_manifest(path: Path) -> Any:
+        try:
+            return json.loads(path.read_bytes())
+        except (OSError, ValueError):  # missing, unreadable, not JSON (a torn write)
+            return None
 
     def finished(self) -> set[int]:
-        """The indices of the chunks whose parts are on disk."""
-        return {int(p.stem.split("-")[1]) for p in self.parts.glob("part-*.parquet")}
+        """The indices of the chunks whose parts are on disk and intact.
+
+        Every part is checked against its checksum; a damaged one is removed (with a
+        warning), so that its chunk is computed again. Temporary files of an interrupted
+        write are removed.
+        """
+        for stale in self.parts.glob("*.tmp"):
+            stale.unlink(missing_ok=True)
+        self._done = {}
+        for path in sorted(self.parts.glob("part-*")):
+            match = _PART.fullmatch(path.name)
+            if match is None:
+                continue
+            index, checksum = int(match[1]), match[2]
+            if index in self._done or _sha256(path.read_bytes()) != checksum:
+                warnings.warn(
+                    f"sweep part {path.name} is damaged (its bytes do not match its checksum): computing it again",
+                    RuntimeWarning,
+                    stacklevel=3,
+                )
+                path.unlink()
+                continue
+            self._done[index] = (path, checksum)
+        return set(self._done)
 
     def write(self, index: int, frame: pd.DataFrame) -> int:
         """Store chunk ``index``; returns its number of rows."""
         table = self._pa.Table.from_pandas(frame, preserve_index=False)
-        final = self._part(index)
-        temporary = final.with_suffix(".tmp")
-        self._pq.write_table(table, temporary)
-        os.replace(temporary, final)  # a part exists whole or not at all
+        sink = self._pa.BufferOutputStream()
+        self._pq.write_table(table, sink)
+        data = sink.getvalue().to_pybytes()
+        checksum = _sha256(data)
+        final = self.parts / f"part-{index:08d}-{checksum}.parquet"
+        _write_atomically(final, data)  # a part exists whole or not at all
+        self._done[index] = (final, checksum)
         return int(table.num_rows)
 
     def merge(self, chunks: int, empty: Callable[[], pd.DataFrame]) -> Path:
         """Merge parts 0 … chunks−1, in order, one row group each, into ``out`` (renamed
-        atomically) and remove the parts. With no chunks, ``out`` gets ``empty()``'s columns."""
+        atomically) and remove the parts. With no chunks, ``out`` gets ``empty()``'s columns.
+
+        Each part is checked against its checksum as it is read. On any failure (a damaged
+        part, a full disk, an interruption) the temporary file is removed and the intact
+        parts are kept for a resume.
+        """
         temporary = self.out.with_name(self.out.name + ".tmp")
         writer: Any = None
         try:
             for index in range(chunks):
-                table = self._pq.read_table(self._part(index))
+                path, checksum = self._done[index]
+                data = path.read_bytes()
+                if _sha256(data) != checksum:
+                    path.unlink()
+                    raise MechanismError(
+                        f"sweep part {path.name} of {self.out} was damaged on disk (its bytes do not match its "
+                        "checksum); it has been removed: run the same sweep with resume=True to compute it again"
+                    )
+                table = self._pq.read_table(self._pa.BufferReader(data))
                 if writer is None:
                     writer = self._pq.ParquetWriter(temporary, table.schema)
                 writer.write_table(table, row_group_size=max(table.num_rows, 1))
             if writer is None:  # no designs: an empty file with the right columns
                 self._pq.write_table(self._pa.Table.from_pandas(empty(), preserve_index=False), temporary)
-        finally:
+            else:
+                closing, writer = writer, None
+                closing.close()
+            os.replace(temporary, self.out)
+        except BaseException:
             if writer is not None:
-                writer.close()
-        os.replace(temporary, self.out)
+                try:
+                    writer.close()
+                except Exception:  # the disk that failed the write may fail the close too
+                    pass
+            temporary.unlink(missing_ok=True)
+            raise
         shutil.rmtree(self.parts)
         return self.out

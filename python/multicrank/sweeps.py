@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import math
 import os
+from collections.abc import Iterable, Mapping
 from pathlib import Path
 from typing import Any
 
@@ -21,22 +22,26 @@ import pandas as pd
 from ._native import MechanismError
 from ._native import sweep as _native_sweep
 from ._native import sweep_engines as _native_sweep_engines
-from ._validation import as_count, as_option, contiguous
+from ._validation import as_count, as_flag, as_option, as_real_array, contiguous
 from .designs import (
     DESIGN_COLUMNS,
     SWEEP_OUTPUTS,
     DesignGrid,
+    as_frame,
+    as_passthrough,
     check_columns,
     design_grid,
     design_rows,
+    designs_digest,
     grid_axes_of,
     machine_columns,
     phase_table,
     to_xarray,
+    validate_designs,
 )
 from .engines import Engine
 from .evaluation import generalized_force
-from .store import PartStore, fingerprint
+from .store import PartStore, as_out, fingerprint
 
 # DesignGrid, design_grid and to_xarray live in designs; they are re-exported here, where
 # multicrank's lazy attributes and earlier code have always found them.
@@ -57,22 +62,40 @@ _ENGINE_CALL_SIZE = 1024
 
 # ----------------------------------------------------------------------------- options
 def _as_phi(phi: Any) -> np.ndarray:
-    if isinstance(phi, (int, np.integer)) and not isinstance(phi, bool):
+    if isinstance(phi, (int, np.integer)) and not isinstance(phi, (bool, np.bool_)):
         count = as_count(phi, "phi", minimum=1)
-        return np.arange(count) * (2 * np.pi / count)
-    array = np.asarray(phi)
-    if array.ndim != 1 or array.size == 0 or array.dtype.kind not in "iuf":
-        raise MechanismError("phi must be a positive int (a uniform grid over one revolution) or a non-empty 1-D array")
+        try:
+            return np.arange(count) * (2 * np.pi / count)
+        except (ValueError, MemoryError):
+            raise MechanismError(
+                f"phi = {count} points cannot be allocated; allowed: a grid that fits in memory"
+            ) from None
+    array = as_real_array(phi, "phi")
+    if array.ndim != 1 or array.size == 0:
+        raise MechanismError(
+            f"phi must be a positive int (a uniform grid over one revolution) or a non-empty 1-D array, got shape "
+            f"{array.shape}"
+        )
     return contiguous(array)
 
 
 def _as_outputs(outputs: Any) -> tuple[str, ...]:
     if isinstance(outputs, str):
         outputs = (outputs,)
+    elif isinstance(outputs, (bytes, Mapping)) or not isinstance(outputs, Iterable):
+        raise MechanismError(
+            f"outputs must be an output name or a list of them, got {type(outputs).__name__}; "
+            f"allowed: {', '.join(SWEEP_OUTPUTS)}"
+        )
     outputs = tuple(outputs)
-    unknown = [o for o in outputs if o not in SWEEP_OUTPUTS]
-    if unknown or not outputs:
-        raise MechanismError(f"unknown outputs {unknown}; allowed: {', '.join(SWEEP_OUTPUTS)}")
+    unknown = [o for o in outputs if not isinstance(o, str) or o not in SWEEP_OUTPUTS]
+    if unknown:
+        raise MechanismError(f"outputs {unknown!r} are unknown; allowed: {', '.join(SWEEP_OUTPUTS)}")
+    if not outputs:
+        raise MechanismError(f"outputs must name at least one output; allowed: {', '.join(SWEEP_OUTPUTS)}")
+    repeated = sorted({o for o in outputs if outputs.count(o) > 1})
+    if repeated:
+        raise MechanismError(f"outputs names {', '.join(repeated)} more than once")
     return outputs
 
 
@@ -127,6 +150,7 @@ def sweep(
     progress: bool = False,
     chunk_size: int = 65536,
     curves: bool = False,
+    passthrough: Any = None,
 ):
     """Reduce every design of a sweep to the requested outputs, in parallel, in Rust.
 
@@ -136,7 +160,8 @@ def sweep(
         dask.dataframe.DataFrame, or a list of :class:`multicrank.Engine` (any layout; the
         result then has one row per engine with its name and number of units). Columns
         ``crank_ratio``, ``inclination`` [rad], ``u1``, ``u2``; optional ``cranks`` (default 1),
-        ``strokes`` (2) and ``acting`` ("single"). Other columns are carried through.
+        ``strokes`` (2) and ``acting`` ("single"). Any other column is refused unless named
+        in ``passthrough``. Every design is validated before the sweep starts.
     phi : int or 1-D array
         An int n is the uniform grid φ_i = 2πi/n, i < n (one revolution, endpoint excluded);
         an array is used as given. Used by ``force_max_abs`` and ``force_rms``.
@@ -153,10 +178,15 @@ def sweep(
     out : path, optional
         Stream the result to this Parquet file, chunk by chunk (one row group per chunk),
         with bounded memory; the file appears atomically when complete, and the path is
-        returned instead of a DataFrame. Finished chunks are kept in ``<out>.parts/``.
+        returned instead of a DataFrame. Finished chunks are kept in ``<out>.parts/``, each
+        with a checksum. An existing directory, or a place that cannot be written, is refused
+        before any work; a failed or interrupted merge (a full disk) leaves no partial file.
     resume : bool
         With ``out``: continue an interrupted sweep of the same designs from its finished
-        chunks (no row lost or duplicated).
+        chunks (no row lost or duplicated). The whole definition of the designs (every
+        value of a table, or a grid's axes), φ, the outputs and the chunking must match the
+        interrupted sweep's, or the resume is refused; a part damaged on disk is computed
+        again.
     progress : bool
         Show a progress bar (designs/s, ETA).
     chunk_size : int
@@ -164,6 +194,9 @@ def sweep(
     curves : bool
         Also return Q_u* of every design on the φ grid, an array (designs, len(phi)) — for
         small sweeps only.
+    passthrough : column name or list of them
+        Columns of a table of designs that are not design columns (labels, ids, …) and are
+        carried through to the result unchanged. Design columns and outputs cannot be named.
 
     Returns
     -------
@@ -178,25 +211,36 @@ def sweep(
     outputs = _as_outputs(outputs)
     phi = _as_phi(phi)
     chunk_size = as_count(chunk_size, "chunk_size", minimum=1)
+    resume = as_flag(resume, "resume")
+    progress = as_flag(progress, "progress")
+    curves = as_flag(curves, "curves")
+    passthrough = as_passthrough(passthrough)
+    path = None if out is None else as_out(out)
+    if resume and path is None:
+        raise MechanismError("resume=True needs out= (the Parquet file of the interrupted sweep)")
 
     if _is_engine_list(designs):
-        if out is not None or curves:
-            raise MechanismError("out= and curves= take tabular designs, not a list of engines")
+        if path is not None or curves or passthrough:
+            raise MechanismError("out=, curves= and passthrough= take tabular designs, not a list of engines")
         return _sweep_engines(list(designs), phi, outputs, progress)
 
     if _is_dask(designs):
-        if out is not None or curves:
+        if path is not None or curves:
             raise MechanismError("out= and curves= are not available for dask input: write with dask's to_parquet")
-        check_columns(designs.columns)
+        check_columns(list(designs.columns), passthrough, outputs)
         meta = designs._meta.copy()
         for name in outputs:
             meta[name] = np.zeros(0, dtype=np.int64 if name == "leading_harmonic" else np.float64)
         return designs.map_partitions(_sweep_frame, phi, outputs, meta=meta)
 
-    if out is not None:
+    if not isinstance(designs, DesignGrid):
+        designs = as_frame(designs)  # once, for the checks, the fingerprint and the chunks
+    # Every design is checked before any work (and before anything is written).
+    validate_designs(designs, passthrough, outputs)
+    if path is not None:
         if curves:
             raise MechanismError("curves= cannot be combined with out=")
-        return _sweep_to_parquet(designs, Path(out), phi, outputs, chunk_size, resume, progress)
+        return _sweep_to_parquet(designs, path, phi, outputs, chunk_size, resume, progress)
 
     total, rows = design_rows(designs)
     bar = _progress_bar(total, progress)
@@ -272,7 +316,7 @@ def _sweep_to_parquet(
 ) -> Path:
     """Sweep chunk by chunk into the parts of a :class:`~multicrank.store.PartStore`, then merge."""
     total, rows = design_rows(designs)
-    store = PartStore(out, fingerprint(total, phi, outputs, chunk_size, rows(0, min(total, 1000))), resume=resume)
+    store = PartStore(out, fingerprint(total, phi, outputs, chunk_size, designs_digest(designs)), resume=resume)
     n_chunks = math.ceil(total / chunk_size)
     done = store.finished()
     bar = _progress_bar(total, progress, initial=sum(min(chunk_size, total - i * chunk_size) for i in done))

@@ -1,0 +1,438 @@
+"""One exception type, naming the parameter, everywhere (issue 13, item 7).
+
+Every public function and method in the registry below is called with random bad values
+for each of its parameters in turn (the others valid): strings, None, complex numbers,
+objects, mappings, sets, bytes, lists of strings, ragged and nested lists, ints beyond 64
+bits, NaN/inf, bool and datetime arrays, callables, non-integral floats, negative ints. A
+call either succeeds (where the parameter's kind accepts such a value) or raises
+:class:`mc.MechanismError`; for values of the wrong type the message names the parameter.
+Never an OverflowError, TypeError, AttributeError, IndexError or numpy's ValueError. A
+meta-test keeps the registry complete: a new public callable must be added here (or to the
+list of those owned elsewhere, with the reason).
+"""
+
+from __future__ import annotations
+
+import copy
+import functools
+import inspect
+import math
+import pickle
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+import pandas as pd
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+import multicrank as mc
+import multicrank.reference as ref
+
+# --------------------------------------------------------------------------- bad values
+CATEGORIES: dict[str, st.SearchStrategy] = {
+    "text": st.text(max_size=8),
+    "none": st.none(),
+    "complex": st.complex_numbers(max_magnitude=1e3, allow_nan=False).filter(lambda z: z.imag != 0),
+    "object": st.builds(object),
+    "mapping": st.dictionaries(st.text(max_size=3), st.floats(-1, 1), max_size=2),
+    "set": st.frozensets(st.integers(0, 5), min_size=1, max_size=3),
+    "bytes": st.binary(min_size=1, max_size=4),
+    "text_list": st.lists(st.text(min_size=1, max_size=3), min_size=1, max_size=3),
+    "ragged": st.lists(st.floats(0, 0.5), min_size=1, max_size=3).map(lambda a: [a, [*a, 0.25]]),
+    "nested": st.floats(0, 0.5).map(lambda x: [[[x, x]], [[x, x]]]),
+    "huge": st.one_of(st.integers(2**63, 2**200), st.integers(-(2**200), -(2**63) - 1)),
+    "nonfinite": st.sampled_from([math.nan, math.inf, -math.inf]),
+    "bool_array": st.lists(st.booleans(), min_size=1, max_size=3).map(np.array),
+    "datetime": st.just(np.array(["2020-01-01"], dtype="datetime64[D]")),
+    "callable": st.just(len),
+    "float": st.floats(-10, 10).filter(lambda x: x != int(x)),
+    "negative": st.integers(-10, -1),
+}
+# Categories whose values are of the wrong type for every parameter that does not accept
+# them: the message must name the parameter.
+WRONG_TYPE = {"text", "none", "complex", "object", "mapping", "set", "bytes", "text_list", "ragged", "nested"}
+WRONG_TYPE |= {"bool_array", "datetime", "callable"}
+
+# Categories not drawn for a kind: a random string is a fine path, and would be written to.
+NOT_DRAWN: dict[str, set[str]] = {"path_or_none": {"text"}}
+
+# What each kind of parameter may accept (a call may still refuse such a value, by name).
+KINDS: dict[str, set[str]] = {
+    "real": {"float", "negative", "nested", "huge"},  # finite reals of any shape (2**63 is a uint64)
+    "ratio": {"float", "nested"},  # 0 <= λ < 1
+    "angles": {"float", "negative", "nonfinite", "nested", "huge"},  # φ: NaN gives NaN
+    "count": set(),  # an integer >= some minimum
+    "option": set(),  # one of a few strings
+    "phases": {"none"},
+    "threshold": {"none", "huge"},  # huge means serial
+    "label": {"text"},
+    "label_or_none": {"text", "none"},
+    "flag": set(),
+    "path_or_none": {"none"},
+    "outputs": set(),
+    "designs": set(),
+    "axes_or_none": {"none"},
+    "frame": set(),
+    "rng": set(),
+    "nonnegative": {"float", "huge"},
+    "angle_list": set(),  # a 1-D array of angles
+    "banks": {"ragged"},  # one 1-D array per throw
+    "passthrough": {"none"},
+}
+
+ENGINE = mc.Engine.inline(4, crank_ratio=0.3, inclination=1.0, u1=0.5, u2=0.1)
+DESIGN = dict(crank_ratio=0.3, inclination=1.0, u1=0.5, u2=0.1)
+DESIGN_KINDS = dict(crank_ratio="ratio", inclination="real", u1="real", u2="real")
+GRID_RESULT = mc.sweep(mc.design_grid(crank_ratio=[0.2, 0.3], inclination=1.0, u1=0.5, u2=[0.1, 0.2]), phi=16)
+
+
+def _sweep(**kwargs: Any) -> Any:
+    return mc.sweep(**kwargs)
+
+
+def _quiet(function: Callable[..., Any]) -> Callable[..., Any]:
+    """The reference is plain numpy: φ = inf gives NaN with numpy's RuntimeWarning."""
+
+    @functools.wraps(function)
+    def call(*args: Any, **kwargs: Any) -> Any:
+        with np.errstate(invalid="ignore", over="ignore"):
+            return function(*args, **kwargs)
+
+    return call
+
+
+def _threshold(threshold: Any) -> None:
+    before = mc.get_parallel_threshold()
+    try:
+        mc.set_parallel_threshold(threshold)
+    finally:
+        mc.set_parallel_threshold(before)
+
+
+# name: (callable, {parameter: (valid value, kind)})
+REGISTRY: dict[str, tuple[Callable[..., Any], dict[str, tuple[Any, str]]]] = {
+    "crank_phases": (
+        mc.crank_phases,
+        {"cranks": (3, "count"), "strokes": (2, "count"), "acting": ("single", "option")},
+    ),
+    "surviving_harmonics": (
+        mc.surviving_harmonics,
+        {"cranks": (3, "count"), "strokes": (4, "count"), "acting": ("double", "option"), "n_max": (24, "count")},
+    ),
+    "paper_coefficient": (mc.paper_coefficient, {"i": (2, "count"), "j": (3, "count")}),
+    "lambda_coefficients": (
+        mc.lambda_coefficients,
+        {"crank_ratio": (0.3, "ratio"), "n_max": (8, "count"), "method": ("paper", "option")},
+    ),
+    "harmonic_table": (
+        mc.harmonic_table,
+        {"strokes": (2, "count"), "acting": ("single", "option"), "k_max": (4, "count"), "n_max": (6, "count")},
+    ),
+    "fourier_coefficients": (
+        mc.fourier_coefficients,
+        {**{k: (v, DESIGN_KINDS[k]) for k, v in DESIGN.items()}, "phases": (None, "phases"), "n_max": (8, "count")},
+    ),
+    "dimensionless_moments": (
+        mc.dimensionless_moments,
+        {
+            "crank_radius": (0.1, "real"),
+            "rod_length": (0.4, "real"),
+            "rod_cg": (0.1, "real"),
+            "piston_mass": (1.0, "real"),
+            "rod_mass": (1.0, "real"),
+            "crank_mass": (0.5, "real"),
+            "crank_cg_radius": (0.05, "real"),
+            "counterweight_mass": (0.5, "real"),
+            "counterweight_radius": (0.05, "real"),
+            "shaft_inertia": (1.0, "real"),
+            "rpm": (100.0, "real"),
+            "g": (9.81, "real"),
+        },
+    ),
+    "uniform_grid": (
+        mc.uniform_grid,
+        {"count": (10, "count"), "start": (0.0, "real"), "stop": (1.0, "real"), "endpoint": (False, "flag")},
+    ),
+    "UniformGrid": (mc.UniformGrid, {"count": (10, "count"), "start": (0.0, "real"), "step": (0.1, "real")}),
+    "set_parallel_threshold": (_threshold, {"threshold": (1000, "threshold")}),
+    "Engine": (
+        mc.Engine,
+        {
+            "phase": ([0.0, 1.0], "real"),
+            **{k: (v, DESIGN_KINDS[k]) for k, v in DESIGN.items()},
+            "name": ("x", "label"),
+        },
+    ),
+    "Engine.inline": (
+        mc.Engine.inline,
+        {
+            "cranks": (3, "count"),
+            "strokes": (2, "count"),
+            "acting": ("single", "option"),
+            **{k: (v, DESIGN_KINDS[k]) for k, v in DESIGN.items()},
+            "name": (None, "label_or_none"),
+        },
+    ),
+    "Engine.from_throws": (
+        mc.Engine.from_throws,
+        {
+            "throws": ([0.0, 1.0], "angle_list"),
+            "banks": ([[0.5], [0.5, 1.0]], "banks"),
+            "crank_ratio": (0.3, "ratio"),
+            "u1": (0.5, "real"),
+            "u2": (0.1, "real"),
+            "name": ("x", "label"),
+        },
+    ),
+    "Engine.replace": (ENGINE.replace, {"u1": (0.4, "real"), "name": ("y", "label")}),
+    "Engine.potential_energy": (ENGINE.potential_energy, {"phi": ([0.1], "angles")}),
+    "Engine.generalized_force": (
+        ENGINE.generalized_force,
+        {"phi": ([0.1], "angles"), "method": ("series", "option")},
+    ),
+    "Engine.force_derivative": (ENGINE.force_derivative, {"phi": ([0.1], "angles")}),
+    "Engine.fourier_coefficients": (ENGINE.fourier_coefficients, {"n_max": (8, "count")}),
+    "Engine.surviving_harmonics": (ENGINE.surviving_harmonics, {"n_max": (8, "count")}),
+    "Engine.harmonic_sensitivity": (
+        ENGINE.harmonic_sensitivity,
+        {
+            "u1_rel": (0.01, "nonnegative"),
+            "u2_rel": (0.01, "nonnegative"),
+            "phase": (0.01, "nonnegative"),
+            "n_max": (8, "count"),
+        },
+    ),
+    "Engine.perturbed": (
+        ENGINE.perturbed,
+        {
+            "rng": (np.random.default_rng(0), "rng"),
+            "u1_rel": (0.01, "nonnegative"),
+            "u2_rel": (0.01, "nonnegative"),
+            "phase": (0.01, "nonnegative"),
+        },
+    ),
+    "DesignGrid": (
+        mc.DesignGrid,
+        {
+            "crank_ratio": ([0.2, 0.3], "ratio"),
+            "inclination": (1.0, "real"),
+            "u1": (0.5, "real"),
+            "u2": (0.1, "real"),
+            "cranks": ([1, 2], "count"),
+            "strokes": (2, "count"),
+            "acting": ("single", "option"),
+        },
+    ),
+    "sweep": (
+        _sweep,
+        {
+            "designs": ({"crank_ratio": [0.3], "inclination": [1.0], "u1": [0.5], "u2": [0.1]}, "designs"),
+            "phi": (16, "count"),
+            "outputs": (["force_rms"], "outputs"),
+            "method": ("exact", "option"),
+            "out": (None, "path_or_none"),
+            "resume": (False, "flag"),
+            "progress": (False, "flag"),
+            "chunk_size": (10, "count"),
+            "curves": (False, "flag"),
+            "passthrough": (None, "passthrough"),
+        },
+    ),
+    "to_xarray": (
+        mc.to_xarray,
+        {"result": (GRID_RESULT, "frame"), "axes": ({"crank_ratio": [0.2, 0.3], "u2": [0.1, 0.2]}, "axes_or_none")},
+    ),
+    "IndicatorDiagram": (
+        mc.IndicatorDiagram,
+        {
+            "angle": (np.linspace(0, 2 * math.pi, 9), "angle_list"),
+            "pressure": (np.r_[np.cos(np.linspace(0, 2 * math.pi, 8, endpoint=False)), 1.0] * 1e5, "angle_list"),
+            "cycle": (2 * math.pi, "option"),
+            "kind": ("linear", "option"),
+            "closure_tolerance": (1e-6, "nonnegative"),
+        },
+    ),
+    "reference.lambda_coefficients": (
+        ref.lambda_coefficients,
+        {"crank_ratio": (0.3, "ratio"), "n_max": (8, "count"), "method": ("exact", "option")},
+    ),
+}
+for _name in ("potential_energy", "generalized_force", "force_derivative", "energy_extrema", "speed_fluctuation"):
+    _params: dict[str, tuple[Any, str]] = {k: (v, DESIGN_KINDS[k]) for k, v in DESIGN.items()}
+    if _name not in ("energy_extrema", "speed_fluctuation"):
+        _params = {"phi": ([0.1, 0.2], "angles"), **_params}
+    _params["phases"] = (None, "phases")
+    _params["parallel_threshold"] = (None, "threshold")
+    if _name == "generalized_force":
+        _params["method"] = ("exact", "option")
+    REGISTRY[_name] = (getattr(mc, _name), _params)
+    if _name in ("potential_energy", "generalized_force"):
+        _ref_params = {k: v for k, v in _params.items() if k != "parallel_threshold"}
+        REGISTRY[f"reference.{_name}"] = (_quiet(getattr(ref, _name)), _ref_params)
+REGISTRY["design_grid"] = (mc.design_grid, REGISTRY["DesignGrid"][1])
+
+CASES = [(name, parameter) for name, (_, params) in REGISTRY.items() for parameter in params]
+
+# Public callables not in the registry, and why.
+OWNED_ELSEWHERE = {
+    # machine.py and presets.py are being rewritten in parallel (issue 13 leaves them to
+    # their owners); their remaining defects are listed in the hardening report.
+    "Machine",
+    "Cylinder",
+    "Layout",
+    "layout_engine",
+    # no user input
+    "get_parallel_threshold",
+    "EnergyExtrema",
+    "MechanismError",
+}
+
+
+def test_registry_covers_every_public_callable():
+    public = {name for name in mc.__all__ if callable(getattr(mc, name))}
+    missing = public - set(REGISTRY) - OWNED_ELSEWHERE
+    assert not missing, f"add these to REGISTRY in tests/test_errors.py: {sorted(missing)}"
+    for name, (function, params) in REGISTRY.items():
+        signature = inspect.signature(function)
+        if any(p.kind is p.VAR_KEYWORD for p in signature.parameters.values()):
+            continue
+        # every parameter a user can pass is exercised (self and the like are not parameters here)
+        assert set(params) == set(signature.parameters), name
+
+
+def _call(name: str, parameter: str, value: Any) -> Any:
+    function, params = REGISTRY[name]
+    kwargs = {k: v for k, (v, _) in params.items()}
+    kwargs[parameter] = value
+    return function(**kwargs)
+
+
+@pytest.mark.parametrize("name, parameter", CASES)
+def test_valid_call(name, parameter):
+    """The registry's valid values are valid (so that a refusal below is the bad value's)."""
+    function, params = REGISTRY[name]
+    function(**{k: v for k, (v, _) in params.items()})
+
+
+@pytest.mark.parametrize("name, parameter", CASES)
+@settings(max_examples=40, suppress_health_check=[HealthCheck.too_slow])  # st.text builds its tables once
+@given(data=st.data())
+def test_bad_values_raise_mechanism_error_naming_the_parameter(name, parameter, data):
+    kind = REGISTRY[name][1][parameter][1]
+    category = data.draw(st.sampled_from(sorted(set(CATEGORIES) - NOT_DRAWN.get(kind, set()))), label="category")
+    value = data.draw(CATEGORIES[category], label="value")
+    try:
+        _call(name, parameter, value)
+    except mc.MechanismError as error:
+        if category in WRONG_TYPE:
+            assert parameter in str(error), f"{name}({parameter}={value!r}): {error}"
+    except Exception as error:  # pragma: no cover - the failure being tested for
+        pytest.fail(f"{name}({parameter}={value!r}) raised {type(error).__name__}: {error}")
+    else:
+        assert category in KINDS[kind], f"{name}({parameter}={value!r}) was accepted"
+
+
+# --------------------------------------------------------------------------- the examples
+@pytest.mark.parametrize(
+    "call, parameter",
+    [
+        (lambda: mc.crank_phases(10**30), "cranks"),
+        (lambda: mc.crank_phases(2**63), "cranks"),
+        (lambda: mc.surviving_harmonics(3, n_max=2**64), "n_max"),
+        (lambda: mc.surviving_harmonics(2**64), "cranks"),
+        (lambda: mc.paper_coefficient(2**40, 1), "i"),
+        (lambda: mc.paper_coefficient(1, 2**40), "j"),
+        (lambda: mc.lambda_coefficients(0.3, 10**30), "n_max"),
+        (lambda: mc.fourier_coefficients(**DESIGN, n_max=-1), "n_max"),
+        (lambda: mc.Engine.from_throws(5, [[0.0]], crank_ratio=0.3, u1=1, u2=0), "throws"),
+        (lambda: mc.Engine.from_throws([0.0], 5, crank_ratio=0.3, u1=1, u2=0), "banks"),
+        (lambda: mc.Engine.from_throws([0.0], [["a"]], crank_ratio=0.3, u1=1, u2=0), "banks[0]"),
+        (lambda: mc.Engine.from_throws([0.0], [[]], crank_ratio=0.3, u1=1, u2=0), "banks"),
+        (lambda: ENGINE.perturbed("seed"), "rng"),
+        (lambda: ENGINE.perturbed(np.random.default_rng(0), u1_rel="x"), "u1_rel"),
+        (lambda: ENGINE.harmonic_sensitivity(u1_rel=math.nan), "u1_rel"),
+        (lambda: ENGINE.harmonic_sensitivity(phase=-0.1), "phase"),
+        (lambda: mc.sweep(GRID_RESULT, outputs=None), "outputs"),
+        (lambda: mc.sweep(GRID_RESULT, outputs=["force_rms", "force_rms"]), "outputs"),
+        (lambda: mc.sweep(GRID_RESULT, phi=[[0.1], [0.2, 0.3]]), "phi"),
+        (lambda: mc.sweep(GRID_RESULT, phi=10**30), "phi"),
+        (lambda: mc.to_xarray(GRID_RESULT, axes=["crank_ratio"]), "axes"),
+        (lambda: mc.to_xarray(GRID_RESULT, axes={"crank_ratio": 0.2}), "axes"),
+        (lambda: mc.to_xarray(None), "result"),
+        (lambda: mc.DesignGrid(crank_ratio=[[0.1], [0.2, 0.3]], inclination=0, u1=1, u2=0), "crank_ratio"),
+        (lambda: mc.DesignGrid(crank_ratio=0.3, inclination="up", u1=1, u2=0), "inclination"),
+        (lambda: mc.DesignGrid(crank_ratio=0.3, inclination=0, u1=1, u2=0, strokes=[2, 3]), "strokes"),
+        (lambda: mc.UniformGrid("ten", 0.0, 0.1), "count"),
+    ],
+)
+def test_issue_examples(call, parameter):
+    with pytest.raises(mc.MechanismError, match=parameter.replace("[", r"\[").replace("]", r"\]")):
+        call()
+
+
+@pytest.mark.parametrize(
+    "columns, named",
+    [
+        (dict(phase=[[0.0, 1.0]]), "phase"),
+        (dict(inclination=np.zeros((2, 2))), "inclination"),
+        (dict(u1=[]), "u1"),
+        (dict(u2=[1.0, 2.0, 3.0]), "u2"),
+        (dict(crank_ratio=[0.1, 0.2, 0.3]), "crank_ratio"),
+        (dict(phase=[], u1=[]), "phase, u1"),
+    ],
+)
+def test_engine_column_errors_name_the_column(columns, named):
+    base = dict(phase=[0.0, 1.0], inclination=1.0, crank_ratio=0.3, u1=0.5, u2=0.1)
+    with pytest.raises(mc.MechanismError) as error:
+        mc.Engine(**{**base, **columns})
+    for name in named.split(", "):
+        assert name in str(error.value)
+
+
+@pytest.mark.parametrize("value", [math.nan, math.inf, -math.inf, -0.1, 1.0])
+def test_crank_ratio_errors_give_its_own_range(value):
+    for call in (
+        lambda: mc.generalized_force(0.1, crank_ratio=value, inclination=1.0, u1=0.5, u2=0.1),
+        lambda: mc.lambda_coefficients(value, 4),
+        lambda: mc.Engine(phase=0.0, inclination=1.0, crank_ratio=value, u1=0.5, u2=0.1),
+        lambda: mc.DesignGrid(crank_ratio=value, inclination=1.0, u1=0.5, u2=0.1),
+    ):
+        with pytest.raises(mc.MechanismError, match=r"allowed: 0\.0 <= crank_ratio < 1\.0"):
+            call()
+
+
+@pytest.mark.parametrize(
+    "grid", [mc.uniform_grid(10), mc.uniform_grid(7, -1.0, 2.0, endpoint=True), mc.UniformGrid(3, 1e6, 0.5)]
+)
+def test_copies_of_a_uniform_grid_are_uniform_grids(grid):
+    for copied in (copy.copy(grid), copy.deepcopy(grid), pickle.loads(pickle.dumps(grid)), copy.deepcopy([grid])[0]):
+        assert type(copied) is mc.UniformGrid
+        assert (copied.count, copied.start, copied.step) == (grid.count, grid.start, grid.step)
+        np.testing.assert_array_equal(copied, grid)
+    # private names are not asked of the points (no recursion while half-built)
+    with pytest.raises(AttributeError):
+        grid._no_such_thing  # noqa: B018
+
+
+def test_engines_copy_and_pickle():
+    for copied in (copy.copy(ENGINE), copy.deepcopy(ENGINE), pickle.loads(pickle.dumps(ENGINE))):
+        assert type(copied) is mc.Engine and copied.name == ENGINE.name
+        pd.testing.assert_frame_equal(copied.to_frame(), ENGINE.to_frame())
+
+
+def test_counts_beyond_64_bits_name_the_limit():
+    with pytest.raises(mc.MechanismError, match=r"n_max = \d+ is out of range; allowed: an integer >= 0 \(at most"):
+        mc.surviving_harmonics(4, n_max=2**63)
+    assert mc.surviving_harmonics(4, n_max=np.uint8(8)) == mc.surviving_harmonics(4, n_max=8)
+
+
+def test_flags_take_booleans_only():
+    designs = {"crank_ratio": [0.3], "inclination": [1.0], "u1": [0.5], "u2": [0.1]}
+    for flag in ("resume", "progress", "curves"):
+        with pytest.raises(mc.MechanismError, match=flag):
+            mc.sweep(designs, phi=8, **{flag: "no"})
+    assert len(mc.sweep(designs, phi=8, progress=np.bool_(False))) == 1
+    with pytest.raises(mc.MechanismError, match="resume=True needs out="):
+        mc.sweep(designs, phi=8, resume=True)
