@@ -78,3 +78,10 @@ def test_simulate_run_down_without_gas_stalls_and_says_so(tmp_path):
 )
 def test_simulate_mistakes_are_one_line_naming_the_option(args, named):
     assert named in run_failing("simulate", "--no-progress", *args)
+
+
+def test_a_bad_sweep_axis_value_is_one_line_not_a_traceback(tmp_path):
+    line = run_failing(
+        "sweep", "--crank-ratio", "1.5", "--inclination", "90", "--u1", "1", "--out", str(tmp_path / "s.parquet")
+    )
+    assert "crank_ratio" in line

@@ -37,6 +37,10 @@ class _Commands(click.Group):
             return super().invoke(ctx)
         except OptionalDependencyError as error:
             raise MissingExtra(str(error)) from None
+        except MechanismError as error:
+            # Every check of the library names what is wrong with the input: that line is
+            # the message, never a traceback.
+            raise UserError(str(error)) from None
 
 
 @click.group(cls=_Commands, context_settings={"help_option_names": ["-h", "--help"]})
