@@ -33,8 +33,10 @@ from .harmonics import (
     paper_coefficient,
     surviving_harmonics,
 )
+from .loads import PowerLawLoad
 from .machine import Cylinder, Machine
 from .mechanism import STANDARD_GRAVITY, crank_phases, dimensionless_moments
+from .motion import FlywheelInertia, StallError, SteadyState, flywheel_inertia, steady_state
 from .presets import LAYOUTS, Layout, layout_engine
 from .pressure import IndicatorDiagram
 
@@ -68,10 +70,14 @@ __all__ = [
     "DesignGrid",
     "EnergyExtrema",
     "Engine",
+    "FlywheelInertia",
     "IndicatorDiagram",
     "Layout",
     "Machine",
     "MechanismError",
+    "PowerLawLoad",
+    "StallError",
+    "SteadyState",
     "UniformGrid",
     "__version__",
     "build_profile",
@@ -79,6 +85,7 @@ __all__ = [
     "design_grid",
     "dimensionless_moments",
     "energy_extrema",
+    "flywheel_inertia",
     "force_derivative",
     "fourier_coefficients",
     "generalized_force",
@@ -90,6 +97,7 @@ __all__ = [
     "potential_energy",
     "set_parallel_threshold",
     "speed_fluctuation",
+    "steady_state",
     "surviving_harmonics",
     "sweep",
     "to_xarray",
