@@ -187,6 +187,10 @@ class CycleQuadrature:
         at_nodes = at_edges[:-1, None] + self.half * (values @ self._running.T)
         return at_nodes, at_edges
 
+    def coefficients(self, values: np.ndarray) -> np.ndarray:
+        """Each panel's Legendre coefficients (rows) of the polynomial through its node values."""
+        return values @ self._to_coefficients.T
+
     def interpolant(self, values: np.ndarray) -> PanelSeries:
         """The polynomial through f at each panel's nodes (degree order − 1), as a :class:`PanelSeries`."""
         return PanelSeries(self.edges, values @ self._to_coefficients.T)

@@ -19,12 +19,15 @@ take a panel per table interval per unit (a 12-cylinder engine with 1441-point t
 from __future__ import annotations
 
 import math
+import threading
+from collections import OrderedDict
 from typing import Any
 
 import numpy as np
 
-from ._quadrature import CycleQuadrature, PanelSeries, cycle_breaks
+from ._quadrature import CycleQuadrature, cycle_breaks
 from .machine import Cylinder, Machine
+from .pressure import IndicatorDiagram
 
 __all__ = ["GasWork"]
 
@@ -33,6 +36,12 @@ __all__ = ["GasWork"]
 TABLE_ORDER, TABLE_WIDTH = 4, math.pi / 64
 #: … and for one whose pressures are smooth callables (panels cut at the dead centres only).
 SMOOTH_ORDER, SMOOTH_WIDTH = 12, math.pi / 16
+
+
+#: How many cylinders' indicator works are kept (see _indicator).
+CACHE_SIZE = 16
+_cache: OrderedDict[tuple[Any, ...], _Indicator] = OrderedDict()
+_cache_lock = threading.Lock()
 
 
 def _gassed(cylinder: Cylinder) -> bool:
@@ -53,18 +62,33 @@ class _Indicator:
         torque = unit.gas_torque(self.rule.phi)
         _, at_edges, self.series = self.rule.antiderivative(torque)
         self.per_cycle = float(at_edges[-1])
-        self._torque = torque
-        self._slope: PanelSeries | None = None
 
     def __call__(self, x: np.ndarray) -> np.ndarray:
         turns = np.floor(x / self.cycle)
         return turns * self.per_cycle + self.series(x - turns * self.cycle)
 
-    def torque(self, x: np.ndarray) -> np.ndarray:
-        """dG/dx = F·s' [N·m] from each panel's interpolant (not exact between the nodes)."""
-        if self._slope is None:
-            self._slope = self.rule.interpolant(self._torque)
-        return self._slope(np.mod(x, self.cycle))
+
+def _indicator(cylinder: Cylinder, strokes: int) -> _Indicator:
+    """G of a cylinder; kept for the CACHE_SIZE most recent cylinders whose pressures are
+    :class:`~multicrank.pressure.IndicatorDiagram` (immutable: their tables are read-only), so
+    that a sweep over speeds or flywheels integrates a table once. A user's callable may
+    depend on state of its own, and is integrated every time."""
+    pressures = (cylinder.pressure, cylinder.pressure_crank_end)
+    if not all(p is None or isinstance(p, IndicatorDiagram) for p in pressures):
+        return _Indicator(cylinder, strokes)
+    # The diagrams themselves in the key (compared by identity): kept alive while cached.
+    key = (*pressures, cylinder.bore, cylinder.piston_rod_diameter, cylinder.crank_radius, cylinder.rod_length, strokes)
+    with _cache_lock:
+        found = _cache.get(key)
+        if found is not None:
+            _cache.move_to_end(key)
+            return found
+    found = _Indicator(cylinder, strokes)
+    with _cache_lock:
+        _cache[key] = found
+        while len(_cache) > CACHE_SIZE:
+            _cache.popitem(last=False)
+    return found
 
 
 class GasWork:
@@ -90,7 +114,7 @@ class GasWork:
                 cylinder.rod_length,
             )
             groups.setdefault(key, (cylinder, []))[1].append(cylinder.phase)
-        self._groups = [(_Indicator(c, machine.strokes), np.array(phases)) for c, phases in groups.values()]
+        self._groups = [(_indicator(c, machine.strokes), np.array(phases)) for c, phases in groups.values()]
         self._origin = sum(float(np.sum(g(phases))) for g, phases in self._groups)
         self.per_cycle = sum(g.per_cycle * phases.size for g, phases in self._groups)
 
@@ -100,13 +124,4 @@ class GasWork:
         for g, phases in self._groups:
             shifted = angles.reshape(-1, 1) + phases[None, :]
             total += g(shifted.ravel()).reshape(shifted.shape).sum(axis=1).reshape(angles.shape)
-        return total
-
-    def torque(self, phi: Any) -> np.ndarray:
-        """M_gas [N·m] from the panels' interpolants: for estimates (curvature), not for results."""
-        angles = np.asarray(phi, dtype=float)
-        total = np.zeros(angles.shape)
-        for g, phases in self._groups:
-            shifted = angles.reshape(-1, 1) + phases[None, :]
-            total += g.torque(shifted.ravel()).reshape(shifted.shape).sum(axis=1).reshape(angles.shape)
         return total

@@ -106,10 +106,14 @@ def _as_rpm(value: Any, route: str) -> float | None:
     return rpm
 
 
-def _as_points(value: Any, cycle: float) -> int:
-    if value is None:
-        return 1 + round(math.degrees(cycle))  # one per degree of crank angle, closed
-    return as_count(value, "points", minimum=2)
+#: Points of a result's arrays over the closed cycle: every degree of a two-stroke cycle,
+#: every other degree of a four-stroke one (the arrays are for plots and tables; δ and the
+#: extremes do not depend on them).
+DEFAULT_POINTS = 361
+
+
+def _as_points(value: Any) -> int:
+    return DEFAULT_POINTS if value is None else as_count(value, "points", minimum=2)
 
 
 @dataclass(frozen=True)
@@ -150,11 +154,19 @@ def _rules(load: Any, drive: Any) -> _Rules:
 
 
 def _cycle(machine: Machine, gravity: bool) -> Cycle:
-    """The machine as solved (g = 0 without gravity) over its cycle. Its panels are cut at the
-    gassed units' dead centres only: the gas torque enters through its exact work
-    (:class:`~multicrank._work.GasWork`), which takes the pressure tables' breakpoints."""
-    solved = machine if gravity or machine.g == 0 else machine.replace(g=0.0)
-    return Cycle(solved, CycleQuadrature.of(solved, tables=False))
+    """The machine over its cycle (g = 0 without gravity). Its panels are cut at the gassed
+    units' dead centres only — the gas torque enters through its exact work
+    (:class:`~multicrank._work.GasWork`), which takes the pressure tables' breakpoints — and
+    are π/8 wide or, where the machine's J and U have harmonics too high for that (a large
+    crank ratio, many cylinders), halved until their interpolants converge."""
+    width = math.pi / 8
+    work = None
+    while True:
+        rule = CycleQuadrature.of(machine, tables=False, max_width=width)
+        cycle = Cycle(machine, rule, gravity=gravity, work=work)
+        if width < math.pi / 60 or cycle.resolved():
+            return cycle
+        width, work = width / 2, cycle.work
 
 
 # -- the result ----------------------------------------------------------------------------------
@@ -395,9 +407,9 @@ def steady_state(
     min_speed_ratio : float, default 1e-3
         The machine stalls when its speed minimum falls below this fraction of the mean
         speed; 0 < min_speed_ratio < 1.
-    points : int, optional
-        Points of the result's arrays over the closed cycle [0, Φ]; default one per degree
-        (361 two-stroke, 721 four-stroke).
+    points : int, default 361
+        Points of the result's arrays, uniform over the closed cycle [0, Φ] (every degree of a
+        two-stroke cycle, every other degree of a four-stroke one).
 
     Returns
     -------
@@ -426,7 +438,7 @@ def steady_state(
         omega_mean *= math.pi / 30.0
     gravity = _as_flag(gravity, "gravity")
     ratio = _as_ratio(min_speed_ratio)
-    count = _as_points(points, machine.cycle)
+    count = _as_points(points)
 
     phi = np.linspace(0.0, machine.cycle, count)
     cycle = _cycle(machine, gravity)
@@ -435,7 +447,7 @@ def steady_state(
     except Stall as error:
         raise _stall_error(error, cycle, rules, omega_mean, ratio) from None
     mean = solution.omega_mean
-    if gravity and machine.g != 0:
+    if cycle.gravity_on:
         delta_without = _delta_or_nan(cycle.without_gravity(), rules, omega_mean, ratio)
     else:
         delta_without = solution.delta
@@ -446,11 +458,11 @@ def steady_state(
         delta_alone = math.nan
 
     J, slope = cycle.J_at(phi)
-    omega = solution.omega_at(phi)
+    omega = np.sqrt(2.0 * np.maximum(solution.energy_at(phi), 0.0) / J)
     time = solution.time_at(phi)
     time[0], time[-1] = 0.0, solution.period
     gas = cycle.machine.gas_torque(phi)
-    weight = cycle.machine.gravity_torque(phi) if cycle.machine.g != 0 else np.zeros(count)
+    weight = cycle.machine.gravity_torque(phi) if cycle.gravity_on else np.zeros(count)
     inertia = -0.5 * slope * omega**2
     speed = np.full(count, mean) if rules.route == BALANCE else omega
     drive_ = rules.drive(phi, speed) if rules.drive is not None else np.zeros(count)
@@ -714,7 +726,7 @@ def flywheel_inertia(
     if omega_mean is None:  # the speed reached with that flywheel; the estimate there
         speed = _solve(cycle.with_inertia(inertia), rules, None, ratio).omega_mean
         swing, textbook = estimate(cycle, speed)
-    if gravity and machine.g != 0:
+    if cycle.gravity_on:
         try:
             without = _inertia_for(cycle.without_gravity(), rules, omega_mean, ratio, target, inertia)
         except MechanismError:  # only with gravity does the machine fluctuate that much
