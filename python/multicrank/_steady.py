@@ -1,4 +1,4 @@
-"""The numerics of steady (periodic) running, motion.md §3: the energy method, the closed
+"""The numerics of steady (periodic) running (docs/theory.md, "Steady running"): the energy method, the closed
 form of the square-law load, shooting, and the time quadrature they share.
 
 The public face is :mod:`multicrank.motion`; this module takes validated inputs and returns
@@ -34,7 +34,7 @@ _GRADE_REACH = 1.5
 _GRADE_RATIO = 4.0
 
 
-def _optimize() -> Any:
+def scipy_optimize() -> Any:
     import scipy.optimize  # type: ignore[import-untyped,unused-ignore]
 
     return scipy.optimize
@@ -270,7 +270,6 @@ class Periodic:
     time_at: Callable[[np.ndarray], np.ndarray]  # t(φ) [s]
     omega_at: Callable[[np.ndarray], np.ndarray]  # ω(φ) [rad/s]
     load_torque: float  # the constant load of "balance", else the load's cycle mean [N·m]
-    applied_at: Callable[[np.ndarray, np.ndarray], np.ndarray] | None = None
 
     @property
     def delta(self) -> float:
@@ -296,7 +295,7 @@ def _finish(
     if not (np.all(mesh.energy > 0) and np.all(mesh.energy_edges > 0)):
         samples = np.concatenate([mesh.energy.ravel(), mesh.energy_edges])
         where = np.concatenate([rule.phi.ravel(), rule.edges])[int(np.argmin(samples))]
-        raise Stall(float(where), "the kinetic energy reaches zero: the machine stops on the cycle")
+        raise Stall(float(where), "its kinetic energy would reach zero on the cycle")
     inverse = 1.0 / omega
     period = rule.integral(inverse)
     omega_mean = rule.cycle / period
@@ -312,7 +311,7 @@ def _finish(
     extremes = _extremes(rule, omega, omega_edges, omega_at)
     solution = Periodic(method, omega_mean, period, extremes, energy_at, time_at, omega_at, load_torque)
     if extremes.omega_min < ratio * omega_mean:
-        raise Stall(extremes.phi_min, "the speed minimum falls below min_speed_ratio·ω_m")
+        raise Stall(extremes.phi_min, "its speed minimum falls below min_speed_ratio·ω_m")
     return solution
 
 
@@ -414,7 +413,7 @@ class Balance:
         """The periodic solution of mean speed ``omega_mean`` [rad/s] (Stall when it needs
         ω_min < ratio·ω_m): s by Brent's method on (ω_m(s)/ω_m)² − 1, which is nearly linear
         in s (exactly so for a pure flywheel), on a mesh graded for that s."""
-        optimize = _optimize()
+        optimize = scipy_optimize()
         cycle = self.cycle
         target = cycle.rule.cycle / omega_mean
         # At s_low the speed at the worst angle is at most ratio·ω_m: if the mean speed there
@@ -472,10 +471,10 @@ class Balance:
         return _finish("energy", self.cycle, mesh, lambda phi: s + self.K_at(phi), self.load_torque, 0.0)
 
     def lowest_running_speed(self, ratio: float, above: float) -> float:
-        """The lowest mean speed [rad/s] whose solution keeps ω_min ≥ ratio·ω_m (motion.md §3's
+        """The lowest mean speed [rad/s] whose solution keeps ω_min ≥ ratio·ω_m (StallError's
         min_rpm): the root in s of ω_min/ω_m = ratio, which grows with s. ``above`` is an s
         known to stall."""
-        optimize = _optimize()
+        optimize = scipy_optimize()
 
         def shortfall(log_s: float) -> float:
             solution = self.at_margin(math.exp(log_s))
@@ -495,7 +494,7 @@ class Balance:
 
 
 class SquareLaw:
-    """The periodic solution under a load c·ω² (motion.md §3), with M(φ) the gas torque plus a
+    """The periodic solution under a load c·ω² (docs/theory.md, "Steady running"), with M(φ) the gas torque plus a
     constant drive: dE/dφ = M − U' − (2c/J)E is linear in E, so
 
         E(φ) = e^{−A(φ)} [E₀ + ∫₀^φ e^{A}(M − U') dφ],   A(φ) = ∫₀^φ 2c/J dφ,
@@ -537,7 +536,7 @@ class SquareLaw:
         rule = cycle.rule
         if not (np.all(self.energy > 0) and np.all(self.energy_edges > 0)):
             where = rule.extremum(self.energy, self.energy_edges, largest=False)
-            raise Stall(where, "the kinetic energy of the periodic solution would be negative: no steady running")
+            raise Stall(where, "the kinetic energy of the periodic solution would be negative")
         extra = grading(cycle, self.energy, self.energy_edges, self.curvature)
         if extra.size:
             mesh = graded_mesh(cycle, extra, self.energy_at)
@@ -559,7 +558,7 @@ def quasi_static_speed(cycle: Cycle, applied: Callable[[np.ndarray, Any], np.nda
     """The constant speed [rad/s] at which the torques balance over a cycle: the start of the
     shooting. MechanismError naming ``name`` when there is none (the load never takes what
     the gas and the drive give, or the drive's mean is not positive)."""
-    optimize = _optimize()
+    optimize = scipy_optimize()
     low, high = 1e-6, 1.0
     if not mean_torque(cycle, applied, low) > 0:
         raise MechanismError(
@@ -587,9 +586,14 @@ class Shooting:
     dY/dφ = M_drive(φ, ω) − M_load(φ, ω), and the time t with dt/dφ = 1/ω.
     """
 
-    def __init__(self, cycle: Cycle, applied: Callable[[np.ndarray, np.ndarray], np.ndarray], rtol: float) -> None:
+    def __init__(
+        self, cycle: Cycle, applied: Callable[[np.ndarray, np.ndarray], np.ndarray], rtol: float, floor: float
+    ) -> None:
         self.cycle, self.applied, self.rtol = cycle, applied, rtol
         self.K_cycle = cycle.work.per_cycle  # K₀(Φ): U(Φ) = U(0)
+        # A run whose E falls below this [J] has stalled: stopping it there spares solve_ivp the
+        # crawl over the dead point (tiny steps), whose answer would be refused anyway.
+        self.floor = floor
 
     def K0(self, phi: np.ndarray) -> np.ndarray:
         return self.cycle.work(phi) - self.cycle.U_at(phi)
@@ -598,7 +602,7 @@ class Shooting:
         from scipy.integrate import solve_ivp  # type: ignore[import-untyped,unused-ignore]
 
         cycle = self.cycle
-        floor = 1e-12 * E0
+        floor = self.floor
         J0 = float(cycle.J_at(np.array([0.0]))[0][0])
 
         def rates(phi: float, y: np.ndarray) -> np.ndarray:
@@ -633,7 +637,7 @@ class Shooting:
         return (self.K_cycle + float(run.y[0, -1]) - E0) / E0
 
     def solve(self, omega_guess: float, ratio: float) -> Periodic:
-        optimize = _optimize()
+        optimize = scipy_optimize()
         cycle = self.cycle
         J0 = float(cycle.J_at(np.array([0.0]))[0][0])
         guess = 0.5 * J0 * omega_guess**2
@@ -655,7 +659,12 @@ class Shooting:
         E0 = optimize.brentq(self.residual, low, high, xtol=1e-300, rtol=max(self.rtol, 1e-15))
         run = self._run(E0, dense=True)
         if run.status == 1:
-            raise Stall(float(run.t_events[0][0]), "the machine stops on the cycle")
+            raise Stall(float(run.t_events[0][0]), "it stops on the cycle: there is no periodic solution")
+        if abs(self.K_cycle + float(run.y[0, -1]) - E0) > 1e-6 * E0:
+            # Brent's method closed in on the jump between runs that stop and runs that lose
+            # energy: no periodic solution with a positive speed.
+            where = float(np.argmin(self.K0(cycle.rule.phi.ravel()) + run.sol(cycle.rule.phi.ravel())[0]))
+            raise Stall(float(cycle.rule.phi.flat[int(where)]), "it stops on the cycle: there is no periodic solution")
         solution = run.sol
         period = float(run.y[1, -1])
         rule = cycle.rule
@@ -679,5 +688,5 @@ class Shooting:
         # The load's own mean is the caller's to take: here drive and load are one torque.
         result = Periodic("shooting", omega_mean, period, extremes, energy_at, time_at, omega_at, math.nan)
         if extremes.omega_min < ratio * omega_mean:
-            raise Stall(extremes.phi_min, "the speed minimum falls below min_speed_ratio·ω_m")
+            raise Stall(extremes.phi_min, "its speed minimum falls below min_speed_ratio·ω_m")
         return result

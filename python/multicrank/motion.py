@@ -1,5 +1,5 @@
 """The machine in steady running: its periodic motion, its speed fluctuation, its flywheel
-(motion.md §3; docs/theory.md, "Steady running").
+(docs/theory.md, "Steady running").
 
 A machine whose torques repeat every working cycle Φ (2π two-stroke, 4π four-stroke) runs,
 once the start-up has died away, periodically: ω(φ + Φ) = ω(φ). :func:`steady_state` finds
@@ -35,14 +35,14 @@ import numpy as np
 
 from ._native import MechanismError
 from ._quadrature import CycleQuadrature
-from ._steady import Balance, Cycle, Periodic, Shooting, SquareLaw, Stall, quasi_static_speed
+from ._steady import Balance, Cycle, Periodic, Shooting, SquareLaw, Stall, quasi_static_speed, scipy_optimize
 from ._validation import as_count, as_scalar
 from .loads import BALANCE, PowerLawLoad, Torque, as_torque
 from .machine import Machine
 
 __all__ = ["FlywheelInertia", "PowerLawLoad", "StallError", "SteadyState", "flywheel_inertia", "steady_state"]
 
-#: ω_min/ω_m below which a machine is said to stall (motion.md §3).
+#: ω_min/ω_m below which a machine is said to stall.
 DEFAULT_MIN_SPEED_RATIO = 1e-3
 # The shooting's relative tolerance (solve_ivp's rtol and the root's): ω_m to ~1e-10.
 _SHOOTING_RTOL = 1e-11
@@ -241,7 +241,7 @@ class SteadyState:
 
     @property
     def delta(self) -> float:
-        """δ = (ω_max − ω_min)/ω_m, ω_m the time mean (motion.md §3)."""
+        """δ = (ω_max − ω_min)/ω_m, ω_m the time mean Φ/t_Φ."""
         return (self.omega_max - self.omega_min) / self.omega_mean
 
     @property
@@ -336,7 +336,9 @@ def _solve(cycle: Cycle, rules: _Rules, omega_mean: float | None, ratio: float) 
         return SquareLaw(cycle, rules.constant_drive, rules.load.value.coefficient).solve(ratio)
     applied = _applied(rules)
     guess = quasi_static_speed(cycle, applied, "load")
-    return Shooting(cycle, applied, _SHOOTING_RTOL).solve(guess, ratio)
+    # Runs stop where ω falls to half of min_speed_ratio times the speed the torques balance at.
+    floor = 0.5 * float(np.min(cycle.J)) * (0.5 * ratio * guess) ** 2
+    return Shooting(cycle, applied, _SHOOTING_RTOL, floor).solve(guess, ratio)
 
 
 def _load_mean(cycle: Cycle, rules: _Rules, solution: Periodic) -> float:
@@ -350,8 +352,8 @@ def _stall_error(error: Stall, cycle: Cycle, rules: _Rules, omega_mean: float | 
     error.angle %= cycle.rule.cycle
     if rules.route != BALANCE:
         return StallError(
-            f"the machine stalls: {error}; no steady running with this load (the speed minimum would be at "
-            f"φ = {math.degrees(error.angle):.4g}°)",
+            f"the machine stalls with this load: {error}, near φ = {math.degrees(error.angle):.4g}°; it has no "
+            f"steady running (min_speed_ratio = {ratio:g})",
             angle=error.angle,
         )
     assert omega_mean is not None
@@ -580,7 +582,7 @@ def _inertia_for(
 
     A machine that stalls counts as δ = ∞ (its fluctuation is above any target); a target that
     only a stalling machine would reach is unreachable."""
-    optimize = _optimize()
+    optimize = scipy_optimize()
     balance = None
     if rules.route == BALANCE:
         assert omega_mean is not None
@@ -645,12 +647,6 @@ def _inertia_for(
         low = running
     log_inertia = optimize.brentq(excess, low, high, xtol=1e-12, rtol=1e-15)
     return math.exp(log_inertia)
-
-
-def _optimize() -> Any:
-    import scipy.optimize  # type: ignore[import-untyped,unused-ignore]
-
-    return scipy.optimize
 
 
 def flywheel_inertia(
