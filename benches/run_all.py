@@ -2,9 +2,10 @@
 
     python benches/run_all.py [--criterion]
 
-Runs benches/python/bench_kernels.py and benches/python/bench_sweep.py (release build of
-the installed package; each refuses a debug build) and, with --criterion, the criterion
-benches of the Rust kernels, then writes BENCHMARKS.md at the repository root.
+Runs benches/python/bench_kernels.py, benches/python/bench_sweep.py and
+benches/python/bench_motion.py (release build of the installed package; each refuses a debug
+build) and, with --criterion, the criterion benches of the Rust kernels, then writes
+BENCHMARKS.md at the repository root.
 OPENBLAS_NUM_THREADS=1 keeps numpy's BLAS threads from spinning on the cores being timed.
 """
 
@@ -21,6 +22,17 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 ENV = dict(os.environ, OPENBLAS_NUM_THREADS="1")
+
+
+MOTION_HEADING = "## Motion: steady running against time integration, one core"
+MOTION_NOTE = (
+    "`steady_state`: everything it returns (arrays at 361 points, δ, δ without gravity, δ of "
+    "gravity alone), repeated calls on one machine (a table's indicator work is integrated on the "
+    "first call and kept); `first call`: a fresh indicator diagram. `flywheel_inertia`: δ = 0.01, "
+    "with and without gravity. Baseline (one run): the equation of motion integrated in time with "
+    "`solve_ivp` (DOP853, rtol 1e-10) over one cycle, shooting on ω(0) with brentq until the cycle "
+    "takes Φ/ω_m; δ from its dense output, checked against the library's (last column)."
+)
 
 
 def run(*command: str) -> str:
@@ -43,6 +55,7 @@ def main() -> None:
     args = parser.parse_args()
     kernels = run(sys.executable, "benches/python/bench_kernels.py", "--markdown")
     sweeps = run(sys.executable, "benches/python/bench_sweep.py", "--markdown")
+    motion = run(sys.executable, "benches/python/bench_motion.py", "--markdown")
     cpu = next(
         (
             line.split(":", 1)[1].strip()
@@ -72,6 +85,12 @@ def main() -> None:
         "## Sweeps: 200 000 designs, mixed k = 1…12, two- and four-stroke, phi = 360",
         "",
         sweeps.strip(),
+        "",
+        MOTION_HEADING,
+        "",
+        motion.strip(),
+        "",
+        MOTION_NOTE,
         "",
     ]
     if args.criterion:

@@ -37,6 +37,7 @@ from .layouts import LAYOUTS, Layout, layout_engine
 from .loads import PowerLawLoad
 from .machine import Cylinder, Machine
 from .mechanism import STANDARD_GRAVITY, crank_phases, dimensionless_moments
+from .motion import FlywheelInertia, StallError, SteadyState, flywheel_inertia, steady_state
 from .orders import torque_orders
 from .pressure import IndicatorDiagram
 from .transient import Transient, simulate
@@ -71,11 +72,14 @@ __all__ = [
     "DesignGrid",
     "EnergyExtrema",
     "Engine",
+    "FlywheelInertia",
     "IndicatorDiagram",
     "Layout",
     "Machine",
     "MechanismError",
     "PowerLawLoad",
+    "StallError",
+    "SteadyState",
     "Transient",
     "UniformGrid",
     "__version__",
@@ -84,6 +88,7 @@ __all__ = [
     "design_grid",
     "dimensionless_moments",
     "energy_extrema",
+    "flywheel_inertia",
     "force_derivative",
     "fourier_coefficients",
     "generalized_force",
@@ -96,6 +101,7 @@ __all__ = [
     "set_parallel_threshold",
     "simulate",
     "speed_fluctuation",
+    "steady_state",
     "surviving_harmonics",
     "sweep",
     "to_xarray",

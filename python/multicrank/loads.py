@@ -150,11 +150,16 @@ def as_torque(value: Any, name: str, *, balance: bool = False) -> Torque | str |
 
 def balance_torque(machine: Any, drive: Torque | None, omega: float, quadrature: Any = None) -> float:
     """The "balance" load [N·m]: (1/Φ)∫₀^Φ [M_gas(φ) + M_drive(φ, ω)] dφ over one working cycle,
-    a drive's speed dependence frozen at ``omega`` [rad/s]. Gravity's mean over a cycle is 0."""
-    from ._quadrature import CycleQuadrature
+    a drive's speed dependence frozen at ``omega`` [rad/s]. Gravity's mean over a cycle is 0.
 
-    rule = CycleQuadrature.of(machine) if quadrature is None else quadrature
-    torque = machine.gas_torque(rule.phi)
+    The gas part is the indicated work per cycle over Φ, exact also for tabulated pressures
+    (:class:`~multicrank._work.GasWork`); the drive's mean is taken on ``quadrature`` (default:
+    the machine's cycle rule)."""
+    from ._quadrature import CycleQuadrature
+    from ._work import GasWork
+
+    mean = GasWork(machine).per_cycle / machine.cycle
     if drive is not None:
-        torque = torque + drive(rule.phi, omega)
-    return rule.mean(torque)
+        rule = CycleQuadrature.of(machine, tables=False) if quadrature is None else quadrature
+        mean += rule.mean(drive(rule.phi, omega))
+    return mean

@@ -722,11 +722,21 @@ class Machine:
         angles = np.asarray(as_real_array(phi, "phi"))
         theta = self.cycle_angles(angles)
         forces = np.zeros(theta.shape)
-        for j, c in enumerate(self.cylinders):
-            if c.pressure is not None and c.bore > 0:
-                forces[j] += _pressure(c.pressure, theta[j], "pressure") * c.piston_area
-            if c.pressure_crank_end is not None and c.bore > 0:
-                forces[j] -= _pressure(c.pressure_crank_end, theta[j], "pressure_crank_end") * c.crank_end_area
+        for name, area, sign in (("pressure", "piston_area", 1.0), ("pressure_crank_end", "crank_end_area", -1.0)):
+            # Units that share one pressure callable (one indicator diagram for every
+            # cylinder, the usual case) take it in one call: per call overhead dominates.
+            groups: dict[int, tuple[Pressure, list[int]]] = {}
+            for j, c in enumerate(self.cylinders):
+                function = getattr(c, name)
+                if function is not None and c.bore > 0:
+                    groups.setdefault(id(function), (function, []))[1].append(j)
+            for function, units in groups.values():
+                pressures = _pressure(function, theta[units], name)
+                forces[units] += (
+                    sign
+                    * pressures
+                    * np.array([getattr(self.cylinders[j], area) for j in units]).reshape((-1,) + (1,) * angles.ndim)
+                )
         return forces
 
     def gas_torque(self, phi: Any, *, parallel_threshold: Any = None) -> np.ndarray:
