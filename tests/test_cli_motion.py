@@ -85,3 +85,53 @@ def test_a_bad_sweep_axis_value_is_one_line_not_a_traceback(tmp_path):
         "sweep", "--crank-ratio", "1.5", "--inclination", "90", "--u1", "1", "--out", str(tmp_path / "s.parquet")
     )
     assert "crank_ratio" in line
+
+
+def test_motion_csv_is_the_api_steady_state_and_flywheel(tmp_path):
+    cycle = tmp_path / "cycle.csv"
+    out = run(
+        "motion", "--rpm", "100", "--rpm", "150", "--delta", "0.04", "--cycle", str(cycle), "--format", "csv",
+        "--no-progress",
+    )  # fmt: skip
+    frame = pd.read_csv(io.StringIO(out), index_col="rpm")
+    machine = DEFAULT_ENGINE
+    for rpm in (100.0, 150.0):
+        state = mc.steady_state(machine, rpm=rpm)
+        row = frame.loc[rpm]
+        assert row["delta"] == pytest.approx(state.delta, rel=1e-10)
+        assert row["delta_without_gravity"] == pytest.approx(state.delta_without_gravity, rel=1e-10)
+        assert row["gravity_change_percent"] == pytest.approx(
+            100 * (state.delta / state.delta_without_gravity - 1), rel=1e-8
+        )
+        sized = mc.flywheel_inertia(machine, delta=0.04, rpm=rpm)
+        assert row["flywheel"] == pytest.approx(sized.shaft_inertia, rel=1e-8)
+        assert row["flywheel_without_gravity"] == pytest.approx(sized.shaft_inertia_without_gravity, rel=1e-8)
+    written = pd.read_csv(cycle)
+    state = mc.steady_state(machine, rpm=100.0)
+    np.testing.assert_allclose(written["omega"], state.omega, rtol=1e-10)
+    np.testing.assert_allclose(written["phi_deg"], np.degrees(state.phi), rtol=1e-12)
+    without = mc.steady_state(machine, rpm=100.0, gravity=False)
+    np.testing.assert_allclose(written["omega_without_gravity"], without.omega, rtol=1e-10)
+
+
+def test_motion_over_the_speed_range_with_the_class_flywheel():
+    data = json.loads(run("motion", "--points", "3", "--format", "json", "--no-progress"))
+    machine = DEFAULT_ENGINE
+    speeds = [row["rpm"] for row in data["rows"]]
+    assert machine.rpm in speeds and min(speeds) == machine.rpm_range[0] and max(speeds) == machine.rpm_range[1]
+    assert data["target_delta"] == pytest.approx(1 / 20)  # the compressor class's limit
+    assert all(row["flywheel"] > 0 for row in data["rows"])
+
+
+@pytest.mark.parametrize(
+    ("args", "named"),
+    [
+        (["--rpm", "-5"], "--rpm"),
+        (["--delta", "2"], "--delta"),
+        (["--load", "power:100:600", "--rpm", "500"], "--rpm"),
+        (["--load", "7"], "load"),
+        (["--engine", "docs/no-such.toml"], "--engine"),
+    ],
+)
+def test_motion_mistakes_are_one_line_naming_the_option(args, named):
+    assert named in run_failing("motion", "--no-progress", *args)

@@ -475,6 +475,134 @@ def _without_gas(machine):
     return machine.replace(cylinders=cylinders, name=f"{machine.name} (no gas)")
 
 
+@main.command("motion")
+@engine_option
+@click.option(
+    "--rpm",
+    "speeds",
+    type=float,
+    multiple=True,
+    help="Mean speed(s) [1/min], repeatable [default: the machine's speed and --points speeds over its range].",
+)
+@click.option(
+    "--points",
+    type=click.IntRange(min=1, max=1000),
+    default=5,
+    show_default=True,
+    help="Speeds over the machine's speed range, besides its running speed (when no --rpm is given).",
+)
+@click.option(
+    "--load",
+    default="balance",
+    show_default=True,
+    help="balance (the load that takes the mean drive), or power:TORQUE:RPM[:EXPONENT] (the speed follows).",
+)
+@click.option("--drive", default=None, help="A constant drive torque [N·m] or power:TORQUE:RPM[:EXPONENT].")
+@click.option(
+    "--delta",
+    "target",
+    type=float,
+    default=None,
+    help="Size the flywheel for this δ [default: the preset's class limit; none for a machine file].",
+)
+@click.option("--cycle", "cycle_path", type=click.Path(dir_okay=False), help="Write ω(φ) and the torques to FILE.csv.")
+@click.option("--format", "fmt", type=click.Choice(FORMATS), default="table", show_default=True)
+@click.option("--out", "out_path", type=click.Path(dir_okay=False), help="Write the table to FILE, not stdout.")
+@click.option("--progress/--no-progress", default=True, show_default=True)
+def motion_command(engine, speeds, points, load, drive, target, cycle_path, fmt, out_path, progress) -> None:
+    """Steady running: the coefficient of speed fluctuation δ with and without gravity, and the flywheel.
+
+    For each mean speed: the exact periodic steady state of J(φ)φ̈ + ½J'(φ)φ̇² = M_gas − dU/dφ +
+    M_drive − M_load, its δ = (ω_max − ω_min)/ω_mean with gravity, without (g = 0) and of gravity
+    alone, the load torque [N·m] and power [kW]; with a target δ, the shaft inertia [kg·m²] that
+    gives it with and without gravity and the textbook estimate ΔE/(δω²).
+    """
+    import pandas as pd
+    from tqdm.auto import tqdm
+
+    from .motion import StallError, flywheel_inertia, steady_state
+    from .presets import MACHINE_CLASSES, SPEED_FLUCTUATION
+
+    machine = engine
+    load_rule = parse_torque(load, "load", balance=True)
+    drive_rule = None if drive is None else parse_torque(drive, "drive", balance=False)
+    balance = load_rule == "balance"
+    if target is None and machine.name in MACHINE_CLASSES:
+        target = SPEED_FLUCTUATION[MACHINE_CLASSES[machine.name]][1]
+    if target is not None and not (math.isfinite(target) and 0 < target < 1):
+        raise MechanismError(f"--delta = {target} is out of range; allowed: 0 < delta < 1")
+    if balance:
+        wanted = [_speed(machine, rpm, "--rpm") for rpm in speeds] or _speed_set(machine, points)
+    else:
+        if speeds:
+            raise MechanismError(f"--rpm: the load {load!r} fixes the speed; give --rpm only with --load balance")
+        wanted = [None]
+    rows = []
+    first = None
+    for rpm in tqdm(wanted, desc="motion", unit="speed", disable=not progress or len(wanted) < 2):
+        row: dict = {"rpm": rpm}
+        try:
+            state = steady_state(machine, rpm=rpm, load=load_rule, drive=drive_rule)
+        except StallError as error:
+            row.update(stalled=True, min_rpm=error.min_rpm)
+            rows.append(row)
+            continue
+        first = first or state
+        row.update(
+            rpm=state.rpm if rpm is None else rpm,  # the speed asked for, or the one the load gives
+            delta=state.delta,
+            delta_without_gravity=state.delta_without_gravity,
+            gravity_change_percent=100 * state.gravity_effect / state.delta_without_gravity,
+            delta_gravity_only=state.delta_gravity_only,
+            delta_midrange=state.delta_midrange,
+            rpm_min=state.omega_min * 30 / math.pi,
+            rpm_max=state.omega_max * 30 / math.pi,
+            load_torque=state.load_torque,
+            power_kw=state.load_torque * state.omega_mean / 1000,
+            stalled=False,
+        )
+        if target is not None:
+            sizing = flywheel_inertia(machine, delta=target, rpm=rpm, load=load_rule, drive=drive_rule)
+            row.update(
+                flywheel=sizing.shaft_inertia,
+                flywheel_without_gravity=sizing.shaft_inertia_without_gravity,
+                flywheel_textbook=sizing.textbook,
+            )
+        rows.append(row)
+    frame = pd.DataFrame(rows).set_index("rpm")
+    if cycle_path is not None:
+        if first is None:
+            raise MechanismError("--cycle: the machine stalls at every speed asked for; nothing to write")
+        cycle = first.to_pandas()
+        cycle.insert(0, "phi_deg", np.degrees(cycle.index.to_numpy()))
+        cycle["omega_without_gravity"] = steady_state(
+            machine, rpm=first.rpm if balance else None, load=load_rule, drive=drive_rule, gravity=False
+        ).omega
+        _write_atomically(cycle_path, cycle.to_csv(float_format="%.12g"))
+    units = dict(
+        rpm="1/min", load_torque="N·m", power_kw="kW", flywheel="kg·m²", flywheel_without_gravity="kg·m²",
+        flywheel_textbook="kg·m²", rpm_min="1/min", rpm_max="1/min",
+    )  # fmt: skip
+    summary = [
+        f"{machine.name}: {len(machine)} cylinders, {machine.strokes}-stroke, shaft inertia "
+        f"{machine.shaft_inertia:g} kg·m², load {load}, drive {drive or 'none'}",
+        "δ = (ω_max − ω_min)/ω_mean (time mean); gravity_change_percent = (δ − δ without gravity)/δ without gravity",
+    ]
+    if target is not None:
+        summary.append(f"flywheel: the shaft inertia [kg·m²] for δ = {target:.4g} (1/{1 / target:.4g})")
+    meta = dict(engine=machine.name, load=load, drive=drive, target_delta=target, units=units)
+    _table_or_file(frame, fmt, out_path, summary=summary, json_meta=meta)
+
+
+def _speed_set(machine, points: int) -> list[float]:
+    """The machine's running speed and ``points`` speeds spread over its range."""
+    speed = _speed(machine, None, "--rpm")
+    if machine.rpm_range is None:
+        return [speed]
+    low, high = machine.rpm_range
+    return sorted({speed, *np.linspace(low, high, points).tolist()})
+
+
 # ----------------------------------------------------------------------------- report
 @main.command("report")
 @click.option("--out", "out_dir", type=click.Path(file_okay=False), default="multicrank-report", show_default=True)
