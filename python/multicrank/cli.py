@@ -531,8 +531,9 @@ def motion_command(engine, speeds, points, load, drive, target, cycle_path, fmt,
         target = SPEED_FLUCTUATION[MACHINE_CLASSES[machine.name]][1]
     if target is not None and not (math.isfinite(target) and 0 < target < 1):
         raise MechanismError(f"--delta = {target} is out of range; allowed: 0 < delta < 1")
+    wanted: list[float | None]
     if balance:
-        wanted = [_speed(machine, rpm, "--rpm") for rpm in speeds] or _speed_set(machine, points)
+        wanted = [_speed(machine, rpm, "--rpm") for rpm in speeds] or list(_speed_set(machine, points))
     else:
         if speeds:
             raise MechanismError(f"--rpm: the load {load!r} fixes the speed; give --rpm only with --load balance")
@@ -594,7 +595,7 @@ def motion_command(engine, speeds, points, load, drive, target, cycle_path, fmt,
     _table_or_file(frame, fmt, out_path, summary=summary, json_meta=meta)
 
 
-def _speed_set(machine, points: int) -> list[float]:
+def _speed_set(machine, points: int) -> list[float | None]:
     """The machine's running speed and ``points`` speeds spread over its range."""
     speed = _speed(machine, None, "--rpm")
     if machine.rpm_range is None:
