@@ -59,6 +59,10 @@ def test_report_files(report):
         "gravity_significance_k_lambda",
         "gravity_significance_engines",
         "layouts",
+        "motion_speed",
+        "motion_torques",
+        "motion_speed_range",
+        "motion_orders",
     ]:
         assert f"{stem}.png" in names and f"{stem}.csv" in names
         assert (report / f"{stem}.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
@@ -71,7 +75,7 @@ def test_report_files(report):
     ]:
         assert f"{table}.csv" in names
     page = (report / "index.html").read_text(encoding="utf-8")
-    assert page.count("data:image/png;base64,") == 10  # self-contained
+    assert page.count("data:image/png;base64,") == 14  # self-contained
     for heading in [
         "The engine",
         "Gravity significance",
@@ -229,3 +233,27 @@ def test_report_of_a_machine_that_is_not_in_line(tmp_path):
     np.testing.assert_allclose(
         curves["k2"], mc.potential_energy(phi, **{**unit, "phases": mc.crank_phases(2, 2)}), rtol=1e-15, atol=1e-18
     )
+
+
+def test_report_leads_with_the_machines_motion(report):
+    """The first section is the steady running with and without gravity and the flywheel,
+    and its numbers are the API's."""
+    page = (report / "index.html").read_text(encoding="utf-8")
+    assert page.index("What gravity does to this machine") < page.index("<h2>The engine</h2>")
+    machine = ENGINES["inline-4"]
+    state = mc.steady_state(machine, rpm=machine.rpm)
+    assert f"{state.delta:.5g}" in page and f"{state.delta_without_gravity:.5g}" in page
+    sized = mc.flywheel_inertia(machine, delta=1 / 100, rpm=machine.rpm)  # the vehicle class's limit
+    assert f"{sized.shaft_inertia:.6g} kg·m²" in page
+    assert f"{sized.shaft_inertia_without_gravity:.6g} kg·m²" in page
+    speed = pd.read_csv(report / "motion_speed.csv")
+    np.testing.assert_allclose(speed["rpm_with_gravity"], state.omega * 30 / np.pi, rtol=1e-10)
+    torques = pd.read_csv(report / "motion_torques.csv")
+    np.testing.assert_allclose(torques["gravity"], machine.gravity_torque(np.radians(torques["phi_deg"])), atol=1e-9)
+    orders = pd.read_csv(report / "motion_orders.csv")
+    assert set(orders["order"] * 2) <= set(range(0, 100))  # half orders at most: four-stroke
+    ranged = pd.read_csv(report / "motion_speed_range.csv")
+    low, high = machine.rpm_range
+    assert ranged["rpm"].min() == pytest.approx(low) and ranged["rpm"].max() == pytest.approx(high)
+    at_speed = ranged.iloc[(ranged["rpm"] - 2000).abs().idxmin()]
+    assert at_speed["delta"] == pytest.approx(mc.steady_state(machine, rpm=at_speed["rpm"]).delta, rel=1e-9)

@@ -617,14 +617,27 @@ def _speed_set(machine, points: int) -> list[float | None]:
     default=None,
     help="δ_g below which gravity may be neglected [default: 1/3000].",
 )
+@click.option(
+    "--delta",
+    type=click.FloatRange(min=0, max=1, min_open=True, max_open=True),
+    default=None,
+    help="Size the flywheel for this δ [default: the preset's class limit, else the machine's δ without gravity].",
+)
 @click.option("--progress/--no-progress", default=True, show_default=True)
-def report_command(out_dir, engine, k_max, n_max, points, threshold, progress) -> None:
-    """Write the report: curves, spectra, Tables 1–2, the paper's truncation error, the
-    gravity-significance map, conventions and errata, as index.html + PNG + CSV."""
+def report_command(out_dir, engine, k_max, n_max, points, threshold, delta, progress) -> None:
+    """Write the report: first the machine's steady running with and without gravity (δ, the
+    flywheel, ω(φ), the torques and their orders, δ over the speed range), then the paper's
+    analysis — curves, spectra, Tables 1–2, the truncation error, the gravity-significance map,
+    conventions and errata — as index.html + PNG + CSV."""
     from .report import DEFAULT_THRESHOLD, ReportSettings, write_report
 
     settings = ReportSettings(
-        engine=engine, k_max=k_max, n_max=n_max, points=points, threshold=threshold or DEFAULT_THRESHOLD
+        engine=engine,
+        k_max=k_max,
+        n_max=n_max,
+        points=points,
+        threshold=threshold or DEFAULT_THRESHOLD,
+        delta=delta,
     )
     try:
         index = write_report(out_dir, settings, progress=progress)
