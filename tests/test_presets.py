@@ -102,3 +102,14 @@ def test_presets_are_built_on_first_use():
     )
     result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
     assert result.returncode == 0, result.stderr
+
+
+@pytest.mark.parametrize("name", list(ENGINES))
+def test_each_preset_runs_with_the_delta_of_its_class_exactly(name):
+    """The exact steady state (not only the textbook estimate the flywheels were sized with)
+    puts every preset's δ at its running speed inside its class."""
+    machine = ENGINES[name]
+    low, high = SPEED_FLUCTUATION[MACHINE_CLASSES[name]]
+    state = mc.steady_state(machine, rpm=machine.rpm)
+    assert low <= state.delta <= high
+    assert low <= state.delta_without_gravity <= high
