@@ -1,4 +1,4 @@
-"""Orders of the shaft torques: their Fourier coefficients per revolution (motion.md §6).
+"""Orders of the shaft torques: their Fourier coefficients per revolution (docs/theory.md, "Orders").
 
 :func:`torque_orders` gives, for the order ν (the harmonic number per revolution: 0, 1, 2,
 … for a two-stroke machine, and 0, ½, 1, 1½, … for a four-stroke one, whose working cycle

@@ -1,4 +1,4 @@
-"""Indicator diagrams: the gas pressure on a piston over one working cycle (motion.md §5).
+"""Indicator diagrams: the gas pressure on a piston over one working cycle (docs/theory.md).
 
 An :class:`IndicatorDiagram` is a table of cycle angle θ [rad] against **gauge** pressure
 p [Pa], interpolated periodically over the working cycle Φ (2π for a two-stroke, 4π for a

@@ -1,4 +1,4 @@
-"""The machine in time: start-up, run-down, load steps (motion.md §4).
+"""The machine in time: start-up, run-down, load steps (docs/theory.md, "Transients").
 
 :func:`simulate` integrates the machine's equation of motion (docs/theory.md, "Transients")
 
@@ -200,7 +200,7 @@ def simulate(
         phi0=r.phi[-1], load=new_load)`` with ``t_next[0] = r.time[-1]``.
     omega0 : float
         ω at the start [rad/s], finite and ≥ 0. Gas pressure given as a function of the
-        cycle angle assumes the machine turns forward (motion.md §2), so a negative start
+        cycle angle assumes the machine turns forward (docs/theory.md, "Transients"), so a negative start
         speed is refused; from ω₀ = 0 a machine whose net torque at φ₀ is not positive
         stalls at once.
     phi0 : float
