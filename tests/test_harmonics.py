@@ -560,6 +560,69 @@ def test_surviving_harmonics_examples():
     assert mc.surviving_harmonics(6, 4, "single", n_max=12) == [6, 12]
 
 
+U64 = 2**64 - 1
+
+
+@settings(max_examples=200, deadline=None)
+@given(
+    cranks=st.one_of(st.integers(1, 100), st.integers(1, U64), st.sampled_from([10**18, 2**63, U64 - 1, U64])),
+    kind=st.sampled_from(KINDS),
+    n_max=st.integers(0, 400),
+)
+def test_surviving_harmonics_exact_for_any_crank_count(cranks, kind, n_max):
+    """Issue 13, item 2: the rule in Python's unbounded integers, for counts whose products
+    overflow 64 bits (surviving_harmonics(10**18) returned [20, 22, 24] instead of [])."""
+    strokes, acting = kind
+    expected = [n for n in [1, *range(2, n_max + 1, 2)] if n <= n_max and rule_survives(n, cranks, strokes, acting)]
+    assert mc.surviving_harmonics(cranks, strokes, acting, n_max=n_max) == expected
+
+
+@settings(max_examples=200, deadline=None)
+@given(
+    cranks=st.integers(2**20, U64),
+    kind=st.sampled_from(KINDS),
+    multiple=st.integers(0, 60),
+    extra=st.integers(0, 2**20),
+)
+def test_surviving_harmonics_of_huge_n_max(cranks, kind, multiple, extra):
+    """n_max up to 2⁶⁴ − 1 answers at once (no loop over n) and exactly: every survivor is a
+    multiple of k/2 or k (the table), so checking those candidates by the rule is complete."""
+    strokes, acting = kind
+    n_max = min(multiple * cranks + extra, U64)
+    unit = cranks // 2 if cranks % 2 == 0 else cranks
+    candidates = [1, *range(unit, n_max + 1, unit)]
+    expected = [
+        n for n in candidates if n <= n_max and (n == 1 or n % 2 == 0) and rule_survives(n, cranks, strokes, acting)
+    ]
+    assert mc.surviving_harmonics(cranks, strokes, acting, n_max=n_max) == expected
+
+
+def test_surviving_harmonics_issue_example():
+    assert mc.surviving_harmonics(10**18) == []
+    assert mc.surviving_harmonics(10**18, n_max=2 * 10**18) == [10**18, 2 * 10**18]
+    assert mc.surviving_harmonics(U64, 2, "double", n_max=U64) == [1]
+
+
+@settings(max_examples=300, deadline=None)
+@given(i=st.integers(1, 2**32 - 1), j=st.integers(0, 20))
+def test_paper_coefficients_exact_for_any_index(i, j):
+    """Issue 13, item 2: every coefficient the paper's formula defines for j ≤ 20 is exact
+    (it once raised ZeroDivisionError from j = 15), compared with Python's big integers."""
+    if j < i - 1:
+        expected = Fraction(0)
+    else:
+        expected = (-1) ** (i + 1) * Fraction(
+            2 * i * math.comb(2 * j, j) * math.comb(2 * j + 2, j + 1 - i), (j + 1) * 4 ** (2 * j + 1)
+        )
+    assert mc.paper_coefficient(i, j) == expected
+
+
+@pytest.mark.parametrize("j", [21, 22, 100, 2**31])
+def test_paper_coefficient_beyond_j_20_is_refused_by_name(j):
+    with pytest.raises(mc.MechanismError, match=f"j = {j}"):
+        mc.paper_coefficient(1, j)
+
+
 @pytest.mark.parametrize(
     "args",
     [

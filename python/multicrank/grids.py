@@ -16,7 +16,7 @@ from typing import Any
 import numpy as np
 
 from ._native import MechanismError
-from ._validation import as_angles, as_count, as_real_array, contiguous
+from ._validation import as_angles, as_count, as_real_array, check_size, contiguous
 
 __all__ = ["UniformGrid", "as_phi", "grid_of", "uniform_grid"]
 
@@ -42,6 +42,7 @@ class UniformGrid(np.lib.mixins.NDArrayOperatorsMixin):
     def _points(self) -> np.ndarray:
         # Formed on first use only: evaluation on the grid never needs them.
         if self._cache is None:
+            check_size("count", self.count, self.count)
             points = self.start + np.arange(self.count) * self.step  # as the kernels index them
             points.flags.writeable = False
             self._cache = points
@@ -120,6 +121,7 @@ def as_phi(phi: Any) -> tuple[tuple[int, ...], np.ndarray | tuple[float, float, 
     """
     uniform = grid_of(phi)
     if uniform:
+        check_size("phi", f"a uniform grid of {uniform[2]} points", uniform[2])
         return (uniform[2],), uniform
     angles = as_angles(phi)
     return angles.shape, contiguous(angles).reshape(-1)

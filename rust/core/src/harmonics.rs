@@ -4,9 +4,9 @@
 //! and the Fourier coefficients of Q_u* for any phase set.
 
 use crate::doubledouble::DoubleDouble;
-use crate::error::{check, MechanismError, Result};
+use crate::error::{check, try_filled, try_with_capacity, MechanismError, Result};
 use crate::mechanism::{Acting, Strokes};
-use crate::parallel::{for_each_row_segment, Parallelism};
+use crate::parallel::{for_each_row, Parallelism};
 
 /// The highest harmonic any series here carries (λ → 1 would need ever more).
 pub const MAX_HARMONIC: usize = 2048;
@@ -118,17 +118,22 @@ pub fn lambda_exact(crank_ratio: f64, out: &mut [f64]) {
     }
 }
 
-/// n_max + 1 entries (Λ_0 … Λ_{n_max}, a_0 … a_{n_max}), without overflow.
+/// n_max + 1 entries (Λ_0 … Λ_{n_max}, a_0 … a_{n_max}), or `TooLarge` naming n_max
+/// (n_max + 1 itself overflows only where no such table could be allocated anyway).
 pub(crate) fn harmonic_width(n_max: usize) -> Result<usize> {
-    n_max.checked_add(1).ok_or(MechanismError::InvalidChoice {
+    n_max.checked_add(1).ok_or(MechanismError::TooLarge {
         parameter: "n_max",
         value: n_max.to_string(),
-        allowed: "an integer small enough to allocate",
+        elements: n_max as u128 + 1,
+        item_bytes: std::mem::size_of::<f64>(),
     })
 }
 
 /// Λ_0 … Λ_{n_max} for every crank ratio, row by row (`crank_ratios.len()` rows of
-/// n_max + 1), exact or as the paper's λ-series; in parallel for many rows.
+/// n_max + 1), exact or as the paper's λ-series; in parallel for many rows. The table is
+/// allocated up front (an error naming n_max if it cannot be), and each row is computed
+/// once, whole, by one task: Λ_n comes from a recurrence in n, so a row cut into parallel
+/// chunks would be recomputed from its start for every chunk.
 pub fn lambda_table(
     paper: bool,
     crank_ratios: &[f64],
@@ -141,25 +146,15 @@ pub fn lambda_table(
         })?;
     }
     let width = harmonic_width(n_max)?;
-    let mut out = vec![0.0; crank_ratios.len() * width];
-    // Λ_n costs far more than one output point: weigh each row like 64 points.
+    let len = crank_ratios.len() as u128 * width as u128;
+    let mut out = try_filled("n_max", n_max, len, 0.0)?;
+    // Λ_n costs far more than one output point: weigh each entry like 64 points.
     let work = out.len().saturating_mul(64);
-    for_each_row_segment(&mut out, width, work, parallelism, |row, first, segment| {
-        if first == 0 && segment.len() == width {
-            if paper {
-                lambda_paper(crank_ratios[row], segment)
-            } else {
-                lambda_exact(crank_ratios[row], segment)
-            }
+    for_each_row(&mut out, width, work, parallelism, |row, values| {
+        if paper {
+            lambda_paper(crank_ratios[row], values)
         } else {
-            // A row split across chunks: compute it whole, keep this segment.
-            let mut whole = vec![0.0; width];
-            if paper {
-                lambda_paper(crank_ratios[row], &mut whole)
-            } else {
-                lambda_exact(crank_ratios[row], &mut whole)
-            }
-            segment.copy_from_slice(&whole[first..first + segment.len()]);
+            lambda_exact(crank_ratios[row], values)
         }
     });
     Ok(out)
@@ -229,32 +224,71 @@ pub fn lambda_paper(crank_ratio: f64, out: &mut [f64]) {
     }
 }
 
-/// Whether harmonic n of Q_u* survives the sum over the regular crank set of §2.
-///
-/// With α = 2π·p/q (p = 1 two-stroke, 2 four-stroke; q = k single-, 2k double-acting), the
-/// phase sum S_n = Σ_{j<k} e^{2πi·n·j·p/q} is k when q | n·p, and otherwise the geometric
-/// sum (1 − e^{2πi·n·k·p/q})/(1 − e^{2πi·n·p/q}), zero exactly when q | n·k·p. Only n = 1
-/// (the N and W1 terms) and even n (the W_n terms) carry coefficients at all.
-pub fn harmonic_survives(n: u64, cranks: u64, strokes: Strokes, acting: Acting) -> bool {
-    if n == 0 || (n > 1 && n % 2 == 1) {
-        return false;
-    }
+/// The crank-set constants of §5's rule: α = 2π·p/q with p = 1 (two-stroke) or 2
+/// (four-stroke) and q = a·k, a = 1 (single acting) or 2 (double acting). In u128, so that
+/// no product of user integers below can overflow.
+fn crank_set(cranks: u64, strokes: Strokes, acting: Acting) -> (u128, u128, u128) {
     let p = match strokes {
         Strokes::Two => 1,
         Strokes::Four => 2,
     };
-    let q = match acting {
-        Acting::Single => cranks,
-        Acting::Double => 2 * cranks,
+    let a = match acting {
+        Acting::Single => 1,
+        Acting::Double => 2,
     };
-    (n * p) % q == 0 || (n * p * cranks) % q != 0
+    (p, a, a * cranks as u128)
 }
 
-/// The n ≤ n_max that survive the crank sum of a regular machine, ascending.
-pub fn surviving_harmonics(cranks: u64, strokes: Strokes, acting: Acting, n_max: u64) -> Vec<u64> {
-    (1..=n_max)
-        .filter(|&n| harmonic_survives(n, cranks, strokes, acting))
-        .collect()
+/// Whether harmonic n of Q_u* survives the sum over the regular crank set of §2 (false for
+/// zero cranks).
+///
+/// With α = 2π·p/q (p = 1 two-stroke, 2 four-stroke; q = a·k, a = 1 single-, 2
+/// double-acting), the phase sum S_n = Σ_{j<k} e^{2πi·n·j·p/q} is k when q | n·p, and
+/// otherwise the geometric sum (1 − e^{2πi·n·k·p/q})/(1 − e^{2πi·n·p/q}), zero exactly when
+/// q | n·p·k — that is, since n·p·k mod a·k = k·(n·p mod a), when a | n·p. Only n = 1 (the
+/// N and W1 terms) and even n (the W_n terms) carry coefficients at all. Exact for every
+/// n and k: n·p < 2^65 and q < 2^65 are formed in u128.
+pub fn harmonic_survives(n: u64, cranks: u64, strokes: Strokes, acting: Acting) -> bool {
+    if cranks == 0 || n == 0 || (n > 1 && n % 2 == 1) {
+        return false;
+    }
+    let (p, a, q) = crank_set(cranks, strokes, acting);
+    let np = n as u128 * p;
+    np % q == 0 || np % a != 0
+}
+
+/// The n ≤ n_max that survive the crank sum of a regular machine, ascending; an error
+/// naming `cranks` for zero cranks, and one naming `n_max` when the list would not fit
+/// in memory.
+///
+/// Every even survivor is a multiple of lcm(2, q/gcd(q, p)) (for even n the rule is
+/// q | n·p, as a | n·p always holds), so the list is made in O(its length), whatever
+/// n_max and k.
+pub fn surviving_harmonics(
+    cranks: u64,
+    strokes: Strokes,
+    acting: Acting,
+    n_max: u64,
+) -> Result<Vec<u64>> {
+    if cranks == 0 {
+        return Err(MechanismError::InvalidChoice {
+            parameter: "cranks",
+            value: cranks.to_string(),
+            allowed: "an integer >= 1",
+        });
+    }
+    let (p, _, q) = crank_set(cranks, strokes, acting);
+    let period = q / gcd(q, p);
+    let step = if period % 2 == 0 { period } else { 2 * period };
+    let first = n_max >= 1 && harmonic_survives(1, cranks, strokes, acting);
+    let evens = n_max as u128 / step;
+    let mut out = try_with_capacity("n_max", n_max, evens + first as u128)?;
+    if first {
+        out.push(1);
+    }
+    // n = ν·step ≤ n_max < 2^64 for every ν ≤ evens.
+    out.extend((1..=evens).map(|nu| (nu * step) as u64));
+    Ok(out)
 }
 
 /// The phase sums C_n = Σ_j cos nα_j and S_n = Σ_j sin nα_j for n = 0 … n_max.
@@ -272,11 +306,24 @@ pub struct PhaseSums {
 }
 
 impl PhaseSums {
-    pub fn new(phases: &[f64], n_max: usize) -> Self {
+    /// The sums for n = 0 … n_max; an error naming n_max when they would not fit in memory.
+    pub fn new(phases: &[f64], n_max: usize) -> Result<Self> {
+        let len = n_max as u128 + 1;
+        let cos = try_filled("n_max", n_max, len, 0.0)?;
+        let sin = try_filled("n_max", n_max, len, 0.0)?;
+        Ok(Self::filled(phases, cos, sin))
+    }
+
+    /// The sums through a series' harmonic reach (at most MAX_HARMONIC: a few kilobytes,
+    /// never a size a user chose).
+    pub(crate) fn within_reach(phases: &[f64], reach: usize) -> Self {
+        let len = reach.min(MAX_HARMONIC) + 1;
+        Self::filled(phases, vec![0.0; len], vec![0.0; len])
+    }
+
+    fn filled(phases: &[f64], mut cos: Vec<f64>, mut sin: Vec<f64>) -> Self {
         let reach = phases.iter().fold(0.0_f64, |m, a| m.max(a.abs()));
-        let mut cos = vec![0.0; n_max + 1];
-        let mut sin = vec![0.0; n_max + 1];
-        for n in 0..=n_max {
+        for n in 0..cos.len() {
             let (mut c, mut s) = (0.0, 0.0);
             for &alpha in phases {
                 let (sa, ca) = (n as f64 * alpha).sin_cos();
@@ -381,6 +428,106 @@ mod tests {
         }
         assert!(lambda_table(false, &[1.0], 4, Parallelism::SERIAL).is_err());
         assert!(lambda_table(false, &[0.1], usize::MAX, Parallelism::SERIAL).is_err());
+    }
+
+    /// The rule of §5 evaluated the slow, obvious way in exact integers: q | n·p, or the
+    /// geometric sum's numerator is non-zero (q ∤ n·p·k), with n·p·k formed in u128 — valid
+    /// while that product fits, which the values below keep.
+    fn survives_by_definition(n: u64, k: u64, strokes: Strokes, acting: Acting) -> bool {
+        let p: u128 = if strokes == Strokes::Two { 1 } else { 2 };
+        let q: u128 = if acting == Acting::Single { 1 } else { 2 } * k as u128;
+        let carried = n == 1 || n % 2 == 0;
+        let np = n as u128 * p;
+        carried && (np % q == 0 || (np * k as u128) % q != 0)
+    }
+
+    #[test]
+    fn survival_is_exact_for_huge_counts() {
+        // Products n·p·k far beyond u64 (the old rule wrapped and answered at random).
+        let big = [
+            1u64,
+            2,
+            3,
+            7,
+            1 << 31,
+            (1 << 32) + 1,
+            10u64.pow(12),
+            10u64.pow(18),
+            u64::MAX / 3,
+            u64::MAX,
+        ];
+        for strokes in [Strokes::Two, Strokes::Four] {
+            for acting in [Acting::Single, Acting::Double] {
+                for &k in &big {
+                    for &n in big
+                        .iter()
+                        .chain(&[4, 6, 24, 2 * (1 << 31), 2 * 10u64.pow(18)])
+                    {
+                        if (n as u128) * (k as u128) < (1u128 << 126) {
+                            assert_eq!(
+                                harmonic_survives(n, k, strokes, acting),
+                                survives_by_definition(n, k, strokes, acting),
+                                "n={n} k={k} {strokes:?} {acting:?}"
+                            );
+                        }
+                    }
+                }
+            }
+        }
+        // The example: k = 10^18 has no harmonic ≤ 24 (it returned [20, 22, 24]).
+        let none = surviving_harmonics(10u64.pow(18), Strokes::Two, Acting::Single, 24);
+        assert_eq!(none, Ok(vec![]));
+        assert!(!harmonic_survives(5, 0, Strokes::Two, Acting::Single));
+        assert!(surviving_harmonics(0, Strokes::Two, Acting::Single, 24).is_err());
+    }
+
+    #[test]
+    fn surviving_list_is_the_rule_and_costs_its_length() {
+        for k in 1..=30u64 {
+            for strokes in [Strokes::Two, Strokes::Four] {
+                for acting in [Acting::Single, Acting::Double] {
+                    for n_max in [0u64, 1, 2, 23, 24, 25, 200] {
+                        let slow: Vec<u64> = (1..=n_max)
+                            .filter(|&n| harmonic_survives(n, k, strokes, acting))
+                            .collect();
+                        assert_eq!(
+                            surviving_harmonics(k, strokes, acting, n_max),
+                            Ok(slow),
+                            "k={k} n_max={n_max}"
+                        );
+                    }
+                }
+            }
+        }
+        // n_max = u64::MAX with a huge k answers at once (a loop over n would never end).
+        let few = surviving_harmonics(u64::MAX / 2, Strokes::Two, Acting::Single, u64::MAX);
+        assert_eq!(few, Ok(vec![u64::MAX - 1]));
+        let double = surviving_harmonics(u64::MAX, Strokes::Two, Acting::Double, u64::MAX);
+        assert_eq!(double, Ok(vec![1]));
+        // ... and a list that cannot be held is refused, naming n_max.
+        let error = surviving_harmonics(1, Strokes::Two, Acting::Single, u64::MAX).unwrap_err();
+        assert!(
+            matches!(
+                error,
+                MechanismError::TooLarge {
+                    parameter: "n_max",
+                    ..
+                }
+            ),
+            "{error}"
+        );
+    }
+
+    #[test]
+    fn tables_too_large_to_allocate_are_refused_by_name() {
+        for n_max in [usize::MAX, usize::MAX / 2, 1 << 62] {
+            let error = lambda_table(false, &[0.3], n_max, Parallelism::SERIAL).unwrap_err();
+            assert!(error.to_string().starts_with("n_max = "), "{error}");
+            assert!(PhaseSums::new(&[0.0, 1.0], n_max).is_err());
+        }
+        // Many rows of a moderate width overflow only as a product.
+        let ratios = vec![0.3; 1 << 20];
+        assert!(lambda_table(true, &ratios, 1 << 50, Parallelism::SERIAL).is_err());
     }
 
     #[test]

@@ -9,12 +9,12 @@
 //! the step of the surviving even harmonics (p = k for a two-stroke single-acting machine).
 //! Its SIMD evaluation lives in `series_kernels`.
 
-use crate::error::Result;
+use crate::error::{try_filled, Result};
 use crate::harmonics::{
     gcd, harmonic_reach, harmonic_width, lambda_paper, ExactLambdas, PhaseSums, PAPER_MAX_HARMONIC,
 };
 use crate::mechanism::{Design, Phases};
-use crate::parallel::{map_indices, Parallelism};
+use crate::parallel::{for_each_row_pair, map_indices, Parallelism};
 
 /// Which Λ_n and which cut.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -356,7 +356,7 @@ pub fn build_series(
             .unwrap_or(24),
         SeriesKind::Paper => PAPER_MAX_HARMONIC,
     };
-    let sums = PhaseSums::new(phases, reach);
+    let sums = PhaseSums::within_reach(phases, reach);
     map_indices(designs.len(), designs.len() * 64, parallelism, |i| {
         FourierSeries::new(
             kind,
@@ -378,21 +378,24 @@ pub fn fourier_table(
 ) -> Result<(Vec<f64>, Vec<f64>)> {
     Phases::new(phases)?;
     let width = harmonic_width(n_max)?;
-    let sums = PhaseSums::new(phases, n_max.max(1));
-    let rows = map_indices(designs.len(), designs.len() * 64, parallelism, |i| {
-        let (mut a, mut b) = (vec![0.0; width], vec![0.0; width]);
-        let group = UnitGroup {
-            design: &designs[i],
-            sums: &sums,
-        };
-        fourier_coefficients(&[group], &mut a, &mut b);
-        (a, b)
-    });
-    let (mut a, mut b) = (Vec::with_capacity(designs.len() * width), Vec::new());
-    b.reserve(a.capacity());
-    for (row_a, row_b) in rows {
-        a.extend(row_a);
-        b.extend(row_b);
-    }
+    let len = designs.len() as u128 * width as u128;
+    let mut a = try_filled("n_max", n_max, len, 0.0)?;
+    let mut b = try_filled("n_max", n_max, len, 0.0)?;
+    let sums = PhaseSums::new(phases, n_max.max(1))?;
+    let work = designs.len().saturating_mul(width).saturating_mul(64);
+    for_each_row_pair(
+        &mut a,
+        &mut b,
+        width,
+        work,
+        parallelism,
+        |i, row_a, row_b| {
+            let group = UnitGroup {
+                design: &designs[i],
+                sums: &sums,
+            };
+            fourier_coefficients(&[group], row_a, row_b);
+        },
+    );
     Ok((a, b))
 }
