@@ -176,8 +176,9 @@ impl Engine {
         out: &mut [f64],
         parallelism: Parallelism,
     ) -> Result<()> {
-        let phi = PreparedPhi::new(phi.into(), parallelism);
+        let phi = phi.into();
         check_length("out", phi.len(), out.len())?;
+        let phi = PreparedPhi::new(phi, parallelism);
         let work = phi.len().saturating_mul(self.cylinders.len());
         for_each_row_segment(out, phi.len(), work, parallelism, |_, col, segment| {
             evaluate_units(
@@ -215,9 +216,10 @@ impl Engine {
         out: &mut [f64],
         parallelism: Parallelism,
     ) -> Result<()> {
-        let series = self.series();
-        let phi = SeriesPhi::new(phi.into(), std::slice::from_ref(&series), parallelism);
+        let phi = phi.into();
         check_length("out", phi.len(), out.len())?;
+        let series = self.series();
+        let phi = SeriesPhi::new(phi, std::slice::from_ref(&series), parallelism);
         let work = phi.len().saturating_mul(4);
         for_each_row_segment(out, phi.len(), work, parallelism, |_, col, segment| {
             series_or_closed(

@@ -111,6 +111,25 @@ pub(crate) fn check_length(parameter: &'static str, expected: usize, found: usiz
     }
 }
 
+/// `Ok(())` if a buffer holds `rows` × `cols` values, else a `LengthMismatch` naming it (the
+/// product formed without overflow: a wrapped product could match a wrong buffer).
+pub(crate) fn check_rows_length(
+    parameter: &'static str,
+    rows: usize,
+    cols: usize,
+    found: usize,
+) -> Result<()> {
+    match rows.checked_mul(cols) {
+        Some(expected) => check_length(parameter, expected, found),
+        None => Err(MechanismError::TooLarge {
+            parameter,
+            value: format!("{rows} x {cols}"),
+            elements: rows as u128 * cols as u128,
+            item_bytes: std::mem::size_of::<f64>(),
+        }),
+    }
+}
+
 /// An empty vector with room for `len` items, or `TooLarge` naming `parameter` (whose value
 /// was `value`) when that much memory cannot be had. `len` is a `u128` so that a size made
 /// of user integers is formed without overflow and refused here, not wrapped or aborted on.

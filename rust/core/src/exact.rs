@@ -13,7 +13,7 @@ use multiversion::multiversion;
 use multiversion::target::target_cfg_f;
 
 use crate::angles::{AngleSource, Phi, PreparedPhi, Run};
-use crate::error::{check_length, Result};
+use crate::error::{check_rows_length, Result};
 use crate::mechanism::{Design, Phases};
 use crate::parallel::{for_each_row_segment, Parallelism};
 use crate::trig::{Fused, MulAdd, Unfused};
@@ -237,10 +237,11 @@ pub fn evaluate<'a>(
     out: &mut [f64],
     parallelism: Parallelism,
 ) -> Result<()> {
-    let phi = PreparedPhi::new(phi.into(), parallelism);
+    let phi = phi.into();
     let n_phi = phi.len();
-    let expected = designs.len() * n_phi;
-    check_length("out", expected, out.len())?;
+    check_rows_length("out", designs.len(), n_phi, out.len())?;
+    let expected = out.len();
+    let phi = PreparedPhi::new(phi, parallelism);
     for_each_row_segment(
         out,
         n_phi,
@@ -277,6 +278,25 @@ mod tests {
     use super::*;
     use crate::angles::{GridAngles, Rotations, UniformGrid};
     use crate::mechanism::{crank_phases, Acting, Strokes};
+
+    #[test]
+    fn output_sizes_are_checked_before_any_preparation() {
+        // A grid far longer than the buffer: refused before its seeds (len/1024 of them)
+        // are computed; designs × points past usize: refused, not wrapped into a match.
+        let design = [Design::new(0.3, 1.0, 1.0, 0.0).unwrap()];
+        let phases = Phases::single();
+        let huge = UniformGrid::new(0.0, 1e-9, usize::MAX / 2).unwrap();
+        let mut out = [0.0; 4];
+        let force = Quantity::GeneralizedForce;
+        let error = evaluate(force, &design, &phases, huge, &mut out, Parallelism::SERIAL);
+        assert!(matches!(
+            error,
+            Err(crate::MechanismError::LengthMismatch { .. })
+        ));
+        let three = [design[0]; 3];
+        let error = evaluate(force, &three, &phases, huge, &mut out, Parallelism::SERIAL);
+        assert!(matches!(error, Err(crate::MechanismError::TooLarge { .. })));
+    }
 
     /// The portable clone (no FMA) cannot be reached through dispatch on a machine with
     /// FMA: run both arithmetics directly, on points and on a uniform grid.

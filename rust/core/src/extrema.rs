@@ -259,7 +259,10 @@ pub fn all_energy_extrema(
     series: &[FourierSeries],
     parallelism: Parallelism,
 ) -> Vec<EnergyExtrema> {
-    map_indices(designs.len(), designs.len() * 4096, parallelism, |i| {
-        energy_extrema(&designs[i], phases, &series[i])
-    })
+    map_indices(
+        designs.len(),
+        designs.len().saturating_mul(4096),
+        parallelism,
+        |i| energy_extrema(&designs[i], phases, &series[i]),
+    )
 }

@@ -357,15 +357,20 @@ pub fn build_series(
         SeriesKind::Paper => PAPER_MAX_HARMONIC,
     };
     let sums = PhaseSums::within_reach(phases, reach);
-    map_indices(designs.len(), designs.len() * 64, parallelism, |i| {
-        FourierSeries::new(
-            kind,
-            &[UnitGroup {
-                design: &designs[i],
-                sums: &sums,
-            }],
-        )
-    })
+    map_indices(
+        designs.len(),
+        designs.len().saturating_mul(64),
+        parallelism,
+        |i| {
+            FourierSeries::new(
+                kind,
+                &[UnitGroup {
+                    design: &designs[i],
+                    sums: &sums,
+                }],
+            )
+        },
+    )
 }
 
 /// Fourier coefficients a_n, b_n (n = 0 … n_max) of every design of an in-line machine with

@@ -8,7 +8,7 @@ use multiversion::multiversion;
 use multiversion::target::target_cfg_f;
 
 use crate::angles::{AngleSource, GridAngles, Phi, PreparedPhi, Rotations, Run};
-use crate::error::{check_length, Result};
+use crate::error::{check_length, check_rows_length, Result};
 use crate::exact::{evaluate_units, store, Coefficients, Quantity};
 use crate::mechanism::{Design, Phases};
 use crate::parallel::{for_each_row_segment, Parallelism};
@@ -261,10 +261,11 @@ pub fn evaluate_series_or_exact<'a>(
     out: &mut [f64],
     parallelism: Parallelism,
 ) -> Result<()> {
-    let phi = SeriesPhi::new(phi.into(), series, parallelism);
+    let phi = phi.into();
     let n_phi = phi.len();
     check_length("designs", series.len(), designs.len())?;
-    check_length("out", series.len() * n_phi, out.len())?;
+    check_rows_length("out", series.len(), n_phi, out.len())?;
+    let phi = SeriesPhi::new(phi, series, parallelism);
     let work = out.len().saturating_mul(4);
     for_each_row_segment(out, n_phi, work, parallelism, |row, col, segment| {
         let units = [Coefficients::new(&designs[row])];
@@ -287,9 +288,10 @@ pub fn evaluate_series<'a>(
     out: &mut [f64],
     parallelism: Parallelism,
 ) -> Result<()> {
-    let phi = SeriesPhi::new(phi.into(), series, parallelism);
+    let phi = phi.into();
     let n_phi = phi.len();
-    check_length("out", series.len() * n_phi, out.len())?;
+    check_rows_length("out", series.len(), n_phi, out.len())?;
+    let phi = SeriesPhi::new(phi, series, parallelism);
     let work = out.len().saturating_mul(4);
     for_each_row_segment(out, n_phi, work, parallelism, |row, col, segment| {
         series_run(
