@@ -93,13 +93,15 @@ fn series_points<M: MulAdd, const N: usize>(
 /// Points per register block (four AVX-512 vectors).
 const LANES: usize = 32;
 
-/// Where a series block gets e^{ipφ}.
+/// Where a series block gets e^{ipφ}: from e^{iφ} (cos and sin) or from the grid, given
+/// the roundings d of the grid's points that e^{iφ} was found with.
 trait HarmonicSource: Copy {
     fn block<M: MulAdd, const N: usize>(
         self,
         offset: usize,
         c: &[f64; N],
         s: &[f64; N],
+        d: &[f64; N],
         step: usize,
     ) -> ([f64; N], [f64; N]);
 }
@@ -115,6 +117,7 @@ impl HarmonicSource for Powering {
         _offset: usize,
         c: &[f64; N],
         s: &[f64; N],
+        _d: &[f64; N],
         step: usize,
     ) -> ([f64; N], [f64; N]) {
         power_lanes::<M, N>(c, s, step)
@@ -129,9 +132,10 @@ impl HarmonicSource for GridAngles<'_> {
         offset: usize,
         _c: &[f64; N],
         _s: &[f64; N],
+        d: &[f64; N],
         _step: usize,
     ) -> ([f64; N], [f64; N]) {
-        let (ws, wc) = AngleSource::block::<M, N>(self, offset, N);
+        let (ws, wc) = self.rotations.block_rounded::<M, N>(self.first + offset, d);
         (wc, ws)
     }
 }
@@ -165,11 +169,11 @@ fn series_blocks<M: MulAdd, A: AngleSource, H: HarmonicSource>(
     // pass over memory in between (several independent chains hide each step's latency);
     // the last block padded.
     for (b, o) in out.chunks_mut(LANES).enumerate() {
-        let (s, c) = angles.block::<M, LANES>(b * LANES, o.len());
+        let (s, c, d) = angles.block_and_rounding::<M, LANES>(b * LANES, o.len());
         let w = if series.cos.is_empty() {
             ([1.0; LANES], [0.0; LANES]) // unused
         } else {
-            harmonic.block::<M, LANES>(b * LANES, &c, &s, series.step)
+            harmonic.block::<M, LANES>(b * LANES, &c, &s, &d, series.step)
         };
         store(o, &series_points::<M, LANES>(series, &c, &s, &w));
     }
