@@ -21,33 +21,86 @@ fn t_of(crank_ratio: f64) -> DoubleDouble {
 /// Λ_2, Λ_4, Λ_6, … of the exact closed form, one per `next()`:
 ///
 /// Λ_{2m} = 2m·C(½, m)·t^{2m−1}·Σ_{b≥0} [C(½, b)·C(½, b+m)/C(½, m)]·t^{4b}
-///        = 2m·C(½, m)·t^{2m−1}·₂F₁(−½, m − ½; m + 1; t⁴).
+///        = 2m·C(½, m)·t^{2m−1}·F_m,   F_m = ₂F₁(−½, m − ½; m + 1; z),  z = t⁴.
 ///
 /// t^{2m−1} and 2m·C(½, m) are carried in double-double, so the relative error stays at a
-/// few ulps for every m; the ₂F₁ factor is 1 + O(t⁴) and needs only doubles.
+/// few ulps for every m. F_m lies in [√(1 − z), 1] and is found with bounded work for
+/// every z ∈ [0, 1) — λ → 1 (z → 1) included, where its power series needs ~40/(1 − z)
+/// terms (10⁹ at λ = 1 − 2⁻⁵³, which once took 40 s for a series):
+///
+/// - z ≤ ½: the power series in z (its term ratios are below z: ≤ 56 terms);
+/// - z > ½ and m·w ≤ 2 (w = 1 − z): the expansion about z = 1 for c − a − b = 2
+///   (Abramowitz & Stegun 15.3.11), a series in w with logarithmic terms whose ratios
+///   are ≤ ~m·w/2 (≤ ~46 terms);
+/// - z > ½ and m·w > 2: Miller's backward recurrence on the three-term recurrence
+///   z(m + 3/2)(m − ½)·F_{m+1} = m(m + 1)·[(1 + z)·F_m − F_{m−1}] (F_m, tending to √w, is
+///   its minimal solution going up, the other grows like z^{−m}), in double-double,
+///   normalised by the F_{m−1} before the block: about 40/w + (block length) steps per
+///   block of up to thousands of harmonics, O(1) per harmonic.
+///
+/// `work()` counts the terms and recurrence steps, so that tests can bound it.
 #[derive(Debug, Clone)]
 pub struct ExactLambdas {
     t: DoubleDouble,
     t2: DoubleDouble,
-    t4: f64,
-    m: u32,
+    /// z = t⁴ and w = 1 − z, both from t in double-double.
+    z: DoubleDouble,
+    w: f64,
+    m: u64,
     /// t^{2m−1}
     power: DoubleDouble,
     /// C(½, m)
     binomial: DoubleDouble,
+    /// m!/Γ(m + 3/2) and ψ(m + 3/2) − ψ(3/2) = Σ_{k≤m} 2/(2k + 1): the expansion about z = 1.
+    gamma_ratio: DoubleDouble,
+    digamma: DoubleDouble,
+    /// F_{m−1}: where a Miller block is normalised.
+    previous: f64,
+    /// F_m for m = block_start … block_start + block.len() − 1 (Miller).
+    block: Vec<f64>,
+    block_start: u64,
+    /// The harmonic index up to which a Miller block is made at once (more when asked).
+    reach: u64,
+    work: u64,
 }
+
+/// 2/√π as a double-double: 1/Γ(3/2).
+const TWO_OVER_ROOT_PI: DoubleDouble = DoubleDouble {
+    hi: 1.128_379_167_095_512_6,
+    lo: 1.533_545_961_316_588e-17,
+};
 
 impl ExactLambdas {
     pub fn new(crank_ratio: f64) -> Self {
+        Self::with_reach(crank_ratio, MAX_HARMONIC)
+    }
+
+    /// Λ_2 … as `new`, for a consumer that will ask for harmonics up to n = `reach`
+    /// (the length of a Miller block; asking for more still works).
+    pub fn with_reach(crank_ratio: f64, reach: usize) -> Self {
         let t = t_of(crank_ratio);
         let t2 = t.mul(t);
+        let z = t2.mul(t2);
+        // w = 1 − t⁴ = (1 − t²)(1 + t²), with 1 − t² from the double-double t².
+        let w = DoubleDouble::new(1.0)
+            .sub(t2)
+            .mul(DoubleDouble::new(1.0).add(t2))
+            .hi;
         Self {
             t,
             t2,
-            t4: t2.mul(t2).hi,
+            z,
+            w,
             m: 0,
             power: DoubleDouble::new(1.0),
             binomial: DoubleDouble::new(1.0),
+            gamma_ratio: TWO_OVER_ROOT_PI,
+            digamma: DoubleDouble::new(0.0),
+            previous: 1.0,
+            block: Vec::new(),
+            block_start: 0,
+            reach: (reach / 2).max(1) as u64,
+            work: 0,
         }
     }
 
@@ -55,35 +108,24 @@ impl ExactLambdas {
     pub fn t(&self) -> f64 {
         self.t.hi
     }
-}
 
-impl Iterator for ExactLambdas {
-    type Item = f64;
+    /// The terms and recurrence steps spent so far (a bound on the work, for tests).
+    pub fn work(&self) -> u64 {
+        self.work
+    }
 
-    fn next(&mut self) -> Option<f64> {
-        self.m += 1;
-        let m = self.m as f64;
-        if self.m == 1 {
-            self.power = self.t;
-            self.binomial = DoubleDouble::new(0.5);
-        } else {
-            self.power = self.power.mul(self.t2);
-            // C(½, m) = C(½, m−1)·(½ − (m−1))/m = C(½, m−1)·(3 − 2m)/(2m)
-            self.binomial = self.binomial.mul_f64(3.0 - 2.0 * m).div_f64(2.0 * m);
-        }
-        if self.power.hi == 0.0 {
-            return Some(0.0);
-        }
-        // ₂F₁ by its term ratios: c_b/c_{b−1} = ((3/2 − b)/b)·((3/2 − b − m)/(b + m))·t⁴.
-        // Near λ = 1 (t⁴ → 1) the terms fall off slowly, like b⁻³·t^{4b}: they are summed
-        // with Neumaier's compensation, and once the geometric estimate of the rest,
-        // term·r/(1 − r) with r the last term ratio, is below 1e-17 of the sum, that estimate
-        // is added and the loop ends (the ratio still creeps up, so the estimate errs by less
-        // than a third of itself).
+    /// F_m for the current m by the power series in z (z ≤ ½, or m = 1).
+    fn power_series(&mut self) -> f64 {
+        // Term ratios c_b/c_{b−1} = ((3/2 − b)/b)·((3/2 − b − m)/(b + m))·z, below z in size.
+        // Summed with Neumaier's compensation; once the geometric estimate of the rest,
+        // term·r/(1 − r) with r the last ratio, is below 1e-17 of the sum, it is added and
+        // the loop ends.
+        let (m, z) = (self.m as f64, self.z.hi);
         let (mut term, mut sum, mut compensation) = (1.0_f64, 1.0_f64, 0.0_f64);
         let mut b = 1.0;
-        while b < 1.0e7 {
-            let ratio = ((1.5 - b) * (1.5 - b - m)) / (b * (b + m)) * self.t4;
+        while b < 10_000.0 {
+            self.work += 1;
+            let ratio = ((1.5 - b) * (1.5 - b - m)) / (b * (b + m)) * z;
             term *= ratio;
             let next = sum + term;
             compensation += if sum.abs() >= term.abs() {
@@ -99,7 +141,131 @@ impl Iterator for ExactLambdas {
             }
             b += 1.0;
         }
-        let hypergeometric = sum + compensation;
+        sum + compensation
+    }
+
+    /// F_m by the expansion about z = 1 (A&S 15.3.11 with a = −½, b = m − ½, c − a − b = 2):
+    ///
+    /// F_m = (R/√π)·[2 + (m − ½)·w + (w²/2)(m + ½)(m − ½)·Σ_n T_n·L_n],
+    /// R = m!/Γ(m + 3/2), T_n = (3/2)_n (m + 3/2)_n w^n/(n! (n + 2)!),
+    /// L_n = ln w − ψ(n + 1) − ψ(n + 3) + ψ(n + 3/2) + ψ(m + n + 3/2),
+    ///
+    /// where L_0 = ln w + 5/2 − 4 ln 2 + Σ_{k≤m} 2/(2k + 1) and each L_{n+1} follows by
+    /// ψ(x + 1) = ψ(x) + 1/x. For m·w ≤ 2 the terms fall from the start: ≤ ~46 of them.
+    fn about_one(&mut self) -> f64 {
+        let (m, w) = (self.m as f64, self.w);
+        let mut log = w.ln() + 2.5 - 4.0 * std::f64::consts::LN_2 + self.digamma.hi;
+        let (mut term, mut sum) = (0.5, 0.0_f64);
+        let mut n = 0.0;
+        while n < 400.0 {
+            self.work += 1;
+            sum += term * log;
+            n += 1.0;
+            term *= (0.5 + n) * (m + 0.5 + n) / (n * (n + 2.0)) * w;
+            log += -1.0 / n - 1.0 / (n + 2.0) + 1.0 / (n + 0.5) + 1.0 / (m + n + 0.5);
+            if n > 2.0 && (term * log).abs() <= 1e-18 * sum.abs() {
+                break;
+            }
+        }
+        let bracket = 2.0 + (m - 0.5) * w + 0.5 * w * w * (m + 0.5) * (m - 0.5) * sum;
+        // R/√π·bracket = R·(2/√π)·(bracket/2)
+        self.gamma_ratio
+            .mul(TWO_OVER_ROOT_PI)
+            .mul_f64(0.5 * bracket)
+            .hi
+    }
+
+    /// F_m from a Miller block, made when m leaves the last one.
+    fn miller(&mut self) -> f64 {
+        let index = self.m - self.block_start;
+        if self.block_start == 0 || index >= self.block.len() as u64 {
+            self.make_block();
+        }
+        self.block[(self.m - self.block_start) as usize]
+    }
+
+    /// F_m … F_{m+B−1} by the backward recurrence, started K steps above the block with
+    /// F̃ = 1, 1 (the unwanted solution falls by z per step going down: K = ln(2^-60)/ln z),
+    /// in double-double, and scaled so that the value at m − 1 is the F_{m−1} found before.
+    /// B covers the harmonics the consumer said it would ask for, at least K (so a block
+    /// costs at most twice its length) and at most 2^20 (8 MB).
+    fn make_block(&mut self) {
+        let z = self.z;
+        let steps = ((-60.0 * std::f64::consts::LN_2) / z.hi.ln()).ceil() as u64 + 8;
+        let wanted = self.reach.saturating_sub(self.m) + 1;
+        let length = wanted.max(steps).clamp(64, 1 << 20);
+        let top = self.m + length - 1 + steps;
+        let one_plus_z = DoubleDouble::new(1.0).add(z);
+        let (mut above, mut here) = (DoubleDouble::new(1.0), DoubleDouble::new(1.0));
+        self.block.clear();
+        self.block.resize(length as usize, 0.0);
+        // here = F̃_k, above = F̃_{k+1}; F̃_{k−1} = (1 + z)F̃_k − z(k + 3/2)(k − ½)/(k(k + 1))·F̃_{k+1}.
+        let mut k = top;
+        while k >= self.m {
+            self.work += 1;
+            if k < self.m + length {
+                self.block[(k - self.m) as usize] = here.hi;
+            }
+            let kf = k as f64;
+            let coefficient =
+                DoubleDouble::product(kf + 1.5, kf - 0.5).div(DoubleDouble::product(kf, kf + 1.0));
+            let below = one_plus_z.mul(here).sub(z.mul(coefficient).mul(above));
+            (above, here) = (here, below);
+            // Keep the values near 1 (the wanted solution tends to a constant, but a start
+            // far from it could drift in scale over many steps).
+            if here.hi.abs() > 1e100 || here.hi.abs() < 1e-100 {
+                let rescale = 1.0 / here.hi;
+                (above, here) = (above.mul_f64(rescale), here.mul_f64(rescale));
+                for f in &mut self.block {
+                    *f *= rescale;
+                }
+            }
+            k -= 1;
+        }
+        // here = F̃_{m−1}
+        let scale = self.previous / here.hi;
+        for f in &mut self.block {
+            *f *= scale;
+        }
+        self.block_start = self.m;
+    }
+}
+
+impl Iterator for ExactLambdas {
+    type Item = f64;
+
+    fn next(&mut self) -> Option<f64> {
+        self.m += 1;
+        let m = self.m as f64;
+        let near_one = self.z.hi > 0.5;
+        if self.m == 1 {
+            self.power = self.t;
+            self.binomial = DoubleDouble::new(0.5);
+        } else {
+            self.power = self.power.mul(self.t2);
+            // C(½, m) = C(½, m−1)·(½ − (m−1))/m = C(½, m−1)·(3 − 2m)/(2m)
+            self.binomial = self.binomial.mul_f64(3.0 - 2.0 * m).div_f64(2.0 * m);
+        }
+        if near_one {
+            // R_m = R_{m−1}·m/(m + ½); Σ_{k≤m} 2/(2k + 1).
+            self.gamma_ratio = self.gamma_ratio.mul_f64(m).div_f64(m + 0.5);
+            self.digamma = self
+                .digamma
+                .add(DoubleDouble::new(2.0).div_f64(2.0 * m + 1.0));
+        }
+        if self.power.hi == 0.0 {
+            // t^{2m−1} underflowed: so has every later Λ (the F_m are ≤ 1).
+            self.previous = 0.0;
+            return Some(0.0);
+        }
+        let hypergeometric = if !near_one {
+            self.power_series()
+        } else if m * self.w <= 2.0 {
+            self.about_one()
+        } else {
+            self.miller()
+        };
+        self.previous = hypergeometric;
         let value = self
             .binomial
             .mul_f64(2.0 * m)
@@ -112,9 +278,13 @@ impl Iterator for ExactLambdas {
 /// Λ_0 … Λ_{n_max} of the exact form into `out` (length n_max + 1; odd entries and Λ_0 are 0).
 pub fn lambda_exact(crank_ratio: f64, out: &mut [f64]) {
     out.fill(0.0);
-    let mut lambdas = ExactLambdas::new(crank_ratio);
+    let mut lambdas = ExactLambdas::with_reach(crank_ratio, out.len().saturating_sub(1));
     for n in (2..out.len()).step_by(2) {
-        out[n] = lambdas.next().unwrap_or(0.0);
+        let value = lambdas.next().unwrap_or(0.0);
+        if value == 0.0 && lambdas.power.hi == 0.0 {
+            break; // t^{2m−1} underflowed: every later Λ is 0, as `out` already holds
+        }
+        out[n] = value;
     }
 }
 
@@ -392,6 +562,97 @@ mod tests {
         assert_eq!(paper_coefficient(6, 5), Ok((-63, 524288)));
         assert_eq!(paper_coefficient(3, 1), Ok((0, 1)));
         assert!(paper_coefficient(1, 21).is_err());
+    }
+
+    /// λ from 0 to the largest double below 1, and t, w at each.
+    const RATIOS: [f64; 13] = [
+        0.0,
+        1e-8,
+        0.3,
+        0.7,
+        0.9,
+        0.986,
+        0.99,
+        0.9999,
+        0.99999,
+        1.0 - 1e-8,
+        1.0 - 1e-12,
+        1.0 - 1.0 / (1u64 << 52) as f64,
+        1.0 - 1.0 / (1u64 << 53) as f64,
+    ];
+
+    #[test]
+    fn lambda_work_is_bounded_for_every_crank_ratio() {
+        // Issue 13, item 4: at λ = 1 − 2⁻⁵³ the ₂F₁ power series ran to its 10⁷-term cap for
+        // each of ~1000 harmonics (40 s per series). Every regime now takes a bounded
+        // number of terms or recurrence steps per harmonic.
+        for &lambda in &RATIOS {
+            let mut lambdas = ExactLambdas::new(lambda);
+            let t = lambdas.t();
+            let bound = |m: f64| t.powf(2.0 * m - 1.0) / (1.0 - t.powi(4)).max(f64::MIN_POSITIVE);
+            for m in 1..=(MAX_HARMONIC / 2) {
+                let value = lambdas.next().unwrap();
+                assert!(value.is_finite(), "λ = {lambda}, m = {m}");
+                assert!(
+                    value.abs() <= bound(m as f64) * (1.0 + 1e-12),
+                    "λ = {lambda}, m = {m}"
+                );
+            }
+            assert!(
+                lambdas.work() <= 64 * MAX_HARMONIC as u64,
+                "λ = {lambda}: {} terms for {} harmonics",
+                lambdas.work(),
+                MAX_HARMONIC / 2
+            );
+        }
+        // A table far beyond any series, near 1: still O(1) per entry.
+        for &lambda in &RATIOS[7..] {
+            let mut lambdas = ExactLambdas::with_reach(lambda, 200_000);
+            for _ in 0..100_000 {
+                lambdas.next();
+            }
+            assert!(
+                lambdas.work() <= 200 * 100_000,
+                "λ = {lambda}: {}",
+                lambdas.work()
+            );
+        }
+    }
+
+    /// F_m after `m` steps, then by the power series for the same m (forced, for a check).
+    fn regimes(lambda: f64, m: u64) -> (f64, f64) {
+        let mut lambdas = ExactLambdas::with_reach(lambda, 4096);
+        for _ in 0..m {
+            lambdas.next();
+        }
+        let found = lambdas.previous;
+        (found, lambdas.power_series())
+    }
+
+    #[test]
+    fn the_three_regimes_agree_where_they_meet() {
+        // z > ½ with the power series still affordable (≤ 10⁴ terms): the expansion about
+        // z = 1 (m·w ≤ 2) and Miller's blocks (m·w > 2) against it, across the switch.
+        for lambda in [0.987, 0.99, 0.995, 0.999, 0.9995] {
+            let w = 1.0 - ExactLambdas::new(lambda).z.hi;
+            let switch = (2.0 / w) as u64;
+            for m in [
+                1,
+                2,
+                switch.saturating_sub(1).max(1),
+                switch,
+                switch + 1,
+                switch + 2,
+                300,
+                1000,
+            ] {
+                let (found, series) = regimes(lambda, m);
+                assert!(
+                    (found - series).abs() <= 8.0 * f64::EPSILON * series,
+                    "λ = {lambda}, m = {m} (switch {switch}): {found} vs {series}"
+                );
+            }
+        }
     }
 
     #[test]
