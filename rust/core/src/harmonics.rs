@@ -66,7 +66,7 @@ pub struct ExactLambdas {
 
 /// 2/√π as a double-double: 1/Γ(3/2).
 const TWO_OVER_ROOT_PI: DoubleDouble = DoubleDouble {
-    hi: 1.128_379_167_095_512_6,
+    hi: std::f64::consts::FRAC_2_SQRT_PI,
     lo: 1.533_545_961_316_588e-17,
 };
 
@@ -110,7 +110,8 @@ impl ExactLambdas {
     }
 
     /// The terms and recurrence steps spent so far (a bound on the work, for tests).
-    pub fn work(&self) -> u64 {
+    #[cfg(test)]
+    pub(crate) fn work(&self) -> u64 {
         self.work
     }
 
@@ -266,6 +267,12 @@ impl Iterator for ExactLambdas {
             self.miller()
         };
         self.previous = hypergeometric;
+        // Each regime is bounded (see the type's docs): ≤ 400 terms per harmonic, and a
+        // Miller block (≤ 2^20 long) costs its length plus a warm-up of ~41.6/w < 21·m
+        // steps (m·w > 2 there).
+        debug_assert!(
+            self.work <= 400 * self.m + (self.m / (1 << 20) + 1) * ((1 << 20) + 21 * self.m + 8)
+        );
         let value = self
             .binomial
             .mul_f64(2.0 * m)
