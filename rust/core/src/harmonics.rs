@@ -61,7 +61,63 @@ pub struct ExactLambdas {
     block_start: u64,
     /// The harmonic index up to which a Miller block is made at once (more when asked).
     reach: u64,
+    /// Tabulated power-series terms that reach 2^-58 at this z (0: z too large for them).
+    tabulated: usize,
     work: u64,
+}
+
+/// Harmonics m ≤ TABLE_M take 2m·C(½, m) and the power-series coefficients of F_m from
+/// tables made once per process (a sweep builds millions of series: the recurrences'
+/// divisions were most of their cost).
+const TABLE_M: usize = 256;
+/// Power-series terms tabulated per m: enough for z ≤ 0.28 (λ ≤ 0.93).
+const TABLE_B: usize = 32;
+
+struct Tables {
+    /// 2m·C(½, m), m = 0 … TABLE_M, from the same double-double recurrence as beyond.
+    binomial: Vec<DoubleDouble>,
+    /// C(½, TABLE_M), where the recurrence goes on.
+    last_binomial: DoubleDouble,
+    /// c_b(m) = Π_{i≤b} ((3/2 − i)(3/2 − i − m))/(i(i + m)), b < TABLE_B, m = 0 … TABLE_M:
+    /// F_m = Σ_b c_b(m)·z^b, |c_b| ≤ 1.
+    series: Vec<[f64; TABLE_B]>,
+}
+
+fn tables() -> &'static Tables {
+    static TABLES: std::sync::OnceLock<Tables> = std::sync::OnceLock::new();
+    TABLES.get_or_init(|| {
+        let mut binomial = vec![DoubleDouble::new(0.0); TABLE_M + 1];
+        let mut c = DoubleDouble::new(1.0);
+        for (m, entry) in binomial.iter_mut().enumerate().skip(1) {
+            c = next_binomial(c, m as f64);
+            *entry = c.mul_f64(2.0 * m as f64);
+        }
+        let series = (0..=TABLE_M)
+            .map(|m| {
+                let mut row = [0.0; TABLE_B];
+                row[0] = 1.0;
+                for b in 1..TABLE_B {
+                    let (bf, mf) = (b as f64, m as f64);
+                    row[b] = row[b - 1] * ((1.5 - bf) * (1.5 - bf - mf)) / (bf * (bf + mf));
+                }
+                row
+            })
+            .collect();
+        Tables {
+            binomial,
+            last_binomial: c,
+            series,
+        }
+    })
+}
+
+/// C(½, m) from C(½, m − 1): ·(½ − (m − 1))/m = ·(3 − 2m)/(2m) (C(½, 1) = ½ from 1).
+fn next_binomial(previous: DoubleDouble, m: f64) -> DoubleDouble {
+    if m == 1.0 {
+        DoubleDouble::new(0.5)
+    } else {
+        previous.mul_f64(3.0 - 2.0 * m).div_f64(2.0 * m)
+    }
 }
 
 /// 2/√π as a double-double: 1/Γ(3/2).
@@ -100,7 +156,56 @@ impl ExactLambdas {
             block: Vec::new(),
             block_start: 0,
             reach: (reach / 2).max(1) as u64,
+            tabulated: Self::tabulated_terms(z.hi),
             work: 0,
+        }
+    }
+
+    /// N with z^N ≤ 2^-58 (the rest of the series, ≤ z^N/(1 − z) with |c_b| ≤ 1, is then
+    /// below half an ulp of F ≥ √(1 − z)), if N ≤ TABLE_B; else 0.
+    fn tabulated_terms(z: f64) -> usize {
+        if z == 0.0 {
+            return 1;
+        }
+        let terms = (-58.0 * std::f64::consts::LN_2 / z.ln()).ceil();
+        if terms.is_finite() && terms >= 1.0 && terms <= TABLE_B as f64 {
+            terms as usize
+        } else {
+            0
+        }
+    }
+
+    /// Moves to the next harmonic without computing it (its Λ is not needed: the crank sum
+    /// cancels it); only where F_m comes from the power series, which needs no F_{m−1}.
+    pub(crate) fn skip(&mut self) {
+        if self.z.hi > 0.5 {
+            self.next();
+        } else {
+            self.advance();
+        }
+    }
+
+    /// m, t^{2m−1} and C(½, m) (and the expansion about z = 1's running values) to the
+    /// next harmonic.
+    fn advance(&mut self) {
+        self.m += 1;
+        let m = self.m as f64;
+        self.power = if self.m == 1 {
+            self.t
+        } else {
+            self.power.mul(self.t2)
+        };
+        if self.m as usize == TABLE_M + 1 {
+            self.binomial = next_binomial(tables().last_binomial, m);
+        } else if self.m as usize > TABLE_M {
+            self.binomial = next_binomial(self.binomial, m);
+        }
+        if self.z.hi > 0.5 {
+            // R_m = R_{m−1}·m/(m + ½); Σ_{k≤m} 2/(2k + 1).
+            self.gamma_ratio = self.gamma_ratio.mul_f64(m).div_f64(m + 0.5);
+            self.digamma = self
+                .digamma
+                .add(DoubleDouble::new(2.0).div_f64(2.0 * m + 1.0));
         }
     }
 
@@ -117,6 +222,16 @@ impl ExactLambdas {
 
     /// F_m for the current m by the power series in z (z ≤ ½, or m = 1).
     fn power_series(&mut self) -> f64 {
+        if self.tabulated > 0 && self.m as usize <= TABLE_M {
+            self.work += self.tabulated as u64;
+            let row = &tables().series[self.m as usize][..self.tabulated];
+            return row.iter().rev().fold(0.0, |sum, &c| sum * self.z.hi + c);
+        }
+        self.summed_power_series()
+    }
+
+    /// F_m by summing the power series term by term (z too large, or m, for the tables).
+    fn summed_power_series(&mut self) -> f64 {
         // Term ratios c_b/c_{b−1} = ((3/2 − b)/b)·((3/2 − b − m)/(b + m))·z, below z in size.
         // Summed with Neumaier's compensation; once the geometric estimate of the rest,
         // term·r/(1 − r) with r the last ratio, is below 1e-17 of the sum, it is added and
@@ -236,24 +351,9 @@ impl Iterator for ExactLambdas {
     type Item = f64;
 
     fn next(&mut self) -> Option<f64> {
-        self.m += 1;
+        self.advance();
         let m = self.m as f64;
         let near_one = self.z.hi > 0.5;
-        if self.m == 1 {
-            self.power = self.t;
-            self.binomial = DoubleDouble::new(0.5);
-        } else {
-            self.power = self.power.mul(self.t2);
-            // C(½, m) = C(½, m−1)·(½ − (m−1))/m = C(½, m−1)·(3 − 2m)/(2m)
-            self.binomial = self.binomial.mul_f64(3.0 - 2.0 * m).div_f64(2.0 * m);
-        }
-        if near_one {
-            // R_m = R_{m−1}·m/(m + ½); Σ_{k≤m} 2/(2k + 1).
-            self.gamma_ratio = self.gamma_ratio.mul_f64(m).div_f64(m + 0.5);
-            self.digamma = self
-                .digamma
-                .add(DoubleDouble::new(2.0).div_f64(2.0 * m + 1.0));
-        }
         if self.power.hi == 0.0 {
             // t^{2m−1} underflowed: so has every later Λ (the F_m are ≤ 1).
             self.previous = 0.0;
@@ -273,12 +373,13 @@ impl Iterator for ExactLambdas {
         debug_assert!(
             self.work <= 400 * self.m + (self.m / (1 << 20) + 1) * ((1 << 20) + 21 * self.m + 8)
         );
-        let value = self
-            .binomial
-            .mul_f64(2.0 * m)
-            .mul(self.power)
-            .mul_f64(hypergeometric);
-        Some(value.hi)
+        let coefficient = if self.m as usize <= TABLE_M {
+            tables().binomial[self.m as usize]
+        } else {
+            self.binomial.mul_f64(2.0 * m)
+        };
+        let value = coefficient.mul(self.power);
+        Some(value.hi * hypergeometric + value.lo * hypergeometric)
     }
 }
 

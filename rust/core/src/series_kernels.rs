@@ -188,11 +188,6 @@ fn series_run(series: &FourierSeries, run: Run, harmonic: Option<&Rotations>, ou
     }
 }
 
-/// Evaluate a series at every φ of `phi` into `out`.
-pub(crate) fn evaluate_series_one(series: &FourierSeries, phi: &[f64], out: &mut [f64]) {
-    series_run(series, Run::points(phi), None, out)
-}
-
 /// φ prepared for series: on a uniform grid, the rotations of φ and of pφ for every
 /// harmonic step p among the series.
 pub(crate) struct SeriesPhi<'a> {
