@@ -200,8 +200,9 @@ impl ExactLambdas {
         } else if self.m as usize > TABLE_M {
             self.binomial = next_binomial(self.binomial, m);
         }
-        if self.z.hi > 0.5 {
-            // R_m = R_{m−1}·m/(m + ½); Σ_{k≤m} 2/(2k + 1).
+        if self.z.hi > 0.5 && m * self.w <= 2.0 {
+            // R_m = R_{m−1}·m/(m + ½); Σ_{k≤m} 2/(2k + 1): only for the expansion about
+            // z = 1, which is not used again once m·w > 2.
             self.gamma_ratio = self.gamma_ratio.mul_f64(m).div_f64(m + 0.5);
             self.digamma = self
                 .digamma
@@ -322,9 +323,11 @@ impl ExactLambdas {
             if k < self.m + length {
                 self.block[(k - self.m) as usize] = here.hi;
             }
+            // (k + 3/2)(k − ½)/(k(k + 1)) = 1 − ¾/(k(k + 1)): the small part in double
+            // (its rounding, ε·¾/k², sums to ~ε/m over the whole recurrence).
             let kf = k as f64;
             let coefficient =
-                DoubleDouble::product(kf + 1.5, kf - 0.5).div(DoubleDouble::product(kf, kf + 1.0));
+                DoubleDouble::new(1.0).sub(DoubleDouble::new(0.75 / (kf * (kf + 1.0))));
             let below = one_plus_z.mul(here).sub(z.mul(coefficient).mul(above));
             (above, here) = (here, below);
             // Keep the values near 1 (the wanted solution tends to a constant, but a start
