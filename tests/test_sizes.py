@@ -53,6 +53,7 @@ REQUESTS = {
         lambda n: np.array(mc.surviving_harmonics(1, n_max=n)),
         lambda n: (n >= 1) + n // 2,
     ),
+    "harmonic_table": ("k_max", lambda n: mc.harmonic_table(k_max=n + 1).to_numpy(), lambda n: 7 * (n + 1)),
     "uniform_grid": ("phi", lambda n: mc.generalized_force(mc.uniform_grid(n + 1), **DESIGN), lambda n: n + 1),
     "uniform_grid_points": ("count", lambda n: np.asarray(mc.uniform_grid(n + 1)), lambda n: n + 1),
     "engine_grid": ("phi", lambda n: ENGINE.potential_energy(mc.uniform_grid(n + 1)), lambda n: n + 1),

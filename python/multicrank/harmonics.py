@@ -112,6 +112,8 @@ def harmonic_table(strokes: int = 2, acting: str = "single", k_max: int = 12, n_
     acting = as_option(acting, "acting", ("single", "double"))
     k_max = as_count(k_max, "k_max", minimum=1)
     n_max = as_count(n_max, "n_max", minimum=1)
+    check_size("n_max", n_max, n_max // 2 + 1, item_bytes=8)
+    check_size("k_max", k_max, (n_max // 2 + 1) * k_max, item_bytes=1)
     rows = [1, *list(range(2, n_max + 1, 2))]
     table = pd.DataFrame(
         False, index=pd.Index(rows, name="n"), columns=pd.Index(range(1, k_max + 1), name="k"), dtype=bool
