@@ -213,6 +213,39 @@ def test_lambda_exact_near_one(lam):
         assert_lambda_close(got[n], lambda_by_quadrature(lam, n, 40), n, lam)
 
 
+def lambda_by_hypergeometric(lam: float, n: int):
+    """Λ_n = 2m·C(½, m)·t^{2m−1}·₂F₁(−½, m − ½; m + 1; t⁴), m = n/2, at 40 digits (mpmath
+    sums ₂F₁ near z = 1 by its own transformations)."""
+    with mp.workdps(40):
+        L, m = mpf(lam), n // 2
+        t = L / (1 + mp.sqrt(1 - L**2))
+        half = mpf(1) / 2
+        return 2 * m * mp.binomial(half, m) * t ** (2 * m - 1) * mp.hyp2f1(-half, m - half, m + 1, t**4)
+
+
+NEAR_ONE = [0.986, 0.99, 0.9999, 0.99999, 1 - 1e-8, 1 - 1e-12, 1 - 2**-52, 1 - 2**-53]
+
+
+@pytest.mark.parametrize("lam", NEAR_ONE)
+def test_lambda_exact_near_one_to_high_harmonics(lam):
+    """Issue 13, item 4: Λ_n up to n = 4096 near λ = 1 — every regime of the ₂F₁ (the series
+    about z = 1, Miller's recurrence, the power series) — is exact to the promise, and fast:
+    at λ = 1 − 2⁻⁵³ a series once took 40 s (here the whole table is one call; the work per
+    harmonic is bounded in the Rust tests)."""
+    got = mc.lambda_coefficients(lam, 4096)
+    for n in (2, 4, 6, 10, 20, 40, 98, 100, 102, 300, 1000, 2048, 3000, 4096):
+        assert_lambda_close(got[n], lambda_by_hypergeometric(lam, n), n, lam)
+
+
+@settings(max_examples=40, deadline=None)
+@given(x=st.floats(0.0, 30.0), n=st.integers(1, 3000).map(lambda m: 2 * m))
+def test_lambda_exact_anywhere_near_one(x, n):
+    """λ = 1 − 10^−x/… spread from 0 to the last double below 1 (x = 30 clamps there)."""
+    lam = min(1.0 - 10.0 ** (-x / 2) if x < 30 else 1.0, np.nextafter(1.0, 0.0))
+    got = mc.lambda_coefficients(lam, n)
+    assert_lambda_close(got[n], lambda_by_hypergeometric(lam, n), n, lam)
+
+
 @pytest.mark.parametrize("lam", [1e-4, 0.1, 0.4, 0.8, 0.99])
 def test_lambda_2_elliptic_form(lam):
     """Λ_2 = 8/(3πλ³)[(2 − λ²)E(λ) − 2(1 − λ²)K(λ)] (modulus λ; mpmath takes m = λ²)."""
@@ -558,6 +591,69 @@ def test_surviving_harmonics_examples():
     assert mc.surviving_harmonics(2, 4, "single", n_max=4) == [1, 2, 4]
     assert mc.surviving_harmonics(3, 2, "double", n_max=24) == [1, 6, 12, 18, 24]
     assert mc.surviving_harmonics(6, 4, "single", n_max=12) == [6, 12]
+
+
+U64 = 2**64 - 1
+
+
+@settings(max_examples=200, deadline=None)
+@given(
+    cranks=st.one_of(st.integers(1, 100), st.integers(1, U64), st.sampled_from([10**18, 2**63, U64 - 1, U64])),
+    kind=st.sampled_from(KINDS),
+    n_max=st.integers(0, 400),
+)
+def test_surviving_harmonics_exact_for_any_crank_count(cranks, kind, n_max):
+    """Issue 13, item 2: the rule in Python's unbounded integers, for counts whose products
+    overflow 64 bits (surviving_harmonics(10**18) returned [20, 22, 24] instead of [])."""
+    strokes, acting = kind
+    expected = [n for n in [1, *range(2, n_max + 1, 2)] if n <= n_max and rule_survives(n, cranks, strokes, acting)]
+    assert mc.surviving_harmonics(cranks, strokes, acting, n_max=n_max) == expected
+
+
+@settings(max_examples=200, deadline=None)
+@given(
+    cranks=st.integers(2**20, U64),
+    kind=st.sampled_from(KINDS),
+    multiple=st.integers(0, 60),
+    extra=st.integers(0, 2**20),
+)
+def test_surviving_harmonics_of_huge_n_max(cranks, kind, multiple, extra):
+    """n_max up to 2⁶⁴ − 1 answers at once (no loop over n) and exactly: every survivor is a
+    multiple of k/2 or k (the table), so checking those candidates by the rule is complete."""
+    strokes, acting = kind
+    n_max = min(multiple * cranks + extra, U64)
+    unit = cranks // 2 if cranks % 2 == 0 else cranks
+    candidates = [1, *range(unit, n_max + 1, unit)]
+    expected = [
+        n for n in candidates if n <= n_max and (n == 1 or n % 2 == 0) and rule_survives(n, cranks, strokes, acting)
+    ]
+    assert mc.surviving_harmonics(cranks, strokes, acting, n_max=n_max) == expected
+
+
+def test_surviving_harmonics_issue_example():
+    assert mc.surviving_harmonics(10**18) == []
+    assert mc.surviving_harmonics(10**18, n_max=2 * 10**18) == [10**18, 2 * 10**18]
+    assert mc.surviving_harmonics(U64, 2, "double", n_max=U64) == [1]
+
+
+@settings(max_examples=300, deadline=None)
+@given(i=st.integers(1, 2**32 - 1), j=st.integers(0, 20))
+def test_paper_coefficients_exact_for_any_index(i, j):
+    """Issue 13, item 2: every coefficient the paper's formula defines for j ≤ 20 is exact
+    (it once raised ZeroDivisionError from j = 15), compared with Python's big integers."""
+    if j < i - 1:
+        expected = Fraction(0)
+    else:
+        expected = (-1) ** (i + 1) * Fraction(
+            2 * i * math.comb(2 * j, j) * math.comb(2 * j + 2, j + 1 - i), (j + 1) * 4 ** (2 * j + 1)
+        )
+    assert mc.paper_coefficient(i, j) == expected
+
+
+@pytest.mark.parametrize("j", [21, 22, 100, 2**31])
+def test_paper_coefficient_beyond_j_20_is_refused_by_name(j):
+    with pytest.raises(mc.MechanismError, match=f"j = {j}"):
+        mc.paper_coefficient(1, j)
 
 
 @pytest.mark.parametrize(

@@ -10,6 +10,8 @@ from __future__ import annotations
 
 import math
 import operator
+import os
+import sys
 from typing import Any
 
 import numpy as np
@@ -18,6 +20,7 @@ from ._native import MechanismError
 
 __all__ = [
     "INDEX_MAX",
+    "allocatable_bytes",
     "as_angles",
     "as_count",
     "as_design",
@@ -32,6 +35,8 @@ __all__ = [
     "as_threshold",
     "as_work_size",
     "broadcast_designs",
+    "broadcast_shape",
+    "check_size",
     "contiguous",
     "design_keywords",
     "finish",
@@ -56,6 +61,29 @@ def as_real_array(value: Any, name: str) -> np.ndarray:
             f" ({type(value).__name__})"
         )
     return array.astype(np.float64, copy=False)
+
+
+def allocatable_bytes() -> int:
+    """The most bytes one result may take: the machine's physical memory (``sys.maxsize``
+    where the platform does not say). A request beyond it could only fail or swap for hours."""
+    try:
+        pages, page_size = os.sysconf("SC_PHYS_PAGES"), os.sysconf("SC_PAGE_SIZE")
+    except (AttributeError, ValueError, OSError):
+        return sys.maxsize
+    return pages * page_size if pages > 0 and page_size > 0 else sys.maxsize
+
+
+def check_size(parameter: str, value: Any, count: int, *, item_bytes: int = 8) -> int:
+    """``count`` (items of ``item_bytes`` each, asked for through ``parameter`` = ``value``),
+    or a :class:`MechanismError` naming them when that much memory cannot be had — raised
+    before anything is allocated or computed. Python integers: the product never overflows."""
+    size = count * item_bytes
+    if size > allocatable_bytes():
+        raise MechanismError(
+            f"{parameter} = {value} asks for {count} values ({size} bytes), more than can be "
+            f"allocated (this machine has {allocatable_bytes()} bytes of memory)"
+        )
+    return count
 
 
 def contiguous(array: np.ndarray) -> np.ndarray:
@@ -197,15 +225,22 @@ def as_strokes(value: Any) -> int:
     return strokes
 
 
-def broadcast_designs(
-    what: str = "design parameters", /, **columns: np.ndarray
-) -> tuple[tuple[int, ...], dict[str, np.ndarray]]:
-    """Broadcast arrays together: (their shape D, flat contiguous columns)."""
+def broadcast_shape(what: str, columns: dict[str, np.ndarray]) -> tuple[int, ...]:
+    """The shape the arrays broadcast to (nothing is materialised)."""
     try:
-        shape = np.broadcast_shapes(*(a.shape for a in columns.values()))
+        return np.broadcast_shapes(*(a.shape for a in columns.values()))
     except ValueError:
         shapes = ", ".join(f"{k} {v.shape}" for k, v in columns.items())
         raise MechanismError(f"{what} do not broadcast together: {shapes}") from None
+
+
+def broadcast_designs(
+    what: str = "design parameters", /, **columns: np.ndarray
+) -> tuple[tuple[int, ...], dict[str, np.ndarray]]:
+    """Broadcast arrays together: (their shape D, flat contiguous columns); the columns'
+    size is checked against memory before they are formed."""
+    shape = broadcast_shape(what, columns)
+    check_size(what, f"shape {shape}", math.prod(shape) * len(columns))
     flat = {k: contiguous(np.broadcast_to(v, shape)).reshape(-1) for k, v in columns.items()}
     return shape, flat
 

@@ -24,7 +24,7 @@ import pandas as pd
 from ._native import SWEEP_OUTPUTS as _NATIVE_SWEEP_OUTPUTS
 from ._native import MechanismError
 from ._optional import require
-from ._validation import INDEX_MAX, as_design
+from ._validation import INDEX_MAX, as_design, check_size
 from .mechanism import crank_phases
 
 __all__ = [
@@ -237,6 +237,9 @@ class DesignGrid:
     def frame(self, start: int = 0, stop: int | None = None) -> pd.DataFrame:
         """Rows start … stop−1 of the product as a DataFrame (index = row number)."""
         stop = len(self) if stop is None else min(stop, len(self))
+        # One column per axis and constant, plus the index: checked before any is formed.
+        count = max(stop - start, 0)
+        check_size("designs", f"{count} rows", count * (len(self.axes) + len(self.constants) + 1))
         rows = np.arange(start, stop)
         index = np.unravel_index(rows, self.shape) if self.shape else ()
         data = {name: values[i] for (name, values), i in zip(self.axes.items(), index, strict=True)}

@@ -23,7 +23,7 @@ from ._native import engine_extrema as _native_engine_extrema
 from ._native import engine_fourier as _native_engine_fourier
 from ._native import engine_leading_harmonic as _native_engine_leading_harmonic
 from ._native import engine_sensitivity as _native_engine_sensitivity
-from ._validation import as_count, as_design, as_label, as_nonnegative, as_option, contiguous, finish
+from ._validation import as_count, as_design, as_label, as_nonnegative, as_option, check_size, contiguous, finish
 from .extrema import EnergyExtrema
 from .grids import as_phi
 from .mechanism import crank_phases
@@ -193,7 +193,9 @@ class Engine:
         n a_n = Σ_j W_nj sin nα_j, b_n = Σ_j W_nj cos nα_j, W_nj = −u1_j sin γ_j Λ_n(λ_j); a sum
         below its rounding noise is exactly 0 (the harmonic cancelled).
         """
-        coefficients = _native_engine_fourier(self.columns(), as_count(n_max, "n_max", minimum=0))
+        n_max = as_count(n_max, "n_max", minimum=0)
+        check_size("n_max", n_max, 2 * (n_max + 1))
+        coefficients = _native_engine_fourier(self.columns(), n_max)
         return coefficients["a"], coefficients["b"]
 
     def surviving_harmonics(self, n_max: int = 24) -> list[int]:
@@ -234,6 +236,7 @@ class Engine:
         import pandas as pd
 
         n_max = as_count(n_max, "n_max", minimum=1)
+        check_size("n_max", n_max, 2 * (n_max + 1))
         u1_rel, u2_rel, phase = _scatter(u1_rel, u2_rel, phase)
         rows = _native_engine_sensitivity(self.columns(), u1_rel, u2_rel, phase, n_max)
         n = rows.pop("n").astype(np.int64)

@@ -9,6 +9,7 @@ thread count.
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 import numpy as np
@@ -22,6 +23,8 @@ from ._validation import (
     as_threshold,
     as_work_size,
     broadcast_designs,
+    broadcast_shape,
+    check_size,
     design_keywords,
     finish,
 )
@@ -52,7 +55,10 @@ def _evaluate(
     """`quantity` ("potential_energy", "generalized_force", "force_derivative" or, through
     the Fourier form, "series" / "paper") of the broadcast designs over all of φ."""
     phi_shape, angles = as_phi(phi)
-    shape, design = broadcast_designs(**design_keywords(crank_ratio, inclination, u1, u2))
+    keywords = design_keywords(crank_ratio, inclination, u1, u2)
+    designs, points = math.prod(broadcast_shape("design parameters", keywords)), math.prod(phi_shape)
+    check_size("phi", f"{points} points for {designs} designs", designs * points)
+    shape, design = broadcast_designs(**keywords)
     flat = _native_evaluate(quantity, angles, design, as_phases(phases), as_threshold(parallel_threshold))
     return finish(flat, shape + phi_shape)
 

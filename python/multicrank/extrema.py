@@ -30,10 +30,13 @@ def energy_extrema(
 ) -> EnergyExtrema:
     """The exact minimum and maximum of U_w*(φ) over one revolution.
 
-    Q_u* = dU_w*/dφ is sampled on a grid of 16 points per period of its highest significant
-    harmonic (≥ 128 points); each sign change brackets an extremum, polished by Newton steps
-    with the closed-form dQ_u*/dφ kept inside the bracket. Each field has the broadcast
-    design shape D.
+    The extrema are roots of Q_u* = dU_w*/dφ, found by a search that cannot miss one (see
+    docs/theory.md, "Speed fluctuation due to gravity"): cells over which a bound on |Q''|
+    proves Q clear of zero are dropped, cells over which Q' provably keeps its sign hold at
+    most one root (bracketed by a sign change and polished by Newton steps), and any other
+    cell is halved — three roots crowded close together are all found. Valid for every
+    0 ≤ λ < 1 (as λ → 1 on the closed form, with bounded work). Each field has the
+    broadcast design shape D.
     """
     shape, design = broadcast_designs(**design_keywords(crank_ratio, inclination, u1, u2))
     fields = _native_energy_extrema(design, as_phases(phases), as_threshold(parallel_threshold))

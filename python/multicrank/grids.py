@@ -1,11 +1,15 @@
 """Uniform crank-angle grids that the kernels evaluate by rotation instead of a sincos per point.
 
-On a uniform grid φ_i = start + i·step the kernels take e^{iφ_i} as one complex
-multiplication of two exact values — a seed e^{iφ} every 1024 points and a table of offsets
-e^{i·r·step} — so sin/cos cost almost nothing and the rounding does not accumulate along
-the grid (≤ 2 ulp at every point, however long). The values agree with evaluation at the
-same points given as a plain array to ~1e-15 relative to max|Q|, but not bit for bit: with a
-plain array each point's value depends on that point alone, which is the default.
+On a uniform grid the kernels take e^{iφ} at the exact progression start + i·step as one
+complex multiplication of two exact values — a seed every 1024 points and a table of
+offsets e^{i·r·step} — and then rotate it by the rounding of the point the grid exposes,
+x_i = start + i·step rounded to double as numpy rounds it (found exactly per point). So
+sin/cos cost almost nothing, the rounding does not accumulate along the grid, and the
+values are those at the grid's own points, wherever it starts: a few ulps at every point,
+however long the grid and however far out (10¹⁵ rad included). They agree with
+evaluation at the same points given as a plain array to ~1e-15 relative to the terms, but
+not bit for bit: with a plain array each point's value depends on that point alone, which
+is the default.
 """
 
 from __future__ import annotations
@@ -16,13 +20,15 @@ from typing import Any
 import numpy as np
 
 from ._native import MechanismError
-from ._validation import as_angles, as_count, as_real_array, contiguous
+from ._validation import as_angles, as_count, as_real_array, check_size, contiguous
 
 __all__ = ["UniformGrid", "as_phi", "grid_of", "uniform_grid"]
 
 
 class UniformGrid(np.lib.mixins.NDArrayOperatorsMixin):
-    """φ_i = start + i·step, i = 0 … count − 1 [rad]: a 1-D float64 array-like.
+    """φ_i = start + i·step, i = 0 … count − 1 [rad] (rounded to double as numpy rounds
+    ``start + arange(count) * step``; values are computed at exactly these points): a 1-D
+    float64 array-like.
 
     Pass it as ``phi`` to :func:`potential_energy`, :func:`generalized_force`,
     :func:`force_derivative` or an :class:`Engine`'s methods and they use the rotation
@@ -44,6 +50,7 @@ class UniformGrid(np.lib.mixins.NDArrayOperatorsMixin):
     def _points(self) -> np.ndarray:
         # Formed on first use only: evaluation on the grid never needs them.
         if self._cache is None:
+            check_size("count", self.count, self.count)
             points = self.start + np.arange(self.count) * self.step  # as the kernels index them
             points.flags.writeable = False
             self._cache = points
@@ -136,6 +143,7 @@ def as_phi(phi: Any) -> tuple[tuple[int, ...], np.ndarray | tuple[float, float, 
     """
     uniform = grid_of(phi)
     if uniform:
+        check_size("phi", f"a uniform grid of {uniform[2]} points", uniform[2])
         return (uniform[2],), uniform
     angles = as_angles(phi)
     return angles.shape, contiguous(angles).reshape(-1)

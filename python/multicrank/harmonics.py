@@ -4,6 +4,7 @@ survive")."""
 
 from __future__ import annotations
 
+import math
 from fractions import Fraction
 from typing import Any
 
@@ -20,6 +21,8 @@ from ._validation import (
     as_phases,
     as_strokes,
     broadcast_designs,
+    broadcast_shape,
+    check_size,
     contiguous,
     design_keywords,
 )
@@ -62,6 +65,7 @@ def lambda_coefficients(crank_ratio: Any, n_max: int, method: str = "exact") -> 
     lam = as_design(crank_ratio, "crank_ratio", low=0.0, high=1.0)
     n_max = as_count(n_max, "n_max", minimum=0)
     method = as_option(method, "method", ("exact", "paper"))
+    check_size("n_max", n_max, lam.size * (n_max + 1))
     flat = _native_lambda_coefficients(contiguous(lam).reshape(-1), n_max, method)
     return flat.reshape((*lam.shape, n_max + 1))
 
@@ -86,12 +90,16 @@ def surviving_harmonics(cranks: int, strokes: int = 2, acting: str = "single", n
     survives when its phase sum S_n = Σ_j e^{inα_j} is non-zero. With α = 2πp/q the sum is
     k when q | np and zero when q ∤ np but q | npk — decided in exact integer arithmetic.
     """
-    return _native_surviving_harmonics(
+    n_max = as_count(n_max, "n_max", minimum=0)
+    harmonics = _native_surviving_harmonics(
         as_count(cranks, "cranks", minimum=1),
         as_strokes(strokes),
         as_option(acting, "acting", ("single", "double")),
-        as_count(n_max, "n_max", minimum=0),
+        n_max,
     )
+    # A list holds a pointer and an int object (~40 bytes) per harmonic: 5x the array.
+    check_size("n_max", n_max, len(harmonics), item_bytes=40)
+    return harmonics.tolist()
 
 
 def harmonic_table(strokes: int = 2, acting: str = "single", k_max: int = 12, n_max: int = 12):
@@ -109,6 +117,8 @@ def harmonic_table(strokes: int = 2, acting: str = "single", k_max: int = 12, n_
     acting = as_option(acting, "acting", ("single", "double"))
     k_max = as_count(k_max, "k_max", minimum=1)
     n_max = as_count(n_max, "n_max", minimum=1)
+    check_size("n_max", n_max, n_max // 2 + 1, item_bytes=8)
+    check_size("k_max", k_max, (n_max // 2 + 1) * k_max, item_bytes=1)
     rows = [1, *list(range(2, n_max + 1, 2))]
     table = pd.DataFrame(
         False, index=pd.Index(rows, name="n"), columns=pd.Index(range(1, k_max + 1), name="k"), dtype=bool
@@ -137,8 +147,11 @@ def fourier_coefficients(
     -------
     (a, b), each of shape D + (n_max + 1,).
     """
-    shape, design = broadcast_designs(**design_keywords(crank_ratio, inclination, u1, u2))
+    keywords = design_keywords(crank_ratio, inclination, u1, u2)
     n_max = as_count(n_max, "n_max", minimum=0)
+    designs = math.prod(broadcast_shape("design parameters", keywords))
+    check_size("n_max", n_max, 2 * designs * (n_max + 1))
+    shape, design = broadcast_designs(**keywords)
     coefficients = _native_fourier_coefficients(design, as_phases(phases), n_max)
     width = (n_max + 1,)
     return coefficients["a"].reshape(shape + width), coefficients["b"].reshape(shape + width)

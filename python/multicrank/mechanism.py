@@ -10,7 +10,7 @@ import numpy as np
 from ._native import STANDARD_GRAVITY as _NATIVE_STANDARD_GRAVITY
 from ._native import crank_phases as _native_crank_phases
 from ._native import dimensionless_moments as _native_dimensionless_moments
-from ._validation import as_count, as_option, as_real_array, as_strokes, broadcast_designs, finish
+from ._validation import as_count, as_option, as_real_array, as_strokes, broadcast_designs, check_size, finish
 
 __all__ = ["STANDARD_GRAVITY", "crank_phases", "dimensionless_moments"]
 
@@ -35,8 +35,10 @@ def crank_phases(cranks: int, strokes: int = 2, acting: str = "single") -> np.nd
     -------
     ndarray of shape (cranks,)
     """
+    cranks = as_count(cranks, "cranks", minimum=1)
+    check_size("cranks", cranks, cranks)
     return _native_crank_phases(
-        as_count(cranks, "cranks", minimum=1),
+        cranks,
         as_strokes(strokes),
         as_option(acting, "acting", ("single", "double")),
     )

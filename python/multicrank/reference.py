@@ -37,14 +37,21 @@ def _prepare(phi: Any, crank_ratio: Any, inclination: Any, u1: Any, u2: Any, pha
     return angles, lam, gamma, u1_, u2_, as_phases(phases), shape + angles.shape
 
 
+def _root(lam, cos):
+    """√(1 − λ² sin²ψ), formed as √((1 − λ)(1 + λ) + λ² cos²ψ): the same number, without
+    the cancellation of 1 − λ² sin²ψ near ψ = π/2 as λ → 1 (at λ = 1 − 10⁻⁶ the first form
+    keeps only ~6 of its digits there)."""
+    return np.sqrt((1 - lam) * (1 + lam) + lam**2 * cos**2)
+
+
 def potential_energy(phi, *, crank_ratio, inclination, u1, u2, phases=None):
     """U_w*(φ) = Σ_j U2[sin(ψ_j+γ) − sin γ] − U1 (s(ψ_j)/r) sin γ, ψ_j = φ + α_j (eq. 3, 12)."""
     phi, lam, gamma, u1, u2, alphas, shape = _prepare(phi, crank_ratio, inclination, u1, u2, phases)
     total = np.zeros(shape)
     for alpha in alphas:
         psi = phi + alpha
-        sin2 = np.sin(psi) ** 2
-        stroke = (1 - np.cos(psi)) + lam * sin2 / (1 + np.sqrt(1 - lam**2 * sin2))  # s/r, stable form
+        sin2, cos = np.sin(psi) ** 2, np.cos(psi)
+        stroke = (1 - cos) + lam * sin2 / (1 + _root(lam, cos))  # s/r, stable form
         total += u2 * (np.sin(psi + gamma) - np.sin(gamma)) - u1 * stroke * np.sin(gamma)
     return finish(total, shape)
 
@@ -58,8 +65,8 @@ def generalized_force(phi, *, crank_ratio, inclination, u1, u2, phases=None, met
     total = np.zeros(shape)
     for alpha in alphas:
         psi = phi + alpha
-        root = np.sqrt(1 - lam**2 * np.sin(psi) ** 2)
-        total += u2 * np.cos(psi + gamma) - u1 * (np.sin(psi) + lam * np.sin(2 * psi) / (2 * root)) * np.sin(gamma)
+        sin, cos = np.sin(psi), np.cos(psi)
+        total += u2 * np.cos(psi + gamma) - u1 * (sin + lam * sin * cos / _root(lam, cos)) * np.sin(gamma)
     return finish(total, shape)
 
 
@@ -69,8 +76,10 @@ def force_derivative(phi, *, crank_ratio, inclination, u1, u2, phases=None):
     total = np.zeros(shape)
     for alpha in alphas:
         psi = phi + alpha
-        sin2 = np.sin(psi) ** 2
-        curvature = lam * (np.cos(2 * psi) + lam**2 * sin2**2) / (1 - lam**2 * sin2) ** 1.5
+        sin2, cos = np.sin(psi) ** 2, np.cos(psi)
+        root = _root(lam, cos)
+        # cos 2ψ + λ² sin⁴ψ written as cos²ψ − sin²ψ·(1 − λ² sin²ψ), without cancellation
+        curvature = lam * (cos**2 - sin2 * root**2) / root**3
         total += -u2 * np.sin(psi + gamma) - u1 * (np.cos(psi) + curvature) * np.sin(gamma)
     return finish(total, shape)
 

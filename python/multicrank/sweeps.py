@@ -22,7 +22,7 @@ import pandas as pd
 from ._native import MechanismError
 from ._native import sweep as _native_sweep
 from ._native import sweep_engines as _native_sweep_engines
-from ._validation import as_count, as_flag, as_option, as_real_array, contiguous
+from ._validation import as_count, as_flag, as_option, as_real_array, check_size, contiguous
 from .designs import (
     DESIGN_COLUMNS,
     SWEEP_OUTPUTS,
@@ -63,7 +63,7 @@ _ENGINE_CALL_SIZE = 1024
 # ----------------------------------------------------------------------------- options
 def _as_phi(phi: Any) -> np.ndarray:
     if isinstance(phi, (int, np.integer)) and not isinstance(phi, (bool, np.bool_)):
-        count = as_count(phi, "phi", minimum=1)
+        count = check_size("phi", phi, as_count(phi, "phi", minimum=1))
         try:
             return np.arange(count) * (2 * np.pi / count)
         except (ValueError, MemoryError):
@@ -243,6 +243,8 @@ def sweep(
         return _sweep_to_parquet(designs, path, phi, outputs, chunk_size, resume, progress)
 
     total, rows = design_rows(designs)
+    if curves:  # the designs × φ matrix, checked before the sweep rather than after it
+        check_size("curves", f"True for {total} designs × {len(phi)} points", total * len(phi))
     bar = _progress_bar(total, progress)
     pieces = []
     try:

@@ -2,22 +2,27 @@
 //! point), a table computed once and shared (sweeps: one φ grid, many designs), or a
 //! uniform grid by rotation from exact values.
 //!
-//! On a uniform grid φ_i = start + i·step, write i = q·SPAN + r. Then
-//! e^{iφ_i} = e^{iφ_{q·SPAN}} · e^{i·r·step}: a seed per SPAN (1024) points and a table of SPAN
-//! offsets, both from the exact sincos, so every point is *one* complex multiplication away
-//! from exact values. The rounding does not accumulate along the grid (no drift): it is
-//! bounded by a few ulps at every point, however long the grid. A point's value depends
-//! only on (grid, i), never on the blocking or the thread count.
+//! A uniform grid's points are those its user sees: x_i = fl(start + fl(i·step)), as numpy's
+//! `start + arange(len) * step` rounds them. Write i = q·SPAN + r and φ_i = start + i·step
+//! exactly. Then e^{iφ_i} = e^{iφ_{q·SPAN}} · e^{i·r·step}: a seed per SPAN (1024) points and a
+//! table of SPAN offsets, both from the exact sincos of double-double angles, so every point
+//! is *one* complex multiplication away from exact values; and x_i = φ_i + d_i with the
+//! rounding d_i found exactly per point (error-free transformations), so one more
+//! rotation by d_i gives e^{ix_i}. The rounding does not accumulate along the grid (no
+//! drift), and the values are those at the exposed points, at any start: a few ulps at
+//! every point, however long the grid and wherever it starts. A point's value depends only
+//! on (grid, i), never on the blocking or the thread count.
 
 use crate::doubledouble::DoubleDouble;
 use crate::error::{MechanismError, Result};
 use crate::parallel::{map_indices, Parallelism};
 #[cfg(test)]
-use crate::trig::Unfused;
-use crate::trig::{sincos_block, sincos_table, MulAdd};
+use crate::trig::Fused;
+use crate::trig::{sincos_block, sincos_table, MulAdd, Unfused};
 
-/// The crank angles φ_i = start + i·step, i = 0 … len − 1 (as `start + i as f64 * step`
-/// rounds them: numpy's `start + arange(len) * step`).
+/// The crank angles x_i = start + i·step, i = 0 … len − 1, rounded as `start + i as f64 *
+/// step` rounds them (numpy's `start + arange(len) * step`): the kernels evaluate at
+/// exactly these doubles.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct UniformGrid {
     pub start: f64,
@@ -119,11 +124,25 @@ impl From<UniformGrid> for Phi<'_> {
 /// them — cost one double-double sincos per SPAN points. 256 and 1024 measured alike.
 const SPAN: usize = 1024;
 
-/// e^{i·m·φ_i} on a uniform grid, for a fixed integer multiplier m (1 for φ itself, p for
+/// How the rotation to the exposed point, e^{i·m·d_i} with d_i = x_i − φ_i, is applied.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Correction {
+    /// |m·d_i| ≤ 2^-27 on the whole grid: cos(m·d_i) rounds to 1 and sin(m·d_i) to m·d_i,
+    /// so the rotation is two multiply-adds (every grid of moderate angles).
+    FirstOrder,
+    /// Larger angles (a grid that starts far out, a high harmonic): sincos of m·d_i.
+    Full,
+}
+
+/// e^{i·m·x_i} on a uniform grid, for a fixed integer multiplier m (1 for φ itself, p for
 /// the step of a series' harmonics).
 #[derive(Debug, Clone)]
 pub(crate) struct Rotations {
     len: usize,
+    start: f64,
+    step: f64,
+    multiplier: f64,
+    correction: Correction,
     seed_sin: Vec<f64>,
     seed_cos: Vec<f64>,
     offset_sin: Vec<f64>,
@@ -132,24 +151,29 @@ pub(crate) struct Rotations {
 
 impl Rotations {
     pub(crate) fn new(grid: &UniformGrid, multiplier: usize, parallelism: Parallelism) -> Self {
-        // Seed and offset angles in double-double, so that they are exact sums of the grid's
-        // start and step: then their rounding is not relative to the (possibly large) offset
-        // r·step but to the result, whatever the step and the multiplier.
+        // Every angle below is an exact product of doubles (an integer m·j < 2^53 times the
+        // step, m times the start), carried as a double-double whose sincos is exact; the
+        // seed e^{im(start + q·SPAN·step)} is then one rotation of two such values. Summing
+        // the angles first would round them to ~2^-106 of their size: 1e-14 rad at
+        // m·start = 2e18.
         let m = multiplier as f64;
-        let seed = |q: usize| {
-            DoubleDouble::product((q * SPAN) as f64, grid.step)
-                .add(DoubleDouble::new(grid.start))
-                .mul_f64(m)
-        };
+        let start = sincos_double_double(&[DoubleDouble::product(m, grid.start)]);
+        let start = (start.0[0], start.1[0]);
+        let seed_angle =
+            |q: usize| DoubleDouble::product((multiplier * q * SPAN) as f64, grid.step);
         // The seeds are a serial prelude to the parallel kernels: compute them in parallel
         // too, in fixed batches (each seed's value does not depend on the batching).
         const BATCH: usize = 256;
         let n_seeds = grid.len.div_ceil(SPAN);
         let batches = map_indices(n_seeds.div_ceil(BATCH), grid.len, parallelism, |b| {
             let angles: Vec<DoubleDouble> = (b * BATCH..((b + 1) * BATCH).min(n_seeds))
-                .map(seed)
+                .map(seed_angle)
                 .collect();
-            sincos_double_double(&angles)
+            let (mut sin, mut cos) = sincos_double_double(&angles);
+            for (s, c) in sin.iter_mut().zip(cos.iter_mut()) {
+                (*s, *c) = rotate::<Unfused>(start, (*s, *c));
+            }
+            (sin, cos)
         });
         let (mut seed_sin, mut seed_cos) =
             (Vec::with_capacity(n_seeds), Vec::with_capacity(n_seeds));
@@ -159,11 +183,22 @@ impl Rotations {
         }
         // Only as many offsets as a short grid reaches (rounded up to whole blocks).
         let offsets: Vec<DoubleDouble> = (0..SPAN.min(grid.len.next_multiple_of(64)))
-            .map(|r| DoubleDouble::product(r as f64, grid.step).mul_f64(m))
+            .map(|r| DoubleDouble::product((multiplier * r) as f64, grid.step))
             .collect();
         let (offset_sin, offset_cos) = sincos_double_double(&offsets);
+        // |d_i| ≤ ulp(x_i)/2 + ulp(i·step)/2 ≤ ε·(|start| + 2·len·|step|).
+        let reach = grid.start.abs() + 2.0 * grid.len as f64 * grid.step.abs();
+        let correction = if m * f64::EPSILON * reach <= FIRST_ORDER {
+            Correction::FirstOrder
+        } else {
+            Correction::Full
+        };
         Self {
             len: grid.len,
+            start: grid.start,
+            step: grid.step,
+            multiplier: m,
+            correction,
             seed_sin,
             seed_cos,
             offset_sin,
@@ -171,10 +206,83 @@ impl Rotations {
         }
     }
 
-    /// (sin, cos) of m·φ_i for i = first … first + N − 1; lanes past the grid's end repeat
+    /// (sin, cos) of m·x_i for i = first … first + N − 1; lanes past the grid's end repeat
     /// its last point (the caller drops them).
     #[inline(always)]
     pub(crate) fn block<M: MulAdd, const N: usize>(&self, first: usize) -> ([f64; N], [f64; N]) {
+        let (s, c, _) = self.block_and_rounding::<M, N>(first);
+        (s, c)
+    }
+
+    /// As `block`, and the roundings d_i = x_i − φ_i of the lanes (for `block_rounded`
+    /// of another multiplier on the same grid, which then need not find them again).
+    #[inline(always)]
+    pub(crate) fn block_and_rounding<M: MulAdd, const N: usize>(
+        &self,
+        first: usize,
+    ) -> ([f64; N], [f64; N], [f64; N]) {
+        let mut d = [0.0; N];
+        let (base, last) = (first as f64, self.len.saturating_sub(1) as f64);
+        for (l, d) in d.iter_mut().enumerate() {
+            // i as a float iota, clamped like the lanes of `progression`: vectorises
+            // without integer conversions.
+            let (t, e) = rounding::<M>(self.start, self.step, (base + l as f64).min(last));
+            *d = t + e;
+        }
+        let (s, c) = self.block_rounded::<M, N>(first, &d);
+        (s, c, d)
+    }
+
+    /// (sin, cos) of m·x_i given the lanes' roundings d_i (as `block_and_rounding` found
+    /// them): the exact progression, then the rotation by m·d_i.
+    #[inline(always)]
+    pub(crate) fn block_rounded<M: MulAdd, const N: usize>(
+        &self,
+        first: usize,
+        d: &[f64; N],
+    ) -> ([f64; N], [f64; N]) {
+        let (mut s, mut c) = self.progression::<M, N>(first);
+        match self.correction {
+            Correction::FirstOrder => {
+                for l in 0..N {
+                    let md = self.multiplier * d[l];
+                    (s[l], c[l]) = (M::mul_add(md, c[l], s[l]), M::mul_add(-md, s[l], c[l]));
+                }
+            }
+            Correction::Full => {
+                // m·d_i as hi + lo, d_i itself as an exact pair (a rounded d_i would be off
+                // by m·ε·|d_i|: 60 ulps at m = 2048, start = 1e15): sincos of hi, lo (≤ an
+                // ulp of hi) to first order.
+                let (base, last) = (first as f64, self.len.saturating_sub(1) as f64);
+                let (mut hi, mut lo) = ([0.0; N], [0.0; N]);
+                for l in 0..N {
+                    let i = (base + l as f64).min(last);
+                    let (t, e) = rounding::<M>(self.start, self.step, i);
+                    let (dh, dl) = two_sum(t, e);
+                    hi[l] = self.multiplier * dh;
+                    lo[l] = M::mul_add(
+                        self.multiplier,
+                        dl,
+                        M::product_error(self.multiplier, dh, hi[l]),
+                    );
+                }
+                let (mut ds, mut dc) = ([0.0; N], [0.0; N]);
+                sincos_block::<M>(&hi, &mut ds, &mut dc);
+                for l in 0..N {
+                    let (ds, dc) = (
+                        M::mul_add(lo[l], dc[l], ds[l]),
+                        M::mul_add(-lo[l], ds[l], dc[l]),
+                    );
+                    (s[l], c[l]) = rotate::<M>((s[l], c[l]), (ds, dc));
+                }
+            }
+        }
+        (s, c)
+    }
+
+    /// (sin, cos) of m·φ_i on the exact progression φ_i = start + i·step.
+    #[inline(always)]
+    fn progression<M: MulAdd, const N: usize>(&self, first: usize) -> ([f64; N], [f64; N]) {
         let (mut s, mut c) = ([0.0; N], [0.0; N]);
         let (q, r) = (first / SPAN, first % SPAN);
         if r + N <= self.offset_sin.len() && first + N <= self.len {
@@ -197,6 +305,30 @@ impl Rotations {
     }
 }
 
+/// Below this |angle|, cos rounds to 1 and sin to the angle itself (2^-27: angle²/2 ≤ ε/4).
+const FIRST_ORDER: f64 = 1.0 / 134_217_728.0;
+
+/// The rounding of a grid point, fl(start + fl(i·step)) − (start + i·step), as two
+/// doubles whose sum it is exactly: i·step = p + e (an exact product), start + p = x + t (an
+/// exact sum), so the rounding is (−t) + (−e).
+#[inline(always)]
+fn rounding<M: MulAdd>(start: f64, step: f64, i: f64) -> (f64, f64) {
+    let p = i * step;
+    let e = M::product_error(i, step, p);
+    let x = start + p;
+    let bb = x - start;
+    let t = (start - (x - bb)) + (p - bb);
+    (-t, -e)
+}
+
+/// (s, e) with s + e = a + b exactly.
+#[inline(always)]
+fn two_sum(a: f64, b: f64) -> (f64, f64) {
+    let s = a + b;
+    let bb = s - a;
+    (s, (a - (s - bb)) + (b - bb))
+}
+
 /// (sin, cos) of a + b from those of a and b: one complex multiplication, the same
 /// operations for every point of a grid whichever path of `Rotations::block` it takes.
 #[inline(always)]
@@ -204,15 +336,23 @@ fn rotate<M: MulAdd>((sa, ca): (f64, f64), (sb, cb): (f64, f64)) -> (f64, f64) {
     (M::mul_add(sa, cb, ca * sb), M::mul_add(ca, cb, -(sa * sb)))
 }
 
-/// (sin, cos) of angles hi + lo: sin(hi + lo) = sin hi + lo·cos hi to within lo², far
-/// below an ulp.
+/// (sin, cos) of angles hi + lo, from the exact sincos of hi and of lo. lo may be as
+/// large as half an ulp of hi (0.06 at hi = 10^15, more for a multiplied angle), so it is
+/// rotated by in full; below 2^-27 (every angle of moderate size) cos lo = 1 and
+/// sin lo = lo to within a quarter ulp.
 fn sincos_double_double(angles: &[DoubleDouble]) -> (Vec<f64>, Vec<f64>) {
     let hi: Vec<f64> = angles.iter().map(|a| a.hi).collect();
     let (mut sin, mut cos) = sincos_table(&hi);
     for ((s, c), a) in sin.iter_mut().zip(cos.iter_mut()).zip(angles) {
-        if a.lo != 0.0 {
-            (*s, *c) = (*s + a.lo * *c, *c - a.lo * *s);
+        if a.lo == 0.0 {
+            continue;
         }
+        let (sl, cl) = if a.lo.abs() <= FIRST_ORDER {
+            (a.lo, 1.0)
+        } else {
+            a.lo.sin_cos()
+        };
+        (*s, *c) = (*s * cl + *c * sl, *c * cl - *s * sl);
     }
     (sin, cos)
 }
@@ -222,6 +362,18 @@ fn sincos_double_double(angles: &[DoubleDouble]) -> (Vec<f64>, Vec<f64>) {
 pub(crate) trait AngleSource: Copy {
     /// Points offset … offset + len − 1 of the run (len ≤ N); the other lanes padded.
     fn block<M: MulAdd, const N: usize>(self, offset: usize, len: usize) -> ([f64; N], [f64; N]);
+
+    /// As `block`, with the roundings d_i of a uniform grid's points (zero elsewhere: the
+    /// points are the values themselves).
+    #[inline(always)]
+    fn block_and_rounding<M: MulAdd, const N: usize>(
+        self,
+        offset: usize,
+        len: usize,
+    ) -> ([f64; N], [f64; N], [f64; N]) {
+        let (s, c) = self.block::<M, N>(offset, len);
+        (s, c, [0.0; N])
+    }
 }
 
 /// A vectorised sincos of each point.
@@ -279,6 +431,16 @@ impl AngleSource for GridAngles<'_> {
     fn block<M: MulAdd, const N: usize>(self, offset: usize, _len: usize) -> ([f64; N], [f64; N]) {
         self.rotations.block::<M, N>(self.first + offset)
     }
+
+    #[inline(always)]
+    fn block_and_rounding<M: MulAdd, const N: usize>(
+        self,
+        offset: usize,
+        _len: usize,
+    ) -> ([f64; N], [f64; N], [f64; N]) {
+        self.rotations
+            .block_and_rounding::<M, N>(self.first + offset)
+    }
 }
 
 /// The kernels' unit of work: a run of points of φ and where their sin/cos come from.
@@ -330,47 +492,82 @@ impl<'a> PreparedPhi<'a> {
 mod tests {
     use super::*;
 
+    /// (sin, cos) of m·x exactly rounded-ish: m·x as an exact double-double, libm on hi
+    /// (exact range reduction at any size), lo rotated in full.
+    fn reference_sincos(x: f64, m: usize) -> (f64, f64) {
+        let angle = DoubleDouble::product(x, m as f64);
+        let (hs, hc) = angle.hi.sin_cos();
+        let (ls, lc) = angle.lo.sin_cos();
+        (hs * lc + hc * ls, hc * lc - hs * ls)
+    }
+
+    /// The worst error (units of ε) of the rotations against `reference_sincos` at the
+    /// grid's own points, over the first and the last tenth of the grid.
+    fn worst_errors<M: MulAdd>(grid: &UniformGrid, multiplier: usize) -> (f64, f64) {
+        let rotations = Rotations::new(grid, multiplier, Parallelism::SERIAL);
+        let (len, mut head, mut tail) = (grid.len, 0.0_f64, 0.0_f64);
+        for first in (0..len).step_by(16) {
+            let (s, c) = rotations.block::<M, 16>(first);
+            for l in 0..16.min(len - first) {
+                let i = first + l;
+                let (es, ec) = reference_sincos(grid.point(i), multiplier);
+                let error = (s[l] - es).abs().max((c[l] - ec).abs()) / f64::EPSILON;
+                if i <= len / 10 {
+                    head = head.max(error);
+                }
+                if i >= len - len / 10 - 1 {
+                    tail = tail.max(error);
+                }
+            }
+        }
+        (head, tail)
+    }
+
     #[test]
-    fn rotations_stay_within_two_ulps_of_exact_sincos_without_drift() {
-        // Long grids over many revolutions, and grids that start anywhere: the error at the
-        // far end is no larger than at the start (no accumulation along the grid).
+    fn rotations_are_exact_at_the_exposed_points_without_drift() {
+        // Long grids over many revolutions, grids that start anywhere — far out too, where
+        // an ulp of φ is large (issue 13: 1.1e-4 off at start = 1e15) — and high harmonics:
+        // the values are those at the doubles the grid exposes, the error at the far end no
+        // larger than at the start.
         for &(start, step, len) in &[
             (0.0, std::f64::consts::TAU / 1_000_003.0, 1_000_003),
             (-3.7, 0.013, 200_000),
             (1234.5, 1.0e-3, 100_000),
+            (1.0e6, 0.01, 3000),
+            (-7.5e8, 0.37, 5000),
+            (1.0e12, 0.01, 3000),
+            (1.0e15, 0.01, 3000),
+            (-3.0e17, 123.0, 3000),
         ] {
             let grid = UniformGrid::new(start, step, len).unwrap();
-            for multiplier in [1, 6, 24] {
-                let rotations = Rotations::new(&grid, multiplier, Parallelism::SERIAL);
-                let mut worst_head: f64 = 0.0;
-                let mut worst_tail: f64 = 0.0;
-                for first in (0..len).step_by(16) {
-                    let (s, c) = rotations.block::<Unfused, 16>(first);
-                    for l in 0..16.min(len - first) {
-                        let i = first + l;
-                        // The rotation is of the exact angle m·(start + i·step); compare with
-                        // libm there (the user's φ_i is that rounded, within ulp(φ_i)/2).
-                        let angle = DoubleDouble::product(i as f64, step)
-                            .add(DoubleDouble::new(start))
-                            .mul_f64(multiplier as f64);
-                        let (hs, hc) = angle.hi.sin_cos();
-                        let (es, ec) = (hs + angle.lo * hc, hc - angle.lo * hs);
-                        let error = (s[l] - es).abs().max((c[l] - ec).abs()) / f64::EPSILON;
-                        if i < len / 10 {
-                            worst_head = worst_head.max(error);
-                        } else if i > len - len / 10 {
-                            worst_tail = worst_tail.max(error);
-                        }
-                    }
+            for multiplier in [1, 6, 24, 2048] {
+                for (head, tail) in [
+                    worst_errors::<Unfused>(&grid, multiplier),
+                    worst_errors::<Fused>(&grid, multiplier),
+                ] {
+                    assert!(head < 5.0, "{start} {step} m={multiplier}: head {head}");
+                    assert!(tail < 5.0, "{start} {step} m={multiplier}: tail {tail}");
                 }
-                assert!(
-                    worst_head < 2.5,
-                    "{start} {step} m={multiplier}: head {worst_head}"
-                );
-                assert!(
-                    worst_tail < 2.5,
-                    "{start} {step} m={multiplier}: tail {worst_tail}"
-                );
+            }
+        }
+    }
+
+    #[test]
+    fn the_rounding_of_each_point_is_exact() {
+        // d = x − (start + i·step) against the exact rational value, in i128 units of 2^-70
+        // for grids whose doubles are all multiples of 2^-70 and below 2^50.
+        let exact = |v: f64| (v * 2f64.powi(70)) as i128;
+        for &(start, step) in &[(0.1, 0.3), (1.0e6 + 0.1, 1.0e-3), (3.0, 7.0e-5)] {
+            for i in [0_u32, 1, 7, 1000, 12345] {
+                let i = i as f64;
+                let x = start + i * step;
+                let expected = exact(x) - (exact(start) + exact(step) * i as i128);
+                for (t, e) in [
+                    rounding::<Unfused>(start, step, i),
+                    rounding::<Fused>(start, step, i),
+                ] {
+                    assert_eq!(exact(t) + exact(e), expected, "{start} {step} {i}");
+                }
             }
         }
     }

@@ -20,7 +20,7 @@ use std::f64::consts::PI;
 
 use crate::angles::{Phi, PreparedPhi};
 use crate::engine::{Cylinder, Engine};
-use crate::error::{check, check_length, MechanismError, Result};
+use crate::error::{check, check_length, check_rows_length, MechanismError, Result};
 use crate::exact::{crank_run, CrankTerm, Quantity};
 use crate::mechanism::{Phases, PhysicalUnit};
 use crate::parallel::{for_each_row_segment, Parallelism};
@@ -309,9 +309,10 @@ impl Dynamics {
         check("shaft_inertia", shaft_inertia, "shaft_inertia > 0", |i| {
             i > 0.0
         })?;
-        let phi = PreparedPhi::new(phi.into(), parallelism);
+        let phi = phi.into();
         check_length("inertia", phi.len(), inertia.len())?;
         check_length("slope", phi.len(), slope.len())?;
+        let phi = PreparedPhi::new(phi, parallelism);
         let work = phi.len().saturating_mul(self.len());
         let constant = shaft_inertia + self.rotating;
         for_each_row_segment(inertia, phi.len(), work, parallelism, |_, col, segment| {
@@ -334,8 +335,9 @@ impl Dynamics {
         out: &mut [f64],
         parallelism: Parallelism,
     ) -> Result<()> {
-        let phi = PreparedPhi::new(phi.into(), parallelism);
-        check_length("out", self.len() * phi.len(), out.len())?;
+        let phi = phi.into();
+        check_rows_length("out", self.len(), phi.len(), out.len())?;
+        let phi = PreparedPhi::new(phi, parallelism);
         let work = out.len();
         for_each_row_segment(out, phi.len(), work, parallelism, |row, col, segment| {
             let unit = std::slice::from_ref(&self.sliders[row]);
@@ -359,10 +361,11 @@ impl Dynamics {
         out: &mut [f64],
         parallelism: Parallelism,
     ) -> Result<()> {
-        let phi = PreparedPhi::new(phi.into(), parallelism);
+        let phi = phi.into();
         let n = phi.len();
-        check_length("forces", self.len() * n, forces.len())?;
+        check_rows_length("forces", self.len(), n, forces.len())?;
         check_length("out", n, out.len())?;
+        let phi = PreparedPhi::new(phi, parallelism);
         let work = n.saturating_mul(self.len());
         for_each_row_segment(out, n, work, parallelism, |_, col, segment| {
             segment.fill(0.0);

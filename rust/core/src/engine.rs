@@ -10,7 +10,7 @@
 //! of coefficients per unit, at the same speed.
 
 use crate::angles::{Phi, PreparedPhi};
-use crate::error::{check, check_length, MechanismError, Result};
+use crate::error::{check, check_length, try_filled, MechanismError, Result};
 use crate::exact::{evaluate_units, Coefficients, Quantity};
 use crate::extrema::{extrema_of_units, EnergyExtrema};
 use crate::harmonics::{harmonic_reach, harmonic_width, PhaseSums};
@@ -132,17 +132,37 @@ impl Engine {
             .unwrap_or(24)
     }
 
-    /// `f` of the unit groups with phase sums through harmonic `n_max`.
-    pub(crate) fn with_groups<R>(&self, n_max: usize, f: impl FnOnce(&[UnitGroup]) -> R) -> R {
-        let sums: Vec<PhaseSums> = self
+    /// `f` of the unit groups with phase sums through harmonic `n_max` (an error naming
+    /// n_max when those would not fit in memory).
+    pub(crate) fn with_groups<R>(
+        &self,
+        n_max: usize,
+        f: impl FnOnce(&[UnitGroup]) -> R,
+    ) -> Result<R> {
+        let sums = self
             .groups
             .iter()
             .map(|(_, phases)| PhaseSums::new(phases, n_max.max(1)))
+            .collect::<Result<Vec<_>>>()?;
+        Ok(self.groups_of(&sums, f))
+    }
+
+    /// `f` of the unit groups with phase sums through the harmonic reach of the series.
+    pub(crate) fn with_reach_groups<R>(&self, f: impl FnOnce(&[UnitGroup]) -> R) -> R {
+        let reach = self.reach();
+        let sums: Vec<PhaseSums> = self
+            .groups
+            .iter()
+            .map(|(_, phases)| PhaseSums::within_reach(phases, reach))
             .collect();
+        self.groups_of(&sums, f)
+    }
+
+    fn groups_of<R>(&self, sums: &[PhaseSums], f: impl FnOnce(&[UnitGroup]) -> R) -> R {
         let groups: Vec<UnitGroup> = self
             .groups
             .iter()
-            .zip(&sums)
+            .zip(sums)
             .map(|((design, _), sums)| UnitGroup { design, sums })
             .collect();
         f(&groups)
@@ -156,8 +176,9 @@ impl Engine {
         out: &mut [f64],
         parallelism: Parallelism,
     ) -> Result<()> {
-        let phi = PreparedPhi::new(phi.into(), parallelism);
+        let phi = phi.into();
         check_length("out", phi.len(), out.len())?;
+        let phi = PreparedPhi::new(phi, parallelism);
         let work = phi.len().saturating_mul(self.cylinders.len());
         for_each_row_segment(out, phi.len(), work, parallelism, |_, col, segment| {
             evaluate_units(
@@ -175,18 +196,17 @@ impl Engine {
     /// a cancelled harmonic is exactly 0.
     pub fn fourier_coefficients(&self, n_max: usize) -> Result<(Vec<f64>, Vec<f64>)> {
         let width = harmonic_width(n_max)?;
-        let (mut a, mut b) = (vec![0.0; width], vec![0.0; width]);
+        let mut a = try_filled("n_max", n_max, width as u128, 0.0)?;
+        let mut b = try_filled("n_max", n_max, width as u128, 0.0)?;
         self.with_groups(n_max, |groups| {
             series::fourier_coefficients(groups, &mut a, &mut b)
-        });
+        })?;
         Ok((a, b))
     }
 
     /// Q_u* as a machine-precision series (every surviving harmonic, cut by a rigorous bound).
     pub fn series(&self) -> FourierSeries {
-        self.with_groups(self.reach(), |groups| {
-            FourierSeries::new(SeriesKind::Exact, groups)
-        })
+        self.with_reach_groups(|groups| FourierSeries::new(SeriesKind::Exact, groups))
     }
 
     /// Q_u* at every φ from its series where that is complete, else the closed form.
@@ -196,9 +216,10 @@ impl Engine {
         out: &mut [f64],
         parallelism: Parallelism,
     ) -> Result<()> {
-        let series = self.series();
-        let phi = SeriesPhi::new(phi.into(), std::slice::from_ref(&series), parallelism);
+        let phi = phi.into();
         check_length("out", phi.len(), out.len())?;
+        let series = self.series();
+        let phi = SeriesPhi::new(phi, std::slice::from_ref(&series), parallelism);
         let work = phi.len().saturating_mul(4);
         for_each_row_segment(out, phi.len(), work, parallelism, |_, col, segment| {
             series_or_closed(

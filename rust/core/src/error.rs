@@ -26,6 +26,14 @@ pub enum MechanismError {
         expected: usize,
         found: usize,
     },
+    /// A size asked for (through `parameter`, whose value was `value`) would need more
+    /// memory than can be allocated: `elements` items of `item_bytes` bytes each.
+    TooLarge {
+        parameter: &'static str,
+        value: String,
+        elements: u128,
+        item_bytes: usize,
+    },
 }
 
 impl fmt::Display for MechanismError {
@@ -53,6 +61,17 @@ impl fmt::Display for MechanismError {
                 expected,
                 found,
             } => write!(f, "{parameter} has length {found}, expected {expected}"),
+            Self::TooLarge {
+                parameter,
+                value,
+                elements,
+                item_bytes,
+            } => write!(
+                f,
+                "{parameter} = {value} asks for {elements} values ({} bytes), more than can \
+                 be allocated",
+                elements.saturating_mul(*item_bytes as u128)
+            ),
         }
     }
 }
@@ -90,4 +109,60 @@ pub(crate) fn check_length(parameter: &'static str, expected: usize, found: usiz
             found,
         })
     }
+}
+
+/// `Ok(())` if a buffer holds `rows` × `cols` values, else a `LengthMismatch` naming it (the
+/// product formed without overflow: a wrapped product could match a wrong buffer).
+pub(crate) fn check_rows_length(
+    parameter: &'static str,
+    rows: usize,
+    cols: usize,
+    found: usize,
+) -> Result<()> {
+    match rows.checked_mul(cols) {
+        Some(expected) => check_length(parameter, expected, found),
+        None => Err(MechanismError::TooLarge {
+            parameter,
+            value: format!("{rows} x {cols}"),
+            elements: rows as u128 * cols as u128,
+            item_bytes: std::mem::size_of::<f64>(),
+        }),
+    }
+}
+
+/// An empty vector with room for `len` items, or `TooLarge` naming `parameter` (whose value
+/// was `value`) when that much memory cannot be had. `len` is a `u128` so that a size made
+/// of user integers is formed without overflow and refused here, not wrapped or aborted on.
+pub(crate) fn try_with_capacity<T>(
+    parameter: &'static str,
+    value: impl fmt::Display,
+    len: u128,
+) -> Result<Vec<T>> {
+    let item_bytes = std::mem::size_of::<T>().max(1);
+    let too_large = || MechanismError::TooLarge {
+        parameter,
+        value: value.to_string(),
+        elements: len,
+        item_bytes,
+    };
+    // A Rust allocation holds at most isize::MAX bytes.
+    if len > (isize::MAX as u128) / item_bytes as u128 {
+        return Err(too_large());
+    }
+    let mut vec = Vec::new();
+    vec.try_reserve_exact(len as usize)
+        .map_err(|_| too_large())?;
+    Ok(vec)
+}
+
+/// `len` copies of `item`, or `TooLarge` as `try_with_capacity`.
+pub(crate) fn try_filled<T: Clone>(
+    parameter: &'static str,
+    value: impl fmt::Display,
+    len: u128,
+    item: T,
+) -> Result<Vec<T>> {
+    let mut vec = try_with_capacity(parameter, value, len)?;
+    vec.resize(len as usize, item);
+    Ok(vec)
 }

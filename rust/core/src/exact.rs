@@ -13,7 +13,7 @@ use multiversion::multiversion;
 use multiversion::target::target_cfg_f;
 
 use crate::angles::{AngleSource, Phi, PreparedPhi, Run};
-use crate::error::{check_length, Result};
+use crate::error::{check_rows_length, Result};
 use crate::mechanism::{Design, Phases};
 use crate::parallel::{for_each_row_segment, Parallelism};
 use crate::trig::{Fused, MulAdd, Unfused};
@@ -38,10 +38,17 @@ pub(crate) trait CrankTerm {
 }
 
 /// One crank unit's coefficients for the three quantities; λ² and the γ products precomputed.
+///
+/// The root √(1 − λ² sin²ψ) is taken as √((1 − λ²) + λ² cos²ψ), with 1 − λ² = (1 − λ)(1 + λ)
+/// exact to an ulp: near ψ = π/2 and λ → 1 the first form subtracts two numbers close to 1
+/// and keeps only their rounding (at λ = 1 − 2⁻⁵³ it is 2⁻⁵² ± 2⁻⁵³), the second adds two
+/// accurate positive ones.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct Coefficients {
     /// λ²
     l2: f64,
+    /// 1 − λ²
+    q2: f64,
     /// U2·cos γ
     p: f64,
     /// (U1 + U2)·sin γ
@@ -55,10 +62,49 @@ impl Coefficients {
         let (sin_g, cos_g) = d.inclination.sin_cos();
         Self {
             l2: d.crank_ratio * d.crank_ratio,
+            q2: (1.0 - d.crank_ratio) * (1.0 + d.crank_ratio),
             p: d.u2 * cos_g,
             w_plus: (d.u1 + d.u2) * sin_g,
             wl: d.u1 * d.crank_ratio * sin_g,
         }
+    }
+}
+
+impl Coefficients {
+    /// (U, Q, dQ/dψ) of the unit at one angle, given (sin ψ, cos ψ): the three terms of the
+    /// kernels sharing one root (scalar: for root finding).
+    #[inline]
+    pub(crate) fn values(&self, s: f64, c: f64) -> (f64, f64, f64) {
+        let (s2, d2) = (s * s, self.l2 * (c * c) + self.q2);
+        let root = d2.sqrt();
+        let energy = self.p * s + self.w_plus * (c - 1.0) - self.wl * s2 / (1.0 + root);
+        let force = self.p * c - self.w_plus * s - self.wl * (s * c) / root;
+        let numerator = c * c - s2 * d2;
+        let slope = -self.p * s - self.w_plus * c - self.wl * numerator / (d2 * root);
+        (energy, force, slope)
+    }
+
+    /// Over angles where D = 1 − λ² sin²ψ ≥ `d_min`: bounds on |Q|, |dQ/dψ| and |d²Q/dψ²| of
+    /// the unit (its terms' sizes: what their rounding is relative to).
+    ///
+    /// Q = p cos ψ − w₊ sin ψ − w_λ·g(ψ), g = sin ψ cos ψ/√D. With D' = −λ² sin 2ψ,
+    /// |cos ψ| ≤ √D (so |sin 2ψ| ≤ 2√D) and λ ≤ 1: |g| ≤ 1;
+    /// g' = cos 2ψ/√D + (λ²/4) sin²2ψ/D^{3/2}, so |g'| ≤ 2/√D;
+    /// g'' = −2 sin 2ψ/√D + (3λ²/2) sin 2ψ cos 2ψ/D^{3/2} + (3λ⁴/8) sin³2ψ/D^{5/2}, so
+    /// |g''| ≤ 2/√D + 3/D + 3/D.
+    pub(crate) fn bounds(&self, d_min: f64) -> [f64; 3] {
+        let root = d_min.sqrt();
+        let (p, w, wl) = (self.p.abs(), self.w_plus.abs(), self.wl.abs());
+        [
+            p + w + wl,
+            p + w + wl * 2.0 / root,
+            p + w + wl * (2.0 / root + 6.0 / d_min),
+        ]
+    }
+
+    /// 1 − λ² sin²ψ where cos²ψ = `cos2` (as the kernels form it).
+    pub(crate) fn root_argument(&self, cos2: f64) -> f64 {
+        self.l2 * cos2 + self.q2
     }
 }
 
@@ -75,7 +121,7 @@ impl CrankTerm for Energy {
     #[inline(always)]
     fn term<M: MulAdd>(k: &Coefficients, s: f64, c: f64) -> f64 {
         let s2 = s * s;
-        let root = M::mul_add(-k.l2, s2, 1.0).sqrt();
+        let root = M::mul_add(k.l2, c * c, k.q2).sqrt();
         M::mul_add(
             k.p,
             s,
@@ -90,7 +136,7 @@ impl CrankTerm for Force {
     /// Q = U2 cos(ψ+γ) − U1 sin γ [sin ψ + λ sin ψ cos ψ / √(1 − λ² sin²ψ)]
     #[inline(always)]
     fn term<M: MulAdd>(k: &Coefficients, s: f64, c: f64) -> f64 {
-        let root = M::mul_add(-k.l2, s * s, 1.0).sqrt();
+        let root = M::mul_add(k.l2, c * c, k.q2).sqrt();
         M::mul_add(k.p, c, M::mul_add(-k.w_plus, s, -(k.wl * (s * c) / root)))
     }
 }
@@ -102,8 +148,10 @@ impl CrankTerm for ForceDerivative {
     #[inline(always)]
     fn term<M: MulAdd>(k: &Coefficients, s: f64, c: f64) -> f64 {
         let s2 = s * s;
-        let d2 = M::mul_add(-k.l2, s2, 1.0);
-        let numerator = M::mul_add(k.l2, s2 * s2, M::mul_add(c, c, -s2));
+        let d2 = M::mul_add(k.l2, c * c, k.q2);
+        // cos 2ψ + λ² sin⁴ψ = cos²ψ − sin²ψ·D: no cancellation of two terms near 1 as
+        // λ → 1 at ψ → π/2, where the first form keeps only their rounding.
+        let numerator = M::mul_add(-s2, d2, c * c);
         M::mul_add(
             -k.p,
             s,
@@ -237,10 +285,11 @@ pub fn evaluate<'a>(
     out: &mut [f64],
     parallelism: Parallelism,
 ) -> Result<()> {
-    let phi = PreparedPhi::new(phi.into(), parallelism);
+    let phi = phi.into();
     let n_phi = phi.len();
-    let expected = designs.len() * n_phi;
-    check_length("out", expected, out.len())?;
+    check_rows_length("out", designs.len(), n_phi, out.len())?;
+    let expected = out.len();
+    let phi = PreparedPhi::new(phi, parallelism);
     for_each_row_segment(
         out,
         n_phi,
@@ -277,6 +326,106 @@ mod tests {
     use super::*;
     use crate::angles::{GridAngles, Rotations, UniformGrid};
     use crate::mechanism::{crank_phases, Acting, Strokes};
+
+    #[test]
+    fn unit_bounds_hold() {
+        // |Q|, |dQ/dψ| and |d²Q/dψ²| of a unit against `Coefficients::bounds` at D there
+        // (the last from central differences of dQ/dψ), λ up to the last double below 1,
+        // with ψ close to π/2 where D is smallest; and `values` against the kernels.
+        let phases = Phases::single();
+        for lambda in [
+            0.0,
+            0.3,
+            0.9,
+            0.999,
+            1.0 - 1e-8,
+            1.0 - 1e-12,
+            1.0 - 2f64.powi(-53),
+        ] {
+            for gamma in [0.4, std::f64::consts::FRAC_PI_2, -2.5] {
+                let design = Design::new(lambda, gamma, 1.3, -0.7).unwrap();
+                let unit = Coefficients::new(&design);
+                let root = ((1.0 - lambda) * (1.0 + lambda)).sqrt();
+                for offset in [
+                    0.7,
+                    0.1,
+                    1e-3,
+                    30.0 * root,
+                    3.0 * root,
+                    root,
+                    0.3 * root,
+                    0.0,
+                ] {
+                    for psi in [
+                        std::f64::consts::FRAC_PI_2 + offset,
+                        -std::f64::consts::FRAC_PI_2 - offset,
+                    ] {
+                        let (s, c) = psi.sin_cos();
+                        let (u, q, dq) = unit.values(s, c);
+                        let kernels =
+                            |quantity| evaluate_one(quantity, &design, &phases, &[psi])[0];
+                        let [size_q, size_dq, curvature] = unit.bounds(unit.root_argument(c * c));
+                        assert!(q.abs() <= size_q * (1.0 + 1e-12), "{lambda} {psi}");
+                        assert!(dq.abs() <= size_dq * (1.0 + 1e-12), "{lambda} {psi}");
+                        // The kernels' sin/cos differ from libm's by ulps: allow that shift
+                        // of ψ times the next derivative (large near π/2 as λ → 1).
+                        let shift = 8.0 * f64::EPSILON * (1.0 + psi.abs());
+                        let near = |a: f64, b: f64, size: f64, next: f64| {
+                            (a - b).abs() <= 1e-12 * size + shift * next
+                        };
+                        assert!(near(
+                            q,
+                            kernels(Quantity::GeneralizedForce),
+                            size_q,
+                            size_dq
+                        ));
+                        let kernel_dq = kernels(Quantity::ForceDerivative);
+                        assert!(
+                            near(dq, kernel_dq, size_dq, curvature),
+                            "λ = {lambda}, γ = {gamma}, ψ = {psi}: {dq} vs {kernel_dq} (sizes {size_dq} {curvature})"
+                        );
+                        assert!(near(u, kernels(Quantity::PotentialEnergy), size_q, size_q));
+                        // d²Q/dψ² by central differences on a step small against the feature
+                        let h = 1e-4 * root.max(1e-4);
+                        let slope = |x: f64| {
+                            let (s, c) = x.sin_cos();
+                            unit.values(s, c).2
+                        };
+                        let second = (slope(psi + h) - slope(psi - h)) / (2.0 * h);
+                        let (smin, cmin) = (psi - h, psi + h);
+                        let d_min = unit
+                            .root_argument(smin.cos().powi(2))
+                            .min(unit.root_argument(cmin.cos().powi(2)))
+                            .min(unit.root_argument(c * c));
+                        assert!(
+                            second.abs() <= unit.bounds(d_min)[2] * 1.01,
+                            "λ = {lambda}, ψ = {psi}: {second} > {}",
+                            unit.bounds(d_min)[2]
+                        );
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn output_sizes_are_checked_before_any_preparation() {
+        // A grid far longer than the buffer: refused before its seeds (len/1024 of them)
+        // are computed; designs × points past usize: refused, not wrapped into a match.
+        let design = [Design::new(0.3, 1.0, 1.0, 0.0).unwrap()];
+        let phases = Phases::single();
+        let huge = UniformGrid::new(0.0, 1e-9, usize::MAX / 2).unwrap();
+        let mut out = [0.0; 4];
+        let force = Quantity::GeneralizedForce;
+        let error = evaluate(force, &design, &phases, huge, &mut out, Parallelism::SERIAL);
+        assert!(matches!(
+            error,
+            Err(crate::MechanismError::LengthMismatch { .. })
+        ));
+        let three = [design[0]; 3];
+        let error = evaluate(force, &three, &phases, huge, &mut out, Parallelism::SERIAL);
+        assert!(matches!(error, Err(crate::MechanismError::TooLarge { .. })));
+    }
 
     /// The portable clone (no FMA) cannot be reached through dispatch on a machine with
     /// FMA: run both arithmetics directly, on points and on a uniform grid.

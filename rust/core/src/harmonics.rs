@@ -4,9 +4,9 @@
 //! and the Fourier coefficients of Q_u* for any phase set.
 
 use crate::doubledouble::DoubleDouble;
-use crate::error::{check, MechanismError, Result};
+use crate::error::{check, try_filled, try_with_capacity, MechanismError, Result};
 use crate::mechanism::{Acting, Strokes};
-use crate::parallel::{for_each_row_segment, Parallelism};
+use crate::parallel::{for_each_row, Parallelism};
 
 /// The highest harmonic any series here carries (λ → 1 would need ever more).
 pub const MAX_HARMONIC: usize = 2048;
@@ -21,33 +21,192 @@ fn t_of(crank_ratio: f64) -> DoubleDouble {
 /// Λ_2, Λ_4, Λ_6, … of the exact closed form, one per `next()`:
 ///
 /// Λ_{2m} = 2m·C(½, m)·t^{2m−1}·Σ_{b≥0} [C(½, b)·C(½, b+m)/C(½, m)]·t^{4b}
-///        = 2m·C(½, m)·t^{2m−1}·₂F₁(−½, m − ½; m + 1; t⁴).
+///        = 2m·C(½, m)·t^{2m−1}·F_m,   F_m = ₂F₁(−½, m − ½; m + 1; z),  z = t⁴.
 ///
 /// t^{2m−1} and 2m·C(½, m) are carried in double-double, so the relative error stays at a
-/// few ulps for every m; the ₂F₁ factor is 1 + O(t⁴) and needs only doubles.
+/// few ulps for every m. F_m lies in [√(1 − z), 1] and is found with bounded work for
+/// every z ∈ [0, 1) — λ → 1 (z → 1) included, where its power series needs ~40/(1 − z)
+/// terms (10⁹ at λ = 1 − 2⁻⁵³, which once took 40 s for a series):
+///
+/// - z ≤ ½: the power series in z (its term ratios are below z: ≤ 56 terms);
+/// - z > ½ and m·w ≤ 2 (w = 1 − z): the expansion about z = 1 for c − a − b = 2
+///   (Abramowitz & Stegun 15.3.11), a series in w with logarithmic terms whose ratios
+///   are ≤ ~m·w/2 (≤ ~46 terms);
+/// - z > ½ and m·w > 2: Miller's backward recurrence on the three-term recurrence
+///   z(m + 3/2)(m − ½)·F_{m+1} = m(m + 1)·[(1 + z)·F_m − F_{m−1}] (F_m, tending to √w, is
+///   its minimal solution going up, the other grows like z^{−m}), in double-double,
+///   normalised by the F_{m−1} before the block: about 40/w + (block length) steps per
+///   block of up to thousands of harmonics, O(1) per harmonic.
+///
+/// `work()` counts the terms and recurrence steps, so that tests can bound it.
 #[derive(Debug, Clone)]
 pub struct ExactLambdas {
     t: DoubleDouble,
     t2: DoubleDouble,
-    t4: f64,
-    m: u32,
+    /// z = t⁴ and w = 1 − z, both from t in double-double.
+    z: DoubleDouble,
+    w: f64,
+    m: u64,
     /// t^{2m−1}
     power: DoubleDouble,
     /// C(½, m)
     binomial: DoubleDouble,
+    /// m!/Γ(m + 3/2) and ψ(m + 3/2) − ψ(3/2) = Σ_{k≤m} 2/(2k + 1): the expansion about z = 1.
+    gamma_ratio: DoubleDouble,
+    digamma: DoubleDouble,
+    /// F_{m−1}: where a Miller block is normalised.
+    previous: f64,
+    /// F_m for m = block_start … block_start + block.len() − 1 (Miller).
+    block: Vec<f64>,
+    block_start: u64,
+    /// The harmonic index up to which a Miller block is made at once (more when asked).
+    reach: u64,
+    /// Tabulated power-series terms that reach 2^-58 at this z (0: z too large for them).
+    tabulated: usize,
+    work: u64,
 }
+
+/// Harmonics m ≤ TABLE_M take 2m·C(½, m) and the power-series coefficients of F_m from
+/// tables made once per process (a sweep builds millions of series: the recurrences'
+/// divisions were most of their cost).
+const TABLE_M: usize = 256;
+/// Power-series terms tabulated per m: enough for z ≤ 0.28 (λ ≤ 0.93).
+const TABLE_B: usize = 32;
+
+struct Tables {
+    /// 2m·C(½, m), m = 0 … TABLE_M, from the same double-double recurrence as beyond.
+    binomial: Vec<DoubleDouble>,
+    /// C(½, TABLE_M), where the recurrence goes on.
+    last_binomial: DoubleDouble,
+    /// c_b(m) = Π_{i≤b} ((3/2 − i)(3/2 − i − m))/(i(i + m)), b < TABLE_B, m = 0 … TABLE_M:
+    /// F_m = Σ_b c_b(m)·z^b, |c_b| ≤ 1.
+    series: Vec<[f64; TABLE_B]>,
+}
+
+fn tables() -> &'static Tables {
+    static TABLES: std::sync::OnceLock<Tables> = std::sync::OnceLock::new();
+    TABLES.get_or_init(|| {
+        let mut binomial = vec![DoubleDouble::new(0.0); TABLE_M + 1];
+        let mut c = DoubleDouble::new(1.0);
+        for (m, entry) in binomial.iter_mut().enumerate().skip(1) {
+            c = next_binomial(c, m as f64);
+            *entry = c.mul_f64(2.0 * m as f64);
+        }
+        let series = (0..=TABLE_M)
+            .map(|m| {
+                let mut row = [0.0; TABLE_B];
+                row[0] = 1.0;
+                for b in 1..TABLE_B {
+                    let (bf, mf) = (b as f64, m as f64);
+                    row[b] = row[b - 1] * ((1.5 - bf) * (1.5 - bf - mf)) / (bf * (bf + mf));
+                }
+                row
+            })
+            .collect();
+        Tables {
+            binomial,
+            last_binomial: c,
+            series,
+        }
+    })
+}
+
+/// C(½, m) from C(½, m − 1): ·(½ − (m − 1))/m = ·(3 − 2m)/(2m) (C(½, 1) = ½ from 1).
+fn next_binomial(previous: DoubleDouble, m: f64) -> DoubleDouble {
+    if m == 1.0 {
+        DoubleDouble::new(0.5)
+    } else {
+        previous.mul_f64(3.0 - 2.0 * m).div_f64(2.0 * m)
+    }
+}
+
+/// 2/√π as a double-double: 1/Γ(3/2).
+const TWO_OVER_ROOT_PI: DoubleDouble = DoubleDouble {
+    hi: std::f64::consts::FRAC_2_SQRT_PI,
+    lo: 1.533_545_961_316_588e-17,
+};
 
 impl ExactLambdas {
     pub fn new(crank_ratio: f64) -> Self {
+        Self::with_reach(crank_ratio, MAX_HARMONIC)
+    }
+
+    /// Λ_2 … as `new`, for a consumer that will ask for harmonics up to n = `reach`
+    /// (the length of a Miller block; asking for more still works).
+    pub fn with_reach(crank_ratio: f64, reach: usize) -> Self {
         let t = t_of(crank_ratio);
         let t2 = t.mul(t);
+        let z = t2.mul(t2);
+        // w = 1 − t⁴ = (1 − t²)(1 + t²), with 1 − t² from the double-double t².
+        let w = DoubleDouble::new(1.0)
+            .sub(t2)
+            .mul(DoubleDouble::new(1.0).add(t2))
+            .hi;
         Self {
             t,
             t2,
-            t4: t2.mul(t2).hi,
+            z,
+            w,
             m: 0,
             power: DoubleDouble::new(1.0),
             binomial: DoubleDouble::new(1.0),
+            gamma_ratio: TWO_OVER_ROOT_PI,
+            digamma: DoubleDouble::new(0.0),
+            previous: 1.0,
+            block: Vec::new(),
+            block_start: 0,
+            reach: (reach / 2).max(1) as u64,
+            tabulated: Self::tabulated_terms(z.hi),
+            work: 0,
+        }
+    }
+
+    /// N with z^N ≤ 2^-58 (the rest of the series, ≤ z^N/(1 − z) with |c_b| ≤ 1, is then
+    /// below half an ulp of F ≥ √(1 − z)), if N ≤ TABLE_B; else 0.
+    fn tabulated_terms(z: f64) -> usize {
+        if z == 0.0 {
+            return 1;
+        }
+        let terms = (-58.0 * std::f64::consts::LN_2 / z.ln()).ceil();
+        if terms.is_finite() && terms >= 1.0 && terms <= TABLE_B as f64 {
+            terms as usize
+        } else {
+            0
+        }
+    }
+
+    /// Moves to the next harmonic without computing it (its Λ is not needed: the crank sum
+    /// cancels it); only where F_m comes from the power series, which needs no F_{m−1}.
+    pub(crate) fn skip(&mut self) {
+        if self.z.hi > 0.5 {
+            self.next();
+        } else {
+            self.advance();
+        }
+    }
+
+    /// m, t^{2m−1} and C(½, m) (and the expansion about z = 1's running values) to the
+    /// next harmonic.
+    fn advance(&mut self) {
+        self.m += 1;
+        let m = self.m as f64;
+        self.power = if self.m == 1 {
+            self.t
+        } else {
+            self.power.mul(self.t2)
+        };
+        if self.m as usize == TABLE_M + 1 {
+            self.binomial = next_binomial(tables().last_binomial, m);
+        } else if self.m as usize > TABLE_M {
+            self.binomial = next_binomial(self.binomial, m);
+        }
+        if self.z.hi > 0.5 && m * self.w <= 2.0 {
+            // R_m = R_{m−1}·m/(m + ½); Σ_{k≤m} 2/(2k + 1): only for the expansion about
+            // z = 1, which is not used again once m·w > 2.
+            self.gamma_ratio = self.gamma_ratio.mul_f64(m).div_f64(m + 0.5);
+            self.digamma = self
+                .digamma
+                .add(DoubleDouble::new(2.0).div_f64(2.0 * m + 1.0));
         }
     }
 
@@ -55,35 +214,35 @@ impl ExactLambdas {
     pub fn t(&self) -> f64 {
         self.t.hi
     }
-}
 
-impl Iterator for ExactLambdas {
-    type Item = f64;
+    /// The terms and recurrence steps spent so far (a bound on the work, for tests).
+    #[cfg(test)]
+    pub(crate) fn work(&self) -> u64 {
+        self.work
+    }
 
-    fn next(&mut self) -> Option<f64> {
-        self.m += 1;
-        let m = self.m as f64;
-        if self.m == 1 {
-            self.power = self.t;
-            self.binomial = DoubleDouble::new(0.5);
-        } else {
-            self.power = self.power.mul(self.t2);
-            // C(½, m) = C(½, m−1)·(½ − (m−1))/m = C(½, m−1)·(3 − 2m)/(2m)
-            self.binomial = self.binomial.mul_f64(3.0 - 2.0 * m).div_f64(2.0 * m);
+    /// F_m for the current m by the power series in z (z ≤ ½, or m = 1).
+    fn power_series(&mut self) -> f64 {
+        if self.tabulated > 0 && self.m as usize <= TABLE_M {
+            self.work += self.tabulated as u64;
+            let row = &tables().series[self.m as usize][..self.tabulated];
+            return row.iter().rev().fold(0.0, |sum, &c| sum * self.z.hi + c);
         }
-        if self.power.hi == 0.0 {
-            return Some(0.0);
-        }
-        // ₂F₁ by its term ratios: c_b/c_{b−1} = ((3/2 − b)/b)·((3/2 − b − m)/(b + m))·t⁴.
-        // Near λ = 1 (t⁴ → 1) the terms fall off slowly, like b⁻³·t^{4b}: they are summed
-        // with Neumaier's compensation, and once the geometric estimate of the rest,
-        // term·r/(1 − r) with r the last term ratio, is below 1e-17 of the sum, that estimate
-        // is added and the loop ends (the ratio still creeps up, so the estimate errs by less
-        // than a third of itself).
+        self.summed_power_series()
+    }
+
+    /// F_m by summing the power series term by term (z too large, or m, for the tables).
+    fn summed_power_series(&mut self) -> f64 {
+        // Term ratios c_b/c_{b−1} = ((3/2 − b)/b)·((3/2 − b − m)/(b + m))·z, below z in size.
+        // Summed with Neumaier's compensation; once the geometric estimate of the rest,
+        // term·r/(1 − r) with r the last ratio, is below 1e-17 of the sum, it is added and
+        // the loop ends.
+        let (m, z) = (self.m as f64, self.z.hi);
         let (mut term, mut sum, mut compensation) = (1.0_f64, 1.0_f64, 0.0_f64);
         let mut b = 1.0;
-        while b < 1.0e7 {
-            let ratio = ((1.5 - b) * (1.5 - b - m)) / (b * (b + m)) * self.t4;
+        while b < 10_000.0 {
+            self.work += 1;
+            let ratio = ((1.5 - b) * (1.5 - b - m)) / (b * (b + m)) * z;
             term *= ratio;
             let next = sum + term;
             compensation += if sum.abs() >= term.abs() {
@@ -99,36 +258,163 @@ impl Iterator for ExactLambdas {
             }
             b += 1.0;
         }
-        let hypergeometric = sum + compensation;
-        let value = self
-            .binomial
-            .mul_f64(2.0 * m)
-            .mul(self.power)
-            .mul_f64(hypergeometric);
-        Some(value.hi)
+        sum + compensation
+    }
+
+    /// F_m by the expansion about z = 1 (A&S 15.3.11 with a = −½, b = m − ½, c − a − b = 2):
+    ///
+    /// F_m = (R/√π)·[2 + (m − ½)·w + (w²/2)(m + ½)(m − ½)·Σ_n T_n·L_n],
+    /// R = m!/Γ(m + 3/2), T_n = (3/2)_n (m + 3/2)_n w^n/(n! (n + 2)!),
+    /// L_n = ln w − ψ(n + 1) − ψ(n + 3) + ψ(n + 3/2) + ψ(m + n + 3/2),
+    ///
+    /// where L_0 = ln w + 5/2 − 4 ln 2 + Σ_{k≤m} 2/(2k + 1) and each L_{n+1} follows by
+    /// ψ(x + 1) = ψ(x) + 1/x. For m·w ≤ 2 the terms fall from the start: ≤ ~46 of them.
+    fn about_one(&mut self) -> f64 {
+        let (m, w) = (self.m as f64, self.w);
+        let mut log = w.ln() + 2.5 - 4.0 * std::f64::consts::LN_2 + self.digamma.hi;
+        let (mut term, mut sum) = (0.5, 0.0_f64);
+        let mut n = 0.0;
+        while n < 400.0 {
+            self.work += 1;
+            sum += term * log;
+            n += 1.0;
+            term *= (0.5 + n) * (m + 0.5 + n) / (n * (n + 2.0)) * w;
+            log += -1.0 / n - 1.0 / (n + 2.0) + 1.0 / (n + 0.5) + 1.0 / (m + n + 0.5);
+            if n > 2.0 && (term * log).abs() <= 1e-18 * sum.abs() {
+                break;
+            }
+        }
+        let bracket = 2.0 + (m - 0.5) * w + 0.5 * w * w * (m + 0.5) * (m - 0.5) * sum;
+        // R/√π·bracket = R·(2/√π)·(bracket/2)
+        self.gamma_ratio
+            .mul(TWO_OVER_ROOT_PI)
+            .mul_f64(0.5 * bracket)
+            .hi
+    }
+
+    /// F_m from a Miller block, made when m leaves the last one.
+    fn miller(&mut self) -> f64 {
+        let index = self.m - self.block_start;
+        if self.block_start == 0 || index >= self.block.len() as u64 {
+            self.make_block();
+        }
+        self.block[(self.m - self.block_start) as usize]
+    }
+
+    /// F_m … F_{m+B−1} by the backward recurrence, started K steps above the block with
+    /// F̃ = 1, 1 (the unwanted solution falls by z per step going down: K = ln(2^-60)/ln z),
+    /// in double-double, and scaled so that the value at m − 1 is the F_{m−1} found before.
+    /// B covers the harmonics the consumer said it would ask for, at least K (so a block
+    /// costs at most twice its length) and at most 2^20 (8 MB).
+    fn make_block(&mut self) {
+        let z = self.z;
+        let steps = ((-60.0 * std::f64::consts::LN_2) / z.hi.ln()).ceil() as u64 + 8;
+        let wanted = self.reach.saturating_sub(self.m) + 1;
+        let length = wanted.max(steps).clamp(64, 1 << 20);
+        let top = self.m + length - 1 + steps;
+        let one_plus_z = DoubleDouble::new(1.0).add(z);
+        let (mut above, mut here) = (DoubleDouble::new(1.0), DoubleDouble::new(1.0));
+        self.block.clear();
+        self.block.resize(length as usize, 0.0);
+        // here = F̃_k, above = F̃_{k+1}; F̃_{k−1} = (1 + z)F̃_k − z(k + 3/2)(k − ½)/(k(k + 1))·F̃_{k+1}.
+        let mut k = top;
+        while k >= self.m {
+            self.work += 1;
+            if k < self.m + length {
+                self.block[(k - self.m) as usize] = here.hi;
+            }
+            // (k + 3/2)(k − ½)/(k(k + 1)) = 1 − ¾/(k(k + 1)): the small part in double
+            // (its rounding, ε·¾/k², sums to ~ε/m over the whole recurrence).
+            let kf = k as f64;
+            let coefficient =
+                DoubleDouble::new(1.0).sub(DoubleDouble::new(0.75 / (kf * (kf + 1.0))));
+            let below = one_plus_z.mul(here).sub(z.mul(coefficient).mul(above));
+            (above, here) = (here, below);
+            // Keep the values near 1 (the wanted solution tends to a constant, but a start
+            // far from it could drift in scale over many steps).
+            if here.hi.abs() > 1e100 || here.hi.abs() < 1e-100 {
+                let rescale = 1.0 / here.hi;
+                (above, here) = (above.mul_f64(rescale), here.mul_f64(rescale));
+                for f in &mut self.block {
+                    *f *= rescale;
+                }
+            }
+            k -= 1;
+        }
+        // here = F̃_{m−1}
+        let scale = self.previous / here.hi;
+        for f in &mut self.block {
+            *f *= scale;
+        }
+        self.block_start = self.m;
+    }
+}
+
+impl Iterator for ExactLambdas {
+    type Item = f64;
+
+    fn next(&mut self) -> Option<f64> {
+        self.advance();
+        let m = self.m as f64;
+        let near_one = self.z.hi > 0.5;
+        if self.power.hi == 0.0 {
+            // t^{2m−1} underflowed: so has every later Λ (the F_m are ≤ 1).
+            self.previous = 0.0;
+            return Some(0.0);
+        }
+        let hypergeometric = if !near_one {
+            self.power_series()
+        } else if m * self.w <= 2.0 {
+            self.about_one()
+        } else {
+            self.miller()
+        };
+        self.previous = hypergeometric;
+        // Each regime is bounded (see the type's docs): ≤ 400 terms per harmonic, and a
+        // Miller block (≤ 2^20 long) costs its length plus a warm-up of ~41.6/w < 21·m
+        // steps (m·w > 2 there).
+        debug_assert!(
+            self.work <= 400 * self.m + (self.m / (1 << 20) + 1) * ((1 << 20) + 21 * self.m + 8)
+        );
+        let coefficient = if self.m as usize <= TABLE_M {
+            tables().binomial[self.m as usize]
+        } else {
+            self.binomial.mul_f64(2.0 * m)
+        };
+        let value = coefficient.mul(self.power);
+        Some(value.hi * hypergeometric + value.lo * hypergeometric)
     }
 }
 
 /// Λ_0 … Λ_{n_max} of the exact form into `out` (length n_max + 1; odd entries and Λ_0 are 0).
 pub fn lambda_exact(crank_ratio: f64, out: &mut [f64]) {
     out.fill(0.0);
-    let mut lambdas = ExactLambdas::new(crank_ratio);
+    let mut lambdas = ExactLambdas::with_reach(crank_ratio, out.len().saturating_sub(1));
     for n in (2..out.len()).step_by(2) {
-        out[n] = lambdas.next().unwrap_or(0.0);
+        let value = lambdas.next().unwrap_or(0.0);
+        if value == 0.0 && lambdas.power.hi == 0.0 {
+            break; // t^{2m−1} underflowed: every later Λ is 0, as `out` already holds
+        }
+        out[n] = value;
     }
 }
 
-/// n_max + 1 entries (Λ_0 … Λ_{n_max}, a_0 … a_{n_max}), without overflow.
+/// n_max + 1 entries (Λ_0 … Λ_{n_max}, a_0 … a_{n_max}), or `TooLarge` naming n_max
+/// (n_max + 1 itself overflows only where no such table could be allocated anyway).
 pub(crate) fn harmonic_width(n_max: usize) -> Result<usize> {
-    n_max.checked_add(1).ok_or(MechanismError::InvalidChoice {
+    n_max.checked_add(1).ok_or(MechanismError::TooLarge {
         parameter: "n_max",
         value: n_max.to_string(),
-        allowed: "an integer small enough to allocate",
+        elements: n_max as u128 + 1,
+        item_bytes: std::mem::size_of::<f64>(),
     })
 }
 
 /// Λ_0 … Λ_{n_max} for every crank ratio, row by row (`crank_ratios.len()` rows of
-/// n_max + 1), exact or as the paper's λ-series; in parallel for many rows.
+/// n_max + 1), exact or as the paper's λ-series; in parallel for many rows. The table is
+/// allocated up front (an error naming n_max if it cannot be), and each row is computed
+/// once, whole, by one task: Λ_n comes from a recurrence in n, so a row cut into parallel
+/// chunks would be recomputed from its start for every chunk.
 pub fn lambda_table(
     paper: bool,
     crank_ratios: &[f64],
@@ -141,25 +427,15 @@ pub fn lambda_table(
         })?;
     }
     let width = harmonic_width(n_max)?;
-    let mut out = vec![0.0; crank_ratios.len() * width];
-    // Λ_n costs far more than one output point: weigh each row like 64 points.
+    let len = crank_ratios.len() as u128 * width as u128;
+    let mut out = try_filled("n_max", n_max, len, 0.0)?;
+    // Λ_n costs far more than one output point: weigh each entry like 64 points.
     let work = out.len().saturating_mul(64);
-    for_each_row_segment(&mut out, width, work, parallelism, |row, first, segment| {
-        if first == 0 && segment.len() == width {
-            if paper {
-                lambda_paper(crank_ratios[row], segment)
-            } else {
-                lambda_exact(crank_ratios[row], segment)
-            }
+    for_each_row(&mut out, width, work, parallelism, |row, values| {
+        if paper {
+            lambda_paper(crank_ratios[row], values)
         } else {
-            // A row split across chunks: compute it whole, keep this segment.
-            let mut whole = vec![0.0; width];
-            if paper {
-                lambda_paper(crank_ratios[row], &mut whole)
-            } else {
-                lambda_exact(crank_ratios[row], &mut whole)
-            }
-            segment.copy_from_slice(&whole[first..first + segment.len()]);
+            lambda_exact(crank_ratios[row], values)
         }
     });
     Ok(out)
@@ -229,32 +505,71 @@ pub fn lambda_paper(crank_ratio: f64, out: &mut [f64]) {
     }
 }
 
-/// Whether harmonic n of Q_u* survives the sum over the regular crank set of §2.
-///
-/// With α = 2π·p/q (p = 1 two-stroke, 2 four-stroke; q = k single-, 2k double-acting), the
-/// phase sum S_n = Σ_{j<k} e^{2πi·n·j·p/q} is k when q | n·p, and otherwise the geometric
-/// sum (1 − e^{2πi·n·k·p/q})/(1 − e^{2πi·n·p/q}), zero exactly when q | n·k·p. Only n = 1
-/// (the N and W1 terms) and even n (the W_n terms) carry coefficients at all.
-pub fn harmonic_survives(n: u64, cranks: u64, strokes: Strokes, acting: Acting) -> bool {
-    if n == 0 || (n > 1 && n % 2 == 1) {
-        return false;
-    }
+/// The crank-set constants of §5's rule: α = 2π·p/q with p = 1 (two-stroke) or 2
+/// (four-stroke) and q = a·k, a = 1 (single acting) or 2 (double acting). In u128, so that
+/// no product of user integers below can overflow.
+fn crank_set(cranks: u64, strokes: Strokes, acting: Acting) -> (u128, u128, u128) {
     let p = match strokes {
         Strokes::Two => 1,
         Strokes::Four => 2,
     };
-    let q = match acting {
-        Acting::Single => cranks,
-        Acting::Double => 2 * cranks,
+    let a = match acting {
+        Acting::Single => 1,
+        Acting::Double => 2,
     };
-    (n * p) % q == 0 || (n * p * cranks) % q != 0
+    (p, a, a * cranks as u128)
 }
 
-/// The n ≤ n_max that survive the crank sum of a regular machine, ascending.
-pub fn surviving_harmonics(cranks: u64, strokes: Strokes, acting: Acting, n_max: u64) -> Vec<u64> {
-    (1..=n_max)
-        .filter(|&n| harmonic_survives(n, cranks, strokes, acting))
-        .collect()
+/// Whether harmonic n of Q_u* survives the sum over the regular crank set of §2 (false for
+/// zero cranks).
+///
+/// With α = 2π·p/q (p = 1 two-stroke, 2 four-stroke; q = a·k, a = 1 single-, 2
+/// double-acting), the phase sum S_n = Σ_{j<k} e^{2πi·n·j·p/q} is k when q | n·p, and
+/// otherwise the geometric sum (1 − e^{2πi·n·k·p/q})/(1 − e^{2πi·n·p/q}), zero exactly when
+/// q | n·p·k — that is, since n·p·k mod a·k = k·(n·p mod a), when a | n·p. Only n = 1 (the
+/// N and W1 terms) and even n (the W_n terms) carry coefficients at all. Exact for every
+/// n and k: n·p < 2^65 and q < 2^65 are formed in u128.
+pub fn harmonic_survives(n: u64, cranks: u64, strokes: Strokes, acting: Acting) -> bool {
+    if cranks == 0 || n == 0 || (n > 1 && n % 2 == 1) {
+        return false;
+    }
+    let (p, a, q) = crank_set(cranks, strokes, acting);
+    let np = n as u128 * p;
+    np % q == 0 || np % a != 0
+}
+
+/// The n ≤ n_max that survive the crank sum of a regular machine, ascending; an error
+/// naming `cranks` for zero cranks, and one naming `n_max` when the list would not fit
+/// in memory.
+///
+/// Every even survivor is a multiple of lcm(2, q/gcd(q, p)) (for even n the rule is
+/// q | n·p, as a | n·p always holds), so the list is made in O(its length), whatever
+/// n_max and k.
+pub fn surviving_harmonics(
+    cranks: u64,
+    strokes: Strokes,
+    acting: Acting,
+    n_max: u64,
+) -> Result<Vec<u64>> {
+    if cranks == 0 {
+        return Err(MechanismError::InvalidChoice {
+            parameter: "cranks",
+            value: cranks.to_string(),
+            allowed: "an integer >= 1",
+        });
+    }
+    let (p, _, q) = crank_set(cranks, strokes, acting);
+    let period = q / gcd(q, p);
+    let step = if period % 2 == 0 { period } else { 2 * period };
+    let first = n_max >= 1 && harmonic_survives(1, cranks, strokes, acting);
+    let evens = n_max as u128 / step;
+    let mut out = try_with_capacity("n_max", n_max, evens + first as u128)?;
+    if first {
+        out.push(1);
+    }
+    // n = ν·step ≤ n_max < 2^64 for every ν ≤ evens.
+    out.extend((1..=evens).map(|nu| (nu * step) as u64));
+    Ok(out)
 }
 
 /// The phase sums C_n = Σ_j cos nα_j and S_n = Σ_j sin nα_j for n = 0 … n_max.
@@ -272,11 +587,24 @@ pub struct PhaseSums {
 }
 
 impl PhaseSums {
-    pub fn new(phases: &[f64], n_max: usize) -> Self {
+    /// The sums for n = 0 … n_max; an error naming n_max when they would not fit in memory.
+    pub fn new(phases: &[f64], n_max: usize) -> Result<Self> {
+        let len = n_max as u128 + 1;
+        let cos = try_filled("n_max", n_max, len, 0.0)?;
+        let sin = try_filled("n_max", n_max, len, 0.0)?;
+        Ok(Self::filled(phases, cos, sin))
+    }
+
+    /// The sums through a series' harmonic reach (at most MAX_HARMONIC: a few kilobytes,
+    /// never a size a user chose).
+    pub(crate) fn within_reach(phases: &[f64], reach: usize) -> Self {
+        let len = reach.min(MAX_HARMONIC) + 1;
+        Self::filled(phases, vec![0.0; len], vec![0.0; len])
+    }
+
+    fn filled(phases: &[f64], mut cos: Vec<f64>, mut sin: Vec<f64>) -> Self {
         let reach = phases.iter().fold(0.0_f64, |m, a| m.max(a.abs()));
-        let mut cos = vec![0.0; n_max + 1];
-        let mut sin = vec![0.0; n_max + 1];
-        for n in 0..=n_max {
+        for n in 0..cos.len() {
             let (mut c, mut s) = (0.0, 0.0);
             for &alpha in phases {
                 let (sa, ca) = (n as f64 * alpha).sin_cos();
@@ -347,6 +675,97 @@ mod tests {
         assert!(paper_coefficient(1, 21).is_err());
     }
 
+    /// λ from 0 to the largest double below 1, and t, w at each.
+    const RATIOS: [f64; 13] = [
+        0.0,
+        1e-8,
+        0.3,
+        0.7,
+        0.9,
+        0.986,
+        0.99,
+        0.9999,
+        0.99999,
+        1.0 - 1e-8,
+        1.0 - 1e-12,
+        1.0 - 1.0 / (1u64 << 52) as f64,
+        1.0 - 1.0 / (1u64 << 53) as f64,
+    ];
+
+    #[test]
+    fn lambda_work_is_bounded_for_every_crank_ratio() {
+        // Issue 13, item 4: at λ = 1 − 2⁻⁵³ the ₂F₁ power series ran to its 10⁷-term cap for
+        // each of ~1000 harmonics (40 s per series). Every regime now takes a bounded
+        // number of terms or recurrence steps per harmonic.
+        for &lambda in &RATIOS {
+            let mut lambdas = ExactLambdas::new(lambda);
+            let t = lambdas.t();
+            let bound = |m: f64| t.powf(2.0 * m - 1.0) / (1.0 - t.powi(4)).max(f64::MIN_POSITIVE);
+            for m in 1..=(MAX_HARMONIC / 2) {
+                let value = lambdas.next().unwrap();
+                assert!(value.is_finite(), "λ = {lambda}, m = {m}");
+                assert!(
+                    value.abs() <= bound(m as f64) * (1.0 + 1e-12),
+                    "λ = {lambda}, m = {m}"
+                );
+            }
+            assert!(
+                lambdas.work() <= 64 * MAX_HARMONIC as u64,
+                "λ = {lambda}: {} terms for {} harmonics",
+                lambdas.work(),
+                MAX_HARMONIC / 2
+            );
+        }
+        // A table far beyond any series, near 1: still O(1) per entry.
+        for &lambda in &RATIOS[7..] {
+            let mut lambdas = ExactLambdas::with_reach(lambda, 200_000);
+            for _ in 0..100_000 {
+                lambdas.next();
+            }
+            assert!(
+                lambdas.work() <= 200 * 100_000,
+                "λ = {lambda}: {}",
+                lambdas.work()
+            );
+        }
+    }
+
+    /// F_m after `m` steps, then by the power series for the same m (forced, for a check).
+    fn regimes(lambda: f64, m: u64) -> (f64, f64) {
+        let mut lambdas = ExactLambdas::with_reach(lambda, 4096);
+        for _ in 0..m {
+            lambdas.next();
+        }
+        let found = lambdas.previous;
+        (found, lambdas.power_series())
+    }
+
+    #[test]
+    fn the_three_regimes_agree_where_they_meet() {
+        // z > ½ with the power series still affordable (≤ 10⁴ terms): the expansion about
+        // z = 1 (m·w ≤ 2) and Miller's blocks (m·w > 2) against it, across the switch.
+        for lambda in [0.987, 0.99, 0.995, 0.999, 0.9995] {
+            let w = 1.0 - ExactLambdas::new(lambda).z.hi;
+            let switch = (2.0 / w) as u64;
+            for m in [
+                1,
+                2,
+                switch.saturating_sub(1).max(1),
+                switch,
+                switch + 1,
+                switch + 2,
+                300,
+                1000,
+            ] {
+                let (found, series) = regimes(lambda, m);
+                assert!(
+                    (found - series).abs() <= 8.0 * f64::EPSILON * series,
+                    "λ = {lambda}, m = {m} (switch {switch}): {found} vs {series}"
+                );
+            }
+        }
+    }
+
     #[test]
     fn exact_matches_paper_series_for_small_lambda() {
         // The first omitted term, λ¹³, is λ^{14−n} relative to Λ_n: negligible at λ = 1e-8.
@@ -381,6 +800,106 @@ mod tests {
         }
         assert!(lambda_table(false, &[1.0], 4, Parallelism::SERIAL).is_err());
         assert!(lambda_table(false, &[0.1], usize::MAX, Parallelism::SERIAL).is_err());
+    }
+
+    /// The rule of §5 evaluated the slow, obvious way in exact integers: q | n·p, or the
+    /// geometric sum's numerator is non-zero (q ∤ n·p·k), with n·p·k formed in u128 — valid
+    /// while that product fits, which the values below keep.
+    fn survives_by_definition(n: u64, k: u64, strokes: Strokes, acting: Acting) -> bool {
+        let p: u128 = if strokes == Strokes::Two { 1 } else { 2 };
+        let q: u128 = if acting == Acting::Single { 1 } else { 2 } * k as u128;
+        let carried = n == 1 || n % 2 == 0;
+        let np = n as u128 * p;
+        carried && (np % q == 0 || (np * k as u128) % q != 0)
+    }
+
+    #[test]
+    fn survival_is_exact_for_huge_counts() {
+        // Products n·p·k far beyond u64 (the old rule wrapped and answered at random).
+        let big = [
+            1u64,
+            2,
+            3,
+            7,
+            1 << 31,
+            (1 << 32) + 1,
+            10u64.pow(12),
+            10u64.pow(18),
+            u64::MAX / 3,
+            u64::MAX,
+        ];
+        for strokes in [Strokes::Two, Strokes::Four] {
+            for acting in [Acting::Single, Acting::Double] {
+                for &k in &big {
+                    for &n in big
+                        .iter()
+                        .chain(&[4, 6, 24, 2 * (1 << 31), 2 * 10u64.pow(18)])
+                    {
+                        if (n as u128) * (k as u128) < (1u128 << 126) {
+                            assert_eq!(
+                                harmonic_survives(n, k, strokes, acting),
+                                survives_by_definition(n, k, strokes, acting),
+                                "n={n} k={k} {strokes:?} {acting:?}"
+                            );
+                        }
+                    }
+                }
+            }
+        }
+        // The issue's example: k = 10^18 has no harmonic ≤ 24 (it returned [20, 22, 24]).
+        let none = surviving_harmonics(10u64.pow(18), Strokes::Two, Acting::Single, 24);
+        assert_eq!(none, Ok(vec![]));
+        assert!(!harmonic_survives(5, 0, Strokes::Two, Acting::Single));
+        assert!(surviving_harmonics(0, Strokes::Two, Acting::Single, 24).is_err());
+    }
+
+    #[test]
+    fn surviving_list_is_the_rule_and_costs_its_length() {
+        for k in 1..=30u64 {
+            for strokes in [Strokes::Two, Strokes::Four] {
+                for acting in [Acting::Single, Acting::Double] {
+                    for n_max in [0u64, 1, 2, 23, 24, 25, 200] {
+                        let slow: Vec<u64> = (1..=n_max)
+                            .filter(|&n| harmonic_survives(n, k, strokes, acting))
+                            .collect();
+                        assert_eq!(
+                            surviving_harmonics(k, strokes, acting, n_max),
+                            Ok(slow),
+                            "k={k} n_max={n_max}"
+                        );
+                    }
+                }
+            }
+        }
+        // n_max = u64::MAX with a huge k answers at once (a loop over n would never end).
+        let few = surviving_harmonics(u64::MAX / 2, Strokes::Two, Acting::Single, u64::MAX);
+        assert_eq!(few, Ok(vec![u64::MAX - 1]));
+        let double = surviving_harmonics(u64::MAX, Strokes::Two, Acting::Double, u64::MAX);
+        assert_eq!(double, Ok(vec![1]));
+        // ... and a list that cannot be held is refused, naming n_max.
+        let error = surviving_harmonics(1, Strokes::Two, Acting::Single, u64::MAX).unwrap_err();
+        assert!(
+            matches!(
+                error,
+                MechanismError::TooLarge {
+                    parameter: "n_max",
+                    ..
+                }
+            ),
+            "{error}"
+        );
+    }
+
+    #[test]
+    fn tables_too_large_to_allocate_are_refused_by_name() {
+        for n_max in [usize::MAX, usize::MAX / 2, 1 << 62] {
+            let error = lambda_table(false, &[0.3], n_max, Parallelism::SERIAL).unwrap_err();
+            assert!(error.to_string().starts_with("n_max = "), "{error}");
+            assert!(PhaseSums::new(&[0.0, 1.0], n_max).is_err());
+        }
+        // Many rows of a moderate width overflow only as a product.
+        let ratios = vec![0.3; 1 << 20];
+        assert!(lambda_table(true, &ratios, 1 << 50, Parallelism::SERIAL).is_err());
     }
 
     #[test]

@@ -4,7 +4,7 @@
 
 use std::f64::consts::{PI, TAU};
 
-use crate::error::{check, check_length, MechanismError, Result};
+use crate::error::{check, check_length, try_with_capacity, MechanismError, Result};
 
 /// Two- or four-stroke working cycle: one cycle spans T = 2π or 4π of crank angle.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -71,7 +71,9 @@ pub fn crank_phases(cranks: i64, strokes: Strokes, acting: Acting) -> Result<Vec
         Acting::Double => 2.0 * cranks as f64,
     };
     let alpha = strokes.cycle_angle() / per_cycle;
-    Ok((0..cranks).map(|j| j as f64 * alpha).collect())
+    let mut phases = try_with_capacity("cranks", cranks, cranks as u128)?;
+    phases.extend((0..cranks).map(|j| j as f64 * alpha));
+    Ok(phases)
 }
 
 /// One machine in dimensionless form: crank ratio λ = r/l, cylinder inclination γ to the
@@ -354,6 +356,19 @@ mod tests {
         let double = crank_phases(2, Strokes::Two, Acting::Double).unwrap();
         assert_eq!(double, vec![0.0, PI / 2.0]);
         assert!(crank_phases(0, Strokes::Two, Acting::Single).is_err());
+        // More phases than memory can hold: refused by name, not an abort.
+        let error = crank_phases(i64::MAX, Strokes::Two, Acting::Single).unwrap_err();
+        assert!(
+            matches!(
+                error,
+                MechanismError::TooLarge {
+                    parameter: "cranks",
+                    ..
+                }
+            ),
+            "{error}"
+        );
+        assert!(error.to_string().contains("9223372036854775807"));
     }
 
     #[test]

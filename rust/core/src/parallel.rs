@@ -68,6 +68,57 @@ pub(crate) fn for_each_row_segment<F>(
     }
 }
 
+/// Call `fill(row, values)` for every whole row of `out` (rows of `n_cols`), one task per
+/// row, in parallel when `work` reaches the threshold: for rows that must be computed
+/// whole (a recurrence along the row).
+pub(crate) fn for_each_row<F>(
+    out: &mut [f64],
+    n_cols: usize,
+    work: usize,
+    parallelism: Parallelism,
+    fill: F,
+) where
+    F: Fn(usize, &mut [f64]) + Sync,
+{
+    if out.is_empty() || n_cols == 0 {
+        return;
+    }
+    let fill_row = |(row, values): (usize, &mut [f64])| fill(row, values);
+    if parallelism.runs_parallel(work) {
+        out.par_chunks_mut(n_cols).enumerate().for_each(fill_row);
+    } else {
+        out.chunks_mut(n_cols).enumerate().for_each(fill_row);
+    }
+}
+
+/// As `for_each_row`, for two outputs of the same shape filled together.
+pub(crate) fn for_each_row_pair<F>(
+    a: &mut [f64],
+    b: &mut [f64],
+    n_cols: usize,
+    work: usize,
+    parallelism: Parallelism,
+    fill: F,
+) where
+    F: Fn(usize, &mut [f64], &mut [f64]) + Sync,
+{
+    if a.is_empty() || n_cols == 0 {
+        return;
+    }
+    let fill_rows = |(row, (x, y)): (usize, (&mut [f64], &mut [f64]))| fill(row, x, y);
+    if parallelism.runs_parallel(work) {
+        a.par_chunks_mut(n_cols)
+            .zip(b.par_chunks_mut(n_cols))
+            .enumerate()
+            .for_each(fill_rows);
+    } else {
+        a.chunks_mut(n_cols)
+            .zip(b.chunks_mut(n_cols))
+            .enumerate()
+            .for_each(fill_rows);
+    }
+}
+
 /// `f(i)` for i in 0..n into a vector, in parallel when `work` reaches the threshold.
 pub(crate) fn map_indices<T, F>(n: usize, work: usize, parallelism: Parallelism, f: F) -> Vec<T>
 where

@@ -9,12 +9,12 @@
 //! the step of the surviving even harmonics (p = k for a two-stroke single-acting machine).
 //! Its SIMD evaluation lives in `series_kernels`.
 
-use crate::error::Result;
+use crate::error::{try_filled, Result};
 use crate::harmonics::{
     gcd, harmonic_reach, harmonic_width, lambda_paper, ExactLambdas, PhaseSums, PAPER_MAX_HARMONIC,
 };
 use crate::mechanism::{Design, Phases};
-use crate::parallel::{map_indices, Parallelism};
+use crate::parallel::{for_each_row_pair, map_indices, Parallelism};
 
 /// Which Λ_n and which cut.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -99,6 +99,14 @@ impl Lambdas {
             }
         }
     }
+
+    /// Past the next even n without its Λ_n (every group's phase sums cancel it).
+    fn skip_even(&mut self) {
+        match self {
+            Self::Exact(lambdas) => lambdas.skip(),
+            Self::Paper(_, n) => *n += 2,
+        }
+    }
 }
 
 /// A group while its harmonics are summed.
@@ -116,7 +124,17 @@ struct GroupState<'a> {
 /// Whether a harmonic sum stands above its own rounding noise: a sum of terms whose phase
 /// factors cancel to below 8ε of their size has cancelled, and is exactly zero.
 fn stands_out(a: f64, b: f64, noise: f64) -> bool {
-    a.hypot(b) > 8.0 * f64::EPSILON * noise
+    let threshold = 8.0 * f64::EPSILON * noise;
+    // hypot(a, b) lies between max(|a|, |b|) and |a| + |b|: decide from those where they
+    // settle it (nearly always), and take the (slow) hypot only in between.
+    let (a, b) = (a.abs(), b.abs());
+    if a.max(b) > threshold {
+        true
+    } else if a + b <= threshold {
+        false
+    } else {
+        a.hypot(b) > threshold
+    }
 }
 
 /// The harmonics of Q_u* of `groups`: (n, a_n, b_n) for n = 1 and the even n ≤ n_max that
@@ -184,7 +202,16 @@ pub(crate) fn harmonic_terms(
             break;
         }
         let (mut a, mut b, mut noise) = (0.0, 0.0, 0.0);
+        let cancelled = states
+            .iter()
+            .all(|s| s.sums.cos[n] == 0.0 && s.sums.sin[n] == 0.0);
         for s in states.iter_mut() {
+            if cancelled {
+                // Every group's phase sum is exactly 0 here (a regular crank set keeps
+                // only multiples of its step): no Λ_n to compute, no term.
+                s.lambdas.skip_even();
+                continue;
+            }
             let w = s.amplitudes.n1 * s.lambdas.next_even();
             a += w * s.sums.sin[n];
             b += w * s.sums.cos[n];
@@ -258,56 +285,6 @@ impl FourierSeries {
         }
     }
 
-    /// Map every term a cos nφ + b sin nφ to new (cos, sin) coefficients.
-    fn map_terms(&self, f: impl Fn(usize, f64, f64) -> (f64, f64)) -> Self {
-        let (a1, b1) = f(1, self.a1, self.b1);
-        let (cos, sin) = self
-            .cos
-            .iter()
-            .zip(&self.sin)
-            .enumerate()
-            .map(|(nu, (&a, &b))| f((nu + 1) * self.step, a, b))
-            .unzip();
-        Self {
-            a1,
-            b1,
-            step: self.step,
-            cos,
-            sin,
-            complete: self.complete,
-        }
-    }
-
-    /// The antiderivative with zero constant term: for Q_u*, U_w* up to a constant.
-    pub(crate) fn integral(&self) -> Self {
-        self.map_terms(|n, a, b| (-b / n as f64, a / n as f64))
-    }
-
-    /// The series and its derivative at one angle (scalar: for root polishing, where a
-    /// block kernel's set-up would cost more than the arithmetic).
-    pub(crate) fn value_and_slope_at(&self, phi: f64) -> (f64, f64) {
-        let (s, c) = phi.sin_cos();
-        let mut value = self.a1 * c + self.b1 * s;
-        let mut slope = self.b1 * c - self.a1 * s;
-        if self.cos.is_empty() {
-            return (value, slope);
-        }
-        let w = power(c, s, self.step);
-        let mut z = w;
-        for (nu, (&a, &b)) in self.cos.iter().zip(&self.sin).enumerate() {
-            let n = ((nu + 1) * self.step) as f64;
-            value += a * z.0 + b * z.1;
-            slope += n * (b * z.0 - a * z.1);
-            z = (z.0 * w.0 - z.1 * w.1, z.0 * w.1 + z.1 * w.0);
-        }
-        (value, slope)
-    }
-
-    /// The series at one angle.
-    pub(crate) fn value_at(&self, phi: f64) -> f64 {
-        self.value_and_slope_at(phi).0
-    }
-
     /// (n, √(a_n² + b_n²)) of the largest harmonic; (0, 0) when Q ≡ 0 (no harmonic leads).
     pub(crate) fn leading_harmonic(&self) -> (usize, f64) {
         let mut best = (1, self.a1.hypot(self.b1));
@@ -322,21 +299,6 @@ impl FourierSeries {
         } else {
             best
         }
-    }
-}
-
-/// (re, im) of (c + i·s)^e by binary powering.
-fn power(c: f64, s: f64, mut e: usize) -> (f64, f64) {
-    let (mut w, mut z) = ((1.0, 0.0), (c, s));
-    loop {
-        if e & 1 == 1 {
-            w = (w.0 * z.0 - w.1 * z.1, w.0 * z.1 + w.1 * z.0);
-        }
-        e >>= 1;
-        if e == 0 {
-            return w;
-        }
-        z = (z.0 * z.0 - z.1 * z.1, 2.0 * z.0 * z.1);
     }
 }
 
@@ -356,16 +318,21 @@ pub fn build_series(
             .unwrap_or(24),
         SeriesKind::Paper => PAPER_MAX_HARMONIC,
     };
-    let sums = PhaseSums::new(phases, reach);
-    map_indices(designs.len(), designs.len() * 64, parallelism, |i| {
-        FourierSeries::new(
-            kind,
-            &[UnitGroup {
-                design: &designs[i],
-                sums: &sums,
-            }],
-        )
-    })
+    let sums = PhaseSums::within_reach(phases, reach);
+    map_indices(
+        designs.len(),
+        designs.len().saturating_mul(64),
+        parallelism,
+        |i| {
+            FourierSeries::new(
+                kind,
+                &[UnitGroup {
+                    design: &designs[i],
+                    sums: &sums,
+                }],
+            )
+        },
+    )
 }
 
 /// Fourier coefficients a_n, b_n (n = 0 … n_max) of every design of an in-line machine with
@@ -378,21 +345,24 @@ pub fn fourier_table(
 ) -> Result<(Vec<f64>, Vec<f64>)> {
     Phases::new(phases)?;
     let width = harmonic_width(n_max)?;
-    let sums = PhaseSums::new(phases, n_max.max(1));
-    let rows = map_indices(designs.len(), designs.len() * 64, parallelism, |i| {
-        let (mut a, mut b) = (vec![0.0; width], vec![0.0; width]);
-        let group = UnitGroup {
-            design: &designs[i],
-            sums: &sums,
-        };
-        fourier_coefficients(&[group], &mut a, &mut b);
-        (a, b)
-    });
-    let (mut a, mut b) = (Vec::with_capacity(designs.len() * width), Vec::new());
-    b.reserve(a.capacity());
-    for (row_a, row_b) in rows {
-        a.extend(row_a);
-        b.extend(row_b);
-    }
+    let len = designs.len() as u128 * width as u128;
+    let mut a = try_filled("n_max", n_max, len, 0.0)?;
+    let mut b = try_filled("n_max", n_max, len, 0.0)?;
+    let sums = PhaseSums::new(phases, n_max.max(1))?;
+    let work = designs.len().saturating_mul(width).saturating_mul(64);
+    for_each_row_pair(
+        &mut a,
+        &mut b,
+        width,
+        work,
+        parallelism,
+        |i, row_a, row_b| {
+            let group = UnitGroup {
+                design: &designs[i],
+                sums: &sums,
+            };
+            fourier_coefficients(&[group], row_a, row_b);
+        },
+    );
     Ok((a, b))
 }

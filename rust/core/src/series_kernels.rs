@@ -8,7 +8,7 @@ use multiversion::multiversion;
 use multiversion::target::target_cfg_f;
 
 use crate::angles::{AngleSource, GridAngles, Phi, PreparedPhi, Rotations, Run};
-use crate::error::{check_length, Result};
+use crate::error::{check_length, check_rows_length, Result};
 use crate::exact::{evaluate_units, store, Coefficients, Quantity};
 use crate::mechanism::{Design, Phases};
 use crate::parallel::{for_each_row_segment, Parallelism};
@@ -93,13 +93,15 @@ fn series_points<M: MulAdd, const N: usize>(
 /// Points per register block (four AVX-512 vectors).
 const LANES: usize = 32;
 
-/// Where a series block gets e^{ipφ}.
+/// Where a series block gets e^{ipφ}: from e^{iφ} (cos and sin) or from the grid, given
+/// the roundings d of the grid's points that e^{iφ} was found with.
 trait HarmonicSource: Copy {
     fn block<M: MulAdd, const N: usize>(
         self,
         offset: usize,
         c: &[f64; N],
         s: &[f64; N],
+        d: &[f64; N],
         step: usize,
     ) -> ([f64; N], [f64; N]);
 }
@@ -115,6 +117,7 @@ impl HarmonicSource for Powering {
         _offset: usize,
         c: &[f64; N],
         s: &[f64; N],
+        _d: &[f64; N],
         step: usize,
     ) -> ([f64; N], [f64; N]) {
         power_lanes::<M, N>(c, s, step)
@@ -129,9 +132,10 @@ impl HarmonicSource for GridAngles<'_> {
         offset: usize,
         _c: &[f64; N],
         _s: &[f64; N],
+        d: &[f64; N],
         _step: usize,
     ) -> ([f64; N], [f64; N]) {
-        let (ws, wc) = AngleSource::block::<M, N>(self, offset, N);
+        let (ws, wc) = self.rotations.block_rounded::<M, N>(self.first + offset, d);
         (wc, ws)
     }
 }
@@ -165,11 +169,11 @@ fn series_blocks<M: MulAdd, A: AngleSource, H: HarmonicSource>(
     // pass over memory in between (several independent chains hide each step's latency);
     // the last block padded.
     for (b, o) in out.chunks_mut(LANES).enumerate() {
-        let (s, c) = angles.block::<M, LANES>(b * LANES, o.len());
+        let (s, c, d) = angles.block_and_rounding::<M, LANES>(b * LANES, o.len());
         let w = if series.cos.is_empty() {
             ([1.0; LANES], [0.0; LANES]) // unused
         } else {
-            harmonic.block::<M, LANES>(b * LANES, &c, &s, series.step)
+            harmonic.block::<M, LANES>(b * LANES, &c, &s, &d, series.step)
         };
         store(o, &series_points::<M, LANES>(series, &c, &s, &w));
     }
@@ -182,11 +186,6 @@ fn series_run(series: &FourierSeries, run: Run, harmonic: Option<&Rotations>, ou
     } else {
         series_segment::<Unfused>(series, run, harmonic, out)
     }
-}
-
-/// Evaluate a series at every φ of `phi` into `out`.
-pub(crate) fn evaluate_series_one(series: &FourierSeries, phi: &[f64], out: &mut [f64]) {
-    series_run(series, Run::points(phi), None, out)
 }
 
 /// φ prepared for series: on a uniform grid, the rotations of φ and of pφ for every
@@ -261,10 +260,11 @@ pub fn evaluate_series_or_exact<'a>(
     out: &mut [f64],
     parallelism: Parallelism,
 ) -> Result<()> {
-    let phi = SeriesPhi::new(phi.into(), series, parallelism);
+    let phi = phi.into();
     let n_phi = phi.len();
     check_length("designs", series.len(), designs.len())?;
-    check_length("out", series.len() * n_phi, out.len())?;
+    check_rows_length("out", series.len(), n_phi, out.len())?;
+    let phi = SeriesPhi::new(phi, series, parallelism);
     let work = out.len().saturating_mul(4);
     for_each_row_segment(out, n_phi, work, parallelism, |row, col, segment| {
         let units = [Coefficients::new(&designs[row])];
@@ -287,9 +287,10 @@ pub fn evaluate_series<'a>(
     out: &mut [f64],
     parallelism: Parallelism,
 ) -> Result<()> {
-    let phi = SeriesPhi::new(phi.into(), series, parallelism);
+    let phi = phi.into();
     let n_phi = phi.len();
-    check_length("out", series.len() * n_phi, out.len())?;
+    check_rows_length("out", series.len(), n_phi, out.len())?;
+    let phi = SeriesPhi::new(phi, series, parallelism);
     let work = out.len().saturating_mul(4);
     for_each_row_segment(out, n_phi, work, parallelism, |row, col, segment| {
         series_run(

@@ -102,7 +102,10 @@ impl PhaseSetTable {
         let reach = harmonic_reach(max_crank_ratio);
         Ok(Self {
             phases: sets.iter().map(|s| Phases::new(s)).collect::<Result<_>>()?,
-            sums: sets.iter().map(|s| PhaseSums::new(s, reach)).collect(),
+            sums: sets
+                .iter()
+                .map(|s| PhaseSums::within_reach(s, reach))
+                .collect(),
         })
     }
 
@@ -299,7 +302,7 @@ pub fn sweep_engines(
         parallelism,
         |i, grid, buffer| {
             let engine = &engines[i];
-            engine.with_groups(engine.reach(), |groups| {
+            engine.with_reach_groups(|groups| {
                 sweep_one(
                     engine.coefficients(),
                     engine.phases(),

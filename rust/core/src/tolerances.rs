@@ -6,7 +6,7 @@
 //! E|δc_n|² = Σ_j |∂c_n/∂u1_j|²·(σ_u1·u1_j)² + |∂c_n/∂u2_j|²·(σ_u2·u2_j)² + |∂c_n/∂α_j|²·σ_α².
 
 use crate::engine::Engine;
-use crate::error::{check, Result};
+use crate::error::{check, try_filled, try_with_capacity, Result};
 use crate::harmonics::lambda_exact;
 
 /// Standard deviations of independent per-unit errors.
@@ -54,8 +54,8 @@ impl Engine {
         errors.validate()?;
         let (a, b) = self.fourier_coefficients(n_max)?;
         let width = a.len();
-        let mut lambdas = vec![0.0; width];
-        let mut variance = vec![0.0; width];
+        let mut lambdas = try_filled("n_max", n_max, width as u128, 0.0)?;
+        let mut variance = try_filled("n_max", n_max, width as u128, 0.0)?;
         for c in self.cylinders() {
             let (sin_g, cos_g) = c.inclination.sin_cos();
             let (sin_a, cos_a) = c.phase.sin_cos();
@@ -85,14 +85,17 @@ impl Engine {
                 variance[n] += squared(d_u1) * sd_u1 * sd_u1 + squared(d_alpha) * phase_var;
             }
         }
-        Ok((1..width)
-            .filter(|&n| n == 1 || n % 2 == 0)
-            .map(|n| HarmonicScatter {
-                n,
-                amplitude: a[n].hypot(b[n]),
-                scatter_rms: variance[n].sqrt(),
-            })
-            .collect())
+        let mut rows = try_with_capacity("n_max", n_max, width as u128 / 2 + 1)?;
+        rows.extend(
+            (1..width)
+                .filter(|&n| n == 1 || n % 2 == 0)
+                .map(|n| HarmonicScatter {
+                    n,
+                    amplitude: a[n].hypot(b[n]),
+                    scatter_rms: variance[n].sqrt(),
+                }),
+        );
+        Ok(rows)
     }
 }
 

@@ -20,6 +20,9 @@ use multiversion::target::target_cfg_f;
 /// a·b + c, fused or not: the kernels are generic over it and pick one per instruction set.
 pub(crate) trait MulAdd {
     fn mul_add(a: f64, b: f64, c: f64) -> f64;
+    /// a·b − p exactly, for p = fl(a·b) (an error-free product: one FMA, or Dekker's
+    /// splitting where there is none).
+    fn product_error(a: f64, b: f64, p: f64) -> f64;
 }
 
 /// One rounding (an FMA instruction where the clone has one).
@@ -32,12 +35,34 @@ impl MulAdd for Fused {
     fn mul_add(a: f64, b: f64, c: f64) -> f64 {
         a.mul_add(b, c)
     }
+    #[inline(always)]
+    fn product_error(a: f64, b: f64, p: f64) -> f64 {
+        a.mul_add(b, -p)
+    }
 }
 
 impl MulAdd for Unfused {
     #[inline(always)]
     fn mul_add(a: f64, b: f64, c: f64) -> f64 {
         a * b + c
+    }
+    #[inline(always)]
+    fn product_error(a: f64, b: f64, p: f64) -> f64 {
+        // Dekker: a = ah + al, b = bh + bl with halves of ≤ 26 bits, products exact.
+        let split = |x: f64| {
+            let t = 134_217_729.0 * x; // 2^27 + 1
+            let hi = t - (t - x);
+            (hi, x - hi)
+        };
+        let ((ah, al), (bh, bl)) = (split(a), split(b));
+        let error = ((ah * bh - p) + ah * bl + al * bh) + al * bl;
+        // The split overflows beyond 2^996: there an ulp of the product is far above any
+        // angle's meaning, and the residual is taken as 0 rather than NaN.
+        if error.is_finite() {
+            error
+        } else {
+            0.0
+        }
     }
 }
 

@@ -78,7 +78,7 @@ fn harmonic_rule_agrees_with_phase_sums() {
         for strokes in [Strokes::Two, Strokes::Four] {
             for acting in [Acting::Single, Acting::Double] {
                 let alphas = crank_phases(k as i64, strokes, acting).unwrap();
-                let sums = PhaseSums::new(&alphas, 60);
+                let sums = PhaseSums::new(&alphas, 60).unwrap();
                 for n in 1..=60u64 {
                     let carried = n == 1 || n % 2 == 0;
                     let nonzero = sums.cos[n as usize] != 0.0 || sums.sin[n as usize] != 0.0;

@@ -14,7 +14,7 @@ use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use multicrank_core as core;
 use numpy::{IntoPyArray, PyArray1, PyArrayMethods, PyReadonlyArray1};
 use pyo3::create_exception;
-use pyo3::exceptions::PyValueError;
+use pyo3::exceptions::{PyMemoryError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -234,19 +234,79 @@ impl MachineColumns<'_> {
     }
 }
 
-/// A new float64 array of `len`, filled by `fill` with the GIL released. It is not zeroed
-/// first: that would be a serial pass over the whole output before the (parallel) kernels,
-/// which write every element anyway.
+/// How many values an output holds, and which request asked for them: the size is checked
+/// before anything is allocated or computed.
+#[derive(Clone, Copy)]
+struct OutputSize {
+    /// The parameter the size comes from (as the user named it).
+    parameter: &'static str,
+    /// Its value.
+    value: usize,
+    /// Values per unit of it (designs, units, ...).
+    per_value: usize,
+}
+
+impl OutputSize {
+    fn of(parameter: &'static str, value: usize) -> Self {
+        Self {
+            parameter,
+            value,
+            per_value: 1,
+        }
+    }
+
+    fn times(self, per_value: usize) -> Self {
+        Self { per_value, ..self }
+    }
+
+    fn too_large(self) -> PyErr {
+        to_py_err(core::MechanismError::TooLarge {
+            parameter: self.parameter,
+            value: self.value.to_string(),
+            elements: self.value as u128 * self.per_value as u128,
+            item_bytes: std::mem::size_of::<f64>(),
+        })
+    }
+
+    /// The number of values, or the error naming the parameter when it overflows.
+    fn len(self) -> PyResult<usize> {
+        self.value
+            .checked_mul(self.per_value)
+            .ok_or_else(|| self.too_large())
+    }
+}
+
+/// A new, uninitialised float64 array of `size` values from numpy (whose allocation,
+/// unlike an infallible Rust one, reports failure): a `MechanismError` naming the
+/// parameter and the size when the memory cannot be had.
+fn empty_array(py: Python<'_>, size: OutputSize) -> PyResult<Bound<'_, PyArray1<f64>>> {
+    let len = size.len()?;
+    // numpy refuses more than isize::MAX bytes with a ValueError, and a failed allocation
+    // with a MemoryError: both mean "too large" here.
+    if len > isize::MAX as usize / std::mem::size_of::<f64>() {
+        return Err(size.too_large());
+    }
+    match py.import("numpy")?.getattr("empty")?.call1((len,)) {
+        Ok(array) => Ok(array.cast_into::<PyArray1<f64>>()?),
+        Err(error) if error.is_instance_of::<PyMemoryError>(py) => Err(size.too_large()),
+        Err(error) => Err(error),
+    }
+}
+
+/// A new float64 array of `size` values, filled by `fill` with the GIL released. It is not
+/// zeroed first: that would be a serial pass over the whole output before the (parallel)
+/// kernels, which write every element anyway.
 fn filled<'py>(
     py: Python<'py>,
-    len: usize,
+    size: OutputSize,
     fill: impl FnOnce(&mut [f64]) -> core::Result<()> + Send,
 ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-    // SAFETY: a fresh C-contiguous array that nothing else can see until it is returned;
-    // `fill` writes all of it or fails, and then the array is dropped unseen.
-    let array = unsafe { PyArray1::<f64>::new(py, len, false) };
-    let buffer = unsafe { array.as_slice_mut() }?;
-    py.detach(|| fill(buffer)).map_err(to_py_err)?;
+    let array = empty_array(py, size)?;
+    {
+        let mut writable = array.readwrite();
+        let buffer = writable.as_slice_mut()?;
+        py.detach(|| fill(buffer)).map_err(to_py_err)?;
+    }
     Ok(array)
 }
 
@@ -373,7 +433,8 @@ mod _native {
         let evaluation = evaluation(quantity)?;
         let (phi, columns, alphas) = (phi.slice()?, design.slices()?, phases.as_slice()?);
         let parallelism = parallelism(parallel_threshold);
-        filled(py, columns[0].len() * phi.len(), |out| {
+        let size = OutputSize::of("phi", phi.len()).times(columns[0].len());
+        filled(py, size, |out| {
             let (phi, phases, designs) =
                 (phi.phi()?, core::Phases::new(alphas)?, designs(columns)?);
             match evaluation {
@@ -443,17 +504,22 @@ mod _native {
         core::paper_coefficient(i, j).map_err(to_py_err)
     }
 
-    /// surviving_harmonics(cranks, strokes, acting, n_max) -> the n <= n_max that survive.
+    /// surviving_harmonics(cranks, strokes, acting, n_max) -> the n <= n_max that survive,
+    /// as a uint64 array (its size checked in the core before it is made).
     #[pyfunction]
-    fn surviving_harmonics(
+    fn surviving_harmonics<'py>(
+        py: Python<'py>,
         cranks: u64,
         strokes: i64,
         acting: &str,
         n_max: u64,
-    ) -> PyResult<Vec<u64>> {
+    ) -> PyResult<Bound<'py, PyArray1<u64>>> {
         let strokes = core::Strokes::from_count(strokes).map_err(to_py_err)?;
         let acting = core::Acting::from_name(acting).map_err(to_py_err)?;
-        Ok(core::surviving_harmonics(cranks, strokes, acting, n_max))
+        let harmonics = py
+            .detach(|| core::surviving_harmonics(cranks, strokes, acting, n_max))
+            .map_err(to_py_err)?;
+        Ok(harmonics.into_pyarray(py))
     }
 
     /// fourier_coefficients(design, phases, n_max, parallel_threshold=None) -> {"a", "b"},
@@ -587,10 +653,14 @@ mod _native {
         };
         let (phi, engine) = (phi.slice()?, engine.engine()?);
         let parallelism = parallelism(parallel_threshold);
-        filled(py, phi.len(), |out| match evaluation {
-            Evaluation::Closed(q) => engine.evaluate(q, phi.phi()?, out, parallelism),
-            Evaluation::Series(_) => engine.evaluate_series(phi.phi()?, out, parallelism),
-        })
+        filled(
+            py,
+            OutputSize::of("phi", phi.len()),
+            |out| match evaluation {
+                Evaluation::Closed(q) => engine.evaluate(q, phi.phi()?, out, parallelism),
+                Evaluation::Series(_) => engine.evaluate_series(phi.phi()?, out, parallelism),
+            },
+        )
     }
 
     /// engine_fourier(engine, n_max) -> {"a", "b"}, each of length n_max + 1.
@@ -683,9 +753,10 @@ mod _native {
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let (machine, phi) = (units.dynamics(g)?, phi.slice()?);
         let parallelism = parallelism(parallel_threshold);
-        let per_unit = |kinematics| (machine.len() * phi.len(), Some(kinematics));
-        let (len, kinematics) = match quantity {
-            "potential_energy" | "gravity_torque" => (phi.len(), None),
+        let points = OutputSize::of("phi", phi.len());
+        let per_unit = |kinematics| (points.times(machine.len()), Some(kinematics));
+        let (size, kinematics) = match quantity {
+            "potential_energy" | "gravity_torque" => (points, None),
             "travel" => per_unit(core::Kinematics::Travel),
             "velocity" => per_unit(core::Kinematics::Velocity),
             other => {
@@ -696,7 +767,7 @@ mod _native {
             }
         };
         let gravity_torque = quantity == "gravity_torque";
-        filled(py, len, |out| match kinematics {
+        filled(py, size, |out| match kinematics {
             Some(k) => machine.kinematics(k, phi.phi()?, out, parallelism),
             None if gravity_torque => machine.gravity_torque(phi.phi()?, out, parallelism),
             None => machine.potential_energy(phi.phi()?, out, parallelism),
@@ -716,14 +787,18 @@ mod _native {
     ) -> PyResult<Bound<'py, PyDict>> {
         let (machine, phi) = (units.dynamics(0.0)?, phi.slice()?);
         let parallelism = parallelism(parallel_threshold);
-        let (inertia, slope) = py
-            .detach(|| -> core::Result<(Vec<f64>, Vec<f64>)> {
-                let (mut j, mut dj) = (vec![0.0; phi.len()], vec![0.0; phi.len()]);
-                machine.reduced_inertia(shaft_inertia, phi.phi()?, &mut j, &mut dj, parallelism)?;
-                Ok((j, dj))
-            })
-            .map_err(to_py_err)?;
-        named(py, [("J", inertia), ("dJ_dphi", slope)])
+        let size = OutputSize::of("phi", phi.len());
+        let (inertia, slope) = (empty_array(py, size)?, empty_array(py, size)?);
+        {
+            let (mut j, mut dj) = (inertia.readwrite(), slope.readwrite());
+            let (j, dj) = (j.as_slice_mut()?, dj.as_slice_mut()?);
+            py.detach(|| machine.reduced_inertia(shaft_inertia, phi.phi()?, j, dj, parallelism))
+                .map_err(to_py_err)?;
+        }
+        let dict = PyDict::new(py);
+        dict.set_item("J", inertia)?;
+        dict.set_item("dJ_dphi", slope)?;
+        Ok(dict)
     }
 
     /// machine_gas_torque(units, phi, forces, parallel_threshold=None) -> Σ_j F_j s'_j (N·m);
@@ -739,7 +814,7 @@ mod _native {
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let (machine, phi, forces) = (units.dynamics(0.0)?, phi.slice()?, forces.as_slice()?);
         let parallelism = parallelism(parallel_threshold);
-        filled(py, phi.len(), |out| {
+        filled(py, OutputSize::of("phi", phi.len()), |out| {
             machine.gas_torque(phi.phi()?, forces, out, parallelism)
         })
     }
