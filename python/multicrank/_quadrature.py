@@ -38,18 +38,17 @@ def cycle_breaks(machine: Any, *, tables: bool = True) -> np.ndarray:
     ``tables=False`` is for integrands in which the gas torque enters only through its
     integral (:class:`~multicrank._work.GasWork` takes the tables' breakpoints unit by unit)."""
     cycle = machine.cycle
-    breaks = [np.array([0.0, cycle])]
-    for cylinder in machine.cylinders:
-        pressures = [p for p in (cylinder.pressure, cylinder.pressure_crank_end) if p is not None]
-        if cylinder.bore <= 0 or not pressures:
-            continue
-        alpha = cylinder.phase
-        centres = np.arange(0, round(cycle / math.pi) + 1) * math.pi
-        breaks.append(np.mod(centres - alpha, cycle))
-        for pressure in pressures:
-            table = getattr(pressure, "breakpoints", None) if tables else None
+    gassed = [
+        c for c in machine.cylinders if c.bore > 0 and (c.pressure is not None or c.pressure_crank_end is not None)
+    ]
+    centres = np.arange(0, round(cycle / math.pi) + 1) * math.pi
+    phases = np.array([c.phase for c in gassed])
+    breaks = [np.array([0.0, cycle]), np.mod(centres[None, :] - phases[:, None], cycle).ravel()]
+    for cylinder in gassed if tables else ():
+        for pressure in (cylinder.pressure, cylinder.pressure_crank_end):
+            table = getattr(pressure, "breakpoints", None)
             if table is not None:
-                breaks.append(np.mod(np.asarray(table, dtype=float) - alpha, cycle))
+                breaks.append(np.mod(np.asarray(table, dtype=float) - cylinder.phase, cycle))
     angles = np.unique(np.concatenate(breaks))
     # Breaks closer than this are one break: a sliver panel would only cost nodes.
     keep = np.concatenate([[True], np.diff(angles) > 1e-12 * cycle])
