@@ -1,6 +1,6 @@
 """Steady running against integrating the equation of motion in time, same process, one core.
 
-    python benches/python/bench_motion.py [--repeat 7] [--markdown]
+    python benches/python/bench_motion.py [--repeat 30] [--markdown]
 
 Machines: a V12 four-stroke engine (±30° banks, engine cycles from mc.IndicatorDiagram.engine,
 PCHIP tables of 1441 points) and a four-cylinder two-stroke compressor
@@ -33,8 +33,9 @@ import sys
 import time
 
 
-def best_time(function, repeat: int, min_seconds: float = 0.05) -> float:
-    """Seconds per call: the best of `repeat` runs, each of enough calls to last `min_seconds`."""
+def best_time(function, repeat: int, min_seconds: float = 0.01) -> float:
+    """Seconds per call: the best of `repeat` runs, each of enough calls to last `min_seconds`
+    (short runs, many of them: on a shared host the best short run is the undisturbed one)."""
     start = time.perf_counter()
     function()
     calls = max(1, round(min_seconds / max(time.perf_counter() - start, 1e-9)))
@@ -193,7 +194,7 @@ def measure(repeat: int) -> list[dict]:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--repeat", type=int, default=7)
+    parser.add_argument("--repeat", type=int, default=30)
     parser.add_argument("--markdown", action="store_true", help="print a Markdown table")
     parser.add_argument("--child", action="store_true", help=argparse.SUPPRESS)
     args = parser.parse_args()
