@@ -10,7 +10,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 import multicrank as mc
-from multicrank._quadrature import CycleQuadrature, cycle_breaks
+from multicrank._quadrature import CycleQuadrature, PanelSeries, cycle_breaks
 from multicrank.loads import BALANCE, PowerLawLoad, as_torque, balance_torque
 
 
@@ -119,3 +119,38 @@ def test_balance_is_the_cycle_mean_of_gas_and_drive():
     drive = as_torque(lambda phi, omega: 10.0 + 0 * phi + omega, "drive")
     assert balance_torque(machine, None, 5.0) == pytest.approx(dense, rel=1e-8, abs=1e-9)
     assert balance_torque(machine, drive, 5.0) == pytest.approx(dense + 15.0, rel=1e-8)
+
+
+@given(
+    count=st.integers(64, 2000),
+    seed=st.integers(0, 2**32 - 1),
+    slivers=st.booleans(),
+)
+def test_panels_are_located_as_a_binary_search_would(count, seed, slivers):
+    # Many panels (a pressure table's) are found through a bucket table; it must agree with
+    # searchsorted everywhere, slivers of 1e-10 rad and points outside [0, Φ] included.
+    rng = np.random.default_rng(seed)
+    edges = np.sort(np.concatenate([[0.0, 4 * math.pi], rng.random(count) * 4 * math.pi]))
+    if slivers:
+        edges = np.sort(np.concatenate([edges, edges[3:8] + 1e-10]))
+    edges = np.unique(edges)
+    series = PanelSeries(edges, np.zeros((edges.size - 1, 2)))
+    phi = np.concatenate([rng.random(500) * 4 * math.pi, edges, [-0.5, 4 * math.pi + 1.0]])
+    index, _ = series.locate(phi)
+    expected = np.clip(np.searchsorted(edges, phi, side="right") - 1, 0, edges.size - 2)
+    np.testing.assert_array_equal(index, expected)
+
+
+def test_panel_series_integrates_and_differentiates_exactly_between_the_nodes():
+    rule = CycleQuadrature(np.array([0.0, 1.0, 2 * math.pi]))
+    values = np.sin(3 * rule.phi) + 0.2 * np.cos(rule.phi)
+    _, _, antiderivative = rule.antiderivative(values)
+    phi = np.linspace(0, 2 * math.pi, 1001)
+    exact = (1 - np.cos(3 * phi)) / 3 + 0.2 * np.sin(phi)
+    np.testing.assert_allclose(antiderivative(phi), exact, atol=1e-13)
+    slope = rule.interpolant(values).derivative()
+    np.testing.assert_allclose(slope(phi), 3 * np.cos(3 * phi) - 0.2 * np.sin(phi), atol=1e-9)
+    # and the extremum between the nodes, located on the interpolant
+    edges = np.sin(3 * rule.edges) + 0.2 * np.cos(rule.edges)
+    top = rule.extremum(values, edges, largest=True)
+    assert 3 * math.cos(3 * top) - 0.2 * math.sin(top) == pytest.approx(0, abs=1e-8)

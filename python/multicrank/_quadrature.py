@@ -38,18 +38,17 @@ def cycle_breaks(machine: Any, *, tables: bool = True) -> np.ndarray:
     ``tables=False`` is for integrands in which the gas torque enters only through its
     integral (:class:`~multicrank._work.GasWork` takes the tables' breakpoints unit by unit)."""
     cycle = machine.cycle
-    breaks = [np.array([0.0, cycle])]
-    for cylinder in machine.cylinders:
-        pressures = [p for p in (cylinder.pressure, cylinder.pressure_crank_end) if p is not None]
-        if cylinder.bore <= 0 or not pressures:
-            continue
-        alpha = cylinder.phase
-        centres = np.arange(0, round(cycle / math.pi) + 1) * math.pi
-        breaks.append(np.mod(centres - alpha, cycle))
-        for pressure in pressures:
-            table = getattr(pressure, "breakpoints", None) if tables else None
+    gassed = [
+        c for c in machine.cylinders if c.bore > 0 and (c.pressure is not None or c.pressure_crank_end is not None)
+    ]
+    centres = np.arange(0, round(cycle / math.pi) + 1) * math.pi
+    phases = np.array([c.phase for c in gassed])
+    breaks = [np.array([0.0, cycle]), np.mod(centres[None, :] - phases[:, None], cycle).ravel()]
+    for cylinder in gassed if tables else ():
+        for pressure in (cylinder.pressure, cylinder.pressure_crank_end):
+            table = getattr(pressure, "breakpoints", None)
             if table is not None:
-                breaks.append(np.mod(np.asarray(table, dtype=float) - alpha, cycle))
+                breaks.append(np.mod(np.asarray(table, dtype=float) - cylinder.phase, cycle))
     angles = np.unique(np.concatenate(breaks))
     # Breaks closer than this are one break: a sliver panel would only cost nodes.
     keep = np.concatenate([[True], np.diff(angles) > 1e-12 * cycle])
@@ -96,19 +95,43 @@ class PanelSeries:
     [0, Φ] (the first and last panels extend beyond it) and differentiated exactly.
     """
 
-    __slots__ = ("_columns", "coefficients", "edges", "half", "middle")
+    __slots__ = ("_buckets", "_columns", "coefficients", "edges", "half", "middle")
 
     def __init__(self, edges: np.ndarray, coefficients: np.ndarray) -> None:
         self.edges = edges
         self.coefficients = coefficients
         self._columns: np.ndarray | None = None
+        self._buckets: tuple[float, np.ndarray, np.ndarray] | None = None
         self.half = 0.5 * np.diff(edges)
         self.middle = 0.5 * (edges[:-1] + edges[1:])
 
     def locate(self, phi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """(panel index, local x) of each φ."""
-        index = np.clip(np.searchsorted(self.edges, phi, side="right") - 1, 0, self.half.size - 1)
-        return index, (phi - self.middle[index]) / self.half[index]
+        """(panel index, local x) of each φ (1-D)."""
+        count = self.half.size
+        if count < 64:
+            index = np.clip(np.searchsorted(self.edges, phi, side="right") - 1, 0, count - 1)
+        else:
+            index = self._bucketed(phi)
+        return index, (phi - np.take(self.middle, index)) / np.take(self.half, index)
+
+    def _bucketed(self, phi: np.ndarray) -> np.ndarray:
+        """The panel of each φ by a uniform bucket table and a step or two forward: several times
+        faster than a binary search when the panels are many (a pressure table's), exact."""
+        if self._buckets is None:
+            width = 0.5 * float(np.median(np.diff(self.edges)))
+            starts = self.edges[0] + width * np.arange(int(np.ceil((self.edges[-1] - self.edges[0]) / width)) + 1)
+            first = np.clip(np.searchsorted(self.edges, starts, side="right") - 1, 0, self.half.size - 1)
+            self._buckets = (width, first, np.append(self.edges, np.inf))
+        width, first, bounds = self._buckets
+        bucket = np.clip((phi - self.edges[0]) * (1.0 / width), 0, first.size - 1).astype(np.intp)
+        index = np.take(first, bucket)
+        # A bucket holds the start of its first panel; the φ in it may lie one or more panels on.
+        while True:
+            step = phi >= np.take(bounds, index + 1)
+            if not step.any():
+                break
+            index += step
+        return np.minimum(index, self.half.size - 1)
 
     def __call__(self, phi: Any) -> np.ndarray:
         angles = np.asarray(phi, dtype=float)

@@ -335,6 +335,22 @@ def _extremes(
 # -- "balance": the energy method ----------------------------------------------------------------
 
 
+class _SpeedExcess:
+    """s ↦ (ω_m(s)/ω_m)² − 1 = (t/t_Φ(s))² − 1 for E = s + K̃ on a mesh, memoised (Brent's
+    method evaluates the bracket's ends again)."""
+
+    def __init__(self, mesh: Mesh, target: float) -> None:
+        self.weights, self.half_J = mesh.rule.weights.ravel(), 0.5 * mesh.J.ravel()
+        self.lifted, self.target = mesh.energy.ravel(), target
+        self.known: dict[float, float] = {}
+
+    def __call__(self, s: float) -> float:
+        if s not in self.known:
+            period = float(self.weights @ np.sqrt(self.half_J / (s + self.lifted)))
+            self.known[s] = (self.target / period) ** 2 - 1.0
+        return self.known[s]
+
+
 class Balance:
     """E(φ) = E₀ + K(φ), K = ∫₀^φ (M_gas + M_drive − M_load) dφ − [U(φ) − U(0)], and the
     E₀ that gives a mean speed: written E = s + K̃ with K̃ = K − min K ≥ 0 and s > 0 the
@@ -425,11 +441,7 @@ class Balance:
         mesh = self.mesh(s_high)
         s = s_high
         for _ in range(16):
-
-            def excess(s: float, mesh: Mesh = mesh) -> float:
-                t = float(np.sum(mesh.rule.weights * np.sqrt(mesh.J / (2.0 * (s + mesh.energy)))))
-                return (target / t) ** 2 - 1.0
-
+            excess = _SpeedExcess(mesh, target)
             if excess(s_low) > 0:
                 finer = self.mesh(s_low)
                 if finer.rule.phi.size > mesh.rule.phi.size:
