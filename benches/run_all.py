@@ -2,10 +2,10 @@
 
     python benches/run_all.py [--criterion]
 
-Runs benches/python/bench_kernels.py, benches/python/bench_sweep.py and
-benches/python/bench_motion.py (release build of the installed package; each refuses a debug
-build) and, with --criterion, the criterion benches of the Rust kernels, then writes
-BENCHMARKS.md at the repository root.
+Runs benches/python/bench_kernels.py, benches/python/bench_sweep.py,
+benches/python/bench_machine.py and benches/python/bench_motion.py (release build of the
+installed package; each refuses a debug build) and, with --criterion, the criterion benches
+of the Rust kernels, then writes BENCHMARKS.md at the repository root.
 OPENBLAS_NUM_THREADS=1 keeps numpy's BLAS threads from spinning on the cores being timed.
 """
 
@@ -24,6 +24,12 @@ ROOT = Path(__file__).resolve().parent.parent
 ENV = dict(os.environ, OPENBLAS_NUM_THREADS="1")
 
 
+MACHINE_HEADING = "## The machine's kernels: 10⁶ points, J and J′ together, U"
+MACHINE_NOTE = (
+    "Cylinders with λ = 0.3, rods with ΔI < 0, webs and counterweights, phases spread over the "
+    "revolution, banks alternating ±45°. Baseline: one numpy expression per cylinder from planar "
+    "geometry (one sin, one cos, one square root of ψ per cylinder), which also checks the values."
+)
 MOTION_HEADING = "## Motion: steady running against time integration, one core"
 MOTION_NOTE = (
     "`steady_state`: everything it returns (arrays at 361 points, δ, δ without gravity, δ of "
@@ -57,6 +63,7 @@ def main() -> None:
     args = parser.parse_args()
     kernels = run(sys.executable, "benches/python/bench_kernels.py", "--markdown")
     sweeps = run(sys.executable, "benches/python/bench_sweep.py", "--markdown")
+    machine = run(sys.executable, "benches/python/bench_machine.py", "--markdown")
     motion = run(sys.executable, "benches/python/bench_motion.py", "--markdown")
     cpu = next(
         (
@@ -87,6 +94,12 @@ def main() -> None:
         "## Sweeps: 200 000 designs, mixed k = 1…12, two- and four-stroke, phi = 360",
         "",
         sweeps.strip(),
+        "",
+        MACHINE_HEADING,
+        "",
+        machine.strip(),
+        "",
+        MACHINE_NOTE,
         "",
         MOTION_HEADING,
         "",

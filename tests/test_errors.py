@@ -42,7 +42,7 @@ CATEGORIES: dict[str, st.SearchStrategy] = {
     "text_list": st.lists(st.text(min_size=1, max_size=3), min_size=1, max_size=3),
     "ragged": st.lists(st.floats(0, 0.5), min_size=1, max_size=3).map(lambda a: [a, [*a, 0.25]]),
     "nested": st.floats(0, 0.5).map(lambda x: [[[x, x]], [[x, x]]]),
-    "huge": st.one_of(st.integers(2**63, 2**200), st.integers(-(2**200), -(2**63) - 1)),
+    "huge": st.one_of(st.integers(2**64, 2**200), st.integers(-(2**200), -(2**63) - 1)),
     "nonfinite": st.sampled_from([math.nan, math.inf, -math.inf]),
     "bool_array": st.lists(st.booleans(), min_size=1, max_size=3).map(np.array),
     "datetime": st.just(np.array(["2020-01-01"], dtype="datetime64[D]")),
@@ -435,7 +435,7 @@ def test_engines_copy_and_pickle():
 
 def test_counts_beyond_64_bits_name_the_limit():
     with pytest.raises(mc.MechanismError, match=r"n_max = \d+ is out of range; allowed: an integer >= 0 \(at most"):
-        mc.surviving_harmonics(4, n_max=2**63)
+        mc.surviving_harmonics(4, n_max=2**64)
     assert mc.surviving_harmonics(4, n_max=np.uint8(8)) == mc.surviving_harmonics(4, n_max=8)
 
 

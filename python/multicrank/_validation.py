@@ -47,6 +47,9 @@ _NUMERIC_KINDS = "iuf"
 #: The largest count the native layer takes (its integers are 64-bit): anything above is
 #: refused here, by name, rather than overflowing in the conversion.
 INDEX_MAX = 2**63 - 1
+#: The largest count the native layer takes (its counts are u64/usize); what is larger than
+#: memory allows is refused by check_size, by name, before any work.
+COUNT_MAX = 2**64 - 1
 
 
 def as_real_array(value: Any, name: str) -> np.ndarray:
@@ -174,13 +177,13 @@ def as_phases(phases: Any) -> np.ndarray:
     return contiguous(array)
 
 
-def as_count(value: Any, name: str, *, minimum: int, maximum: int = INDEX_MAX) -> int:
+def as_count(value: Any, name: str, *, minimum: int, maximum: int = COUNT_MAX) -> int:
     """An integer in [minimum, maximum] (bools and floats such as 2.0 are rejected).
 
-    ``maximum`` defaults to the native layer's 64-bit limit: a larger Python int would
+    ``maximum`` defaults to the native layer's unsigned 64-bit limit: a larger Python int would
     otherwise escape as an OverflowError from the conversion.
     """
-    allowed = f"an integer >= {minimum}" if maximum == INDEX_MAX else f"an integer {minimum} <= {name} <= {maximum}"
+    allowed = f"an integer >= {minimum}" if maximum == COUNT_MAX else f"an integer {minimum} <= {name} <= {maximum}"
     if isinstance(value, (bool, np.bool_)):
         raise MechanismError(f"{name} must be {allowed}, got {value!r}")
     try:
@@ -190,7 +193,7 @@ def as_count(value: Any, name: str, *, minimum: int, maximum: int = INDEX_MAX) -
     if count < minimum:
         raise MechanismError(f"{name} = {count} is out of range; allowed: {allowed}")
     if count > maximum:
-        limit = "" if maximum != INDEX_MAX else f" (at most {maximum})"
+        limit = "" if maximum != COUNT_MAX else f" (at most {maximum})"
         raise MechanismError(f"{name} = {count} is out of range; allowed: {allowed}{limit}")
     return count
 
