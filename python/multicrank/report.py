@@ -677,11 +677,12 @@ def write_report(out: str | Path, settings: ReportSettings | None = None, progre
     """Write the report into ``out`` (created if needed); returns the path of index.html."""
     from tqdm.auto import tqdm
 
-    require("matplotlib", "report")  # before anything is written
     settings = settings or ReportSettings()
-    rpm = _speed(settings.engine)  # likewise
+    # The user's mistakes first, then the missing extra, both before anything is written.
+    rpm = _speed(settings.engine)
     for machine in settings.engines.values():
         _speeds(machine)
+    require("matplotlib", "report")
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     engine = settings.engine
