@@ -135,3 +135,31 @@ def test_motion_over_the_speed_range_with_the_class_flywheel():
 )
 def test_motion_mistakes_are_one_line_naming_the_option(args, named):
     assert named in run_failing("motion", "--no-progress", *args)
+
+
+@pytest.mark.parametrize(
+    ("args", "named"),
+    [
+        (["--crank-ratio", "0.2:0.45:0"], "--crank-ratio"),
+        (["--crank-ratio", ","], "--crank-ratio"),
+        (["--crank-ratio", "abc"], "--crank-ratio"),
+        (["--crank-ratio", "0.3", "--cranks", "1.5"], "--cranks"),
+        (["--crank-ratio", "0.3", "--cranks", "3:1"], "--cranks"),
+        (["--crank-ratio", "0.1:nan:3"], "--crank-ratio"),
+    ],
+)
+def test_sweep_axes_that_cannot_be_read_are_one_line(tmp_path, args, named):
+    """Issue 13, item 8: empty or unparsable axes were tracebacks (IndexError, ValueError)."""
+    out = tmp_path / "s.parquet"
+    line = run_failing("sweep", "--inclination", "90", "--u1", "1", "--out", str(out), *args)
+    assert line.startswith(f"Error: {named} = ") and not out.exists()
+
+
+def test_eval_and_report_refuse_what_they_cannot_do_in_one_line(tmp_path):
+    assert "--points" in run_failing("eval", "--points", "100000000000")
+    assert "--threshold" in run_failing("report", "--threshold", "nan", "--out", str(tmp_path / "r"), "--no-progress")
+    assert not (tmp_path / "r").exists()
+    blocked = tmp_path / "file"
+    blocked.write_text("not a directory")
+    line = run_failing("report", "--out", str(blocked / "inside"), "--no-progress")
+    assert line.startswith(f"Error: --out {blocked / 'inside'}")

@@ -96,7 +96,11 @@ def _inline_variant(machine, cranks, strokes, acting, inclination):
 @click.option("--inclination", type=float, help="Override the cylinder inclination γ, in DEGREES (90 = upright).")
 @click.option("--rpm", type=click.FloatRange(min=0, min_open=True), help="Override the mean speed [1/min].")
 @click.option(
-    "--points", type=click.IntRange(min=1), default=24, show_default=True, help="φ grid points over one revolution."
+    "--points",
+    type=click.IntRange(min=1, max=10_000_000),
+    default=24,
+    show_default=True,
+    help="φ grid points over one revolution (a printed table: at most 10⁷).",
 )
 @click.option("--format", "fmt", type=click.Choice(FORMATS), default="table", show_default=True)
 def eval_command(engine, cranks, strokes, acting, inclination, rpm, points, fmt) -> None:
@@ -184,24 +188,44 @@ _AXES = {
 }
 
 
-def parse_axis(text: str, kind) -> list:
-    """An axis from the command line: "a:b:n" (n points from a to b inclusive; for integer
-    axes "a:b" is a..b inclusive), or a comma-separated list."""
+def parse_axis(text: str, kind, name: str = "axis") -> list:
+    """An axis from the command line: "a:b:n" (n ≥ 1 points from a to b inclusive; for integer
+    axes "a:b" is a..b inclusive, a ≤ b), or a comma-separated list; never empty. A mistake is
+    a MechanismError naming the axis (one line from the CLI)."""
     text = str(text).strip()
-    if kind is str:
-        return [item.strip() for item in text.split(",") if item.strip()]
-    if ":" in text:
-        parts = text.split(":")
-        if kind is int and len(parts) == 2:
-            start, stop = int(parts[0]), int(parts[1])
-            return list(range(start, stop + 1))
-        if len(parts) != 3:
-            raise click.BadParameter(f"{text!r}: a range is start:stop:count")
-        first, last, count = float(parts[0]), float(parts[1]), int(parts[2])
-        values = np.linspace(first, last, count).tolist()
-        return [round(v) for v in values] if kind is int else values
-    convert = int if kind is int else float
-    return [convert(item) for item in text.split(",") if item.strip()]
+    label = "an integer" if kind is int else "a number"
+    try:
+        if kind is str:
+            values: list = [item.strip() for item in text.split(",") if item.strip()]
+        elif ":" in text:
+            parts = text.split(":")
+            if kind is int and len(parts) == 2:
+                start, stop = int(parts[0]), int(parts[1])
+                if stop < start:
+                    raise MechanismError(f"{name} = {text!r}: an integer range start:stop needs start <= stop")
+                values = list(range(start, stop + 1))
+            elif len(parts) != 3:
+                raise MechanismError(f"{name} = {text!r}: a range is start:stop:count")
+            else:
+                first, last, count = float(parts[0]), float(parts[1]), int(parts[2])
+                if count < 1 or not (math.isfinite(first) and math.isfinite(last)):
+                    raise MechanismError(
+                        f"{name} = {text!r}: a range start:stop:count needs finite ends and count >= 1"
+                    )
+                points = np.linspace(first, last, count).tolist()
+                values = [round(v) for v in points] if kind is int else points
+        else:
+            convert = int if kind is int else float
+            values = [convert(item) for item in text.split(",") if item.strip()]
+    except MechanismError:  # a ValueError too: said above, as it is
+        raise
+    except ValueError:
+        raise MechanismError(
+            f"{name} = {text!r} is not understood; give {label} list a,b,c or a range start:stop:count"
+        ) from None
+    if not values:
+        raise MechanismError(f"{name} = {text!r} gives no values")
+    return values
 
 
 def _grid_axes(options: dict, config: dict) -> dict:
@@ -215,7 +239,7 @@ def _grid_axes(options: dict, config: dict) -> dict:
         if isinstance(value, list):
             values = value
         else:
-            values = parse_axis(value, float if kind == "degrees" else kind)
+            values = parse_axis(value, float if kind == "degrees" else kind, f"--{name.replace('_', '-')}")
         if kind == "degrees":
             values = np.radians(values).tolist()
         axes[column] = values if len(values) > 1 else values[0]
@@ -459,6 +483,13 @@ def simulate_command(engine, rpm, duration, samples, load, drive, gas, gravity, 
     _table_or_file(shown, fmt, out_path, summary=summary, json_meta=meta)
 
 
+def _finite_option(value, option: str):
+    """click's FloatRange lets NaN through (every comparison with it is false)."""
+    if value is not None and not math.isfinite(value):
+        raise click.BadParameter(f"{value} is not a finite number", param_hint=option)
+    return value
+
+
 def _speed(machine, rpm, option: str) -> float:
     """The speed [1/min] asked for, or the machine's own; checked."""
     speed = machine.rpm if rpm is None else rpm
@@ -614,6 +645,7 @@ def _speed_set(machine, points: int) -> list[float | None]:
 @click.option(
     "--threshold",
     type=click.FloatRange(min=0, min_open=True),
+    callback=lambda ctx, param, value: _finite_option(value, "--threshold"),
     default=None,
     help="δ_g below which gravity may be neglected [default: 1/3000].",
 )
@@ -641,6 +673,8 @@ def report_command(out_dir, engine, k_max, n_max, points, threshold, delta, prog
     )
     try:
         index = write_report(out_dir, settings, progress=progress)
+    except OSError as error:
+        raise UserError(f"--out {out_dir}: {error.strerror or error}") from None
     except MechanismError as error:
         raise UserError(str(error)) from None
     click.echo(f"report written: {index}")
