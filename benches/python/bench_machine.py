@@ -21,23 +21,10 @@ import math
 import os
 import subprocess
 import sys
-import time
+
+from timing import best_time
 
 LAMBDA = 0.3
-
-
-def best_time(function, repeat: int, min_seconds: float = 0.02) -> float:
-    """Seconds per call: the best of `repeat` runs of enough calls to last `min_seconds`."""
-    start = time.perf_counter()
-    function()
-    calls = max(1, round(min_seconds / max(time.perf_counter() - start, 1e-9)))
-    times = []
-    for _ in range(repeat):
-        start = time.perf_counter()
-        for _ in range(calls):
-            function()
-        times.append((time.perf_counter() - start) / calls)
-    return min(times)
 
 
 def cylinders(count: int) -> list[dict]:

@@ -32,20 +32,7 @@ import subprocess
 import sys
 import time
 
-
-def best_time(function, repeat: int, min_seconds: float = 0.01) -> float:
-    """Seconds per call: the best of `repeat` runs, each of enough calls to last `min_seconds`
-    (short runs, many of them: on a shared host the best short run is the undisturbed one)."""
-    start = time.perf_counter()
-    function()
-    calls = max(1, round(min_seconds / max(time.perf_counter() - start, 1e-9)))
-    times = []
-    for _ in range(repeat):
-        start = time.perf_counter()
-        for _ in range(calls):
-            function()
-        times.append((time.perf_counter() - start) / calls)
-    return min(times)
+from timing import best_time
 
 
 def machines():
@@ -160,9 +147,11 @@ def measure(repeat: int) -> list[dict]:
     rows = []
     for machine, rpm in machines():
         result = mc.steady_state(machine, rpm=rpm)
-        fast = best_time(functools.partial(mc.steady_state, machine, rpm=rpm), repeat)
-        cold = best_time(functools.partial(first_call, machine, rpm), repeat)
-        flywheel = best_time(functools.partial(mc.flywheel_inertia, machine, delta=0.01, rpm=rpm), max(3, repeat // 2))
+        # Short runs, many of them: these calls last milliseconds.
+        short = functools.partial(best_time, min_seconds=0.01)
+        fast = short(functools.partial(mc.steady_state, machine, rpm=rpm), repeat)
+        cold = short(functools.partial(first_call, machine, rpm), repeat)
+        flywheel = short(functools.partial(mc.flywheel_inertia, machine, delta=0.01, rpm=rpm), max(3, repeat // 2))
         # The baseline's tolerance is tightened until its δ is the library's to 1e-6 (tabulated
         # pressures put a kink into its right-hand side at every table node of every cylinder);
         # the time is that of the run that got there.
