@@ -163,3 +163,74 @@ def test_eval_and_report_refuse_what_they_cannot_do_in_one_line(tmp_path):
     blocked.write_text("not a directory")
     line = run_failing("report", "--out", str(blocked / "inside"), "--no-progress")
     assert line.startswith(f"Error: --out {blocked / 'inside'}")
+
+
+@pytest.mark.parametrize(
+    ("config", "named"),
+    [
+        ('outputs = "force_rms,nonsense"\n[axes]\ncrank_ratio = 0.3\ninclination = 90\nu1 = 1\n', "nonsense"),
+        ("outputs = 7\n[axes]\ncrank_ratio = 0.3\ninclination = 90\nu1 = 1\n", "outputs"),
+        ('outputs = ["force_rms", 3]\n[axes]\ncrank_ratio = 0.3\ninclination = 90\nu1 = 1\n', "outputs"),
+        ("[axes]\ncrank_ratio = 0.3\ninclination = 90\nu1 = 1\ncylinders = [2, 4]\n", "cylinders"),
+        ("[axes]\ncrank_ratio = 0.3\ninclination = 90\nu1 = 1\ncranks = [2.5]\n", "[axes] cranks"),
+        ('[axes]\ncrank_ratio = "0.3"\ninclination = 90\nu1 = true\n', "[axes] u1"),
+        ("[axes]\ncrank_ratio = []\ninclination = 90\nu1 = 1\n", "[axes] crank_ratio"),
+        ('[axes]\ncrank_ratio = "0.1:0.2:0"\ninclination = 90\nu1 = 1\n', "[axes] crank_ratio"),
+        ("axes = 3\n", "axes"),
+        ("phi = 0\n[axes]\ncrank_ratio = 0.3\ninclination = 90\nu1 = 1\n", "phi"),
+        ('phi = "720"\n[axes]\ncrank_ratio = 0.3\ninclination = 90\nu1 = 1\n', "phi"),
+        ("speed = 3\n[axes]\ncrank_ratio = 0.3\ninclination = 90\nu1 = 1\n", "speed"),
+        ("[axes\n", "not a valid TOML file"),
+    ],
+)
+def test_sweep_configs_with_wrong_names_or_types_are_one_line(tmp_path, config, named):
+    """Issue 13, item 8: a config's outputs = "x" was iterated per character after the sweep
+    ran, and unknown [axes] names were silently dropped."""
+    path = tmp_path / "sweep.toml"
+    path.write_text(config)
+    out = tmp_path / "s.parquet"
+    line = run_failing("sweep", "--config", str(path), "--out", str(out), "--no-progress")
+    assert named in line and not out.exists()
+
+
+def test_a_sweep_config_that_is_not_utf8_is_one_line(tmp_path):
+    path = tmp_path / "sweep.toml"
+    path.write_bytes(b"\xff\xfe[axes]\n")
+    assert "UTF-8" in run_failing("sweep", "--config", str(path), "--out", str(tmp_path / "s.parquet"))
+
+
+def test_a_sweep_config_with_outputs_as_a_string_runs(tmp_path):
+    path = tmp_path / "sweep.toml"
+    path.write_text(
+        'outputs = "force_rms, energy_range"\nphi = 36\n[axes]\ncrank_ratio = [0.2, 0.3]\n'
+        'inclination = "0:90:3"\nu1 = 1\ncranks = 2\n'
+    )
+    out = tmp_path / "s.parquet"
+    result = subprocess.run(
+        [str(SCRIPT), "sweep", "--config", str(path), "--out", str(out), "--no-progress"],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert result.returncode == 0, result.stderr
+    assert "force_rms" in result.stdout and "energy_range" in result.stdout and "6 designs" in result.stdout
+
+
+def test_a_full_disk_during_a_sweep_is_one_line(tmp_path, monkeypatch):
+    import errno
+
+    from click.testing import CliRunner
+
+    from multicrank import cli, sweeps
+
+    def full_disk(*args, **kwargs):
+        raise OSError(errno.ENOSPC, "No space left on device")
+
+    monkeypatch.setattr(sweeps, "sweep", full_disk)
+    out = tmp_path / "s.parquet"
+    args = ["sweep", "--crank-ratio", "0.3", "--inclination", "90", "--u1", "1", "--out", str(out), "--no-progress"]
+    result = CliRunner().invoke(cli.main, args)
+    assert result.exit_code == 2
+    assert result.output.strip().splitlines()[-1] == (
+        f"Error: --out {out}: No space left on device; finished chunks are kept for --resume"
+    )

@@ -232,18 +232,84 @@ def _grid_axes(options: dict, config: dict) -> dict:
     axes = {}
     for name, (column, kind) in _AXES.items():
         value = options.get(name)
+        where = f"--{name.replace('_', '-')}"
         if value is None:
-            value = config.get(name)
+            value, where = config.get(name), f"[axes] {name}"
         if value is None:
             continue
         if isinstance(value, list):
-            values = value
+            values = [_config_value(item, kind, where) for item in value]
+            if not values:
+                raise MechanismError(f"{where} is an empty list")
+        elif isinstance(value, str):
+            values = parse_axis(value, float if kind == "degrees" else kind, where)
         else:
-            values = parse_axis(value, float if kind == "degrees" else kind, f"--{name.replace('_', '-')}")
+            values = [_config_value(value, kind, where)]
         if kind == "degrees":
             values = np.radians(values).tolist()
         axes[column] = values if len(values) > 1 else values[0]
     return axes
+
+
+def _config_value(value, kind, where: str):
+    """One value of an axis written as TOML (a number, or a string for acting), checked."""
+    wanted = {int: "an integer", str: "a string"}.get(kind, "a number")
+    if kind is str:
+        ok = isinstance(value, str)
+    elif kind is int:
+        ok = isinstance(value, int) and not isinstance(value, bool)
+    else:
+        ok = isinstance(value, int | float) and not isinstance(value, bool)
+    if not ok:
+        raise MechanismError(f"{where}: {value!r} is not {wanted}")
+    return value
+
+
+_CONFIG_KEYS = ("axes", "phi", "outputs")
+
+
+def _sweep_config(path: str | None) -> dict:
+    """The --config file as a checked table: [axes] with known names, phi a positive integer,
+    outputs a list (or comma-separated string) of names. Every mistake is one line naming it."""
+    if not path:
+        return {}
+    import tomllib
+
+    try:
+        with open(path, "rb") as handle:
+            table = tomllib.load(handle)
+    except tomllib.TOMLDecodeError as error:
+        raise MechanismError(f"--config {path}: not a valid TOML file: {error}") from None
+    except UnicodeDecodeError as error:
+        raise MechanismError(f"--config {path}: not a UTF-8 text file: {error.reason}") from None
+    except OSError as error:
+        raise MechanismError(f"--config {path}: cannot be read: {error.strerror or error}") from None
+    unknown = sorted(set(table) - set(_CONFIG_KEYS))
+    if unknown:
+        raise MechanismError(f"--config {path}: unknown keys {unknown}; it takes {list(_CONFIG_KEYS)}")
+    axes = table.get("axes", {})
+    if not isinstance(axes, dict):
+        raise MechanismError(f"--config {path}: axes must be a table [axes], not {type(axes).__name__}")
+    unknown = sorted(set(axes) - set(_AXES))
+    if unknown:
+        raise MechanismError(f"--config {path}: unknown axes {unknown}; the axes are {list(_AXES)}")
+    phi = table.get("phi")
+    if phi is not None and (isinstance(phi, bool) or not isinstance(phi, int) or phi < 1):
+        raise MechanismError(f"--config {path}: phi = {phi!r}; it is a positive integer (points per revolution)")
+    outputs = table.get("outputs")
+    if isinstance(outputs, str):
+        table["outputs"] = _output_names(outputs, f"--config {path}: outputs")
+    elif outputs is not None:
+        if not isinstance(outputs, list) or not outputs or not all(isinstance(name, str) for name in outputs):
+            raise MechanismError(f"--config {path}: outputs = {outputs!r}; it is a list of output names")
+    return table
+
+
+def _output_names(text: str, where: str) -> list[str]:
+    names = [name.strip() for name in text.split(",") if name.strip()]
+    if not names:
+        raise MechanismError(f"{where} = {text!r} names no outputs")
+    return names
 
 
 @main.command("sweep")
@@ -277,34 +343,35 @@ def sweep_command(config, phi, outputs, out, resume, chunk_size, progress, **axi
     and the same command with --resume continues from them.
     """
     import time
-    import tomllib
 
     from .designs import SWEEP_OUTPUTS, DesignGrid
     from .sweeps import sweep
 
-    table = {}
-    if config:
-        with open(config, "rb") as handle:
-            table = tomllib.load(handle)
+    table = _sweep_config(config)
     axes = _grid_axes(axis_options, table.get("axes", {}))
     axes.setdefault("u2", 0.0)
     missing = [name for name in ("crank_ratio", "inclination", "u1") if name not in axes]
     if missing:
         raise click.UsageError(f"missing axes: {', '.join(missing)} (give them as options or in --config)")
     phi = phi or int(table.get("phi", 720))
-    chosen = outputs.split(",") if outputs else table.get("outputs", list(SWEEP_OUTPUTS))
+    chosen = _output_names(outputs, "--outputs") if outputs else table.get("outputs", list(SWEEP_OUTPUTS))
+    unknown = [name for name in chosen if name not in SWEEP_OUTPUTS]
+    if unknown:
+        raise MechanismError(f"outputs: unknown {unknown}; the outputs are {list(SWEEP_OUTPUTS)}")
     grid = DesignGrid(**axes)
     started = time.perf_counter()
     try:
         path = sweep(grid, phi=phi, outputs=chosen, out=out, resume=resume, progress=progress, chunk_size=chunk_size)
     except MechanismError as error:
         raise click.UsageError(str(error)) from None
+    except OSError as error:  # a full disk, a directory that went away: the kept parts stay
+        raise UserError(f"--out {out}: {error.strerror or error}; finished chunks are kept for --resume") from None
     except KeyboardInterrupt:
         click.echo(f"\ninterrupted: finished chunks are kept; rerun with --resume to continue into {out}", err=True)
         sys.exit(130)
     elapsed = time.perf_counter() - started
     pq = require("pyarrow.parquet", "parquet")
-    result = pq.read_table(path, columns=[c for c in chosen]).to_pandas()
+    result = pq.read_table(path, columns=list(chosen)).to_pandas()
     click.echo(
         f"{len(grid):,} designs × {phi} φ points in {elapsed:.2f} s ({len(grid) / elapsed:,.0f} designs/s) → {path}"
     )
