@@ -1093,3 +1093,43 @@ def test_speed_fluctuation_invalid_input():
         mc.speed_fluctuation(crank_ratio=0.3, inclination=float("nan"), u1=1.0, u2=0.5)
     with pytest.raises(mc.MechanismError):
         mc.speed_fluctuation(crank_ratio=0.3, inclination=1.0, u1=1.0, u2=0.5, phases=[])
+
+
+# ----------------------------------------------------------- rounding is not physics (issue 13, item 9)
+@pytest.mark.parametrize("layout", ["boxer-2", "boxer-4", "boxer-6", "v-180-4"])
+def test_gravity_of_horizontal_opposed_layouts_cancels_exactly(layout):
+    """sin(np.radians(180)) = 1.2e-16, not 0: it used to leave 'surviving' harmonics of
+    1e-17 and a leading harmonic of that size. Horizontal cylinders have no reciprocating
+    gravity term at all, and the opposed rotating terms cancel."""
+    engine = mc.layout_engine(layout, crank_ratio=0.3, u1=1.0, u2=0.2)
+    assert engine.surviving_harmonics(24) == []
+    assert engine.leading_harmonic() == (0, 0.0)
+    assert engine.speed_fluctuation() == 0.0
+    a, b = engine.fourier_coefficients(24)
+    assert not a.any() and not b.any()
+
+
+@given(
+    quarter=st.integers(-40, 40),
+    crank_ratio=st.floats(0.0, 0.9),
+    u1=st.floats(-2.0, 2.0),
+    u2=st.floats(-2.0, 2.0),
+)
+def test_an_axis_inclination_typed_in_degrees_has_no_rounding_harmonics(quarter, crank_ratio, u1, u2):
+    """γ = q·90° reaches the library as a rounded double; the terms that vanish at that
+    angle (sin γ for horizontal, cos γ for vertical cylinders) are exactly zero."""
+    gamma = np.radians(90.0 * quarter)
+    a, b = mc.fourier_coefficients(crank_ratio=crank_ratio, inclination=gamma, u1=u1, u2=u2, n_max=12)
+    if quarter % 2 == 0:  # horizontal: Q = U2 cos(ψ + γ) only, the first harmonic
+        assert not a[2:].any() and not b[2:].any()
+        assert b[1] == 0.0  # W1 = −(U1 + U2) sin γ = 0
+    else:  # vertical: no N = U2 cos γ term
+        assert a[1] == 0.0
+    # and they agree with the planar-geometry reference to the terms' rounding
+    reference = ref.generalized_force(
+        np.linspace(0, 2 * np.pi, 13), crank_ratio=crank_ratio, inclination=gamma, u1=u1, u2=u2
+    )
+    series = mc.generalized_force(
+        np.linspace(0, 2 * np.pi, 13), crank_ratio=crank_ratio, inclination=gamma, u1=u1, u2=u2, method="series"
+    )
+    np.testing.assert_allclose(series, reference, rtol=0, atol=1e-13 * (abs(u1) + abs(u2) + 1))

@@ -379,13 +379,19 @@ def layouts_figure(settings: ReportSettings):
     table = sweep(engines, outputs=["energy_range", "leading_harmonic", "leading_amplitude"])
     table.insert(1, "description", [LAYOUTS[name].note for name in chosen])
     fig, ax = plt.subplots(figsize=(9.5, 5.2))
-    shown = np.maximum(table["energy_range"].to_numpy(), 1e-20)
-    colours = ["C3" if d >= settings.threshold else "C0" for d in shown]
-    ax.barh(table["engine"], shown, color=colours)
+    delta = table["energy_range"].to_numpy()
+    # A layout whose gravity cancels exactly (horizontal boxers, the 180° V four-stroke) has
+    # δ_g = 0, not a small number: it gets no bar and says so, at the axis's left edge.
+    positive = delta[delta > 0]
+    low = min(positive.min() if positive.size else settings.threshold, settings.threshold) / 30
+    colours = ["C3" if d >= settings.threshold else "C0" for d in delta]
+    ax.barh(table["engine"], np.where(delta > 0, delta - low, np.nan), left=low, color=colours)
     ax.set_xscale("log")
+    ax.set_xlim(left=low)
     ax.axvline(settings.threshold, color="black", ls="--", lw=1)
-    for y, (d, n) in enumerate(zip(shown, table["leading_harmonic"], strict=True)):
-        ax.text(d * 1.3, y, f"n = {n}", va="center", fontsize=7)
+    for y, (d, n) in enumerate(zip(delta, table["leading_harmonic"], strict=True)):
+        label = f"n = {n}" if d > 0 else "δ_g = 0: gravity cancels exactly"
+        ax.text(max(d, low) * 1.3, y, label, va="center", fontsize=7)
     ax.invert_yaxis()
     ax.set_xlabel("δ_g (dashed: threshold; red above it)")
     ax.set_title(
@@ -799,7 +805,12 @@ Balanced crank sets (where only harmonics of order ≥ k survive) make gravity n
 """)
     layout_rows = "".join(
         f"<tr><td>{html.escape(r.engine)}</td><td style='text-align:left'>{html.escape(r.description)}</td>"
-        f"<td>{r.cylinders}</td><td>{r.energy_range:.3g}</td><td>{r.leading_harmonic}</td><td>{r.leading_amplitude:.3g}</td></tr>"
+        f"<td>{r.cylinders}</td><td>{r.energy_range:.3g}</td>"
+        + (
+            f"<td>{r.leading_harmonic}</td><td>{r.leading_amplitude:.3g}</td></tr>"
+            if r.leading_amplitude > 0
+            else "<td>none</td><td>0 (cancels exactly)</td></tr>"
+        )
         for r in layouts.itertuples()
     )
     sections.append(f"""

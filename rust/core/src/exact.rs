@@ -59,7 +59,7 @@ pub(crate) struct Coefficients {
 
 impl Coefficients {
     pub(crate) fn new(d: &Design) -> Self {
-        let (sin_g, cos_g) = d.inclination.sin_cos();
+        let (sin_g, cos_g) = d.inclination_sin_cos();
         Self {
             l2: d.crank_ratio * d.crank_ratio,
             q2: (1.0 - d.crank_ratio) * (1.0 + d.crank_ratio),

@@ -76,6 +76,31 @@ pub fn crank_phases(cranks: i64, strokes: Strokes, acting: Acting) -> Result<Vec
     Ok(phases)
 }
 
+/// (sin γ, cos γ) of a cylinder's inclination, each exactly 0 where it is below the
+/// rounding of γ itself.
+///
+/// γ reaches the library rounded to a double (π, π/2 and their multiples are not doubles),
+/// so sin γ and cos γ are known only to about ε·|γ|: a horizontal cylinder typed as 180°
+/// has sin γ = 1.2e-16 and would give a boxer gravity harmonics of 1e-17 that are rounding,
+/// not physics. The rounding of γ (ε/2·|γ|) moves sin γ by up to ε/2·|γ|·|cos γ| and cos γ
+/// by ε/2·|γ|·|sin γ|; a value within twice that of 0 cannot be told from 0 and is 0
+/// (issue 13, item 9). A genuinely small γ keeps its sine (ε·|γ| < |sin γ| there).
+pub(crate) fn inclination_sin_cos(gamma: f64) -> (f64, f64) {
+    let (sin, cos) = gamma.sin_cos();
+    let reach = f64::EPSILON * gamma.abs();
+    let sin = if sin.abs() <= reach * cos.abs() {
+        0.0
+    } else {
+        sin
+    };
+    let cos = if cos.abs() <= reach * sin.abs().max(f64::MIN_POSITIVE) {
+        0.0
+    } else {
+        cos
+    };
+    (sin, cos)
+}
+
 /// One machine in dimensionless form: crank ratio λ = r/l, cylinder inclination γ to the
 /// horizontal (rad, +π/2 upright), and the gravity moments U1 (reciprocating) and
 /// U2 (rotating unbalance), both divided by I_w·ω².
@@ -97,6 +122,11 @@ impl Design {
             u1: check("u1", u1, "any finite real", |_| true)?,
             u2: check("u2", u2, "any finite real", |_| true)?,
         })
+    }
+
+    /// (sin γ, cos γ), rounding-level values exactly 0 (see [`inclination_sin_cos`]).
+    pub(crate) fn inclination_sin_cos(&self) -> (f64, f64) {
+        inclination_sin_cos(self.inclination)
     }
 }
 
@@ -345,6 +375,28 @@ pub fn dimensionless_moments(columns: &PhysicalColumns) -> Result<(Vec<f64>, Vec
 
 #[cfg(test)]
 mod tests {
+    use super::inclination_sin_cos;
+    use std::f64::consts::{FRAC_PI_2, PI};
+
+    #[test]
+    fn inclinations_on_the_axes_have_an_exact_zero_and_small_ones_keep_their_sine() {
+        for k in [-7.0, -2.0, -1.0, 1.0, 2.0, 3.0, 100.0, 1000.0] {
+            let (s, c) = inclination_sin_cos(k * PI);
+            assert_eq!(s, 0.0, "sin({k}π)");
+            assert_eq!(c.abs(), 1.0);
+            let (s, c) = inclination_sin_cos(k * PI + FRAC_PI_2);
+            assert_eq!(c, 0.0, "cos({k}π + π/2)");
+            assert_eq!(s.abs(), 1.0);
+        }
+        assert_eq!(inclination_sin_cos(0.0), (0.0, 1.0));
+        for gamma in [1e-300, 1e-17, 1e-9, 2.0 * f64::EPSILON] {
+            assert_eq!(inclination_sin_cos(gamma), gamma.sin_cos(), "{gamma}");
+        }
+        // A cylinder a nanoradian off upright is still off upright.
+        let off = FRAC_PI_2 - 1e-9;
+        assert_eq!(inclination_sin_cos(off), off.sin_cos());
+    }
+
     use super::*;
 
     #[test]

@@ -60,7 +60,7 @@ pub(crate) struct Amplitudes {
 
 impl Amplitudes {
     pub(crate) fn new(design: &Design) -> Self {
-        let (sin_g, cos_g) = design.inclination.sin_cos();
+        let (sin_g, cos_g) = design.inclination_sin_cos();
         let n1 = -design.u1 * sin_g;
         Self {
             n: design.u2 * cos_g,

@@ -8,6 +8,7 @@
 use crate::engine::Engine;
 use crate::error::{check, try_filled, try_with_capacity, Result};
 use crate::harmonics::lambda_exact;
+use crate::mechanism::inclination_sin_cos;
 
 /// Standard deviations of independent per-unit errors.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -57,7 +58,7 @@ impl Engine {
         let mut lambdas = try_filled("n_max", n_max, width as u128, 0.0)?;
         let mut variance = try_filled("n_max", n_max, width as u128, 0.0)?;
         for c in self.cylinders() {
-            let (sin_g, cos_g) = c.inclination.sin_cos();
+            let (sin_g, cos_g) = inclination_sin_cos(c.inclination);
             let (sin_a, cos_a) = c.phase.sin_cos();
             let (sd_u1, sd_u2) = (errors.u1_rel * c.u1, errors.u2_rel * c.u2);
             let phase_var = errors.phase * errors.phase;
