@@ -80,9 +80,45 @@ KINDS: dict[str, set[str]] = {
     "angle_list": set(),  # a 1-D array of angles
     "banks": {"ragged"},  # one 1-D array per throw
     "passthrough": {"none"},
+    # the machine in motion
+    "machine": set(),
+    "cylinders": set(),
+    "cylinder": set(),
+    "positive": {"float", "huge"},  # a finite quantity > 0 (a mass, an inertia, a speed)
+    "positive_or_none": {"none", "float", "huge"},
+    "positive_or_inf": {"float", "huge", "nonfinite"},
+    "count_or_none": {"none"},
+    "range_or_none": {"none"},
+    "pressure": {"none", "callable"},  # the callable is called (and refused) when the machine runs
+    "firing": {"none"},
+    "load": {"none", "callable", "float", "negative", "huge"},  # "balance", a torque [N·m], a callable
+    "times": set(),  # increasing instants [s]
+    "fraction": {"float"},  # 0 < x < 1
 }
 
 ENGINE = mc.Engine.inline(4, crank_ratio=0.3, inclination=1.0, u1=0.5, u2=0.1)
+CYLINDER = mc.Cylinder(
+    crank_radius=0.05, rod_length=0.2, piston_mass=1.0, rod_mass=1.0, rod_cg=0.05, crank_mass=1.0, crank_cg_radius=0.02
+)
+MACHINE = mc.Machine([CYLINDER], shaft_inertia=0.5, rpm=600.0)
+CYLINDER_KINDS = {
+    "crank_radius": (0.05, "positive"),
+    "rod_length": (0.2, "positive"),
+    "piston_mass": (1.0, "real"),
+    "rod_mass": (1.0, "real"),
+    "rod_cg": (0.05, "real"),
+    "rod_inertia": (None, "positive_or_none"),
+    "crank_mass": (1.0, "real"),
+    "crank_cg_radius": (0.02, "real"),
+    "counterweight_mass": (0.0, "real"),
+    "counterweight_radius": (0.0, "real"),
+    "bore": (0.0, "real"),
+    "phase": (0.0, "real"),
+    "inclination": (1.0, "real"),
+    "pressure": (None, "pressure"),
+    "pressure_crank_end": (None, "pressure"),
+    "piston_rod_diameter": (0.0, "real"),
+}
 DESIGN = dict(crank_ratio=0.3, inclination=1.0, u1=0.5, u2=0.1)
 DESIGN_KINDS = dict(crank_ratio="ratio", inclination="real", u1="real", u2="real")
 GRID_RESULT = mc.sweep(mc.design_grid(crank_ratio=[0.2, 0.3], inclination=1.0, u1=0.5, u2=[0.1, 0.2]), phi=16)
@@ -272,28 +308,122 @@ for _name in ("potential_energy", "generalized_force", "force_derivative", "ener
         _ref_params = {k: v for k, v in _params.items() if k != "parallel_threshold"}
         REGISTRY[f"reference.{_name}"] = (_quiet(getattr(ref, _name)), _ref_params)
 REGISTRY["design_grid"] = (mc.design_grid, REGISTRY["DesignGrid"][1])
+MACHINE_KINDS = {
+    "shaft_inertia": (0.5, "positive"),
+    "g": (9.81, "real"),
+    "rpm": (600.0, "positive_or_none"),
+    "rpm_range": (None, "range_or_none"),
+}
+REGISTRY.update(
+    {
+        "Cylinder": (mc.Cylinder, CYLINDER_KINDS),
+        "Machine": (
+            mc.Machine,
+            {
+                "cylinders": ([CYLINDER], "cylinders"),
+                "strokes": (2, "count"),
+                "name": ("x", "label"),
+                "note": ("", "label"),
+                **MACHINE_KINDS,
+            },
+        ),
+        "Machine.from_layout": (
+            mc.Machine.from_layout,
+            {
+                "layout": ("v-twin-90", "option"),
+                "cylinder": (CYLINDER, "cylinder"),
+                "strokes": (None, "count_or_none"),
+                "firing": (None, "firing"),
+                "name": (None, "label_or_none"),
+                "note": (None, "label_or_none"),
+                **MACHINE_KINDS,
+            },
+        ),
+        "Machine.engine": (MACHINE.engine, {"rpm": (None, "positive_or_none")}),
+        "Layout": (
+            mc.Layout,
+            {
+                "name": ("x", "label"),
+                "note": ("", "label"),
+                "throws": ((0.0, 180.0), "angle_list"),
+                "banks": (((0.0,), (90.0,)), "banks"),
+                "strokes": (None, "count_or_none"),
+            },
+        ),
+        "layout_engine": (
+            mc.layout_engine,
+            {
+                "name": ("boxer-2", "option"),
+                **{k: (v, DESIGN_KINDS[k]) for k, v in DESIGN.items() if k != "inclination"},
+            },
+        ),
+        "PowerLawLoad": (
+            mc.PowerLawLoad,
+            {"torque": (10.0, "real"), "speed": (60.0, "positive"), "exponent": (2.0, "positive")},
+        ),
+        "steady_state": (
+            mc.steady_state,
+            {
+                "machine": (MACHINE, "machine"),
+                "rpm": (600.0, "positive"),
+                "load": ("balance", "load"),
+                "drive": (None, "load"),
+                "gravity": (True, "flag"),
+                "min_speed_ratio": (1e-3, "fraction"),
+                "points": (None, "count_or_none"),
+            },
+        ),
+        "flywheel_inertia": (
+            mc.flywheel_inertia,
+            {
+                "machine": (MACHINE, "machine"),
+                "delta": (0.05, "fraction"),
+                "rpm": (600.0, "positive"),
+                "load": ("balance", "load"),
+                "drive": (None, "load"),
+                "gravity": (True, "flag"),
+                "min_speed_ratio": (1e-3, "fraction"),
+            },
+        ),
+        "simulate": (
+            mc.simulate,
+            {
+                "machine": (MACHINE, "machine"),
+                "t_eval": (np.linspace(0.0, 0.01, 3), "times"),
+                "omega0": (60.0, "real"),
+                "phi0": (0.0, "real"),
+                "load": (None, "load"),
+                "drive": (None, "load"),
+                "gravity": (True, "flag"),
+                "rtol": (1e-8, "fraction"),
+                "atol": (1e-8, "positive"),
+                "method": ("DOP853", "option"),
+                "max_step": (math.inf, "positive_or_inf"),
+                "balance_speed": (None, "positive_or_none"),
+                "progress": (False, "flag"),
+            },
+        ),
+        "torque_orders": (
+            mc.torque_orders,
+            {
+                "machine": (MACHINE, "machine"),
+                "rpm": (600.0, "positive"),
+                "max_order": (6, "count"),
+                "gravity": (True, "flag"),
+            },
+        ),
+    }
+)
 
 CASES = [(name, parameter) for name, (_, params) in REGISTRY.items() for parameter in params]
 
 # Public callables not in the registry, and why.
 OWNED_ELSEWHERE = {
-    # machine.py and presets.py are being rewritten in parallel (issue 13 leaves them to
-    # their owners); their remaining defects are listed in the hardening report.
-    "Machine",
-    "Cylinder",
-    "Layout",
-    "layout_engine",
-    # The motion API (issue 12) has its own bad-input tests in test_motion.py, test_transient.py,
-    # test_orders.py and test_loads.py; it joins this registry in the hardening pass.
+    # results, made by steady_state, flywheel_inertia and simulate from checked input
     "FlywheelInertia",
-    "PowerLawLoad",
-    "StallError",
     "SteadyState",
     "Transient",
-    "flywheel_inertia",
-    "simulate",
-    "steady_state",
-    "torque_orders",
+    "StallError",
     # no user input
     "get_parallel_threshold",
     "EnergyExtrema",

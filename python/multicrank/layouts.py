@@ -15,6 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ._native import MechanismError
+from ._validation import as_real_array
 from .engines import Engine
 from .mechanism import crank_phases
 
@@ -38,6 +39,22 @@ class Layout:
     throws: tuple[float, ...]
     banks: tuple[tuple[float, ...], ...]
     strokes: int | None = None
+
+    def __post_init__(self) -> None:
+        for label in ("name", "note"):
+            if not isinstance(getattr(self, label), str):
+                raise MechanismError(f"{label} must be a string, got {type(getattr(self, label)).__name__}")
+        if self.strokes is not None and not (type(self.strokes) is int and self.strokes in (2, 4)):
+            raise MechanismError(f"strokes = {self.strokes!r} is not allowed; allowed: 2, 4 or None")
+        throws = as_real_array(self.throws, "throws")
+        if not isinstance(self.banks, Sequence) or isinstance(self.banks, str):
+            raise MechanismError(f"banks must be a sequence of bank inclinations per throw, got {self.banks!r}")
+        banks = [as_real_array(bank, f"banks[{t}]") for t, bank in enumerate(self.banks)]
+        # Engine.from_throws checks their shapes (by the same names); what it accepts is kept
+        # as plain floats, so that a layout is hashable and prints as written.
+        Engine.from_throws(np.radians(throws), [np.radians(bank) for bank in banks], crank_ratio=0, u1=0, u2=0)
+        object.__setattr__(self, "throws", tuple(float(t) for t in self.throws))
+        object.__setattr__(self, "banks", tuple(tuple(float(b) for b in bank) for bank in self.banks))
 
     def engine(self, *, crank_ratio, u1, u2) -> Engine:
         """This layout with the given per-cylinder λ, u1, u2 (scalars or arrays)."""
@@ -115,17 +132,17 @@ for _layout in (
     LAYOUTS[_layout.name] = _layout
 
 
-def as_layout(layout: Layout | str) -> Layout:
-    """A :class:`Layout`, or the preset of that name in ``LAYOUTS``."""
+def as_layout(layout: Layout | str, name: str = "layout") -> Layout:
+    """A :class:`Layout`, or the preset of that name in ``LAYOUTS`` (``name``: the parameter)."""
     if isinstance(layout, Layout):
         return layout
     if isinstance(layout, str) and layout in LAYOUTS:
         return LAYOUTS[layout]
-    raise MechanismError(f"layout = {layout!r} is not known; known: {', '.join(LAYOUTS)} (or a multicrank.Layout)")
+    raise MechanismError(
+        f"{name} = {layout!r} is not a known layout; known: {', '.join(LAYOUTS)} (or a multicrank.Layout)"
+    )
 
 
 def layout_engine(name: str, *, crank_ratio, u1, u2) -> Engine:
     """The preset layout ``name`` (see LAYOUTS) with per-cylinder λ, u1, u2."""
-    if name not in LAYOUTS:
-        raise MechanismError(f"layout = {name!r} is not known; known: {', '.join(LAYOUTS)}")
-    return LAYOUTS[name].engine(crank_ratio=crank_ratio, u1=u1, u2=u2)
+    return as_layout(name, "name").engine(crank_ratio=crank_ratio, u1=u1, u2=u2)

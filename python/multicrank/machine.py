@@ -371,7 +371,7 @@ class Machine:
             raise MechanismError(f"note must be a str, got {type(note).__name__}")
         self.name = name
         self.note = note
-        self.rpm: float | None = None if rpm is None else _speed(rpm, "rpm")
+        self.rpm: float | None = None if rpm is None else as_speed(rpm, "rpm")
         self.rpm_range: tuple[float, float] | None = None if rpm_range is None else _speed_range(rpm_range)
         if self.rpm is not None and self.rpm_range is not None:
             low, high = self.rpm_range
@@ -646,7 +646,7 @@ class Machine:
             if self.rpm is None:
                 raise MechanismError(f"rpm is required: machine {self.name!r} has no running speed (rpm) of its own")
             rpm = self.rpm
-        speed = _speed(rpm, "rpm")
+        speed = as_speed(rpm, "rpm")
         columns = _native_machine_engine(self._units, self.g, self.shaft_inertia, speed)
         return Engine(**columns, name=f"{self.name} at {speed:g} rpm")
 
@@ -817,11 +817,17 @@ def _chosen_firing(firing: Any, crank: np.ndarray, strokes: int) -> list[float]:
     return [math.radians(a) for a in np.mod(crank + 360.0 * whole, cycle)]
 
 
-def _speed(value: Any, name: str) -> float:
-    """A speed [1/min]: one finite number > 0."""
+#: The speeds [1/min] a machine may be asked to run at. Far outside them ω² and the cycle's
+#: time scales over- or underflow a double on the way to δ; no machine comes near either end.
+SPEED_LIMITS = (1e-6, 1e8)
+
+
+def as_speed(value: Any, name: str = "rpm") -> float:
+    """A speed [1/min]: one finite number within :data:`SPEED_LIMITS`."""
     speed = as_scalar(value, name)
-    if not (math.isfinite(speed) and speed > 0):
-        raise MechanismError(f"{name} = {speed} is out of range; allowed: {name} > 0 [1/min]")
+    low, high = SPEED_LIMITS
+    if not (math.isfinite(speed) and low <= speed <= high):
+        raise MechanismError(f"{name} = {speed} is out of range; allowed: {low:g} <= {name} <= {high:g} [1/min]")
     return speed
 
 
@@ -831,8 +837,11 @@ def _speed_range(value: Any) -> tuple[float, float]:
     if bounds.shape != (2,):
         raise MechanismError(f"rpm_range must be two speeds (low, high) [1/min], got shape {bounds.shape}")
     low, high = (float(b) for b in bounds)
-    if not (math.isfinite(low) and math.isfinite(high) and 0 < low < high):
-        raise MechanismError(f"rpm_range = ({low:g}, {high:g}) is out of range; allowed: 0 < low < high [1/min]")
+    if not (SPEED_LIMITS[0] <= low < high <= SPEED_LIMITS[1]):
+        raise MechanismError(
+            f"rpm_range = ({low:g}, {high:g}) is out of range; allowed: {SPEED_LIMITS[0]:g} <= low < high "
+            f"<= {SPEED_LIMITS[1]:g} [1/min]"
+        )
     return low, high
 
 

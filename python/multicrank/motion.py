@@ -38,7 +38,7 @@ from ._quadrature import CycleQuadrature
 from ._steady import Balance, Cycle, Periodic, Shooting, SquareLaw, Stall, quasi_static_speed, scipy_optimize
 from ._validation import as_count, as_scalar
 from .loads import BALANCE, PowerLawLoad, Torque, as_torque
-from .machine import Machine
+from .machine import Machine, as_speed
 
 __all__ = ["FlywheelInertia", "PowerLawLoad", "StallError", "SteadyState", "flywheel_inertia", "steady_state"]
 
@@ -85,8 +85,10 @@ def _as_flag(value: Any, name: str) -> bool:
 
 def _as_ratio(value: Any) -> float:
     ratio = as_scalar(value, "min_speed_ratio")
-    if not 0.0 < ratio < 1.0:
-        raise MechanismError(f"min_speed_ratio = {ratio} is out of range; allowed: 0 < min_speed_ratio < 1")
+    # Below 1e-9 the crawl over a dead centre takes longer than any run (and 1/ratio² leaves
+    # the range of a double on the way): such a machine has stalled by any measure.
+    if not 1e-9 <= ratio < 1.0:
+        raise MechanismError(f"min_speed_ratio = {ratio} is out of range; allowed: 1e-9 <= min_speed_ratio < 1")
     return ratio
 
 
@@ -100,10 +102,7 @@ def _as_rpm(value: Any, route: str) -> float | None:
         return None
     if value is None:
         raise MechanismError("rpm is required with load='balance': the mean speed [1/min] to run at")
-    rpm = as_scalar(value, "rpm")
-    if not (math.isfinite(rpm) and rpm > 0):
-        raise MechanismError(f"rpm = {rpm} is out of range; allowed: rpm > 0 [1/min]")
-    return rpm
+    return as_speed(value, "rpm")
 
 
 #: Points of a result's arrays over the closed cycle: every degree of a two-stroke cycle,
@@ -408,7 +407,7 @@ def steady_state(
         False solves the machine with g = 0.
     min_speed_ratio : float, default 1e-3
         The machine stalls when its speed minimum falls below this fraction of the mean
-        speed; 0 < min_speed_ratio < 1.
+        speed; 1e-9 ≤ min_speed_ratio < 1.
     points : int, default 361
         Points of the result's arrays, uniform over the closed cycle [0, Φ] (every degree of a
         two-stroke cycle, every other degree of a four-stroke one).

@@ -33,8 +33,8 @@ import numpy as np
 
 from ._native import MechanismError
 from ._quadrature import CycleQuadrature
-from ._validation import as_count, as_scalar
-from .machine import Machine
+from ._validation import as_count
+from .machine import Machine, as_speed
 
 __all__ = ["ORDER_PARTS", "torque_orders"]
 
@@ -84,9 +84,7 @@ def torque_orders(machine: Machine, rpm: float, *, max_order: int = 12, gravity:
 
     if not isinstance(machine, Machine):
         raise MechanismError(f"machine must be a multicrank.Machine, got {type(machine).__name__}")
-    speed = as_scalar(rpm, "rpm")
-    if not (math.isfinite(speed) and speed > 0):
-        raise MechanismError(f"rpm = {speed} is out of range; allowed: rpm > 0 [1/min]")
+    speed = as_speed(rpm, "rpm")
     highest = as_count(max_order, "max_order", minimum=1)
     if not isinstance(gravity, (bool, np.bool_)):
         raise MechanismError(f"gravity must be True or False, got {gravity!r}")

@@ -422,6 +422,8 @@ def engine_by_name_or_file(spec: str | os.PathLike[str]) -> Machine:
     """A built-in machine by name (``ENGINES``), or one loaded from a TOML machine file."""
     if isinstance(spec, str) and spec in ENGINES:
         return ENGINES[spec]
+    if not isinstance(spec, str | os.PathLike):
+        raise MechanismError(f"engine = {spec!r}: give a built-in machine's name or a machine file's path")
     if os.path.exists(spec):
         return load_engine(spec)
     raise MechanismError(
