@@ -234,3 +234,26 @@ def test_a_full_disk_during_a_sweep_is_one_line(tmp_path, monkeypatch):
     assert result.output.strip().splitlines()[-1] == (
         f"Error: --out {out}: No space left on device; finished chunks are kept for --resume"
     )
+
+
+@pytest.mark.parametrize("command", ["eval", "motion", "simulate", "report"])
+@pytest.mark.parametrize(
+    ("content", "named"),
+    [
+        (None, "is a directory"),
+        (b"\xff\xfe\x00shaft_inertia = 1\n", "not a UTF-8 text file"),
+        (b"shaft_inertia = [1,\n", "not a valid TOML file"),
+        (b"shaft_inertia = 'heavy'\n[cylinder]\ncrank_radius = 0.1\n", "shaft_inertia"),
+    ],
+)
+def test_an_engine_file_that_cannot_be_read_is_one_line_for_every_command(tmp_path, command, content, named):
+    """Issue 13, item 8: engine TOML that is a directory, not UTF-8, not TOML or wrong-typed."""
+    path = tmp_path / "engine.toml"
+    if content is None:
+        path.mkdir()
+    else:
+        path.write_bytes(content)
+    extra = ["--out", str(tmp_path / "r")] if command == "report" else []
+    line = run_failing(command, "--engine", str(path), *extra, *([] if command == "eval" else ["--no-progress"]))
+    assert line.startswith(f"Error: --engine: {path}") and named in line
+    assert not (tmp_path / "r").exists()

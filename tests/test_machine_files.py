@@ -2,12 +2,16 @@
 closed forms; every user mistake a MechanismError naming the file and the key; every key
 documented with its unit."""
 
+import json
 import math
 import shutil
+import tomllib
 from pathlib import Path
 
 import numpy as np
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
 import multicrank as mc
 from multicrank.machine_files import CYLINDER_KEYS, LAYOUT_KEYS, MACHINE_KEYS, PRESSURE_KEYS
@@ -399,3 +403,58 @@ def test_every_key_is_documented_with_its_unit(key):
     docs = (ROOT / "docs" / "machine-files.md").read_text(encoding="utf-8")
     assert f"`{key}`" in docs, f"docs/machine-files.md does not document {key}"
     assert f"``{key}``" in (mc.Machine.from_toml.__doc__ or ""), f"Machine.from_toml's table lacks {key}"
+
+
+# -- any value of any type in any key (issue 13, item 8) -------------------------------------------
+
+_TOML_VALUES = st.one_of(
+    st.integers(-(2**63), 2**63 - 1),
+    st.floats(allow_nan=True, allow_infinity=True),
+    st.booleans(),
+    st.text(max_size=6),
+    st.lists(st.floats(-10, 10), max_size=3),
+    st.lists(st.text(max_size=3), max_size=2),
+    st.dictionaries(st.sampled_from(["a", "kind", "rpm"]), st.integers(-5, 5), max_size=2),
+)
+_EXAMPLE = 'shaft_inertia = 45.0\nstrokes = 2\nrpm = 120.0\nname = "x"\n[cylinder]\n' + CYLINDER_TOML + "\n"
+
+
+@settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(data=st.data())
+def test_any_value_in_any_key_is_accepted_or_named(tmp_path, data):
+    """A machine file with one key given a random TOML value of any type either loads or is
+    one MechanismError naming the file (never a TypeError, KeyError or a traceback)."""
+    table = tomllib.loads(_EXAMPLE)
+    section = data.draw(st.sampled_from(["machine", "cylinder"]))
+    keys = sorted(set(MACHINE_KEYS) - {"cylinder"}) if section == "machine" else sorted(CYLINDER_KEYS)
+    key = data.draw(st.sampled_from(keys))
+    value = data.draw(_TOML_VALUES)
+    target = table if section == "machine" else table["cylinder"]
+    target[key] = value
+    path = tmp_path / "random.toml"
+    path.write_text(_dumps(table), encoding="utf-8")
+    try:
+        mc.Machine.from_toml(path)
+    except mc.MechanismError as error:
+        assert str(error).startswith(f"{path}: ") and "\n" not in str(error)
+
+
+def _dumps(table: dict) -> str:
+    """A minimal TOML writer for the values drawn above (tomllib reads, it does not write)."""
+
+    def value(v):
+        if isinstance(v, bool):
+            return "true" if v else "false"
+        if isinstance(v, float):
+            return "nan" if math.isnan(v) else ("inf" if v == math.inf else "-inf" if v == -math.inf else repr(v))
+        if isinstance(v, str):
+            return json.dumps(v)
+        if isinstance(v, list):
+            return "[" + ", ".join(value(x) for x in v) + "]"
+        if isinstance(v, dict):
+            return "{" + ", ".join(f"{k} = {value(x)}" for k, x in v.items()) + "}"
+        return repr(v)
+
+    head = [f"{k} = {value(v)}" for k, v in table.items() if k != "cylinder"]
+    body = [f"{k} = {value(v)}" for k, v in table["cylinder"].items()]
+    return "\n".join([*head, "[cylinder]", *body]) + "\n"
