@@ -46,7 +46,7 @@ compressor = mc.Machine(
     strokes=2,
     name="two-cylinder compressor",
 )
-print(f"λ = {cylinder.crank_ratio:.2f}, {len(compressor)} cylinders, I_w = 1.2 kg·m²")
+print(f"λ = {cylinder.crank_ratio:.2f}, I_w = {compressor.shaft_inertia} kg·m²")
 
 # %%
 # Friction

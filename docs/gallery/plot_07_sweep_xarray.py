@@ -17,6 +17,7 @@ plotting.
 # the first example); λ runs from 0.1 to 0.45, γ from lying (0°) to upright (90°), k
 # from 1 to 4, two- and four-stroke. Inclinations are in radians in the API.
 import os
+import textwrap
 
 import matplotlib.pyplot as plt
 import numpy as np
@@ -60,7 +61,7 @@ data["inclination"].attrs.update(long_name="inclination γ", units="°")
 data["energy_range"].attrs.update(long_name=r"$\delta_g$", units="–")
 data["force_rms"].attrs.update(long_name=r"RMS of $Q_u^*$", units="–")
 print(dict(data.sizes))
-print(list(data.data_vars))
+print(textwrap.fill("variables: " + ", ".join(data.data_vars), 80))
 
 # %%
 # δ_g over λ and γ
