@@ -31,9 +31,9 @@ extensions = [
 
 source_suffix = {".rst": "restructuredtext", ".md": "markdown"}
 root_doc = "index"
-# docs/examples and docs/machines are data the pages link to, not pages; the gallery's
-# sources are rendered by sphinx-gallery into auto_examples/.
-exclude_patterns = ["_build", "examples", "machines", "gallery", "**/README.md"]
+# docs/machines is data the pages link to, not pages; the gallery's sources are rendered by
+# sphinx-gallery into auto_examples/.
+exclude_patterns = ["_build", "machines", "gallery", "**/README.md"]
 
 # -- MyST: the pages are Markdown with $…$ / $$…$$ maths and anchors on headings -------------
 myst_enable_extensions = ["dollarmath", "amsmath", "colon_fence", "deflist"]
