@@ -9,7 +9,9 @@ For every Markdown page under docs/ (docs/**/*.md, build outputs aside):
   first);
 - its TOML blocks are TOML, and those that describe a machine load as one;
 - its `multicrank …` shell commands name real commands and options with valid values
-  (parsed by the CLI itself, not run).
+  (parsed by the CLI itself, not run);
+- its figures (matplotlib's plot directive, in ```{eval-rst} blocks) draw, each in a fresh
+  namespace from the page's own directory, as the Sphinx build does.
 
 A page whose blocks need an optional package says so in a MyST comment line,
 ``% docs-test: needs dask, distributed``; without the package its blocks are skipped.
@@ -41,6 +43,8 @@ PAGES = sorted(page for page in DOCS.rglob("*.md") if not BUILT & set(page.relat
 # empty line.
 FENCE = re.compile(r"^([ \t]*)```(?:\{code-block\}\s*)?(\w+)[ \t]*\n(.*?)^\1```[ \t]*$", re.M | re.S)
 OPTION = re.compile(r"\A((?::[\w-]+:.*\n)+)\n", re.M)
+# A figure: ```{eval-rst} holding one ".. plot::" directive with options and inline code.
+PLOT = re.compile(r"^```\{eval-rst\}\n\.\. plot::\n(?:[ \t]+:[^\n]*\n)*\n(.*?)^```[ \t]*$", re.M | re.S)
 
 
 @dataclass
@@ -99,6 +103,7 @@ def test_the_pages_are_found():
     names = {page_id(page) for page in PAGES}
     assert {"getting-started.md", "theory.md", "machine-files.md", "howto/index.md"} <= names
     assert sum(block.language == "python" for page in PAGES for block in blocks(page)) >= 20
+    assert sum(len(figures(page)) for page in PAGES) >= 9
 
 
 # dask's to_parquet and read_parquet call DataFrame.set_index/reset_index with inplace=True,
@@ -169,3 +174,28 @@ def test_shell_commands_parse(page, scratch):
             command.make_context(args[0], args[1:])
         except Exception as error:  # click.UsageError and the --engine loader's errors
             pytest.fail(f"{where}: {error}")
+
+
+def figures(page: Path) -> list[str]:
+    return [textwrap.dedent(code) for code in PLOT.findall(page.read_text(encoding="utf-8"))]
+
+
+@pytest.mark.parametrize("page", [p for p in PAGES if figures(p)], ids=page_id)
+def test_figures_draw(page, monkeypatch):
+    pytest.importorskip("matplotlib")
+    monkeypatch.setenv("MPLBACKEND", "Agg")
+    monkeypatch.chdir(page.parent)  # where the plot directive runs a page's code
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    for number, code in enumerate(figures(page), start=1):
+        where = f"{page_id(page)}, figure {number}"
+        try:
+            exec(compile(code, where, "exec"), {"__name__": "__main__"})
+            assert plt.get_fignums(), f"{where} draws nothing"
+        except Exception as error:  # pragma: no cover - the message is the point
+            pytest.fail(f"{where} fails: {error!r}\n{code}")
+        finally:
+            plt.close("all")
