@@ -112,9 +112,9 @@ def generalized_force(phi, *, crank_ratio, inclination, u1, u2, phases=None, met
 
     method : str
         ``"exact"``: the closed form, eq. (13), summed over the cranks. Its rounding is
-        ~1e-15 of each crank's own terms (|U1| + |U2|), not of max|Q|: where the crank sum
+        ~1e-15 of each crank's own terms (``|U1| + |U2|``), not of ``max|Q|``: where the crank sum
         cancels nearly all of Q (an in-line eleven four-stroke keeps only harmonic 22,
-        max|Q| ~1e-17 per unit U1) it can exceed max|Q| by orders of magnitude; use
+        ``max|Q|`` ~1e-17 per unit U1) it can exceed ``max|Q|`` by orders of magnitude; use
         ``"series"`` there.
         ``"series"``: the Fourier form (eq. 14–16) with exact Λ_n, keeping only the harmonics
         that survive the crank sum and cut where a rigorous bound on the rest is below
