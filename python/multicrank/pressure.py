@@ -136,7 +136,7 @@ class _Volume:
         if abs(ends[1] - ends[0]) > 1e-9 * float(np.max(self.values)):
             raise MechanismError(
                 f"volume must be periodic over the cycle {_cycle_name(cycle)}: "
-                f"V(0) = {ends[0]!r} m³ but V({cycle!r}) = {ends[1]!r} m³"
+                f"V(0) = {ends[0]:.10g} m³ but V({cycle:.10g}) = {ends[1]:.10g} m³"
             )
 
     def __call__(self, theta: np.ndarray) -> np.ndarray:
@@ -152,7 +152,7 @@ class _Volume:
         if np.any(bad):
             where = np.flatnonzero(bad.ravel())[0]
             at, value = theta.ravel()[where], result.ravel()[where]
-            raise MechanismError(f"volume(θ) must be finite and positive [m³]; volume({at!r}) = {value!r}")
+            raise MechanismError(f"volume(θ) must be finite and positive [m³]; volume({at:.10g}) = {value:.10g}")
         return result
 
     def wrapped(self, theta: np.ndarray) -> np.ndarray:
@@ -309,25 +309,25 @@ class IndicatorDiagram:
         if bad.size:
             i = bad[0]
             raise MechanismError(
-                f"angle must increase strictly: angle[{i + 1}] = {a[i + 1]!r} follows angle[{i}] = {a[i]!r}"
+                f"angle must increase strictly: angle[{i + 1}] = {a[i + 1]:.10g} follows angle[{i}] = {a[i]:.10g}"
             )
         span = a[-1] - a[0]
         if abs(span - cycle) > _SPAN_TOLERANCE * cycle:
             raise MechanismError(
-                f"angle must cover exactly one cycle: it spans {span!r} rad ({_degrees(span)}) from {a[0]!r}, "
-                f"but cycle = {_cycle_name(cycle)} = {cycle!r} rad ({_degrees(cycle)}); the last angle must be the "
+                f"angle must cover exactly one cycle: it spans {span:.10g} rad ({_degrees(span)}) from {a[0]:.10g}, "
+                f"but cycle = {_cycle_name(cycle)} = {cycle:.10g} rad ({_degrees(cycle)}); the last angle must be the "
                 f"first plus the cycle, the first point repeated at the end"
             )
         a = a.copy()
         a[-1] = a[0] + cycle
         if not a[-1] > a[-2]:
-            raise MechanismError(f"angle must increase strictly: angle[{a.size - 2}] = {a[-2]!r} is at the cycle's end")
+            raise MechanismError(f"angle must increase strictly: angle[{a.size - 2}] = {a[-2]:.10g} is at the cycle's end")
         scale = float(np.max(np.abs(p)))
         mismatch = abs(float(p[-1] - p[0]))
         if mismatch > tolerance * scale:
             raise MechanismError(
-                f"pressure does not close over the cycle: p = {p[0]!r} Pa at angle {a[0]!r} rad but "
-                f"{p[-1]!r} Pa at angle {a[-1]!r} rad (one cycle later), a mismatch of {mismatch:.6g} Pa = "
+                f"pressure does not close over the cycle: p = {p[0]:.10g} Pa at angle {a[0]:.10g} rad but "
+                f"{p[-1]:.10g} Pa at angle {a[-1]:.10g} rad (one cycle later), a mismatch of {mismatch:.6g} Pa = "
                 f"{mismatch / scale:.3g} of max|p|, above closure_tolerance = {tolerance}; the first and last "
                 f"points are the same state of the cycle (raise closure_tolerance to accept the data as it is)"
             )
@@ -521,7 +521,7 @@ class IndicatorDiagram:
                     cycle = candidate
             if cycle is None:
                 raise MechanismError(
-                    f"{name}: cannot infer the cycle: the angles span {_degrees(span)} ({span!r} rad, angle_unit = "
+                    f"{name}: cannot infer the cycle: the angles span {_degrees(span)} ({span:.10g} rad, angle_unit = "
                     f"{angle_unit!r}), neither 360° nor 720°; a table covers one cycle with its first point repeated "
                     f"at the end (or pass cycle=)"
                 )
@@ -616,16 +616,16 @@ class IndicatorDiagram:
                 target = start * ratio
                 if not target < end:
                     raise MechanismError(
-                        f"volume: the re-expansion of the clearance volume {start!r} m³ from discharge_pressure "
-                        f"reaches suction_pressure only at {target!r} m³, beyond the largest volume {end!r} m³: "
+                        f"volume: the re-expansion of the clearance volume {start:.10g} m³ from discharge_pressure "
+                        f"reaches suction_pressure only at {target:.10g} m³, beyond the largest volume {end:.10g} m³: "
                         f"the clearance is too large for this pressure ratio (the compressor delivers nothing)"
                     )
             else:  # shrinking: compression until discharge opens at V_b/ratio
                 target = start / ratio
                 if not target > end:
                     raise MechanismError(
-                        f"volume: compression from the largest volume {start!r} m³ reaches discharge_pressure only "
-                        f"at {target!r} m³, below the smallest volume {end!r} m³ (the compressor delivers nothing)"
+                        f"volume: compression from the largest volume {start:.10g} m³ reaches discharge_pressure only "
+                        f"at {target:.10g} m³, below the smallest volume {end:.10g} m³ (the compressor delivers nothing)"
                     )
             events.append(vol.crossing(target, ends[j], ends[j + 1]))
         theta = _table_angles(cycle, points, events)
@@ -769,7 +769,7 @@ class IndicatorDiagram:
         if off > 1e-5 * cycle:
             raise MechanismError(
                 "volume must be smallest at θ = 0 (outer dead centre, the firing dead centre); "
-                f"its minimum nearest θ = 0 is {off!r} rad away"
+                f"its minimum nearest θ = 0 is {off:.10g} rad away"
             )
         inner = angles[~minima]
         bdc_first, bdc_last = float(inner[0]), float(inner[-1])
