@@ -64,7 +64,9 @@ def _evaluate(
 
 
 def potential_energy(phi, *, crank_ratio, inclination, u1, u2, phases=None, parallel_threshold=None):
-    r"""Dimensionless potential energy U_w*(φ) = U_w/(I_w ω²) of a k-crank machine (eq. 3, 12).
+    r"""Dimensionless potential energy U_w*(φ) = U_w/(I_w ω²) of a k-crank machine.
+
+    The paper's eq. (3) summed over the cranks, eq. (12):
 
     .. math::
 
@@ -138,7 +140,9 @@ def potential_energy(phi, *, crank_ratio, inclination, u1, u2, phases=None, para
 
 
 def generalized_force(phi, *, crank_ratio, inclination, u1, u2, phases=None, method="exact", parallel_threshold=None):
-    r"""Generalised Lagrange force due to gravity, Q_u*(φ) = +dU_w*/dφ (eq. 13).
+    r"""Generalised Lagrange force due to gravity, Q_u*(φ) = +dU_w*/dφ.
+
+    The paper's eq. (13):
 
     .. math::
 

@@ -87,9 +87,10 @@ def lambda_coefficients(crank_ratio: Any, n_max: int, method: str = "exact") -> 
 
 
 def paper_coefficient(i: int, j: int) -> Fraction:
-    """The exact rational coefficient of λ^{2j+1} in Λ_{2i}, eq. (15).
+    """The exact rational coefficient of λ^{2j+1} in the paper's series of Λ_{2i}.
 
-    (−1)^{i+1} · (2i/(j+1)) · C(2j, j) · C(2j+2, j+1−i) / 4^{2j+1}, and 0 for j < i − 1.
+    Eq. (15): (−1)^{i+1} · (2i/(j+1)) · C(2j, j) · C(2j+2, j+1−i) / 4^{2j+1}, and 0 for
+    j < i − 1.
 
     Parameters
     ----------

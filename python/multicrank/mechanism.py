@@ -19,11 +19,12 @@ STANDARD_GRAVITY: float = _NATIVE_STANDARD_GRAVITY
 
 
 def crank_phases(cranks: int, strokes: int = 2, acting: str = "single") -> np.ndarray:
-    """Crank phases α_j = j·α [rad], j = 0 … k−1, of a regular in-line machine (eq. 8–12).
+    """Crank phases α_j = j·α [rad], j = 0 … k−1, of a regular in-line machine.
 
-    α = T/k for single-acting and T/(2k) for double-acting machines, with T = 2π for a
-    two-stroke and 4π for a four-stroke cycle. Only the set of α_j mod 2π matters, so the
-    firing order is irrelevant; the values are returned unreduced (α_j may exceed 2π).
+    The paper's eq. (8)–(12): α = T/k for single-acting and T/(2k) for double-acting
+    machines, with T = 2π for a two-stroke and 4π for a four-stroke cycle. Only the set of
+    α_j mod 2π matters, so the firing order is irrelevant; the values are returned
+    unreduced (α_j may exceed 2π).
 
     Parameters
     ----------
@@ -89,7 +90,9 @@ def dimensionless_moments(
     rpm: Any,
     g: Any = STANDARD_GRAVITY,
 ) -> tuple[np.ndarray | np.float64, np.ndarray | np.float64]:
-    r"""The dimensionless gravity moments (u1, u2) of one crank unit (corrected eq. 5–7).
+    r"""The dimensionless gravity moments (u1, u2) of one crank unit.
+
+    The paper's eq. (5)–(7), corrected:
 
     .. math::
 
