@@ -80,7 +80,8 @@ format_option = click.option(
     type=click.Choice(FORMATS),
     default="table",
     show_default=True,
-    help="A table to read, or CSV or JSON for other programs.",
+    metavar="FORMAT",
+    help="table (to read), csv or json (for other programs).",
 )
 
 
@@ -291,7 +292,12 @@ def _grid_axes(options: dict, config: dict) -> dict:
     help=f"Comma-separated outputs, of {', '.join(SWEEP_OUTPUTS)} [default: all].",
 )
 @click.option(
-    "--out", type=click.Path(dir_okay=False), default="sweep.parquet", show_default=True, help="The Parquet file."
+    "--out",
+    type=click.Path(dir_okay=False),
+    default="sweep.parquet",
+    show_default=True,
+    metavar="FILE",
+    help="The Parquet file.",
 )
 @click.option("--resume", is_flag=True, help="Continue an interrupted sweep into the same --out.")
 @click.option(
@@ -496,7 +502,13 @@ def _write_atomically(path, text: str) -> None:
 @click.option("--gas/--no-gas", default=True, show_default=True, help="With the cylinders' gas pressures.")
 @click.option("--gravity/--no-gravity", default=True, show_default=True, help="With gravity (--no-gravity: g = 0).")
 @format_option
-@click.option("--out", "out_path", type=click.Path(dir_okay=False, writable=True), help="Write to FILE, not stdout.")
+@click.option(
+    "--out",
+    "out_path",
+    type=click.Path(dir_okay=False, writable=True),
+    metavar="FILE",
+    help="Write to FILE, not stdout.",
+)
 @click.option("--progress/--no-progress", default=True, show_default=True, help="Show a progress bar.")
 def simulate_command(engine, rpm, duration, samples, load, drive, gas, gravity, fmt, out_path, progress) -> None:
     """Integrate the machine's motion in time from a start speed (start-up, run-down, load step).
@@ -612,12 +624,21 @@ def _without_gas(machine):
     "target",
     type=float,
     default=None,
+    metavar="DELTA",
     help="Size the flywheel for this coefficient of speed fluctuation δ, e.g. 0.025 for 1/40 "
     "[default: the preset's class limit; none for a machine file].",
 )
-@click.option("--cycle", "cycle_path", type=click.Path(dir_okay=False), help="Write ω(φ) and the torques to FILE.csv.")
+@click.option(
+    "--cycle",
+    "cycle_path",
+    type=click.Path(dir_okay=False),
+    metavar="FILE",
+    help="Write ω(φ) and the torques over one cycle, at the first speed that runs, to FILE (CSV).",
+)
 @format_option
-@click.option("--out", "out_path", type=click.Path(dir_okay=False), help="Write the table to FILE, not stdout.")
+@click.option(
+    "--out", "out_path", type=click.Path(dir_okay=False), metavar="FILE", help="Write the table to FILE, not stdout."
+)
 @click.option("--progress/--no-progress", default=True, show_default=True, help="Show a progress bar over the speeds.")
 def motion_command(engine, speeds, points, load, drive, target, cycle_path, fmt, out_path, progress) -> None:
     """Steady running: the coefficient of speed fluctuation δ with and without gravity, and the flywheel.
@@ -722,6 +743,7 @@ def _speed_set(machine, points: int) -> list[float | None]:
     type=click.Path(file_okay=False),
     default="multicrank-report",
     show_default=True,
+    metavar="DIR",
     help="The folder for index.html and its figures (PNG) and tables (CSV).",
 )
 @engine_option
