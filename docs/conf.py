@@ -10,9 +10,11 @@ from __future__ import annotations
 
 import os
 import re
+from fractions import Fraction
 
 from docutils import nodes
 from sphinx.util import logging
+from sphinx.util.docutils import SphinxDirective
 
 import multicrank
 
@@ -90,7 +92,8 @@ plot_formats = [("png", 110)]
 # -- HTML ----------------------------------------------------------------------------------
 html_theme = "furo"
 html_title = f"multicrank {release}"
-html_static_path: list[str] = []
+html_static_path = ["_static"]
+html_css_files = ["multicrank.css"]
 
 
 # -- hooks ----------------------------------------------------------------------------------
@@ -144,7 +147,61 @@ def _check_public_names(app, env):
             logging.getLogger(__name__).warning(f"{name} is public but not in docs/api.rst", type="multicrank")
 
 
+def _list_table(header: list[str], rows: list[list[str]], widths: str) -> str:
+    lines = [".. list-table::", "   :header-rows: 1", f"   :widths: {widths}", "   :class: multicrank-presets", ""]
+    for row in [header, *rows]:
+        lines += [f"   * - {row[0]}", *(f"     - {cell}" for cell in row[1:])]
+    return "\n".join(lines)
+
+
+class _BuiltInMachines(SphinxDirective):
+    """A table of multicrank.presets.ENGINES, made from the machines themselves."""
+
+    def run(self) -> list[nodes.Node]:
+        from multicrank.presets import ENGINES
+
+        rows = []
+        for name, machine in ENGINES.items():
+            low, high = machine.rpm_range or (machine.rpm, machine.rpm)
+            rows.append(
+                [
+                    f"``{name}``",
+                    f"{len(machine)}, {machine.strokes}-stroke",
+                    f"{machine.rpm:g} ({low:g} … {high:g})",
+                    f"{machine.shaft_inertia:,.0f}" if machine.shaft_inertia >= 1e4 else f"{machine.shaft_inertia:g}",
+                    machine.note,
+                ]
+            )
+        header = ["name", "cylinders", "speed [1/min] (range)", "I_w [kg·m²]", "what it is"]
+        return self.parse_text_to_nodes(_list_table(header, rows, "17 10 13 10 50"))
+
+
+class _SpeedFluctuationClasses(SphinxDirective):
+    """A table of multicrank.presets.SPEED_FLUCTUATION, as fractions."""
+
+    def run(self) -> list[nodes.Node]:
+        from multicrank.presets import MACHINE_CLASSES, SPEED_FLUCTUATION
+
+        def fraction(value: float) -> str:
+            return "0" if value == 0 else str(Fraction(value).limit_denominator(10_000))
+
+        rows = [
+            [
+                name,
+                fraction(low),
+                fraction(high),
+                ", ".join(f"``{m}``" for m, c in MACHINE_CLASSES.items() if c == name),
+            ]
+            for name, (low, high) in SPEED_FLUCTUATION.items()
+        ]
+        return self.parse_text_to_nodes(
+            _list_table(["class", "δ from", "δ to", "built-in machines"], rows, "25 12 12 51")
+        )
+
+
 def setup(app):
+    app.add_directive("multicrank-machines", _BuiltInMachines)
+    app.add_directive("multicrank-speed-classes", _SpeedFluctuationClasses)
     app.connect("autodoc-process-signature", _hide_result_signatures, priority=400)
     app.connect("autodoc-process-docstring", _link_theory)
     app.connect("env-check-consistency", _check_theory_sections)
