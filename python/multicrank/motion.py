@@ -468,7 +468,7 @@ def steady_state(
         False solves the machine with g = 0.
     min_speed_ratio : float, default 1e-3
         The machine stalls when its speed minimum falls below this fraction of the mean
-        speed; 0 < min_speed_ratio < 1.
+        speed [dimensionless]; 0 < min_speed_ratio < 1.
     points : int, default 361
         Points of the result's arrays, uniform over the closed cycle [0, Φ] (every degree of a
         two-stroke cycle, every other degree of a four-stroke one).
@@ -767,7 +767,7 @@ def flywheel_inertia(
     gravity : bool, default True
         False sizes the flywheel of the machine with g = 0.
     min_speed_ratio : float, default 1e-3
-        The stall criterion, as for :func:`steady_state`.
+        The stall criterion [dimensionless], as for :func:`steady_state`.
 
     Returns
     -------

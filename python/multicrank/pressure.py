@@ -634,7 +634,8 @@ class IndicatorDiagram:
         suction_pressure, discharge_pressure : float
             p_s < p_d [Pa], absolute unless ``absolute=False``.
         polytropic_exponent : float, default 1.3
-            n > 0 of compression and re-expansion (1: isothermal, the gas's κ: isentropic).
+            n > 0 [dimensionless] of compression and re-expansion (1: isothermal, the gas's
+            κ: isentropic).
         cycle : float, default 2π
             The working cycle [rad]; with 4π the compressor's cycle appears once per revolution.
         points : int, default 721
@@ -775,9 +776,9 @@ class IndicatorDiagram:
         combustion_duration : float, default 60° (as rad)
             Δθ > 0 [rad]; combustion ends (θ₀ + Δθ) at the latest at exhaust opening.
         compression_exponent, expansion_exponent : float, default 1.35 and 1.3
-            The polytropic exponents κ > 1 of compression and expansion.
+            The polytropic exponents κ > 1 [dimensionless] of compression and expansion.
         wiebe_a, wiebe_m : float, default 5.0 and 2.0
-            Wiebe's efficiency parameter a > 0 and form factor m > −1.
+            Wiebe's efficiency parameter a > 0 and form factor m > −1 [dimensionless].
         exhaust_opening : float, default 40° (as rad)
             How far before the inner dead centre ending the expansion [rad] the exhaust opens
             (0 < … < that dead centre's angle).
