@@ -9,7 +9,7 @@ import sys
 import click
 import numpy as np
 
-from ._native import MechanismError, __version__
+from ._native import SWEEP_OUTPUTS, MechanismError, __version__
 from ._optional import OptionalDependencyError, require
 from .evaluation import generalized_force, potential_energy
 from .mechanism import crank_phases
@@ -46,8 +46,12 @@ class _Commands(click.Group):
 @click.group(cls=_Commands, context_settings={"help_option_names": ["-h", "--help"]})
 @click.version_option(__version__, prog_name="multicrank")
 def main() -> None:
-    """Gravitational potential energy U* and generalised force Q_u* = dU*/dφ of
-    multi-crank piston mechanisms (dimensionless: U* = U/(I_w ω²))."""
+    """Gravity and motion of multi-crank piston machines: the potential energy U* and the
+    generalised force Q_u* = dU*/dφ (dimensionless, U* = U/(I_w ω²)), the steady running
+    with and without gravity, transients, design sweeps and the report.
+
+    Angles are typed in degrees, speeds in 1/min, torques in N·m. Each command has --help.
+    """
 
 
 def _load_engine(ctx, param, spec: str):
@@ -66,7 +70,18 @@ engine_option = click.option(
     default=DEFAULT_ENGINE_NAME,
     show_default=True,
     callback=_load_engine,
+    metavar="NAME|FILE",
     help=f"A built-in machine ({', '.join(ENGINES)}) or a TOML machine file (docs/machine-files.md).",
+)
+
+format_option = click.option(
+    "--format",
+    "fmt",
+    type=click.Choice(FORMATS),
+    default="table",
+    show_default=True,
+    metavar="FORMAT",
+    help="table (to read), csv or json (for other programs).",
 )
 
 
@@ -88,13 +103,22 @@ def _inline_variant(machine, cranks, strokes, acting, inclination):
     return machine
 
 
-@main.command("eval")
+@main.command("eval", short_help="U_w*(φ) and Q_u*(φ) of a machine on a coarse φ grid.")
 @engine_option
 @click.option("--cranks", type=click.IntRange(min=1), help="Override the number of cranks k.")
-@click.option("--strokes", type=click.Choice(["2", "4"]), help="Override the working cycle.")
-@click.option("--acting", type=click.Choice(["single", "double"]), help="Override single/double acting.")
-@click.option("--inclination", type=float, help="Override the cylinder inclination γ, in DEGREES (90 = upright).")
-@click.option("--rpm", type=click.FloatRange(min=0, min_open=True), help="Override the mean speed [1/min].")
+@click.option("--strokes", type=click.Choice(["2", "4"]), help="Override the working cycle: two- or four-stroke.")
+@click.option("--acting", type=click.Choice(["single", "double"]), help="Override: single- or double-acting cylinders.")
+@click.option(
+    "--inclination",
+    type=float,
+    metavar="DEG",
+    help="Override the cylinder inclination γ, in DEGREES (90 = upright, 0 = lying).",
+)
+@click.option(
+    "--rpm",
+    type=click.FloatRange(min=0, min_open=True),
+    help="Override the mean speed [1/min] (default: the machine's own).",
+)
 @click.option(
     "--points",
     type=click.IntRange(min=1, max=10_000_000),
@@ -102,7 +126,7 @@ def _inline_variant(machine, cranks, strokes, acting, inclination):
     show_default=True,
     help="φ grid points over one revolution (a printed table: at most 10⁷).",
 )
-@click.option("--format", "fmt", type=click.Choice(FORMATS), default="table", show_default=True)
+@format_option
 def eval_command(engine, cranks, strokes, acting, inclination, rpm, points, fmt) -> None:
     """Print U_w*(φ) and Q_u*(φ) of a machine on a coarse φ grid (φ in degrees).
 
@@ -312,25 +336,44 @@ def _output_names(text: str, where: str) -> list[str]:
     return names
 
 
-@main.command("sweep")
-@click.option("--crank-ratio", help='λ axis, e.g. "0.2:0.45:26" or "0.25,0.3".')
-@click.option("--inclination", help='γ axis in DEGREES (90 = upright), e.g. "0:90:7".')
-@click.option("--u1", help="U1 axis (dimensionless reciprocating gravity moment).")
-@click.option("--u2", help="U2 axis (dimensionless rotating unbalance; may be negative).")
-@click.option("--cranks", help='k axis, e.g. "1:12" or "2,4,6".')
-@click.option("--strokes", help='"2", "4" or "2,4".')
-@click.option("--acting", help='"single", "double" or "single,double".')
+@main.command("sweep", short_help="Sweep a grid of designs into a Parquet file.")
+@click.option("--crank-ratio", metavar="AXIS", help='λ = r/l axis, e.g. "0.2:0.45:26" or "0.25,0.3".')
+@click.option("--inclination", metavar="AXIS", help='γ axis in DEGREES (90 = upright), e.g. "0:90:7".')
+@click.option(
+    "--u1", metavar="AXIS", help='U1 axis: the dimensionless reciprocating gravity moment, e.g. "0.001,0.01,0.1".'
+)
+@click.option("--u2", metavar="AXIS", help="U2 axis: the dimensionless rotating unbalance (may be negative).")
+@click.option("--cranks", metavar="AXIS", help='k axis, e.g. "1:12" or "2,4,6".')
+@click.option("--strokes", metavar="AXIS", help='"2", "4" or "2,4".')
+@click.option("--acting", metavar="AXIS", help='"single", "double" or "single,double".')
 @click.option(
     "--config",
     type=click.Path(exists=True, dir_okay=False),
     help="TOML file with an [axes] table (same names, lists or range strings) and optional phi, outputs.",
 )
 @click.option("--phi", type=click.IntRange(min=1), default=None, help="φ grid points per revolution [default: 720].")
-@click.option("--outputs", help="Comma-separated outputs [default: all].")
-@click.option("--out", type=click.Path(dir_okay=False), default="sweep.parquet", show_default=True)
+@click.option(
+    "--outputs",
+    metavar="NAMES",
+    help=f"Comma-separated outputs, of {', '.join(SWEEP_OUTPUTS)} [default: all].",
+)
+@click.option(
+    "--out",
+    type=click.Path(dir_okay=False),
+    default="sweep.parquet",
+    show_default=True,
+    metavar="FILE",
+    help="The Parquet file.",
+)
 @click.option("--resume", is_flag=True, help="Continue an interrupted sweep into the same --out.")
-@click.option("--chunk-size", type=click.IntRange(min=1), default=65536, show_default=True)
-@click.option("--progress/--no-progress", default=True, show_default=True)
+@click.option(
+    "--chunk-size",
+    type=click.IntRange(min=1),
+    default=65536,
+    show_default=True,
+    help="Designs per chunk (and Parquet row group); the results do not depend on it.",
+)
+@click.option("--progress/--no-progress", default=True, show_default=True, help="Show a progress bar.")
 def sweep_command(config, phi, outputs, out, resume, chunk_size, progress, **axis_options) -> None:
     """Sweep a grid of designs and write the results to Parquet.
 
@@ -380,12 +423,24 @@ def sweep_command(config, phi, outputs, out, resume, chunk_size, progress, **axi
 
 
 # ----------------------------------------------------------------------------- tables
-@main.command("tables")
-@click.option("--strokes", type=click.Choice(["2", "4"]), default="2", show_default=True)
-@click.option("--acting", type=click.Choice(["single", "double"]), default="single", show_default=True)
+@main.command("tables", short_help="Which harmonics survive k cranks (Tables 1 and 2).")
+@click.option(
+    "--strokes",
+    type=click.Choice(["2", "4"]),
+    default="2",
+    show_default=True,
+    help="The working cycle: two- or four-stroke.",
+)
+@click.option(
+    "--acting",
+    type=click.Choice(["single", "double"]),
+    default="single",
+    show_default=True,
+    help="Single- or double-acting cylinders.",
+)
 @click.option("--k-max", type=click.IntRange(min=1), default=12, show_default=True, help="Largest number of cranks.")
 @click.option("--n-max", type=click.IntRange(min=1), default=24, show_default=True, help="Highest harmonic.")
-@click.option("--format", "fmt", type=click.Choice(FORMATS), default="table", show_default=True)
+@format_option
 def tables_command(strokes, acting, k_max, n_max, fmt) -> None:
     """Which harmonics W_n of Q_u* survive the sum over k cranks (the paper's Tables 1 and 2).
 
@@ -474,28 +529,54 @@ def _write_atomically(path, text: str) -> None:
         raise
 
 
-@main.command("simulate")
+@main.command("simulate", short_help="The motion in time: start-up, run-down, stall.")
 @engine_option
-@click.option("--rpm", type=float, help="The speed at the start [1/min] (default: the machine's running speed).")
+@click.option(
+    "--rpm",
+    type=float,
+    metavar="RPM",
+    help="The speed at the start [1/min] (default: the machine's running speed).",
+)
 @click.option(
     "--duration",
     type=float,
     default=None,
+    metavar="SECONDS",
     help="Seconds to simulate [default: 20 working cycles at the start speed].",
 )
-@click.option("--samples", type=click.IntRange(min=2, max=10_000_000), default=2001, show_default=True)
+@click.option(
+    "--samples",
+    type=click.IntRange(min=2, max=10_000_000),
+    default=2001,
+    show_default=True,
+    help="Samples of the result, evenly spaced in time from 0 to --duration.",
+)
 @click.option(
     "--load",
     default="balance",
     show_default=True,
-    help="balance, a constant torque [N·m], or power:TORQUE:RPM[:EXPONENT] (a fan/propeller law).",
+    metavar="LOAD",
+    help="balance (the constant that takes the mean of gas and drive), a constant torque [N·m], or "
+    "power:TORQUE:RPM[:EXPONENT] (TORQUE [N·m] at RPM [1/min], growing as speed^EXPONENT, default 2: "
+    "a fan or propeller).",
 )
-@click.option("--drive", default=None, help="None, a constant torque [N·m], or power:TORQUE:RPM[:EXPONENT].")
+@click.option(
+    "--drive",
+    default=None,
+    metavar="DRIVE",
+    help="A driving torque besides the gas: a constant [N·m] or power:TORQUE:RPM[:EXPONENT] [default: none].",
+)
 @click.option("--gas/--no-gas", default=True, show_default=True, help="With the cylinders' gas pressures.")
-@click.option("--gravity/--no-gravity", default=True, show_default=True)
-@click.option("--format", "fmt", type=click.Choice(FORMATS), default="table", show_default=True)
-@click.option("--out", "out_path", type=click.Path(dir_okay=False, writable=True), help="Write to FILE, not stdout.")
-@click.option("--progress/--no-progress", default=True, show_default=True)
+@click.option("--gravity/--no-gravity", default=True, show_default=True, help="With gravity (--no-gravity: g = 0).")
+@format_option
+@click.option(
+    "--out",
+    "out_path",
+    type=click.Path(dir_okay=False, writable=True),
+    metavar="FILE",
+    help="Write to FILE, not stdout.",
+)
+@click.option("--progress/--no-progress", default=True, show_default=True, help="Show a progress bar.")
 def simulate_command(engine, rpm, duration, samples, load, drive, gas, gravity, fmt, out_path, progress) -> None:
     """Integrate the machine's motion in time from a start speed (start-up, run-down, load step).
 
@@ -573,13 +654,14 @@ def _without_gas(machine):
     return machine.replace(cylinders=cylinders, name=f"{machine.name} (no gas)")
 
 
-@main.command("motion")
+@main.command("motion", short_help="Steady running: δ with and without gravity, flywheel.")
 @engine_option
 @click.option(
     "--rpm",
     "speeds",
     type=float,
     multiple=True,
+    metavar="RPM",
     help="Mean speed(s) [1/min], repeatable [default: the machine's speed and --points speeds over its range].",
 )
 @click.option(
@@ -593,20 +675,38 @@ def _without_gas(machine):
     "--load",
     default="balance",
     show_default=True,
-    help="balance (the load that takes the mean drive), or power:TORQUE:RPM[:EXPONENT] (the speed follows).",
+    metavar="LOAD",
+    help="balance (the constant that takes the mean of gas and drive, at each --rpm), or "
+    "power:TORQUE:RPM[:EXPONENT] (TORQUE [N·m] at RPM [1/min], growing as speed^EXPONENT, default 2; "
+    "the speed follows from it).",
 )
-@click.option("--drive", default=None, help="A constant drive torque [N·m] or power:TORQUE:RPM[:EXPONENT].")
+@click.option(
+    "--drive",
+    default=None,
+    metavar="DRIVE",
+    help="A driving torque besides the gas: a constant [N·m] or power:TORQUE:RPM[:EXPONENT] [default: none].",
+)
 @click.option(
     "--delta",
     "target",
     type=float,
     default=None,
-    help="Size the flywheel for this δ [default: the preset's class limit; none for a machine file].",
+    metavar="DELTA",
+    help="Size the flywheel for this coefficient of speed fluctuation δ, e.g. 0.025 for 1/40 "
+    "[default: the preset's class limit; none for a machine file].",
 )
-@click.option("--cycle", "cycle_path", type=click.Path(dir_okay=False), help="Write ω(φ) and the torques to FILE.csv.")
-@click.option("--format", "fmt", type=click.Choice(FORMATS), default="table", show_default=True)
-@click.option("--out", "out_path", type=click.Path(dir_okay=False), help="Write the table to FILE, not stdout.")
-@click.option("--progress/--no-progress", default=True, show_default=True)
+@click.option(
+    "--cycle",
+    "cycle_path",
+    type=click.Path(dir_okay=False),
+    metavar="FILE",
+    help="Write ω(φ) and the torques over one cycle, at the first speed that runs, to FILE (CSV).",
+)
+@format_option
+@click.option(
+    "--out", "out_path", type=click.Path(dir_okay=False), metavar="FILE", help="Write the table to FILE, not stdout."
+)
+@click.option("--progress/--no-progress", default=True, show_default=True, help="Show a progress bar over the speeds.")
 def motion_command(engine, speeds, points, load, drive, target, cycle_path, fmt, out_path, progress) -> None:
     """Steady running: the coefficient of speed fluctuation δ with and without gravity, and the flywheel.
 
@@ -703,11 +803,31 @@ def _speed_set(machine, points: int) -> list[float | None]:
 
 
 # ----------------------------------------------------------------------------- report
-@main.command("report")
-@click.option("--out", "out_dir", type=click.Path(file_okay=False), default="multicrank-report", show_default=True)
+@main.command("report", short_help="Write the HTML report (PNG figures, CSV tables).")
+@click.option(
+    "--out",
+    "out_dir",
+    type=click.Path(file_okay=False),
+    default="multicrank-report",
+    show_default=True,
+    metavar="DIR",
+    help="The folder for index.html and its figures (PNG) and tables (CSV).",
+)
 @engine_option
-@click.option("--k-max", type=click.IntRange(min=1, max=24), default=12, show_default=True)
-@click.option("--n-max", type=click.IntRange(min=2), default=24, show_default=True)
+@click.option(
+    "--k-max",
+    type=click.IntRange(min=1, max=24),
+    default=12,
+    show_default=True,
+    help="Largest number of cranks in the paper's analysis.",
+)
+@click.option(
+    "--n-max",
+    type=click.IntRange(min=2),
+    default=24,
+    show_default=True,
+    help="Highest harmonic in the spectra and tables.",
+)
 @click.option("--points", type=click.IntRange(min=8), default=721, show_default=True, help="φ points per curve.")
 @click.option(
     "--threshold",
@@ -722,7 +842,7 @@ def _speed_set(machine, points: int) -> list[float | None]:
     default=None,
     help="Size the flywheel for this δ [default: the preset's class limit, else the machine's δ without gravity].",
 )
-@click.option("--progress/--no-progress", default=True, show_default=True)
+@click.option("--progress/--no-progress", default=True, show_default=True, help="Show a progress bar.")
 def report_command(out_dir, engine, k_max, n_max, points, threshold, delta, progress) -> None:
     """Write the report: first the machine's steady running with and without gravity (δ, the
     flywheel, ω(φ), the torques and their orders, δ over the speed range), then the paper's

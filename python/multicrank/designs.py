@@ -193,14 +193,47 @@ def phase_table(columns: dict[str, np.ndarray]) -> tuple[np.ndarray, list[np.nda
 class DesignGrid:
     """The Cartesian product of design axes, generated lazily chunk by chunk.
 
-    ``DesignGrid(crank_ratio=np.linspace(0.2, 0.45, 26), inclination=..., u1=..., u2=0.0,
-    cranks=range(1, 13))``: 1-D axes span the grid (C order, first axis slowest); scalars are
-    constant columns. ``len(grid)`` is the number of designs; ``grid.frame(start, stop)``
-    builds only those rows, so a sweep of 10⁷ designs never holds them all.
+    1-D axes span the grid (C order, the first axis varies slowest); scalars are constant
+    columns. ``len(grid)`` is the number of designs; ``grid.frame(start, stop)`` builds only
+    those rows, so a sweep of 10⁷ designs never holds them all. Only design columns are
+    accepted, and every value is validated here, so that a misspelt name or a bad value
+    fails at once rather than chunks into a sweep.
 
-    Only design columns (``crank_ratio``, ``inclination``, ``u1``, ``u2``, ``cranks``,
-    ``strokes``, ``acting``) are accepted, and every value is validated here, so that a
-    misspelt name or a bad value fails at once rather than chunks into a sweep.
+    Parameters
+    ----------
+    **axes
+        Design columns by name, each a 1-D sequence (an axis) or a scalar (a constant):
+        ``crank_ratio`` λ [dimensionless], ``inclination`` γ [rad], ``u1``, ``u2``
+        [dimensionless], and optionally ``cranks`` (int ≥ 1, default 1), ``strokes`` (2 or 4,
+        default 2) and ``acting`` ("single" or "double", default "single").
+
+    Attributes
+    ----------
+    axes : dict of str to ndarray
+        The 1-D axes, in the order given.
+    constants : dict
+        The scalar columns.
+    shape : tuple of int
+        The length of every axis.
+
+    See Also
+    --------
+    design_grid : The same product as a DataFrame, at once.
+    sweep : Takes a grid and sweeps it chunk by chunk.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import multicrank as mc
+    >>> grid = mc.DesignGrid(crank_ratio=np.linspace(0.2, 0.45, 26),
+    ...                      inclination=np.radians([0, 45, 90]),
+    ...                      u1=np.geomspace(1e-4, 1e-1, 31), u2=0.0, cranks=range(1, 13))
+    >>> len(grid), grid.shape
+    (29016, (26, 3, 31, 12))
+    >>> grid.frame(0, 2)
+       crank_ratio  inclination      u1  cranks   u2
+    0          0.2          0.0  0.0001       1  0.0
+    1          0.2          0.0  0.0001       2  0.0
     """
 
     def __init__(self, **axes: Any) -> None:
@@ -235,7 +268,20 @@ class DesignGrid:
         return math.prod(self.shape)
 
     def frame(self, start: int = 0, stop: int | None = None) -> pd.DataFrame:
-        """Rows start … stop−1 of the product as a DataFrame (index = row number)."""
+        """Some rows of the product.
+
+        Parameters
+        ----------
+        start : int, default 0
+            The first row.
+        stop : int, optional
+            One past the last row; default (and at most) ``len(grid)``.
+
+        Returns
+        -------
+        pandas.DataFrame
+            Rows start … stop − 1, indexed by row number: one column per axis and constant.
+        """
         stop = len(self) if stop is None else min(stop, len(self))
         # One column per axis and constant, plus the index: checked before any is formed.
         count = max(stop - start, 0)
@@ -248,10 +294,23 @@ class DesignGrid:
         return pd.DataFrame(data, index=pd.RangeIndex(start, stop))
 
     def to_frame(self) -> pd.DataFrame:
+        """The whole product (for small grids).
+
+        Returns
+        -------
+        pandas.DataFrame
+            Every row, as :meth:`frame` gives them.
+        """
         return self.frame()
 
     def axis_lists(self) -> dict[str, list]:
-        """The axes as lists, as a grid's frame keeps them in ``attrs["grid_axes"]``."""
+        """The axes as lists, as a grid's frame keeps them in ``attrs["grid_axes"]``.
+
+        Returns
+        -------
+        dict of str to list
+            One list per axis, in order.
+        """
         return {k: v.tolist() for k, v in self.axes.items()}
 
 
@@ -259,9 +318,30 @@ def design_grid(**axes: Any) -> pd.DataFrame:
     """The Cartesian product of the given axes as a DataFrame (one row per design).
 
     1-D axes span the grid in C order (the first axis varies slowest); scalars become
-    constant columns. Names and values are checked as by :class:`DesignGrid`. The frame
-    remembers its axes (``frame.attrs["grid_axes"]``) so that a sweep of it converts to an
-    ``xarray.Dataset`` with one dimension per axis (:func:`to_xarray`).
+    constant columns. Names and values are checked as by :class:`DesignGrid`.
+
+    Parameters
+    ----------
+    **axes
+        Design columns by name, each a 1-D sequence (an axis) or a scalar (a constant):
+        ``crank_ratio`` λ [dimensionless], ``inclination`` γ [rad], ``u1``, ``u2``
+        [dimensionless], and optionally ``cranks``, ``strokes`` and ``acting``.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per design. The frame remembers its axes (``frame.attrs["grid_axes"]``), so
+        that a sweep of it converts to an ``xarray.Dataset`` with one dimension per axis
+        (:func:`to_xarray`).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import multicrank as mc
+    >>> grid = mc.design_grid(crank_ratio=[0.2, 0.3], inclination=np.radians([0, 90]),
+    ...                       u1=1e-3, u2=0.0, cranks=[1, 2])
+    >>> len(grid), list(grid.columns)
+    (8, ['crank_ratio', 'inclination', 'cranks', 'u1', 'u2'])
     """
     grid = DesignGrid(**axes)
     frame = grid.to_frame()
@@ -324,11 +404,38 @@ def validate_designs(designs: Any, passthrough: tuple[str, ...], outputs: tuple[
 
 def to_xarray(result: pd.DataFrame, axes: Mapping[str, Any] | None = None) -> Any:
     """A grid sweep's result as an ``xarray.Dataset``: one dimension per grid axis, one
-    variable per output. ``axes`` defaults to the ``grid_axes`` the grid left in ``attrs``.
+    variable per output. Needs the ``xarray`` extra.
 
     The result's rows must be the grid's, in its order (C order, the first axis slowest):
     each axis's column is checked against it, so a filtered or re-sorted result is refused
     rather than reshaped into the wrong cells.
+
+    Parameters
+    ----------
+    result : pandas.DataFrame
+        What :func:`sweep` returned for a :func:`design_grid` (or a :class:`DesignGrid`).
+    axes : mapping of str to sequence, optional
+        The grid's axes, ``{name: values}`` in grid order; default the ``grid_axes`` the
+        grid left in ``result.attrs``.
+
+    Returns
+    -------
+    xarray.Dataset
+        One variable per output column of ``result``, on one dimension per axis, with the
+        axes' values as coordinates.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import multicrank as mc
+    >>> grid = mc.design_grid(crank_ratio=[0.2, 0.3], inclination=np.radians([0, 90]),
+    ...                       u1=1e-3, u2=0.0, cranks=[1, 2])
+    >>> data = mc.to_xarray(mc.sweep(grid, phi=360))
+    >>> dict(data["energy_range"].sizes)
+    {'crank_ratio': 2, 'inclination': 2, 'cranks': 2}
+    >>> data["energy_range"].sel(cranks=2).values.round(7)
+    array([[0.       , 0.000202 ],
+           [0.       , 0.0003071]])
     """
     xr = require("xarray", "xarray")
 

@@ -26,16 +26,32 @@ __all__ = ["UniformGrid", "as_phi", "grid_of", "uniform_grid"]
 
 
 class UniformGrid(np.lib.mixins.NDArrayOperatorsMixin):
-    """φ_i = start + i·step, i = 0 … count − 1 [rad] (rounded to double as numpy rounds
-    ``start + arange(count) * step``; values are computed at exactly these points): a 1-D
-    float64 array-like.
+    """Crank angles φ_i = start + i·step [rad], i = 0 … count − 1: a 1-D float64 array-like.
 
-    Pass it as ``phi`` to :func:`potential_energy`, :func:`generalized_force`,
-    :func:`force_derivative` or an :class:`Engine`'s methods and they use the rotation
-    kernels. Everywhere else it behaves as the read-only array of its points
+    The points are rounded to double as numpy rounds ``start + arange(count) * step``, and
+    values are computed at exactly these points. Pass a grid as ``phi`` to
+    :func:`potential_energy`, :func:`generalized_force`, :func:`force_derivative`, an
+    :class:`Engine`'s methods or :meth:`Machine.reduced_inertia` and the like, and they use
+    the rotation kernels. Everywhere else it behaves as the read-only array of its points
     (``np.asarray(grid)``, arithmetic, ufuncs, indexing, ``.max()``, plotting), and anything
     derived from it is a plain ndarray, since that need not be uniform. Make one with
     :func:`uniform_grid`.
+
+    Parameters
+    ----------
+    count : int
+        The number of points, ≥ 1.
+    start : float
+        φ_0 [rad], finite.
+    step : float
+        The spacing [rad], finite (0 and negative steps are allowed).
+
+    Attributes
+    ----------
+    count : int
+        The number of points.
+    start, step : float
+        φ_0 and the spacing [rad].
     """
 
     __slots__ = ("_cache", "count", "start", "step")
@@ -105,8 +121,34 @@ def uniform_grid(count: int, start: float = 0.0, stop: float = 2 * math.pi, *, e
     sin/cos by rotation (see :mod:`multicrank.grids`): for ≥ 10⁴ points about 1.5× faster
     for the closed form at small k, and the series path's e^{ipφ} comes free as well.
 
-    The points are ``start + i * step`` with ``step = (stop − start) / (count − endpoint)``,
-    as numpy computes them (with ``endpoint=True`` the last may differ from ``stop`` by an ulp).
+    Parameters
+    ----------
+    count : int
+        The number of points, ≥ 1.
+    start : float, default 0
+        The first angle [rad], finite.
+    stop : float, default 2π
+        The end of the interval [rad], finite; included only with ``endpoint=True``.
+    endpoint : bool, default False
+        Whether ``stop`` is the last point (as in ``np.linspace``).
+
+    Returns
+    -------
+    UniformGrid
+        The points ``start + i * step`` with ``step = (stop − start) / (count − endpoint)``,
+        as numpy computes them (with ``endpoint=True`` the last may differ from ``stop`` by
+        an ulp).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import multicrank as mc
+    >>> grid = mc.uniform_grid(4, start=np.pi / 4, stop=2 * np.pi + np.pi / 4)
+    >>> np.degrees(grid)
+    array([ 45., 135., 225., 315.])
+    >>> Q = mc.generalized_force(grid, crank_ratio=0.25, inclination=np.pi / 2, u1=1e-3, u2=0.0)
+    >>> Q.round(7)
+    array([-0.0008341, -0.0005801,  0.0005801,  0.0008341])
     """
     count = as_count(count, "count", minimum=1)
     bounds = [_finite_angle(start, "start"), _finite_angle(stop, "stop")]

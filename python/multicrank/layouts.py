@@ -24,14 +24,35 @@ __all__ = ["LAYOUTS", "Layout", "layout_engine"]
 
 @dataclass(frozen=True)
 class Layout:
-    """A crank and cylinder arrangement: throw angles β_t of the crank pins (degrees, the
-    pin's absolute angle at φ = 0) and the bank inclinations (degrees) of the cylinders on
-    each throw.
+    """A crank and cylinder arrangement, without masses: where the throws are and which
+    cylinders sit on each.
 
-    ``strokes`` (2 or 4) is the working cycle a layout was made for, where it was made for
-    one (the in-line presets: their throws are the regular phase set of that cycle, written
-    unreduced, e.g. 0°, 180°, 360°, 540° for a four-stroke four); None where it serves
-    either.
+    Angles are in **degrees** here, as the layouts are written. A cylinder on a throw at β
+    with bank inclination γ gets phase α = β − γ (see :meth:`Engine.from_throws`).
+
+    Parameters
+    ----------
+    name : str
+        The layout's name (its key in ``LAYOUTS`` for the built-in ones).
+    note : str
+        What it is, in a few words.
+    throws : tuple of float
+        β_t [deg]: each throw's crank-pin angle at φ = 0 (absolute, from the horizontal).
+    banks : tuple of tuple of float
+        Per throw, the inclinations γ [deg] of the cylinders on it (90 = upright).
+    strokes : {2, 4} or None, default None
+        The working cycle the layout was made for, where it was made for one (the in-line
+        presets: their throws are the regular phase set of that cycle, written unreduced,
+        e.g. 0°, 180°, 360°, 540° for a four-stroke four); None where it serves either.
+
+    Examples
+    --------
+    >>> import multicrank as mc
+    >>> layout = mc.LAYOUTS["v8-cross"]
+    >>> layout.note
+    '90° V8, cross-plane crank (pins 0°, 90°, 270°, 180°)'
+    >>> layout.cylinders, layout.throws, layout.banks[0]
+    (8, (90.0, 180.0, 360.0, 270.0), (45.0, 135.0))
     """
 
     name: str
@@ -57,7 +78,21 @@ class Layout:
         object.__setattr__(self, "banks", tuple(tuple(float(b) for b in bank) for bank in self.banks))
 
     def engine(self, *, crank_ratio, u1, u2) -> Engine:
-        """This layout with the given per-cylinder λ, u1, u2 (scalars or arrays)."""
+        """The dimensionless :class:`Engine` of this layout.
+
+        Parameters
+        ----------
+        crank_ratio : float or array_like
+            λ [dimensionless] per cylinder: a scalar, or one value per cylinder in the
+            layout's order (throw by throw, bank by bank).
+        u1, u2 : float or array_like
+            The dimensionless gravity moments [dimensionless] per cylinder, likewise.
+
+        Returns
+        -------
+        Engine
+            One unit per cylinder, named after the layout.
+        """
         return Engine.from_throws(
             np.radians(self.throws),
             [np.radians(b) for b in self.banks],
@@ -69,7 +104,7 @@ class Layout:
 
     @property
     def cylinders(self) -> int:
-        """The number of cylinders (on all throws)."""
+        """The number of cylinders on all throws (an int)."""
         return sum(len(b) for b in self.banks)
 
 
@@ -144,5 +179,28 @@ def as_layout(layout: Layout | str, name: str = "layout") -> Layout:
 
 
 def layout_engine(name: str, *, crank_ratio, u1, u2) -> Engine:
-    """The preset layout ``name`` (see LAYOUTS) with per-cylinder λ, u1, u2."""
+    """A built-in layout as a dimensionless :class:`Engine`.
+
+    Parameters
+    ----------
+    name : str
+        A key of ``LAYOUTS``, e.g. ``"v8-cross"``, ``"boxer-4"`` or ``"inline-6-4t"``.
+    crank_ratio : float or array_like
+        λ [dimensionless] per cylinder: a scalar, or one value per cylinder in the layout's
+        order.
+    u1, u2 : float or array_like
+        The dimensionless gravity moments [dimensionless] per cylinder, likewise.
+
+    Returns
+    -------
+    Engine
+        ``LAYOUTS[name].engine(crank_ratio=..., u1=..., u2=...)``.
+
+    Examples
+    --------
+    >>> import multicrank as mc
+    >>> vee = mc.layout_engine("v6-60", crank_ratio=0.3, u1=1e-3, u2=2e-4)
+    >>> len(vee), vee.surviving_harmonics(8)
+    (6, [6])
+    """
     return as_layout(name, "name").engine(crank_ratio=crank_ratio, u1=u1, u2=u2)

@@ -34,7 +34,11 @@ BALANCE = "balance"
 
 @dataclass(frozen=True)
 class PowerLawLoad:
-    """A torque that grows as a power of the speed: M(ω) = M_n·sign(ω)·|ω/ω_n|^e.
+    r"""A torque that grows as a power of the speed, a load or a drive.
+
+    .. math::
+
+        M(\omega) = M_n \,\operatorname{sign}(\omega)\, \left|\frac{\omega}{\omega_n}\right|^e
 
     Parameters
     ----------
@@ -43,8 +47,23 @@ class PowerLawLoad:
     speed : float
         ω_n [rad/s], the nominal speed, > 0 (``rpm * math.pi / 30`` from 1/min).
     exponent : float, default 2
-        e ≥ 0: 2 for fans, centrifugal pumps and propellers (the square law), 1 for viscous
-        friction, 0 for a constant (Coulomb) torque that changes sign with ω.
+        e ≥ 0 [dimensionless]: 2 for fans, centrifugal pumps and propellers (the square
+        law), 1 for viscous friction, 0 for a constant (Coulomb) torque that changes sign
+        with ω.
+
+    See Also
+    --------
+    steady_state : A square law (e = 2) is solved there in closed form.
+
+    Examples
+    --------
+    A fan that takes 90 N·m at 120 rpm:
+
+    >>> import math
+    >>> import multicrank as mc
+    >>> fan = mc.PowerLawLoad(torque=90.0, speed=120 * math.pi / 30)
+    >>> fan(0.0, [0.0, 2 * math.pi, 4 * math.pi])  # N·m at 0, 60 and 120 rpm
+    array([ 0. , 22.5, 90. ])
     """
 
     torque: float
@@ -71,7 +90,20 @@ class PowerLawLoad:
         return self.torque / self.speed**self.exponent
 
     def __call__(self, phi: Any, omega: Any) -> np.ndarray:
-        """M(ω) [N·m], broadcast against ``phi`` (on which it does not depend)."""
+        """The torque at a speed.
+
+        Parameters
+        ----------
+        phi : array_like
+            Crank angle φ [rad]; the torque does not depend on it, but its shape broadcasts.
+        omega : array_like
+            Shaft speed ω [rad/s].
+
+        Returns
+        -------
+        ndarray
+            M(ω) [N·m], the broadcast shape of ``phi`` and ``omega``.
+        """
         speed = np.asarray(omega, dtype=float)
         ratio = np.abs(speed) / self.speed
         # 0**0 is 1 in numpy, but a torque that does not depend on the speed still changes

@@ -100,6 +100,31 @@ class Cylinder:
         on the area π D²/4 − π d²/4 and pushing the piston away from the shaft.
     piston_rod_diameter : float
         d [m], 0 ≤ d < D: the piston rod through the crank-end chamber.
+
+    Raises
+    ------
+    MechanismError
+        For any field out of its range (naming it) or geometry the core refuses.
+
+    See Also
+    --------
+    Machine : Cylinders on one shaft.
+    IndicatorDiagram : The gas pressure over a working cycle.
+
+    Examples
+    --------
+    A car engine's cylinder with a synthetic four-stroke cycle in its own volume:
+
+    >>> import multicrank as mc
+    >>> cylinder = mc.Cylinder(crank_radius=0.04, rod_length=0.13, piston_mass=0.4,
+    ...                        rod_mass=0.5, rod_cg=0.09, bore=0.09)
+    >>> swept = cylinder.swept_volume()
+    >>> print(f"λ = {cylinder.crank_ratio:.4f}, swept volume {swept * 1e6:.1f} cm³")
+    λ = 0.3077, swept volume 508.9 cm³
+    >>> cylinder = cylinder.replace(pressure=cylinder.engine_diagram(
+    ...     intake_pressure=1e5, heat_release=1200, compression_ratio=10))
+    >>> cylinder.pressure.strokes
+    4
     """
 
     crank_radius: float
@@ -178,16 +203,26 @@ class Cylinder:
         Parameters
         ----------
         theta : array_like
-            Cycle angles [rad], any shape.
+            Cycle angles θ [rad], any shape.
         clearance_volume : float
             V_c [m³] > 0: the chamber's volume at its dead centre.
-        end : {"head", "crank"}
+        end : {"head", "crank"}, default "head"
             Which chamber.
 
         Returns
         -------
         ndarray
             V [m³], the shape of ``theta``.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> import multicrank as mc
+        >>> cylinder = mc.Cylinder(crank_radius=0.04, rod_length=0.13, piston_mass=0.4,
+        ...                        rod_mass=0.5, rod_cg=0.09, bore=0.09)
+        >>> volume = cylinder.chamber_volume(np.radians([0, 180]), clearance_volume=1e-4)
+        >>> volume * 1e6  # cm³
+        array([100.        , 608.93800988])
         """
         end = as_option(end, "end", ("head", "crank"))
         clearance = as_scalar(clearance_volume, "clearance_volume")
@@ -201,7 +236,18 @@ class Cylinder:
         return clearance + self.crank_end_area * (self.stroke - travel)
 
     def swept_volume(self, end: str = "head") -> float:
-        """The volume [m³] a chamber's face sweeps: A·2r at the head end, A_c·2r at the crank end."""
+        """The volume a chamber's face sweeps: A·2r at the head end, A_c·2r at the crank end.
+
+        Parameters
+        ----------
+        end : {"head", "crank"}, default "head"
+            Which chamber.
+
+        Returns
+        -------
+        float
+            The swept volume [m³].
+        """
         end = as_option(end, "end", ("head", "crank"))
         return (self.piston_area if end == "head" else self.crank_end_area) * self.stroke
 
@@ -253,6 +299,24 @@ class Cylinder:
         **options
             The other keywords of :meth:`IndicatorDiagram.compressor` (``cycle`` 2π by
             default: the machine's cycle is the one to give).
+
+        Returns
+        -------
+        IndicatorDiagram
+            Gauge pressures [Pa] over the cycle.
+
+        Examples
+        --------
+        >>> import multicrank as mc
+        >>> cylinder = mc.Cylinder(crank_radius=0.15, rod_length=0.6, piston_mass=85,
+        ...                        rod_mass=60, rod_cg=0.4, bore=0.3)
+        >>> diagram = cylinder.compressor_diagram(
+        ...     suction_pressure=1e5, discharge_pressure=4e5, clearance_ratio=0.08)
+        >>> clearance = 0.08 * cylinder.swept_volume()
+        >>> work = diagram.indicated_work(
+        ...     lambda theta: cylinder.chamber_volume(theta, clearance))
+        >>> print(f"∮p dV = {work:.0f} J per cycle (the work the compressor takes)")
+        ∮p dV = -2936 J per cycle (the work the compressor takes)
         """
         end = as_option(end, "end", ("head", "crank"))
         clearance = self._clearance(end, {"clearance_ratio": clearance_ratio, "clearance_volume": clearance_volume})
@@ -285,6 +349,11 @@ class Cylinder:
             Exactly one: ε = (V_s + V_c)/V_c, or V_c [m³].
         **options
             The other keywords of :meth:`IndicatorDiagram.engine` (``cycle`` 4π by default).
+
+        Returns
+        -------
+        IndicatorDiagram
+            Gauge pressures [Pa] over the cycle.
         """
         clearance = self._clearance(
             "head", {"compression_ratio": compression_ratio, "clearance_volume": clearance_volume}
@@ -297,7 +366,18 @@ class Cylinder:
         )
 
     def replace(self, **changes: Any) -> Cylinder:
-        """A copy with some fields changed."""
+        """A copy with some fields changed.
+
+        Parameters
+        ----------
+        **changes
+            New values of any of the fields (the parameters of :class:`Cylinder`).
+
+        Returns
+        -------
+        Cylinder
+            The changed copy, checked as a new one is.
+        """
         return dataclasses.replace(self, **changes)
 
 
@@ -332,10 +412,43 @@ class Machine:
     note : str
         A description: what the machine is and where its numbers come from.
 
+    Attributes
+    ----------
+    cylinders : tuple of Cylinder
+        The cylinders, in the order given.
+    shaft_inertia, strokes, g, name, rpm, rpm_range, note
+        The parameters as given (``rpm`` and ``rpm_range`` None where not given). Read
+        them; :meth:`replace` makes a changed copy.
+
     Raises
     ------
     MechanismError
         For any bad field, naming it.
+
+    See Also
+    --------
+    Machine.from_layout : A machine of a layout with one cylinder template.
+    Machine.from_toml : A machine from a TOML machine file.
+    multicrank.presets.ENGINES : The built-in machines.
+
+    Examples
+    --------
+    A single-cylinder machine without gas: its reduced inertia, gravity torque and the
+    dimensionless gravity :class:`Engine` at 120 rpm.
+
+    >>> import numpy as np
+    >>> import multicrank as mc
+    >>> cylinder = mc.Cylinder(crank_radius=0.15, rod_length=0.6, piston_mass=85,
+    ...                        rod_mass=60, rod_cg=0.4)
+    >>> machine = mc.Machine([cylinder], shaft_inertia=45, rpm=120)
+    >>> phi = np.radians([0, 45, 90])
+    >>> J, dJ = machine.reduced_inertia(phi)
+    >>> J.round(3), dJ.round(3)
+    (array([45.9  , 47.544, 48.262]), array([ 0.   ,  2.803, -1.22 ]))
+    >>> machine.gravity_torque(phi[1:]).round(2)  # N·m: gravity drives the piston down
+    array([170.44, 213.29])
+    >>> print(f"δ_g = {machine.engine().speed_fluctuation():.5f}")
+    δ_g = 0.06003
     """
 
     def __init__(
@@ -430,8 +543,16 @@ class Machine:
             The cylinders' phases α_j [rad] in the layout's order (throw by throw, bank by
             bank), to choose the firing order of a four-stroke machine by hand. Each must be
             β − γ of its cylinder plus a whole number of turns (2π); it is taken modulo the cycle.
-        g, name, rpm, rpm_range, note
-            As for :class:`Machine`; ``name`` and ``note`` default to the layout's.
+        g : float, default STANDARD_GRAVITY
+            Gravity [m/s²], as for :class:`Machine`.
+        name : str, optional
+            A label; default the layout's name.
+        rpm : float, optional
+            The running speed [1/min], as for :class:`Machine`.
+        rpm_range : (float, float), optional
+            The speeds (low, high) [1/min] the machine runs at, as for :class:`Machine`.
+        note : str, optional
+            A description; default the layout's note.
 
         Returns
         -------
@@ -461,6 +582,24 @@ class Machine:
             For an unknown layout, a cylinder that is not a :class:`Cylinder`, a bad or
             contradicting ``strokes``, ``firing`` of the wrong length or at a phase the crank
             cannot have, and the fields :class:`Machine` checks.
+
+        Examples
+        --------
+        A flat four, four-stroke: each opposed pair shares a phase modulo 2π, and the rule
+        spreads the firings evenly over the 720° cycle.
+
+        >>> import numpy as np
+        >>> import multicrank as mc
+        >>> cylinder = mc.Cylinder(crank_radius=0.04, rod_length=0.13, piston_mass=0.4,
+        ...                        rod_mass=0.5, rod_cg=0.09, bore=0.09)
+        >>> flat_four = mc.Machine.from_layout("boxer-4", cylinder, shaft_inertia=0.15,
+        ...                                    strokes=4, rpm=5000)
+        >>> len(flat_four), flat_four.strokes, flat_four.cycle
+        (4, 4, 12.566370614359172)
+        >>> [round(float(np.degrees(c.phase))) for c in flat_four.cylinders]
+        [0, 360, 180, 540]
+        >>> [round(float(np.degrees(c.inclination))) for c in flat_four.cylinders]
+        [0, 180, 0, 180]
         """
         layout = as_layout(layout)
         if not isinstance(cylinder, Cylinder):
@@ -522,6 +661,27 @@ class Machine:
         table: a one-cylinder machine). Keys are the fields of :class:`Machine` and
         :class:`Cylinder`; angles are in degrees, with ``_deg`` in their names.
 
+        Parameters
+        ----------
+        path : str or os.PathLike
+            The TOML file. A pressure table's ``path`` is relative to it.
+
+        Returns
+        -------
+        Machine
+            The machine the file describes, its name the file's stem unless it gives one.
+
+        Raises
+        ------
+        MechanismError
+            Naming the file and the key: a file that cannot be read or is not TOML, an
+            unknown or missing key, a value of the wrong type or out of range.
+
+        Notes
+        -----
+        The keys, their units and meanings (:doc:`/machine-files` explains them with
+        examples):
+
         ========================== ============ ==================================================
         key                        unit         meaning
         ========================== ============ ==================================================
@@ -556,40 +716,60 @@ class Machine:
         ``inclination_deg``        deg          γ, 90 upright (not with a layout)
         ``pressure``               table        the crown's (head end's) gas pressure, below
         ``pressure_crank_end``     table        double acting: the crank end's, below
-        **pressure tables**        ``[cylinder.pressure]``, ``[cylinder.pressure_crank_end]``
+        **pressure tables**                     ``[cylinder.pressure]``, ``[cylinder.pressure_crank_end]``
         ``type``                   text         "compressor", "engine" or "table" (required)
         ``pressure_unit``          text         Pa (default), kPa, bar, MPa, psi: the unit of
                                                 every pressure in the table and in a CSV file
         ``reference_pressure``     pressure     the crankcase pressure (default 101325 Pa)
         ``kind``                   text         the interpolation, as IndicatorDiagram's
-        *compressor*               ``suction_pressure``, ``discharge_pressure`` (required),
-                                   ``polytropic_exponent``, ``points``, ``absolute`` (default
-                                   true) as :meth:`IndicatorDiagram.compressor`; one of
-                                   ``clearance_volume`` [m³] or ``clearance_ratio`` (V_c over
-                                   the chamber's swept volume)
-        *engine*                   ``intake_pressure``, ``heat_release`` [J] (required),
-                                   ``compression_exponent``, ``expansion_exponent``, ``wiebe_a``,
-                                   ``wiebe_m``, ``points``, ``absolute`` (default true), the
-                                   angles ``start_of_combustion_deg``,
-                                   ``combustion_duration_deg``, ``exhaust_opening_deg``,
-                                   ``intake_closing_deg`` as :meth:`IndicatorDiagram.engine`;
-                                   one of ``compression_ratio`` ((V_s + V_c)/V_c) or
-                                   ``clearance_volume`` [m³]; head end only
-        *table*                    ``path`` (required; relative to the TOML file),
-                                   ``angle_unit``, ``absolute`` (default false),
-                                   ``angle_column``, ``pressure_column``, ``delimiter``,
-                                   ``closure_tolerance`` as :meth:`IndicatorDiagram.from_csv`
+        *compressor*                            ``suction_pressure``, ``discharge_pressure`` (required),
+                                                ``polytropic_exponent``, ``points``, ``absolute`` (default
+                                                true) as :meth:`IndicatorDiagram.compressor`; one of
+                                                ``clearance_volume`` [m³] or ``clearance_ratio`` (V_c over
+                                                the chamber's swept volume)
+        *engine*                                ``intake_pressure``, ``heat_release`` [J] (required),
+                                                ``compression_exponent``, ``expansion_exponent``, ``wiebe_a``,
+                                                ``wiebe_m``, ``points``, ``absolute`` (default true), the
+                                                angles ``start_of_combustion_deg``,
+                                                ``combustion_duration_deg``, ``exhaust_opening_deg``,
+                                                ``intake_closing_deg`` as :meth:`IndicatorDiagram.engine`;
+                                                one of ``compression_ratio`` ((V_s + V_c)/V_c) or
+                                                ``clearance_volume`` [m³]; head end only
+        *table*                                 ``path`` (required; relative to the TOML file),
+                                                ``angle_unit``, ``absolute`` (default false),
+                                                ``angle_column``, ``pressure_column``, ``delimiter``,
+                                                ``closure_tolerance`` as :meth:`IndicatorDiagram.from_csv`
         ========================== ============ ==================================================
 
         The synthetic cycles are built from the chamber's own volume,
         :meth:`Cylinder.chamber_volume` (V_c + A·s(θ) at the head end, V_c + A_c·(2r − s(θ))
         at the crank end), over the machine's cycle.
 
-        Raises
-        ------
-        MechanismError
-            Naming the file and the key: a file that cannot be read or is not TOML, an
-            unknown or missing key, a value of the wrong type or out of range.
+        Examples
+        --------
+        A V-twin with one cylinder template, written to a temporary file:
+
+        >>> import tempfile
+        >>> from pathlib import Path
+        >>> import multicrank as mc
+        >>> text = '''
+        ... shaft_inertia = 0.3   # kg·m²
+        ... strokes = 4
+        ... rpm = 3000            # 1/min
+        ... layout = "v-twin-90"
+        ... [cylinder]
+        ... crank_radius = 0.045  # m
+        ... rod_length = 0.15     # m
+        ... rod_cg = 0.1          # m, from the piston-pin axis
+        ... piston_mass = 0.5     # kg
+        ... rod_mass = 0.45       # kg
+        ... '''
+        >>> with tempfile.TemporaryDirectory() as folder:
+        ...     path = Path(folder) / "twin.toml"
+        ...     _ = path.write_text(text, encoding="utf-8")
+        ...     machine = mc.Machine.from_toml(path)
+        >>> machine.name, len(machine), machine.strokes, machine.rpm
+        ('twin', 2, 4, 3000.0)
         """
         file = read_machine_file(path)
         cycle = math.pi * (file.strokes or _layout_strokes(file.layout))
@@ -625,8 +805,28 @@ class Machine:
         )
 
     def replace(self, **changes: Any) -> Machine:
-        """A copy with some of its fields changed (cylinders, shaft_inertia, strokes, g, name, rpm,
-        rpm_range, note); ``rpm=None`` or ``rpm_range=None`` removes them."""
+        """A copy with some of its fields changed.
+
+        Parameters
+        ----------
+        **changes
+            New values of ``cylinders``, ``shaft_inertia``, ``strokes``, ``g``, ``name``,
+            ``rpm``, ``rpm_range`` or ``note`` (as for :class:`Machine`); ``rpm=None`` or
+            ``rpm_range=None`` removes them.
+
+        Returns
+        -------
+        Machine
+            The changed copy, checked as a new one is.
+
+        Examples
+        --------
+        >>> import multicrank as mc
+        >>> compressor = mc.presets.ENGINES["slow-compressor"]
+        >>> bigger = compressor.replace(shaft_inertia=500.0, name="bigger flywheel")
+        >>> bigger.name, bigger.shaft_inertia, compressor.shaft_inertia
+        ('bigger flywheel', 500.0, 350.0)
+        """
         unknown = set(changes) - set(_MACHINE_FIELDS)
         if unknown:
             raise MechanismError(
@@ -636,11 +836,26 @@ class Machine:
         return Machine(fields.pop("cylinders"), **fields)
 
     def engine(self, rpm: float | None = None) -> Engine:
-        """The dimensionless gravity engine at ``rpm`` [1/min] (default: the machine's own ``rpm``).
+        """The dimensionless gravity engine at a speed.
 
         One unit per cylinder, with u1, u2 = U1, U2 ÷ I_w ω², ω = π·rpm/30; a cylinder's crank
         web and counterweight are in its u2. U* × I_w ω² is :meth:`potential_energy` up to a
         constant, and Q_u* × I_w ω² is −:meth:`gravity_torque`.
+
+        Parameters
+        ----------
+        rpm : float, optional
+            The speed n [1/min], > 0; default the machine's own ``rpm``.
+
+        Returns
+        -------
+        Engine
+            Named "<machine name> at <rpm> rpm".
+
+        Raises
+        ------
+        MechanismError
+            When no ``rpm`` is given and the machine has none.
         """
         if rpm is None:
             if self.rpm is None:
@@ -651,19 +866,40 @@ class Machine:
         return Engine(**columns, name=f"{self.name} at {speed:g} rpm")
 
     def design(self, rpm: float | None = None) -> dict[str, Any]:
-        """The keywords of the in-line functions (:func:`~multicrank.potential_energy`,
-        :func:`~multicrank.generalized_force`, :func:`~multicrank.speed_fluctuation`, …) at
-        ``rpm`` [1/min] (default: the machine's own): ``crank_ratio``, ``inclination`` [rad],
-        ``u1``, ``u2`` and ``phases`` [rad].
+        """The keywords of the in-line functions for this machine at a speed.
 
-        Only for a machine of identical units that differ in phase alone (an in-line machine
-        with a web on every crank, the paper's machine); any other has no single
-        (λ, γ, u1, u2): use :meth:`engine`.
+        The keywords of :func:`~multicrank.potential_energy`,
+        :func:`~multicrank.generalized_force`, :func:`~multicrank.speed_fluctuation`, …:
+        ``crank_ratio``, ``inclination`` [rad], ``u1``, ``u2`` and ``phases`` [rad]. Only for
+        a machine of identical units that differ in phase alone (an in-line machine with a
+        web on every crank, the paper's machine); any other has no single (λ, γ, u1, u2): use
+        :meth:`engine`.
+
+        Parameters
+        ----------
+        rpm : float, optional
+            The speed n [1/min], > 0; default the machine's own ``rpm``.
+
+        Returns
+        -------
+        dict
+            ``crank_ratio``, ``inclination``, ``u1``, ``u2`` (floats) and ``phases`` (an
+            array), to pass as ``**design``.
 
         Raises
         ------
         MechanismError
             When the cylinders differ in anything but their phase.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> import multicrank as mc
+        >>> design = mc.presets.ENGINES["slow-compressor"].design()
+        >>> sorted(design)
+        ['crank_ratio', 'inclination', 'phases', 'u1', 'u2']
+        >>> print(f"δ_g = {mc.speed_fluctuation(**design):.6f}")
+        δ_g = 0.007576
         """
         engine = self.engine(rpm)
         shared = {}
@@ -684,14 +920,41 @@ class Machine:
         J(φ) = I_w + Σ_j [m_k3 r² + (m_t + m_k1) s'(ψ_j)² + ΔI β'(ψ_j)²], with the rod split
         exactly into m_k1 = m_k (l − z_k)/l at the piston pin, m_k3 = m_k z_k/l at the crank
         pin and ΔI turning with the rod angle β; ½ J φ̇² is the machine's kinetic energy.
-        Both arrays have the shape of ``phi`` [rad].
+
+        Parameters
+        ----------
+        phi : array_like or UniformGrid
+            Crank angle φ [rad]; any shape.
+        parallel_threshold : int, optional
+            The work size from which this call runs on all cores; None: the global default
+            (:func:`~multicrank.set_parallel_threshold`).
+
+        Returns
+        -------
+        J : ndarray
+            The reduced moment of inertia [kg·m²], the shape of ``phi``.
+        dJ_dphi : ndarray
+            Its slope dJ/dφ [kg·m²/rad], the shape of ``phi``.
         """
         shape, angles = as_phi(phi)
         result = _native_machine_inertia(self._units, self.shaft_inertia, angles, as_threshold(parallel_threshold))
         return result["J"].reshape(shape), result["dJ_dphi"].reshape(shape)
 
     def potential_energy(self, phi: Any, *, parallel_threshold: Any = None) -> np.ndarray:
-        """U(φ) [J] = Σ m·g·height, each unit measured from its own ψ = 0 configuration."""
+        """U(φ) = Σ m·g·height, the potential energy of gravity.
+
+        Parameters
+        ----------
+        phi : array_like or UniformGrid
+            Crank angle φ [rad]; any shape.
+        parallel_threshold : int, optional
+            The work size from which this call runs on all cores; None: the global default.
+
+        Returns
+        -------
+        ndarray
+            U [J], the shape of ``phi``; each unit measured from its own ψ = 0 configuration.
+        """
         shape, angles = as_phi(phi)
         flat = _native_machine_evaluate(
             "potential_energy", self._units, self.g, angles, as_threshold(parallel_threshold)
@@ -699,26 +962,73 @@ class Machine:
         return flat.reshape(shape)
 
     def gravity_torque(self, phi: Any, *, parallel_threshold: Any = None) -> np.ndarray:
-        """The torque of gravity on the shaft, −dU/dφ [N·m] (positive accelerates it)."""
+        """The torque of gravity on the shaft, −dU/dφ.
+
+        Parameters
+        ----------
+        phi : array_like or UniformGrid
+            Crank angle φ [rad]; any shape.
+        parallel_threshold : int, optional
+            The work size from which this call runs on all cores; None: the global default.
+
+        Returns
+        -------
+        ndarray
+            The torque [N·m], positive accelerating the shaft; the shape of ``phi``.
+        """
         shape, angles = as_phi(phi)
         flat = _native_machine_evaluate("gravity_torque", self._units, self.g, angles, as_threshold(parallel_threshold))
         return flat.reshape(shape)
 
     def piston_travel(self, phi: Any, *, parallel_threshold: Any = None) -> np.ndarray:
-        """s(ψ_j) [m], every piston's travel from its outer dead centre: shape (units,) + phi.shape."""
+        """Every piston's travel s(ψ_j) from its outer dead centre.
+
+        Parameters
+        ----------
+        phi : array_like or UniformGrid
+            Crank angle φ [rad]; any shape.
+        parallel_threshold : int, optional
+            The work size from which this call runs on all cores; None: the global default.
+
+        Returns
+        -------
+        ndarray
+            s [m], shape (units,) + phi.shape.
+        """
         shape, angles = as_phi(phi)
         flat = _native_machine_evaluate("travel", self._units, self.g, angles, as_threshold(parallel_threshold))
         return flat.reshape((len(self), *shape))
 
     def cycle_angles(self, phi: Any) -> np.ndarray:
-        """θ_j = (φ + α_j) mod Φ [rad], each unit's place in the working cycle: (units,) + phi.shape."""
+        """θ_j = (φ + α_j) mod Φ, each unit's place in its working cycle.
+
+        Parameters
+        ----------
+        phi : array_like
+            Crank angle φ [rad]; any shape.
+
+        Returns
+        -------
+        ndarray
+            θ [rad] in [0, Φ), shape (units,) + phi.shape.
+        """
         angles = np.asarray(as_real_array(phi, "phi"))
         phases = self._units["phase"].reshape((-1,) + (1,) * angles.ndim)
         return np.mod(angles + phases, self.cycle)
 
     def piston_forces(self, phi: Any) -> np.ndarray:
-        """The net gas force on every piston [N], positive toward the shaft: p(θ)·A − p_c(θ)·A_c;
-        shape (units,) + phi.shape."""
+        """The net gas force on every piston, p(θ)·A − p_c(θ)·A_c.
+
+        Parameters
+        ----------
+        phi : array_like
+            Crank angle φ [rad]; any shape.
+
+        Returns
+        -------
+        ndarray
+            The force [N], positive toward the shaft; shape (units,) + phi.shape.
+        """
         angles = np.asarray(as_real_array(phi, "phi"))
         theta = self.cycle_angles(angles)
         forces = np.zeros(theta.shape)
@@ -740,7 +1050,20 @@ class Machine:
         return forces
 
     def gas_torque(self, phi: Any, *, parallel_threshold: Any = None) -> np.ndarray:
-        """The gas torque Σ_j F_j(θ_j)·s'(ψ_j) [N·m] (virtual work of the piston forces)."""
+        """The gas torque Σ_j F_j(θ_j)·s'(ψ_j), by the virtual work of the piston forces.
+
+        Parameters
+        ----------
+        phi : array_like
+            Crank angle φ [rad]; any shape.
+        parallel_threshold : int, optional
+            The work size from which this call runs on all cores; None: the global default.
+
+        Returns
+        -------
+        ndarray
+            The torque [N·m], positive driving the shaft; the shape of ``phi``.
+        """
         angles = np.asarray(as_real_array(phi, "phi"), dtype=float)
         flat = contiguous(angles).reshape(-1)
         forces = contiguous(self.piston_forces(flat)).reshape(-1)
@@ -748,9 +1071,21 @@ class Machine:
         return torque.reshape(angles.shape)
 
     def inertia_torque(self, phi: Any, omega: Any, *, parallel_threshold: Any = None) -> np.ndarray:
-        """The inertia torque at steady speed ω [rad/s] (φ̈ = 0): −½ J'(φ) ω² [N·m].
+        """The inertia torque at a steady speed (φ̈ = 0): −½ J'(φ) ω².
 
-        ``omega`` broadcasts against ``phi``.
+        Parameters
+        ----------
+        phi : array_like
+            Crank angle φ [rad]; any shape.
+        omega : array_like
+            The shaft speed ω [rad/s]; broadcasts against ``phi``.
+        parallel_threshold : int, optional
+            The work size from which this call runs on all cores; None: the global default.
+
+        Returns
+        -------
+        ndarray
+            The torque [N·m], the broadcast shape of ``phi`` and ``omega``.
         """
         _, slope = self.reduced_inertia(phi, parallel_threshold=parallel_threshold)
         speed = as_real_array(omega, "omega")

@@ -19,21 +19,36 @@ STANDARD_GRAVITY: float = _NATIVE_STANDARD_GRAVITY
 
 
 def crank_phases(cranks: int, strokes: int = 2, acting: str = "single") -> np.ndarray:
-    """Crank phases α_j = j·α (rad), j = 0 … k−1, of a regular in-line machine (eq. 8–12).
+    """Crank phases α_j = j·α [rad], j = 0 … k−1, of a regular in-line machine.
 
-    α = T/k for single-acting and T/(2k) for double-acting machines, with T = 2π for a
-    two-stroke and 4π for a four-stroke cycle. Only the set of α_j mod 2π matters, so the
-    firing order is irrelevant; the values are returned unreduced (α_j may exceed 2π).
+    The paper's eq. (8)–(12): α = T/k for single-acting and T/(2k) for double-acting
+    machines, with T = 2π for a two-stroke and 4π for a four-stroke cycle. Only the set of
+    α_j mod 2π matters, so the firing order is irrelevant; the values are returned
+    unreduced (α_j may exceed 2π).
 
     Parameters
     ----------
-    cranks : int ≥ 1
-    strokes : 2 or 4
-    acting : "single" or "double"
+    cranks : int
+        The number of cranks k, ≥ 1.
+    strokes : {2, 4}, default 2
+        The working cycle: two-stroke (T = 2π) or four-stroke (T = 4π).
+    acting : {"single", "double"}, default "single"
+        Single-acting cylinders, or double-acting ones (both faces of the piston work:
+        twice the impulses per cycle).
 
     Returns
     -------
-    ndarray of shape (cranks,)
+    ndarray
+        α_j [rad], shape (cranks,).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import multicrank as mc
+    >>> np.degrees(mc.crank_phases(4, strokes=4))
+    array([  0., 180., 360., 540.])
+    >>> np.degrees(mc.crank_phases(3))
+    array([  0., 120., 240.])
     """
     cranks = as_count(cranks, "cranks", minimum=1)
     check_size("cranks", cranks, cranks)
@@ -75,35 +90,68 @@ def dimensionless_moments(
     rpm: Any,
     g: Any = STANDARD_GRAVITY,
 ) -> tuple[np.ndarray | np.float64, np.ndarray | np.float64]:
-    """The dimensionless gravity moments (u1, u2) of one crank unit (corrected eq. 5–7).
+    r"""The dimensionless gravity moments (u1, u2) of one crank unit.
+
+    The paper's eq. (5)–(7), corrected:
 
     .. math::
 
-        U_1 = \\frac{r g\\,[m_t + (l - z_k)/l \\cdot m_k]}{I_w \\omega^2}, \\qquad
-        U_2 = \\frac{g\\,[r_s m_s - r_p m_p + r (z_k/l) m_k]}{I_w \\omega^2}, \\qquad
-        \\omega = \\pi n / 30.
+        U_1 = \frac{r g\,[m_t + (l - z_k)/l \cdot m_k]}{I_w \omega^2}, \qquad
+        U_2 = \frac{g\,[r_s m_s - r_p m_p + r (z_k/l) m_k]}{I_w \omega^2}, \qquad
+        \omega = \pi n / 30.
 
     The rod's mass is split exactly for potential energy: (l − z_k)/l of it translates with
     the piston, z_k/l rotates with the crank pin. (The paper's printed eq. 5–6 swap the two
     shares; see docs/theory.md, "Errata of the paper".) u2 is negative when the counterweight
-    outweighs the rotating parts.
+    outweighs the rotating parts. All parameters are keywords and broadcast together.
 
-    Parameters (SI units; arrays broadcast together)
+    Parameters
     ----------
-    crank_radius : r [m], > 0
-    rod_length : l [m], > crank_radius
-    rod_cg : z_k [m], the rod's centre of gravity measured from the piston-pin axis, 0 ≤ z_k ≤ l
-    piston_mass : m_t [kg], complete piston (with pin and rings), ≥ 0
-    rod_mass : m_k [kg], ≥ 0
-    crank_mass : m_s [kg], crank web and pin, with its centre of gravity at ``crank_cg_radius`` r_s [m]
-    counterweight_mass : m_p [kg], opposite the crank pin at ``counterweight_radius`` r_p [m]
-    shaft_inertia : I_w [kg·m²], the shaft and everything turning with it, > 0
-    rpm : n [1/min], mean speed, > 0
-    g : [m/s²], default standard gravity
+    crank_radius : array_like
+        r [m], > 0.
+    rod_length : array_like
+        l [m], > crank_radius.
+    rod_cg : array_like
+        z_k [m], the rod's centre of gravity measured from the piston-pin axis,
+        0 ≤ z_k ≤ l.
+    piston_mass : array_like
+        m_t [kg], ≥ 0: the complete piston (with pin and rings; crosshead and piston rod
+        where there are).
+    rod_mass : array_like
+        m_k [kg], ≥ 0.
+    crank_mass : array_like, default 0
+        m_s [kg]: the crank web and pin, with its centre of gravity at ``crank_cg_radius``.
+    crank_cg_radius : array_like, default 0
+        r_s [m], the radius of the crank's centre of gravity.
+    counterweight_mass : array_like, default 0
+        m_p [kg], opposite the crank pin at ``counterweight_radius``.
+    counterweight_radius : array_like, default 0
+        r_p [m], the radius of the counterweight's centre of gravity.
+    shaft_inertia : array_like
+        I_w [kg·m²], > 0: the shaft and everything turning rigidly with it.
+    rpm : array_like
+        n [1/min], > 0: the mean speed.
+    g : array_like, default STANDARD_GRAVITY
+        The acceleration of gravity [m/s²], 9.80665 by default.
 
     Returns
     -------
-    (u1, u2), each of the broadcast shape (numpy float64 scalars for scalar input).
+    u1, u2 : ndarray or numpy.float64
+        U1 and U2 [dimensionless], each of the broadcast shape of the parameters (numpy
+        float64 scalars for scalar input).
+
+    Examples
+    --------
+    The paper's kind of machine: a heavy, slow crank unit at 120 rpm.
+
+    >>> import multicrank as mc
+    >>> u1, u2 = mc.dimensionless_moments(
+    ...     crank_radius=0.15, rod_length=0.6, rod_cg=0.4, piston_mass=85, rod_mass=60,
+    ...     crank_mass=40, crank_cg_radius=0.08,
+    ...     counterweight_mass=30, counterweight_radius=0.12,
+    ...     shaft_inertia=45, rpm=120)
+    >>> print(f"u1 = {u1:.6f}, u2 = {u2:.6f}")
+    u1 = 0.021735, u2 = 0.007728
     """
     values = dict(
         zip(

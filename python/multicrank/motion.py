@@ -50,7 +50,19 @@ _SHOOTING_RTOL = 1e-11
 
 class StallError(MechanismError):
     """The machine does not run steadily as asked: it would crawl over (or stop at) its dead
-    point. A :class:`~multicrank.MechanismError`.
+    point. A :class:`~multicrank.MechanismError` (and so a ``ValueError``).
+
+    Raised by :func:`steady_state` and :func:`flywheel_inertia`; the message says where and,
+    for ``load="balance"``, the lowest mean speed that runs.
+
+    Parameters
+    ----------
+    message : str
+        What happened, in words.
+    angle : float
+        The crank angle φ [rad] of the speed minimum.
+    min_rpm : float, optional
+        For ``load="balance"``: the lowest mean speed [1/min] that runs.
 
     Attributes
     ----------
@@ -60,6 +72,16 @@ class StallError(MechanismError):
         For ``load="balance"``: the lowest mean speed [1/min] that runs, i.e. whose speed
         minimum is ``min_speed_ratio`` times the mean speed. None for other loads, which fix
         the speed themselves.
+
+    Examples
+    --------
+    >>> import multicrank as mc
+    >>> compressor = mc.presets.ENGINES["slow-compressor"]
+    >>> try:
+    ...     mc.steady_state(compressor, rpm=5)
+    ... except mc.StallError as error:
+    ...     print(f"stalls; runs from {error.min_rpm:.1f} rpm")
+    stalls; runs from 8.4 rpm
     """
 
     def __init__(self, message: str, *, angle: float, min_rpm: float | None = None) -> None:
@@ -173,37 +195,63 @@ def _cycle(machine: Machine, gravity: bool) -> Cycle:
 
 @dataclass(frozen=True, eq=False)
 class SteadyState:
-    """A machine's periodic steady running over one closed cycle [0, Φ].
+    """A machine's periodic steady running over one closed cycle [0, Φ]: the result of
+    :func:`steady_state`.
 
-    Arrays (shape (points,), φ uniform from 0 to Φ inclusive)
-    ----------------------------------------------------------
-    phi : crank angle φ [rad]
-    omega : shaft speed ω(φ) [rad/s]
-    time : t(φ) [s] from φ = 0; time[-1] = t_Φ, the time of one cycle
-    J, dJ_dphi : the reduced moment of inertia [kg·m²] and its slope [kg·m²/rad]
-    torque_gas : M_gas [N·m]
-    torque_gravity : −dU/dφ [N·m] (zero when solved without gravity)
-    torque_inertia : −½ J'(φ) ω² [N·m] at the actual speed
-    torque_drive : M_drive [N·m] (with ``load="balance"`` at the mean speed, as solved)
-    torque_load : M_load [N·m], positive resisting
-    acceleration : φ̈ [rad/s²] = (gas + gravity + inertia + drive − load)/J
+    The arrays have shape (points,), φ uniform from 0 to Φ inclusive, and are read-only.
+    ``print(state)`` shows :meth:`summary`.
 
-    Scalars
-    -------
-    omega_mean : ω_m = Φ/t_Φ [rad/s], the time mean; ``rpm`` = 30 ω_m/π
-    omega_max, omega_min : the extreme speeds [rad/s], located exactly, at ``phi_max``,
-        ``phi_min`` [rad]
-    delta : (ω_max − ω_min)/ω_m, the coefficient of speed fluctuation about the time mean
-    delta_midrange : (ω_max − ω_min)/((ω_max + ω_min)/2), the textbook convention
-    load_torque : the constant load "balance" found, or the load's cycle mean
-        (1/Φ)∫M_load dφ [N·m]
-    delta_without_gravity : δ of the same machine and load rule with g = 0 (for "balance" at
-        the same mean speed); NaN where that machine would stall
-    delta_gravity_only : δ of the machine with gas, drive and load removed, at the same mean
-        speed: gravity (and the variation of J) alone — the exact counterpart of δ_g
-        (docs/theory.md); NaN where it would stall
-    period : t_Φ [s]; ``cycle`` Φ [rad]; ``method``: "energy", "closed form" or "shooting";
-    ``min_speed_ratio`` as asked; ``machine`` as given; ``gravity`` whether g was kept.
+    Attributes
+    ----------
+    phi : ndarray
+        Crank angle φ [rad].
+    omega : ndarray
+        Shaft speed ω(φ) [rad/s].
+    time : ndarray
+        t(φ) [s] from φ = 0; ``time[-1]`` = t_Φ, the time of one cycle.
+    J, dJ_dphi : ndarray
+        The reduced moment of inertia [kg·m²] and its slope [kg·m²/rad].
+    torque_gas : ndarray
+        M_gas [N·m].
+    torque_gravity : ndarray
+        −dU/dφ [N·m] (zero when solved without gravity).
+    torque_inertia : ndarray
+        −½ J'(φ) ω² [N·m] at the actual speed.
+    torque_drive : ndarray
+        M_drive [N·m] (with ``load="balance"`` at the mean speed, as solved).
+    torque_load : ndarray
+        M_load [N·m], positive resisting.
+    acceleration : ndarray
+        φ̈ [rad/s²] = (gas + gravity + inertia + drive − load)/J.
+    omega_mean : float
+        ω_m = Φ/t_Φ [rad/s], the time mean (:attr:`rpm` in 1/min).
+    omega_max, omega_min : float
+        The extreme speeds [rad/s], located exactly.
+    phi_max, phi_min : float
+        Where they occur [rad].
+    period : float
+        t_Φ [s], the time of one working cycle.
+    cycle : float
+        Φ [rad], 2π or 4π.
+    load_torque : float
+        The constant load "balance" found, or the load's cycle mean (1/Φ)∫M_load dφ [N·m].
+    delta_without_gravity : float
+        δ of the same machine and load rule with g = 0 (for "balance" at the same mean
+        speed) [dimensionless]; NaN where that machine would stall.
+    delta_gravity_only : float
+        δ of the machine with gas, drive and load removed, at the same mean speed: gravity
+        (and the variation of J) alone — the exact counterpart of δ_g (docs/theory.md)
+        [dimensionless]; NaN where it would stall.
+    method : str
+        How it was solved: "energy", "closed form" or "shooting".
+    load_rule : str
+        The load as given, in words.
+    gravity : bool
+        Whether g was kept.
+    min_speed_ratio : float
+        As asked.
+    machine : Machine
+        As given.
     """
 
     machine: Machine
@@ -268,8 +316,14 @@ class SteadyState:
     )
 
     def to_pandas(self) -> Any:
-        """The arrays as a pandas DataFrame indexed by φ [rad] (the column names of the
-        attributes; ``rpm`` adds the speed in 1/min)."""
+        """The arrays as a table.
+
+        Returns
+        -------
+        pandas.DataFrame
+            Indexed by ``phi`` [rad], one column per array attribute (the attributes' names
+            and units) and ``rpm``, the speed in 1/min.
+        """
         import pandas as pd
 
         columns = {name: getattr(self, name) for name in self.ARRAYS if name != "phi"}
@@ -277,7 +331,13 @@ class SteadyState:
         return pd.DataFrame(columns, index=pd.Index(self.phi, name="phi"))
 
     def summary(self) -> str:
-        """A few readable lines: speeds, δ in both conventions, and what gravity does."""
+        """A few readable lines: speeds, δ in both conventions, and what gravity does.
+
+        Returns
+        -------
+        str
+            The lines, joined by newlines (also the ``repr`` of the result).
+        """
         degrees = math.degrees
         lines = [
             f"steady state of {self.machine.name!r} ({self.machine.strokes}-stroke, {len(self.machine)} cylinders), "
@@ -390,7 +450,7 @@ def steady_state(
     Parameters
     ----------
     machine : Machine
-        The machine (its shaft_inertia, cylinders, gas pressures, strokes and g).
+        The machine (its ``shaft_inertia``, cylinders, gas pressures, strokes and g).
     rpm : float, optional
         The mean speed n [1/min] (time mean, ω_m = πn/30); required with ``load="balance"``
         and refused with any other load, which fixes the speed itself.
@@ -407,7 +467,7 @@ def steady_state(
         False solves the machine with g = 0.
     min_speed_ratio : float, default 1e-3
         The machine stalls when its speed minimum falls below this fraction of the mean
-        speed; 1e-9 ≤ min_speed_ratio < 1.
+        speed [dimensionless]; 1e-9 ≤ min_speed_ratio < 1.
     points : int, default 361
         Points of the result's arrays, uniform over the closed cycle [0, Φ] (every degree of a
         two-stroke cycle, every other degree of a four-stroke one).
@@ -415,6 +475,8 @@ def steady_state(
     Returns
     -------
     SteadyState
+        ω(φ), the torques and δ over one working cycle, with δ without gravity and of
+        gravity alone.
 
     Raises
     ------
@@ -431,6 +493,29 @@ def steady_state(
     smooth torques δ to 1e-7 relative and ω_m to 1e-9; with tabulated pressures (kinks
     between the nodes the integration cannot see) δ to 1e-3 and ω_m to 1e-7. The extremes are
     located on the quadrature panels' interpolants and evaluated exactly there.
+
+    Examples
+    --------
+    The slow compressor at its speed, the motor taking the mean torque ("balance"):
+
+    >>> import multicrank as mc
+    >>> compressor = mc.presets.ENGINES["slow-compressor"]
+    >>> state = mc.steady_state(compressor, rpm=120)
+    >>> print(f"δ = {state.delta:.5f} with gravity, "
+    ...       f"{state.delta_without_gravity:.5f} without")
+    δ = 0.02953 with gravity, 0.02502 without
+    >>> print(f"load {state.load_torque:.1f} N·m, ω from {state.omega_min:.3f} "
+    ...       f"to {state.omega_max:.3f} rad/s")
+    load -916.0 N·m, ω from 12.368 to 12.739 rad/s
+
+    A motor of constant torque driving the compressor and a fan: the fan's square law fixes
+    the speed (no ``rpm``), and the steady state comes in closed form.
+
+    >>> import math
+    >>> fan = mc.PowerLawLoad(torque=90.0, speed=120 * math.pi / 30)  # 90 N·m, 120 rpm
+    >>> state = mc.steady_state(compressor, load=fan, drive=1000.0)
+    >>> print(f"{state.rpm:.2f} rpm by {state.method}, δ = {state.delta:.5f}")
+    115.90 rpm by closed form, δ = 0.03184
     """
     machine = _as_machine(machine)
     rules = _rules(load, drive)
@@ -523,7 +608,7 @@ def _describe(load: Any, rules: _Rules) -> str:
 class FlywheelInertia:
     """The shaft inertia that gives a machine a coefficient of speed fluctuation δ.
 
-    Usable as a number: ``float(result)`` is ``shaft_inertia``.
+    The result of :func:`flywheel_inertia`; ``float(result)`` is ``shaft_inertia``.
 
     Attributes
     ----------
@@ -539,9 +624,11 @@ class FlywheelInertia:
         load taken as the constant that balances the others over the cycle.
     textbook_error : float
         (textbook − shaft_inertia)/shaft_inertia.
-    delta, rpm : float
-        The δ asked for and the mean speed [1/min] (for loads that fix the speed: the one
-        reached with ``shaft_inertia``).
+    delta : float
+        The δ asked for [dimensionless].
+    rpm : float
+        The mean speed [1/min] (for loads that fix the speed: the one reached with
+        ``shaft_inertia``).
     energy_swing : float
         ΔE [J] of the textbook estimate.
     """
@@ -668,24 +755,43 @@ def flywheel_inertia(
     Parameters
     ----------
     machine : Machine
+        The machine; its own ``shaft_inertia`` is replaced by the trial values.
     delta : float
-        The target δ > 0.
+        The target δ [dimensionless], > 0.
     rpm : float, optional
         The mean speed [1/min]: required with ``load="balance"``, refused with other loads.
-    load, drive, gravity, min_speed_ratio
-        As for :func:`steady_state`.
+    load : "balance", float, PowerLawLoad or callable, default "balance"
+        The resisting torque [N·m], as for :func:`steady_state`.
+    drive : float, PowerLawLoad or callable, optional
+        A driving torque [N·m], as for :func:`steady_state`.
+    gravity : bool, default True
+        False sizes the flywheel of the machine with g = 0.
+    min_speed_ratio : float, default 1e-3
+        The stall criterion [dimensionless], as for :func:`steady_state`.
 
     Returns
     -------
     FlywheelInertia
-        ``shaft_inertia`` (also ``float(result)``), ``shaft_inertia_without_gravity``, the
-        textbook estimate ΔE/(δ ω_m²) − mean(J − I_w) and its relative error.
+        ``shaft_inertia`` [kg·m²] (also ``float(result)``), ``shaft_inertia_without_gravity``,
+        the textbook estimate ΔE/(δ ω_m²) − mean(J − I_w) and its relative error.
 
     Raises
     ------
     MechanismError
         For bad input, naming the parameter; ``delta`` unreachable (the machine would stall
         before its fluctuation grows that large, or the rods' own inertia keeps it below).
+
+    Examples
+    --------
+    The slow compressor's flywheel for δ = 1/40 at 120 rpm, with gravity and without:
+
+    >>> import multicrank as mc
+    >>> compressor = mc.presets.ENGINES["slow-compressor"]
+    >>> flywheel = mc.flywheel_inertia(compressor, delta=1 / 40, rpm=120)
+    >>> print(f"I_w = {flywheel.shaft_inertia:.1f} kg·m² "
+    ...       f"({flywheel.shaft_inertia_without_gravity:.1f} without gravity; "
+    ...       f"textbook {flywheel.textbook:.1f})")
+    I_w = 413.8 kg·m² (350.3 without gravity; textbook 450.5)
     """
     machine = _as_machine(machine)
     target = _as_delta(delta)

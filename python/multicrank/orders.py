@@ -79,6 +79,19 @@ def torque_orders(machine: Machine, rpm: float, *, max_order: int = 12, gravity:
     Inertia and gravity are 2π-periodic: their half orders are exactly 0, and only a
     four-stroke gas cycle has half orders. Accuracy: gravity and inertia to rounding; gas
     torques to rounding for smooth or tabulated pressures (docs/theory.md, "Orders").
+
+    Examples
+    --------
+    >>> import multicrank as mc
+    >>> compressor = mc.presets.ENGINES["slow-compressor"]
+    >>> orders = mc.torque_orders(compressor, 120, max_order=3)
+    >>> orders[["gas_amplitude", "gravity_amplitude", "total_amplitude"]].round(1)
+           gas_amplitude  gravity_amplitude  total_amplitude
+    order
+    0.0            916.0                0.0            916.0
+    1.0            182.7              209.4            260.4
+    2.0           1403.1               19.6           1265.4
+    3.0            268.7                0.0            205.7
     """
     import pandas as pd
 

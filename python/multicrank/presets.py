@@ -65,6 +65,7 @@ MACHINE_CLASSES: dict[str, str] = {
     "genset-v12": "generator set",
 }
 
+#: The built-in machine that the command line and the report take when none is named.
 DEFAULT_ENGINE_NAME = "slow-compressor"
 
 _TWO_STROKE = 2 * math.pi
@@ -414,12 +415,49 @@ def __getattr__(name: str) -> Any:
 
 
 def load_engine(path: str | os.PathLike[str]) -> Machine:
-    """A machine from a TOML machine file: :meth:`multicrank.Machine.from_toml`."""
+    """A machine from a TOML machine file: :meth:`multicrank.Machine.from_toml`.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The TOML file (docs/machine-files.md).
+
+    Returns
+    -------
+    Machine
+        The machine the file describes.
+    """
     return Machine.from_toml(path)
 
 
 def engine_by_name_or_file(spec: str | os.PathLike[str]) -> Machine:
-    """A built-in machine by name (``ENGINES``), or one loaded from a TOML machine file."""
+    """A built-in machine by name (``ENGINES``), or one loaded from a TOML machine file.
+
+    What the command line's ``--engine`` takes.
+
+    Parameters
+    ----------
+    spec : str or os.PathLike
+        A key of ``ENGINES``, or the path of a TOML machine file.
+
+    Returns
+    -------
+    Machine
+        The built-in machine, or the one the file describes.
+
+    Raises
+    ------
+    MechanismError
+        When ``spec`` is neither a built-in machine nor an existing file (naming both
+        possibilities), or the file is not a valid machine file.
+
+    Examples
+    --------
+    >>> from multicrank.presets import engine_by_name_or_file
+    >>> machine = engine_by_name_or_file("inline-4")
+    >>> machine.name, len(machine), machine.strokes, machine.rpm
+    ('inline-4', 4, 4, 6000.0)
+    """
     if isinstance(spec, str) and spec in ENGINES:
         return ENGINES[spec]
     if not isinstance(spec, str | os.PathLike):

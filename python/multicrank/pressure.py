@@ -260,8 +260,8 @@ class IndicatorDiagram:
         cubic Hermite interpolant (PCHIP, C¹, no overshoot: data with steps such as valve
         events) on the periodically extended table, or piecewise linear.
     closure_tolerance : float, default 1e-6
-        The table must close: |p(first) − p(last)| ≤ closure_tolerance · max|p|. The last
-        pressure is then set to the first.
+        The table must close [dimensionless]: the first and last pressures may differ by at
+        most closure_tolerance · max|p|. The last pressure is then set to the first.
 
     Raises
     ------
@@ -269,10 +269,30 @@ class IndicatorDiagram:
         For any bad input, naming the parameter (a NaN, a non-increasing or non-covering
         angle, a table that does not close, an unknown ``kind`` …).
 
+    See Also
+    --------
+    Cylinder.compressor_diagram, Cylinder.engine_diagram : The synthetic cycles in a
+        cylinder's own volume.
+
     Notes
     -----
     Calling the diagram, ``diagram(theta)``, gives p [Pa] for θ [rad] of any shape (the same
     shape; a numpy float64 for a scalar), θ taken modulo the cycle; NaN or ±inf give NaN.
+
+    Examples
+    --------
+    A made-up two-stroke table in degrees and bar (gauge), the first point repeated at 360°:
+
+    >>> import numpy as np
+    >>> import multicrank as mc
+    >>> degrees = [0, 90, 180, 270, 360]
+    >>> bar = [30.0, 8.0, 0.0, 2.0, 30.0]
+    >>> diagram = mc.IndicatorDiagram(np.radians(degrees), np.multiply(bar, 1e5),
+    ...                               cycle=2 * np.pi, kind="linear")
+    >>> diagram(np.radians([45, 405])) / 1e5  # bar; θ is taken modulo the cycle
+    array([19., 19.])
+    >>> print(f"mean {diagram.mean_pressure() / 1e5:.2f} bar")
+    mean 10.00 bar
     """
 
     __slots__ = ("_angle", "_cycle", "_derivative", "_kind", "_poly", "_pressure")
@@ -321,7 +341,9 @@ class IndicatorDiagram:
         a = a.copy()
         a[-1] = a[0] + cycle
         if not a[-1] > a[-2]:
-            raise MechanismError(f"angle must increase strictly: angle[{a.size - 2}] = {a[-2]:.10g} is at the cycle's end")
+            raise MechanismError(
+                f"angle must increase strictly: angle[{a.size - 2}] = {a[-2]:.10g} is at the cycle's end"
+            )
         scale = float(np.max(np.abs(p)))
         mismatch = abs(float(p[-1] - p[0]))
         if mismatch > tolerance * scale:
@@ -385,22 +407,50 @@ class IndicatorDiagram:
             return self._angle[0] + np.mod(t - self._angle[0], self._cycle)
 
     def __call__(self, theta: Any) -> np.ndarray | np.float64:
-        """The gauge pressure p(θ) [Pa] at cycle angles θ [rad] of any shape (modulo the cycle)."""
+        """The gauge pressure at cycle angles θ, taken modulo the cycle.
+
+        Parameters
+        ----------
+        theta : array_like
+            Cycle angles θ [rad], any shape.
+
+        Returns
+        -------
+        ndarray or numpy.float64
+            p(θ) [Pa] gauge, the shape of ``theta`` (a numpy float64 for a scalar); NaN
+            where θ is NaN or ±inf.
+        """
         values = np.asarray(self._poly(self._wrap(theta)), dtype=np.float64)
         return values[()] if values.ndim == 0 else values
 
     def derivative(self, theta: Any) -> np.ndarray | np.float64:
-        """dp/dθ [Pa/rad] of the interpolant at θ [rad] of any shape (modulo the cycle)."""
+        """The slope of the interpolant, dp/dθ, at cycle angles θ taken modulo the cycle.
+
+        Parameters
+        ----------
+        theta : array_like
+            Cycle angles θ [rad], any shape.
+
+        Returns
+        -------
+        ndarray or numpy.float64
+            dp/dθ [Pa/rad], the shape of ``theta``.
+        """
         if self._derivative is None:
             self._derivative = self._poly.derivative()
         values = np.asarray(self._derivative(self._wrap(theta)), dtype=np.float64)
         return values[()] if values.ndim == 0 else values
 
     def mean_pressure(self) -> float:
-        """The cycle mean of the gauge pressure, (1/Φ)∮p dθ [Pa], exact for the interpolant.
+        """The cycle mean of the gauge pressure, (1/Φ)∮p dθ, exact for the interpolant.
 
         This is the mean over the crank angle, not the mean effective pressure (work per
         displacement): for that, divide :meth:`indicated_work` by the swept volume.
+
+        Returns
+        -------
+        float
+            The mean [Pa] gauge.
         """
         start = float(self._angle[0])
         return float(self._poly.integrate(start, start + self._cycle)) / self._cycle
@@ -478,12 +528,16 @@ class IndicatorDiagram:
         delimiter : str, optional
             The field separator; by default the first of ``,``, ``;`` and tab found on the
             first data line, else runs of white space.
-        kind, closure_tolerance
-            As for :class:`IndicatorDiagram`.
+        kind : {"periodic-cubic", "pchip", "linear"}, default "periodic-cubic"
+            The interpolation, as for :class:`IndicatorDiagram`.
+        closure_tolerance : float, default 1e-6
+            How far [relative to max|p|] the last pressure may be from the first, as for
+            :class:`IndicatorDiagram`.
 
         Returns
         -------
         IndicatorDiagram
+            Gauge pressures [Pa].
 
         Raises
         ------
@@ -491,6 +545,21 @@ class IndicatorDiagram:
             For a missing, unreadable or non-text file, a directory, a bad field (naming the
             file, line and column), an unknown unit, or a table that is no indicator diagram
             (the constructor's checks, prefixed with the file name).
+
+        Examples
+        --------
+        The package's synthetic example table (``EXAMPLE_COMPRESSOR_CSV``; angles in degrees,
+        absolute pressures in bar):
+
+        >>> import numpy as np
+        >>> import multicrank as mc
+        >>> from multicrank.pressure import EXAMPLE_COMPRESSOR_CSV
+        >>> diagram = mc.IndicatorDiagram.from_csv(EXAMPLE_COMPRESSOR_CSV,
+        ...                                        pressure_unit="bar", absolute=True)
+        >>> diagram.angle.size, diagram.strokes, diagram.kind
+        (75, 2, 'periodic-cubic')
+        >>> (diagram(np.radians([0, 180])) / 1e5).round(5)  # bar gauge
+        array([ 6.98675, -0.01325])
         """
         angle_unit = as_option(angle_unit, "angle_unit", tuple(ANGLE_UNITS))
         pressure_unit = as_option(pressure_unit, "pressure_unit", tuple(PRESSURE_UNITS))
@@ -567,7 +636,8 @@ class IndicatorDiagram:
         suction_pressure, discharge_pressure : float
             p_s < p_d [Pa], absolute unless ``absolute=False``.
         polytropic_exponent : float, default 1.3
-            n > 0 of compression and re-expansion (1: isothermal, the gas's κ: isentropic).
+            n > 0 [dimensionless] of compression and re-expansion (1: isothermal, the gas's
+            κ: isentropic).
         cycle : float, default 2π
             The working cycle [rad]; with 4π the compressor's cycle appears once per revolution.
         points : int, default 721
@@ -624,8 +694,9 @@ class IndicatorDiagram:
                 target = start / ratio
                 if not target > end:
                     raise MechanismError(
-                        f"volume: compression from the largest volume {start:.10g} m³ reaches discharge_pressure only "
-                        f"at {target:.10g} m³, below the smallest volume {end:.10g} m³ (the compressor delivers nothing)"
+                        f"volume: compression from the largest volume {start:.10g} m³ reaches discharge_pressure "
+                        f"only at {target:.10g} m³, below the smallest volume {end:.10g} m³ (the compressor "
+                        "delivers nothing)"
                     )
             events.append(vol.crossing(target, ends[j], ends[j + 1]))
         theta = _table_angles(cycle, points, events)
@@ -708,9 +779,9 @@ class IndicatorDiagram:
         combustion_duration : float, default 60° (as rad)
             Δθ > 0 [rad]; combustion ends (θ₀ + Δθ) at the latest at exhaust opening.
         compression_exponent, expansion_exponent : float, default 1.35 and 1.3
-            The polytropic exponents κ > 1 of compression and expansion.
+            The polytropic exponents κ > 1 [dimensionless] of compression and expansion.
         wiebe_a, wiebe_m : float, default 5.0 and 2.0
-            Wiebe's efficiency parameter a > 0 and form factor m > −1.
+            Wiebe's efficiency parameter a > 0 and form factor m > −1 [dimensionless].
         exhaust_opening : float, default 40° (as rad)
             How far before the inner dead centre ending the expansion [rad] the exhaust opens
             (0 < … < that dead centre's angle).

@@ -156,56 +156,88 @@ def sweep(
 
     Parameters
     ----------
-    designs : pandas.DataFrame, mapping of equal-length 1-D columns, DesignGrid,
-        dask.dataframe.DataFrame, or a list of :class:`multicrank.Engine` (any layout; the
-        result then has one row per engine with its name and number of units). Columns
-        ``crank_ratio``, ``inclination`` [rad], ``u1``, ``u2``; optional ``cranks`` (default 1),
-        ``strokes`` (2) and ``acting`` ("single"). Any other column is refused unless named
-        in ``passthrough``. Every design is validated before the sweep starts.
-    phi : int or 1-D array
-        An int n is the uniform grid φ_i = 2πi/n, i < n (one revolution, endpoint excluded);
-        an array is used as given. Used by ``force_max_abs`` and ``force_rms``.
-    outputs : names from SWEEP_OUTPUTS
-        ``force_max_abs``, ``force_rms``: max|Q_u*| and √mean(Q_u*²) over the φ grid;
-        ``energy_min``, ``energy_max``, ``energy_range``: the exact extrema of U_w* over a
-        revolution and their difference δ_g (= :func:`speed_fluctuation`);
-        ``leading_harmonic``, ``leading_amplitude``: the harmonic n of Q_u* with the largest
-        amplitude √(a_n² + b_n²) and that amplitude (0, 0 when Q_u* ≡ 0).
-    method : "exact" (or its synonym "series")
-        Outputs are exact to machine precision. They are computed on the Fourier form with
-        exact Λ_n (which equals the closed form to ~1e-15·max|Q|), because it is the faster
-        path: few harmonics per design and no sqrt per crank.
-    out : path, optional
+    designs : DataFrame, mapping, DesignGrid, dask DataFrame or list of Engine
+        The designs: a pandas DataFrame, a mapping of equal-length 1-D columns, a
+        :class:`DesignGrid`, a ``dask.dataframe.DataFrame``, or a list of
+        :class:`Engine` (any layout; the result then has one row per engine with its name
+        and number of units). Columns ``crank_ratio`` λ [dimensionless], ``inclination`` γ
+        [rad], ``u1``, ``u2`` [dimensionless]; optional ``cranks`` (default 1), ``strokes``
+        (2) and ``acting`` ("single"). Any other column is refused unless named in
+        ``passthrough``. Every design is validated before the sweep starts.
+    phi : int or array_like, default 720
+        An int n is the uniform grid φ_i = 2πi/n [rad], i < n (one revolution, endpoint
+        excluded); a 1-D array [rad] is used as given. Used by ``force_max_abs`` and
+        ``force_rms``.
+    outputs : str or sequence of str, default SWEEP_OUTPUTS
+        Names from :data:`SWEEP_OUTPUTS`, all dimensionless: ``force_max_abs``,
+        ``force_rms``: max|Q_u*| and √mean(Q_u*²) over the φ grid; ``energy_min``,
+        ``energy_max``, ``energy_range``: the exact extrema of U_w* over a revolution and
+        their difference δ_g (= :func:`speed_fluctuation`); ``leading_harmonic``,
+        ``leading_amplitude``: the harmonic n of Q_u* with the largest amplitude
+        √(a_n² + b_n²) and that amplitude (0, 0 when Q_u* ≡ 0).
+    method : {"exact", "series"}, default "exact"
+        Synonyms: the outputs are exact to machine precision. They are computed on the
+        Fourier form with exact Λ_n (which equals the closed form to ~1e-15·max|Q|),
+        because it is the faster path: few harmonics per design and no sqrt per crank.
+    out : str or os.PathLike, optional
         Stream the result to this Parquet file, chunk by chunk (one row group per chunk),
         with bounded memory; the file appears atomically when complete, and the path is
         returned instead of a DataFrame. Finished chunks are kept in ``<out>.parts/``, each
         with a checksum. An existing directory, or a place that cannot be written, is refused
         before any work; a failed or interrupted merge (a full disk) leaves no partial file.
-    resume : bool
+        Needs the ``parquet`` extra.
+    resume : bool, default False
         With ``out``: continue an interrupted sweep of the same designs from its finished
         chunks (no row lost or duplicated). The whole definition of the designs (every
         value of a table, or a grid's axes), φ, the outputs and the chunking must match the
         interrupted sweep's, or the resume is refused; a part damaged on disk is computed
         again.
-    progress : bool
+    progress : bool, default False
         Show a progress bar (designs/s, ETA).
-    chunk_size : int
+    chunk_size : int, default 65536
         Designs per chunk (and per Parquet row group). Results do not depend on it.
-    curves : bool
+    curves : bool, default False
         Also return Q_u* of every design on the φ grid, an array (designs, len(phi)) — for
         small sweeps only.
-    passthrough : column name or list of them
+    passthrough : str or sequence of str, optional
         Columns of a table of designs that are not design columns (labels, ids, …) and are
         carried through to the result unchanged. Design columns and outputs cannot be named.
 
     Returns
     -------
-    DataFrame (designs + outputs, same rows and order), or ``(DataFrame, curves)``, or the
-    Parquet path with ``out``, or a lazy dask DataFrame for dask input.
+    pandas.DataFrame or tuple or pathlib.Path or dask.dataframe.DataFrame
+        The designs and one column per output, same rows and order; ``(DataFrame, curves)``
+        with ``curves=True``; the Parquet file's path with ``out``; a lazy dask DataFrame
+        for dask input.
 
+    Raises
+    ------
+    MechanismError
+        For an unknown or misspelt column or output, a bad value in any design (before any
+        work starts), or options that do not go together.
+
+    Notes
+    -----
     Threads: rayon's pool (``RAYON_NUM_THREADS``); results are bit-identical for any thread
     count and chunk size. Ctrl-C raises KeyboardInterrupt within about a second; with
     ``out`` the finished chunks stay on disk for ``resume=True``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import multicrank as mc
+    >>> grid = mc.design_grid(crank_ratio=np.linspace(0.2, 0.45, 26),
+    ...                       inclination=np.radians([0, 45, 90]),
+    ...                       u1=np.geomspace(1e-4, 1e-1, 31), u2=0.0,
+    ...                       cranks=range(1, 13), strokes=[2, 4])
+    >>> result = mc.sweep(grid, phi=360)
+    >>> len(result)
+    58032
+    >>> row = result.query("cranks == 6 and strokes == 4").iloc[-1]
+    >>> print(f"λ = {row.crank_ratio}, γ = {np.degrees(row.inclination):.0f}°, "
+    ...       f"u1 = {row.u1:g}: δ_g = {row.energy_range:.4e}, "
+    ...       f"leading harmonic {row.leading_harmonic:.0f}")
+    λ = 0.45, γ = 90°, u1 = 0.1: δ_g = 5.6873e-05, leading harmonic 6
     """
     as_option(method, "method", ("exact", "series"))
     outputs = _as_outputs(outputs)

@@ -54,7 +54,7 @@ COLUMNS = {
 
 @dataclass(frozen=True, eq=False)
 class Transient:
-    """The result of :func:`simulate`: the machine's state and torques at the sample times.
+    """The machine's state and torques at the sample times: the result of :func:`simulate`.
 
     Every array has one entry per sample: the times of ``t_eval`` up to the end of the run
     and, when the machine stalled, the stall itself as the last sample. The arrays are
@@ -89,9 +89,9 @@ class Transient:
     stall_time : float or None
         The time of the stall [s], None if the machine did not stall.
     energy_drift : float
-        max_t |E(t) − E(t₀)| / max_t ½Jω² with E = ½ J ω² + U − W: a constant of the exact
-        motion, so this is the integration's error in energy relative to the largest kinetic
-        energy of the run (0 for a run that never moves).
+        The largest change of E = ½ J ω² + U − W over the run over the largest kinetic
+        energy ½ J ω² of the run [dimensionless]: E is a constant of the exact motion, so
+        this is the integration's relative error in energy (0 for a run that never moves).
     nfev : int
         The number of right-hand-side evaluations the integrator made.
     message : str
@@ -133,9 +133,15 @@ class Transient:
         )
 
     def to_pandas(self) -> Any:
-        """The samples as a pandas DataFrame indexed by ``time`` [s], one column per array
-        (:data:`COLUMNS`); the units are in ``frame.attrs["units"]``, ``stalled``,
-        ``stall_time`` and ``energy_drift`` in ``frame.attrs`` as well."""
+        """The samples as a table.
+
+        Returns
+        -------
+        pandas.DataFrame
+            Indexed by ``time`` [s], one column per array (``phi``, ``omega``, …, ``work``);
+            their units in ``frame.attrs["units"]``, and ``stalled``, ``stall_time`` and
+            ``energy_drift`` in ``frame.attrs`` as well.
+        """
         import pandas as pd
 
         frame = pd.DataFrame(
@@ -147,8 +153,15 @@ class Transient:
         return frame
 
     def to_xarray(self) -> Any:
-        """The samples as an ``xarray.Dataset`` on the dimension ``time`` [s], each variable
-        with its ``units`` attribute; needs the ``xarray`` extra."""
+        """The samples as an ``xarray.Dataset``; needs the ``xarray`` extra.
+
+        Returns
+        -------
+        xarray.Dataset
+            One variable per array on the dimension ``time`` [s], each with its ``units``
+            attribute; ``stalled`` (0 or 1), ``stall_time`` (NaN if none) and
+            ``energy_drift`` as attributes of the dataset.
+        """
         xr = require("xarray", "xarray")
         variables = {name: ("time", getattr(self, name), {"units": unit}) for name, unit in COLUMNS.items()}
         return xr.Dataset(
@@ -258,6 +271,26 @@ def simulate(
     **Kinks.** Tabulated pressures have kinks (valve events, breakpoints); the adaptive
     step follows them at the cost of more steps, so runs with such gas torques take longer
     at tight tolerances than smooth ones.
+
+    Examples
+    --------
+    The slow compressor at 120 rpm with its motor switched off: the gas work brakes it
+    until it stalls.
+
+    >>> import numpy as np
+    >>> import multicrank as mc
+    >>> compressor = mc.presets.ENGINES["slow-compressor"]
+    >>> times = np.linspace(0.0, 10.0, 201)  # s
+    >>> run = mc.simulate(compressor, times, omega0=120 * np.pi / 30)
+    >>> print(f"stalled: {run.stalled}, after {run.stall_time:.2f} s; "
+    ...       f"energy check {run.energy_drift < 1e-8}")
+    stalled: True, after 4.31 s; energy check True
+    >>> run.to_pandas()[["omega", "gas_torque"]].head(3).round(2)
+          omega  gas_torque
+    time
+    0.00  12.57        0.00
+    0.05  12.62       58.75
+    0.10  12.56     -878.40
     """
     if not isinstance(machine, Machine):
         raise MechanismError(f"machine must be a multicrank.Machine, got {type(machine).__name__}")
