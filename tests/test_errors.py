@@ -577,3 +577,22 @@ def test_flags_take_booleans_only():
     assert len(mc.sweep(designs, phi=8, progress=np.bool_(False))) == 1
     with pytest.raises(mc.MechanismError, match="resume=True needs out="):
         mc.sweep(designs, phi=8, resume=True)
+
+
+@pytest.mark.parametrize(
+    "call, parameter",
+    [
+        (lambda: mc.simulate(MACHINE, [0.0, 1.0], omega0=60.0, max_step=5e-324), "max_step"),
+        (lambda: mc.simulate(MACHINE, [0.0, 1.0], omega0=60.0, max_step=1e-9), "max_step"),
+        (lambda: mc.simulate(MACHINE, [0.0, 1e3], omega0=1e6), "omega0"),
+        (lambda: mc.flywheel_inertia(MACHINE, delta=4e-26, rpm=600.0), "delta"),
+        (lambda: mc.steady_state(MACHINE, rpm=1e-197), "rpm"),
+        (lambda: mc.steady_state(MACHINE, rpm=600.0, min_speed_ratio=4e-230), "min_speed_ratio"),
+        (lambda: mc.Layout("x", "", (0.0,), b"\x00"), "banks"),
+    ],
+)
+def test_work_that_could_not_finish_is_refused_up_front(call, parameter):
+    """Issue 13: the motion API's hypothesis run found a hang (max_step = 5e-324) and
+    overflows at extreme speeds, ratios and targets; each is now refused by name, at once."""
+    with pytest.raises(mc.MechanismError, match=parameter):
+        call()

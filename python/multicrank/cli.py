@@ -727,8 +727,8 @@ def motion_command(engine, speeds, points, load, drive, target, cycle_path, fmt,
     balance = load_rule == "balance"
     if target is None and machine.name in MACHINE_CLASSES:
         target = SPEED_FLUCTUATION[MACHINE_CLASSES[machine.name]][1]
-    if target is not None and not (math.isfinite(target) and 0 < target < 1):
-        raise MechanismError(f"--delta = {target} is out of range; allowed: 0 < delta < 1")
+    if target is not None and not (math.isfinite(target) and 1e-9 <= target < 1):
+        raise MechanismError(f"--delta = {target} is out of range; allowed: 1e-9 <= delta < 1")
     wanted: list[float | None]
     if balance:
         wanted = [_speed(machine, rpm, "--rpm") for rpm in speeds] or list(_speed_set(machine, points))

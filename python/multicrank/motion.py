@@ -654,9 +654,11 @@ class FlywheelInertia:
 
 def _as_delta(value: Any) -> float:
     delta = as_scalar(value, "delta")
-    if not (math.isfinite(delta) and delta > 0):
+    # Below 1e-9 a δ is within the rounding of the speeds it is found from (the steady state
+    # is solved to ~1e-10 of ω): no flywheel can be sized for it.
+    if not (math.isfinite(delta) and delta >= 1e-9):
         raise MechanismError(
-            f"delta = {delta} is out of range; allowed: delta > 0 (the coefficient of speed fluctuation)"
+            f"delta = {delta} is out of range; allowed: delta >= 1e-9 (the coefficient of speed fluctuation)"
         )
     return delta
 
@@ -686,7 +688,8 @@ def _inertia_for(
                     found = balance.with_inertia(inertia).solve(omega_mean, ratio).delta
                 else:
                     found = _solve(cycle.with_inertia(inertia), rules, omega_mean, ratio).delta
-                known[log_inertia] = math.log(found / delta)
+                # a flywheel so heavy that δ rounds to 0 is beyond the target
+                known[log_inertia] = math.log(found / delta) if found > 0 else -math.inf
             except Stall:
                 known[log_inertia] = math.inf
         return known[log_inertia]
@@ -757,7 +760,7 @@ def flywheel_inertia(
     machine : Machine
         The machine; its own ``shaft_inertia`` is replaced by the trial values.
     delta : float
-        The target δ [dimensionless], > 0.
+        The target δ [dimensionless], ≥ 1e-9.
     rpm : float, optional
         The mean speed [1/min]: required with ``load="balance"``, refused with other loads.
     load : "balance", float, PowerLawLoad or callable, default "balance"

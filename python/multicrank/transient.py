@@ -307,8 +307,19 @@ def simulate(
         # solve_ivp would raise it to this with a warning; say so instead.
         raise MechanismError(f"rtol = {tolerances['rtol']} is out of range; allowed: rtol >= {_RTOL_FLOOR:.3g}")
     step_limit = as_scalar(max_step, "max_step")
-    if not step_limit > 0:
-        raise MechanismError(f"max_step = {step_limit} is out of range; allowed: max_step > 0 [s]")
+    # The work is bounded up front (issue 13: fail fast, never hang): at most 10⁸ steps of
+    # max_step, at most 10⁷ revolutions at the start speed, over the run.
+    span = float(times[-1] - times[0])
+    if not step_limit >= span * 1e-8 or not step_limit > 0:
+        raise MechanismError(
+            f"max_step = {step_limit} is out of range; allowed: max_step > 0 [s] and at least 1e-8 of the run "
+            f"({span:g} s), i.e. at most 10⁸ steps"
+        )
+    if omega_start * span / (2 * math.pi) > 1e7:
+        raise MechanismError(
+            f"omega0 = {omega_start:g} rad/s over the run's {span:g} s is {omega_start * span / (2 * math.pi):.3g} "
+            "revolutions; at most 10⁷ in one run (shorten t_eval)"
+        )
     if not isinstance(method, str) or method not in METHODS:
         raise MechanismError(f"method = {method!r} is not allowed; allowed: {', '.join(map(repr, METHODS))}")
     if not isinstance(gravity, (bool, np.bool_)):
