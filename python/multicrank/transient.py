@@ -237,7 +237,9 @@ def simulate(
     max_step : float
         The largest time step [s], > 0 (default: no limit). Set it below the duration of
         the shortest feature of the torques (a combustion spike, a valve event) when the run
-        starts with a step that could jump over it.
+        starts with a step that could jump over it. At least 1e-8 of the run's duration (at
+        most 10⁸ steps); a run is also refused beyond 10⁷ revolutions at ``omega0``, so that
+        no call runs for hours.
     balance_speed : float, optional
         ω [rad/s] at which a speed-dependent drive is frozen for ``load="balance"``; default
         ``omega0``. Refused with any other load.
