@@ -17,11 +17,9 @@ from __future__ import annotations
 import argparse
 import functools
 import json
-import os
-import subprocess
 import sys
 
-from timing import best_time
+from timing import best_time, per_thread_count
 
 
 def measure(points: int, repeat: int) -> list[dict]:
@@ -85,17 +83,7 @@ def main() -> None:
     if args.child:
         print(json.dumps(measure(args.points, args.repeat)))
         return
-    results = {}
-    for threads in ("1", str(os.cpu_count())):
-        env = dict(os.environ, RAYON_NUM_THREADS=threads)
-        child = subprocess.run(
-            [sys.executable, __file__, "--child", "--points", str(args.points), "--repeat", str(args.repeat)],
-            env=env,
-            capture_output=True,
-            text=True,
-            check=True,
-        )
-        results[threads] = json.loads(child.stdout)
+    results = per_thread_count(__file__, args.points, args.repeat)
     if args.markdown:
         print("| function | φ | k | threads | baseline ns/pt | multicrank ns/pt | ns per (pt, crank) | ratio |")
         print("|---|---|---|---|---|---|---|---|")

@@ -2,6 +2,10 @@
 
 from __future__ import annotations
 
+import json
+import os
+import subprocess
+import sys
 import time
 
 
@@ -19,3 +23,20 @@ def best_time(function, repeat: int, min_seconds: float = 0.02) -> float:
             function()
         times.append((time.perf_counter() - start) / calls)
     return min(times)
+
+
+def per_thread_count(script: str, points: int, repeat: int) -> dict[str, list]:
+    """Run ``script --child --points P --repeat R`` once with one rayon thread and once with
+    all cores (rayon fixes its pool at first use, so each count needs its own process), and
+    return each child's JSON rows by thread count."""
+    results = {}
+    for threads in ("1", str(os.cpu_count())):
+        child = subprocess.run(
+            [sys.executable, script, "--child", "--points", str(points), "--repeat", str(repeat)],
+            env=dict(os.environ, RAYON_NUM_THREADS=threads),
+            capture_output=True,
+            text=True,
+            check=True,
+        )
+        results[threads] = json.loads(child.stdout)
+    return results
