@@ -940,6 +940,13 @@ class Machine:
         result = _native_machine_inertia(self._units, self.shaft_inertia, angles, as_threshold(parallel_threshold))
         return result["J"].reshape(shape), result["dJ_dphi"].reshape(shape)
 
+    def _evaluate(self, quantity: str, phi: Any, parallel_threshold: Any, per_unit: bool = False) -> np.ndarray:
+        """One of the core's per-angle quantities, shaped as ``phi`` (with a leading unit axis
+        for per-unit ones)."""
+        shape, angles = as_phi(phi)
+        flat = _native_machine_evaluate(quantity, self._units, self.g, angles, as_threshold(parallel_threshold))
+        return flat.reshape((len(self), *shape) if per_unit else shape)
+
     def potential_energy(self, phi: Any, *, parallel_threshold: Any = None) -> np.ndarray:
         """U(φ) = Σ m·g·height, the potential energy of gravity.
 
@@ -955,11 +962,7 @@ class Machine:
         ndarray
             U [J], the shape of ``phi``; each unit measured from its own ψ = 0 configuration.
         """
-        shape, angles = as_phi(phi)
-        flat = _native_machine_evaluate(
-            "potential_energy", self._units, self.g, angles, as_threshold(parallel_threshold)
-        )
-        return flat.reshape(shape)
+        return self._evaluate("potential_energy", phi, parallel_threshold)
 
     def gravity_torque(self, phi: Any, *, parallel_threshold: Any = None) -> np.ndarray:
         """The torque of gravity on the shaft, −dU/dφ.
@@ -976,9 +979,7 @@ class Machine:
         ndarray
             The torque [N·m], positive accelerating the shaft; the shape of ``phi``.
         """
-        shape, angles = as_phi(phi)
-        flat = _native_machine_evaluate("gravity_torque", self._units, self.g, angles, as_threshold(parallel_threshold))
-        return flat.reshape(shape)
+        return self._evaluate("gravity_torque", phi, parallel_threshold)
 
     def piston_travel(self, phi: Any, *, parallel_threshold: Any = None) -> np.ndarray:
         """Every piston's travel s(ψ_j) from its outer dead centre.
@@ -995,9 +996,7 @@ class Machine:
         ndarray
             s [m], shape (units,) + phi.shape.
         """
-        shape, angles = as_phi(phi)
-        flat = _native_machine_evaluate("travel", self._units, self.g, angles, as_threshold(parallel_threshold))
-        return flat.reshape((len(self), *shape))
+        return self._evaluate("travel", phi, parallel_threshold, per_unit=True)
 
     def cycle_angles(self, phi: Any) -> np.ndarray:
         """θ_j = (φ + α_j) mod Φ, each unit's place in its working cycle.

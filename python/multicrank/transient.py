@@ -317,10 +317,11 @@ def simulate(
             f"max_step = {step_limit} is out of range; allowed: max_step > 0 [s] and at least 1e-8 of the run "
             f"({span:g} s), i.e. at most 10⁸ steps"
         )
-    if omega_start * span / (2 * math.pi) > 1e7:
+    revolutions = omega_start * span / (2 * math.pi)
+    if revolutions > 1e7:
         raise MechanismError(
-            f"omega0 = {omega_start:g} rad/s over the run's {span:g} s is {omega_start * span / (2 * math.pi):.3g} "
-            "revolutions; at most 10⁷ in one run (shorten t_eval)"
+            f"omega0 = {omega_start:g} rad/s over the run's {span:g} s is {revolutions:.3g} revolutions; at most "
+            "10⁷ in one run (shorten t_eval)"
         )
     if not isinstance(method, str) or method not in METHODS:
         raise MechanismError(f"method = {method!r} is not allowed; allowed: {', '.join(map(repr, METHODS))}")
