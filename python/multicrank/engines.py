@@ -203,26 +203,9 @@ class Engine:
         >>> np.degrees(twin.phase), np.degrees(twin.inclination)
         (array([ 45., -45.]), array([ 45., 135.]))
         """
-        beta = as_design(throws, "throws")
-        if beta.ndim != 1:
-            raise MechanismError(f"throws must be a 1-D array of angles [rad], got shape {beta.shape}")
-        if isinstance(banks, (str, bytes, Mapping)) or not isinstance(banks, (Sequence, np.ndarray)):
-            raise MechanismError(
-                f"banks must be a sequence with one array of inclinations [rad] per throw, got {type(banks).__name__}"
-            )
-        if len(banks) != len(beta):
-            raise MechanismError(f"throws has {len(beta)} entries but banks {len(banks)}")
-        phase: list[np.ndarray] = []
-        inclination: list[np.ndarray] = []
-        for t, gammas in enumerate(banks):
-            gamma = as_design(gammas, f"banks[{t}]")
-            if gamma.ndim > 1:
-                raise MechanismError(f"banks[{t}] must be a 1-D array of inclinations [rad], got shape {gamma.shape}")
-            gamma = gamma.reshape(-1)
-            phase.append(beta[t] - gamma)
-            inclination.append(gamma)
-        if not sum(g.size for g in inclination):
-            raise MechanismError("banks hold no cylinder: an engine needs at least one unit")
+        beta, banks_checked = as_throws(throws, banks)
+        phase = [beta[t] - gamma for t, gamma in enumerate(banks_checked)]
+        inclination = banks_checked
         return cls(
             phase=np.concatenate(phase),
             inclination=np.concatenate(inclination),
@@ -535,3 +518,27 @@ class Engine:
 def _scatter(u1_rel: Any, u2_rel: Any, phase: Any) -> tuple[float, float, float]:
     """The standard deviations of the tolerance model: finite and ≥ 0 (a NaN would give NaN)."""
     return as_nonnegative(u1_rel, "u1_rel"), as_nonnegative(u2_rel, "u2_rel"), as_nonnegative(phase, "phase")
+
+
+def as_throws(throws: Any, banks: Any) -> tuple[np.ndarray, list[np.ndarray]]:
+    """Throw angles and per-throw bank inclinations, checked (by those names) and returned as
+    a 1-D array and one 1-D array per throw; at least one cylinder in all. Unit-agnostic: the
+    layouts keep them in degrees, :meth:`Engine.from_throws` takes radians."""
+    beta = as_design(throws, "throws")
+    if beta.ndim != 1:
+        raise MechanismError(f"throws must be a 1-D array of angles, got shape {beta.shape}")
+    if isinstance(banks, (str, bytes, Mapping)) or not isinstance(banks, (Sequence, np.ndarray)):
+        raise MechanismError(
+            f"banks must be a sequence with one array of inclinations per throw, got {type(banks).__name__}"
+        )
+    if len(banks) != len(beta):
+        raise MechanismError(f"throws has {len(beta)} entries but banks {len(banks)}")
+    checked = []
+    for t, gammas in enumerate(banks):
+        gamma = as_design(gammas, f"banks[{t}]")
+        if gamma.ndim > 1:
+            raise MechanismError(f"banks[{t}] must be a 1-D array of inclinations, got shape {gamma.shape}")
+        checked.append(gamma.reshape(-1))
+    if not sum(g.size for g in checked):
+        raise MechanismError("banks hold no cylinder: an engine needs at least one unit")
+    return beta, checked

@@ -15,8 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ._native import MechanismError
-from ._validation import as_real_array
-from .engines import Engine
+from .engines import Engine, as_throws
 from .mechanism import crank_phases
 
 __all__ = ["LAYOUTS", "Layout", "layout_engine"]
@@ -67,15 +66,12 @@ class Layout:
                 raise MechanismError(f"{label} must be a string, got {type(getattr(self, label)).__name__}")
         if self.strokes is not None and not (type(self.strokes) is int and self.strokes in (2, 4)):
             raise MechanismError(f"strokes = {self.strokes!r} is not allowed; allowed: 2, 4 or None")
-        throws = as_real_array(self.throws, "throws")
-        if not isinstance(self.banks, Sequence) or isinstance(self.banks, str | bytes):
-            raise MechanismError(f"banks must be a sequence of bank inclinations per throw, got {self.banks!r}")
-        banks = [as_real_array(bank, f"banks[{t}]") for t, bank in enumerate(self.banks)]
-        # Engine.from_throws checks their shapes (by the same names); what it accepts is kept
-        # as plain floats, so that a layout is hashable and prints as written.
-        Engine.from_throws(np.radians(throws), [np.radians(bank) for bank in banks], crank_ratio=0, u1=0, u2=0)
-        object.__setattr__(self, "throws", tuple(float(t) for t in self.throws))
-        object.__setattr__(self, "banks", tuple(tuple(float(b) for b in np.ravel(bank)) for bank in banks))
+        # The checks of Engine.from_throws (by the same names), without building an engine;
+        # what they accept is kept as plain floats, so that a layout is hashable and prints
+        # as written.
+        throws, banks = as_throws(self.throws, self.banks)
+        object.__setattr__(self, "throws", tuple(float(t) for t in throws))
+        object.__setattr__(self, "banks", tuple(tuple(float(b) for b in bank) for bank in banks))
 
     def engine(self, *, crank_ratio, u1, u2) -> Engine:
         """The dimensionless :class:`Engine` of this layout.
