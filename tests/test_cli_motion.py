@@ -221,7 +221,8 @@ def test_a_full_disk_during_a_sweep_is_one_line(tmp_path, monkeypatch):
 
     from click.testing import CliRunner
 
-    from multicrank import cli, sweeps
+    from multicrank import cli
+    from multicrank.sweeps import driver as sweeps
 
     def full_disk(*args, **kwargs):
         raise OSError(errno.ENOSPC, "No space left on device")

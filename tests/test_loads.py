@@ -10,8 +10,8 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 import multicrank as mc
-from multicrank._quadrature import CycleQuadrature, PanelSeries, cycle_breaks
-from multicrank.loads import BALANCE, PowerLawLoad, as_torque, balance_torque
+from multicrank.motion._quadrature import CycleQuadrature, PanelSeries, cycle_breaks
+from multicrank.motion.loads import BALANCE, PowerLawLoad, as_torque, balance_torque
 
 
 def test_power_law_load_is_the_law_with_the_sign_of_omega():

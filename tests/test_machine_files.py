@@ -14,7 +14,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import multicrank as mc
-from multicrank.machine_files import CYLINDER_KEYS, LAYOUT_KEYS, MACHINE_KEYS, PRESSURE_KEYS
+from multicrank.machine.files import CYLINDER_KEYS, LAYOUT_KEYS, MACHINE_KEYS, PRESSURE_KEYS
 from multicrank.pressure import EXAMPLE_COMPRESSOR_CSV
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import multicrank as mc
-from multicrank.layouts import LAYOUTS, Layout
+from multicrank.gravity.layouts import LAYOUTS, Layout
 
 #: A car cylinder with a web and counterweight (the old inline-4 preset's numbers).
 CYLINDER = mc.Cylinder(

@@ -18,7 +18,7 @@ from mpmath import mp
 from scipy.integrate import quad
 
 import multicrank as mc
-from multicrank.orders import ORDER_PARTS
+from multicrank.motion.orders import ORDER_PARTS
 
 RPM = 1500.0
 OMEGA = math.pi * RPM / 30

@@ -32,8 +32,8 @@ from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
 import multicrank as mc
-from multicrank import sweeps
-from multicrank.store import PartStore
+from multicrank.sweeps import driver as sweeps
+from multicrank.sweeps.store import PartStore
 
 GRID_CODE = (
     "mc.DesignGrid(crank_ratio=np.linspace(0.1, 0.9, 40), inclination=np.linspace(0, 3, 25), u1=[0.2, 0.7],"
@@ -418,7 +418,7 @@ def test_a_failed_part_write_leaves_no_temporary_file(tmp_path, whole):
             raise OSError(errno.ENOSPC, "No space left on device")
         return original(fd)
 
-    with mock.patch("multicrank.store.os.fsync", fsync), pytest.raises(OSError):
+    with mock.patch("multicrank.sweeps.store.os.fsync", fsync), pytest.raises(OSError):
         mc.sweep(base_grid(), out=out, **SWEEP)
     assert len(part_files(out)) == 2 and not leftovers(tmp_path)
     mc.sweep(base_grid(), out=out, resume=True, **SWEEP)

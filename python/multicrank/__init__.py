@@ -12,44 +12,57 @@ import importlib as _importlib
 import os as _os
 from typing import Any as _Any
 
+from . import _moved
 from . import presets as presets  # public: mc.presets.ENGINES (the built-in machines), mc.presets.LAYOUTS
 from ._native import MechanismError, __version__, build_profile
 from ._native import _after_fork_in_child as _native_after_fork_in_child
-from .engines import Engine
-from .evaluation import (
+from .gravity import (
     FORCE_METHODS,
+    LAYOUTS,
+    STANDARD_GRAVITY,
+    EnergyExtrema,
+    Engine,
+    Layout,
+    UniformGrid,
+    crank_phases,
+    dimensionless_moments,
+    energy_extrema,
     force_derivative,
+    fourier_coefficients,
     generalized_force,
     get_parallel_threshold,
-    potential_energy,
-    set_parallel_threshold,
-)
-from .extrema import EnergyExtrema, energy_extrema, speed_fluctuation
-from .grids import UniformGrid, uniform_grid
-from .harmonics import (
-    fourier_coefficients,
     harmonic_table,
     lambda_coefficients,
+    layout_engine,
     paper_coefficient,
+    potential_energy,
+    set_parallel_threshold,
+    speed_fluctuation,
     surviving_harmonics,
+    uniform_grid,
 )
-from .layouts import LAYOUTS, Layout, layout_engine
-from .loads import PowerLawLoad
 from .machine import Cylinder, Machine
-from .mechanism import STANDARD_GRAVITY, crank_phases, dimensionless_moments
-from .motion import FlywheelInertia, StallError, SteadyState, flywheel_inertia, steady_state
-from .orders import torque_orders
+from .motion import (
+    FlywheelInertia,
+    PowerLawLoad,
+    StallError,
+    SteadyState,
+    Transient,
+    flywheel_inertia,
+    simulate,
+    steady_state,
+    torque_orders,
+)
 from .pressure import IndicatorDiagram
-from .transient import Transient, simulate
 
 # The sweep machinery pulls in pandas (and, where installed, pyarrow's thread pools): load
 # it on first use, so that `import multicrank` stays light and starts no threads.
 _LAZY = {
-    "SWEEP_OUTPUTS": "designs",
-    "DesignGrid": "designs",
-    "design_grid": "designs",
-    "to_xarray": "designs",
-    "sweep": "sweeps",
+    "SWEEP_OUTPUTS": "sweeps.designs",
+    "DesignGrid": "sweeps.designs",
+    "design_grid": "sweeps.designs",
+    "to_xarray": "sweeps.designs",
+    "sweep": "sweeps.driver",
 }
 
 
@@ -59,6 +72,9 @@ def __getattr__(name: str) -> _Any:
         return getattr(module, name)
     raise AttributeError(f"module 'multicrank' has no attribute {name!r}")
 
+
+# Old module paths (pickles of 0.1) resolve to where the modules live now.
+_moved.install()
 
 # rayon's worker threads do not survive fork(): a forked child computes serially.
 _os.register_at_fork(after_in_child=_native_after_fork_in_child)

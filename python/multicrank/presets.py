@@ -24,8 +24,8 @@ from collections.abc import Callable, Iterator, Mapping
 from typing import Any
 
 from ._native import MechanismError
-from .layouts import LAYOUTS, Layout, layout_engine
-from .machine import Cylinder, Machine
+from .gravity.layouts import LAYOUTS, Layout, layout_engine
+from .machine.machine import Cylinder, Machine
 
 # DEFAULT_ENGINE (ENGINES[DEFAULT_ENGINE_NAME]) is a module attribute too, built on first use.
 __all__ = [

@@ -25,15 +25,15 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from ._native import MechanismError
-from ._optional import require
-from .evaluation import generalized_force, potential_energy
-from .extrema import speed_fluctuation
-from .harmonics import fourier_coefficients, harmonic_table, lambda_coefficients
-from .layouts import LAYOUTS
-from .machine import Machine
-from .mechanism import crank_phases
-from .presets import DEFAULT_ENGINE_NAME, ENGINES
+from .._native import MechanismError
+from .._optional import require
+from ..gravity.evaluation import generalized_force, potential_energy
+from ..gravity.extrema import speed_fluctuation
+from ..gravity.harmonics import fourier_coefficients, harmonic_table, lambda_coefficients
+from ..gravity.layouts import LAYOUTS
+from ..gravity.mechanism import crank_phases
+from ..machine.machine import Machine
+from ..presets import DEFAULT_ENGINE_NAME, ENGINES
 
 __all__ = ["DEFAULT_THRESHOLD", "PAPER_TABLE_1", "ReportSettings", "write_report"]
 
@@ -358,7 +358,7 @@ def layouts_figure(settings: ReportSettings):
     """δ_g and the leading gravity harmonic of every preset layout with the machine's first
     cylinder on every bank (its crank web and counterweight once per throw), at its speed."""
     plt = _pyplot()
-    from .sweeps import sweep
+    from ..sweeps.driver import sweep
 
     engine = settings.engine
     rpm = _speed(engine)
@@ -444,9 +444,9 @@ class MotionResults:
 def motion_results(settings: ReportSettings, speeds: int = 9) -> MotionResults:
     """Steady state at the machine's speed with and without gravity, over its speed range,
     the flywheel for the class's δ (or ``settings.delta``) and the torque orders."""
-    from .motion import StallError, flywheel_inertia, steady_state
-    from .orders import torque_orders
-    from .presets import MACHINE_CLASSES, SPEED_FLUCTUATION
+    from ..motion.orders import torque_orders
+    from ..motion.steady import StallError, flywheel_inertia, steady_state
+    from ..presets import MACHINE_CLASSES, SPEED_FLUCTUATION
 
     machine = settings.engine
     rpm = _speed(machine)
@@ -885,7 +885,7 @@ at λ = 0.4 (dotted) its Λ<sub>12</sub> is tens of percent off. Right: the erro
         + "".join(f"<li>{html.escape(e)}</li>" for e in ERRATA)
         + "</ol>"
     )
-    from ._native import __version__
+    from .._native import __version__
 
     page = f"""<!DOCTYPE html>
 <html lang="en"><head><meta charset="utf-8"><title>multicrank report — {html.escape(engine.name)}</title>

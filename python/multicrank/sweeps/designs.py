@@ -21,11 +21,11 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from ._native import SWEEP_OUTPUTS as _NATIVE_SWEEP_OUTPUTS
-from ._native import MechanismError
-from ._optional import require
-from ._validation import INDEX_MAX, as_design, check_size
-from .mechanism import crank_phases
+from .._native import SWEEP_OUTPUTS as _NATIVE_SWEEP_OUTPUTS
+from .._native import MechanismError
+from .._optional import require
+from .._validation import INDEX_MAX, as_design, check_size
+from ..gravity.mechanism import crank_phases
 
 __all__ = [
     "DESIGN_COLUMNS",

@@ -21,11 +21,11 @@ from typing import Any
 
 import numpy as np
 
-from ._native import MechanismError
-from ._optional import require
-from ._validation import as_real_array, as_scalar
+from .._native import MechanismError
+from .._optional import require
+from .._validation import as_real_array, as_scalar
+from ..machine.machine import Machine
 from .loads import BALANCE, Torque, as_torque, balance_torque
-from .machine import Machine
 
 __all__ = ["METHODS", "Transient", "simulate"]
 

@@ -20,7 +20,7 @@ from typing import Any
 
 import numpy as np
 
-from ._native import MechanismError
+from .._native import MechanismError
 from ._quadrature import CycleQuadrature
 from ._work import GasWork
 

@@ -17,13 +17,13 @@ from typing import Any
 
 import numpy as np
 
-from ._native import MechanismError
-from ._native import engine_evaluate as _native_engine_evaluate
-from ._native import engine_extrema as _native_engine_extrema
-from ._native import engine_fourier as _native_engine_fourier
-from ._native import engine_leading_harmonic as _native_engine_leading_harmonic
-from ._native import engine_sensitivity as _native_engine_sensitivity
-from ._validation import as_count, as_design, as_label, as_nonnegative, as_option, check_size, contiguous, finish
+from .._native import MechanismError
+from .._native import engine_evaluate as _native_engine_evaluate
+from .._native import engine_extrema as _native_engine_extrema
+from .._native import engine_fourier as _native_engine_fourier
+from .._native import engine_leading_harmonic as _native_engine_leading_harmonic
+from .._native import engine_sensitivity as _native_engine_sensitivity
+from .._validation import as_count, as_design, as_label, as_nonnegative, as_option, check_size, contiguous, finish
 from .extrema import EnergyExtrema
 from .grids import as_phi
 from .mechanism import crank_phases

@@ -7,8 +7,8 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from ._native import energy_extrema as _native_energy_extrema
-from ._validation import as_phases, as_threshold, broadcast_designs, design_keywords, finish
+from .._native import energy_extrema as _native_energy_extrema
+from .._validation import as_phases, as_threshold, broadcast_designs, design_keywords, finish
 
 __all__ = ["EnergyExtrema", "energy_extrema", "speed_fluctuation"]
 

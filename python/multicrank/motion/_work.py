@@ -25,9 +25,9 @@ from typing import Any
 
 import numpy as np
 
+from ..machine.machine import Cylinder, Machine
+from ..pressure.diagram import IndicatorDiagram
 from ._quadrature import CycleQuadrature, cycle_breaks
-from .machine import Cylinder, Machine
-from .pressure import IndicatorDiagram
 
 __all__ = ["GasWork"]
 

@@ -31,10 +31,10 @@ from typing import Any
 
 import numpy as np
 
-from ._native import MechanismError
+from .._native import MechanismError
+from .._validation import as_count
+from ..machine.machine import Machine, as_speed
 from ._quadrature import CycleQuadrature
-from ._validation import as_count
-from .machine import Machine, as_speed
 
 __all__ = ["ORDER_PARTS", "torque_orders"]
 

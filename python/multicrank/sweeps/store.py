@@ -28,8 +28,8 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from ._native import MechanismError, __version__
-from ._optional import require
+from .._native import MechanismError, __version__
+from .._optional import require
 
 __all__ = ["PartStore", "as_out", "fingerprint"]
 

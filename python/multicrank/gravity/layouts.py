@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._native import MechanismError
+from .._native import MechanismError
 from .engines import Engine, as_throws
 from .mechanism import crank_phases
 

@@ -7,10 +7,10 @@ from typing import Any
 
 import numpy as np
 
-from ._native import STANDARD_GRAVITY as _NATIVE_STANDARD_GRAVITY
-from ._native import crank_phases as _native_crank_phases
-from ._native import dimensionless_moments as _native_dimensionless_moments
-from ._validation import as_count, as_option, as_real_array, as_strokes, broadcast_designs, check_size, finish
+from .._native import STANDARD_GRAVITY as _NATIVE_STANDARD_GRAVITY
+from .._native import crank_phases as _native_crank_phases
+from .._native import dimensionless_moments as _native_dimensionless_moments
+from .._validation import as_count, as_option, as_real_array, as_strokes, broadcast_designs, check_size, finish
 
 __all__ = ["STANDARD_GRAVITY", "crank_phases", "dimensionless_moments"]
 

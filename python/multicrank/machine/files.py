@@ -19,9 +19,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from ._native import MechanismError
-from .layouts import Layout, as_layout
-from .pressure import PRESSURE_UNITS, IndicatorDiagram
+from .._native import MechanismError
+from ..gravity.layouts import Layout, as_layout
+from ..pressure.diagram import PRESSURE_UNITS, IndicatorDiagram
 
 __all__ = [
     "CYLINDER_KEYS",

@@ -33,8 +33,8 @@ from typing import Any
 
 import numpy as np
 
-from ._native import MechanismError
-from ._validation import as_angles, as_count, as_option, as_real_array, as_scalar
+from .._native import MechanismError
+from .._validation import as_angles, as_count, as_option, as_real_array, as_scalar
 
 __all__ = [
     "ANGLE_UNITS",
@@ -55,7 +55,7 @@ ANGLE_UNITS = {"deg": math.pi / 180.0, "rad": 1.0}
 STANDARD_ATMOSPHERE = 101325.0
 #: A small **synthetic** example table (not measured), made by :meth:`IndicatorDiagram.compressor`;
 #: its header says how. Read it with ``from_csv(EXAMPLE_COMPRESSOR_CSV, pressure_unit="bar", absolute=True)``.
-EXAMPLE_COMPRESSOR_CSV = Path(__file__).resolve().with_name("data") / "compressor_synthetic.csv"
+EXAMPLE_COMPRESSOR_CSV = Path(__file__).resolve().parent.parent / "data" / "compressor_synthetic.csv"
 
 _TWO_STROKE = 2.0 * math.pi
 _FOUR_STROKE = 4.0 * math.pi

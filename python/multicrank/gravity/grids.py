@@ -19,8 +19,8 @@ from typing import Any
 
 import numpy as np
 
-from ._native import MechanismError
-from ._validation import as_angles, as_count, as_real_array, check_size, contiguous
+from .._native import MechanismError
+from .._validation import as_angles, as_count, as_real_array, check_size, contiguous
 
 __all__ = ["UniformGrid", "as_phi", "grid_of", "uniform_grid"]
 

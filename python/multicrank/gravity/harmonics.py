@@ -10,11 +10,11 @@ from typing import Any
 
 import numpy as np
 
-from ._native import fourier_coefficients as _native_fourier_coefficients
-from ._native import lambda_coefficients as _native_lambda_coefficients
-from ._native import paper_coefficient as _native_paper_coefficient
-from ._native import surviving_harmonics as _native_surviving_harmonics
-from ._validation import (
+from .._native import fourier_coefficients as _native_fourier_coefficients
+from .._native import lambda_coefficients as _native_lambda_coefficients
+from .._native import paper_coefficient as _native_paper_coefficient
+from .._native import surviving_harmonics as _native_surviving_harmonics
+from .._validation import (
     as_count,
     as_design,
     as_option,

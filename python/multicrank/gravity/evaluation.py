@@ -14,10 +14,10 @@ from typing import Any
 
 import numpy as np
 
-from ._native import evaluate as _native_evaluate
-from ._native import get_parallel_threshold as _native_get_parallel_threshold
-from ._native import set_parallel_threshold as _native_set_parallel_threshold
-from ._validation import (
+from .._native import evaluate as _native_evaluate
+from .._native import get_parallel_threshold as _native_get_parallel_threshold
+from .._native import set_parallel_threshold as _native_set_parallel_threshold
+from .._validation import (
     as_option,
     as_phases,
     as_threshold,

@@ -9,11 +9,11 @@ import sys
 import click
 import numpy as np
 
-from ._native import SWEEP_OUTPUTS, MechanismError, __version__
-from ._optional import OptionalDependencyError, require
-from .evaluation import generalized_force, potential_energy
-from .mechanism import crank_phases
-from .presets import DEFAULT_ENGINE_NAME, ENGINES
+from .._native import SWEEP_OUTPUTS, MechanismError, __version__
+from .._optional import OptionalDependencyError, require
+from ..gravity.evaluation import generalized_force, potential_energy
+from ..gravity.mechanism import crank_phases
+from ..presets import DEFAULT_ENGINE_NAME, ENGINES
 
 FORMATS = ("table", "csv", "json")
 
@@ -56,7 +56,7 @@ def main() -> None:
 
 def _load_engine(ctx, param, spec: str):
     """--engine: a built-in machine's name or a TOML machine file, as a multicrank.Machine."""
-    from .presets import engine_by_name_or_file
+    from ..presets import engine_by_name_or_file
 
     try:
         return engine_by_name_or_file(spec)
@@ -387,8 +387,8 @@ def sweep_command(config, phi, outputs, out, resume, chunk_size, progress, **axi
     """
     import time
 
-    from .designs import SWEEP_OUTPUTS, DesignGrid
-    from .sweeps import sweep
+    from ..sweeps.designs import SWEEP_OUTPUTS, DesignGrid
+    from ..sweeps.driver import sweep
 
     table = _sweep_config(config)
     axes = _grid_axes(axis_options, table.get("axes", {}))
@@ -446,7 +446,7 @@ def tables_command(strokes, acting, k_max, n_max, fmt) -> None:
 
     Two-stroke single-acting is the paper's Table 1, four-stroke single-acting its Table 2.
     """
-    from .harmonics import harmonic_table
+    from ..gravity.harmonics import harmonic_table
 
     table = harmonic_table(int(strokes), acting, k_max=k_max, n_max=n_max)
     if fmt == "csv":
@@ -467,7 +467,7 @@ def tables_command(strokes, acting, k_max, n_max, fmt) -> None:
 # ----------------------------------------------------------------------------- motion
 def parse_torque(text: str, name: str, *, balance: bool) -> object:
     """--load/--drive: "balance", a number [N·m], or power:TORQUE:RPM[:EXPONENT]."""
-    from .loads import BALANCE, PowerLawLoad
+    from ..motion.loads import BALANCE, PowerLawLoad
 
     value = text.strip()
     if balance and value == BALANCE:
@@ -584,7 +584,7 @@ def simulate_command(engine, rpm, duration, samples, load, drive, gas, gravity, 
     with SciPy's DOP853; the run stops early if the machine stalls. Prints (or writes) the
     time series: time [s], φ [rad, cumulative], ω [rad/s], rpm and the torques [N·m].
     """
-    from .transient import simulate
+    from ..motion.transient import simulate
 
     try:
         machine = engine if gas else _without_gas(engine)
@@ -718,8 +718,8 @@ def motion_command(engine, speeds, points, load, drive, target, cycle_path, fmt,
     import pandas as pd
     from tqdm.auto import tqdm
 
-    from .motion import StallError, flywheel_inertia, steady_state
-    from .presets import MACHINE_CLASSES, SPEED_FLUCTUATION
+    from ..motion.steady import StallError, flywheel_inertia, steady_state
+    from ..presets import MACHINE_CLASSES, SPEED_FLUCTUATION
 
     machine = engine
     load_rule = parse_torque(load, "load", balance=True)
@@ -848,7 +848,7 @@ def report_command(out_dir, engine, k_max, n_max, points, threshold, delta, prog
     flywheel, ω(φ), the torques and their orders, δ over the speed range), then the paper's
     analysis — curves, spectra, Tables 1–2, the truncation error, the gravity-significance map,
     conventions and errata — as index.html + PNG + CSV."""
-    from .report import DEFAULT_THRESHOLD, ReportSettings, write_report
+    from ..report.document import DEFAULT_THRESHOLD, ReportSettings, write_report
 
     settings = ReportSettings(
         engine=engine,

@@ -33,12 +33,12 @@ from typing import Any
 
 import numpy as np
 
-from ._native import MechanismError
+from .._native import MechanismError
+from .._validation import as_count, as_scalar
+from ..machine.machine import Machine, as_speed
 from ._quadrature import CycleQuadrature
-from ._steady import Balance, Cycle, Periodic, Shooting, SquareLaw, Stall, quasi_static_speed, scipy_optimize
-from ._validation import as_count, as_scalar
+from ._solvers import Balance, Cycle, Periodic, Shooting, SquareLaw, Stall, quasi_static_speed, scipy_optimize
 from .loads import BALANCE, PowerLawLoad, Torque, as_torque
-from .machine import Machine, as_speed
 
 __all__ = ["FlywheelInertia", "PowerLawLoad", "StallError", "SteadyState", "flywheel_inertia", "steady_state"]
 

@@ -23,8 +23,8 @@ from typing import Any
 
 import numpy as np
 
-from ._native import MechanismError
-from ._validation import as_scalar
+from .._native import MechanismError
+from .._validation import as_scalar
 
 __all__ = ["BALANCE", "PowerLawLoad", "Torque", "as_torque", "balance_torque"]
 

@@ -19,10 +19,12 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from ._native import MechanismError
-from ._native import sweep as _native_sweep
-from ._native import sweep_engines as _native_sweep_engines
-from ._validation import as_count, as_flag, as_option, as_real_array, check_size, contiguous
+from .._native import MechanismError
+from .._native import sweep as _native_sweep
+from .._native import sweep_engines as _native_sweep_engines
+from .._validation import as_count, as_flag, as_option, as_real_array, check_size, contiguous
+from ..gravity.engines import Engine
+from ..gravity.evaluation import generalized_force
 from .designs import (
     DESIGN_COLUMNS,
     SWEEP_OUTPUTS,
@@ -39,8 +41,6 @@ from .designs import (
     to_xarray,
     validate_designs,
 )
-from .engines import Engine
-from .evaluation import generalized_force
 from .store import PartStore, as_out, fingerprint
 
 # DesignGrid, design_grid and to_xarray live in designs; they are re-exported here, where

@@ -20,18 +20,18 @@ from typing import Any
 
 import numpy as np
 
-from ._native import MechanismError
-from ._native import machine_engine as _native_machine_engine
-from ._native import machine_evaluate as _native_machine_evaluate
-from ._native import machine_gas_torque as _native_machine_gas_torque
-from ._native import machine_inertia as _native_machine_inertia
-from ._validation import as_option, as_real_array, as_scalar, as_strokes, as_threshold, contiguous
-from .engines import Engine
-from .grids import as_phi
-from .layouts import Layout, as_layout
-from .machine_files import read_machine_file
-from .mechanism import STANDARD_GRAVITY
-from .pressure import IndicatorDiagram
+from .._native import MechanismError
+from .._native import machine_engine as _native_machine_engine
+from .._native import machine_evaluate as _native_machine_evaluate
+from .._native import machine_gas_torque as _native_machine_gas_torque
+from .._native import machine_inertia as _native_machine_inertia
+from .._validation import as_option, as_real_array, as_scalar, as_strokes, as_threshold, contiguous
+from ..gravity.engines import Engine
+from ..gravity.grids import as_phi
+from ..gravity.layouts import Layout, as_layout
+from ..gravity.mechanism import STANDARD_GRAVITY
+from ..pressure.diagram import IndicatorDiagram
+from .files import read_machine_file
 
 __all__ = ["Cylinder", "Machine"]
 

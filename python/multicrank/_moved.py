@@ -1,0 +1,55 @@
+"""The module paths of multicrank 0.1, before the package was split into rooms (gravity/,
+machine/, pressure/, motion/, sweeps/, cli/, report/), kept as aliases of where each module
+lives now: pickles made with 0.1 name their classes by those paths (``multicrank.engines.Engine``,
+``multicrank.loads.PowerLawLoad``, …), and code may import them. Nothing is loaded until such a
+path is imported."""
+
+from __future__ import annotations
+
+import importlib
+import importlib.abc
+import importlib.machinery
+import sys
+from types import ModuleType
+
+#: old module path -> the module that holds its contents now
+MOVED = {
+    "multicrank.mechanism": "multicrank.gravity.mechanism",
+    "multicrank.evaluation": "multicrank.gravity.evaluation",
+    "multicrank.harmonics": "multicrank.gravity.harmonics",
+    "multicrank.extrema": "multicrank.gravity.extrema",
+    "multicrank.engines": "multicrank.gravity.engines",
+    "multicrank.layouts": "multicrank.gravity.layouts",
+    "multicrank.grids": "multicrank.gravity.grids",
+    "multicrank.machine_files": "multicrank.machine.files",
+    "multicrank.loads": "multicrank.motion.loads",
+    "multicrank.transient": "multicrank.motion.transient",
+    "multicrank.orders": "multicrank.motion.orders",
+    "multicrank.designs": "multicrank.sweeps.designs",
+    "multicrank.store": "multicrank.sweeps.store",
+}
+
+
+class _MovedModules(importlib.abc.MetaPathFinder, importlib.abc.Loader):
+    """Finds an old path and answers with the module that lives at the new one (one object
+    under two names, so classes pickled under either load as the same class)."""
+
+    def find_spec(
+        self, fullname: str, path: object = None, target: object = None
+    ) -> importlib.machinery.ModuleSpec | None:
+        if fullname in MOVED:
+            return importlib.machinery.ModuleSpec(fullname, self)
+        return None
+
+    def create_module(self, spec: importlib.machinery.ModuleSpec) -> ModuleType:
+        return importlib.import_module(MOVED[spec.name])
+
+    def exec_module(self, module: ModuleType) -> None:
+        pass  # the module at the new path is already executed
+
+
+def install() -> None:
+    """Put the finder on sys.meta_path once (after the regular finders: a real module of that
+    name, were one ever added, wins)."""
+    if not any(isinstance(finder, _MovedModules) for finder in sys.meta_path):
+        sys.meta_path.append(_MovedModules())
