@@ -13,7 +13,7 @@ are in :mod:`multicrank.layouts` (and :mod:`multicrank.presets`).
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -27,6 +27,9 @@ from .._validation import as_count, as_design, as_label, as_nonnegative, as_opti
 from .extrema import EnergyExtrema
 from .grids import as_phi
 from .mechanism import crank_phases
+
+if TYPE_CHECKING:  # pandas is imported where a table is made, not with multicrank
+    import pandas as pd
 
 __all__ = ["Engine"]
 
@@ -115,10 +118,10 @@ class Engine:
         strokes: int = 2,
         acting: str = "single",
         *,
-        crank_ratio,
-        inclination,
-        u1,
-        u2,
+        crank_ratio: Any,
+        inclination: Any,
+        u1: Any,
+        u2: Any,
         name: str | None = None,
     ) -> Engine:
         """A regular in-line machine: identical units at α_j = j·α (docs/theory.md, "Crank phases").
@@ -163,9 +166,9 @@ class Engine:
         throws: Sequence[float] | np.ndarray,
         banks: Sequence[Sequence[float] | np.ndarray],
         *,
-        crank_ratio,
-        u1,
-        u2,
+        crank_ratio: Any,
+        u1: Any,
+        u2: Any,
         name: str = "engine",
     ) -> Engine:
         """Cylinders on crank throws: V, W, boxer and odd-fire machines.
@@ -215,7 +218,7 @@ class Engine:
             name=name,
         )
 
-    def replace(self, **changes) -> Engine:
+    def replace(self, **changes: Any) -> Engine:
         """A copy with some columns (or the name) replaced.
 
         Parameters
@@ -258,7 +261,7 @@ class Engine:
         """
         return self._columns
 
-    def to_frame(self):
+    def to_frame(self) -> pd.DataFrame:
         """The units as a table.
 
         Returns
@@ -271,12 +274,12 @@ class Engine:
         return pd.DataFrame(self._columns)
 
     # -- evaluation ---------------------------------------------------------------------
-    def _evaluate(self, quantity: str, phi: Any):
+    def _evaluate(self, quantity: str, phi: Any) -> Any:
         phi_shape, angles = as_phi(phi)
         flat = _native_engine_evaluate(quantity, angles, self.columns())
         return finish(flat, phi_shape)
 
-    def potential_energy(self, phi: Any):
+    def potential_energy(self, phi: Any) -> Any:
         """U_w*(φ) = Σ_j U*_j(φ + α_j), each unit from its own ψ = 0 position.
 
         Parameters
@@ -291,7 +294,7 @@ class Engine:
         """
         return self._evaluate("potential_energy", phi)
 
-    def generalized_force(self, phi: Any, method: str = "exact"):
+    def generalized_force(self, phi: Any, method: str = "exact") -> Any:
         """Q_u*(φ) = dU_w*/dφ.
 
         Parameters
@@ -310,7 +313,7 @@ class Engine:
         method = as_option(method, "method", ("exact", "series"))
         return self._evaluate("generalized_force" if method == "exact" else "series", phi)
 
-    def force_derivative(self, phi: Any):
+    def force_derivative(self, phi: Any) -> Any:
         """dQ_u*/dφ, closed form.
 
         Parameters
@@ -382,7 +385,7 @@ class Engine:
         leading = _native_engine_leading_harmonic(self.columns())
         return int(leading["n"]), float(leading["amplitude"])
 
-    def energy_extrema(self):
+    def energy_extrema(self) -> EnergyExtrema:
         """The exact extrema of U_w* over a revolution (see :func:`multicrank.energy_extrema`).
 
         Returns
@@ -401,10 +404,12 @@ class Engine:
         numpy.float64
             δ_g [dimensionless], the gravity part of the coefficient of speed fluctuation.
         """
-        return self.energy_extrema().range
+        return np.float64(self.energy_extrema().range)
 
     # -- tolerances ---------------------------------------------------------------------
-    def harmonic_sensitivity(self, *, u1_rel: float = 0.0, u2_rel: float = 0.0, phase: float = 0.0, n_max: int = 24):
+    def harmonic_sensitivity(
+        self, *, u1_rel: float = 0.0, u2_rel: float = 0.0, phase: float = 0.0, n_max: int = 24
+    ) -> pd.DataFrame:
         r"""First-order scatter of every harmonic of Q_u* under random errors of the units.
 
         The errors are independent: relative standard deviations ``u1_rel``, ``u2_rel`` of

@@ -63,7 +63,16 @@ def _evaluate(
     return finish(flat, shape + phi_shape)
 
 
-def potential_energy(phi, *, crank_ratio, inclination, u1, u2, phases=None, parallel_threshold=None):
+def potential_energy(
+    phi: Any,
+    *,
+    crank_ratio: Any,
+    inclination: Any,
+    u1: Any,
+    u2: Any,
+    phases: Any = None,
+    parallel_threshold: Any = None,
+) -> Any:
     r"""Dimensionless potential energy U_w*(φ) = U_w/(I_w ω²) of a k-crank machine.
 
     The paper's eq. (3) summed over the cranks, eq. (12):
@@ -139,7 +148,17 @@ def potential_energy(phi, *, crank_ratio, inclination, u1, u2, phases=None, para
     return _evaluate("potential_energy", phi, crank_ratio, inclination, u1, u2, phases, parallel_threshold)
 
 
-def generalized_force(phi, *, crank_ratio, inclination, u1, u2, phases=None, method="exact", parallel_threshold=None):
+def generalized_force(
+    phi: Any,
+    *,
+    crank_ratio: Any,
+    inclination: Any,
+    u1: Any,
+    u2: Any,
+    phases: Any = None,
+    method: str = "exact",
+    parallel_threshold: Any = None,
+) -> Any:
     r"""Generalised Lagrange force due to gravity, Q_u*(φ) = +dU_w*/dφ.
 
     The paper's eq. (13):
@@ -223,7 +242,16 @@ def generalized_force(phi, *, crank_ratio, inclination, u1, u2, phases=None, met
     return _evaluate(quantity, phi, crank_ratio, inclination, u1, u2, phases, parallel_threshold)
 
 
-def force_derivative(phi, *, crank_ratio, inclination, u1, u2, phases=None, parallel_threshold=None):
+def force_derivative(
+    phi: Any,
+    *,
+    crank_ratio: Any,
+    inclination: Any,
+    u1: Any,
+    u2: Any,
+    phases: Any = None,
+    parallel_threshold: Any = None,
+) -> Any:
     """dQ_u*/dφ = d²U_w*/dφ², the closed form used for Newton steps on the extrema of U_w*.
 
     Parameters

@@ -88,7 +88,7 @@ def energy_extrema(
 
 def speed_fluctuation(
     *, crank_ratio: Any, inclination: Any, u1: Any, u2: Any, phases: Any = None, parallel_threshold: Any = None
-):
+) -> Any:
     """δ_g = max U_w* − min U_w* over one revolution (docs/theory.md, "Speed fluctuation due to gravity").
 
     With constant reduced inertia I_w and gravity alone, ½I_w ω² + U is constant, so to

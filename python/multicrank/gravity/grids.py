@@ -15,6 +15,7 @@ is the default.
 from __future__ import annotations
 
 import math
+from collections.abc import Iterator
 from typing import Any
 
 import numpy as np
@@ -103,7 +104,7 @@ class UniformGrid(np.lib.mixins.NDArrayOperatorsMixin):
     def __getitem__(self, key: Any) -> Any:
         return self._points[key]
 
-    def __iter__(self):
+    def __iter__(self) -> Iterator[np.float64]:
         return iter(self._points)
 
     def __reduce__(self) -> tuple:

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import math
 from fractions import Fraction
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -26,6 +26,9 @@ from .._validation import (
     contiguous,
     design_keywords,
 )
+
+if TYPE_CHECKING:  # pandas is imported where a table is made, not with multicrank
+    import pandas as pd
 
 __all__ = [
     "fourier_coefficients",
@@ -168,7 +171,7 @@ def surviving_harmonics(cranks: int, strokes: int = 2, acting: str = "single", n
     return harmonics.tolist()
 
 
-def harmonic_table(strokes: int = 2, acting: str = "single", k_max: int = 12, n_max: int = 12):
+def harmonic_table(strokes: int = 2, acting: str = "single", k_max: int = 12, n_max: int = 12) -> pd.DataFrame:
     """Which W_n are non-zero for k = 1 … k_max cranks: the paper's Table 1 and its kin.
 
     Two-stroke single-acting is the paper's Table 1, four-stroke single-acting its

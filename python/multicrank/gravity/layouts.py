@@ -11,6 +11,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -73,7 +74,7 @@ class Layout:
         object.__setattr__(self, "throws", tuple(float(t) for t in throws))
         object.__setattr__(self, "banks", tuple(tuple(float(b) for b in bank) for bank in banks))
 
-    def engine(self, *, crank_ratio, u1, u2) -> Engine:
+    def engine(self, *, crank_ratio: Any, u1: Any, u2: Any) -> Engine:
         """The dimensionless :class:`Engine` of this layout.
 
         Parameters
@@ -174,7 +175,7 @@ def as_layout(layout: Layout | str, name: str = "layout") -> Layout:
     )
 
 
-def layout_engine(name: str, *, crank_ratio, u1, u2) -> Engine:
+def layout_engine(name: str, *, crank_ratio: Any, u1: Any, u2: Any) -> Engine:
     """A built-in layout as a dimensionless :class:`Engine`.
 
     Parameters

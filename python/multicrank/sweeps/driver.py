@@ -131,7 +131,7 @@ def _sweep_frame(frame: pd.DataFrame, phi: np.ndarray, outputs: tuple[str, ...])
     return result
 
 
-def _progress_bar(total: int, enabled: bool, initial: int = 0):
+def _progress_bar(total: int, enabled: bool, initial: int = 0) -> Any:
     if not enabled:
         return None
     from tqdm.auto import tqdm
@@ -151,7 +151,7 @@ def sweep(
     chunk_size: int = 65536,
     curves: bool = False,
     passthrough: Any = None,
-):
+) -> Any:
     """Reduce every design of a sweep to the requested outputs, in parallel, in Rust.
 
     Parameters
