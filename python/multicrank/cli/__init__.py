@@ -1,5 +1,5 @@
 """The `multicrank` command line (click): one module per command group."""
 
-from .commands import main
+from .motion import main
 
 __all__ = ["main"]
