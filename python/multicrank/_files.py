@@ -2,7 +2,9 @@
 
 :func:`atomic_write` puts a file in place whole or not at all (a sweep's parts and manifest,
 the command line's ``--out`` files, the report's pages, figures and tables): a reader never
-sees half of it, and a failure or Ctrl-C leaves nothing new behind.
+sees half of it, and a failure or Ctrl-C leaves nothing new behind. :func:`read_toml` reads
+a TOML file (a machine file, a sweep's ``--config``) with one message per way it can fail,
+naming the file.
 """
 
 from __future__ import annotations
@@ -12,9 +14,11 @@ import uuid
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
-from typing import IO
+from typing import IO, Any
 
-__all__ = ["TEMPORARY_SUFFIX", "atomic_write", "write_atomically"]
+from ._native import MechanismError
+
+__all__ = ["TEMPORARY_SUFFIX", "atomic_write", "read_toml", "write_atomically"]
 
 #: How a temporary file of :func:`atomic_write` ends: a file left by a killed process is
 #: recognisable (the sweep store removes such files on resume).
@@ -72,3 +76,48 @@ def write_atomically(path: str | os.PathLike[str], data: bytes | str) -> None:
     """
     with atomic_write(path) as handle:
         handle.write(data.encode("utf-8") if isinstance(data, str) else data)
+
+
+def read_toml(path: str | os.PathLike[str], what: str, *, label: str | None = None) -> dict[str, Any]:
+    """The TOML file at ``path``, as a dict; any way it cannot be read is one MechanismError.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file.
+    what : str
+        What the file should be, for the message about a directory, e.g. "a machine file".
+    label : str, optional
+        How the messages name the file, e.g. "--config sweep.toml" (default: the path).
+
+    Returns
+    -------
+    dict
+        The file's top-level table.
+
+    Raises
+    ------
+    MechanismError
+        Naming the file: not a path, no such file, a directory, unreadable, not UTF-8 text,
+        not valid TOML.
+    """
+    import tomllib
+
+    try:
+        name = Path(os.fspath(path))
+    except TypeError:
+        raise MechanismError(f"path must be a file path (str or os.PathLike), got {type(path).__name__}") from None
+    where = str(name) if label is None else label
+    try:
+        with open(name, "rb") as handle:
+            return tomllib.load(handle)
+    except FileNotFoundError:
+        raise MechanismError(f"{where}: no such file") from None
+    except IsADirectoryError:
+        raise MechanismError(f"{where}: is a directory, not {what}") from None
+    except tomllib.TOMLDecodeError as error:
+        raise MechanismError(f"{where}: not a valid TOML file: {error}") from None
+    except UnicodeDecodeError as error:
+        raise MechanismError(f"{where}: not a UTF-8 text file: {error.reason}") from None
+    except OSError as error:
+        raise MechanismError(f"{where}: cannot be read: {error.strerror or error}") from None
