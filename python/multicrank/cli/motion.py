@@ -52,6 +52,14 @@ def parse_torque(text: str, name: str, *, balance: bool) -> Any:
     return number
 
 
+drive_option = click.option(
+    "--drive",
+    default=None,
+    metavar="DRIVE",
+    help="A driving torque besides the gas: a constant [N·m] or power:TORQUE:RPM[:EXPONENT] [default: none].",
+)
+
+
 @click.command("simulate", short_help="The motion in time: start-up, run-down, stall.")
 @engine_option
 @click.option(
@@ -83,12 +91,7 @@ def parse_torque(text: str, name: str, *, balance: bool) -> Any:
     "power:TORQUE:RPM[:EXPONENT] (TORQUE [N·m] at RPM [1/min], growing as speed^EXPONENT, default 2: "
     "a fan or propeller).",
 )
-@click.option(
-    "--drive",
-    default=None,
-    metavar="DRIVE",
-    help="A driving torque besides the gas: a constant [N·m] or power:TORQUE:RPM[:EXPONENT] [default: none].",
-)
+@drive_option
 @click.option("--gas/--no-gas", default=True, show_default=True, help="With the cylinders' gas pressures.")
 @click.option("--gravity/--no-gravity", default=True, show_default=True, help="With gravity (--no-gravity: g = 0).")
 @format_option
@@ -208,12 +211,7 @@ def _without_gas(machine: Machine) -> Machine:
     "power:TORQUE:RPM[:EXPONENT] (TORQUE [N·m] at RPM [1/min], growing as speed^EXPONENT, default 2; "
     "the speed follows from it).",
 )
-@click.option(
-    "--drive",
-    default=None,
-    metavar="DRIVE",
-    help="A driving torque besides the gas: a constant [N·m] or power:TORQUE:RPM[:EXPONENT] [default: none].",
-)
+@drive_option
 @click.option(
     "--delta",
     "target",
