@@ -418,7 +418,7 @@ def test_a_failed_part_write_leaves_no_temporary_file(tmp_path, whole):
             raise OSError(errno.ENOSPC, "No space left on device")
         return original(fd)
 
-    with mock.patch("multicrank.sweeps.store.os.fsync", fsync), pytest.raises(OSError):
+    with mock.patch("multicrank._files.os.fsync", fsync), pytest.raises(OSError):
         mc.sweep(base_grid(), out=out, **SWEEP)
     assert len(part_files(out)) == 2 and not leftovers(tmp_path)
     mc.sweep(base_grid(), out=out, resume=True, **SWEEP)

@@ -1,5 +1,19 @@
-"""The `multicrank` command line (click): one module per command group."""
+"""The ``multicrank`` command line (click): the group ``main`` and one module per command group.
 
-from .commands import main
+``_group`` holds the group itself (errors as one line, exit status 2) and the shared
+``--engine``; ``_output`` the ``--format``/``--out`` of a result; ``gravity`` the commands
+``eval`` and ``tables``; ``motion`` ``motion`` and ``simulate``; ``sweep`` ``sweep``;
+``report`` ``report``. Each command imports what it computes with when it runs, so that
+``multicrank --help`` stays quick.
+"""
+
+from ._group import main
+from .gravity import eval_command, tables_command
+from .motion import motion_command, simulate_command
+from .report import report_command
+from .sweep import sweep_command
+
+for _command in (report_command, motion_command, simulate_command, eval_command, tables_command, sweep_command):
+    main.add_command(_command)
 
 __all__ = ["main"]

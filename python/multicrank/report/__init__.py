@@ -1,6 +1,11 @@
 """`multicrank report`: the machine's motion with and without gravity, and the paper's
-analysis reproduced, corrected and extended, as one HTML page with its figures and tables."""
+analysis reproduced, corrected and extended, as one HTML page with its figures and tables.
 
-from .document import DEFAULT_THRESHOLD, PAPER_TABLE_1, ReportSettings, write_report
+``settings`` holds what a report is about, ``motion`` its first part (the steady running),
+``gravity`` the paper's analysis, ``html`` the page and the directory written."""
+
+from .gravity import PAPER_TABLE_1
+from .html import write_report
+from .settings import DEFAULT_THRESHOLD, ReportSettings
 
 __all__ = ["DEFAULT_THRESHOLD", "PAPER_TABLE_1", "ReportSettings", "write_report"]

@@ -28,6 +28,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
+from .._files import TEMPORARY_SUFFIX, write_atomically
 from .._native import MechanismError, __version__
 from .._optional import require
 
@@ -77,20 +78,6 @@ def _sha256(data: bytes) -> str:
     return hashlib.sha256(data).hexdigest()
 
 
-def _write_atomically(path: Path, data: bytes) -> None:
-    """``data`` at ``path`` whole or not at all: written beside it, then renamed."""
-    temporary = path.with_name(path.name + ".tmp")
-    try:
-        with open(temporary, "wb") as handle:
-            handle.write(data)
-            handle.flush()
-            os.fsync(handle.fileno())
-        os.replace(temporary, path)
-    except BaseException:
-        temporary.unlink(missing_ok=True)
-        raise
-
-
 class PartStore:
     """The parts directory of one sweep to ``out``, with the manifest ``manifest``.
 
@@ -118,7 +105,7 @@ class PartStore:
                         " or multicrank version differ); run without resume to start afresh"
                     )
             self.parts.mkdir(parents=True, exist_ok=True)
-            _write_atomically(manifest_file, json.dumps(manifest, sort_keys=True).encode())
+            write_atomically(manifest_file, json.dumps(manifest, sort_keys=True).encode())
         except OSError as exc:
             raise MechanismError(f"out = {str(out)!r}: cannot write its parts to {self.parts}: {exc}") from None
 
@@ -136,7 +123,7 @@ class PartStore:
         warning), so that its chunk is computed again. Temporary files of an interrupted
         write are removed.
         """
-        for stale in self.parts.glob("*.tmp"):
+        for stale in self.parts.glob(f"*{TEMPORARY_SUFFIX}"):
             stale.unlink(missing_ok=True)
         self._done = {}
         for path in sorted(self.parts.glob("part-*")):
@@ -163,7 +150,7 @@ class PartStore:
         data = sink.getvalue().to_pybytes()
         checksum = _sha256(data)
         final = self.parts / f"part-{index:08d}-{checksum}.parquet"
-        _write_atomically(final, data)  # a part exists whole or not at all
+        write_atomically(final, data)  # a part exists whole or not at all
         self._done[index] = (final, checksum)
         return int(table.num_rows)
 

@@ -1,41 +1,57 @@
-"""`multicrank report`: the paper's analysis reproduced, corrected and extended.
+"""The report's gravity part: the paper's analysis reproduced, corrected and extended.
 
-Writes a directory with a self-contained ``index.html`` (figures embedded), the figures as
-PNG and the tables as CSV:
+For the machine's crank unit (its first cylinder) on k = 1 … k_max in-line cranks:
 
-- U_w*(φ) and Q_u*(φ) for k = 1 … k_max, two- and four-stroke, for the chosen engine;
+- U_w*(φ) and Q_u*(φ), two- and four-stroke;
 - the harmonic spectra of Q_u* per k;
 - the paper's Table 1, the derived Table 2 and the double-acting tables up to n_max, next
   to the paper's printed Table 1;
 - the error of the paper's truncated λ-series against the exact Λ_n, as a function of λ;
-- the gravity-significance map: δ_g over k and λ, and per preset machine over its speeds;
-- the conventions and the paper's errata.
+- the gravity-significance map: δ_g over k and λ, per preset machine over its speeds, and
+  per preset layout;
+- the conventions and the paper's errata;
+
+as figures, tables and the HTML sections that follow the motion part.
 """
 
 from __future__ import annotations
 
-import base64
 import html
-import io
 import math
-from dataclasses import dataclass, field
-from pathlib import Path
-from typing import Any
+from collections.abc import Iterable
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import pandas as pd
 
 from .._native import MechanismError
-from .._optional import require
 from ..gravity.evaluation import generalized_force, potential_energy
 from ..gravity.extrema import speed_fluctuation
 from ..gravity.harmonics import fourier_coefficients, harmonic_table, lambda_coefficients
 from ..gravity.layouts import LAYOUTS
 from ..gravity.mechanism import crank_phases
 from ..machine.machine import Machine
-from ..presets import DEFAULT_ENGINE_NAME, ENGINES
+from .plotting import pyplot
+from .settings import ReportSettings, running_speed, speed_range
 
-__all__ = ["DEFAULT_THRESHOLD", "PAPER_TABLE_1", "ReportSettings", "write_report"]
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+
+__all__ = [
+    "CONVENTIONS",
+    "ERRATA",
+    "PAPER_TABLE_1",
+    "curves_figure",
+    "engines_figure",
+    "gravity_html",
+    "layouts_figure",
+    "paper_table_frame",
+    "significance_map",
+    "spectra_figure",
+    "surviving_tables",
+    "truncation_figure",
+]
 
 #: Table 1 as printed in the paper (two-stroke, single-acting): the k with non-zero W_n.
 PAPER_TABLE_1 = {
@@ -48,10 +64,6 @@ PAPER_TABLE_1 = {
     12: [1, 2, 3, 4, 6, 12],
 }
 
-#: δ_g below which gravity may be neglected in the speed fluctuation: a tenth of 1/300,
-#: the tightest coefficient of speed fluctuation usually asked of machines (AC generators;
-#: pumps and compressors allow 1/20–1/50, vehicle engines 1/100–1/200).
-DEFAULT_THRESHOLD = 1.0 / 3000.0
 
 ERRATA = [
     "λ is printed as l/r; it is r/l everywhere it is used.",
@@ -77,42 +89,7 @@ CONVENTIONS = [
 ]
 
 
-@dataclass
-class ReportSettings:
-    """What the report is about: ``engine``, the machine (it needs a running speed, ``rpm``),
-    and ``engines``, the machines of the speed-range figure (by default every preset)."""
-
-    engine: Machine = field(default_factory=lambda: ENGINES[DEFAULT_ENGINE_NAME])
-    k_max: int = 12
-    n_max: int = 24
-    points: int = 721
-    threshold: float = DEFAULT_THRESHOLD
-    lambdas: int = 60
-    engines: dict = field(default_factory=lambda: dict(ENGINES))
-    #: The δ to size the flywheel for (default: the preset's class limit, or the machine's own
-    #: δ without gravity).
-    delta: float | None = None
-
-
-# ----------------------------------------------------------------------------- the machine
-def _speed(machine: Machine) -> float:
-    """The machine's running speed [rpm], which the report's gravity analysis needs."""
-    if machine.rpm is None:
-        raise MechanismError(
-            f"machine {machine.name!r} has no running speed: the report judges gravity at the machine's rpm; "
-            "give rpm (in a machine file: rpm = ...)"
-        )
-    return machine.rpm
-
-
-def _speeds(machine: Machine) -> tuple[float, float]:
-    """The machine's speed range [rpm]; its running speed ±50 % where it gives none."""
-    if machine.rpm_range is not None:
-        return machine.rpm_range
-    rpm = _speed(machine)
-    return 0.5 * rpm, 1.5 * rpm
-
-
+# ----------------------------------------------------------------------------- the crank unit
 def _unit_machine(machine: Machine) -> Machine:
     """The machine's first cylinder alone, with its throw's crank web and counterweight: the
     crank unit that the paper's sections (identical units on k in-line cranks) are about."""
@@ -121,7 +98,7 @@ def _unit_machine(machine: Machine) -> Machine:
         shaft_inertia=machine.shaft_inertia,
         strokes=machine.strokes,
         g=machine.g,
-        rpm=_speed(machine),
+        rpm=running_speed(machine),
         name=machine.name,
     )
 
@@ -129,28 +106,19 @@ def _unit_machine(machine: Machine) -> Machine:
 def _is_inline(machine: Machine) -> bool:
     """Whether the machine is the paper's: identical units differing only in phase."""
     try:
-        machine.design(_speed(machine))
+        machine.design(running_speed(machine))
     except MechanismError:
         return False
     return True
 
 
 # ----------------------------------------------------------------------------- figures
-def _pyplot():
-    matplotlib = require("matplotlib", "report")
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    plt.rcParams.update({"figure.dpi": 110, "axes.grid": True, "grid.alpha": 0.3, "font.size": 9})
-    return plt
-
-
 def _grid_shape(count: int) -> tuple[int, int]:
     cols = min(4, count)
     return math.ceil(count / cols), cols
 
 
-def _small_multiples(plt, count: int, xlabel: str, ylabel: str, **options):
+def _small_multiples(plt: Any, count: int, xlabel: str, ylabel: str, **options: Any) -> tuple[Figure, list[Axes]]:
     """A grid of panels, one per k = 1 … count, labelled inside (leaving room for the y
     offset text); returns the figure and the panels in use."""
     rows, cols = _grid_shape(count)
@@ -175,14 +143,14 @@ def _small_multiples(plt, count: int, xlabel: str, ylabel: str, **options):
     return fig, list(axes.flat[:count])
 
 
-def _unit(engine: Machine, cranks: int, strokes: int) -> dict:
+def _unit(engine: Machine, cranks: int, strokes: int) -> dict[str, Any]:
     """The machine's crank unit (its first cylinder) on a regular single-acting k-crank shaft of
     the given cycle (the machines of the paper's eq. 16 and Tables 1–2)."""
     return {**_unit_machine(engine).design(), "phases": crank_phases(cranks, strokes, "single")}
 
 
-def curves_figure(settings: ReportSettings, strokes: int, quantity: str):
-    plt = _pyplot()
+def curves_figure(settings: ReportSettings, strokes: int, quantity: str) -> tuple[Figure, pd.DataFrame]:
+    plt = pyplot()
     from matplotlib.ticker import ScalarFormatter
 
     phi_deg = np.linspace(0.0, 360.0, settings.points)
@@ -227,8 +195,8 @@ def curves_figure(settings: ReportSettings, strokes: int, quantity: str):
     return fig, pd.DataFrame(table)
 
 
-def spectra_figure(settings: ReportSettings, strokes: int):
-    plt = _pyplot()
+def spectra_figure(settings: ReportSettings, strokes: int) -> tuple[Figure, pd.DataFrame]:
+    plt = pyplot()
     fig, panels = _small_multiples(plt, settings.k_max, "harmonic n", "|a_n + i b_n|", sharex=True, sharey=True)
     n = np.arange(settings.n_max + 1)
     records = []
@@ -249,9 +217,9 @@ def spectra_figure(settings: ReportSettings, strokes: int):
     return fig, pd.DataFrame(records)
 
 
-def truncation_figure(settings: ReportSettings):
+def truncation_figure(settings: ReportSettings) -> tuple[Figure, pd.DataFrame]:
     """The paper's λ¹¹ series against the exact Λ_n, and its effect on f(ψ)."""
-    plt = _pyplot()
+    plt = pyplot()
     lam = np.linspace(0.01, 0.95, settings.lambdas)
     exact = lambda_coefficients(lam, 12)
     paper = lambda_coefficients(lam, 12, method="paper")
@@ -281,9 +249,9 @@ def truncation_figure(settings: ReportSettings):
     return fig, pd.DataFrame(table)
 
 
-def significance_map(settings: ReportSettings):
+def significance_map(settings: ReportSettings) -> tuple[Figure, pd.DataFrame]:
     """δ_g over k and λ for the engine's unit (two- and four-stroke), at its speed."""
-    plt = _pyplot()
+    plt = pyplot()
     from matplotlib.colors import TwoSlopeNorm
 
     engine = settings.engine
@@ -318,20 +286,20 @@ def significance_map(settings: ReportSettings):
     bar = fig.colorbar(image, ax=axes, shrink=0.9)
     bar.set_label("log₁₀ δ_g  (δ_g = max U_w* − min U_w*)")
     fig.suptitle(
-        f"Gravity's share of the speed fluctuation δ_g, {engine.name}'s unit at {_speed(engine):g} rpm: "
+        f"Gravity's share of the speed fluctuation δ_g, {engine.name}'s unit at {running_speed(engine):g} rpm: "
         f"red, gravity matters; blue, negligible (δ_g < {settings.threshold:.2g})",
         fontsize=10,
     )
     return fig, pd.DataFrame(records)
 
 
-def engines_figure(settings: ReportSettings):
+def engines_figure(settings: ReportSettings) -> tuple[Figure, pd.DataFrame]:
     """δ_g of every preset machine over its speed range (δ_g ∝ 1/n²), from its whole engine."""
-    plt = _pyplot()
+    plt = pyplot()
     fig, ax = plt.subplots(figsize=(9.5, 4.0))
     records = []
     for i, engine in enumerate(settings.engines.values()):
-        low, high = _speeds(engine)
+        low, high = speed_range(engine)
         rpm = np.geomspace(low, high, 40)
         delta = np.array([float(engine.engine(r).speed_fluctuation()) for r in rpm])
         ax.loglog(rpm, np.maximum(delta, 1e-18), color=f"C{i}", label=f"{engine.name} ({len(engine)} cyl.)")
@@ -354,14 +322,14 @@ def engines_figure(settings: ReportSettings):
     return fig, pd.DataFrame(records)
 
 
-def layouts_figure(settings: ReportSettings):
+def layouts_figure(settings: ReportSettings) -> tuple[Figure, pd.DataFrame]:
     """δ_g and the leading gravity harmonic of every preset layout with the machine's first
     cylinder on every bank (its crank web and counterweight once per throw), at its speed."""
-    plt = _pyplot()
+    plt = pyplot()
     from ..sweeps.driver import sweep
 
     engine = settings.engine
-    rpm = _speed(engine)
+    rpm = running_speed(engine)
     cylinder = engine.cylinders[0].replace(pressure=None, pressure_crank_end=None)  # gravity alone, any cycle
     chosen = [
         name
@@ -425,223 +393,6 @@ def paper_table_frame(k_max: int) -> pd.DataFrame:
 
 
 # ----------------------------------------------------------------------------- html
-# ----------------------------------------------------------------------------- motion
-@dataclass(frozen=True)
-class MotionResults:
-    """The machine's steady running, for the report's first section."""
-
-    rpm: float
-    target: float
-    target_source: str
-    state: Any  # SteadyState with gravity
-    without: Any  # SteadyState with g = 0
-    delta_g: float
-    flywheel: Any  # FlywheelInertia for ``target``
-    speeds: pd.DataFrame
-    orders: pd.DataFrame
-
-
-def motion_results(settings: ReportSettings, speeds: int = 9) -> MotionResults:
-    """Steady state at the machine's speed with and without gravity, over its speed range,
-    the flywheel for the class's δ (or ``settings.delta``) and the torque orders."""
-    from ..motion.orders import torque_orders
-    from ..motion.steady import StallError, flywheel_inertia, steady_state
-    from ..presets import MACHINE_CLASSES, SPEED_FLUCTUATION
-
-    machine = settings.engine
-    rpm = _speed(machine)
-    state = steady_state(machine, rpm=rpm)
-    without = steady_state(machine, rpm=rpm, gravity=False)
-    if settings.delta is not None:
-        target, source = settings.delta, "asked for (--delta)"
-    elif machine.name in MACHINE_CLASSES:
-        kind = MACHINE_CLASSES[machine.name]
-        target, source = SPEED_FLUCTUATION[kind][1], f"the {kind} class's limit"
-    else:
-        target, source = without.delta, "the machine's own δ without gravity (no class known)"
-    flywheel = flywheel_inertia(machine, delta=target, rpm=rpm)
-    low, high = _speeds(machine)
-    rows: list[dict[str, Any]] = []
-    for n in np.geomspace(low, high, speeds):
-        try:
-            s = steady_state(machine, rpm=float(n))
-            rows.append(
-                dict(
-                    rpm=float(n),
-                    delta=s.delta,
-                    delta_without_gravity=s.delta_without_gravity,
-                    delta_gravity_only=s.delta_gravity_only,
-                    delta_g=float(machine.engine(float(n)).speed_fluctuation()),
-                )
-            )
-        except StallError as error:
-            rows.append(dict(rpm=float(n), stalled_below_rpm=error.min_rpm))
-    return MotionResults(
-        rpm=rpm,
-        target=target,
-        target_source=source,
-        state=state,
-        without=without,
-        delta_g=float(machine.engine(rpm).speed_fluctuation()),
-        flywheel=flywheel,
-        speeds=pd.DataFrame(rows),
-        orders=torque_orders(machine, rpm),
-    )
-
-
-def speed_figure(results: MotionResults):
-    """ω(φ) with and without gravity at the machine's speed, in rpm over φ in degrees."""
-    plt = _pyplot()
-    fig, ax = plt.subplots(figsize=(8, 3.6))
-    for state, label, style in ((results.state, "with gravity", "-"), (results.without, "without gravity", "--")):
-        ax.plot(np.degrees(state.phi), state.omega * 30 / math.pi, style, label=f"{label} (δ = {state.delta:.4g})")
-    ax.axhline(results.rpm, color="0.6", lw=0.8)
-    ax.set_xlabel("crank angle φ [deg]")
-    ax.set_ylabel("speed [rpm]")
-    ax.set_xlim(0, np.degrees(results.state.cycle))
-    ax.legend(loc="best", fontsize=8)
-    ax.set_title(f"steady running at {results.rpm:g} rpm (mean)")
-    table = pd.DataFrame(
-        {
-            "phi_deg": np.degrees(results.state.phi),
-            "rpm_with_gravity": results.state.omega * 30 / math.pi,
-            "rpm_without_gravity": results.without.omega * 30 / math.pi,
-        }
-    )
-    return fig, table
-
-
-def torque_figure(results: MotionResults):
-    """The torque components over the cycle at the machine's speed [N·m]."""
-    plt = _pyplot()
-    state = results.state
-    parts = {
-        "gas": state.torque_gas,
-        "gravity −dU/dφ": state.torque_gravity,
-        "inertia −½J′ω²": state.torque_inertia,
-        "−M_load (balance)": -state.torque_load,
-    }
-    fig, ax = plt.subplots(figsize=(8, 3.6))
-    for name, values in parts.items():
-        ax.plot(np.degrees(state.phi), values, label=name, lw=1.2)
-    ax.axhline(0, color="0.6", lw=0.8)
-    ax.set_xlabel("crank angle φ [deg]")
-    ax.set_ylabel("torque on the shaft [N·m]")
-    ax.set_xlim(0, np.degrees(state.cycle))
-    ax.legend(loc="best", fontsize=8, ncol=2)
-    names = ("gas", "gravity", "inertia", "minus_load")
-    table = pd.DataFrame({"phi_deg": np.degrees(state.phi), **dict(zip(names, parts.values(), strict=True))})
-    return fig, table
-
-
-def speed_range_figure(results: MotionResults):
-    """δ over the speed range: with and without gravity, gravity alone and the paper's δ_g."""
-    plt = _pyplot()
-    frame = results.speeds.dropna(subset=["delta"]) if "delta" in results.speeds else results.speeds.iloc[:0]
-    fig, ax = plt.subplots(figsize=(8, 3.6))
-    for column, label, style in (
-        ("delta", "δ with gravity", "-o"),
-        ("delta_without_gravity", "δ without gravity", "--s"),
-        ("delta_gravity_only", "δ without gas and load (gravity and J(φ) alone)", ":^"),
-        ("delta_g", "δ_g = max U* − min U* (first order)", "-."),
-    ):
-        if column in frame:
-            ax.plot(frame["rpm"], frame[column], style, label=label, ms=4)
-    ax.axhline(results.target, color="0.5", lw=0.8)
-    ax.set_xscale("log")
-    ax.set_yscale("log")
-    ax.set_xlabel("mean speed [rpm]")
-    ax.set_ylabel("coefficient of speed fluctuation δ")
-    ax.legend(loc="best", fontsize=8)
-    return fig, results.speeds
-
-
-def orders_figure(results: MotionResults):
-    """Per-order amplitudes of the gas, inertia and gravity torques [N·m]."""
-    plt = _pyplot()
-    orders = results.orders
-    fig, ax = plt.subplots(figsize=(8, 3.4))
-    width = 0.25 if orders.index.size < 2 else 0.25 * float(np.min(np.diff(orders.index.to_numpy())))
-    for i, name in enumerate(("gas", "inertia", "gravity")):
-        ax.bar(orders.index.to_numpy() + (i - 1) * width, orders[f"{name}_amplitude"], width, label=name)
-    ax.set_yscale("symlog", linthresh=1e-3 * max(float(orders["total_amplitude"].max()), 1e-12))
-    ax.set_xlabel("order (harmonics per revolution)")
-    ax.set_ylabel("amplitude [N·m]")
-    ax.legend(fontsize=8)
-    return fig, orders.reset_index()
-
-
-def motion_html(results: MotionResults, machine: Machine, figures: dict[str, str]) -> str:
-    """The report's first section: what gravity does to this machine's speed fluctuation."""
-    state, without, flywheel = results.state, results.without, results.flywheel
-    change = 100 * (state.delta / without.delta - 1)
-    extra = 100 * (flywheel.shaft_inertia / flywheel.shaft_inertia_without_gravity - 1)
-    rows = [
-        ("mean speed", f"{results.rpm:g} rpm (ω<sub>m</sub> = {state.omega_mean:.6g} rad/s)"),
-        ("δ with gravity", f"{state.delta:.5g} (1/{1 / state.delta:.4g})"),
-        ("δ without gravity (g = 0)", f"{without.delta:.5g} (1/{1 / without.delta:.4g})"),
-        ("gravity changes δ by", f"<b>{change:+.3g} %</b>"),
-        ("δ without gas and load (gravity and J(φ) alone, exact)", f"{state.delta_gravity_only:.4g}"),
-        ("δ<sub>g</sub> = max U* − min U* (the paper's first-order measure)", f"{results.delta_g:.4g}"),
-        ("δ about the midrange (textbook convention)", f"{state.delta_midrange:.5g}"),
-        ("speed swing", f"{state.omega_min * 30 / math.pi:.6g} … {state.omega_max * 30 / math.pi:.6g} rpm"),
-        ("load torque (balance)", f"{state.load_torque:.6g} N·m ({state.load_torque * state.omega_mean / 1e3:.4g} kW)"),
-        ("shaft inertia I<sub>w</sub> (as built)", f"{machine.shaft_inertia:.6g} kg·m²"),
-    ]
-    body = "".join(f"<tr><th>{k}</th><td>{v}</td></tr>" for k, v in rows)
-    fly = [
-        ("target δ", f"{results.target:.4g} (1/{1 / results.target:.4g}): {html.escape(results.target_source)}"),
-        ("I<sub>w</sub> with gravity (exact)", f"{flywheel.shaft_inertia:.6g} kg·m²"),
-        ("I<sub>w</sub> without gravity (exact)", f"{flywheel.shaft_inertia_without_gravity:.6g} kg·m²"),
-        ("gravity asks for", f"<b>{extra:+.3g} %</b> flywheel inertia"),
-        (
-            "textbook ΔE/(δω²) − mean(J − I<sub>w</sub>)",
-            f"{flywheel.textbook:.6g} kg·m² ({100 * flywheel.textbook_error:+.2g} % off the exact)",
-        ),
-    ]
-    fly_body = "".join(f"<tr><th>{k}</th><td>{v}</td></tr>" for k, v in fly)
-    top = results.orders.sort_values("total_amplitude", ascending=False).head(8)
-    order_rows = "".join(
-        f"<tr><td>{order:g}</td><td>{r.gas_amplitude:.4g}</td><td>{r.inertia_amplitude:.4g}</td>"
-        f"<td>{r.gravity_amplitude:.4g}</td><td>{r.total_amplitude:.4g}</td></tr>"
-        for order, r in zip(top.index, top.itertuples(), strict=True)
-    )
-    return f"""
-<h2>What gravity does to this machine's running</h2>
-<p>The exact periodic steady state of J(φ)φ̈ + ½J′(φ)φ̇² = M<sub>gas</sub> − dU/dφ − M<sub>load</sub>, with
-the machine's variable reduced inertia J(φ), its gas pressure and the constant load that balances the cycle's
-mean gas torque, at the same mean speed with and without gravity. δ = (ω<sub>max</sub> − ω<sub>min</sub>)/ω<sub>m</sub>
-with ω<sub>m</sub> the time mean.</p>
-<table>{body}</table>
-<h3>The flywheel</h3>
-<table>{fly_body}</table>
-<img src="{figures["motion_speed"]}" alt="speed over the cycle with and without gravity">
-<img src="{figures["motion_torques"]}" alt="torque components over the cycle">
-<h3>Over the speed range</h3>
-<p>Gravity's torque does not depend on the speed, the gas and inertia torques' effect on δ falls or grows with
-it: gravity matters most at low speed. The grey line is the target δ.</p>
-<img src="{figures["motion_speed_range"]}" alt="δ over the speed range">
-<h3>Torque orders at {results.rpm:g} rpm</h3>
-<p>Fourier amplitudes per order (harmonics per revolution; half orders in a four-stroke cycle) in N·m, for
-torsional-vibration tools: gravity and inertia exact, gas from the cycle quadrature. The eight largest:</p>
-<table><tr><th>order</th><th>gas</th><th>inertia</th><th>gravity</th><th>total</th></tr>{order_rows}</table>
-<img src="{figures["motion_orders"]}" alt="torque orders">
-<p class="note">Data: motion_speed.csv, motion_torques.csv, motion_speed_range.csv, motion_orders.csv</p>
-"""
-
-
-def _png(fig, path: Path) -> str:
-    buffer = io.BytesIO()
-    fig.savefig(buffer, format="png", bbox_inches="tight")
-    fig.clf()
-    import matplotlib.pyplot as plt
-
-    plt.close(fig)
-    data = buffer.getvalue()
-    path.write_bytes(data)
-    return "data:image/png;base64," + base64.b64encode(data).decode()
-
-
 def _bool_table(frame: pd.DataFrame, caption: str, highlight: pd.DataFrame | None = None) -> str:
     head = "".join(f"<th>{k}</th>" for k in frame.columns)
     body = []
@@ -665,83 +416,21 @@ def _bool_table(frame: pd.DataFrame, caption: str, highlight: pd.DataFrame | Non
     )
 
 
-STYLE = """
-body { font-family: system-ui, sans-serif; max-width: 1100px; margin: 2em auto; color: #222; line-height: 1.45; }
-h1 { font-size: 1.6em; } h2 { border-bottom: 1px solid #ccc; padding-bottom: .2em; margin-top: 2em; }
-img { max-width: 100%; border: 1px solid #eee; }
-table { border-collapse: collapse; margin: 1em 0; font-size: .9em; }
-td, th { border: 1px solid #ccc; padding: .2em .5em; text-align: center; }
-table.bool td { width: 1.6em; color: #1a5fb4; }
-td.diff { background: #fdd; }
-caption { caption-side: top; font-weight: bold; text-align: left; padding-bottom: .3em; }
-.note { color: #555; font-size: .9em; }
-.tables { display: flex; flex-wrap: wrap; gap: 2em; }
-"""
-
-
-def write_report(out: str | Path, settings: ReportSettings | None = None, progress: bool = True) -> Path:
-    """Write the report into ``out`` (created if needed); returns the path of index.html."""
-    from tqdm.auto import tqdm
-
-    settings = settings or ReportSettings()
-    # The user's mistakes first, then the missing extra, both before anything is written.
-    rpm = _speed(settings.engine)
-    for machine in settings.engines.values():
-        _speeds(machine)
-    require("matplotlib", "report")
-    out = Path(out)
-    out.mkdir(parents=True, exist_ok=True)
+def gravity_html(
+    settings: ReportSettings,
+    figures: dict[str, str],
+    tables: dict[str, pd.DataFrame],
+    paper: pd.DataFrame,
+    layouts: pd.DataFrame,
+) -> str:
+    """The report's gravity sections, after the motion part: the engine and the verdict,
+    gravity significance, layouts, the curves, spectra and tables on k cranks, the paper's
+    truncation error, the conventions and the errata. ``figures`` holds the embedded figures
+    by name, ``tables`` the :func:`surviving_tables`, ``paper`` the :func:`paper_table_frame`
+    and ``layouts`` the table of :func:`layouts_figure`."""
     engine = settings.engine
+    rpm = running_speed(engine)
     sections: list[str] = []
-    steps = [
-        "motion",
-        "curves",
-        "spectra",
-        "tables",
-        "truncation",
-        "significance",
-        "engines",
-        "layouts",
-    ]
-    bar = tqdm(steps, desc="report", unit="part", disable=not progress)
-    figures: dict[str, str] = {}
-
-    def save(name: str, fig, table: pd.DataFrame | None):
-        figures[name] = _png(fig, out / f"{name}.png")
-        if table is not None:
-            table.to_csv(out / f"{name}.csv", index=False)
-
-    for step in bar:
-        bar.set_postfix_str(step)
-        if step == "motion":
-            motion = motion_results(settings)
-            save("motion_speed", *speed_figure(motion))
-            save("motion_torques", *torque_figure(motion))
-            save("motion_speed_range", *speed_range_figure(motion))
-            save("motion_orders", *orders_figure(motion))
-        elif step == "curves":
-            for strokes in (2, 4):
-                for quantity in ("energy", "force"):
-                    save(f"{quantity}_{strokes}stroke", *curves_figure(settings, strokes, quantity))
-        elif step == "spectra":
-            for strokes in (2, 4):
-                save(f"spectra_{strokes}stroke", *spectra_figure(settings, strokes))
-        elif step == "tables":
-            tables = surviving_tables(settings)
-            for name, frame in tables.items():
-                frame.astype(int).to_csv(out / f"{name}.csv")
-            paper = paper_table_frame(settings.k_max)
-            paper.astype(int).to_csv(out / "paper_table1_printed.csv")
-        elif step == "truncation":
-            save("paper_truncation_error", *truncation_figure(settings))
-        elif step == "significance":
-            save("gravity_significance_k_lambda", *significance_map(settings))
-        elif step == "engines":
-            save("gravity_significance_engines", *engines_figure(settings))
-        elif step == "layouts":
-            figure, layouts = layouts_figure(settings)
-            save("layouts", figure, layouts)
-
     unit = _unit_machine(engine).design()
     delta = float(engine.engine(rpm).speed_fluctuation())
     verdict = "may be neglected" if delta < settings.threshold else "may NOT be neglected"
@@ -781,7 +470,6 @@ cranks.</p>"""
     )
     derived_12 = tables["table1_two_stroke_single"].loc[[n for n in paper.index if n <= settings.n_max]]
     matches = bool((derived_12 == paper.loc[derived_12.index]).all().all())
-    sections.append(motion_html(motion, engine, figures))
     sections.append(f"""
 <h2>The engine</h2>
 <p>{html.escape(engine.note)}</p>
@@ -803,6 +491,7 @@ Balanced crank sets (where only harmonics of order ≥ k survive) make gravity n
 <img src="{figures["gravity_significance_engines"]}" alt="δ_g per engine over its speed range">
 <p class="note">Data: gravity_significance_k_lambda.csv, gravity_significance_engines.csv</p>
 """)
+    layout_records: Iterable[Any] = layouts.itertuples()  # the columns of layouts_figure's table
     layout_rows = "".join(
         f"<tr><td>{html.escape(r.engine)}</td><td style='text-align:left'>{html.escape(r.description)}</td>"
         f"<td>{r.cylinders}</td><td>{r.energy_range:.3g}</td>"
@@ -811,7 +500,7 @@ Balanced crank sets (where only harmonics of order ≥ k survive) make gravity n
             if r.leading_amplitude > 0
             else "<td>none</td><td>0 (cancels exactly)</td></tr>"
         )
-        for r in layouts.itertuples()
+        for r in layout_records
     )
     sections.append(f"""
 <h2>Layouts: V, boxer, W, odd-fire</h2>
@@ -885,17 +574,4 @@ at λ = 0.4 (dotted) its Λ<sub>12</sub> is tens of percent off. Right: the erro
         + "".join(f"<li>{html.escape(e)}</li>" for e in ERRATA)
         + "</ol>"
     )
-    from .._native import __version__
-
-    page = f"""<!DOCTYPE html>
-<html lang="en"><head><meta charset="utf-8"><title>multicrank report — {html.escape(engine.name)}</title>
-<style>{STYLE}</style></head><body>
-<h1>Gravity in multi-crank mechanisms — report for <i>{html.escape(engine.name)}</i></h1>
-<p>Generalised Lagrange forces due to potential energy after M. Stańczak, corrected and extended by
-multicrank {html.escape(__version__)}: exact Λ<sub>n</sub>, every surviving harmonic, exact extrema.</p>
-{"".join(sections)}
-</body></html>
-"""
-    index = out / "index.html"
-    index.write_text(page, encoding="utf-8")
-    return index
+    return "".join(sections)

@@ -1,0 +1,339 @@
+"""The motion commands: ``motion`` (the steady running with and without gravity, the
+flywheel) and ``simulate`` (the motion in time), with the ``--load``/``--drive`` torques
+they share."""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING, Any
+
+import click
+import numpy as np
+
+from .._files import write_atomically
+from .._native import MechanismError
+from ._group import UserError, engine_option
+from ._output import format_option, write_result
+
+if TYPE_CHECKING:
+    from ..machine.machine import Machine
+
+__all__ = ["motion_command", "parse_torque", "simulate_command"]
+
+
+def parse_torque(text: str, name: str, *, balance: bool) -> Any:
+    """--load/--drive: "balance", a number [N·m], or power:TORQUE:RPM[:EXPONENT]."""
+    from ..motion.loads import BALANCE, PowerLawLoad
+
+    value = text.strip()
+    if balance and value == BALANCE:
+        return BALANCE
+    if value.startswith("power:"):
+        parts = value.split(":")[1:]
+        if len(parts) not in (2, 3):
+            raise MechanismError(f"--{name} = {text!r}: write power:TORQUE:RPM or power:TORQUE:RPM:EXPONENT")
+        try:
+            numbers = [float(p) for p in parts]
+        except ValueError:
+            raise MechanismError(f"--{name} = {text!r}: TORQUE, RPM and EXPONENT must be numbers") from None
+        torque, rpm = numbers[0], numbers[1]
+        if not (math.isfinite(rpm) and rpm > 0):
+            raise MechanismError(f"--{name} = {text!r}: RPM must be > 0 [1/min]")
+        return PowerLawLoad(torque, rpm * math.pi / 30, *numbers[2:])
+    try:
+        number = float(value)
+    except ValueError:
+        allowed = "'balance', " if balance else ""
+        raise MechanismError(
+            f"--{name} = {text!r} is not understood; allowed: {allowed}a torque in N·m, or power:TORQUE:RPM[:EXPONENT]"
+        ) from None
+    if not math.isfinite(number):
+        raise MechanismError(f"--{name} = {text!r} must be finite [N·m]")
+    return number
+
+
+drive_option = click.option(
+    "--drive",
+    default=None,
+    metavar="DRIVE",
+    help="A driving torque besides the gas: a constant [N·m] or power:TORQUE:RPM[:EXPONENT] [default: none].",
+)
+
+
+@click.command("simulate", short_help="The motion in time: start-up, run-down, stall.")
+@engine_option
+@click.option(
+    "--rpm",
+    type=float,
+    metavar="RPM",
+    help="The speed at the start [1/min] (default: the machine's running speed).",
+)
+@click.option(
+    "--duration",
+    type=float,
+    default=None,
+    metavar="SECONDS",
+    help="Seconds to simulate [default: 20 working cycles at the start speed].",
+)
+@click.option(
+    "--samples",
+    type=click.IntRange(min=2, max=10_000_000),
+    default=2001,
+    show_default=True,
+    help="Samples of the result, evenly spaced in time from 0 to --duration.",
+)
+@click.option(
+    "--load",
+    default="balance",
+    show_default=True,
+    metavar="LOAD",
+    help="balance (the constant that takes the mean of gas and drive), a constant torque [N·m], or "
+    "power:TORQUE:RPM[:EXPONENT] (TORQUE [N·m] at RPM [1/min], growing as speed^EXPONENT, default 2: "
+    "a fan or propeller).",
+)
+@drive_option
+@click.option("--gas/--no-gas", default=True, show_default=True, help="With the cylinders' gas pressures.")
+@click.option("--gravity/--no-gravity", default=True, show_default=True, help="With gravity (--no-gravity: g = 0).")
+@format_option
+@click.option(
+    "--out",
+    "out_path",
+    type=click.Path(dir_okay=False, writable=True),
+    metavar="FILE",
+    help="Write to FILE, not stdout.",
+)
+@click.option("--progress/--no-progress", default=True, show_default=True, help="Show a progress bar.")
+def simulate_command(
+    engine: Machine,
+    rpm: float | None,
+    duration: float | None,
+    samples: int,
+    load: str,
+    drive: str | None,
+    gas: bool,
+    gravity: bool,
+    fmt: str,
+    out_path: str | None,
+    progress: bool,
+) -> None:
+    """Integrate the machine's motion in time from a start speed (start-up, run-down, load step).
+
+    The equation of motion J(φ)φ̈ + ½J'(φ)φ̇² = M_gas − dU/dφ + M_drive − M_load is integrated
+    with SciPy's DOP853; the run stops early if the machine stalls. Prints (or writes) the
+    time series: time [s], φ [rad, cumulative], ω [rad/s], rpm and the torques [N·m].
+    """
+    from ..motion.transient import simulate
+
+    try:
+        machine = engine if gas else _without_gas(engine)
+        start = _speed(machine, rpm, "--rpm")
+        omega0 = start * math.pi / 30
+        if duration is None:
+            duration = 20 * machine.cycle / omega0 if omega0 > 0 else 1.0
+        if not (math.isfinite(duration) and duration > 0):
+            raise MechanismError(f"--duration = {duration} is out of range; allowed: > 0 [s]")
+        t_eval = np.linspace(0.0, duration, samples)
+        result = simulate(
+            machine,
+            t_eval,
+            omega0=omega0,
+            load=parse_torque(load, "load", balance=True),
+            drive=None if drive is None else parse_torque(drive, "drive", balance=False),
+            gravity=gravity,
+            progress=progress,
+        )
+    except MechanismError as error:
+        raise UserError(str(error)) from None
+    frame = result.to_pandas()
+    frame.insert(2, "rpm", frame["omega"] * 30 / math.pi)
+    end = f"stalled at t = {result.stall_time:.6g} s" if result.stalled else f"ran {duration:.6g} s"
+    summary = [
+        f"{machine.name}: from {start:g} rpm, load {load}, drive {drive or 'none'}, gas "
+        f"{'on' if gas else 'off'}, gravity {'on' if gravity else 'off'}: {end}, last speed "
+        f"{frame['rpm'].iloc[-1]:.6g} rpm",
+        f"energy check (½Jω² + U − work, relative): {result.energy_drift:.2e}",
+    ]
+    shown = frame if fmt != "table" else frame.iloc[:: max(1, len(frame) // 20)]
+    meta = dict(
+        engine=machine.name,
+        start_rpm=start,
+        load=load,
+        drive=drive,
+        gas=gas,
+        gravity=gravity,
+        stalled=result.stalled,
+        stall_time=result.stall_time,
+        energy_drift=result.energy_drift,
+        units=frame.attrs.get("units", {}),
+    )
+    write_result(shown, fmt, out_path, summary=summary, json_meta=meta)
+
+
+def _speed(machine: Machine, rpm: float | None, option: str) -> float:
+    """The speed [1/min] asked for, or the machine's own; checked."""
+    speed = machine.rpm if rpm is None else rpm
+    if speed is None:
+        raise MechanismError(f"machine {machine.name!r} has no running speed: give {option}")
+    if not (math.isfinite(speed) and speed > 0):
+        raise MechanismError(f"{option} = {speed} is out of range; allowed: > 0 [1/min]")
+    return float(speed)
+
+
+def _without_gas(machine: Machine) -> Machine:
+    """The machine with its gas pressures removed (a run-down, gravity and inertia alone)."""
+    cylinders = [c.replace(pressure=None, pressure_crank_end=None) for c in machine.cylinders]
+    return machine.replace(cylinders=cylinders, name=f"{machine.name} (no gas)")
+
+
+@click.command("motion", short_help="Steady running: δ with and without gravity, flywheel.")
+@engine_option
+@click.option(
+    "--rpm",
+    "speeds",
+    type=float,
+    multiple=True,
+    metavar="RPM",
+    help="Mean speed(s) [1/min], repeatable [default: the machine's speed and --points speeds over its range].",
+)
+@click.option(
+    "--points",
+    type=click.IntRange(min=1, max=1000),
+    default=5,
+    show_default=True,
+    help="Speeds over the machine's speed range, besides its running speed (when no --rpm is given).",
+)
+@click.option(
+    "--load",
+    default="balance",
+    show_default=True,
+    metavar="LOAD",
+    help="balance (the constant that takes the mean of gas and drive, at each --rpm), or "
+    "power:TORQUE:RPM[:EXPONENT] (TORQUE [N·m] at RPM [1/min], growing as speed^EXPONENT, default 2; "
+    "the speed follows from it).",
+)
+@drive_option
+@click.option(
+    "--delta",
+    "target",
+    type=float,
+    default=None,
+    metavar="DELTA",
+    help="Size the flywheel for this coefficient of speed fluctuation δ, e.g. 0.025 for 1/40 "
+    "[default: the preset's class limit; none for a machine file].",
+)
+@click.option(
+    "--cycle",
+    "cycle_path",
+    type=click.Path(dir_okay=False),
+    metavar="FILE",
+    help="Write ω(φ) and the torques over one cycle, at the first speed that runs, to FILE (CSV).",
+)
+@format_option
+@click.option(
+    "--out", "out_path", type=click.Path(dir_okay=False), metavar="FILE", help="Write the table to FILE, not stdout."
+)
+@click.option("--progress/--no-progress", default=True, show_default=True, help="Show a progress bar over the speeds.")
+def motion_command(
+    engine: Machine,
+    speeds: tuple[float, ...],
+    points: int,
+    load: str,
+    drive: str | None,
+    target: float | None,
+    cycle_path: str | None,
+    fmt: str,
+    out_path: str | None,
+    progress: bool,
+) -> None:
+    """Steady running: the coefficient of speed fluctuation δ with and without gravity, and the flywheel.
+
+    For each mean speed: the exact periodic steady state of J(φ)φ̈ + ½J'(φ)φ̇² = M_gas − dU/dφ +
+    M_drive − M_load, its δ = (ω_max − ω_min)/ω_mean with gravity, without (g = 0) and of gravity
+    alone, the load torque [N·m] and power [kW]; with a target δ, the shaft inertia [kg·m²] that
+    gives it with and without gravity and the textbook estimate ΔE/(δω²).
+    """
+    import pandas as pd
+    from tqdm.auto import tqdm
+
+    from ..motion.steady import StallError, flywheel_inertia, steady_state
+    from ..presets import MACHINE_CLASSES, SPEED_FLUCTUATION
+
+    machine = engine
+    load_rule = parse_torque(load, "load", balance=True)
+    drive_rule = None if drive is None else parse_torque(drive, "drive", balance=False)
+    balance = load_rule == "balance"
+    if target is None and machine.name in MACHINE_CLASSES:
+        target = SPEED_FLUCTUATION[MACHINE_CLASSES[machine.name]][1]
+    if target is not None and not (math.isfinite(target) and 1e-9 <= target < 1):
+        raise MechanismError(f"--delta = {target} is out of range; allowed: 1e-9 <= delta < 1")
+    wanted: list[float | None]
+    if balance:
+        wanted = [_speed(machine, rpm, "--rpm") for rpm in speeds] or list(_speed_set(machine, points))
+    else:
+        if speeds:
+            raise MechanismError(f"--rpm: the load {load!r} fixes the speed; give --rpm only with --load balance")
+        wanted = [None]
+    rows = []
+    first = None
+    for rpm in tqdm(wanted, desc="motion", unit="speed", disable=not progress or len(wanted) < 2):
+        row: dict[str, Any] = {"rpm": rpm}
+        try:
+            state = steady_state(machine, rpm=rpm, load=load_rule, drive=drive_rule)
+        except StallError as error:
+            row.update(stalled=True, min_rpm=error.min_rpm)
+            rows.append(row)
+            continue
+        first = first or state
+        row.update(
+            rpm=state.rpm if rpm is None else rpm,  # the speed asked for, or the one the load gives
+            delta=state.delta,
+            delta_without_gravity=state.delta_without_gravity,
+            gravity_change_percent=100 * state.gravity_effect / state.delta_without_gravity,
+            delta_gravity_only=state.delta_gravity_only,
+            delta_midrange=state.delta_midrange,
+            rpm_min=state.omega_min * 30 / math.pi,
+            rpm_max=state.omega_max * 30 / math.pi,
+            load_torque=state.load_torque,
+            power_kw=state.load_torque * state.omega_mean / 1000,
+            stalled=False,
+        )
+        if target is not None:
+            sizing = flywheel_inertia(machine, delta=target, rpm=rpm, load=load_rule, drive=drive_rule)
+            row.update(
+                flywheel=sizing.shaft_inertia,
+                flywheel_without_gravity=sizing.shaft_inertia_without_gravity,
+                flywheel_textbook=sizing.textbook,
+            )
+        rows.append(row)
+    frame = pd.DataFrame(rows).set_index("rpm")
+    if cycle_path is not None:
+        if first is None:
+            raise MechanismError("--cycle: the machine stalls at every speed asked for; nothing to write")
+        cycle = first.to_pandas()
+        cycle.insert(0, "phi_deg", np.degrees(cycle.index.to_numpy()))
+        cycle["omega_without_gravity"] = steady_state(
+            machine, rpm=first.rpm if balance else None, load=load_rule, drive=drive_rule, gravity=False
+        ).omega
+        write_atomically(cycle_path, cycle.to_csv(float_format="%.12g"))
+    units = dict(
+        rpm="1/min", load_torque="N·m", power_kw="kW", flywheel="kg·m²", flywheel_without_gravity="kg·m²",
+        flywheel_textbook="kg·m²", rpm_min="1/min", rpm_max="1/min",
+    )  # fmt: skip
+    summary = [
+        f"{machine.name}: {len(machine)} cylinders, {machine.strokes}-stroke, shaft inertia "
+        f"{machine.shaft_inertia:g} kg·m², load {load}, drive {drive or 'none'}",
+        "δ = (ω_max − ω_min)/ω_mean (time mean); gravity_change_percent = (δ − δ without gravity)/δ without gravity",
+    ]
+    if target is not None:
+        summary.append(f"flywheel: the shaft inertia [kg·m²] for δ = {target:.4g} (1/{1 / target:.4g})")
+    meta = dict(engine=machine.name, load=load, drive=drive, target_delta=target, units=units)
+    write_result(frame, fmt, out_path, summary=summary, json_meta=meta)
+
+
+def _speed_set(machine: Machine, points: int) -> list[float | None]:
+    """The machine's running speed and ``points`` speeds spread over its range."""
+    speed = _speed(machine, None, "--rpm")
+    if machine.rpm_range is None:
+        return [speed]
+    low, high = machine.rpm_range
+    return sorted({speed, *np.linspace(low, high, points).tolist()})

@@ -1,0 +1,241 @@
+"""``multicrank sweep``: a grid of designs into a Parquet file, its axes from the options or a
+TOML ``--config`` file, every mistake in either one line naming it."""
+
+from __future__ import annotations
+
+import math
+import sys
+from typing import Any
+
+import click
+import numpy as np
+
+from .._files import read_toml
+from .._native import SWEEP_OUTPUTS, MechanismError
+from .._optional import require
+from ._group import UserError
+
+__all__ = ["parse_axis", "sweep_command"]
+
+_AXES: dict[str, tuple[str, Any]] = {
+    # option name: (grid column, kind)
+    "crank_ratio": ("crank_ratio", float),
+    "inclination": ("inclination", "degrees"),
+    "u1": ("u1", float),
+    "u2": ("u2", float),
+    "cranks": ("cranks", int),
+    "strokes": ("strokes", int),
+    "acting": ("acting", str),
+}
+
+
+def parse_axis(text: str, kind: Any, name: str = "axis") -> list[Any]:
+    """An axis from the command line: "a:b:n" (n ≥ 1 points from a to b inclusive; for integer
+    axes "a:b" is a..b inclusive, a ≤ b), or a comma-separated list; never empty. A mistake is
+    a MechanismError naming the axis (one line from the CLI)."""
+    text = str(text).strip()
+    label = "an integer" if kind is int else "a number"
+    try:
+        if kind is str:
+            values: list[Any] = [item.strip() for item in text.split(",") if item.strip()]
+        elif ":" in text:
+            parts = text.split(":")
+            if kind is int and len(parts) == 2:
+                start, stop = int(parts[0]), int(parts[1])
+                if stop < start:
+                    raise MechanismError(f"{name} = {text!r}: an integer range start:stop needs start <= stop")
+                values = list(range(start, stop + 1))
+            elif len(parts) != 3:
+                raise MechanismError(f"{name} = {text!r}: a range is start:stop:count")
+            else:
+                first, last, count = float(parts[0]), float(parts[1]), int(parts[2])
+                if count < 1 or not (math.isfinite(first) and math.isfinite(last)):
+                    raise MechanismError(
+                        f"{name} = {text!r}: a range start:stop:count needs finite ends and count >= 1"
+                    )
+                points = np.linspace(first, last, count).tolist()
+                values = [round(v) for v in points] if kind is int else points
+        else:
+            convert = int if kind is int else float
+            values = [convert(item) for item in text.split(",") if item.strip()]
+    except MechanismError:  # a ValueError too: said above, as it is
+        raise
+    except ValueError:
+        raise MechanismError(
+            f"{name} = {text!r} is not understood; give {label} list a,b,c or a range start:stop:count"
+        ) from None
+    if not values:
+        raise MechanismError(f"{name} = {text!r} gives no values")
+    return values
+
+
+def _grid_axes(options: dict[str, Any], config: dict[str, Any]) -> dict[str, Any]:
+    """The grid's axes: each from its option or, where none is given, from [axes] of --config;
+    inclinations from degrees to radians."""
+    axes = {}
+    for name, (column, kind) in _AXES.items():
+        value = options.get(name)
+        where = f"--{name.replace('_', '-')}"
+        if value is None:
+            value, where = config.get(name), f"[axes] {name}"
+        if value is None:
+            continue
+        if isinstance(value, list):
+            values = [_config_value(item, kind, where) for item in value]
+            if not values:
+                raise MechanismError(f"{where} is an empty list")
+        elif isinstance(value, str):
+            values = parse_axis(value, float if kind == "degrees" else kind, where)
+        else:
+            values = [_config_value(value, kind, where)]
+        if kind == "degrees":
+            values = np.radians(values).tolist()
+        axes[column] = values if len(values) > 1 else values[0]
+    return axes
+
+
+def _config_value(value: Any, kind: Any, where: str) -> Any:
+    """One value of an axis written as TOML (a number, or a string for acting), checked."""
+    wanted = {int: "an integer", str: "a string"}.get(kind, "a number")
+    if kind is str:
+        ok = isinstance(value, str)
+    elif kind is int:
+        ok = isinstance(value, int) and not isinstance(value, bool)
+    else:
+        ok = isinstance(value, int | float) and not isinstance(value, bool)
+    if not ok:
+        raise MechanismError(f"{where}: {value!r} is not {wanted}")
+    return value
+
+
+_CONFIG_KEYS = ("axes", "phi", "outputs")
+
+
+def _sweep_config(path: str | None) -> dict[str, Any]:
+    """The --config file as a checked table: [axes] with known names, phi a positive integer,
+    outputs a list (or comma-separated string) of names. Every mistake is one line naming it."""
+    if not path:
+        return {}
+    table = read_toml(path, "a sweep configuration", label=f"--config {path}")
+    unknown = sorted(set(table) - set(_CONFIG_KEYS))
+    if unknown:
+        raise MechanismError(f"--config {path}: unknown keys {unknown}; it takes {list(_CONFIG_KEYS)}")
+    axes = table.get("axes", {})
+    if not isinstance(axes, dict):
+        raise MechanismError(f"--config {path}: axes must be a table [axes], not {type(axes).__name__}")
+    unknown = sorted(set(axes) - set(_AXES))
+    if unknown:
+        raise MechanismError(f"--config {path}: unknown axes {unknown}; the axes are {list(_AXES)}")
+    phi = table.get("phi")
+    if phi is not None and (isinstance(phi, bool) or not isinstance(phi, int) or phi < 1):
+        raise MechanismError(f"--config {path}: phi = {phi!r}; it is a positive integer (points per revolution)")
+    outputs = table.get("outputs")
+    if isinstance(outputs, str):
+        table["outputs"] = _output_names(outputs, f"--config {path}: outputs")
+    elif outputs is not None:
+        if not isinstance(outputs, list) or not outputs or not all(isinstance(name, str) for name in outputs):
+            raise MechanismError(f"--config {path}: outputs = {outputs!r}; it is a list of output names")
+    return table
+
+
+def _output_names(text: str, where: str) -> list[str]:
+    """The output names of a comma-separated list (--outputs, or outputs in --config)."""
+    names = [name.strip() for name in text.split(",") if name.strip()]
+    if not names:
+        raise MechanismError(f"{where} = {text!r} names no outputs")
+    return names
+
+
+@click.command("sweep", short_help="Sweep a grid of designs into a Parquet file.")
+@click.option("--crank-ratio", metavar="AXIS", help='λ = r/l axis, e.g. "0.2:0.45:26" or "0.25,0.3".')
+@click.option("--inclination", metavar="AXIS", help='γ axis in DEGREES (90 = upright), e.g. "0:90:7".')
+@click.option(
+    "--u1", metavar="AXIS", help='U1 axis: the dimensionless reciprocating gravity moment, e.g. "0.001,0.01,0.1".'
+)
+@click.option("--u2", metavar="AXIS", help="U2 axis: the dimensionless rotating unbalance (may be negative).")
+@click.option("--cranks", metavar="AXIS", help='k axis, e.g. "1:12" or "2,4,6".')
+@click.option("--strokes", metavar="AXIS", help='"2", "4" or "2,4".')
+@click.option("--acting", metavar="AXIS", help='"single", "double" or "single,double".')
+@click.option(
+    "--config",
+    type=click.Path(exists=True, dir_okay=False),
+    help="TOML file with an [axes] table (same names, lists or range strings) and optional phi, outputs.",
+)
+@click.option("--phi", type=click.IntRange(min=1), default=None, help="φ grid points per revolution [default: 720].")
+@click.option(
+    "--outputs",
+    metavar="NAMES",
+    help=f"Comma-separated outputs, of {', '.join(SWEEP_OUTPUTS)} [default: all].",
+)
+@click.option(
+    "--out",
+    type=click.Path(dir_okay=False),
+    default="sweep.parquet",
+    show_default=True,
+    metavar="FILE",
+    help="The Parquet file.",
+)
+@click.option("--resume", is_flag=True, help="Continue an interrupted sweep into the same --out.")
+@click.option(
+    "--chunk-size",
+    type=click.IntRange(min=1),
+    default=65536,
+    show_default=True,
+    help="Designs per chunk (and Parquet row group); the results do not depend on it.",
+)
+@click.option("--progress/--no-progress", default=True, show_default=True, help="Show a progress bar.")
+def sweep_command(
+    config: str | None,
+    phi: int | None,
+    outputs: str | None,
+    out: str,
+    resume: bool,
+    chunk_size: int,
+    progress: bool,
+    **axis_options: str | None,
+) -> None:
+    """Sweep a grid of designs and write the results to Parquet.
+
+    Each axis is a range "start:stop:count" (count points, both ends included; integer axes
+    also take "start:stop"), or a comma-separated list. Axes not given default to
+    u2 = 0, cranks = 1, strokes = 2, acting = single; crank-ratio, inclination and u1 are
+    required (on the command line or in --config).
+
+    Ctrl-C stops the sweep with exit status 130; the finished chunks are kept next to --out,
+    and the same command with --resume continues from them.
+    """
+    import time
+
+    from ..sweeps.designs import SWEEP_OUTPUTS, DesignGrid
+    from ..sweeps.driver import sweep
+
+    table = _sweep_config(config)
+    axes = _grid_axes(axis_options, table.get("axes", {}))
+    axes.setdefault("u2", 0.0)
+    missing = [name for name in ("crank_ratio", "inclination", "u1") if name not in axes]
+    if missing:
+        raise click.UsageError(f"missing axes: {', '.join(missing)} (give them as options or in --config)")
+    phi = phi or int(table.get("phi", 720))
+    chosen = _output_names(outputs, "--outputs") if outputs else table.get("outputs", list(SWEEP_OUTPUTS))
+    unknown = [name for name in chosen if name not in SWEEP_OUTPUTS]
+    if unknown:
+        raise MechanismError(f"outputs: unknown {unknown}; the outputs are {list(SWEEP_OUTPUTS)}")
+    grid = DesignGrid(**axes)
+    started = time.perf_counter()
+    try:
+        path = sweep(grid, phi=phi, outputs=chosen, out=out, resume=resume, progress=progress, chunk_size=chunk_size)
+    except MechanismError as error:
+        raise click.UsageError(str(error)) from None
+    except OSError as error:  # a full disk, a directory that went away: the kept parts stay
+        raise UserError(f"--out {out}: {error.strerror or error}; finished chunks are kept for --resume") from None
+    except KeyboardInterrupt:
+        click.echo(f"\ninterrupted: finished chunks are kept; rerun with --resume to continue into {out}", err=True)
+        sys.exit(130)
+    elapsed = time.perf_counter() - started
+    pq = require("pyarrow.parquet", "parquet")
+    result = pq.read_table(path, columns=list(chosen)).to_pandas()
+    click.echo(
+        f"{len(grid):,} designs × {phi} φ points in {elapsed:.2f} s ({len(grid) / elapsed:,.0f} designs/s) → {path}"
+    )
+    summary = result.describe().T[["min", "mean", "max"]]
+    click.echo(summary.to_string(float_format=lambda v: f"{v:.6g}"))

@@ -1,0 +1,142 @@
+"""The report as a directory: ``index.html`` (its figures embedded, so that the page stands
+alone), every figure as PNG and every table as CSV beside it, each file written whole or not
+at all. The motion part (:mod:`.motion`) comes first, then the gravity part (:mod:`.gravity`)."""
+
+from __future__ import annotations
+
+import base64
+import html
+import io
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import pandas as pd
+
+from .._files import write_atomically
+from .._optional import require
+from .gravity import (
+    curves_figure,
+    engines_figure,
+    gravity_html,
+    layouts_figure,
+    paper_table_frame,
+    significance_map,
+    spectra_figure,
+    surviving_tables,
+    truncation_figure,
+)
+from .motion import motion_html, motion_results, orders_figure, speed_figure, speed_range_figure, torque_figure
+from .settings import ReportSettings, running_speed, speed_range
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+__all__ = ["STYLE", "write_report"]
+
+
+def _png(fig: Figure, path: Path) -> str:
+    """Write ``fig`` to ``path`` as PNG and close it; returns the PNG as a data: URL to embed."""
+    buffer = io.BytesIO()
+    fig.savefig(buffer, format="png", bbox_inches="tight")
+    fig.clf()
+    import matplotlib.pyplot as plt
+
+    plt.close(fig)
+    data = buffer.getvalue()
+    write_atomically(path, data)
+    return "data:image/png;base64," + base64.b64encode(data).decode()
+
+
+STYLE = """
+body { font-family: system-ui, sans-serif; max-width: 1100px; margin: 2em auto; color: #222; line-height: 1.45; }
+h1 { font-size: 1.6em; } h2 { border-bottom: 1px solid #ccc; padding-bottom: .2em; margin-top: 2em; }
+img { max-width: 100%; border: 1px solid #eee; }
+table { border-collapse: collapse; margin: 1em 0; font-size: .9em; }
+td, th { border: 1px solid #ccc; padding: .2em .5em; text-align: center; }
+table.bool td { width: 1.6em; color: #1a5fb4; }
+td.diff { background: #fdd; }
+caption { caption-side: top; font-weight: bold; text-align: left; padding-bottom: .3em; }
+.note { color: #555; font-size: .9em; }
+.tables { display: flex; flex-wrap: wrap; gap: 2em; }
+"""
+
+
+def write_report(out: str | Path, settings: ReportSettings | None = None, progress: bool = True) -> Path:
+    """Write the report into ``out`` (created if needed); returns the path of index.html."""
+    from tqdm.auto import tqdm
+
+    settings = settings or ReportSettings()
+    # The user's mistakes first, then the missing extra, both before anything is written.
+    running_speed(settings.engine)
+    for machine in settings.engines.values():
+        speed_range(machine)
+    require("matplotlib", "report")
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    engine = settings.engine
+    sections: list[str] = []
+    steps = [
+        "motion",
+        "curves",
+        "spectra",
+        "tables",
+        "truncation",
+        "significance",
+        "engines",
+        "layouts",
+    ]
+    bar = tqdm(steps, desc="report", unit="part", disable=not progress)
+    figures: dict[str, str] = {}
+
+    def save(name: str, fig: Figure, table: pd.DataFrame | None) -> None:
+        figures[name] = _png(fig, out / f"{name}.png")
+        if table is not None:
+            write_atomically(out / f"{name}.csv", table.to_csv(index=False))
+
+    for step in bar:
+        bar.set_postfix_str(step)
+        if step == "motion":
+            motion = motion_results(settings)
+            save("motion_speed", *speed_figure(motion))
+            save("motion_torques", *torque_figure(motion))
+            save("motion_speed_range", *speed_range_figure(motion))
+            save("motion_orders", *orders_figure(motion))
+        elif step == "curves":
+            for strokes in (2, 4):
+                for quantity in ("energy", "force"):
+                    save(f"{quantity}_{strokes}stroke", *curves_figure(settings, strokes, quantity))
+        elif step == "spectra":
+            for strokes in (2, 4):
+                save(f"spectra_{strokes}stroke", *spectra_figure(settings, strokes))
+        elif step == "tables":
+            tables = surviving_tables(settings)
+            for name, frame in tables.items():
+                write_atomically(out / f"{name}.csv", frame.astype(int).to_csv())
+            paper = paper_table_frame(settings.k_max)
+            write_atomically(out / "paper_table1_printed.csv", paper.astype(int).to_csv())
+        elif step == "truncation":
+            save("paper_truncation_error", *truncation_figure(settings))
+        elif step == "significance":
+            save("gravity_significance_k_lambda", *significance_map(settings))
+        elif step == "engines":
+            save("gravity_significance_engines", *engines_figure(settings))
+        elif step == "layouts":
+            figure, layouts = layouts_figure(settings)
+            save("layouts", figure, layouts)
+
+    sections.append(motion_html(motion, engine, figures))
+    sections.append(gravity_html(settings, figures, tables, paper, layouts))
+    from .._native import __version__
+
+    page = f"""<!DOCTYPE html>
+<html lang="en"><head><meta charset="utf-8"><title>multicrank report — {html.escape(engine.name)}</title>
+<style>{STYLE}</style></head><body>
+<h1>Gravity in multi-crank mechanisms — report for <i>{html.escape(engine.name)}</i></h1>
+<p>Generalised Lagrange forces due to potential energy after M. Stańczak, corrected and extended by
+multicrank {html.escape(__version__)}: exact Λ<sub>n</sub>, every surviving harmonic, exact extrema.</p>
+{"".join(sections)}
+</body></html>
+"""
+    index = out / "index.html"
+    write_atomically(index, page)
+    return index
