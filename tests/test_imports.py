@@ -16,12 +16,26 @@ PACKAGE = "multicrank"
 SOURCE = Path(__file__).resolve().parents[1] / "python" / PACKAGE
 
 # Modules every other module may use: they import nothing of the package but these.
-LEAVES = {"_validation": {"_native"}, "_optional": set()}
+LEAVES = {"_validation": {"_native"}, "_optional": set(), "_files": {"_native"}}
 
 
-def module_imports(path: Path, package: str) -> tuple[set[str], list[str]]:
-    """(the package's modules that ``path`` imports, its imports of the package itself)."""
-    is_init = path.stem == "__init__"
+def module_name(path: Path, source: Path) -> str:
+    """The dotted name of a file of the package, relative to it: ``gravity.engines``; a
+    subpackage's ``__init__`` is named by its package (``gravity``), the package's own by
+    ``__init__``."""
+    parts = path.relative_to(source).with_suffix("").parts
+    if parts[-1] == "__init__":
+        parts = parts[:-1]
+    return ".".join(parts) or "__init__"
+
+
+def module_imports(path: Path, source: Path) -> tuple[set[str], list[str]]:
+    """(the package's modules and subpackages that ``path`` imports, its imports of a
+    package: the package itself, or — outside an ``__init__`` — a subpackage, whose names
+    are to be imported from their modules)."""
+    package = source.name
+    is_init = path.stem in ("__init__", "__main__")  # they assemble the package
+    here = path.relative_to(source).parent.parts  # the package the file's relative imports start from
     tree = ast.parse(path.read_text(encoding="utf-8"), filename=str(path))
     uses: set[str] = set()
     own: list[str] = []
@@ -32,26 +46,32 @@ def module_imports(path: Path, package: str) -> tuple[set[str], list[str]]:
                     own.append(f"line {node.lineno}: import {alias.name}")
         elif isinstance(node, ast.ImportFrom):
             names = ", ".join(alias.name for alias in node.names)
+            written = f"line {node.lineno}: from {'.' * node.level}{node.module or ''} import {names}"
             if node.level == 0:
                 if node.module == package or (node.module or "").startswith(package + "."):
                     own.append(f"line {node.lineno}: from {node.module} import {names}")
-            elif node.level > 1:
-                own.append(f"line {node.lineno}: from {'.' * node.level}{node.module or ''} import {names}")
-            elif node.module:
-                uses.add(node.module.split(".")[0])
-            elif is_init:
-                uses.update(alias.name for alias in node.names)
+                continue
+            if node.level - 1 > len(here):
+                own.append(written + " (beyond the package)")
+                continue
+            base = here[: len(here) - (node.level - 1)]
+            if node.module:
+                targets = [".".join((*base, node.module))]
             else:
-                own.append(f"line {node.lineno}: from . import {names}")
+                targets = [".".join((*base, alias.name)) for alias in node.names]
+            is_package = [not t or (source / t.replace(".", "/") / "__init__.py").exists() for t in targets]
+            if not is_init and (node.module is None or any(is_package)):
+                own.append(written)
+            uses.update(targets)
     return uses, own
 
 
 def import_graph(source: Path) -> tuple[dict[str, set[str]], dict[str, list[str]]]:
     """The package's modules → the modules they import, and each module's self-imports."""
-    paths = {path.stem: path for path in sorted(source.glob("*.py"))}
+    paths = {module_name(path, source): path for path in sorted(source.rglob("*.py"))}
     graph, violations = {}, {}
     for name, path in paths.items():
-        uses, own = module_imports(path, source.name)
+        uses, own = module_imports(path, source)
         graph[name] = {u for u in uses if u in paths or u == "_native"}
         if own:
             violations[name] = own
@@ -112,3 +132,15 @@ def test_the_checks_catch_a_circle_and_a_self_import(tmp_path):
     assert sorted(violations) == ["c", "d"] and len(violations["c"]) == 2
     (bad / "b.py").write_text("def g():\n    return 1\n")
     assert find_cycle(import_graph(bad)[0]) is None
+    # In a subpackage: a module imports its sibling's module, not the subpackage; relative
+    # imports that go up resolve to the modules they name.
+    sub = bad / "sub"
+    sub.mkdir()
+    (sub / "__init__.py").write_text("from .e import h\n")
+    (sub / "e.py").write_text("from ..a import f\n\ndef h():\n    return f()\n")
+    (bad / "b.py").write_text("def g():\n    from .sub.e import h\n    return h\n")
+    graph, violations = import_graph(bad)
+    assert graph["sub.e"] == {"a"} and graph["sub"] == {"sub.e"}
+    assert find_cycle(graph) == ["a", "b", "sub.e", "a"]
+    (bad / "b.py").write_text("def g():\n    from .sub import h\n    return h\n")
+    assert "b" in import_graph(bad)[1]

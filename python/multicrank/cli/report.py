@@ -77,7 +77,8 @@ def report_command(
     flywheel, ω(φ), the torques and their orders, δ over the speed range), then the paper's
     analysis — curves, spectra, Tables 1–2, the truncation error, the gravity-significance map,
     conventions and errata — as index.html + PNG + CSV."""
-    from ..report import DEFAULT_THRESHOLD, ReportSettings, write_report
+    from ..report.html import write_report
+    from ..report.settings import DEFAULT_THRESHOLD, ReportSettings
 
     settings = ReportSettings(
         engine=engine,
