@@ -379,12 +379,13 @@ def test_invalid_designs_are_refused_before_anything_is_written(tmp_path):
 
 # --------------------------------------------------------------------------- failed merges
 def _failing_write_table(after: int, error: BaseException):
-    """The merge's writes (to ``<out>.tmp``, not the parts' in-memory buffers) fail after ``after``."""
+    """The merge's writes (to a temporary file ``….tmp``, given as a path or an open file,
+    not the parts' in-memory buffers) fail after ``after``."""
     original = pq.ParquetWriter.write_table
     calls = [0]
 
     def write_table(self, *args, **kwargs):
-        if str(self.where).endswith(".tmp"):
+        if str(getattr(self.where, "name", self.where)).endswith(".tmp"):
             calls[0] += 1
             if calls[0] > after:
                 raise error

@@ -52,9 +52,9 @@ def atomic_write(path: str | os.PathLike[str]) -> Iterator[IO[bytes]]:
     # Unique (two writers of one path do not share a temporary), hidden, and ending in
     # TEMPORARY_SUFFIX so that one left by a kill is recognised as such.
     temporary = target.with_name(f".{target.name}.{uuid.uuid4().hex[:12]}{TEMPORARY_SUFFIX}")
-    descriptor = os.open(temporary, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666)
+    handle = open(temporary, "xb")  # "x": a temporary of this name is ours alone
     try:
-        with os.fdopen(descriptor, "wb") as handle:
+        with handle:
             yield handle
             handle.flush()
             os.fsync(handle.fileno())

@@ -28,7 +28,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from .._files import TEMPORARY_SUFFIX, write_atomically
+from .._files import TEMPORARY_SUFFIX, atomic_write, write_atomically
 from .._native import MechanismError, __version__
 from .._optional import require
 
@@ -162,35 +162,33 @@ class PartStore:
         part, a full disk, an interruption) the temporary file is removed and the intact
         parts are kept for a resume.
         """
-        temporary = self.out.with_name(self.out.name + ".tmp")
-        writer: Any = None
-        try:
-            for index in range(chunks):
-                path, checksum = self._done[index]
-                data = path.read_bytes()
-                if _sha256(data) != checksum:
-                    path.unlink()
-                    raise MechanismError(
-                        f"sweep part {path.name} of {self.out} was damaged on disk (its bytes do not match its "
-                        "checksum); it has been removed: run the same sweep with resume=True to compute it again"
-                    )
-                table = self._pq.read_table(self._pa.BufferReader(data))
-                if writer is None:
-                    writer = self._pq.ParquetWriter(temporary, table.schema)
-                writer.write_table(table, row_group_size=max(table.num_rows, 1))
-            if writer is None:  # no designs: an empty file with the right columns
-                self._pq.write_table(self._pa.Table.from_pandas(empty(), preserve_index=False), temporary)
-            else:
-                closing, writer = writer, None
-                closing.close()
-            os.replace(temporary, self.out)
-        except BaseException:
-            if writer is not None:
-                try:
-                    writer.close()
-                except Exception:  # the disk that failed the write may fail the close too
-                    pass
-            temporary.unlink(missing_ok=True)
-            raise
+        with atomic_write(self.out) as handle:
+            writer: Any = None
+            try:
+                for index in range(chunks):
+                    path, checksum = self._done[index]
+                    data = path.read_bytes()
+                    if _sha256(data) != checksum:
+                        path.unlink()
+                        raise MechanismError(
+                            f"sweep part {path.name} of {self.out} was damaged on disk (its bytes do not match its "
+                            "checksum); it has been removed: run the same sweep with resume=True to compute it again"
+                        )
+                    table = self._pq.read_table(self._pa.BufferReader(data))
+                    if writer is None:
+                        writer = self._pq.ParquetWriter(handle, table.schema)
+                    writer.write_table(table, row_group_size=max(table.num_rows, 1))
+                if writer is None:  # no designs: an empty file with the right columns
+                    self._pq.write_table(self._pa.Table.from_pandas(empty(), preserve_index=False), handle)
+                else:
+                    closing, writer = writer, None
+                    closing.close()
+            except BaseException:
+                if writer is not None:
+                    try:
+                        writer.close()
+                    except Exception:  # the disk that failed the write may fail the close too
+                        pass
+                raise
         shutil.rmtree(self.parts)
         return self.out
