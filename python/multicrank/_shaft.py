@@ -23,12 +23,12 @@ Speed = TypeVar("Speed", float, np.ndarray)
 
 def omega_from_rpm(rpm: Speed) -> Speed:
     """ω = π n/30 [rad/s] of a speed n [1/min] (a number or an array)."""
-    return rpm * (math.pi / 30.0)  # one revolution (2π rad) per minute (60 s)
+    return rpm * math.pi / 30.0  # one revolution (2π rad) per minute (60 s)
 
 
 def rpm_from_omega(omega: Speed) -> Speed:
     """n = 30 ω/π [1/min] of a speed ω [rad/s] (a number or an array)."""
-    return omega * (30.0 / math.pi)
+    return omega * 30.0 / math.pi
 
 
 def inertia_torque(slope: np.ndarray, omega: np.ndarray | float) -> np.ndarray:
