@@ -3,8 +3,7 @@
 Everything that reaches the Rust kernels leaves here as a contiguous float64 array, and
 every kind of bad input leaves here as a :class:`MechanismError` that names the parameter.
 It depends on nothing of the package but that error class (from the extension), so every
-other module can use it without an import circle (:func:`as_machine` imports the machine
-when it is called, not before).
+other module can use it without an import circle.
 """
 
 from __future__ import annotations
@@ -13,14 +12,11 @@ import math
 import operator
 import os
 import sys
-from typing import TYPE_CHECKING, Any
+from typing import Any, TypeVar
 
 import numpy as np
 
 from ._native import MechanismError
-
-if TYPE_CHECKING:
-    from .machine.machine import Machine
 
 __all__ = [
     "INDEX_MAX",
@@ -30,8 +26,8 @@ __all__ = [
     "as_count",
     "as_design",
     "as_flag",
+    "as_instance",
     "as_label",
-    "as_machine",
     "as_nonnegative",
     "as_option",
     "as_phases",
@@ -312,12 +308,15 @@ def one_of(first: tuple[str, Any], second: tuple[str, Any]) -> tuple[str, Any]:
     return given[0]
 
 
-def as_machine(value: Any) -> Machine:
-    """A :class:`~multicrank.Machine` (refused by name: anything else has none of its methods)."""
-    from .machine.machine import Machine  # here, not at the top: machine.py imports this module
+Kind = TypeVar("Kind")
 
-    if not isinstance(value, Machine):
-        raise MechanismError(f"machine must be a multicrank.Machine, got {type(value).__name__}")
+
+def as_instance(value: Any, kind: type[Kind], name: str) -> Kind:
+    """An instance of one of the package's public classes (``as_instance(machine, Machine,
+    "machine")``): anything else has none of its methods, and is refused by name. The class
+    is the caller's to give, so that this module imports none of them."""
+    if not isinstance(value, kind):
+        raise MechanismError(f"{name} must be a multicrank.{kind.__name__}, got {type(value).__name__}")
     return value
 
 

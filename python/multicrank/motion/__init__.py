@@ -6,6 +6,7 @@
 - `transient`: the motion in time (SciPy's integrators, stall events);
 - `orders`: the torque orders of the cycle;
 - `_result`: what the results share (``solved``, ``to_pandas``, ``to_xarray``);
+- `_periodic`: the periodic solution by its route, which `steady` and `flywheel` share;
 - `_quadrature`, `_work`, `_solvers`: the cycle quadrature, the gas work and the steady-state
   solvers behind them.
 

@@ -13,12 +13,9 @@ from typing import Any, ClassVar
 
 from .._native import MechanismError
 from .._shaft import rpm_from_omega
-from .._validation import as_flag, as_machine, as_scalar
+from .._validation import as_flag, as_instance, as_scalar
 from ..machine.machine import Machine
-from ._result import MotionResult
-from ._solvers import Balance, CycleTables, Stall, quasi_static_speed, scipy_optimize
-from .loads import BALANCE, balance_torque
-from .steady import (
+from ._periodic import (
     DEFAULT_MIN_SPEED_RATIO,
     METHODS,
     SOLVED,
@@ -30,6 +27,9 @@ from .steady import (
     resolve_rules,
     solve_periodic,
 )
+from ._result import MotionResult
+from ._solvers import Balance, CycleTables, Stall, quasi_static_speed, scipy_optimize
+from .loads import BALANCE, balance_torque
 
 __all__ = ["FlywheelInertia", "flywheel_inertia"]
 
@@ -247,7 +247,7 @@ def flywheel_inertia(
     ...       f"textbook {flywheel.textbook:.1f})")
     I_w = 413.8 kg·m² (350.3 without gravity; textbook 450.5)
     """
-    machine = as_machine(machine)
+    machine = as_instance(machine, Machine, "machine")
     target = _as_delta(delta)
     rules = resolve_rules(load, drive)
     omega_mean = mean_speed(rpm, rules.route, machine)

@@ -31,7 +31,7 @@ from typing import Any
 import numpy as np
 
 from .._shaft import omega_from_rpm
-from .._validation import as_count, as_flag, as_machine, as_speed
+from .._validation import as_count, as_flag, as_instance, as_speed
 from ..machine.machine import Machine
 from ._quadrature import CycleQuadrature
 
@@ -94,7 +94,7 @@ def torque_orders(machine: Machine, rpm: float, *, max_order: int = 12, gravity:
     """
     import pandas as pd
 
-    machine = as_machine(machine)
+    machine = as_instance(machine, Machine, "machine")
     speed = as_speed(rpm, "rpm")
     highest = as_count(max_order, "max_order", minimum=1)
     gravity = as_flag(gravity, "gravity")

@@ -27,7 +27,7 @@ import numpy as np
 
 from .._native import MechanismError
 from .._shaft import inertia_torque, omega_from_rpm, rpm_from_omega
-from .._validation import as_flag, as_machine, as_real_array, as_scalar, has_gas, one_of
+from .._validation import as_flag, as_instance, as_real_array, as_scalar, has_gas, one_of
 from ..machine.machine import Machine
 from ._result import MotionResult
 from .loads import AppliedTorques, Torque
@@ -280,7 +280,7 @@ def simulate(
     0.05  12.62       58.75
     0.10  12.56     -878.40
     """
-    machine = as_machine(machine)
+    machine = as_instance(machine, Machine, "machine")
     times = _as_times(t_eval)
     start_name, omega_start = _start_speed(omega0, rpm0)
     phi_start = _finite(phi0, "phi0")
