@@ -359,13 +359,18 @@ REGISTRY.update(
         ),
         "PowerLawLoad": (
             mc.PowerLawLoad,
-            {"torque": (10.0, "real"), "speed": (60.0, "positive"), "exponent": (2.0, "positive")},
+            {
+                "torque": (10.0, "real"),
+                "speed": (60.0, "positive"),
+                "exponent": (2.0, "positive"),
+                "rpm": (None, "positive_or_none"),
+            },
         ),
         "steady_state": (
             mc.steady_state,
             {
                 "machine": (MACHINE, "machine"),
-                "rpm": (600.0, "positive"),
+                "rpm": (600.0, "positive_or_none"),  # None: the machine's own
                 "load": ("balance", "load"),
                 "drive": (None, "load"),
                 "gravity": (True, "flag"),
@@ -378,7 +383,7 @@ REGISTRY.update(
             {
                 "machine": (MACHINE, "machine"),
                 "delta": (0.05, "fraction"),
-                "rpm": (600.0, "positive"),
+                "rpm": (600.0, "positive_or_none"),  # None: the machine's own
                 "load": ("balance", "load"),
                 "drive": (None, "load"),
                 "gravity": (True, "flag"),
@@ -401,6 +406,8 @@ REGISTRY.update(
                 "max_step": (math.inf, "positive_or_inf"),
                 "balance_speed": (None, "positive_or_none"),
                 "progress": (False, "flag"),
+                "rpm0": (None, "positive_or_none"),  # one of omega0 and rpm0
+                "balance_rpm": (None, "positive_or_none"),
             },
         ),
         "torque_orders": (
@@ -585,6 +592,8 @@ def test_flags_take_booleans_only():
         (lambda: mc.simulate(MACHINE, [0.0, 1.0], omega0=60.0, max_step=5e-324), "max_step"),
         (lambda: mc.simulate(MACHINE, [0.0, 1.0], omega0=60.0, max_step=1e-9), "max_step"),
         (lambda: mc.simulate(MACHINE, [0.0, 1e3], omega0=1e6), "omega0"),
+        (lambda: mc.simulate(MACHINE, [0.0, 1e3], rpm0=1e7), "rpm0"),
+        (lambda: mc.simulate(MACHINE, [0.0, 1.0], omega0=60.0, atol=3.7096188882506045e-181), "atol"),
         (lambda: mc.flywheel_inertia(MACHINE, delta=4e-26, rpm=600.0), "delta"),
         (lambda: mc.steady_state(MACHINE, rpm=1e-197), "rpm"),
         (lambda: mc.steady_state(MACHINE, rpm=600.0, min_speed_ratio=4e-230), "min_speed_ratio"),

@@ -22,6 +22,15 @@ def test_power_law_load_is_the_law_with_the_sign_of_omega():
     assert PowerLawLoad(7.0, 3.0, exponent=0)(np.zeros(2), np.array([2.0, -2.0])).tolist() == [7.0, -7.0]
 
 
+def test_power_law_load_takes_its_speed_in_rpm_too():
+    fan = PowerLawLoad(90.0, rpm=120.0)
+    assert fan.speed == 120.0 * math.pi / 30 and fan.coefficient == PowerLawLoad(90.0, fan.speed).coefficient
+    assert fan == PowerLawLoad(90.0, fan.speed)
+    for arguments, message in (({}, "neither"), ({"speed": 1.0, "rpm": 10.0}, "both"), ({"rpm": 0.0}, "rpm = 0.0")):
+        with pytest.raises(mc.MechanismError, match=message):
+            PowerLawLoad(1.0, **arguments)
+
+
 @pytest.mark.parametrize(
     ("field", "value"), [("torque", -1.0), ("speed", 0.0), ("speed", math.nan), ("exponent", -0.5)]
 )

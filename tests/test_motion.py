@@ -206,7 +206,7 @@ def test_textbook_flywheel_in_closed_form():
     omega_max = mpmath.sqrt(w0sq + 2 * (150 + A) / inertia)
     omega_min = mpmath.sqrt(w0sq + 2 * (150 - A) / inertia)
 
-    assert result.method == "energy" and result.load_torque == pytest.approx(1000, rel=1e-13)
+    assert result.method == "energy" and result.mean_load_torque == pytest.approx(1000, rel=1e-13)
     swing = 0.5 * inertia * (result.omega_max**2 - result.omega_min**2)
     assert swing == pytest.approx(math.hypot(300, 500), rel=1e-12)
     assert result.delta == pytest.approx(float((omega_max - omega_min) / omega_mean), rel=1e-12)
@@ -234,7 +234,7 @@ def test_smooth_machines_match_time_integration(name, rpm):
     machine = SMOOTH_MACHINES[name]
     result = mc.steady_state(machine, rpm=rpm)
     assert result.delta > 1e-3  # a fluctuation worth measuring
-    reference = integrate_in_time(machine, result.omega[0], load=result.load_torque)
+    reference = integrate_in_time(machine, result.omega[0], load=result.mean_load_torque)
     check_against_time(result, reference, delta_tol=1e-9, omega_tol=1e-11)
 
 
@@ -242,7 +242,7 @@ def test_smooth_machines_match_time_integration(name, rpm):
 def test_tabulated_pressures_match_time_integration(name):
     machine = tabulated_machines()[name]
     result = mc.steady_state(machine, rpm=1500)
-    reference = integrate_in_time(machine, result.omega[0], load=result.load_torque)
+    reference = integrate_in_time(machine, result.omega[0], load=result.mean_load_torque)
     check_against_time(result, reference, delta_tol=1e-5, omega_tol=1e-8)
 
 
@@ -255,7 +255,7 @@ def test_gravity_changes_the_fluctuation_and_off_is_g_zero():
         np.testing.assert_array_equal(getattr(without, name), getattr(zero_g, name))
     assert without.delta == zero_g.delta
     assert with_gravity.delta_without_gravity == pytest.approx(zero_g.delta, rel=1e-14)
-    assert not np.any(without.torque_gravity) and np.any(with_gravity.torque_gravity)
+    assert not np.any(without.gravity_torque) and np.any(with_gravity.gravity_torque)
     # gravity matters here (heavy parts at a low speed) and the result says by how much
     assert abs(with_gravity.gravity_effect) > 1e-3 * with_gravity.delta
     assert with_gravity.gravity_effect == with_gravity.delta - zero_g.delta
@@ -283,8 +283,8 @@ def test_power_law_closed_form_is_the_periodic_orbit_of_a_long_run():
     check_against_time(result, reference, delta_tol=1e-6, omega_tol=1e-8)
     # In steady state the load's mean takes the mean of the gas torque, whatever the speed.
     phi = np.linspace(0, TWO_PI, 200_001)
-    assert result.load_torque == pytest.approx(np.trapezoid(machine.gas_torque(phi), phi) / TWO_PI, rel=1e-8)
-    assert result.load_torque == pytest.approx(np.mean(result.torque_load[:-1]), rel=1e-2)
+    assert result.mean_load_torque == pytest.approx(np.trapezoid(machine.gas_torque(phi), phi) / TWO_PI, rel=1e-8)
+    assert result.mean_load_torque == pytest.approx(np.mean(result.torque_load[:-1]), rel=1e-2)
 
 
 def test_shooting_agrees_with_the_closed_form():
@@ -298,7 +298,7 @@ def test_shooting_agrees_with_the_closed_form():
     assert shot.omega_mean == pytest.approx(closed.omega_mean, rel=1e-10)
     assert shot.delta == pytest.approx(closed.delta, rel=1e-8)
     assert shot.delta_without_gravity == pytest.approx(closed.delta_without_gravity, rel=1e-8)
-    assert shot.load_torque == pytest.approx(closed.load_torque, rel=1e-9)
+    assert shot.mean_load_torque == pytest.approx(closed.mean_load_torque, rel=1e-9)
     np.testing.assert_allclose(shot.omega, closed.omega, rtol=1e-9)
     np.testing.assert_allclose(shot.time, closed.time, rtol=1e-9, atol=1e-14)
 
@@ -497,13 +497,13 @@ def test_the_result_is_a_frozen_closed_cycle_with_consistent_torques():
     assert result.omega_min <= result.omega.min() and result.omega.max() <= result.omega_max
     assert result.rpm == pytest.approx(2000, rel=1e-14)
     # Energy: ½Jω² grows by the work of the torques (trapezoid on the output grid, loosely).
-    energy = 0.5 * result.J * result.omega**2
-    net = result.torque_gas + result.torque_gravity + result.torque_drive - result.torque_load
+    energy = 0.5 * result.reduced_inertia * result.omega**2
+    net = result.gas_torque + result.gravity_torque + result.drive_torque - result.torque_load
     work = np.concatenate([[0], np.cumsum(0.5 * (net[1:] + net[:-1]) * np.diff(result.phi))])
     potential = machine.potential_energy(result.phi) - machine.potential_energy(0.0)
     assert np.max(np.abs(energy - energy[0] - work)) < 1e-3 * np.ptp(energy)
-    assert np.max(np.abs(potential + result.torque_gravity * 0)) >= 0  # the gravity arrays are the machine's
-    np.testing.assert_allclose(result.torque_gravity, machine.gravity_torque(result.phi))
+    assert np.max(np.abs(potential + result.gravity_torque * 0)) >= 0  # the gravity arrays are the machine's
+    np.testing.assert_allclose(result.gravity_torque, machine.gravity_torque(result.phi))
     # J φ̈ = the sum of the torques, inertia included; φ̈ = ω dω/dφ.
     slope = np.gradient(result.omega, result.phi)
     assert np.max(np.abs(result.acceleration - result.omega * slope)) < 1e-2 * np.max(np.abs(result.acceleration))
@@ -513,7 +513,7 @@ def test_the_result_is_a_frozen_closed_cycle_with_consistent_torques():
         result.omega[0] = 1.0
     frame = result.to_pandas()
     assert frame.index.name == "phi" and len(frame) == 1441
-    assert {"omega", "time", "rpm", "torque_gas", "torque_load", "J"} <= set(frame.columns)
+    assert {"omega", "time", "rpm", "gas_torque", "load_torque", "reduced_inertia"} <= set(frame.columns)
     text = repr(result)
     assert "δ" in text and "2000 rpm" in text and "midrange" in text
 
@@ -551,6 +551,38 @@ def test_bad_inputs_name_the_parameter(keywords, match):
 def test_flywheel_refuses_bad_delta(delta, match):
     with pytest.raises(mc.MechanismError, match=match):
         mc.flywheel_inertia(SMOOTH_MACHINES["single, ΔI < 0"], delta=delta, rpm=100)
+
+
+def test_the_speed_defaults_to_the_machines_own():
+    compressor = mc.presets.ENGINES["slow-compressor"]
+    running = compressor.replace(rpm=120.0)
+    assert mc.steady_state(running).delta == mc.steady_state(compressor, rpm=120).delta
+    sized = mc.flywheel_inertia(running, delta=1 / 40)
+    assert sized.shaft_inertia == mc.flywheel_inertia(compressor, delta=1 / 40, rpm=120).shaft_inertia
+    with pytest.raises(mc.MechanismError, match="rpm = 120 is not allowed with this load"):
+        mc.steady_state(running, rpm=120, load=mc.PowerLawLoad(90.0, rpm=120))
+    fixed = mc.steady_state(running, load=mc.PowerLawLoad(90.0, rpm=120), drive=1000.0)  # the load's speed
+    assert fixed.method == "closed form" and fixed.rpm != 120
+
+
+def test_results_share_their_names_and_keep_the_old_ones():
+    state = mc.steady_state(mc.presets.ENGINES["slow-compressor"], rpm=120, points=37)
+    assert isinstance(state, mc.motion.MotionResult) and state.solved == "balance load (energy method)"
+    for old, new in [("J", "reduced_inertia"), ("dJ_dphi", "reduced_inertia_slope"), ("torque_gas", "gas_torque"),
+                     ("torque_gravity", "gravity_torque"), ("torque_inertia", "inertia_torque"),
+                     ("torque_drive", "drive_torque"), ("load_torque", "mean_load_torque")]:  # fmt: skip
+        assert getattr(state, old) is getattr(state, new)
+    np.testing.assert_array_equal(state.inertia_torque, state.machine.inertia_torque(state.phi, state.omega))
+    frame = state.to_pandas()
+    assert frame.attrs["units"]["rpm"] == "1/min" and frame.attrs["solved"] == state.solved
+    np.testing.assert_array_equal(frame["load_torque"], state.torque_load)
+    np.testing.assert_allclose(frame["rpm"], state.omega * 30 / math.pi, rtol=1e-15)
+    dataset = state.to_xarray()
+    assert dataset["gas_torque"].attrs["units"] == "N·m" and dataset.attrs["mean_load_torque"] == state.load_torque
+    sized = mc.flywheel_inertia(mc.presets.ENGINES["slow-compressor"], delta=1 / 40, rpm=120)
+    row = sized.to_pandas()
+    assert len(row) == 1 and row["shaft_inertia"].iloc[0] == float(sized) and row.attrs["units"]["rpm"] == "1/min"
+    assert sized.to_xarray()["shaft_inertia"].attrs["units"] == "kg·m²" and "energy method" in sized.solved
 
 
 def test_machine_must_be_a_machine():

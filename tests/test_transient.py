@@ -247,6 +247,28 @@ def test_balance_freezes_a_speed_dependent_drive_at_the_start_or_at_balance_spee
     np.testing.assert_allclose(at_start.load_torque, 20.0, rtol=1e-13)
     frozen = mc.simulate(machine, [0.0, 0.1], omega0=20.0, drive=drive, load="balance", balance_speed=5.0)
     np.testing.assert_allclose(frozen.load_torque, 5.0, rtol=1e-13)
+    # balance_rpm: the same speed in 1/min (balance_speed is its rad/s alias)
+    in_rpm = mc.simulate(machine, [0.0, 0.1], omega0=20.0, drive=drive, load="balance", balance_rpm=150 / math.pi)
+    np.testing.assert_allclose(in_rpm.load_torque, 5.0, rtol=1e-13)
+
+
+def test_the_start_speed_in_rpm_is_omega0_in_rad_per_s():
+    machine = SWING.machine()
+    in_rad = mc.simulate(machine, np.linspace(0.0, 0.2, 5), omega0=12.0)
+    in_rpm = mc.simulate(machine, np.linspace(0.0, 0.2, 5), rpm0=12.0 * 30 / math.pi)
+    np.testing.assert_allclose(in_rpm.omega, in_rad.omega, rtol=1e-12)
+    assert in_rpm.solved == "time integration (DOP853)" and in_rpm.method == "DOP853"
+    assert isinstance(in_rpm, mc.motion.MotionResult)
+
+
+def test_tolerances_too_fine_to_compute_with_are_refused_up_front():
+    """Hypothesis found atol = 3.7e-181 overflowing solve_ivp's error norm (a RuntimeWarning)."""
+    machine = SWING.machine()
+    with pytest.raises(mc.MechanismError, match=r"atol = 3.7\d*e-181 is out of range; allowed: atol >= 1e-100"):
+        mc.simulate(machine, [0.0, 0.01], omega0=60.0, atol=3.7096188882506045e-181)
+    with pytest.raises(mc.MechanismError, match=r"rtol = 1\.0 is out of range"):
+        mc.simulate(machine, [0.0, 0.01], omega0=60.0, rtol=1.0)
+    assert mc.simulate(machine, [0.0, 0.01], omega0=60.0, atol=1e-100).omega[-1] > 0
 
 
 def test_gravity_false_leaves_gravity_out():
@@ -343,6 +365,11 @@ BAD = [
     ({"load": math.nan}, "load = nan is out of range"),
     ({"balance_speed": 3.0}, "balance_speed applies to load='balance' only"),
     ({"load": "balance", "balance_speed": math.nan}, "balance_speed"),
+    ({"balance_rpm": 3.0}, "balance_rpm applies to load='balance' only"),
+    ({"load": "balance", "balance_rpm": 3.0, "balance_speed": 3.0}, "give exactly one of balance_rpm and"),
+    ({"rpm0": 10.0}, "give exactly one of omega0 and rpm0, got both"),
+    ({"omega0": None}, "give exactly one of omega0 and rpm0, got neither"),
+    ({"omega0": None, "rpm0": -1.0}, r"rpm0 = -1.0 is out of range; allowed: rpm0 >= 0 \[1/min\]"),
     ({"gravity": "yes"}, "gravity must be True or False"),
     ({"progress": 1}, "progress must be True or False"),
     ({"machine": "engine"}, "machine must be a multicrank.Machine"),

@@ -42,8 +42,8 @@ for solved in (with_gravity, without_gravity):
 change = with_gravity.gravity_effect / without_gravity.delta
 print(f"gravity changes δ by {100 * change:+.1f} %")
 print(
-    f"the motor's torque: {-with_gravity.load_torque:.0f} N·m, "
-    f"{-with_gravity.load_torque * with_gravity.omega_mean / 1e3:.1f} kW"
+    f"the motor's torque: {-with_gravity.mean_load_torque:.0f} N·m, "
+    f"{-with_gravity.mean_load_torque * with_gravity.omega_mean / 1e3:.1f} kW"
 )
 
 # %%
@@ -74,9 +74,9 @@ speed.set_title("slow-compressor at a mean 120 rpm: ω(φ) over one revolution")
 speed.legend(loc="upper left")
 state = with_gravity
 for values, label in (
-    (state.torque_gas, "gas"),
-    (state.torque_gravity, "gravity"),
-    (state.torque_inertia, "inertia"),
+    (state.gas_torque, "gas"),
+    (state.gravity_torque, "gravity"),
+    (state.inertia_torque, "inertia"),
     (-state.torque_load, "motor"),
 ):
     torque.plot(np.degrees(state.phi), values / 1e3, label=label)
@@ -97,10 +97,10 @@ plt.show()
 # kinetic energy:
 phi = np.linspace(0, 2 * math.pi, 3601)
 potential = compressor.potential_energy(phi)
-kinetic = 0.5 * state.J * state.omega**2
+kinetic = 0.5 * state.reduced_inertia * state.omega**2
 print(
-    f"largest |torque|: gravity {abs(state.torque_gravity).max():.0f} N·m, "
-    f"gas {abs(state.torque_gas).max():.0f} N·m"
+    f"largest |torque|: gravity {abs(state.gravity_torque).max():.0f} N·m, "
+    f"gas {abs(state.gas_torque).max():.0f} N·m"
 )
 print(
     f"range of U(φ): {np.ptp(potential):.0f} J; swing of ½Jω²: {np.ptp(kinetic):.0f} J"

@@ -61,9 +61,8 @@ print(f"λ = {cylinder.crank_ratio:.2f}, swept volume {swept * 1e6:.0f} cm³")
 # -------------
 # A square-law load, M = M_n (ω/ω_n)², sized to absorb the engine's mean torque at
 # 1500 rpm. The mean gas torque is order 0 of ``mc.torque_orders``.
-rated = 1500 * math.pi / 30  # rad/s
 mean_torque = mc.torque_orders(engine, 1500, max_order=1).loc[0.0, "gas_cos"]
-propeller = mc.PowerLawLoad(torque=mean_torque, speed=rated, exponent=2)
+propeller = mc.PowerLawLoad(torque=mean_torque, rpm=1500, exponent=2)
 print(f"mean gas torque {mean_torque:.1f} N·m: the propeller takes it at 1500 rpm")
 
 # %%
@@ -77,7 +76,7 @@ times = np.linspace(0.0, duration, int(duration * 2000) + 1)
 run = mc.simulate(
     engine,
     times,
-    omega0=300 * math.pi / 30,
+    rpm0=300,
     load=propeller,
     rtol=tolerance,
     atol=tolerance,

@@ -68,9 +68,7 @@ def friction(phi, omega):
 # done on the shaft at every sample: a check of the whole computation.
 rtol = 1e-7 if FAST else 1e-9
 times = np.linspace(0.0, 30.0, 60001)
-run = mc.simulate(
-    compressor, times, omega0=600 * math.pi / 30, load=friction, rtol=rtol, atol=rtol
-)
+run = mc.simulate(compressor, times, rpm0=600, load=friction, rtol=rtol, atol=rtol)
 print(f"{len(run)} samples, {run.rpm[0]:.0f} → {run.rpm[-1]:.0f} rpm")
 turns = (run.phi[-1] - run.phi[0]) / (2 * math.pi)
 stop = math.degrees(run.phi[-1] % compressor.cycle)

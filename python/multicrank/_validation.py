@@ -12,7 +12,7 @@ import math
 import operator
 import os
 import sys
-from typing import Any
+from typing import Any, TypeVar
 
 import numpy as np
 
@@ -20,17 +20,21 @@ from ._native import MechanismError
 
 __all__ = [
     "INDEX_MAX",
+    "SPEED_LIMITS",
     "allocatable_bytes",
     "as_angles",
     "as_count",
     "as_design",
     "as_flag",
+    "as_instance",
     "as_label",
     "as_nonnegative",
     "as_option",
     "as_phases",
     "as_real_array",
     "as_scalar",
+    "as_speed",
+    "as_speed_range",
     "as_strokes",
     "as_threshold",
     "as_work_size",
@@ -40,6 +44,8 @@ __all__ = [
     "contiguous",
     "design_keywords",
     "finish",
+    "has_gas",
+    "one_of",
 ]
 
 _NUMERIC_KINDS = "iuf"
@@ -262,3 +268,58 @@ def design_keywords(crank_ratio: Any, inclination: Any, u1: Any, u2: Any) -> dic
         "u1": as_design(u1, "u1"),
         "u2": as_design(u2, "u2"),
     }
+
+
+#: The speeds [1/min] a machine may be asked to run at. Far outside them ω² and the cycle's
+#: time scales over- or underflow a double on the way to δ; no machine comes near either end.
+SPEED_LIMITS = (1e-6, 1e8)
+
+
+def as_speed(value: Any, name: str = "rpm") -> float:
+    """A speed [1/min]: one finite number within :data:`SPEED_LIMITS`."""
+    speed = as_scalar(value, name)
+    low, high = SPEED_LIMITS
+    if not (math.isfinite(speed) and low <= speed <= high):
+        raise MechanismError(f"{name} = {speed} is out of range; allowed: {low:g} <= {name} <= {high:g} [1/min]")
+    return speed
+
+
+def as_speed_range(value: Any) -> tuple[float, float]:
+    """A machine's ``rpm_range``: (low, high) [1/min] with 0 < low < high, within :data:`SPEED_LIMITS`."""
+    bounds = as_real_array(value, "rpm_range")
+    if bounds.shape != (2,):
+        raise MechanismError(f"rpm_range must be two speeds (low, high) [1/min], got shape {bounds.shape}")
+    low, high = (float(b) for b in bounds)
+    if not (SPEED_LIMITS[0] <= low < high <= SPEED_LIMITS[1]):
+        raise MechanismError(
+            f"rpm_range = ({low:g}, {high:g}) is out of range; allowed: {SPEED_LIMITS[0]:g} <= low < high "
+            f"<= {SPEED_LIMITS[1]:g} [1/min]"
+        )
+    return low, high
+
+
+def one_of(first: tuple[str, Any], second: tuple[str, Any]) -> tuple[str, Any]:
+    """The one of two (name, value) keywords that was given (not None), for a quantity that
+    may be given either way (a speed in rad/s or in 1/min); neither or both is refused."""
+    given = [(name, value) for name, value in (first, second) if value is not None]
+    if len(given) != 1:
+        told = "both" if given else "neither"
+        raise MechanismError(f"give exactly one of {first[0]} and {second[0]}, got {told}")
+    return given[0]
+
+
+Kind = TypeVar("Kind")
+
+
+def as_instance(value: Any, kind: type[Kind], name: str) -> Kind:
+    """An instance of one of the package's public classes (``as_instance(machine, Machine,
+    "machine")``): anything else has none of its methods, and is refused by name. The class
+    is the caller's to give, so that this module imports none of them."""
+    if not isinstance(value, kind):
+        raise MechanismError(f"{name} must be a multicrank.{kind.__name__}, got {type(value).__name__}")
+    return value
+
+
+def has_gas(cylinder: Any) -> bool:
+    """Whether a cylinder takes a gas torque: a bore and a pressure on at least one end."""
+    return bool(cylinder.bore > 0 and (cylinder.pressure is not None or cylinder.pressure_crank_end is not None))

@@ -25,7 +25,9 @@ from .._native import machine_engine as _native_machine_engine
 from .._native import machine_evaluate as _native_machine_evaluate
 from .._native import machine_gas_torque as _native_machine_gas_torque
 from .._native import machine_inertia as _native_machine_inertia
-from .._validation import as_option, as_real_array, as_scalar, as_strokes, as_threshold, contiguous
+from .._shaft import inertia_torque as _inertia_torque
+from .._validation import as_option, as_real_array, as_scalar, as_speed, as_strokes, as_threshold, contiguous
+from .._validation import as_speed_range as _speed_range
 from ..gravity.engines import Engine
 from ..gravity.grids import as_phi
 from ..gravity.layouts import Layout, as_layout
@@ -1087,8 +1089,7 @@ class Machine:
             The torque [N·m], the broadcast shape of ``phi`` and ``omega``.
         """
         _, slope = self.reduced_inertia(phi, parallel_threshold=parallel_threshold)
-        speed = as_real_array(omega, "omega")
-        return -0.5 * slope * speed**2
+        return _inertia_torque(slope, as_real_array(omega, "omega"))
 
 
 def _diagram_strokes(cylinder: Cylinder) -> int | None:
@@ -1149,34 +1150,6 @@ def _chosen_firing(firing: Any, crank: np.ndarray, strokes: int) -> list[float]:
             )
     cycle = 180.0 * strokes
     return [math.radians(a) for a in np.mod(crank + 360.0 * whole, cycle)]
-
-
-#: The speeds [1/min] a machine may be asked to run at. Far outside them ω² and the cycle's
-#: time scales over- or underflow a double on the way to δ; no machine comes near either end.
-SPEED_LIMITS = (1e-6, 1e8)
-
-
-def as_speed(value: Any, name: str = "rpm") -> float:
-    """A speed [1/min]: one finite number within :data:`SPEED_LIMITS`."""
-    speed = as_scalar(value, name)
-    low, high = SPEED_LIMITS
-    if not (math.isfinite(speed) and low <= speed <= high):
-        raise MechanismError(f"{name} = {speed} is out of range; allowed: {low:g} <= {name} <= {high:g} [1/min]")
-    return speed
-
-
-def _speed_range(value: Any) -> tuple[float, float]:
-    """(low, high) [1/min] with 0 < low < high."""
-    bounds = as_real_array(value, "rpm_range")
-    if bounds.shape != (2,):
-        raise MechanismError(f"rpm_range must be two speeds (low, high) [1/min], got shape {bounds.shape}")
-    low, high = (float(b) for b in bounds)
-    if not (SPEED_LIMITS[0] <= low < high <= SPEED_LIMITS[1]):
-        raise MechanismError(
-            f"rpm_range = ({low:g}, {high:g}) is out of range; allowed: {SPEED_LIMITS[0]:g} <= low < high "
-            f"<= {SPEED_LIMITS[1]:g} [1/min]"
-        )
-    return low, high
 
 
 def _pressure(function: Pressure, theta: np.ndarray, name: str) -> np.ndarray:

@@ -1,21 +1,32 @@
 """The machine in motion: J(φ)φ̈ + ½J′(φ)φ̇² = M_gas − dU/dφ + M_drive − M_load.
 
 - `loads`: drive and load torques (numbers, "balance", `PowerLawLoad`, callables);
-- `steady`: the exact periodic steady state and the flywheel for a coefficient of speed
-  fluctuation;
+- `steady`: the exact periodic steady state;
+- `flywheel`: the flywheel for a coefficient of speed fluctuation;
 - `transient`: the motion in time (SciPy's integrators, stall events);
 - `orders`: the torque orders of the cycle;
+- `_result`: what the results share (``solved``, ``to_pandas``, ``to_xarray``);
+- `_periodic`: the periodic solution by its route, which `steady` and `flywheel` share;
 - `_quadrature`, `_work`, `_solvers`: the cycle quadrature, the gas work and the steady-state
   solvers behind them.
+
+Units and names: a speed's name carries its unit — ``rpm…`` in 1/min, ``omega…`` in rad/s
+(ω = πn/30); the torques on the shaft are ``gas_torque``, ``gravity_torque``,
+``inertia_torque``, ``drive_torque`` and ``load_torque`` [N·m], the reduced inertia
+``reduced_inertia`` [kg·m²] and its slope ``reduced_inertia_slope`` [kg·m²/rad], as the
+:class:`~multicrank.Machine` methods that give them.
 """
 
+from ._result import MotionResult
+from .flywheel import FlywheelInertia, flywheel_inertia
 from .loads import PowerLawLoad
 from .orders import torque_orders
-from .steady import FlywheelInertia, StallError, SteadyState, flywheel_inertia, steady_state
+from .steady import StallError, SteadyState, steady_state
 from .transient import Transient, simulate
 
 __all__ = [
     "FlywheelInertia",
+    "MotionResult",
     "PowerLawLoad",
     "StallError",
     "SteadyState",

@@ -22,6 +22,8 @@ from typing import Any
 import numpy as np
 import numpy.polynomial.legendre as legendre
 
+from .._validation import has_gas
+
 __all__ = ["CycleQuadrature", "PanelSeries", "cycle_breaks"]
 
 #: Gauss–Legendre nodes per panel.
@@ -38,9 +40,7 @@ def cycle_breaks(machine: Any, *, tables: bool = True) -> np.ndarray:
     ``tables=False`` is for integrands in which the gas torque enters only through its
     integral (:class:`~multicrank._work.GasWork` takes the tables' breakpoints unit by unit)."""
     cycle = machine.cycle
-    gassed = [
-        c for c in machine.cylinders if c.bore > 0 and (c.pressure is not None or c.pressure_crank_end is not None)
-    ]
+    gassed = [c for c in machine.cylinders if has_gas(c)]
     centres = np.arange(0, round(cycle / math.pi) + 1) * math.pi
     phases = np.array([c.phase for c in gassed])
     breaks = [np.array([0.0, cycle]), np.mod(centres[None, :] - phases[:, None], cycle).ravel()]

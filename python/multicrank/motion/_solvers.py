@@ -13,6 +13,7 @@ t_Φ = ∫₀^Φ dφ/ω = ∫₀^Φ √(J/2E) dφ.
 
 from __future__ import annotations
 
+import copy
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -23,8 +24,9 @@ import numpy as np
 from .._native import MechanismError
 from ._quadrature import CycleQuadrature
 from ._work import GasWork
+from .loads import balance_torque
 
-__all__ = ["Cycle", "Extremes", "Periodic", "Stall"]
+__all__ = ["Balance", "CycleTables", "Extremes", "Periodic", "Shooting", "SquareLaw", "Stall"]
 
 # A graded panel may sit this close to a near-zero of E, in units of the distance d of the
 # zero from the real axis (E ≈ E_i + ½E''(φ − φ_i)² vanishes at φ_i ± i·d): then the nodes of
@@ -41,15 +43,16 @@ def scipy_optimize() -> Any:
 
 
 class Stall(Exception):
-    """Internal: the machine does not run at the state asked for (motion.py turns it into StallError)."""
+    """Internal: the machine does not run at the state asked for (steady.py turns it into StallError)."""
 
     def __init__(self, angle: float, message: str) -> None:
         super().__init__(message)
         self.angle = angle
 
 
-class Cycle:
-    """The machine's quantities over one working cycle at the nodes and edges of a rule.
+class CycleTables:
+    """The machine's quantities over one working cycle (J, J′, U, the gas work W and the
+    gravity torque), tabulated at the nodes and edges of a rule.
 
     J(φ) = I_w + (the machine's J − its own shaft_inertia), with I_w = ``inertia``, so that
     :meth:`with_inertia` (the flywheel search) changes I_w without a call to the core.
@@ -96,11 +99,6 @@ class Cycle:
             self._gas = self.rule.slope(self.W)
         return self._gas
 
-    @property
-    def gas_mean(self) -> float:
-        """(1/Φ)∫M_gas dφ [N·m], exact."""
-        return self.work.per_cycle / self.rule.cycle
-
     # -- at the rule's nodes (shape of rule.phi) and edges (P + 1) ----------------------------
     @property
     def J(self) -> np.ndarray:
@@ -137,19 +135,17 @@ class Cycle:
         return self.machine.potential_energy(phi) - self.U0
 
     # -- variants ------------------------------------------------------------------------------
-    def with_inertia(self, inertia: float) -> Cycle:
+    def with_inertia(self, inertia: float) -> CycleTables:
         """The same machine with shaft inertia I_w = ``inertia`` (no call to the core)."""
-        other = object.__new__(Cycle)
-        other.__dict__.update(self.__dict__)
+        other = copy.copy(self)
         other.inertia = float(inertia)
         return other
 
-    def without_gravity(self) -> Cycle:
+    def without_gravity(self) -> CycleTables:
         """The same machine with g = 0 (the gas work is kept: it does not depend on g)."""
         if not self.gravity_on:
             return self
-        other = object.__new__(Cycle)
-        other.__dict__.update(self.__dict__)
+        other = copy.copy(self)
         other.gravity_on = False
         other.U0, other._U, other.gravity = 0.0, np.zeros(self._U.size), np.zeros(self.rule.phi.shape)
         return other
@@ -190,7 +186,7 @@ class Mesh:
 
 
 def _near_zeros(
-    cycle: Cycle, energy: np.ndarray, energy_edges: np.ndarray, curvature: np.ndarray
+    cycle: CycleTables, energy: np.ndarray, energy_edges: np.ndarray, curvature: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The local minima of E over the base rule: (angle [rad], E there, d = √(2E/E'') [rad],
     the distance from the real axis of E's nearest complex zero) — where 1/√E is sharply peaked."""
@@ -215,7 +211,7 @@ def _near_zeros(
     return angles, values, reach
 
 
-def grading(cycle: Cycle, energy: np.ndarray, energy_edges: np.ndarray, curvature: np.ndarray) -> np.ndarray:
+def grading(cycle: CycleTables, energy: np.ndarray, energy_edges: np.ndarray, curvature: np.ndarray) -> np.ndarray:
     """Panel edges to add so that ∫ √(J/2E) dφ stays spectrally accurate where E nearly
     vanishes: geometric panels (ratio 4) towards every local minimum of E whose complex zeros
     come closer to the real axis than 1.5 half-widths of the panel it is in. Empty when the
@@ -237,7 +233,7 @@ def grading(cycle: Cycle, energy: np.ndarray, energy_edges: np.ndarray, curvatur
     return np.concatenate(edges)
 
 
-def graded_mesh(cycle: Cycle, extra: np.ndarray, energy_at: Callable[[np.ndarray], np.ndarray]) -> Mesh:
+def graded_mesh(cycle: CycleTables, extra: np.ndarray, energy_at: Callable[[np.ndarray], np.ndarray]) -> Mesh:
     """The base rule with ``extra`` edges; E (from ``energy_at``, any angles) and J evaluated there."""
     rule = cycle.rule.refined(extra)
     everywhere = np.concatenate([rule.phi.ravel(), rule.edges])
@@ -282,7 +278,7 @@ def _omega(energy: np.ndarray, J: np.ndarray) -> np.ndarray:
 
 def _finish(
     method: str,
-    cycle: Cycle,
+    cycle: CycleTables,
     mesh: Mesh,
     energy_at: Callable[[np.ndarray], np.ndarray],
     load_torque: float,
@@ -354,13 +350,24 @@ class _SpeedExcess:
 class Balance:
     """E(φ) = E₀ + K(φ), K = ∫₀^φ (M_gas + M_drive − M_load) dφ − [U(φ) − U(0)], and the
     E₀ that gives a mean speed: written E = s + K̃ with K̃ = K − min K ≥ 0 and s > 0 the
-    energy left at the worst angle."""
+    energy left at the worst angle.
 
-    def __init__(self, cycle: Cycle, drive: np.ndarray | None, *, gas: bool = True) -> None:
-        self.cycle, self.gas = cycle, gas
+    Parameters
+    ----------
+    cycle : CycleTables
+        The machine over its cycle.
+    drive : ndarray, optional
+        M_drive at the rule's nodes [N·m] (a speed-dependent one frozen at a speed).
+    load_torque : float
+        The constant load [N·m] that makes the work over a cycle zero: the "balance" of gas
+        and drive (:func:`~multicrank.motion.loads.balance_torque`), 0 with ``gas=False``.
+    gas : bool
+        False leaves the gas torque out (gravity and the variation of J alone).
+    """
+
+    def __init__(self, cycle: CycleTables, drive: np.ndarray | None, load_torque: float, *, gas: bool = True) -> None:
+        self.cycle, self.gas, self.load_torque = cycle, gas, load_torque
         rule = cycle.rule
-        # M_load = the cycle mean of gas and drive: the work over a cycle is zero.
-        self.load_torque = (cycle.gas_mean if gas else 0.0) + (0.0 if drive is None else rule.mean(drive))
         K_edges = -cycle.U_edges - self.load_torque * rule.edges
         K = -cycle.U - self.load_torque * rule.phi
         torque = cycle.gravity - self.load_torque
@@ -461,8 +468,7 @@ class Balance:
 
     def with_inertia(self, inertia: float) -> Balance:
         """The same torques on a shaft of inertia I_w = ``inertia`` (K does not depend on it)."""
-        other = object.__new__(Balance)
-        other.__dict__.update(self.__dict__)
+        other = copy.copy(self)
         other.cycle = self.cycle.with_inertia(inertia)
         return other
 
@@ -516,7 +522,7 @@ class SquareLaw:
     the nodes, so E is known everywhere; the mean speed is a result.
     """
 
-    def __init__(self, cycle: Cycle, drive: float, coefficient: float) -> None:
+    def __init__(self, cycle: CycleTables, drive: float, coefficient: float) -> None:
         rule = cycle.rule
         self.cycle, self.coefficient, self.drive_torque = cycle, coefficient, drive
         rate, rate_edges, self.rate = rule.antiderivative(2.0 * coefficient / cycle.J)
@@ -561,12 +567,13 @@ class SquareLaw:
 # -- any other load: shooting ----------------------------------------------------------------------
 
 
-def mean_torque(cycle: Cycle, applied: Callable[[np.ndarray, Any], np.ndarray], omega: float) -> float:
-    """(1/Φ)∫(M_gas + M_drive − M_load) dφ [N·m] at a constant speed ω [rad/s]."""
-    return cycle.gas_mean + cycle.rule.mean(applied(cycle.rule.phi, omega))
+def mean_torque(cycle: CycleTables, applied: Callable[[np.ndarray, Any], np.ndarray], omega: float) -> float:
+    """(1/Φ)∫(M_gas + M_drive − M_load) dφ [N·m] at a constant speed ω [rad/s]: what a
+    "balance" load would take beside them."""
+    return balance_torque(cycle.machine, applied, omega, cycle.rule, work=cycle.work)
 
 
-def quasi_static_speed(cycle: Cycle, applied: Callable[[np.ndarray, Any], np.ndarray], name: str) -> float:
+def quasi_static_speed(cycle: CycleTables, applied: Callable[[np.ndarray, Any], np.ndarray], name: str) -> float:
     """The constant speed [rad/s] at which the torques balance over a cycle: the start of the
     shooting. MechanismError naming ``name`` when there is none (the load never takes what
     the gas and the drive give, or the drive's mean is not positive)."""
@@ -599,7 +606,7 @@ class Shooting:
     """
 
     def __init__(
-        self, cycle: Cycle, applied: Callable[[np.ndarray, np.ndarray], np.ndarray], rtol: float, floor: float
+        self, cycle: CycleTables, applied: Callable[[np.ndarray, np.ndarray], np.ndarray], rtol: float, floor: float
     ) -> None:
         self.cycle, self.applied, self.rtol = cycle, applied, rtol
         self.K_cycle = cycle.work.per_cycle  # K₀(Φ): U(Φ) = U(0)

@@ -25,6 +25,7 @@ from typing import Any
 
 import numpy as np
 
+from .._validation import has_gas
 from ..machine.machine import Cylinder, Machine
 from ..pressure.diagram import IndicatorDiagram
 from ._quadrature import CycleQuadrature, cycle_breaks
@@ -42,10 +43,6 @@ SMOOTH_ORDER, SMOOTH_WIDTH = 12, math.pi / 16
 CACHE_SIZE = 16
 _cache: OrderedDict[tuple[Any, ...], _Indicator] = OrderedDict()
 _cache_lock = threading.Lock()
-
-
-def _gassed(cylinder: Cylinder) -> bool:
-    return cylinder.bore > 0 and (cylinder.pressure is not None or cylinder.pressure_crank_end is not None)
 
 
 class _Indicator:
@@ -103,7 +100,7 @@ class GasWork:
     def __init__(self, machine: Machine) -> None:
         groups: dict[tuple[Any, ...], tuple[Cylinder, list[float]]] = {}
         for cylinder in machine.cylinders:
-            if not _gassed(cylinder):
+            if not has_gas(cylinder):
                 continue
             key = (
                 id(cylinder.pressure),

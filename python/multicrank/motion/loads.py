@@ -7,26 +7,30 @@ A **load** resists rotation (positive opposes it), a **drive** accelerates the s
 
 - a number: a constant torque [N·m];
 - a :class:`PowerLawLoad`: M = M_n·sign(ω)·|ω/ω_n|^e (e = 2: fan, pump, propeller;
-  e = 1: viscous);
+  e = 1: viscous), its nominal speed given as ``speed=`` [rad/s] or ``rpm=`` [1/min];
 - a vectorised callable ``f(phi, omega) -> N·m`` of the crank angle φ [rad] and the shaft
   speed ω [rad/s], returning an array that broadcasts to their common shape;
 - for a load only, ``"balance"``: the constant load that takes, over one working cycle, the
   mean of the gas and drive torques (gravity's mean over a cycle is zero) — the machine then
   runs periodically at any mean speed asked for.
+
+:class:`AppliedTorques` resolves the two of one call and is the one home of the "balance"
+rule (:func:`balance_torque`) and of the net applied torque M_drive − M_load.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import KW_ONLY, InitVar, dataclass, replace
 from typing import Any
 
 import numpy as np
 
 from .._native import MechanismError
-from .._validation import as_scalar
+from .._shaft import omega_from_rpm
+from .._validation import as_scalar, as_speed, one_of
 
-__all__ = ["BALANCE", "PowerLawLoad", "Torque", "as_torque", "balance_torque"]
+__all__ = ["BALANCE", "AppliedTorques", "PowerLawLoad", "Torque", "as_torque", "balance_torque"]
 
 #: The load that balances the cycle-mean of the gas and drive torques.
 BALANCE = "balance"
@@ -45,11 +49,14 @@ class PowerLawLoad:
     torque : float
         M_n [N·m], the torque at the nominal speed; finite, ≥ 0.
     speed : float
-        ω_n [rad/s], the nominal speed, > 0 (``rpm * math.pi / 30`` from 1/min).
+        ω_n [rad/s], the nominal speed, > 0. Give it or ``rpm``.
     exponent : float, default 2
         e ≥ 0 [dimensionless]: 2 for fans, centrifugal pumps and propellers (the square
         law), 1 for viscous friction, 0 for a constant (Coulomb) torque that changes sign
         with ω.
+    rpm : float, optional
+        The nominal speed n_n [1/min] instead of ``speed`` (keyword only; stored as
+        ``speed`` = π n_n/30 [rad/s]).
 
     See Also
     --------
@@ -61,18 +68,24 @@ class PowerLawLoad:
 
     >>> import math
     >>> import multicrank as mc
-    >>> fan = mc.PowerLawLoad(torque=90.0, speed=120 * math.pi / 30)
-    >>> fan(0.0, [0.0, 2 * math.pi, 4 * math.pi])  # N·m at 0, 60 and 120 rpm
+    >>> fan = mc.PowerLawLoad(torque=90.0, rpm=120)
+    >>> fan.speed == 120 * math.pi / 30  # rad/s
+    True
+    >>> fan(0.0, [0.0, 2 * math.pi, 4 * math.pi])  # N·m at ω = 0, 2π and 4π rad/s: 0, 60 and 120 rpm
     array([ 0. , 22.5, 90. ])
     """
 
     torque: float
-    speed: float
+    # None only until __post_init__ has taken it, or rpm, as ω_n [rad/s].
+    speed: float = None  # type: ignore[assignment]
     exponent: float = 2.0
+    _: KW_ONLY
+    rpm: InitVar[float | None] = None
 
-    def __post_init__(self) -> None:
+    def __post_init__(self, rpm: float | None) -> None:
         torque = as_scalar(self.torque, "torque")
-        speed = as_scalar(self.speed, "speed")
+        name, value = one_of(("speed", self.speed), ("rpm", rpm))
+        speed = omega_from_rpm(as_speed(value, "rpm")) if name == "rpm" else as_scalar(value, "speed")
         exponent = as_scalar(self.exponent, "exponent")
         if not (math.isfinite(torque) and torque >= 0):
             raise MechanismError(f"torque = {torque} is out of range; allowed: torque >= 0 [N·m]")
@@ -180,18 +193,64 @@ def as_torque(value: Any, name: str, *, balance: bool = False) -> Torque | str |
     return Torque("constant", number, name)
 
 
-def balance_torque(machine: Any, drive: Torque | None, omega: float, quadrature: Any = None) -> float:
+def balance_torque(machine: Any, drive: Any, omega: float, quadrature: Any = None, *, work: Any = None) -> float:
     """The "balance" load [N·m]: (1/Φ)∫₀^Φ [M_gas(φ) + M_drive(φ, ω)] dφ over one working cycle,
     a drive's speed dependence frozen at ``omega`` [rad/s]. Gravity's mean over a cycle is 0.
 
-    The gas part is the indicated work per cycle over Φ, exact also for tabulated pressures
-    (:class:`~multicrank._work.GasWork`); the drive's mean is taken on ``quadrature`` (default:
-    the machine's cycle rule)."""
+    The one home of the rule. The gas part is the indicated work per cycle over Φ, exact also
+    for tabulated pressures (:class:`~multicrank._work.GasWork`; ``work``: the machine's, when
+    already made); the drive — any callable f(φ, ω) [N·m] — is averaged on ``quadrature``
+    (default: the machine's cycle rule)."""
     from ._quadrature import CycleQuadrature
     from ._work import GasWork
 
-    mean = GasWork(machine).per_cycle / machine.cycle
+    mean = (GasWork(machine) if work is None else work).per_cycle / machine.cycle
     if drive is not None:
         rule = CycleQuadrature.of(machine, tables=False) if quadrature is None else quadrature
         mean += rule.mean(drive(rule.phi, omega))
-    return mean
+    return float(mean)
+
+
+@dataclass(frozen=True)
+class AppliedTorques:
+    """The load and the drive of one call, resolved (:func:`as_torque`); the load may still be
+    :data:`BALANCE` until :meth:`balanced` fixes it at a speed.
+
+    Attributes
+    ----------
+    load : Torque, "balance" or None
+        The resisting torque (None: no load).
+    drive : Torque or None
+        The driving torque beside the gas (None: no drive).
+    """
+
+    load: Torque | str | None
+    drive: Torque | None
+
+    @classmethod
+    def of(cls, load: Any, drive: Any) -> AppliedTorques:
+        """``load=`` and ``drive=`` as a user gives them, validated (only the load may be "balance")."""
+        resolved_drive = as_torque(drive, "drive")
+        assert not isinstance(resolved_drive, str)  # as_torque gives "balance" only where allowed
+        return cls(as_torque(load, "load", balance=True), resolved_drive)
+
+    @property
+    def balance(self) -> bool:
+        """Whether the load is "balance" (not yet fixed)."""
+        return self.load == BALANCE
+
+    def balanced(self, machine: Any, omega: float, quadrature: Any = None, *, work: Any = None) -> AppliedTorques:
+        """The same torques with a "balance" load fixed by :func:`balance_torque` at ``omega`` [rad/s]."""
+        if not self.balance:
+            return self
+        load = balance_torque(machine, self.drive, omega, quadrature, work=work)
+        return replace(self, load=Torque("constant", load, "load"))
+
+    def net(self, phi: Any, omega: Any) -> np.ndarray:
+        """M_drive − M_load [N·m] at φ [rad] and ω [rad/s] (a "balance" load not yet fixed counts as none)."""
+        value = np.zeros(np.broadcast_shapes(np.shape(phi), np.shape(omega)))
+        if self.drive is not None:
+            value = value + self.drive(phi, omega)
+        if isinstance(self.load, Torque):
+            value = value - self.load(phi, omega)
+        return value

@@ -9,12 +9,11 @@ spans two revolutions), the coefficients of
 for the gas torque, the inertia torque −½ J'(φ) ω² at the mean speed, the gravity torque
 −U'(φ) and their sum, in N·m, as a table for torsional-vibration tools.
 
-- **Gravity** comes from the exact Fourier series of the Rust core (Λ_n exact): the
-  machine's dimensionless :class:`~multicrank.Engine` at the speed asked for gives Q_u* =
-  dU*/dφ with U = I_w ω² U*, so the gravity torque is −I_w ω² Q_u*.
-- **Inertia**: J(φ) is analytic and 2π-periodic, so the Gauss–Legendre panels of the cycle
-  quadrature give its coefficients to rounding (spectral convergence); its half orders are
-  exactly 0.
+- **Inertia and gravity**: J(φ) and U(φ) are analytic and 2π-periodic, so the
+  Gauss–Legendre panels of one revolution give the coefficients of the machine's own
+  −½ J′(φ) ω² and −U′(φ) (:meth:`~multicrank.Machine.inertia_torque`,
+  :meth:`~multicrank.Machine.gravity_torque`) to rounding (spectral convergence); their half
+  orders are exactly 0, and so is gravity's mean (U is periodic).
 - **Gas**: the same panels over the working cycle, cut at every gassed unit's dead centres and
   at the breakpoints of its pressure tables, on each of which the integrand is smooth: for an
   :class:`~multicrank.IndicatorDiagram` the coefficients of the interpolated diagram's
@@ -31,9 +30,9 @@ from typing import Any
 
 import numpy as np
 
-from .._native import MechanismError
-from .._validation import as_count
-from ..machine.machine import Machine, as_speed
+from .._shaft import omega_from_rpm
+from .._validation import as_count, as_flag, as_instance, as_speed
+from ..machine.machine import Machine
 from ._quadrature import CycleQuadrature
 
 __all__ = ["ORDER_PARTS", "torque_orders"]
@@ -95,13 +94,11 @@ def torque_orders(machine: Machine, rpm: float, *, max_order: int = 12, gravity:
     """
     import pandas as pd
 
-    if not isinstance(machine, Machine):
-        raise MechanismError(f"machine must be a multicrank.Machine, got {type(machine).__name__}")
+    machine = as_instance(machine, Machine, "machine")
     speed = as_speed(rpm, "rpm")
     highest = as_count(max_order, "max_order", minimum=1)
-    if not isinstance(gravity, (bool, np.bool_)):
-        raise MechanismError(f"gravity must be True or False, got {gravity!r}")
-    omega = math.pi * speed / 30.0
+    gravity = as_flag(gravity, "gravity")
+    omega = omega_from_rpm(speed)
     per_cycle = machine.strokes // 2  # harmonics of the cycle per order
     orders = np.arange(highest * per_cycle + 1) / per_cycle
     width = min(_MAX_WIDTH, _PERIOD_FRACTION * 2 * math.pi / highest)
@@ -116,12 +113,11 @@ def torque_orders(machine: Machine, rpm: float, *, max_order: int = 12, gravity:
     inertia[:, integer] = _coefficients(revolution, machine.inertia_torque(revolution.phi, omega), orders[integer])
     parts["inertia"] = (inertia[0], inertia[1])
 
-    series = np.zeros((2, orders.size))
+    weight = np.zeros((2, orders.size))
     if gravity and machine.g != 0.0:
-        a, b = machine.engine(speed).fourier_coefficients(highest)
-        scale = -machine.shaft_inertia * omega**2  # torque = −dU/dφ = −I_w ω² Q_u*
-        series[:, integer] = scale * np.stack([a, b])
-    parts["gravity"] = (series[0], series[1])
+        weight[:, integer] = _coefficients(revolution, machine.gravity_torque(revolution.phi), orders[integer])
+        weight[0, 0] = 0.0  # −U′ of a periodic U has no mean: exactly, not to rounding
+    parts["gravity"] = (weight[0], weight[1])
     parts["total"] = (
         parts["gas"][0] + parts["inertia"][0] + parts["gravity"][0],
         parts["gas"][1] + parts["inertia"][1] + parts["gravity"][1],

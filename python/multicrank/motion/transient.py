@@ -10,6 +10,10 @@ result's ``energy_drift`` is a built-in check of the whole chain (kinematics, to
 integrator). J, J', U, the gravity and the gas torques come from the Rust core through
 :class:`~multicrank.Machine`; here they are only put together.
 
+Speeds follow the house convention: a name carries its unit, ``omega…`` in rad/s
+(``omega0``, ``balance_speed``, the result's ``omega``) and ``rpm…`` in 1/min (``rpm0``,
+``balance_rpm``, the result's ``rpm``).
+
 SciPy is imported when a run starts, pandas and xarray when a result is converted.
 """
 
@@ -17,15 +21,16 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 
 from .._native import MechanismError
-from .._optional import require
-from .._validation import as_real_array, as_scalar
+from .._shaft import inertia_torque, omega_from_rpm, rpm_from_omega
+from .._validation import as_flag, as_instance, as_real_array, as_scalar, has_gas, one_of
 from ..machine.machine import Machine
-from .loads import BALANCE, Torque, as_torque, balance_torque
+from ._result import MotionResult
+from .loads import AppliedTorques, Torque
 
 __all__ = ["METHODS", "Transient", "simulate"]
 
@@ -34,6 +39,13 @@ METHODS = ("DOP853", "RK45", "RK23", "Radau", "BDF", "LSODA")
 
 #: The smallest rtol solve_ivp honours (100 machine epsilons).
 _RTOL_FLOOR = 100 * float(np.finfo(float).eps)
+#: The smallest atol taken. solve_ivp's error norm squares err/(atol + rtol·|y|), and at the
+#: start φ and W may be 0, leaving atol alone in the denominator: a first step's error of up to
+#: ~1e50 (far beyond any φ [rad], ω [rad/s] or W [J] of a machine) over atol must stay below
+#: √(largest double) ≈ 1e154 for its square not to overflow (as it did, with a RuntimeWarning,
+#: at atol = 3.7e-181). Nothing is lost: an absolute error below 1e-100 is under the rounding
+#: of every state but one within 1e-84 of zero, and rtol governs there anyway.
+_ATOL_FLOOR = 1e-100
 
 #: The per-sample arrays of a :class:`Transient`, in column order, with their units.
 COLUMNS = {
@@ -53,12 +65,14 @@ COLUMNS = {
 
 
 @dataclass(frozen=True, eq=False)
-class Transient:
+class Transient(MotionResult):
     """The machine's state and torques at the sample times: the result of :func:`simulate`.
 
     Every array has one entry per sample: the times of ``t_eval`` up to the end of the run
     and, when the machine stalled, the stall itself as the last sample. The arrays are
-    read-only.
+    read-only; their names are those of :class:`SteadyState` and of the
+    :class:`~multicrank.Machine` methods that give them. Speeds: ``omega`` in rad/s,
+    :attr:`rpm` in 1/min.
 
     Attributes
     ----------
@@ -96,6 +110,8 @@ class Transient:
         The number of right-hand-side evaluations the integrator made.
     message : str
         The integrator's closing message.
+    method : str
+        The ``solve_ivp`` method that integrated it (:attr:`solved` in words).
     """
 
     time: np.ndarray
@@ -116,11 +132,20 @@ class Transient:
     energy_drift: float
     nfev: int
     message: str
+    method: str = "DOP853"
+
+    COLUMNS: ClassVar[dict[str, str]] = {"time": "s", **COLUMNS}
+    NUMBERS: ClassVar[dict[str, str]] = {"stalled": "", "stall_time": "s", "energy_drift": ""}
+
+    @property
+    def solved(self) -> str:
+        """What was solved and how, in words."""
+        return f"time integration ({self.method})"
 
     @property
     def rpm(self) -> np.ndarray:
         """The speed in revolutions per minute, 30 ω/π [1/min]."""
-        return self.omega * (30.0 / math.pi)
+        return rpm_from_omega(self.omega)
 
     def __len__(self) -> int:
         return int(self.time.size)
@@ -132,58 +157,12 @@ class Transient:
             f"ω {self.omega[0]:.6g} → {self.omega[-1]:.6g} rad/s, energy_drift = {self.energy_drift:.2g})"
         )
 
-    def to_pandas(self) -> Any:
-        """The samples as a table.
-
-        Returns
-        -------
-        pandas.DataFrame
-            Indexed by ``time`` [s], one column per array (``phi``, ``omega``, …, ``work``);
-            their units in ``frame.attrs["units"]``, and ``stalled``, ``stall_time`` and
-            ``energy_drift`` in ``frame.attrs`` as well.
-        """
-        import pandas as pd
-
-        frame = pd.DataFrame(
-            {name: getattr(self, name) for name in COLUMNS},
-            index=pd.Index(self.time, name="time"),
-        )
-        frame.attrs.update(self._attributes())
-        frame.attrs["units"] = {"time": "s", **COLUMNS}
-        return frame
-
-    def to_xarray(self) -> Any:
-        """The samples as an ``xarray.Dataset``; needs the ``xarray`` extra.
-
-        Returns
-        -------
-        xarray.Dataset
-            One variable per array on the dimension ``time`` [s], each with its ``units``
-            attribute; ``stalled`` (0 or 1), ``stall_time`` (NaN if none) and
-            ``energy_drift`` as attributes of the dataset.
-        """
-        xr = require("xarray", "xarray")
-        variables = {name: ("time", getattr(self, name), {"units": unit}) for name, unit in COLUMNS.items()}
-        return xr.Dataset(
-            variables,
-            coords={"time": ("time", self.time, {"units": "s"})},
-            attrs=self._attributes(),
-        )
-
-    def _attributes(self) -> dict[str, Any]:
-        # netCDF attributes cannot be None or bool: a run that did not stall has NaN.
-        return {
-            "stalled": int(self.stalled),
-            "stall_time": math.nan if self.stall_time is None else self.stall_time,
-            "energy_drift": self.energy_drift,
-        }
-
 
 def simulate(
     machine: Machine,
     t_eval: Any,
     *,
-    omega0: float,
+    omega0: float | None = None,
     phi0: float = 0.0,
     load: Any = None,
     drive: Any = None,
@@ -194,6 +173,8 @@ def simulate(
     max_step: float = math.inf,
     balance_speed: float | None = None,
     progress: bool = False,
+    rpm0: float | None = None,
+    balance_rpm: float | None = None,
 ) -> Transient:
     """Integrate the machine's motion in time: start-up, run-down, a load step.
 
@@ -212,10 +193,10 @@ def simulate(
         at the last sample: ``simulate(machine, t_next, omega0=r.omega[-1],
         phi0=r.phi[-1], load=new_load)`` with ``t_next[0] = r.time[-1]``.
     omega0 : float
-        ω at the start [rad/s], finite and ≥ 0. Gas pressure given as a function of the
-        cycle angle assumes the machine turns forward (docs/theory.md, "Transients"), so a negative start
-        speed is refused; from ω₀ = 0 a machine whose net torque at φ₀ is not positive
-        stalls at once.
+        ω at the start [rad/s], finite and ≥ 0 (or give ``rpm0``: exactly one of the two). Gas
+        pressure given as a function of the cycle angle assumes the machine turns forward
+        (docs/theory.md, "Transients"), so a negative start speed is refused; from ω₀ = 0 a
+        machine whose net torque at φ₀ is not positive stalls at once.
     phi0 : float
         φ at the start [rad], any finite real.
     load, drive : optional
@@ -225,12 +206,13 @@ def simulate(
         the place in the cycle); the load positive resisting rotation, the drive positive
         driving it. The load may also be ``"balance"``: the constant load equal to the cycle
         mean of the gas and drive torques, (1/Φ)∫₀^Φ (M_gas + M_drive) dφ, computed once, at
-        the start, a speed-dependent drive being called with ω = ``balance_speed`` there.
+        the start, a speed-dependent drive being called with ω = ``balance_rpm`` there.
     gravity : bool
         False leaves gravity out (U ≡ 0), as if g were 0; J is the same either way.
     rtol, atol : float
-        The integrator's relative and absolute tolerances, > 0 (atol applies to φ [rad],
-        ω [rad/s] and W [J] alike).
+        The integrator's relative and absolute tolerances: 2.2e-14 (100 machine epsilons)
+        ≤ rtol < 1 and atol ≥ 1e-100, finite (atol applies to φ [rad], ω [rad/s] and W [J]
+        alike).
     method : str
         The ``solve_ivp`` method: "DOP853" (default; 8th-order explicit Runge–Kutta), "RK45",
         "RK23", or an implicit one ("Radau", "BDF", "LSODA") for very stiff loads.
@@ -241,11 +223,15 @@ def simulate(
         most 10⁸ steps); a run is also refused beyond 10⁷ revolutions at ``omega0``, so that
         no call runs for hours.
     balance_speed : float, optional
-        ω [rad/s] at which a speed-dependent drive is frozen for ``load="balance"``; default
-        ``omega0``. Refused with any other load.
+        The same as ``balance_rpm``, in rad/s (the name of 0.2 and before).
     progress : bool
         Show a tqdm progress bar of the simulated time (it follows the integrator's farthest
         evaluation; the result does not depend on it).
+    rpm0 : float, optional
+        The start speed in 1/min instead of ``omega0`` (ω₀ = π n₀/30), finite and ≥ 0.
+    balance_rpm : float, optional
+        The speed [1/min] at which a speed-dependent drive is frozen for ``load="balance"``;
+        default the start speed. Refused with any other load.
 
     Returns
     -------
@@ -283,7 +269,7 @@ def simulate(
     >>> import multicrank as mc
     >>> compressor = mc.presets.ENGINES["slow-compressor"]
     >>> times = np.linspace(0.0, 10.0, 201)  # s
-    >>> run = mc.simulate(compressor, times, omega0=120 * np.pi / 30)
+    >>> run = mc.simulate(compressor, times, rpm0=120)
     >>> print(f"stalled: {run.stalled}, after {run.stall_time:.2f} s; "
     ...       f"energy check {run.energy_drift < 1e-8}")
     stalled: True, after 4.31 s; energy check True
@@ -294,20 +280,11 @@ def simulate(
     0.05  12.62       58.75
     0.10  12.56     -878.40
     """
-    if not isinstance(machine, Machine):
-        raise MechanismError(f"machine must be a multicrank.Machine, got {type(machine).__name__}")
+    machine = as_instance(machine, Machine, "machine")
     times = _as_times(t_eval)
-    omega_start = _finite(omega0, "omega0")
-    if omega_start < 0:
-        raise MechanismError(
-            f"omega0 = {omega_start} is out of range; allowed: omega0 >= 0 [rad/s] (gas pressure per cycle angle "
-            "assumes forward rotation)"
-        )
+    start_name, omega_start = _start_speed(omega0, rpm0)
     phi_start = _finite(phi0, "phi0")
-    tolerances = {name: _positive(value, name) for name, value in (("rtol", rtol), ("atol", atol))}
-    if tolerances["rtol"] < _RTOL_FLOOR:
-        # solve_ivp would raise it to this with a warning; say so instead.
-        raise MechanismError(f"rtol = {tolerances['rtol']} is out of range; allowed: rtol >= {_RTOL_FLOOR:.3g}")
+    tolerances = _tolerances(rtol, atol)
     step_limit = as_scalar(max_step, "max_step")
     # The work is bounded up front (issue 13: fail fast, never hang): at most 10⁸ steps of
     # max_step, at most 10⁷ revolutions at the start speed, over the run.
@@ -320,28 +297,21 @@ def simulate(
     revolutions = omega_start * span / (2 * math.pi)
     if revolutions > 1e7:
         raise MechanismError(
-            f"omega0 = {omega_start:g} rad/s over the run's {span:g} s is {revolutions:.3g} revolutions; at most "
-            "10⁷ in one run (shorten t_eval)"
+            f"{start_name}: a start speed of {omega_start:g} rad/s over the run's {span:g} s is {revolutions:.3g} "
+            "revolutions; at most 10⁷ in one run (shorten t_eval)"
         )
     if not isinstance(method, str) or method not in METHODS:
         raise MechanismError(f"method = {method!r} is not allowed; allowed: {', '.join(map(repr, METHODS))}")
-    if not isinstance(gravity, (bool, np.bool_)):
-        raise MechanismError(f"gravity must be True or False, got {gravity!r}")
-    if not isinstance(progress, (bool, np.bool_)):
-        raise MechanismError(f"progress must be True or False, got {progress!r}")
-    drive_torque = as_torque(drive, "drive")
-    load_torque = as_torque(load, "load", balance=True)
-    assert not isinstance(drive_torque, str)  # as_torque gives "balance" only where allowed
-    if balance_speed is not None and load_torque != BALANCE:
-        raise MechanismError("balance_speed applies to load='balance' only")
-    if load_torque == BALANCE:
-        frozen = omega_start if balance_speed is None else _finite(balance_speed, "balance_speed")
-        load_torque = Torque("constant", balance_torque(machine, drive_torque, frozen), "load")
-    assert not isinstance(load_torque, str)
+    gravity = as_flag(gravity, "gravity")
+    progress = as_flag(progress, "progress")
+    torques = AppliedTorques.of(load, drive)
+    frozen = _balance_speed(balance_rpm, balance_speed, torques.balance)
+    torques = torques.balanced(machine, omega_start if frozen is None else frozen)
+    assert not isinstance(torques.load, str)
 
-    model = _Model(machine, drive_torque, load_torque, bool(gravity) and machine.g != 0.0)
-    solution = _integrate(model, times, phi_start, omega_start, tolerances, method, step_limit, bool(progress))
-    return model.result(solution)
+    model = _Model(machine, torques.drive, torques.load, gravity and machine.g != 0.0)
+    solution = _integrate(model, times, phi_start, omega_start, tolerances, method, step_limit, progress)
+    return model.result(solution, method)
 
 
 # -- the model --------------------------------------------------------------------------------
@@ -353,9 +323,7 @@ class _Model:
     def __init__(self, machine: Machine, drive: Torque | None, load: Torque | None, gravity: bool) -> None:
         self.machine, self.drive, self.load, self.gravity = machine, drive, load, gravity
         # Without a gassed cylinder the gas torque is 0: skip its (Python) pressure calls.
-        self.gas = any(
-            c.bore > 0 and (c.pressure is not None or c.pressure_crank_end is not None) for c in machine.cylinders
-        )
+        self.gas = any(has_gas(c) for c in machine.cylinders)
 
     def external(self, phi: np.ndarray, omega: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(M_gas, M_drive, M_load) [N·m] at φ, ω (arrays of one shape)."""
@@ -376,15 +344,15 @@ class _Model:
         inertia, slope = self.machine.reduced_inertia(phi)
         gas, drive, load = self.external(phi, omega)
         external = float(gas + drive - load)
-        torque = external + float(self.gravity_torque(phi)) - 0.5 * float(slope) * float(omega) ** 2
+        torque = external + float(self.gravity_torque(phi)) + float(inertia_torque(slope, omega))
         return [float(omega), torque / float(inertia), external * float(omega)]
 
-    def result(self, solution: Any) -> Transient:
+    def result(self, solution: Any, method: str) -> Transient:
         time, phi, omega, work = solution.time, solution.phi, solution.omega, solution.work
         inertia, slope = self.machine.reduced_inertia(phi)
         gas, drive, load = self.external(phi, omega)
         gravity = self.gravity_torque(phi)
-        inertia_torque = -0.5 * slope * omega**2
+        velocity_term = inertia_torque(slope, omega)
         kinetic = 0.5 * inertia * omega**2
         potential = self.potential_energy(phi)
         energy = kinetic + potential - work
@@ -394,11 +362,11 @@ class _Model:
             "time": time,
             "phi": phi,
             "omega": omega,
-            "acceleration": (gas + gravity + inertia_torque + drive - load) / inertia,
+            "acceleration": (gas + gravity + velocity_term + drive - load) / inertia,
             "reduced_inertia": inertia,
             "gas_torque": gas,
             "gravity_torque": gravity,
-            "inertia_torque": inertia_torque,
+            "inertia_torque": velocity_term,
             "drive_torque": drive,
             "load_torque": load,
             "kinetic_energy": kinetic,
@@ -414,6 +382,7 @@ class _Model:
             energy_drift=drift,
             nfev=solution.nfev,
             message=solution.message,
+            method=method,
         )
 
 
@@ -533,8 +502,39 @@ def _finite(value: Any, name: str) -> float:
     return x
 
 
-def _positive(value: Any, name: str) -> float:
-    x = as_scalar(value, name)
-    if not (math.isfinite(x) and x > 0):
-        raise MechanismError(f"{name} = {x} is out of range; allowed: {name} > 0")
-    return x
+def _start_speed(omega0: Any, rpm0: Any) -> tuple[str, float]:
+    """(the name given, ω₀ [rad/s]) from ``omega0`` [rad/s] or ``rpm0`` [1/min] (exactly one),
+    finite and ≥ 0."""
+    name, value = one_of(("omega0", omega0), ("rpm0", rpm0))
+    speed = _finite(value, name)
+    if speed < 0:
+        unit = "rad/s" if name == "omega0" else "1/min"
+        raise MechanismError(
+            f"{name} = {speed} is out of range; allowed: {name} >= 0 [{unit}] (gas pressure per cycle angle "
+            "assumes forward rotation)"
+        )
+    return name, speed if name == "omega0" else float(omega_from_rpm(speed))
+
+
+def _balance_speed(balance_rpm: Any, balance_speed: Any, balance: bool) -> float | None:
+    """The ω [rad/s] at which "balance" freezes a drive, from ``balance_rpm`` [1/min] or its old
+    name ``balance_speed`` [rad/s]; None: the start speed."""
+    if balance_rpm is None and balance_speed is None:
+        return None
+    name, value = one_of(("balance_rpm", balance_rpm), ("balance_speed", balance_speed))
+    if not balance:
+        raise MechanismError(f"{name} applies to load='balance' only")
+    speed = _finite(value, name)
+    return speed if name == "balance_speed" else float(omega_from_rpm(speed))
+
+
+def _tolerances(rtol: Any, atol: Any) -> dict[str, float]:
+    """solve_ivp's rtol and atol, checked up front against what it can honour."""
+    relative, absolute = as_scalar(rtol, "rtol"), as_scalar(atol, "atol")
+    # Below the floor solve_ivp would raise rtol itself, with a warning; at 1 or more it would
+    # accept an error as large as the state.
+    if not (math.isfinite(relative) and _RTOL_FLOOR <= relative < 1):
+        raise MechanismError(f"rtol = {relative} is out of range; allowed: {_RTOL_FLOOR:.3g} <= rtol < 1")
+    if not (math.isfinite(absolute) and absolute >= _ATOL_FLOOR):
+        raise MechanismError(f"atol = {absolute} is out of range; allowed: atol >= {_ATOL_FLOOR:g}, finite")
+    return {"rtol": relative, "atol": absolute}

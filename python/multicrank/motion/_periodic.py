@@ -1,0 +1,167 @@
+"""The periodic solution by its route, shared by :mod:`~multicrank.motion.steady` and
+:mod:`~multicrank.motion.flywheel`: the inputs they share validated (load and drive, the mean
+speed, the stall criterion), the route the load asks for chosen, and solved on the machine's
+cycle tables by the numerics of :mod:`~multicrank.motion._solvers`.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from .._native import MechanismError
+from .._shaft import omega_from_rpm
+from .._validation import as_scalar, as_speed
+from ..machine.machine import Machine
+from ._quadrature import CycleQuadrature
+from ._solvers import Balance, CycleTables, Periodic, Shooting, SquareLaw, quasi_static_speed
+from .loads import BALANCE, AppliedTorques, Torque, balance_torque
+
+__all__ = [
+    "DEFAULT_MIN_SPEED_RATIO",
+    "METHODS",
+    "SOLVED",
+    "Rules",
+    "as_min_speed_ratio",
+    "balance_at",
+    "cycle_tables",
+    "mean_speed",
+    "resolve_rules",
+    "solve_periodic",
+]
+
+#: ω_min/ω_m below which a machine is said to stall.
+DEFAULT_MIN_SPEED_RATIO = 1e-3
+# The shooting's relative tolerance (solve_ivp's rtol and the root's): ω_m to ~1e-10.
+_SHOOTING_RTOL = 1e-11
+
+
+def as_min_speed_ratio(value: Any) -> float:
+    ratio = as_scalar(value, "min_speed_ratio")
+    # Below 1e-9 the crawl over a dead centre takes longer than any run (and 1/ratio² leaves
+    # the range of a double on the way): such a machine has stalled by any measure.
+    if not 1e-9 <= ratio < 1.0:
+        raise MechanismError(f"min_speed_ratio = {ratio} is out of range; allowed: 1e-9 <= min_speed_ratio < 1")
+    return ratio
+
+
+def mean_speed(value: Any, route: str, machine: Machine) -> float | None:
+    """ω_m [rad/s] of ``rpm`` = ``value`` [1/min], default the machine's own ``rpm`` (as
+    :meth:`~multicrank.Machine.engine` takes it); None where the load fixes the speed."""
+    if route != BALANCE:
+        if value is not None:
+            raise MechanismError(
+                f"rpm = {value!r} is not allowed with this load: a {route} load fixes the mean speed itself "
+                "(it is a result); pass rpm only with load='balance'"
+            )
+        return None
+    if value is None:
+        if machine.rpm is None:
+            raise MechanismError(
+                f"rpm is required with load='balance': the mean speed [1/min] to run at (machine {machine.name!r} "
+                "has no rpm of its own)"
+            )
+        value = machine.rpm
+    return omega_from_rpm(as_speed(value, "rpm"))
+
+
+#: How each route is solved (:attr:`SteadyState.method`), and what that is in words.
+METHODS = {BALANCE: "energy", "square-law": "closed form", "general": "shooting"}
+SOLVED = {
+    "energy": "balance load (energy method)",
+    "closed form": "square-law load (closed form)",
+    "shooting": "periodic motion (shooting)",
+}
+
+
+@dataclass(frozen=True)
+class Rules:
+    """The load and drive resolved, and which route solves them."""
+
+    route: str  # "balance", "square-law" or "general"
+    torques: AppliedTorques
+
+    @property
+    def load(self) -> Torque | str | None:
+        return self.torques.load
+
+    @property
+    def drive(self) -> Torque | None:
+        return self.torques.drive
+
+    @property
+    def constant_drive(self) -> float:
+        return 0.0 if self.drive is None else float(self.drive.value)
+
+
+def resolve_rules(load: Any, drive: Any) -> Rules:
+    """``load=`` and ``drive=`` validated, and the route that solves them."""
+    torques = AppliedTorques.of(load, drive)
+    load_, drive_ = torques.load, torques.drive
+    constant_drive = drive_ is None or drive_.kind == "constant"
+    if torques.balance:
+        return Rules(BALANCE, torques)
+    assert not isinstance(load_, str)
+    if isinstance(load_, Torque) and load_.kind == "power-law" and load_.value.exponent == 2 and constant_drive:
+        if load_.value.coefficient == 0:
+            raise MechanismError(
+                "load = PowerLawLoad(torque=0, ...) takes no torque: nothing holds the speed; "
+                "use load='balance' with rpm"
+            )
+        return Rules("square-law", torques)
+    if (load_ is None or load_.kind == "constant") and constant_drive:
+        raise MechanismError(
+            f"load = {load!r} is a constant torque and so is the drive: the machine has no periodic steady state "
+            "unless the load equals the cycle mean of gas and drive exactly — that is load='balance' (with rpm); "
+            "or give a load that grows with speed (mc.PowerLawLoad, or a callable f(phi, omega))"
+        )
+    return Rules("general", torques)
+
+
+def cycle_tables(machine: Machine, gravity: bool) -> CycleTables:
+    """The machine over its cycle (g = 0 without gravity). Its panels are cut at the gassed
+    units' dead centres only — the gas torque enters through its exact work
+    (:class:`~multicrank._work.GasWork`), which takes the pressure tables' breakpoints — and
+    are π/8 wide or, where the machine's J and U have harmonics too high for that (a large
+    crank ratio, many cylinders), halved until their interpolants converge."""
+    width = math.pi / 8
+    work = None
+    while True:
+        rule = CycleQuadrature.of(machine, tables=False, max_width=width)
+        cycle = CycleTables(machine, rule, gravity=gravity, work=work)
+        if width < math.pi / 60 or cycle.resolved():
+            return cycle
+        width, work = width / 2, cycle.work
+
+
+def balance_at(cycle: CycleTables, rules: Rules, omega_mean: float) -> Balance:
+    """The energy method for "balance": the drive at the nodes and the balancing load
+    (:func:`~multicrank.motion.loads.balance_torque`), a drive's speed dependence frozen at ω_m."""
+    drive = None if rules.drive is None else rules.drive(cycle.rule.phi, omega_mean)
+    load = balance_torque(cycle.machine, rules.drive, omega_mean, cycle.rule, work=cycle.work)
+    return Balance(cycle, drive, load)
+
+
+def solve_periodic(cycle: CycleTables, rules: Rules, omega_mean: float | None, ratio: float) -> Periodic:
+    """One periodic solution by the route of ``rules``; raises _solvers.Stall."""
+    if rules.route == BALANCE:
+        assert omega_mean is not None
+        return balance_at(cycle, rules, omega_mean).solve(omega_mean, ratio)
+    if rules.route == "square-law":
+        assert isinstance(rules.load, Torque)
+        # What a balancing load would take beside gas and drive (the drive is constant: any ω).
+        mean = balance_torque(cycle.machine, rules.drive, 0.0, cycle.rule, work=cycle.work)
+        if not mean > 0:
+            raise MechanismError(
+                f"drive: the cycle mean of gas and drive torque is {mean:.6g} N·m, not positive: "
+                "a square-law load cannot balance it at any positive speed"
+            )
+        return SquareLaw(cycle, rules.constant_drive, rules.load.value.coefficient).solve(ratio)
+    applied = rules.torques.net
+    guess = quasi_static_speed(cycle, applied, "load")
+    # Runs stop where ω falls to half of min_speed_ratio times the speed the torques balance at.
+    floor = 0.5 * float(np.min(cycle.J)) * (0.5 * ratio * guess) ** 2
+    return Shooting(cycle, applied, _SHOOTING_RTOL, floor).solve(guess, ratio)

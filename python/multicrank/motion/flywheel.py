@@ -1,0 +1,296 @@
+"""The flywheel for a coefficient of speed fluctuation (docs/theory.md, "Steady running"):
+the shaft inertia I_w that gives a machine the δ asked for, found over exact steady states
+(:mod:`~multicrank.motion.steady`), with the textbook estimate beside it.
+
+Speeds follow the house convention: ``rpm`` in 1/min, ``omega…`` in rad/s.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any, ClassVar
+
+from .._native import MechanismError
+from .._shaft import rpm_from_omega
+from .._validation import as_flag, as_instance, as_scalar
+from ..machine.machine import Machine
+from ._periodic import (
+    DEFAULT_MIN_SPEED_RATIO,
+    METHODS,
+    SOLVED,
+    Rules,
+    as_min_speed_ratio,
+    balance_at,
+    cycle_tables,
+    mean_speed,
+    resolve_rules,
+    solve_periodic,
+)
+from ._result import MotionResult
+from ._solvers import Balance, CycleTables, Stall, quasi_static_speed, scipy_optimize
+from .loads import BALANCE, balance_torque
+
+__all__ = ["FlywheelInertia", "flywheel_inertia"]
+
+
+@dataclass(frozen=True)
+class FlywheelInertia(MotionResult):
+    """The shaft inertia that gives a machine a coefficient of speed fluctuation δ.
+
+    The result of :func:`flywheel_inertia`; ``float(result)`` is ``shaft_inertia``, and
+    ``to_pandas()`` / ``to_xarray()`` give its numbers as one row.
+
+    Attributes
+    ----------
+    shaft_inertia : float
+        I_w [kg·m²] (everything turning rigidly with the shaft) giving the time-mean δ asked
+        for, exactly (to the steady state's accuracy).
+    shaft_inertia_without_gravity : float
+        The same for the machine with g = 0 (equal to shaft_inertia when solved without
+        gravity); NaN where only gravity makes the machine fluctuate that much.
+    textbook : float
+        The textbook estimate ΔE/(δ ω_m²) − mean(J − I_w) [kg·m²], ΔE = max − min of
+        ∫(M_gas + M_drive − M_load − U') dφ with every torque at the constant speed ω_m and the
+        load taken as the constant that balances the others over the cycle.
+    textbook_error : float
+        (textbook − shaft_inertia)/shaft_inertia.
+    delta : float
+        The δ asked for [dimensionless].
+    rpm : float
+        The mean speed [1/min] (for loads that fix the speed: the one reached with
+        ``shaft_inertia``).
+    energy_swing : float
+        ΔE [J] of the textbook estimate.
+    method : str
+        How each trial steady state was solved: "energy", "closed form" or "shooting"
+        (:attr:`solved` in words).
+    """
+
+    shaft_inertia: float
+    shaft_inertia_without_gravity: float
+    textbook: float
+    textbook_error: float
+    delta: float
+    rpm: float
+    energy_swing: float
+    method: str = METHODS[BALANCE]
+
+    NUMBERS: ClassVar[dict[str, str]] = {
+        "shaft_inertia": "kg·m²",
+        "shaft_inertia_without_gravity": "kg·m²",
+        "textbook": "kg·m²",
+        "textbook_error": "",
+        "delta": "",
+        "rpm": "1/min",
+        "energy_swing": "J",
+    }
+
+    @property
+    def solved(self) -> str:
+        """What was solved and how, in words."""
+        return f"flywheel (Brent's method on log I_w over steady states: {SOLVED[self.method]})"
+
+    def __float__(self) -> float:
+        return self.shaft_inertia
+
+    def __repr__(self) -> str:
+        return (
+            f"FlywheelInertia(shaft_inertia={self.shaft_inertia:.8g} kg·m² for δ = {self.delta:g} at "
+            f"{self.rpm:.6g} rpm; without gravity {self.shaft_inertia_without_gravity:.8g} kg·m²; "
+            f"textbook ΔE/(δω²) − mean(J − I_w) = {self.textbook:.8g} kg·m² ({self.textbook_error:+.2e})"
+        )
+
+
+def _as_delta(value: Any) -> float:
+    delta = as_scalar(value, "delta")
+    # Below 1e-9 a δ is within the rounding of the speeds it is found from (the steady state
+    # is solved to ~1e-10 of ω): no flywheel can be sized for it.
+    if not (math.isfinite(delta) and delta >= 1e-9):
+        raise MechanismError(
+            f"delta = {delta} is out of range; allowed: delta >= 1e-9 (the coefficient of speed fluctuation)"
+        )
+    return delta
+
+
+def _inertia_for(
+    cycle: CycleTables, rules: Rules, omega_mean: float | None, ratio: float, delta: float, start: float
+) -> float:
+    """The I_w [kg·m²] with δ(I_w) = delta: Brent's method on log I_w, δ falling as I_w grows.
+
+    A machine that stalls counts as δ = ∞ (its fluctuation is above any target); a target that
+    only a stalling machine would reach is unreachable."""
+    optimize = scipy_optimize()
+    balance = None
+    if rules.route == BALANCE:
+        assert omega_mean is not None
+        balance = balance_at(cycle, rules, omega_mean)
+
+    known: dict[float, float] = {}
+
+    def excess(log_inertia: float) -> float:
+        """log(δ(I_w)/delta), +inf where the machine stalls; each I_w solved once."""
+        if log_inertia not in known:
+            inertia = math.exp(log_inertia)
+            try:
+                if balance is not None:
+                    assert omega_mean is not None
+                    found = balance.with_inertia(inertia).solve(omega_mean, ratio).delta
+                else:
+                    found = solve_periodic(cycle.with_inertia(inertia), rules, omega_mean, ratio).delta
+                # a flywheel so heavy that δ rounds to 0 is beyond the target
+                known[log_inertia] = math.log(found / delta) if found > 0 else -math.inf
+            except Stall:
+                known[log_inertia] = math.inf
+        return known[log_inertia]
+
+    # The bracket: from the estimate outwards, in steps that grow (the textbook estimate is
+    # near for a machine of small δ, and ~10 % off for a compressor at δ ≈ 1/30: the first
+    # steps cover both).
+    origin = math.log(max(start, 1e-300))
+    steps = [0.05, 0.2, 0.7, *([math.log(4.0)] * 100)]
+    low = high = origin
+    if excess(origin) > 0:
+        for step in steps:
+            low, high = high, high + step
+            if excess(high) <= 0:
+                break
+            if high - origin > 150:
+                raise MechanismError(f"delta = {delta} is not reached by any shaft_inertia (δ never falls that low)")
+    else:
+        for step in steps:
+            high, low = low, low - step
+            if excess(low) > 0:
+                break
+            # δ(I_w) levels off as I_w → 0 (the rods' and pistons' inertia remains): unreachable.
+            if low < origin - 60 or abs(excess(low) - excess(high)) < 1e-9:
+                raise MechanismError(
+                    f"delta = {delta} is unreachable: even a massless shaft keeps δ below it (about "
+                    f"{delta * math.exp(excess(low)):.4g}: the rods' and pistons' own inertia limits the fluctuation)"
+                )
+    # A stall on the low side is +inf: brentq needs finite values, so the low end is moved to
+    # the lightest shaft that still runs (bisection); a target beyond it is unreachable.
+    if math.isinf(excess(low)):
+        running = high
+        for _ in range(40):
+            middle = 0.5 * (low + running)
+            if math.isinf(excess(middle)):
+                low = middle
+            else:
+                running = middle
+        if excess(running) < 0:
+            raise MechanismError(
+                f"delta = {delta} is unreachable at this speed: the machine stalls (ω_min < min_speed_ratio·ω_m) "
+                f"before its fluctuation grows that large; the largest δ that runs is about "
+                f"{delta * math.exp(excess(running)):.4g}"
+            )
+        low = running
+    log_inertia = optimize.brentq(excess, low, high, xtol=1e-12, rtol=1e-15)
+    return math.exp(log_inertia)
+
+
+def flywheel_inertia(
+    machine: Machine,
+    *,
+    delta: Any,
+    rpm: Any = None,
+    load: Any = BALANCE,
+    drive: Any = None,
+    gravity: Any = True,
+    min_speed_ratio: Any = DEFAULT_MIN_SPEED_RATIO,
+) -> FlywheelInertia:
+    """The shaft inertia I_w [kg·m²] that gives the machine a coefficient of speed fluctuation δ.
+
+    δ is the time-mean one of :func:`steady_state`, (ω_max − ω_min)/ω_m, computed exactly for
+    every trial I_w (the machine's own ``shaft_inertia`` is replaced); δ falls monotonically as
+    I_w grows, and Brent's method on log I_w finds the I_w that gives ``delta``.
+
+    Parameters
+    ----------
+    machine : Machine
+        The machine; its own ``shaft_inertia`` is replaced by the trial values.
+    delta : float
+        The target δ [dimensionless], ≥ 1e-9.
+    rpm : float, optional
+        The mean speed [1/min] with ``load="balance"``; default the machine's own ``rpm``
+        (refused when it has none). Refused with other loads, which fix the speed.
+    load : "balance", float, PowerLawLoad or callable, default "balance"
+        The resisting torque [N·m], as for :func:`steady_state`.
+    drive : float, PowerLawLoad or callable, optional
+        A driving torque [N·m], as for :func:`steady_state`.
+    gravity : bool, default True
+        False sizes the flywheel of the machine with g = 0.
+    min_speed_ratio : float, default 1e-3
+        The stall criterion [dimensionless], as for :func:`steady_state`.
+
+    Returns
+    -------
+    FlywheelInertia
+        ``shaft_inertia`` [kg·m²] (also ``float(result)``), ``shaft_inertia_without_gravity``,
+        the textbook estimate ΔE/(δ ω_m²) − mean(J − I_w) and its relative error.
+
+    Raises
+    ------
+    MechanismError
+        For bad input, naming the parameter; ``delta`` unreachable (the machine would stall
+        before its fluctuation grows that large, or the rods' own inertia keeps it below).
+
+    Examples
+    --------
+    The slow compressor's flywheel for δ = 1/40 at 120 rpm, with gravity and without:
+
+    >>> import multicrank as mc
+    >>> compressor = mc.presets.ENGINES["slow-compressor"]
+    >>> flywheel = mc.flywheel_inertia(compressor, delta=1 / 40, rpm=120)
+    >>> print(f"I_w = {flywheel.shaft_inertia:.1f} kg·m² "
+    ...       f"({flywheel.shaft_inertia_without_gravity:.1f} without gravity; "
+    ...       f"textbook {flywheel.textbook:.1f})")
+    I_w = 413.8 kg·m² (350.3 without gravity; textbook 450.5)
+    """
+    machine = as_instance(machine, Machine, "machine")
+    target = _as_delta(delta)
+    rules = resolve_rules(load, drive)
+    omega_mean = mean_speed(rpm, rules.route, machine)
+    gravity = as_flag(gravity, "gravity")
+    ratio = as_min_speed_ratio(min_speed_ratio)
+    cycle = cycle_tables(machine, gravity)
+
+    def estimate(cycle: CycleTables, omega: float) -> tuple[float, float]:
+        """(ΔE [J], the textbook I_w [kg·m²]) at the constant speed ω, the load taken as the
+        constant that balances the others (a "balance" load: the drive alone)."""
+        applied = rules.torques.net
+        load = balance_torque(cycle.machine, applied, omega, cycle.rule, work=cycle.work)
+        swing = Balance(cycle, applied(cycle.rule.phi, omega), load).energy_swing()
+        return swing, swing / (target * omega**2) - cycle.mean_rest_inertia
+
+    speed = omega_mean
+    if speed is None:  # the load fixes the speed: near the machine's own, to start from
+        try:
+            speed = solve_periodic(cycle, rules, None, ratio).omega_mean
+        except Stall:
+            speed = quasi_static_speed(cycle, rules.torques.net, "load")
+    swing, textbook = estimate(cycle, speed)
+    start = textbook if textbook > 0 else swing / (target * speed**2)
+    if not start > 0:
+        start = max(cycle.mean_rest_inertia, machine.shaft_inertia)
+    inertia = _inertia_for(cycle, rules, omega_mean, ratio, target, start)
+    if omega_mean is None:  # the speed reached with that flywheel; the estimate there
+        speed = solve_periodic(cycle.with_inertia(inertia), rules, None, ratio).omega_mean
+        swing, textbook = estimate(cycle, speed)
+    if cycle.gravity_on:
+        try:
+            without = _inertia_for(cycle.without_gravity(), rules, omega_mean, ratio, target, inertia)
+        except MechanismError:  # only with gravity does the machine fluctuate that much
+            without = math.nan
+    else:
+        without = inertia
+    return FlywheelInertia(
+        shaft_inertia=inertia,
+        shaft_inertia_without_gravity=without,
+        textbook=textbook,
+        textbook_error=(textbook - inertia) / inertia,
+        delta=target,
+        rpm=rpm_from_omega(speed),
+        energy_swing=swing,
+        method=METHODS[rules.route],
+    )
