@@ -245,9 +245,10 @@ def test_balance_freezes_a_speed_dependent_drive_at_the_start_or_at_balance_spee
     drive = mc.PowerLawLoad(torque=10.0, speed=10.0, exponent=1)  # 10 N·m at 10 rad/s
     at_start = mc.simulate(machine, [0.0, 0.1], omega0=20.0, drive=drive, load="balance")
     np.testing.assert_allclose(at_start.load_torque, 20.0, rtol=1e-13)
-    frozen = mc.simulate(machine, [0.0, 0.1], omega0=20.0, drive=drive, load="balance", balance_speed=5.0)
+    with pytest.warns(DeprecationWarning, match=r"balance_speed=.* use balance_rpm"):
+        frozen = mc.simulate(machine, [0.0, 0.1], omega0=20.0, drive=drive, load="balance", balance_speed=5.0)
     np.testing.assert_allclose(frozen.load_torque, 5.0, rtol=1e-13)
-    # balance_rpm: the same speed in 1/min (balance_speed is its rad/s alias)
+    # balance_rpm: the same speed in 1/min (balance_speed, deprecated, is its rad/s alias)
     in_rpm = mc.simulate(machine, [0.0, 0.1], omega0=20.0, drive=drive, load="balance", balance_rpm=150 / math.pi)
     np.testing.assert_allclose(in_rpm.load_torque, 5.0, rtol=1e-13)
 

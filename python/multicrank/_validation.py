@@ -12,6 +12,7 @@ import math
 import operator
 import os
 import sys
+import warnings
 from typing import Any, TypeVar
 
 import numpy as np
@@ -46,6 +47,8 @@ __all__ = [
     "finish",
     "has_gas",
     "one_of",
+    "renamed",
+    "warn_renamed",
 ]
 
 _NUMERIC_KINDS = "iuf"
@@ -323,3 +326,31 @@ def as_instance(value: Any, kind: type[Kind], name: str) -> Kind:
 def has_gas(cylinder: Any) -> bool:
     """Whether a cylinder takes a gas torque: a bore and a pressure on at least one end."""
     return bool(cylinder.bore > 0 and (cylinder.pressure is not None or cylinder.pressure_crank_end is not None))
+
+
+def warn_renamed(old: str, new: str, *, stacklevel: int = 3) -> None:
+    """Say that ``old`` (a keyword or attribute of 0.1) is now called ``new``: a
+    DeprecationWarning pointing at the caller's line. The old name goes in 0.3."""
+    warnings.warn(
+        f"{old} is deprecated since multicrank 0.2: use {new} (the old name goes in 0.3)",
+        DeprecationWarning,
+        stacklevel=stacklevel,
+    )
+
+
+class renamed:
+    """A class attribute that keeps an old attribute name readable: ``J = renamed("reduced_inertia")``
+    returns ``self.reduced_inertia`` with a DeprecationWarning (see :func:`warn_renamed`)."""
+
+    def __init__(self, new: str) -> None:
+        self.new = new
+        self.old = new
+
+    def __set_name__(self, owner: type, name: str) -> None:
+        self.old = f"{owner.__name__}.{name}"
+
+    def __get__(self, instance: Any, owner: type | None = None) -> Any:
+        if instance is None:
+            return self
+        warn_renamed(self.old, f"{self.old.split('.')[0]}.{self.new}")
+        return getattr(instance, self.new)

@@ -12,6 +12,7 @@ import numpy as np
 
 from .._files import write_atomically
 from .._native import MechanismError
+from .._shaft import omega_from_rpm, rpm_from_omega
 from ._group import UserError, engine_option
 from ._output import format_option, write_result
 
@@ -39,7 +40,7 @@ def parse_torque(text: str, name: str, *, balance: bool) -> Any:
         torque, rpm = numbers[0], numbers[1]
         if not (math.isfinite(rpm) and rpm > 0):
             raise MechanismError(f"--{name} = {text!r}: RPM must be > 0 [1/min]")
-        return PowerLawLoad(torque, rpm * math.pi / 30, *numbers[2:])
+        return PowerLawLoad(torque, rpm=rpm, exponent=numbers[2]) if len(numbers) > 2 else PowerLawLoad(torque, rpm=rpm)
     try:
         number = float(value)
     except ValueError:
@@ -127,7 +128,7 @@ def simulate_command(
     try:
         machine = engine if gas else _without_gas(engine)
         start = _speed(machine, rpm, "--rpm")
-        omega0 = start * math.pi / 30
+        omega0 = omega_from_rpm(start)
         if duration is None:
             duration = 20 * machine.cycle / omega0 if omega0 > 0 else 1.0
         if not (math.isfinite(duration) and duration > 0):
@@ -145,7 +146,7 @@ def simulate_command(
     except MechanismError as error:
         raise UserError(str(error)) from None
     frame = result.to_pandas()
-    frame.insert(2, "rpm", frame["omega"] * 30 / math.pi)
+    frame.insert(2, "rpm", rpm_from_omega(frame["omega"]))
     end = f"stalled at t = {result.stall_time:.6g} s" if result.stalled else f"ran {duration:.6g} s"
     summary = [
         f"{machine.name}: from {start:g} rpm, load {load}, drive {drive or 'none'}, gas "
@@ -255,7 +256,8 @@ def motion_command(
     import pandas as pd
     from tqdm.auto import tqdm
 
-    from ..motion.steady import StallError, flywheel_inertia, steady_state
+    from ..motion.flywheel import flywheel_inertia
+    from ..motion.steady import StallError, steady_state
     from ..presets import MACHINE_CLASSES, SPEED_FLUCTUATION
 
     machine = engine
@@ -291,10 +293,10 @@ def motion_command(
             gravity_change_percent=100 * state.gravity_effect / state.delta_without_gravity,
             delta_gravity_only=state.delta_gravity_only,
             delta_midrange=state.delta_midrange,
-            rpm_min=state.omega_min * 30 / math.pi,
-            rpm_max=state.omega_max * 30 / math.pi,
-            load_torque=state.load_torque,
-            power_kw=state.load_torque * state.omega_mean / 1000,
+            rpm_min=rpm_from_omega(state.omega_min),
+            rpm_max=rpm_from_omega(state.omega_max),
+            load_torque=state.mean_load_torque,
+            power_kw=state.mean_load_torque * state.omega_mean / 1000,
             stalled=False,
         )
         if target is not None:

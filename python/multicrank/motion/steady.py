@@ -39,7 +39,7 @@ import numpy as np
 
 from .._native import MechanismError
 from .._shaft import inertia_torque, rpm_from_omega
-from .._validation import as_count, as_flag, as_instance
+from .._validation import as_count, as_flag, as_instance, renamed
 from ..machine.machine import Machine
 from ._periodic import (
     DEFAULT_MIN_SPEED_RATIO,
@@ -146,8 +146,8 @@ class SteadyState(MotionResult):
         −½ J′(φ) ω² [N·m] at the actual speed.
     drive_torque : ndarray
         M_drive [N·m] (with ``load="balance"`` at the mean speed, as solved).
-    torque_load : ndarray
-        M_load [N·m], positive resisting (the column ``load_torque`` of :meth:`to_pandas`).
+    load_torque : ndarray
+        M_load [N·m], positive resisting.
     acceleration : ndarray
         φ̈ [rad/s²] = (gas + gravity + inertia + drive − load)/J.
     omega_mean : float
@@ -162,8 +162,6 @@ class SteadyState(MotionResult):
         Φ [rad], 2π or 4π.
     mean_load_torque : float
         The constant load "balance" found, or the load's cycle mean (1/Φ)∫M_load dφ [N·m].
-        Also ``load_torque``, for now: that name becomes the array once every caller reads
-        this one.
     delta_without_gravity : float
         δ of the same machine and load rule with g = 0 (for "balance" at the same mean
         speed) [dimensionless]; NaN where that machine would stall.
@@ -198,10 +196,7 @@ class SteadyState(MotionResult):
     gravity_torque: np.ndarray = field(repr=False)
     inertia_torque: np.ndarray = field(repr=False)
     drive_torque: np.ndarray = field(repr=False)
-    # The load over the samples. It takes the name load_torque (the array, as on Transient)
-    # once the CLI and the report read the scalar as mean_load_torque; until then
-    # load_torque is that scalar, which they format as a number.
-    torque_load: np.ndarray = field(repr=False)
+    load_torque: np.ndarray = field(repr=False)
     acceleration: np.ndarray = field(repr=False)
     omega_mean: float
     omega_max: float
@@ -241,7 +236,7 @@ class SteadyState(MotionResult):
         "delta_gravity_only": "",
         "gravity": "",
     }
-    #: The array attributes, in column order (``rpm`` is ω in 1/min, ``load_torque`` the load's array).
+    #: The array attributes, in column order (``rpm`` is ω in 1/min).
     ARRAYS: ClassVar[tuple[str, ...]] = tuple(COLUMNS)
 
     @property
@@ -269,47 +264,18 @@ class SteadyState(MotionResult):
         """δ − δ_without_gravity: what gravity adds to the fluctuation (may be negative)."""
         return self.delta - self.delta_without_gravity
 
-    # -- the names of 0.2 and before, kept as aliases --------------------------------------------
-    @property
-    def load_torque(self) -> float:
-        """:attr:`mean_load_torque` [N·m] (for now; see there)."""
-        return self.mean_load_torque
-
-    @property
-    def J(self) -> np.ndarray:
-        """:attr:`reduced_inertia` [kg·m²]."""
-        return self.reduced_inertia
-
-    @property
-    def dJ_dphi(self) -> np.ndarray:
-        """:attr:`reduced_inertia_slope` [kg·m²/rad]."""
-        return self.reduced_inertia_slope
-
-    @property
-    def torque_gas(self) -> np.ndarray:
-        """:attr:`gas_torque` [N·m]."""
-        return self.gas_torque
-
-    @property
-    def torque_gravity(self) -> np.ndarray:
-        """:attr:`gravity_torque` [N·m]."""
-        return self.gravity_torque
-
-    @property
-    def torque_inertia(self) -> np.ndarray:
-        """:attr:`inertia_torque` [N·m]."""
-        return self.inertia_torque
-
-    @property
-    def torque_drive(self) -> np.ndarray:
-        """:attr:`drive_torque` [N·m]."""
-        return self.drive_torque
+    # -- the names of 0.1, read with a DeprecationWarning -----------------------------------------
+    J: ClassVar[renamed] = renamed("reduced_inertia")
+    dJ_dphi: ClassVar[renamed] = renamed("reduced_inertia_slope")
+    torque_gas: ClassVar[renamed] = renamed("gas_torque")
+    torque_gravity: ClassVar[renamed] = renamed("gravity_torque")
+    torque_inertia: ClassVar[renamed] = renamed("inertia_torque")
+    torque_drive: ClassVar[renamed] = renamed("drive_torque")
+    torque_load: ClassVar[renamed] = renamed("load_torque")
 
     def _column(self, name: str) -> Any:
         if name == "rpm":
             return rpm_from_omega(self.omega)
-        if name == "load_torque":
-            return self.torque_load
         return getattr(self, name)
 
     def summary(self) -> str:
@@ -506,7 +472,7 @@ def steady_state(
         gravity_torque=weight,
         inertia_torque=inertia,
         drive_torque=drive_,
-        torque_load=load_,
+        load_torque=load_,
         acceleration=acceleration,
     )
     for array in arrays.values():

@@ -27,7 +27,7 @@ import numpy as np
 
 from .._native import MechanismError
 from .._shaft import inertia_torque, omega_from_rpm, rpm_from_omega
-from .._validation import as_flag, as_instance, as_real_array, as_scalar, has_gas, one_of
+from .._validation import as_flag, as_instance, as_real_array, as_scalar, has_gas, one_of, warn_renamed
 from ..machine.machine import Machine
 from ._result import MotionResult
 from .loads import AppliedTorques, Torque
@@ -525,6 +525,8 @@ def _balance_speed(balance_rpm: Any, balance_speed: Any, balance: bool) -> float
     if not balance:
         raise MechanismError(f"{name} applies to load='balance' only")
     speed = _finite(value, name)
+    if name == "balance_speed":
+        warn_renamed("simulate(balance_speed=ω [rad/s])", "balance_rpm=n [1/min]", stacklevel=4)
     return speed if name == "balance_speed" else float(omega_from_rpm(speed))
 
 

@@ -5,13 +5,13 @@ and its HTML section."""
 from __future__ import annotations
 
 import html
-import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import pandas as pd
 
+from .._shaft import rpm_from_omega
 from ..machine.machine import Machine
 from .plotting import pyplot
 from .settings import ReportSettings, running_speed, speed_range
@@ -48,8 +48,9 @@ class MotionResults:
 def motion_results(settings: ReportSettings, speeds: int = 9) -> MotionResults:
     """Steady state at the machine's speed with and without gravity, over its speed range,
     the flywheel for the class's δ (or ``settings.delta``) and the torque orders."""
+    from ..motion.flywheel import flywheel_inertia
     from ..motion.orders import torque_orders
-    from ..motion.steady import StallError, flywheel_inertia, steady_state
+    from ..motion.steady import StallError, steady_state
     from ..presets import MACHINE_CLASSES, SPEED_FLUCTUATION
 
     machine = settings.engine
@@ -98,7 +99,7 @@ def speed_figure(results: MotionResults) -> tuple[Figure, pd.DataFrame]:
     plt = pyplot()
     fig, ax = plt.subplots(figsize=(8, 3.6))
     for state, label, style in ((results.state, "with gravity", "-"), (results.without, "without gravity", "--")):
-        ax.plot(np.degrees(state.phi), state.omega * 30 / math.pi, style, label=f"{label} (δ = {state.delta:.4g})")
+        ax.plot(np.degrees(state.phi), rpm_from_omega(state.omega), style, label=f"{label} (δ = {state.delta:.4g})")
     ax.axhline(results.rpm, color="0.6", lw=0.8)
     ax.set_xlabel("crank angle φ [deg]")
     ax.set_ylabel("speed [rpm]")
@@ -108,8 +109,8 @@ def speed_figure(results: MotionResults) -> tuple[Figure, pd.DataFrame]:
     table = pd.DataFrame(
         {
             "phi_deg": np.degrees(results.state.phi),
-            "rpm_with_gravity": results.state.omega * 30 / math.pi,
-            "rpm_without_gravity": results.without.omega * 30 / math.pi,
+            "rpm_with_gravity": rpm_from_omega(results.state.omega),
+            "rpm_without_gravity": rpm_from_omega(results.without.omega),
         }
     )
     return fig, table
@@ -120,10 +121,10 @@ def torque_figure(results: MotionResults) -> tuple[Figure, pd.DataFrame]:
     plt = pyplot()
     state = results.state
     parts = {
-        "gas": state.torque_gas,
-        "gravity −dU/dφ": state.torque_gravity,
-        "inertia −½J′ω²": state.torque_inertia,
-        "−M_load (balance)": -state.torque_load,
+        "gas": state.gas_torque,
+        "gravity −dU/dφ": state.gravity_torque,
+        "inertia −½J′ω²": state.inertia_torque,
+        "−M_load (balance)": -state.load_torque,
     }
     fig, ax = plt.subplots(figsize=(8, 3.6))
     for name, values in parts.items():
@@ -180,6 +181,7 @@ def motion_html(results: MotionResults, machine: Machine, figures: dict[str, str
     state, without, flywheel = results.state, results.without, results.flywheel
     change = 100 * (state.delta / without.delta - 1)
     extra = 100 * (flywheel.shaft_inertia / flywheel.shaft_inertia_without_gravity - 1)
+    load = state.mean_load_torque
     rows = [
         ("mean speed", f"{results.rpm:g} rpm (ω<sub>m</sub> = {state.omega_mean:.6g} rad/s)"),
         ("δ with gravity", f"{state.delta:.5g} (1/{1 / state.delta:.4g})"),
@@ -188,8 +190,8 @@ def motion_html(results: MotionResults, machine: Machine, figures: dict[str, str
         ("δ without gas and load (gravity and J(φ) alone, exact)", f"{state.delta_gravity_only:.4g}"),
         ("δ<sub>g</sub> = max U* − min U* (the paper's first-order measure)", f"{results.delta_g:.4g}"),
         ("δ about the midrange (textbook convention)", f"{state.delta_midrange:.5g}"),
-        ("speed swing", f"{state.omega_min * 30 / math.pi:.6g} … {state.omega_max * 30 / math.pi:.6g} rpm"),
-        ("load torque (balance)", f"{state.load_torque:.6g} N·m ({state.load_torque * state.omega_mean / 1e3:.4g} kW)"),
+        ("speed swing", f"{rpm_from_omega(state.omega_min):.6g} … {rpm_from_omega(state.omega_max):.6g} rpm"),
+        ("load torque (balance)", f"{load:.6g} N·m ({load * state.omega_mean / 1e3:.4g} kW)"),
         ("shaft inertia I<sub>w</sub> (as built)", f"{machine.shaft_inertia:.6g} kg·m²"),
     ]
     body = "".join(f"<tr><th>{k}</th><td>{v}</td></tr>" for k, v in rows)
