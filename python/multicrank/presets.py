@@ -25,7 +25,8 @@ from typing import Any
 
 from ._native import MechanismError
 from .gravity.layouts import LAYOUTS, Layout, layout_engine
-from .machine.machine import Cylinder, Machine
+from .machine.cylinder import Cylinder
+from .machine.machine import Machine
 
 # DEFAULT_ENGINE (ENGINES[DEFAULT_ENGINE_NAME]) is a module attribute too, built on first use.
 __all__ = [
