@@ -454,6 +454,15 @@ class Machine:
             f"{self.strokes}-stroke{speed}, g={self.g:g})"
         )
 
+    def __eq__(self, other: object) -> bool:
+        # By value: every field equal (the cylinders, and so their indicator diagrams, by value).
+        if not isinstance(other, Machine):
+            return NotImplemented
+        return all(getattr(self, field) == getattr(other, field) for field in _MACHINE_FIELDS)
+
+    # Not hashable: the fields are attributes that may be set, and a hash must not change.
+    __hash__ = None  # type: ignore[assignment]
+
     def replace(self, **changes: Any) -> Machine:
         """A copy with some of its fields changed.
 

@@ -249,6 +249,33 @@ class IndicatorDiagram:
             f"p from {float(np.min(self._pressure)):.6g} to {float(np.max(self._pressure)):.6g} Pa gauge)"
         )
 
+    # -- a value: equal tables are equal diagrams -----------------------------------------------
+
+    def __eq__(self, other: object) -> bool:
+        if not isinstance(other, IndicatorDiagram):
+            return NotImplemented
+        return (
+            self._cycle == other._cycle
+            and self._kind == other._kind
+            and np.array_equal(self._angle, other._angle)
+            and np.array_equal(self._pressure, other._pressure)
+        )
+
+    def __hash__(self) -> int:
+        # + 0.0 makes −0.0 into 0.0, which == takes for equal (the table holds no NaN).
+        return hash((self._cycle, self._kind, (self._angle + 0.0).tobytes(), (self._pressure + 0.0).tobytes()))
+
+    def __getstate__(self) -> dict[str, Any]:
+        # A pickle (and a copy) carries the table only; the interpolant is rebuilt from it, so
+        # that a pickle does not hold SciPy's objects and their private module paths.
+        return {"angle": self._angle, "pressure": self._pressure, "cycle": self._cycle, "kind": self._kind}
+
+    def __setstate__(self, state: Any) -> None:
+        if isinstance(state, tuple):  # multicrank 0.1's pickles: (None, the slots, "_poly" included)
+            slots = state[1]
+            state = {key: slots[f"_{key}"] for key in ("angle", "pressure", "cycle", "kind")}
+        self.__init__(state["angle"], state["pressure"], cycle=state["cycle"], kind=state["kind"])  # type: ignore[misc]
+
     # -- evaluation ---------------------------------------------------------------------------
 
     def _wrap(self, theta: Any) -> np.ndarray:
