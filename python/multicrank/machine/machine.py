@@ -79,7 +79,7 @@ class Machine:
     --------
     Machine.from_layout : A machine of a layout with one cylinder template.
     Machine.from_toml : A machine from a TOML machine file.
-    multicrank.presets.ENGINES : The built-in machines.
+    multicrank.presets.MACHINES : The built-in machines.
 
     Examples
     --------
@@ -303,7 +303,10 @@ class Machine:
 
     @classmethod
     def from_toml(cls, path: str | os.PathLike[str]) -> Machine:
-        """A machine from a TOML machine file (docs/machine-files.md; examples in docs/machines/).
+        """A machine from a TOML machine file (docs/machine-files.md).
+
+        The built-in machines are such files (``multicrank.presets.MACHINE_FILES``), and
+        docs/machines/ holds more examples.
 
         A file describes either (a) a ``layout`` (a name in ``LAYOUTS`` or a table of one's
         own) with one ``[cylinder]`` template on every bank (see :meth:`from_layout`), or
@@ -481,7 +484,7 @@ class Machine:
         Examples
         --------
         >>> import multicrank as mc
-        >>> compressor = mc.presets.ENGINES["slow-compressor"]
+        >>> compressor = mc.presets.MACHINES["slow-compressor"]
         >>> bigger = compressor.replace(shaft_inertia=500.0, name="bigger flywheel")
         >>> bigger.name, bigger.shaft_inertia, compressor.shaft_inertia
         ('bigger flywheel', 500.0, 350.0)
@@ -554,7 +557,7 @@ class Machine:
         --------
         >>> import numpy as np
         >>> import multicrank as mc
-        >>> design = mc.presets.ENGINES["slow-compressor"].design()
+        >>> design = mc.presets.MACHINES["slow-compressor"].design()
         >>> sorted(design)
         ['crank_ratio', 'inclination', 'phases', 'u1', 'u2']
         >>> print(f"δ_g = {mc.speed_fluctuation(**design):.6f}")
