@@ -11,6 +11,8 @@ from __future__ import annotations
 
 import copy
 import pickle
+import subprocess
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -47,8 +49,16 @@ MACHINE_KEYS = [key for key in NOW if key.startswith("machine:")]
 
 @pytest.fixture(scope="module")
 def old():
+    # Loading imports 0.1's module paths (multicrank.loads, …), whose alias finder
+    # (multicrank._moved) leaves the real modules' __spec__ naming the old path: a later lazy
+    # relative import there then warns (ImportWarning: __package__ != __spec__.parent), an
+    # error under this suite's filters. Put the specs back, so other tests do not see it;
+    # test_an_old_path_leaves_the_module_spec_alone shows the fault until _moved is fixed.
+    specs = {name: module.__spec__ for name, module in list(sys.modules.items()) if name.startswith("multicrank")}
     with DATA.open("rb") as handle:
         data = pickle.load(handle)
+    for name, spec in specs.items():
+        sys.modules[name].__spec__ = spec
     assert data["version"] == "0.1.0"
     return data["objects"]
 
@@ -134,3 +144,14 @@ def test_value_classes_compare_by_value_and_not_by_identity():
     for value in (machine, engine, grid):
         with pytest.raises(TypeError, match="unhashable"):
             hash(value)
+
+
+@pytest.mark.xfail(reason="multicrank._moved: importing an old path sets the real module's __spec__ to the alias's")
+def test_an_old_path_leaves_the_module_spec_alone():
+    code = (
+        "import warnings; warnings.simplefilter('error')\n"
+        "import multicrank.motion.loads as loads, multicrank.loads\n"
+        "assert loads.__spec__.name == 'multicrank.motion.loads', loads.__spec__.name\n"
+    )
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert result.returncode == 0, result.stderr
