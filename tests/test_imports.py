@@ -2,7 +2,8 @@
 ``__init__`` assembles it), and the modules import one another without a circle.
 
 Read from the source with ``ast`` (every import counts, also those inside functions), so
-a circle that only lazy imports keep from failing at run time is caught as well.
+a circle that only lazy imports keep from failing at run time is caught as well. Imports
+under ``if TYPE_CHECKING:`` name types for the checker and never run: they do not count.
 """
 
 from __future__ import annotations
@@ -16,7 +17,7 @@ PACKAGE = "multicrank"
 SOURCE = Path(__file__).resolve().parents[1] / "python" / PACKAGE
 
 # Modules every other module may use: they import nothing of the package but these.
-LEAVES = {"_validation": {"_native"}, "_optional": set(), "_files": {"_native"}}
+LEAVES = {"_validation": {"_native"}, "_optional": set(), "_files": {"_native"}, "_shaft": set()}
 
 
 def module_name(path: Path, source: Path) -> str:
@@ -37,6 +38,9 @@ def module_imports(path: Path, source: Path) -> tuple[set[str], list[str]]:
     is_init = path.stem in ("__init__", "__main__")  # they assemble the package
     here = path.relative_to(source).parent.parts  # the package the file's relative imports start from
     tree = ast.parse(path.read_text(encoding="utf-8"), filename=str(path))
+    for node in ast.walk(tree):
+        if isinstance(node, ast.If) and ast.unparse(node.test) in ("TYPE_CHECKING", "typing.TYPE_CHECKING"):
+            node.body = []  # for the checker only
     uses: set[str] = set()
     own: list[str] = []
     for node in ast.walk(tree):
@@ -144,3 +148,6 @@ def test_the_checks_catch_a_circle_and_a_self_import(tmp_path):
     assert find_cycle(graph) == ["a", "b", "sub.e", "a"]
     (bad / "b.py").write_text("def g():\n    from .sub import h\n    return h\n")
     assert "b" in import_graph(bad)[1]
+    # A type named for the checker only is no import.
+    (bad / "b.py").write_text("from typing import TYPE_CHECKING\nif TYPE_CHECKING:\n    from .a import f\n")
+    assert import_graph(bad)[0]["b"] == set()

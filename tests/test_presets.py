@@ -85,6 +85,19 @@ def test_each_preset_is_a_whole_machine(name):
     assert machine.engine().name == f"{name} at {machine.rpm:g} rpm"
 
 
+def test_machines_is_the_name_and_engines_the_former_one():
+    assert presets.ENGINES is presets.MACHINES and list(presets.MACHINES) == list(presets.MACHINE_FILES)
+    assert presets.DEFAULT_ENGINE_NAME == presets.DEFAULT_MACHINE_NAME == "slow-compressor"
+    assert presets.DEFAULT_MACHINE is presets.DEFAULT_ENGINE is presets.MACHINES["slow-compressor"]
+
+
+def test_each_preset_is_read_from_its_file_by_the_one_loader():
+    for name, path in presets.MACHINE_FILES.items():
+        assert path.parent.name == "machines" and path.parent.parent.name == "data"
+        assert mc.Machine.from_toml(path) == ENGINES[name]
+        assert presets.engine_by_name_or_file(path) == presets.engine_by_name_or_file(name)
+
+
 def test_double_acting_compressors_work_both_faces():
     for name in ("slow-compressor", "boxer-compressor"):
         for cylinder in ENGINES[name].cylinders:

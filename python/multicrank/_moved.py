@@ -42,10 +42,15 @@ class _MovedModules(importlib.abc.MetaPathFinder, importlib.abc.Loader):
         return None
 
     def create_module(self, spec: importlib.machinery.ModuleSpec) -> ModuleType:
-        return importlib.import_module(MOVED[spec.name])
+        module = importlib.import_module(MOVED[spec.name])
+        # The import machinery sets the created module's __spec__ to this (old) spec; keep the
+        # module's own, or its relative imports would resolve from the old path's package.
+        spec.loader_state = module.__spec__
+        return module
 
     def exec_module(self, module: ModuleType) -> None:
-        pass  # the module at the new path is already executed
+        # The module at the new path is already executed: only give it its own spec back.
+        module.__spec__ = module.__spec__.loader_state
 
 
 def install() -> None:

@@ -250,6 +250,15 @@ class Engine:
     def __repr__(self) -> str:
         return f"Engine({self.name!r}, {len(self)} units)"
 
+    def __eq__(self, other: object) -> bool:
+        # By value: the same name and the same columns (finite, so no NaN to care about).
+        if not isinstance(other, Engine):
+            return NotImplemented
+        return self.name == other.name and all(np.array_equal(self._columns[k], other._columns[k]) for k in _FIELDS)
+
+    # Not hashable: the name may be set, and a hash must not change.
+    __hash__ = None  # type: ignore[assignment]
+
     def columns(self) -> dict[str, np.ndarray]:
         """The units' columns, keyed by field name.
 

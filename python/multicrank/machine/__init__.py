@@ -1,6 +1,7 @@
-"""The physical machine in SI units: `Cylinder`s on one shaft (`Machine`), built in code, from
-a layout or from a TOML machine file (`files`)."""
+"""The physical machine in SI units: `Cylinder`s (`cylinder`) on one shaft (`Machine`, `machine`),
+built in code, from a layout (its firing: `firing`) or from a TOML machine file (`files`)."""
 
-from .machine import Cylinder, Machine
+from .cylinder import Cylinder
+from .machine import Machine
 
 __all__ = ["Cylinder", "Machine"]

@@ -152,7 +152,7 @@ _KINDS = {
 _OLD_FORMAT = (
     "the [engine] table (the fields of the former presets.Machine) is no longer read; a machine file "
     "now holds the machine at top level and its cylinders in [cylinder] or [[cylinder]] tables "
-    "(docs/machine-files.md; examples in docs/machines/)"
+    "(docs/machine-files.md; examples: multicrank.presets.MACHINE_FILES)"
 )
 
 

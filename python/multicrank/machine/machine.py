@@ -1,9 +1,7 @@
 """The physical machine of any layout, in SI units: cylinders on one shaft.
 
-A :class:`Cylinder` is one slider-crank unit — its geometry, moving masses, crank web and
-counterweight, bore, place on the shaft (phase) and in space (inclination), and the gas
-pressure on its piston. A :class:`Machine` is its cylinders, the shaft's moment of inertia
-and the working cycle. It gives the quantities of the machine's equation of motion
+A :class:`Machine` is its cylinders (:class:`~multicrank.Cylinder`), the shaft's moment of
+inertia and the working cycle. It gives the quantities of the machine's equation of motion
 (docs/theory.md): the reduced moment of inertia J(φ) and J'(φ), the potential energy U(φ)
 and the gravity torque −dU/dφ, the gas torque and the inertia torque, all computed in the
 Rust core; and the dimensionless :class:`~multicrank.Engine` of gravity at any speed.
@@ -11,11 +9,9 @@ Rust core; and the dimensionless :class:`~multicrank.Engine` of gravity at any s
 
 from __future__ import annotations
 
-import dataclasses
 import math
 import os
-from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
@@ -26,366 +22,20 @@ from .._native import machine_evaluate as _native_machine_evaluate
 from .._native import machine_gas_torque as _native_machine_gas_torque
 from .._native import machine_inertia as _native_machine_inertia
 from .._shaft import inertia_torque as _inertia_torque
-from .._validation import as_option, as_real_array, as_scalar, as_speed, as_strokes, as_threshold, contiguous
+from .._validation import as_real_array, as_scalar, as_speed, as_strokes, as_threshold, contiguous
 from .._validation import as_speed_range as _speed_range
 from ..gravity.engines import Engine
 from ..gravity.grids import as_phi
 from ..gravity.layouts import Layout, as_layout
 from ..gravity.mechanism import STANDARD_GRAVITY
-from ..pressure.diagram import IndicatorDiagram
+from .cylinder import Cylinder, Pressure, diagram_strokes, unit_columns
 from .files import read_machine_file
+from .firing import chosen_firing, even_firing
 
-__all__ = ["Cylinder", "Machine"]
-
-#: The fields of a cylinder that the core's kinematics and gravity take, in its order.
-_UNIT_FIELDS = (
-    "crank_radius",
-    "rod_length",
-    "piston_mass",
-    "rod_mass",
-    "rod_cg",
-    "rod_inertia",
-    "crank_mass",
-    "crank_cg_radius",
-    "counterweight_mass",
-    "counterweight_radius",
-    "phase",
-    "inclination",
-)
-
-Pressure = Callable[[np.ndarray], Any]
+__all__ = ["Machine"]
 
 #: A machine's fields, as :meth:`Machine.replace` takes them.
 _MACHINE_FIELDS = ("cylinders", "shaft_inertia", "strokes", "g", "name", "rpm", "rpm_range", "note")
-
-
-@dataclass(frozen=True)
-class Cylinder:
-    """One slider-crank unit of a machine, in SI units (m, kg, kg·m², rad, Pa).
-
-    Parameters
-    ----------
-    crank_radius : float
-        r [m], > 0.
-    rod_length : float
-        l [m], > r; the crank ratio is λ = r/l.
-    piston_mass : float
-        m_t [kg], ≥ 0: the piston complete (rings, pin; crosshead and piston rod where
-        there are).
-    rod_mass : float
-        m_k [kg], ≥ 0.
-    rod_cg : float
-        z_k [m], the rod's centre of gravity measured from the piston-pin axis, 0 ≤ z_k ≤ l.
-    rod_inertia : float, optional
-        I_k [kg·m²], the rod's moment of inertia about its own centre of gravity, ≥ 0.
-        Default: m_k·z_k·(l − z_k), the two-mass rod. A real rod usually has less; the
-        difference ΔI = I_k − m_k z_k (l − z_k) turns with the rod angle and enters J(φ).
-    crank_mass, crank_cg_radius : float
-        m_s [kg] and r_s [m]: this unit's crank web (and pin) and the radius of its centre
-        of gravity. Only their first moment enters (gravity); their inertia is part of
-        the machine's ``shaft_inertia``.
-    counterweight_mass, counterweight_radius : float
-        m_p [kg] and r_p [m], opposite the crank pin; likewise only gravity.
-    bore : float
-        D [m], ≥ 0; the piston area is π D²/4. 0: no gas force.
-    phase : float
-        α [rad], any finite real: the unit's crank angle from its own outer dead centre is
-        ψ = φ + α, and its cycle angle θ = (φ + α) mod Φ places it in the working cycle.
-    inclination : float
-        γ [rad]: the cylinder axis to the horizontal, +π/2 upright (the default).
-    pressure : callable or None
-        Gauge pressure p(θ) [Pa] on the piston crown as a vectorised function of the cycle
-        angle θ [rad] (an :class:`~multicrank.pressure.IndicatorDiagram`, say). It pushes
-        the piston toward the shaft.
-    pressure_crank_end : callable or None
-        Double-acting cylinders: the crank-end chamber's gauge pressure p_c(θ) [Pa], acting
-        on the area π D²/4 − π d²/4 and pushing the piston away from the shaft.
-    piston_rod_diameter : float
-        d [m], 0 ≤ d < D: the piston rod through the crank-end chamber.
-
-    Raises
-    ------
-    MechanismError
-        For any field out of its range (naming it) or geometry the core refuses.
-
-    See Also
-    --------
-    Machine : Cylinders on one shaft.
-    IndicatorDiagram : The gas pressure over a working cycle.
-
-    Examples
-    --------
-    A car engine's cylinder with a synthetic four-stroke cycle in its own volume:
-
-    >>> import multicrank as mc
-    >>> cylinder = mc.Cylinder(crank_radius=0.04, rod_length=0.13, piston_mass=0.4,
-    ...                        rod_mass=0.5, rod_cg=0.09, bore=0.09)
-    >>> swept = cylinder.swept_volume()
-    >>> print(f"λ = {cylinder.crank_ratio:.4f}, swept volume {swept * 1e6:.1f} cm³")
-    λ = 0.3077, swept volume 508.9 cm³
-    >>> cylinder = cylinder.replace(pressure=cylinder.engine_diagram(
-    ...     intake_pressure=1e5, heat_release=1200, compression_ratio=10))
-    >>> cylinder.pressure.strokes
-    4
-    """
-
-    crank_radius: float
-    rod_length: float
-    piston_mass: float
-    rod_mass: float
-    rod_cg: float
-    rod_inertia: float | None = None
-    crank_mass: float = 0.0
-    crank_cg_radius: float = 0.0
-    counterweight_mass: float = 0.0
-    counterweight_radius: float = 0.0
-    bore: float = 0.0
-    phase: float = 0.0
-    inclination: float = math.pi / 2
-    pressure: Pressure | None = None
-    pressure_crank_end: Pressure | None = None
-    piston_rod_diameter: float = 0.0
-
-    def __post_init__(self) -> None:
-        for field in (*_UNIT_FIELDS, "bore", "piston_rod_diameter"):
-            value = getattr(self, field)
-            if field == "rod_inertia" and value is None:
-                continue
-            object.__setattr__(self, field, as_scalar(value, field))
-        if self.rod_inertia is None:
-            # The two-mass rod (ΔI = 0): valid for any rod_cg the core accepts.
-            two_mass = self.rod_mass * self.rod_cg * (self.rod_length - self.rod_cg)
-            object.__setattr__(self, "rod_inertia", max(two_mass, 0.0))
-        if not (math.isfinite(self.bore) and self.bore >= 0):
-            raise MechanismError(f"bore = {self.bore} is out of range; allowed: bore >= 0 [m]")
-        if not (math.isfinite(self.piston_rod_diameter) and 0 <= self.piston_rod_diameter):
-            raise MechanismError(f"piston_rod_diameter = {self.piston_rod_diameter} is out of range; allowed: >= 0 [m]")
-        if self.piston_rod_diameter > 0 and self.piston_rod_diameter >= self.bore:
-            raise MechanismError(
-                f"piston_rod_diameter = {self.piston_rod_diameter} is out of range; "
-                f"allowed: less than bore = {self.bore}"
-            )
-        for name in ("pressure", "pressure_crank_end"):
-            value = getattr(self, name)
-            if value is not None and not callable(value):
-                raise MechanismError(f"{name} must be None or a callable of the cycle angle [rad] -> Pa")
-        # Geometry and masses: the core's rules, checked now rather than at first use.
-        _native_machine_evaluate("travel", _columns([self]), 0.0, np.zeros(0))
-
-    @property
-    def crank_ratio(self) -> float:
-        """λ = r/l."""
-        return self.crank_radius / self.rod_length
-
-    @property
-    def piston_area(self) -> float:
-        """π D²/4 [m²], the crown's area."""
-        return math.pi * self.bore**2 / 4
-
-    @property
-    def crank_end_area(self) -> float:
-        """π (D² − d²)/4 [m²], the crank-end face's area around the piston rod."""
-        return math.pi * (self.bore**2 - self.piston_rod_diameter**2) / 4
-
-    @property
-    def stroke(self) -> float:
-        """2r [m]: the piston's travel from outer to inner dead centre."""
-        return 2.0 * self.crank_radius
-
-    def chamber_volume(self, theta: Any, clearance_volume: float, *, end: str = "head") -> np.ndarray:
-        """The volume [m³] of one of the cylinder's chambers at cycle angles θ [rad].
-
-        The head end (over the crown): V(θ) = V_c + A·s(θ), smallest at θ = 0 (outer dead
-        centre). The crank end of a double-acting cylinder (around the piston rod):
-        V(θ) = V_c + A_c·(2r − s(θ)), smallest at inner dead centre. s is the piston travel
-        of :meth:`Machine.piston_travel` with the cylinder's own crank angle ψ = θ (θ and ψ
-        differ by whole turns, and s has period 2π), so V is the volume the synthetic cycles
-        of :class:`~multicrank.IndicatorDiagram` take.
-
-        Parameters
-        ----------
-        theta : array_like
-            Cycle angles θ [rad], any shape.
-        clearance_volume : float
-            V_c [m³] > 0: the chamber's volume at its dead centre.
-        end : {"head", "crank"}, default "head"
-            Which chamber.
-
-        Returns
-        -------
-        ndarray
-            V [m³], the shape of ``theta``.
-
-        Examples
-        --------
-        >>> import numpy as np
-        >>> import multicrank as mc
-        >>> cylinder = mc.Cylinder(crank_radius=0.04, rod_length=0.13, piston_mass=0.4,
-        ...                        rod_mass=0.5, rod_cg=0.09, bore=0.09)
-        >>> volume = cylinder.chamber_volume(np.radians([0, 180]), clearance_volume=1e-4)
-        >>> volume * 1e6  # cm³
-        array([100.        , 608.93800988])
-        """
-        end = as_option(end, "end", ("head", "crank"))
-        clearance = as_scalar(clearance_volume, "clearance_volume")
-        if not (math.isfinite(clearance) and clearance > 0):
-            raise MechanismError(f"clearance_volume = {clearance} is out of range; allowed: > 0 [m³]")
-        angles = as_real_array(theta, "theta")
-        own = dict(_columns([self]), phase=np.zeros(1))
-        travel = _native_machine_evaluate("travel", own, 0.0, contiguous(angles).reshape(-1)).reshape(angles.shape)
-        if end == "head":
-            return clearance + self.piston_area * travel
-        return clearance + self.crank_end_area * (self.stroke - travel)
-
-    def swept_volume(self, end: str = "head") -> float:
-        """The volume a chamber's face sweeps: A·2r at the head end, A_c·2r at the crank end.
-
-        Parameters
-        ----------
-        end : {"head", "crank"}, default "head"
-            Which chamber.
-
-        Returns
-        -------
-        float
-            The swept volume [m³].
-        """
-        end = as_option(end, "end", ("head", "crank"))
-        return (self.piston_area if end == "head" else self.crank_end_area) * self.stroke
-
-    def _clearance(self, end: str, given: dict[str, Any]) -> float:
-        """V_c [m³] from exactly one of clearance_volume, clearance_ratio, compression_ratio."""
-        named = {name: value for name, value in given.items() if value is not None}
-        if len(named) != 1:
-            raise MechanismError(f"give exactly one of {', '.join(given)} (got {', '.join(named) or 'none'})")
-        if not self.bore > 0:
-            raise MechanismError(f"bore = {self.bore}: a synthetic cycle needs a piston (bore > 0) [m]")
-        ((name, value),) = named.items()
-        value = as_scalar(value, name)
-        swept = self.swept_volume(end)
-        if name == "clearance_volume" and math.isfinite(value) and value > 0:
-            return value
-        if name == "clearance_ratio" and math.isfinite(value) and value > 0:
-            return value * swept
-        if name == "compression_ratio" and math.isfinite(value) and value > 1:
-            return swept / (value - 1.0)
-        allowed = {
-            "clearance_volume": "> 0 [m³]",
-            "clearance_ratio": "> 0 (V_c over the swept volume)",
-            "compression_ratio": "> 1 ((V_s + V_c)/V_c)",
-        }
-        raise MechanismError(f"{name} = {value} is out of range; allowed: {allowed[name]}")
-
-    def compressor_diagram(
-        self,
-        *,
-        suction_pressure: float,
-        discharge_pressure: float,
-        clearance_ratio: float | None = None,
-        clearance_volume: float | None = None,
-        end: str = "head",
-        **options: Any,
-    ) -> IndicatorDiagram:
-        """The ideal compressor cycle (:meth:`IndicatorDiagram.compressor`) in one of this
-        cylinder's chambers, of volume :meth:`chamber_volume`.
-
-        Parameters
-        ----------
-        suction_pressure, discharge_pressure : float
-            [Pa], absolute unless ``absolute=False`` is among ``options``.
-        clearance_ratio, clearance_volume : float
-            Exactly one: V_c over the chamber's swept volume (:meth:`swept_volume`), or V_c [m³].
-        end : {"head", "crank"}
-            The chamber: "crank" for the crank end of a double-acting cylinder (its diagram
-            goes to ``pressure_crank_end``).
-        **options
-            The other keywords of :meth:`IndicatorDiagram.compressor` (``cycle`` 2π by
-            default: the machine's cycle is the one to give).
-
-        Returns
-        -------
-        IndicatorDiagram
-            Gauge pressures [Pa] over the cycle.
-
-        Examples
-        --------
-        >>> import multicrank as mc
-        >>> cylinder = mc.Cylinder(crank_radius=0.15, rod_length=0.6, piston_mass=85,
-        ...                        rod_mass=60, rod_cg=0.4, bore=0.3)
-        >>> diagram = cylinder.compressor_diagram(
-        ...     suction_pressure=1e5, discharge_pressure=4e5, clearance_ratio=0.08)
-        >>> clearance = 0.08 * cylinder.swept_volume()
-        >>> work = diagram.indicated_work(
-        ...     lambda theta: cylinder.chamber_volume(theta, clearance))
-        >>> print(f"∮p dV = {work:.0f} J per cycle (the work the compressor takes)")
-        ∮p dV = -2936 J per cycle (the work the compressor takes)
-        """
-        end = as_option(end, "end", ("head", "crank"))
-        clearance = self._clearance(end, {"clearance_ratio": clearance_ratio, "clearance_volume": clearance_volume})
-        return IndicatorDiagram.compressor(
-            lambda theta: self.chamber_volume(theta, clearance, end=end),
-            suction_pressure=suction_pressure,
-            discharge_pressure=discharge_pressure,
-            **options,
-        )
-
-    def engine_diagram(
-        self,
-        *,
-        intake_pressure: float,
-        heat_release: float,
-        compression_ratio: float | None = None,
-        clearance_volume: float | None = None,
-        **options: Any,
-    ) -> IndicatorDiagram:
-        """The single-zone engine cycle (:meth:`IndicatorDiagram.engine`) over this cylinder's
-        crown, in the head-end volume :meth:`chamber_volume`; it fires at θ = 0.
-
-        Parameters
-        ----------
-        intake_pressure : float
-            [Pa], absolute unless ``absolute=False`` is among ``options``.
-        heat_release : float
-            [J per cycle].
-        compression_ratio, clearance_volume : float
-            Exactly one: ε = (V_s + V_c)/V_c, or V_c [m³].
-        **options
-            The other keywords of :meth:`IndicatorDiagram.engine` (``cycle`` 4π by default).
-
-        Returns
-        -------
-        IndicatorDiagram
-            Gauge pressures [Pa] over the cycle.
-        """
-        clearance = self._clearance(
-            "head", {"compression_ratio": compression_ratio, "clearance_volume": clearance_volume}
-        )
-        return IndicatorDiagram.engine(
-            lambda theta: self.chamber_volume(theta, clearance),
-            intake_pressure=intake_pressure,
-            heat_release=heat_release,
-            **options,
-        )
-
-    def replace(self, **changes: Any) -> Cylinder:
-        """A copy with some fields changed.
-
-        Parameters
-        ----------
-        **changes
-            New values of any of the fields (the parameters of :class:`Cylinder`).
-
-        Returns
-        -------
-        Cylinder
-            The changed copy, checked as a new one is.
-        """
-        return dataclasses.replace(self, **changes)
-
-
-def _columns(cylinders: Sequence[Cylinder]) -> dict[str, np.ndarray]:
-    """The units as the core's bundle of equal-length float64 columns."""
-    return {field: contiguous(np.array([getattr(c, field) for c in cylinders], dtype=float)) for field in _UNIT_FIELDS}
 
 
 class Machine:
@@ -431,7 +81,7 @@ class Machine:
     --------
     Machine.from_layout : A machine of a layout with one cylinder template.
     Machine.from_toml : A machine from a TOML machine file.
-    multicrank.presets.ENGINES : The built-in machines.
+    multicrank.presets.MACHINES : The built-in machines.
 
     Examples
     --------
@@ -504,7 +154,7 @@ class Machine:
                         f"{period:.6g} rad), longer than this {self.strokes}-stroke machine's cycle; give strokes="
                         f"{round(period / math.pi)} or a diagram of the machine's cycle"
                     )
-        self._units = _columns(cylinders)
+        self._units = unit_columns(cylinders)
 
     # -- construction --------------------------------------------------------------------
     @classmethod
@@ -613,7 +263,7 @@ class Machine:
                 f"layout {layout.name!r} has {len(layout.throws)} throws but {len(layout.banks)} banks entries"
             )
         if strokes is None:
-            strokes = layout.strokes or _diagram_strokes(cylinder) or 2
+            strokes = layout.strokes or diagram_strokes(cylinder) or 2
         cycle_strokes = as_strokes(strokes)
         if layout.strokes is not None and cycle_strokes != layout.strokes:
             raise MechanismError(
@@ -634,9 +284,9 @@ class Machine:
         if not np.all(np.isfinite(crank)) or not np.all(np.isfinite(inclinations)):
             raise MechanismError(f"layout {layout.name!r} has a throw or bank angle that is not finite")
         if firing is None:
-            phases = _even_firing(crank, cycle_strokes)
+            phases = even_firing(crank, cycle_strokes)
         else:
-            phases = _chosen_firing(firing, crank, cycle_strokes)
+            phases = chosen_firing(firing, crank, cycle_strokes)
         bare = {"crank_mass": 0.0, "counterweight_mass": 0.0}
         cylinders = [
             cylinder.replace(phase=phase, inclination=math.radians(gamma), **({} if keeps_web else bare))
@@ -655,7 +305,10 @@ class Machine:
 
     @classmethod
     def from_toml(cls, path: str | os.PathLike[str]) -> Machine:
-        """A machine from a TOML machine file (docs/machine-files.md; examples in docs/machines/).
+        """A machine from a TOML machine file (docs/machine-files.md).
+
+        The built-in machines are such files (``multicrank.presets.MACHINE_FILES``), and
+        docs/machines/ holds more examples.
 
         A file describes either (a) a ``layout`` (a name in ``LAYOUTS`` or a table of one's
         own) with one ``[cylinder]`` template on every bank (see :meth:`from_layout`), or
@@ -806,6 +459,15 @@ class Machine:
             f"{self.strokes}-stroke{speed}, g={self.g:g})"
         )
 
+    def __eq__(self, other: object) -> bool:
+        # By value: every field equal (the cylinders, and so their indicator diagrams, by value).
+        if not isinstance(other, Machine):
+            return NotImplemented
+        return all(getattr(self, field) == getattr(other, field) for field in _MACHINE_FIELDS)
+
+    # Not hashable: the fields are attributes that may be set, and a hash must not change.
+    __hash__ = None  # type: ignore[assignment]
+
     def replace(self, **changes: Any) -> Machine:
         """A copy with some of its fields changed.
 
@@ -824,7 +486,7 @@ class Machine:
         Examples
         --------
         >>> import multicrank as mc
-        >>> compressor = mc.presets.ENGINES["slow-compressor"]
+        >>> compressor = mc.presets.MACHINES["slow-compressor"]
         >>> bigger = compressor.replace(shaft_inertia=500.0, name="bigger flywheel")
         >>> bigger.name, bigger.shaft_inertia, compressor.shaft_inertia
         ('bigger flywheel', 500.0, 350.0)
@@ -897,7 +559,7 @@ class Machine:
         --------
         >>> import numpy as np
         >>> import multicrank as mc
-        >>> design = mc.presets.ENGINES["slow-compressor"].design()
+        >>> design = mc.presets.MACHINES["slow-compressor"].design()
         >>> sorted(design)
         ['crank_ratio', 'inclination', 'phases', 'u1', 'u2']
         >>> print(f"δ_g = {mc.speed_fluctuation(**design):.6f}")
@@ -1092,64 +754,9 @@ class Machine:
         return _inertia_torque(slope, as_real_array(omega, "omega"))
 
 
-def _diagram_strokes(cylinder: Cylinder) -> int | None:
-    """The strokes of the longest indicator diagram (one with a ``cycle``) on a cylinder, if any."""
-    cycles = [getattr(getattr(cylinder, end), "cycle", None) for end in ("pressure", "pressure_crank_end")]
-    longest = max((c for c in cycles if isinstance(c, float)), default=None)
-    return None if longest is None else round(longest / math.pi)
-
-
 def _layout_strokes(layout: Layout | None) -> int:
     """The strokes a layout implies where a file gives none: its own, else 2."""
     return 2 if layout is None else layout.strokes or 2
-
-
-#: The most cylinders whose 2ⁿ firing choices :meth:`Machine.from_layout` tries (65536).
-_MAX_FIRING_SEARCH = 16
-
-
-def _even_firing(crank: np.ndarray, strokes: int) -> list[float]:
-    """The phases [rad] of cylinders whose crank phases β − γ are ``crank`` [deg]: the most even
-    firing over the cycle, by the rule of :meth:`Machine.from_layout` (done in degrees, where
-    the layouts' angles are exact)."""
-    if strokes == 2:
-        return [math.radians(a) for a in np.mod(crank, 360.0)]
-    count = crank.size
-    if count > _MAX_FIRING_SEARCH:
-        raise MechanismError(
-            f"firing: the even-firing search covers up to {_MAX_FIRING_SEARCH} cylinders of a four-stroke machine, "
-            f"this layout has {count}; give firing= (the phases in rad) explicitly"
-        )
-    moved = (np.arange(2**count)[:, None] >> np.arange(count)[None, :]) & 1  # row i: which cylinders get +360°
-    candidates = np.mod(crank[None, :] + 360.0 * moved, 720.0)
-    ordered = np.sort(candidates, axis=1)
-    gaps = np.diff(np.concatenate((ordered, ordered[:, :1] + 720.0), axis=1), axis=1)
-    # Equal to rounding (the angles are exact or within ~1e-13° of it): compared at 1e-9°.
-    largest = np.round(gaps.max(axis=1), 9)
-    squares = np.round(np.sum(gaps**2, axis=1) / 720.0, 9)
-    earliest = moved @ (2.0 ** np.arange(count - 1, -1, -1))  # moving a later cylinder is smaller
-    best = np.lexsort((earliest, moved.sum(axis=1), squares, largest))[0]
-    return [math.radians(a) for a in candidates[best]]
-
-
-def _chosen_firing(firing: Any, crank: np.ndarray, strokes: int) -> list[float]:
-    """The given phases [rad], checked against the crank (β − γ [deg] plus whole turns)."""
-    phases = as_real_array(firing, "firing")
-    if phases.shape != crank.shape:
-        raise MechanismError(
-            f"firing must hold one phase [rad] per cylinder ({crank.size}, in the layout's order), "
-            f"got shape {phases.shape}"
-        )
-    turns = (phases - np.radians(crank)) / (2 * math.pi)
-    whole = np.round(turns)
-    for j, (turn, nearest) in enumerate(zip(turns, whole, strict=True)):
-        if not (math.isfinite(turn) and abs(turn - nearest) <= 1e-9):
-            raise MechanismError(
-                f"firing[{j}] = {phases[j]!r} rad is not a phase the crank allows: cylinder {j} is at "
-                f"β − γ = {crank[j]:g}° plus whole turns (360°)"
-            )
-    cycle = 180.0 * strokes
-    return [math.radians(a) for a in np.mod(crank + 360.0 * whole, cycle)]
 
 
 def _pressure(function: Pressure, theta: np.ndarray, name: str) -> np.ndarray:

@@ -26,7 +26,8 @@ from typing import Any
 import numpy as np
 
 from .._validation import has_gas
-from ..machine.machine import Cylinder, Machine
+from ..machine.cylinder import Cylinder
+from ..machine.machine import Machine
 from ..pressure.diagram import IndicatorDiagram
 from ._quadrature import CycleQuadrature, cycle_breaks
 

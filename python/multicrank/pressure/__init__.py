@@ -1,5 +1,6 @@
-"""Indicator diagrams: gas pressure over the working cycle, from tables, CSV files or the
-synthetic compressor and engine cycles (`IndicatorDiagram`), and the units they are given in."""
+"""Indicator diagrams: gas pressure over the working cycle (`IndicatorDiagram`, `diagram`), from
+tables, CSV files (`tables`) or the synthetic compressor and engine cycles (`synthetic`), and
+the units they are given in."""
 
 from .diagram import (
     ANGLE_UNITS,

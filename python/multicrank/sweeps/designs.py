@@ -267,6 +267,19 @@ class DesignGrid:
     def __len__(self) -> int:
         return math.prod(self.shape)
 
+    def __eq__(self, other: object) -> bool:
+        # By value: the same axes and constants in the same order (the order is the rows').
+        if not isinstance(other, DesignGrid):
+            return NotImplemented
+        return (
+            list(self.axes) == list(other.axes)
+            and all(np.array_equal(values, other.axes[name]) for name, values in self.axes.items())
+            and list(self.constants.items()) == list(other.constants.items())
+        )
+
+    # Not hashable: its axes are a dict, which may be changed.
+    __hash__ = None  # type: ignore[assignment]
+
     def frame(self, start: int = 0, stop: int | None = None) -> pd.DataFrame:
         """Some rows of the product.
 

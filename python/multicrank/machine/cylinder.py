@@ -1,0 +1,380 @@
+"""One slider-crank unit of a machine, in SI units: :class:`Cylinder`.
+
+A cylinder is its geometry, moving masses, crank web and counterweight, bore, place on the
+shaft (phase) and in space (inclination), and the gas pressure on its piston; it gives its
+chambers' volumes and the synthetic indicator diagrams in them
+(:meth:`Cylinder.compressor_diagram`, :meth:`Cylinder.engine_diagram`). The core's
+kinematics check it; :class:`~multicrank.Machine` puts cylinders on one shaft.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from .._native import MechanismError
+from .._native import machine_evaluate as _native_machine_evaluate
+from .._validation import as_option, as_real_array, as_scalar, contiguous
+from ..pressure.diagram import IndicatorDiagram
+
+__all__ = ["Cylinder", "Pressure", "diagram_strokes", "unit_columns"]
+
+#: The fields of a cylinder that the core's kinematics and gravity take, in its order.
+_UNIT_FIELDS = (
+    "crank_radius",
+    "rod_length",
+    "piston_mass",
+    "rod_mass",
+    "rod_cg",
+    "rod_inertia",
+    "crank_mass",
+    "crank_cg_radius",
+    "counterweight_mass",
+    "counterweight_radius",
+    "phase",
+    "inclination",
+)
+
+#: A gauge pressure p(θ) [Pa] as a vectorised function of the cycle angle θ [rad].
+Pressure = Callable[[np.ndarray], Any]
+
+
+@dataclass(frozen=True)
+class Cylinder:
+    """One slider-crank unit of a machine, in SI units (m, kg, kg·m², rad, Pa).
+
+    Parameters
+    ----------
+    crank_radius : float
+        r [m], > 0.
+    rod_length : float
+        l [m], > r; the crank ratio is λ = r/l.
+    piston_mass : float
+        m_t [kg], ≥ 0: the piston complete (rings, pin; crosshead and piston rod where
+        there are).
+    rod_mass : float
+        m_k [kg], ≥ 0.
+    rod_cg : float
+        z_k [m], the rod's centre of gravity measured from the piston-pin axis, 0 ≤ z_k ≤ l.
+    rod_inertia : float, optional
+        I_k [kg·m²], the rod's moment of inertia about its own centre of gravity, ≥ 0.
+        Default: m_k·z_k·(l − z_k), the two-mass rod. A real rod usually has less; the
+        difference ΔI = I_k − m_k z_k (l − z_k) turns with the rod angle and enters J(φ).
+    crank_mass, crank_cg_radius : float
+        m_s [kg] and r_s [m]: this unit's crank web (and pin) and the radius of its centre
+        of gravity. Only their first moment enters (gravity); their inertia is part of
+        the machine's ``shaft_inertia``.
+    counterweight_mass, counterweight_radius : float
+        m_p [kg] and r_p [m], opposite the crank pin; likewise only gravity.
+    bore : float
+        D [m], ≥ 0; the piston area is π D²/4. 0: no gas force.
+    phase : float
+        α [rad], any finite real: the unit's crank angle from its own outer dead centre is
+        ψ = φ + α, and its cycle angle θ = (φ + α) mod Φ places it in the working cycle.
+    inclination : float
+        γ [rad]: the cylinder axis to the horizontal, +π/2 upright (the default).
+    pressure : callable or None
+        Gauge pressure p(θ) [Pa] on the piston crown as a vectorised function of the cycle
+        angle θ [rad] (an :class:`~multicrank.pressure.IndicatorDiagram`, say). It pushes
+        the piston toward the shaft.
+    pressure_crank_end : callable or None
+        Double-acting cylinders: the crank-end chamber's gauge pressure p_c(θ) [Pa], acting
+        on the area π D²/4 − π d²/4 and pushing the piston away from the shaft.
+    piston_rod_diameter : float
+        d [m], 0 ≤ d < D: the piston rod through the crank-end chamber.
+
+    Raises
+    ------
+    MechanismError
+        For any field out of its range (naming it) or geometry the core refuses.
+
+    See Also
+    --------
+    Machine : Cylinders on one shaft.
+    IndicatorDiagram : The gas pressure over a working cycle.
+
+    Examples
+    --------
+    A car engine's cylinder with a synthetic four-stroke cycle in its own volume:
+
+    >>> import multicrank as mc
+    >>> cylinder = mc.Cylinder(crank_radius=0.04, rod_length=0.13, piston_mass=0.4,
+    ...                        rod_mass=0.5, rod_cg=0.09, bore=0.09)
+    >>> swept = cylinder.swept_volume()
+    >>> print(f"λ = {cylinder.crank_ratio:.4f}, swept volume {swept * 1e6:.1f} cm³")
+    λ = 0.3077, swept volume 508.9 cm³
+    >>> cylinder = cylinder.replace(pressure=cylinder.engine_diagram(
+    ...     intake_pressure=1e5, heat_release=1200, compression_ratio=10))
+    >>> cylinder.pressure.strokes
+    4
+    """
+
+    crank_radius: float
+    rod_length: float
+    piston_mass: float
+    rod_mass: float
+    rod_cg: float
+    rod_inertia: float | None = None
+    crank_mass: float = 0.0
+    crank_cg_radius: float = 0.0
+    counterweight_mass: float = 0.0
+    counterweight_radius: float = 0.0
+    bore: float = 0.0
+    phase: float = 0.0
+    inclination: float = math.pi / 2
+    pressure: Pressure | None = None
+    pressure_crank_end: Pressure | None = None
+    piston_rod_diameter: float = 0.0
+
+    def __post_init__(self) -> None:
+        for field in (*_UNIT_FIELDS, "bore", "piston_rod_diameter"):
+            value = getattr(self, field)
+            if field == "rod_inertia" and value is None:
+                continue
+            object.__setattr__(self, field, as_scalar(value, field))
+        if self.rod_inertia is None:
+            # The two-mass rod (ΔI = 0): valid for any rod_cg the core accepts.
+            two_mass = self.rod_mass * self.rod_cg * (self.rod_length - self.rod_cg)
+            object.__setattr__(self, "rod_inertia", max(two_mass, 0.0))
+        if not (math.isfinite(self.bore) and self.bore >= 0):
+            raise MechanismError(f"bore = {self.bore} is out of range; allowed: bore >= 0 [m]")
+        if not (math.isfinite(self.piston_rod_diameter) and 0 <= self.piston_rod_diameter):
+            raise MechanismError(f"piston_rod_diameter = {self.piston_rod_diameter} is out of range; allowed: >= 0 [m]")
+        if self.piston_rod_diameter > 0 and self.piston_rod_diameter >= self.bore:
+            raise MechanismError(
+                f"piston_rod_diameter = {self.piston_rod_diameter} is out of range; "
+                f"allowed: less than bore = {self.bore}"
+            )
+        for name in ("pressure", "pressure_crank_end"):
+            value = getattr(self, name)
+            if value is not None and not callable(value):
+                raise MechanismError(f"{name} must be None or a callable of the cycle angle [rad] -> Pa")
+        # Geometry and masses: the core's rules, checked now rather than at first use.
+        _native_machine_evaluate("travel", unit_columns([self]), 0.0, np.zeros(0))
+
+    @property
+    def crank_ratio(self) -> float:
+        """λ = r/l."""
+        return self.crank_radius / self.rod_length
+
+    @property
+    def piston_area(self) -> float:
+        """π D²/4 [m²], the crown's area."""
+        return math.pi * self.bore**2 / 4
+
+    @property
+    def crank_end_area(self) -> float:
+        """π (D² − d²)/4 [m²], the crank-end face's area around the piston rod."""
+        return math.pi * (self.bore**2 - self.piston_rod_diameter**2) / 4
+
+    @property
+    def stroke(self) -> float:
+        """2r [m]: the piston's travel from outer to inner dead centre."""
+        return 2.0 * self.crank_radius
+
+    def chamber_volume(self, theta: Any, clearance_volume: float, *, end: str = "head") -> np.ndarray:
+        """The volume [m³] of one of the cylinder's chambers at cycle angles θ [rad].
+
+        The head end (over the crown): V(θ) = V_c + A·s(θ), smallest at θ = 0 (outer dead
+        centre). The crank end of a double-acting cylinder (around the piston rod):
+        V(θ) = V_c + A_c·(2r − s(θ)), smallest at inner dead centre. s is the piston travel
+        of :meth:`Machine.piston_travel` with the cylinder's own crank angle ψ = θ (θ and ψ
+        differ by whole turns, and s has period 2π), so V is the volume the synthetic cycles
+        of :class:`~multicrank.IndicatorDiagram` take.
+
+        Parameters
+        ----------
+        theta : array_like
+            Cycle angles θ [rad], any shape.
+        clearance_volume : float
+            V_c [m³] > 0: the chamber's volume at its dead centre.
+        end : {"head", "crank"}, default "head"
+            Which chamber.
+
+        Returns
+        -------
+        ndarray
+            V [m³], the shape of ``theta``.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> import multicrank as mc
+        >>> cylinder = mc.Cylinder(crank_radius=0.04, rod_length=0.13, piston_mass=0.4,
+        ...                        rod_mass=0.5, rod_cg=0.09, bore=0.09)
+        >>> volume = cylinder.chamber_volume(np.radians([0, 180]), clearance_volume=1e-4)
+        >>> volume * 1e6  # cm³
+        array([100.        , 608.93800988])
+        """
+        end = as_option(end, "end", ("head", "crank"))
+        clearance = as_scalar(clearance_volume, "clearance_volume")
+        if not (math.isfinite(clearance) and clearance > 0):
+            raise MechanismError(f"clearance_volume = {clearance} is out of range; allowed: > 0 [m³]")
+        angles = as_real_array(theta, "theta")
+        own = dict(unit_columns([self]), phase=np.zeros(1))
+        travel = _native_machine_evaluate("travel", own, 0.0, contiguous(angles).reshape(-1)).reshape(angles.shape)
+        if end == "head":
+            return clearance + self.piston_area * travel
+        return clearance + self.crank_end_area * (self.stroke - travel)
+
+    def swept_volume(self, end: str = "head") -> float:
+        """The volume a chamber's face sweeps: A·2r at the head end, A_c·2r at the crank end.
+
+        Parameters
+        ----------
+        end : {"head", "crank"}, default "head"
+            Which chamber.
+
+        Returns
+        -------
+        float
+            The swept volume [m³].
+        """
+        end = as_option(end, "end", ("head", "crank"))
+        return (self.piston_area if end == "head" else self.crank_end_area) * self.stroke
+
+    def _clearance(self, end: str, given: dict[str, Any]) -> float:
+        """V_c [m³] from exactly one of clearance_volume, clearance_ratio, compression_ratio."""
+        named = {name: value for name, value in given.items() if value is not None}
+        if len(named) != 1:
+            raise MechanismError(f"give exactly one of {', '.join(given)} (got {', '.join(named) or 'none'})")
+        if not self.bore > 0:
+            raise MechanismError(f"bore = {self.bore}: a synthetic cycle needs a piston (bore > 0) [m]")
+        ((name, value),) = named.items()
+        value = as_scalar(value, name)
+        swept = self.swept_volume(end)
+        if name == "clearance_volume" and math.isfinite(value) and value > 0:
+            return value
+        if name == "clearance_ratio" and math.isfinite(value) and value > 0:
+            return value * swept
+        if name == "compression_ratio" and math.isfinite(value) and value > 1:
+            return swept / (value - 1.0)
+        allowed = {
+            "clearance_volume": "> 0 [m³]",
+            "clearance_ratio": "> 0 (V_c over the swept volume)",
+            "compression_ratio": "> 1 ((V_s + V_c)/V_c)",
+        }
+        raise MechanismError(f"{name} = {value} is out of range; allowed: {allowed[name]}")
+
+    def compressor_diagram(
+        self,
+        *,
+        suction_pressure: float,
+        discharge_pressure: float,
+        clearance_ratio: float | None = None,
+        clearance_volume: float | None = None,
+        end: str = "head",
+        **options: Any,
+    ) -> IndicatorDiagram:
+        """The ideal compressor cycle (:meth:`IndicatorDiagram.compressor`) in one of this
+        cylinder's chambers, of volume :meth:`chamber_volume`.
+
+        Parameters
+        ----------
+        suction_pressure, discharge_pressure : float
+            [Pa], absolute unless ``absolute=False`` is among ``options``.
+        clearance_ratio, clearance_volume : float
+            Exactly one: V_c over the chamber's swept volume (:meth:`swept_volume`), or V_c [m³].
+        end : {"head", "crank"}
+            The chamber: "crank" for the crank end of a double-acting cylinder (its diagram
+            goes to ``pressure_crank_end``).
+        **options
+            The other keywords of :meth:`IndicatorDiagram.compressor` (``cycle`` 2π by
+            default: the machine's cycle is the one to give).
+
+        Returns
+        -------
+        IndicatorDiagram
+            Gauge pressures [Pa] over the cycle.
+
+        Examples
+        --------
+        >>> import multicrank as mc
+        >>> cylinder = mc.Cylinder(crank_radius=0.15, rod_length=0.6, piston_mass=85,
+        ...                        rod_mass=60, rod_cg=0.4, bore=0.3)
+        >>> diagram = cylinder.compressor_diagram(
+        ...     suction_pressure=1e5, discharge_pressure=4e5, clearance_ratio=0.08)
+        >>> clearance = 0.08 * cylinder.swept_volume()
+        >>> work = diagram.indicated_work(
+        ...     lambda theta: cylinder.chamber_volume(theta, clearance))
+        >>> print(f"∮p dV = {work:.0f} J per cycle (the work the compressor takes)")
+        ∮p dV = -2936 J per cycle (the work the compressor takes)
+        """
+        end = as_option(end, "end", ("head", "crank"))
+        clearance = self._clearance(end, {"clearance_ratio": clearance_ratio, "clearance_volume": clearance_volume})
+        return IndicatorDiagram.compressor(
+            lambda theta: self.chamber_volume(theta, clearance, end=end),
+            suction_pressure=suction_pressure,
+            discharge_pressure=discharge_pressure,
+            **options,
+        )
+
+    def engine_diagram(
+        self,
+        *,
+        intake_pressure: float,
+        heat_release: float,
+        compression_ratio: float | None = None,
+        clearance_volume: float | None = None,
+        **options: Any,
+    ) -> IndicatorDiagram:
+        """The single-zone engine cycle (:meth:`IndicatorDiagram.engine`) over this cylinder's
+        crown, in the head-end volume :meth:`chamber_volume`; it fires at θ = 0.
+
+        Parameters
+        ----------
+        intake_pressure : float
+            [Pa], absolute unless ``absolute=False`` is among ``options``.
+        heat_release : float
+            [J per cycle].
+        compression_ratio, clearance_volume : float
+            Exactly one: ε = (V_s + V_c)/V_c, or V_c [m³].
+        **options
+            The other keywords of :meth:`IndicatorDiagram.engine` (``cycle`` 4π by default).
+
+        Returns
+        -------
+        IndicatorDiagram
+            Gauge pressures [Pa] over the cycle.
+        """
+        clearance = self._clearance(
+            "head", {"compression_ratio": compression_ratio, "clearance_volume": clearance_volume}
+        )
+        return IndicatorDiagram.engine(
+            lambda theta: self.chamber_volume(theta, clearance),
+            intake_pressure=intake_pressure,
+            heat_release=heat_release,
+            **options,
+        )
+
+    def replace(self, **changes: Any) -> Cylinder:
+        """A copy with some fields changed.
+
+        Parameters
+        ----------
+        **changes
+            New values of any of the fields (the parameters of :class:`Cylinder`).
+
+        Returns
+        -------
+        Cylinder
+            The changed copy, checked as a new one is.
+        """
+        return dataclasses.replace(self, **changes)
+
+
+def unit_columns(cylinders: Sequence[Cylinder]) -> dict[str, np.ndarray]:
+    """The units as the core's bundle of equal-length float64 columns."""
+    return {field: contiguous(np.array([getattr(c, field) for c in cylinders], dtype=float)) for field in _UNIT_FIELDS}
+
+
+def diagram_strokes(cylinder: Cylinder) -> int | None:
+    """The strokes of the longest indicator diagram (one with a ``cycle``) on a cylinder, if any."""
+    cycles = [getattr(getattr(cylinder, end), "cycle", None) for end in ("pressure", "pressure_crank_end")]
+    longest = max((c for c in cycles if isinstance(c, float)), default=None)
+    return None if longest is None else round(longest / math.pi)
