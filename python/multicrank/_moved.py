@@ -50,7 +50,9 @@ class _MovedModules(importlib.abc.MetaPathFinder, importlib.abc.Loader):
 
     def exec_module(self, module: ModuleType) -> None:
         # The module at the new path is already executed: only give it its own spec back.
-        module.__spec__ = module.__spec__.loader_state
+        alias = module.__spec__
+        if alias is not None:
+            module.__spec__ = alias.loader_state
 
 
 def install() -> None:

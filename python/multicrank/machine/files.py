@@ -19,6 +19,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from .._files import read_toml
 from .._native import MechanismError
 from ..gravity.layouts import Layout, as_layout
 from ..pressure.diagram import PRESSURE_UNITS, IndicatorDiagram
@@ -229,25 +230,8 @@ def read_machine_file(path: str | os.PathLike[str]) -> MachineFile:
         Naming the file and the key, for a file that cannot be read or is not TOML, an
         unknown or missing key, a value of the wrong type, or a choice that is not offered.
     """
-    import tomllib
-
-    try:
-        name = Path(os.fspath(path))
-    except TypeError:
-        raise MechanismError(f"path must be a file path (str or os.PathLike), got {type(path).__name__}") from None
-    try:
-        with open(name, "rb") as handle:
-            data = tomllib.load(handle)
-    except FileNotFoundError:
-        raise MechanismError(f"{name}: no such file") from None
-    except IsADirectoryError:
-        raise MechanismError(f"{name}: is a directory, not a machine file") from None
-    except tomllib.TOMLDecodeError as error:
-        raise MechanismError(f"{name}: not a valid TOML file: {error}") from None
-    except UnicodeDecodeError as error:
-        raise MechanismError(f"{name}: not a UTF-8 text file: {error.reason}") from None
-    except OSError as error:
-        raise MechanismError(f"{name}: cannot be read: {error.strerror or error}") from None
+    data = read_toml(path, "a machine file")
+    name = Path(os.fspath(path))
     file = MachineFile(path=name, fields={}, cylinders=[])
     if "engine" in data and isinstance(data["engine"], dict):
         raise file.error("engine", _OLD_FORMAT)
