@@ -28,7 +28,7 @@ from ._validation import (
 __all__ = ["force_derivative", "generalized_force", "lambda_coefficients", "potential_energy"]
 
 
-def _prepare(phi: Any, crank_ratio: Any, inclination: Any, u1: Any, u2: Any, phases: Any):
+def _prepare(phi: Any, crank_ratio: Any, inclination: Any, u1: Any, u2: Any, phases: Any) -> tuple[Any, ...]:
     angles = as_angles(phi)
     shape, design = broadcast_designs(**design_keywords(crank_ratio, inclination, u1, u2))
     # Design axes first, then φ's axes: result shape D + phi.shape.
@@ -37,14 +37,16 @@ def _prepare(phi: Any, crank_ratio: Any, inclination: Any, u1: Any, u2: Any, pha
     return angles, lam, gamma, u1_, u2_, as_phases(phases), shape + angles.shape
 
 
-def _root(lam, cos):
+def _root(lam: np.ndarray, cos: np.ndarray) -> np.ndarray:
     """√(1 − λ² sin²ψ), formed as √((1 − λ)(1 + λ) + λ² cos²ψ): the same number, without
     the cancellation of 1 − λ² sin²ψ near ψ = π/2 as λ → 1 (at λ = 1 − 10⁻⁶ the first form
     keeps only ~6 of its digits there)."""
     return np.sqrt((1 - lam) * (1 + lam) + lam**2 * cos**2)
 
 
-def potential_energy(phi, *, crank_ratio, inclination, u1, u2, phases=None):
+def potential_energy(
+    phi: Any, *, crank_ratio: Any, inclination: Any, u1: Any, u2: Any, phases: Any = None
+) -> np.ndarray | np.float64:
     """U_w*(φ) = Σ_j U2[sin(ψ_j+γ) − sin γ] − U1 (s(ψ_j)/r) sin γ, ψ_j = φ + α_j (eq. 3, 12)."""
     phi, lam, gamma, u1, u2, alphas, shape = _prepare(phi, crank_ratio, inclination, u1, u2, phases)
     total = np.zeros(shape)
@@ -56,7 +58,9 @@ def potential_energy(phi, *, crank_ratio, inclination, u1, u2, phases=None):
     return finish(total, shape)
 
 
-def generalized_force(phi, *, crank_ratio, inclination, u1, u2, phases=None, method="exact"):
+def generalized_force(
+    phi: Any, *, crank_ratio: Any, inclination: Any, u1: Any, u2: Any, phases: Any = None, method: str = "exact"
+) -> np.ndarray | np.float64:
     """Q_u*(φ) = Σ_j U2 cos(ψ_j+γ) − U1 [sin ψ_j + λ sin 2ψ_j / (2√(1 − λ² sin² ψ_j))] sin γ (eq. 13)."""
     method = as_option(method, "method", ("exact", "series", "paper"))
     phi, lam, gamma, u1, u2, alphas, shape = _prepare(phi, crank_ratio, inclination, u1, u2, phases)
@@ -70,7 +74,9 @@ def generalized_force(phi, *, crank_ratio, inclination, u1, u2, phases=None, met
     return finish(total, shape)
 
 
-def force_derivative(phi, *, crank_ratio, inclination, u1, u2, phases=None):
+def force_derivative(
+    phi: Any, *, crank_ratio: Any, inclination: Any, u1: Any, u2: Any, phases: Any = None
+) -> np.ndarray | np.float64:
     """dQ_u*/dφ = Σ_j −U2 sin(ψ_j+γ) − U1 [cos ψ_j + λ (cos 2ψ_j + λ² sin⁴ψ_j)/(1 − λ² sin²ψ_j)^{3/2}] sin γ."""
     phi, lam, gamma, u1, u2, alphas, shape = _prepare(phi, crank_ratio, inclination, u1, u2, phases)
     total = np.zeros(shape)
@@ -100,7 +106,7 @@ def _binomial_half(b: int) -> float:
     return float(value)
 
 
-def lambda_coefficients(crank_ratio, n_max, method="exact"):
+def lambda_coefficients(crank_ratio: Any, n_max: int, method: str = "exact") -> np.ndarray:
     """Λ_0 … Λ_{n_max} in plain floating point.
 
     "exact": Λ_{2m} = 2m Σ_{b≥0} C(½, b) C(½, b+m) t^{2m+4b−1}, t = λ/(1 + √(1 − λ²)),
@@ -128,7 +134,16 @@ def lambda_coefficients(crank_ratio, n_max, method="exact"):
     return out
 
 
-def _fourier_force(phi, lam, gamma, u1, u2, alphas, shape, method):
+def _fourier_force(
+    phi: np.ndarray,
+    lam: np.ndarray,
+    gamma: np.ndarray,
+    u1: np.ndarray,
+    u2: np.ndarray,
+    alphas: np.ndarray,
+    shape: tuple[int, ...],
+    method: str,
+) -> np.ndarray:
     """Q_u* summed crank by crank from its Fourier form (eq. 14):
     Q = N cos ψ + W1 sin ψ + Σ_{n even} N1 Λ_n sin nψ with N = U2 cos γ, N1 = −U1 sin γ,
     W1 = N1 − U2 sin γ. "paper": Λ_n of the λ-series, n ≤ 12; "series": exact Λ_n up to
