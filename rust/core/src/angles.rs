@@ -209,8 +209,8 @@ impl Rotations {
         }
     }
 
-    /// (sin, cos) of m·x_i for i = first … first + N − 1; lanes past the grid's end repeat
-    /// its last point (the caller drops them).
+    /// (sin, cos) of m·x_i for i = first … first + N − 1; lanes past the grid's end hold
+    /// values of no meaning (the caller drops them).
     #[inline(always)]
     pub(crate) fn block<M: MulAdd, const N: usize>(&self, first: usize) -> ([f64; N], [f64; N]) {
         let (s, c, _) = self.block_and_rounding::<M, N>(first);
