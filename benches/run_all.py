@@ -7,6 +7,7 @@ benches/python/bench_machine.py and benches/python/bench_motion.py (release buil
 installed package; each refuses a debug build) and, with --criterion, the criterion benches
 of the Rust kernels, then writes BENCHMARKS.md at the repository root.
 OPENBLAS_NUM_THREADS=1 keeps numpy's BLAS threads from spinning on the cores being timed.
+To compare two builds' criterion figures instead, see benches/compare_builds.py.
 """
 
 from __future__ import annotations

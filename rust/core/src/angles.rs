@@ -140,6 +140,8 @@ enum Correction {
 pub(crate) struct Rotations {
     len: usize,
     start: f64,
+    /// start is +0.0 (see `block_and_rounding`).
+    start_is_zero: bool,
     step: f64,
     multiplier: f64,
     correction: Correction,
@@ -196,6 +198,7 @@ impl Rotations {
         Self {
             len: grid.len,
             start: grid.start,
+            start_is_zero: grid.start.to_bits() == 0,
             step: grid.step,
             multiplier: m,
             correction,
@@ -206,8 +209,8 @@ impl Rotations {
         }
     }
 
-    /// (sin, cos) of m·x_i for i = first … first + N − 1; lanes past the grid's end repeat
-    /// its last point (the caller drops them).
+    /// (sin, cos) of m·x_i for i = first … first + N − 1; lanes past the grid's end hold
+    /// values of no meaning (the caller drops them).
     #[inline(always)]
     pub(crate) fn block<M: MulAdd, const N: usize>(&self, first: usize) -> ([f64; N], [f64; N]) {
         let (s, c, _) = self.block_and_rounding::<M, N>(first);
@@ -222,12 +225,24 @@ impl Rotations {
         first: usize,
     ) -> ([f64; N], [f64; N], [f64; N]) {
         let mut d = [0.0; N];
-        let (base, last) = (first as f64, self.len.saturating_sub(1) as f64);
-        for (l, d) in d.iter_mut().enumerate() {
-            // i as a float iota, clamped like the lanes of `progression`: vectorises
-            // without integer conversions.
-            let (t, e) = rounding::<M>(self.start, self.step, (base + l as f64).min(last));
-            *d = t + e;
+        // i as a float iota: vectorises without integer conversions. Not clamped to the
+        // grid like the lanes of `progression`: lanes past the end are dropped by the
+        // caller, and a clamp costs three instructions a vector.
+        let base = first as f64;
+        let index = |l: usize| base + l as f64;
+        if self.start_is_zero {
+            // x_i = fl(i·step): the sum's part of the rounding is exactly +0 and
+            // (−0) + (−e) = −e bit for bit, so only the product's error is left to find
+            // (the common grid over a revolution; 3 operations a lane instead of 9).
+            for (l, d) in d.iter_mut().enumerate() {
+                let i = index(l);
+                *d = -M::product_error(i, self.step, i * self.step);
+            }
+        } else {
+            for (l, d) in d.iter_mut().enumerate() {
+                let (t, e) = rounding::<M>(self.start, self.step, index(l));
+                *d = t + e;
+            }
         }
         let (s, c) = self.block_rounded::<M, N>(first, &d);
         (s, c, d)
@@ -244,9 +259,13 @@ impl Rotations {
         let (mut s, mut c) = self.progression::<M, N>(first);
         match self.correction {
             Correction::FirstOrder => {
+                // One loop per result (see `progression`).
+                let (s0, c0) = (s, c);
                 for l in 0..N {
-                    let md = self.multiplier * d[l];
-                    (s[l], c[l]) = (M::mul_add(md, c[l], s[l]), M::mul_add(-md, s[l], c[l]));
+                    s[l] = M::mul_add(self.multiplier * d[l], c0[l], s0[l]);
+                }
+                for l in 0..N {
+                    c[l] = M::mul_add(-(self.multiplier * d[l]), s0[l], c0[l]);
                 }
             }
             Correction::Full => {
@@ -268,12 +287,14 @@ impl Rotations {
                 }
                 let (mut ds, mut dc) = ([0.0; N], [0.0; N]);
                 sincos_block::<M>(&hi, &mut ds, &mut dc);
+                let (s0, c0) = (s, c);
                 for l in 0..N {
                     let (ds, dc) = (
                         M::mul_add(lo[l], dc[l], ds[l]),
                         M::mul_add(-lo[l], ds[l], dc[l]),
                     );
-                    (s[l], c[l]) = rotate::<M>((s[l], c[l]), (ds, dc));
+                    s[l] = rotate::<M>((s0[l], c0[l]), (ds, dc)).0;
+                    c[l] = rotate::<M>((s0[l], c0[l]), (ds, dc)).1;
                 }
             }
         }
@@ -283,23 +304,38 @@ impl Rotations {
     /// (sin, cos) of m·φ_i on the exact progression φ_i = start + i·step.
     #[inline(always)]
     fn progression<M: MulAdd, const N: usize>(&self, first: usize) -> ([f64; N], [f64; N]) {
-        let (mut s, mut c) = ([0.0; N], [0.0; N]);
+        // The seeds and offsets of the lanes are gathered first, then rotated in one loop
+        // per result: computed per path, or as a pair (s, c) per lane, the results are
+        // vectorised across the pair, with shuffles between lanes (+40% of the instructions
+        // per point on a uniform grid at k = 1).
         let (q, r) = (first / SPAN, first % SPAN);
-        if r + N <= self.offset_sin.len() && first + N <= self.len {
-            // One seed for the whole block: broadcast it against a run of offsets.
-            let (ss, sc) = (self.seed_sin[q], self.seed_cos[q]);
-            let (os, oc) = (&self.offset_sin[r..r + N], &self.offset_cos[r..r + N]);
-            for l in 0..N {
-                (s[l], c[l]) = rotate::<M>((ss, sc), (os[l], oc[l]));
-            }
+        let (seed_s, seed_c, os, oc) = if r + N <= self.offset_sin.len() && first + N <= self.len {
+            // One seed for the whole block, against a run of offsets.
+            (
+                [self.seed_sin[q]; N],
+                [self.seed_cos[q]; N],
+                padded::<N>(&self.offset_sin, r, N),
+                padded::<N>(&self.offset_cos, r, N),
+            )
         } else {
-            // A block across a seed boundary or the grid's end: the same arithmetic per lane.
+            // A block across a seed boundary or the grid's end: each lane its own.
+            let mut lanes = ([0.0; N], [0.0; N], [0.0; N], [0.0; N]);
             for l in 0..N {
                 let i = (first + l).min(self.len.saturating_sub(1));
                 let (q, r) = (i / SPAN, i % SPAN);
-                let seed = (self.seed_sin[q], self.seed_cos[q]);
-                (s[l], c[l]) = rotate::<M>(seed, (self.offset_sin[r], self.offset_cos[r]));
+                lanes.0[l] = self.seed_sin[q];
+                lanes.1[l] = self.seed_cos[q];
+                lanes.2[l] = self.offset_sin[r];
+                lanes.3[l] = self.offset_cos[r];
             }
+            lanes
+        };
+        let (mut s, mut c) = ([0.0; N], [0.0; N]);
+        for l in 0..N {
+            s[l] = rotate::<M>((seed_s[l], seed_c[l]), (os[l], oc[l])).0;
+        }
+        for l in 0..N {
+            c[l] = rotate::<M>((seed_s[l], seed_c[l]), (os[l], oc[l])).1;
         }
         (s, c)
     }
