@@ -147,6 +147,7 @@ def main() -> int:
                     run_once(executables[side][name], home, args)
                     for bench_id, ns in medians(home).items():
                         best[side][bench_id] = min(ns, best[side].get(bench_id, float("inf")))
+
         # natural order: .../serial/6 before .../serial/12
         def natural(bench_id: str) -> list:
             return [int(part) if part.isdigit() else part for part in re.split(r"(\d+)", bench_id)]
@@ -170,7 +171,7 @@ def main() -> int:
             return 1
         return 0
     finally:
-        for side, tree in trees.items():
+        for tree in trees.values():
             if tree != ROOT and not args.keep:
                 subprocess.run(["git", "worktree", "remove", "--force", str(tree)], cwd=ROOT, capture_output=True)
         if args.keep:
