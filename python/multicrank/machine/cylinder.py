@@ -19,6 +19,7 @@ import numpy as np
 
 from .._native import MechanismError
 from .._native import machine_evaluate as _native_machine_evaluate
+from .._native import two_mass_rod_inertia as _native_two_mass_rod_inertia
 from .._validation import as_option, as_real_array, as_scalar, contiguous
 from ..pressure.diagram import IndicatorDiagram
 
@@ -138,8 +139,9 @@ class Cylinder:
                 continue
             object.__setattr__(self, field, as_scalar(value, field))
         if self.rod_inertia is None:
-            # The two-mass rod (ΔI = 0): valid for any rod_cg the core accepts.
-            two_mass = self.rod_mass * self.rod_cg * (self.rod_length - self.rod_cg)
+            # The two-mass rod (ΔI = 0), by the core's formula; at least 0, so that a rod_cg
+            # outside 0…l is reported as such by the core's check below, not as a negative inertia.
+            two_mass = _native_two_mass_rod_inertia(self.rod_mass, self.rod_length, self.rod_cg)
             object.__setattr__(self, "rod_inertia", max(two_mass, 0.0))
         if not (math.isfinite(self.bore) and self.bore >= 0):
             raise MechanismError(f"bore = {self.bore} is out of range; allowed: bore >= 0 [m]")

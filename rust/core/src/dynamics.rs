@@ -50,6 +50,14 @@ pub struct PhysicalCylinder {
     pub inclination: f64,
 }
 
+/// I_k of the two-mass rod, m_k z_k (l − z_k) [kg·m²]: the rod whose mass, split between the
+/// two pin axes in inverse proportion to their distances from its centre of gravity, has its
+/// moment of inertia too (ΔI = 0). The default where a rod's own inertia is not known; never
+/// negative for 0 ≤ z_k ≤ l.
+pub fn two_mass_rod_inertia(rod_mass: f64, rod_length: f64, rod_cg: f64) -> f64 {
+    rod_mass * rod_cg * (rod_length - rod_cg)
+}
+
 /// What the kernels need of a unit: r, λ, λ², the reciprocating mass and ΔI.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct Slider {
@@ -124,7 +132,7 @@ impl PhysicalCylinder {
             l2: lambda * lambda,
             reciprocating: self.piston_mass + rod_share_piston,
             delta_inertia: self.rod_inertia
-                - self.rod_mass * self.rod_cg * (self.rod_length - self.rod_cg),
+                - two_mass_rod_inertia(self.rod_mass, self.rod_length, self.rod_cg),
         }
     }
 }
@@ -395,7 +403,7 @@ mod tests {
             piston_mass: 3.0,
             rod_mass: 2.0,
             rod_cg: z,
-            rod_inertia: inertia_factor * 2.0 * z * (l - z),
+            rod_inertia: inertia_factor * two_mass_rod_inertia(2.0, l, z),
             crank_mass: 1.5,
             crank_cg_radius: 0.05,
             counterweight_mass: 1.0,

@@ -36,7 +36,7 @@ mod tolerances;
 mod trig;
 
 pub use angles::{Phi, UniformGrid};
-pub use dynamics::{Dynamics, Kinematics, PhysicalCylinder};
+pub use dynamics::{two_mass_rod_inertia, Dynamics, Kinematics, PhysicalCylinder};
 pub use engine::{Cylinder, Engine};
 pub use error::{MechanismError, Result};
 pub use exact::{evaluate, evaluate_one, Quantity};

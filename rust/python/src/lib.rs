@@ -46,7 +46,9 @@ mod _native {
         fourier_coefficients, lambda_coefficients, paper_coefficient, surviving_harmonics,
     };
     #[pymodule_export]
-    use crate::machine::{machine_engine, machine_evaluate, machine_gas_torque, machine_inertia};
+    use crate::machine::{
+        machine_engine, machine_evaluate, machine_gas_torque, machine_inertia, two_mass_rod_inertia,
+    };
     #[pymodule_export]
     use crate::parallel::{_after_fork_in_child, get_parallel_threshold, set_parallel_threshold};
     #[pymodule_export]

@@ -117,3 +117,10 @@ pub(crate) fn machine_engine<'py>(
         ],
     )
 }
+
+/// two_mass_rod_inertia(rod_mass, rod_length, rod_cg) -> I_k (kg·m²) of the two-mass rod,
+/// m_k z_k (l − z_k): the default of a cylinder whose rod inertia is not given.
+#[pyfunction]
+pub(crate) fn two_mass_rod_inertia(rod_mass: f64, rod_length: f64, rod_cg: f64) -> f64 {
+    core::two_mass_rod_inertia(rod_mass, rod_length, rod_cg)
+}
