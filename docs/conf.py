@@ -155,13 +155,13 @@ def _list_table(header: list[str], rows: list[list[str]], widths: str) -> str:
 
 
 class _BuiltInMachines(SphinxDirective):
-    """A table of multicrank.presets.ENGINES, made from the machines themselves."""
+    """A table of multicrank.presets.MACHINES, made from the machines themselves."""
 
     def run(self) -> list[nodes.Node]:
-        from multicrank.presets import ENGINES
+        from multicrank.presets import MACHINES
 
         rows = []
-        for name, machine in ENGINES.items():
+        for name, machine in MACHINES.items():
             low, high = machine.rpm_range or (machine.rpm, machine.rpm)
             rows.append(
                 [

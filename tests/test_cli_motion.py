@@ -14,7 +14,7 @@ import pandas as pd
 import pytest
 
 import multicrank as mc
-from multicrank.presets import DEFAULT_ENGINE
+from multicrank.presets import DEFAULT_MACHINE
 
 SCRIPT = Path(sys.executable).with_name("multicrank")
 
@@ -35,7 +35,7 @@ def run_failing(*args: str) -> str:
 def test_simulate_csv_is_the_api_run():
     out = run("simulate", "--duration", "0.5", "--samples", "51", "--format", "csv", "--no-progress")
     frame = pd.read_csv(io.StringIO(out), index_col="time")
-    machine = DEFAULT_ENGINE
+    machine = DEFAULT_MACHINE
     omega0 = machine.rpm * math.pi / 30
     expected = mc.simulate(machine, np.linspace(0, 0.5, 51), omega0=omega0, load="balance")
     np.testing.assert_allclose(frame["omega"], expected.omega, rtol=1e-10)
@@ -73,7 +73,7 @@ def test_simulate_run_down_without_gas_stalls_and_says_so(tmp_path):
         (["--rpm", "0"], "--rpm"),
         (["--rpm", "nan"], "--rpm"),
         (["--samples", "1"], "--samples"),
-        (["--engine", "no-such-machine"], "--engine"),
+        (["--machine", "no-such-machine"], "--machine"),
     ],
 )
 def test_simulate_mistakes_are_one_line_naming_the_option(args, named):
@@ -94,7 +94,7 @@ def test_motion_csv_is_the_api_steady_state_and_flywheel(tmp_path):
         "--no-progress",
     )  # fmt: skip
     frame = pd.read_csv(io.StringIO(out), index_col="rpm")
-    machine = DEFAULT_ENGINE
+    machine = DEFAULT_MACHINE
     for rpm in (100.0, 150.0):
         state = mc.steady_state(machine, rpm=rpm)
         row = frame.loc[rpm]
@@ -116,7 +116,7 @@ def test_motion_csv_is_the_api_steady_state_and_flywheel(tmp_path):
 
 def test_motion_over_the_speed_range_with_the_class_flywheel():
     data = json.loads(run("motion", "--points", "3", "--format", "json", "--no-progress"))
-    machine = DEFAULT_ENGINE
+    machine = DEFAULT_MACHINE
     speeds = [row["rpm"] for row in data["rows"]]
     assert machine.rpm in speeds and min(speeds) == machine.rpm_range[0] and max(speeds) == machine.rpm_range[1]
     assert data["target_delta"] == pytest.approx(1 / 20)  # the compressor class's limit
@@ -130,7 +130,7 @@ def test_motion_over_the_speed_range_with_the_class_flywheel():
         (["--delta", "2"], "--delta"),
         (["--load", "power:100:600", "--rpm", "500"], "--rpm"),
         (["--load", "7"], "load"),
-        (["--engine", "docs/no-such.toml"], "--engine"),
+        (["--machine", "docs/no-such.toml"], "--machine"),
     ],
 )
 def test_motion_mistakes_are_one_line_naming_the_option(args, named):
@@ -247,14 +247,14 @@ def test_a_full_disk_during_a_sweep_is_one_line(tmp_path, monkeypatch):
         (b"shaft_inertia = 'heavy'\n[cylinder]\ncrank_radius = 0.1\n", "shaft_inertia"),
     ],
 )
-def test_an_engine_file_that_cannot_be_read_is_one_line_for_every_command(tmp_path, command, content, named):
-    """Issue 13, item 8: engine TOML that is a directory, not UTF-8, not TOML or wrong-typed."""
-    path = tmp_path / "engine.toml"
+def test_a_machine_file_that_cannot_be_read_is_one_line_for_every_command(tmp_path, command, content, named):
+    """Issue 13, item 8: a machine file that is a directory, not UTF-8, not TOML or wrong-typed."""
+    path = tmp_path / "machine.toml"
     if content is None:
         path.mkdir()
     else:
         path.write_bytes(content)
     extra = ["--out", str(tmp_path / "r")] if command == "report" else []
-    line = run_failing(command, "--engine", str(path), *extra, *([] if command == "eval" else ["--no-progress"]))
-    assert line.startswith(f"Error: --engine: {path}") and named in line
+    line = run_failing(command, "--machine", str(path), *extra, *([] if command == "eval" else ["--no-progress"]))
+    assert line.startswith(f"Error: --machine: {path}") and named in line
     assert not (tmp_path / "r").exists()

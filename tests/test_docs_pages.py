@@ -172,7 +172,7 @@ def test_shell_commands_parse(page, scratch):
         assert command is not None, f"{where}: no such command"
         try:
             command.make_context(args[0], args[1:])
-        except Exception as error:  # click.UsageError and the --engine loader's errors
+        except Exception as error:  # click.UsageError and the --machine loader's errors
             pytest.fail(f"{where}: {error}")
 
 

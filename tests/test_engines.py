@@ -223,9 +223,9 @@ def test_monte_carlo_through_sweep_matches_first_order_prediction():
 
 def test_physical_layout_counts_one_web_per_throw():
     """A V-twin from physical masses: two cylinders on one pin, one web and counterweight."""
-    from multicrank.presets import ENGINES
+    from multicrank.presets import MACHINES
 
-    preset = ENGINES["inline-4"]
+    preset = MACHINES["inline-4"]
     machine = mc.Machine.from_layout(
         "v-twin-90", preset.cylinders[0], shaft_inertia=preset.shaft_inertia, rpm=preset.rpm
     )

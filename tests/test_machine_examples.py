@@ -46,7 +46,7 @@ def test_every_example_loads_and_evaluates(path):
     engine = machine.engine()
     assert len(engine) == len(machine) and np.isfinite(engine.speed_fluctuation())
     result = subprocess.run(
-        [str(SCRIPT), "eval", "--engine", str(path), "--points", "8", "--format", "json"],
+        [str(SCRIPT), "eval", "--machine", str(path), "--points", "8", "--format", "json"],
         capture_output=True,
         text=True,
         timeout=120,

@@ -554,7 +554,7 @@ def test_flywheel_refuses_bad_delta(delta, match):
 
 
 def test_the_speed_defaults_to_the_machines_own():
-    compressor = mc.presets.ENGINES["slow-compressor"]
+    compressor = mc.presets.MACHINES["slow-compressor"]
     running = compressor.replace(rpm=120.0)
     assert mc.steady_state(running).delta == mc.steady_state(compressor, rpm=120).delta
     sized = mc.flywheel_inertia(running, delta=1 / 40)
@@ -566,7 +566,7 @@ def test_the_speed_defaults_to_the_machines_own():
 
 
 def test_results_share_their_names_and_keep_the_old_ones():
-    state = mc.steady_state(mc.presets.ENGINES["slow-compressor"], rpm=120, points=37)
+    state = mc.steady_state(mc.presets.MACHINES["slow-compressor"], rpm=120, points=37)
     assert isinstance(state, mc.motion.MotionResult) and state.solved == "balance load (energy method)"
     for old, new in [("J", "reduced_inertia"), ("dJ_dphi", "reduced_inertia_slope"), ("torque_gas", "gas_torque"),
                      ("torque_gravity", "gravity_torque"), ("torque_inertia", "inertia_torque"),
@@ -580,7 +580,7 @@ def test_results_share_their_names_and_keep_the_old_ones():
     np.testing.assert_allclose(frame["rpm"], state.omega * 30 / math.pi, rtol=1e-15)
     dataset = state.to_xarray()
     assert dataset["gas_torque"].attrs["units"] == "N·m" and dataset.attrs["mean_load_torque"] == state.mean_load_torque
-    sized = mc.flywheel_inertia(mc.presets.ENGINES["slow-compressor"], delta=1 / 40, rpm=120)
+    sized = mc.flywheel_inertia(mc.presets.MACHINES["slow-compressor"], delta=1 / 40, rpm=120)
     row = sized.to_pandas()
     assert len(row) == 1 and row["shaft_inertia"].iloc[0] == float(sized) and row.attrs["units"]["rpm"] == "1/min"
     assert sized.to_xarray()["shaft_inertia"].attrs["units"] == "kg·m²" and "energy method" in sized.solved

@@ -11,7 +11,7 @@ import pytest
 
 import multicrank as mc
 from multicrank import presets
-from multicrank.presets import ENGINES, MACHINE_CLASSES, SPEED_FLUCTUATION
+from multicrank.presets import MACHINE_CLASSES, MACHINES, SPEED_FLUCTUATION
 
 
 def estimated_delta(machine, rpm=None, points_per_revolution=8192):
@@ -48,16 +48,15 @@ def test_the_estimate_of_an_unbalanced_flywheel():
 
 
 def test_the_first_presets_keep_their_names():
-    assert {"slow-compressor", "marine-2t-twin", "inline-4", "inline-6", "slow-diesel-12"} <= set(ENGINES)
-    assert presets.DEFAULT_ENGINE is ENGINES[presets.DEFAULT_ENGINE_NAME] is ENGINES["slow-compressor"]
-    assert set(MACHINE_CLASSES) == set(ENGINES) and set(MACHINE_CLASSES.values()) <= set(SPEED_FLUCTUATION)
+    assert {"slow-compressor", "marine-2t-twin", "inline-4", "inline-6", "slow-diesel-12"} <= set(MACHINES)
+    assert set(MACHINE_CLASSES) == set(MACHINES) and set(MACHINE_CLASSES.values()) <= set(SPEED_FLUCTUATION)
     with pytest.raises(AttributeError):
         presets.NO_SUCH_PRESET  # noqa: B018
 
 
-@pytest.mark.parametrize("name", list(ENGINES))
+@pytest.mark.parametrize("name", list(MACHINES))
 def test_each_preset_has_the_speed_fluctuation_of_its_class(name):
-    machine = ENGINES[name]
+    machine = MACHINES[name]
     assert isinstance(machine, mc.Machine) and machine.name == name
     kind = MACHINE_CLASSES[name]
     low, high = SPEED_FLUCTUATION[kind]
@@ -69,9 +68,9 @@ def test_each_preset_has_the_speed_fluctuation_of_its_class(name):
     assert 1 / delta == pytest.approx(float(stated), rel=0.05)
 
 
-@pytest.mark.parametrize("name", list(ENGINES))
+@pytest.mark.parametrize("name", list(MACHINES))
 def test_each_preset_is_a_whole_machine(name):
-    machine = ENGINES[name]
+    machine = MACHINES[name]
     assert machine.rpm is not None and machine.rpm_range is not None
     assert machine.rpm_range[0] <= machine.rpm <= machine.rpm_range[1]
     for cylinder in machine.cylinders:
@@ -85,22 +84,41 @@ def test_each_preset_is_a_whole_machine(name):
     assert machine.engine().name == f"{name} at {machine.rpm:g} rpm"
 
 
-def test_machines_is_the_name_and_engines_the_former_one():
-    assert presets.ENGINES is presets.MACHINES and list(presets.MACHINES) == list(presets.MACHINE_FILES)
-    assert presets.DEFAULT_ENGINE_NAME == presets.DEFAULT_MACHINE_NAME == "slow-compressor"
-    assert presets.DEFAULT_MACHINE is presets.DEFAULT_ENGINE is presets.MACHINES["slow-compressor"]
+def test_the_machines_are_in_the_order_of_their_files():
+    assert list(presets.MACHINES) == list(presets.MACHINE_FILES)
+    assert presets.DEFAULT_MACHINE_NAME == "slow-compressor"
+    assert presets.DEFAULT_MACHINE is presets.MACHINES["slow-compressor"]
+
+
+@pytest.mark.parametrize(
+    ("old", "new"),
+    [
+        ("ENGINES", "MACHINES"),
+        ("DEFAULT_ENGINE_NAME", "DEFAULT_MACHINE_NAME"),
+        ("DEFAULT_ENGINE", "DEFAULT_MACHINE"),
+        ("engine_by_name_or_file", "machine_by_name_or_file"),
+        ("load_engine", "load_machine"),
+    ],
+)
+def test_the_former_names_still_work_and_warn(old, new):
+    """0.1's names of the built-in machines are the same objects, read with a DeprecationWarning."""
+    said = rf"multicrank\.presets\.{old} is deprecated .* use multicrank\.presets\.{new}"
+    with pytest.warns(DeprecationWarning, match=said):
+        value = getattr(presets, old)
+    assert value is getattr(presets, new)
+    assert old not in presets.__all__
 
 
 def test_each_preset_is_read_from_its_file_by_the_one_loader():
     for name, path in presets.MACHINE_FILES.items():
         assert path.parent.name == "machines" and path.parent.parent.name == "data"
-        assert mc.Machine.from_toml(path) == ENGINES[name]
-        assert presets.engine_by_name_or_file(path) == presets.engine_by_name_or_file(name)
+        assert mc.Machine.from_toml(path) == MACHINES[name]
+        assert presets.machine_by_name_or_file(path) == presets.machine_by_name_or_file(name)
 
 
 def test_double_acting_compressors_work_both_faces():
     for name in ("slow-compressor", "boxer-compressor"):
-        for cylinder in ENGINES[name].cylinders:
+        for cylinder in MACHINES[name].cylinders:
             assert cylinder.piston_rod_diameter > 0 and isinstance(cylinder.pressure_crank_end, mc.IndicatorDiagram)
 
 
@@ -108,20 +126,20 @@ def test_presets_are_built_on_first_use():
     code = (
         "import sys, multicrank as mc\n"
         "assert 'scipy' not in sys.modules, 'import multicrank built the presets'\n"
-        "names = list(mc.presets.ENGINES)\n"
+        "names = list(mc.presets.MACHINES)\n"
         "assert 'scipy' not in sys.modules\n"
-        "mc.presets.ENGINES['inline-4']\n"
+        "mc.presets.MACHINES['inline-4']\n"
         "assert 'scipy' in sys.modules\n"
     )
     result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
     assert result.returncode == 0, result.stderr
 
 
-@pytest.mark.parametrize("name", list(ENGINES))
+@pytest.mark.parametrize("name", list(MACHINES))
 def test_each_preset_runs_with_the_delta_of_its_class_exactly(name):
     """The exact steady state (not only the textbook estimate the flywheels were sized with)
     puts every preset's δ at its running speed inside its class."""
-    machine = ENGINES[name]
+    machine = MACHINES[name]
     low, high = SPEED_FLUCTUATION[MACHINE_CLASSES[name]]
     state = mc.steady_state(machine, rpm=machine.rpm)
     assert low <= state.delta <= high

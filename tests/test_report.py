@@ -12,7 +12,7 @@ import pandas as pd
 import pytest
 
 import multicrank as mc
-from multicrank.presets import ENGINES, load_engine
+from multicrank.presets import MACHINES, load_machine
 from multicrank.report import DEFAULT_THRESHOLD, PAPER_TABLE_1
 
 SCRIPT = Path(sys.executable).with_name("multicrank")
@@ -32,7 +32,7 @@ def report(tmp_path_factory) -> Path:
         "report",
         "--out",
         str(out),
-        "--engine",
+        "--machine",
         "inline-4",
         "--k-max",
         "4",
@@ -57,7 +57,7 @@ def test_report_files(report):
         "spectra_4stroke",
         "paper_truncation_error",
         "gravity_significance_k_lambda",
-        "gravity_significance_engines",
+        "gravity_significance_machines",
         "layouts",
         "motion_speed",
         "motion_torques",
@@ -77,7 +77,7 @@ def test_report_files(report):
     page = (report / "index.html").read_text(encoding="utf-8")
     assert page.count("data:image/png;base64,") == 14  # self-contained
     for heading in [
-        "The engine",
+        "The machine",
         "Gravity significance",
         "Layouts",
         "Harmonic spectra",
@@ -103,20 +103,20 @@ def test_report_tables_are_the_phase_sum_rule(report):
 
 
 def test_report_numbers_match_the_api(report):
-    engine = ENGINES["inline-4"]
+    machine = MACHINES["inline-4"]
     # Parsed by Python's float, exact on any pandas (before 3.0 its parser may be an ulp off).
     curves = pd.read_csv(report / "force_4stroke.csv", dtype=str).astype(float)
     phi = np.radians(curves["phi_deg"].to_numpy())
     for k in range(1, 5):
         unit = mc.Machine(
-            [engine.cylinders[0]], shaft_inertia=engine.shaft_inertia, strokes=engine.strokes, rpm=engine.rpm
+            [machine.cylinders[0]], shaft_inertia=machine.shaft_inertia, strokes=machine.strokes, rpm=machine.rpm
         )
         design = {**unit.design(), "phases": mc.crank_phases(k, 4, "single")}
         np.testing.assert_allclose(curves[f"k{k}"], mc.generalized_force(phi, **design), rtol=1e-15, atol=1e-18)
-    engines = pd.read_csv(report / "gravity_significance_engines.csv")
-    assert set(engines["engine"]) == set(ENGINES)
-    row = engines[engines.engine == "slow-compressor"].iloc[0]
-    compressor = ENGINES["slow-compressor"]
+    machines = pd.read_csv(report / "gravity_significance_machines.csv")
+    assert set(machines["machine"]) == set(MACHINES)
+    row = machines[machines.machine == "slow-compressor"].iloc[0]
+    compressor = MACHINES["slow-compressor"]
     assert row.delta_g == pytest.approx(mc.speed_fluctuation(**compressor.design(row.rpm)), rel=1e-12)
     truncation = pd.read_csv(report / "paper_truncation_error.csv")
     at = (truncation.crank_ratio - 0.4).abs().idxmin()
@@ -124,30 +124,30 @@ def test_report_numbers_match_the_api(report):
     spectra = pd.read_csv(report / "spectra_4stroke.csv")
     assert set(spectra[spectra.k == 4].n) <= {1, 2, 4, 6, 8, 10, 12}
     page = (report / "index.html").read_text(encoding="utf-8")
-    delta = float(mc.speed_fluctuation(**ENGINES["inline-4"].design()))
+    delta = float(mc.speed_fluctuation(**MACHINES["inline-4"].design()))
     assert f"{delta:.3g}" in page
     verdict = "may be neglected" if delta < DEFAULT_THRESHOLD else "may NOT be neglected"
     assert verdict in page
 
 
-def test_report_from_a_toml_engine(tmp_path):
-    engine = ENGINES["marine-2t-twin"]
-    cylinder = engine.cylinders[0]
+def test_report_from_a_toml_machine(tmp_path):
+    machine = MACHINES["marine-2t-twin"]
+    cylinder = machine.cylinders[0]
     fields = ["crank_radius", "rod_length", "rod_cg", "piston_mass", "rod_mass", "crank_mass", "crank_cg_radius"]
     fields += ["counterweight_mass", "counterweight_radius", "bore"]
-    lines = ['name = "my-twin"', 'layout = "inline-2-2t"', f"shaft_inertia = {engine.shaft_inertia!r}"]
-    lines += [f"rpm = {engine.rpm!r}", f"rpm_range = {json.dumps(list(engine.rpm_range))}", "[cylinder]"]
+    lines = ['name = "my-twin"', 'layout = "inline-2-2t"', f"shaft_inertia = {machine.shaft_inertia!r}"]
+    lines += [f"rpm = {machine.rpm!r}", f"rpm_range = {json.dumps(list(machine.rpm_range))}", "[cylinder]"]
     lines += [f"{key} = {getattr(cylinder, key)!r}" for key in fields]
     toml = tmp_path / "twin.toml"
     toml.write_text("\n".join(lines) + "\n")
-    loaded = load_engine(toml)
-    assert loaded.design()["u1"] == engine.design()["u1"]
+    loaded = load_machine(toml)
+    assert loaded.design()["u1"] == machine.design()["u1"]
     out = tmp_path / "rep"
     run(
         "report",
         "--out",
         str(out),
-        "--engine",
+        "--machine",
         str(toml),
         "--k-max",
         "2",
@@ -160,12 +160,12 @@ def test_report_from_a_toml_engine(tmp_path):
     assert "my-twin" in (out / "index.html").read_text(encoding="utf-8")
 
 
-def test_report_rejects_unknown_engines(tmp_path):
-    result = run("report", "--out", str(tmp_path), "--engine", "steam-hammer", check=False)
+def test_report_rejects_unknown_machines(tmp_path):
+    result = run("report", "--out", str(tmp_path), "--machine", "steam-hammer", check=False)
     assert result.returncode == 2 and "steam-hammer" in result.stderr
     bad = tmp_path / "bad.toml"
     bad.write_text("crank_radius = 0.1\nwheels = 4\n")
-    result = run("report", "--out", str(tmp_path), "--engine", str(bad), check=False)
+    result = run("report", "--out", str(tmp_path), "--machine", str(bad), check=False)
     assert result.returncode == 2 and "wheels" in result.stderr
 
 
@@ -192,12 +192,12 @@ def test_help_texts_name_degrees():
 
 def test_report_layouts_table(report):
     layouts = pd.read_csv(report / "layouts.csv")
-    assert {"v8-cross", "boxer-4", "w12", "v-180-2", "twin-270"} <= set(layouts["engine"])
-    engine = ENGINES["inline-4"]
-    v_twin = mc.Machine.from_layout("v-twin-90", engine.cylinders[0], shaft_inertia=engine.shaft_inertia).engine(
-        engine.rpm
+    assert {"v8-cross", "boxer-4", "w12", "v-180-2", "twin-270"} <= set(layouts["layout"])
+    machine = MACHINES["inline-4"]
+    v_twin = mc.Machine.from_layout("v-twin-90", machine.cylinders[0], shaft_inertia=machine.shaft_inertia).engine(
+        machine.rpm
     )
-    row = layouts[layouts.engine == "v-twin-90"].iloc[0]
+    row = layouts[layouts.layout == "v-twin-90"].iloc[0]
     assert row.energy_range == pytest.approx(float(v_twin.speed_fluctuation()), rel=1e-12)
     assert row.leading_harmonic == v_twin.leading_harmonic()[0]
 
@@ -211,7 +211,7 @@ def test_report_of_a_machine_that_is_not_in_line(tmp_path):
         "report",
         "--out",
         str(out),
-        "--engine",
+        "--machine",
         str(example),
         "--k-max",
         "2",
@@ -239,8 +239,8 @@ def test_report_leads_with_the_machines_motion(report):
     """The first section is the steady running with and without gravity and the flywheel,
     and its numbers are the API's."""
     page = (report / "index.html").read_text(encoding="utf-8")
-    assert page.index("What gravity does to this machine") < page.index("<h2>The engine</h2>")
-    machine = ENGINES["inline-4"]
+    assert page.index("What gravity does to this machine") < page.index("<h2>The machine</h2>")
+    machine = MACHINES["inline-4"]
     state = mc.steady_state(machine, rpm=machine.rpm)
     assert f"{state.delta:.5g}" in page and f"{state.delta_without_gravity:.5g}" in page
     sized = mc.flywheel_inertia(machine, delta=1 / 100, rpm=machine.rpm)  # the vehicle class's limit

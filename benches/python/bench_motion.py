@@ -158,7 +158,7 @@ def measure(repeat: int) -> list[dict]:
         runs = []
         for rtol in (1e-10, 1e-11, 1e-12, 1e-13):
             start = time.perf_counter()
-            delta = shooting_baseline(machine, rpm, result.load_torque, rtol)
+            delta = shooting_baseline(machine, rpm, result.mean_load_torque, rtol)
             runs.append((time.perf_counter() - start, abs(delta - result.delta) / result.delta, rtol))
             if runs[-1][1] <= 1e-6:
                 break

@@ -30,7 +30,7 @@ from matplotlib.colors import TwoSlopeNorm
 
 import multicrank as mc
 
-compressor = mc.presets.ENGINES["slow-compressor"]
+compressor = mc.presets.MACHINES["slow-compressor"]
 unit = compressor.design()
 print(
     f"λ = {unit['crank_ratio']:.3g}, γ = {math.degrees(unit['inclination']):.0f}°, "

@@ -25,7 +25,7 @@ import numpy as np
 
 import multicrank as mc
 
-compressor = mc.presets.ENGINES["slow-compressor"]
+compressor = mc.presets.MACHINES["slow-compressor"]
 print(textwrap.fill(compressor.note, 80))
 
 with_gravity = mc.steady_state(compressor, rpm=120)
@@ -77,7 +77,7 @@ for values, label in (
     (state.gas_torque, "gas"),
     (state.gravity_torque, "gravity"),
     (state.inertia_torque, "inertia"),
-    (-state.torque_load, "motor"),
+    (-state.load_torque, "motor"),
 ):
     torque.plot(np.degrees(state.phi), values / 1e3, label=label)
 torque.axhline(0, color="0.6", linewidth=0.8)

@@ -26,7 +26,7 @@ import multicrank as mc
 # Short settings for the documentation's continuous-integration build.
 FAST = os.environ.get("MULTICRANK_DOCS_FAST", "") not in ("", "0")
 
-compressor = mc.presets.ENGINES["slow-compressor"]
+compressor = mc.presets.MACHINES["slow-compressor"]
 kind = mc.presets.MACHINE_CLASSES[compressor.name]
 smoothest, roughest = mc.presets.SPEED_FLUCTUATION[kind]
 target = math.sqrt(smoothest * roughest)

@@ -50,7 +50,7 @@ cylinder = cylinder.replace(
         intake_pressure=0.95e5, heat_release=700.0, clearance_volume=5.5e-5
     )
 )
-engine = mc.Machine(
+machine = mc.Machine(
     [cylinder], shaft_inertia=0.12, strokes=4, name="single-cylinder engine"
 )
 swept = cylinder.swept_volume()  # m³
@@ -61,7 +61,7 @@ print(f"λ = {cylinder.crank_ratio:.2f}, swept volume {swept * 1e6:.0f} cm³")
 # -------------
 # A square-law load, M = M_n (ω/ω_n)², sized to absorb the engine's mean torque at
 # 1500 rpm. The mean gas torque is order 0 of ``mc.torque_orders``.
-mean_torque = mc.torque_orders(engine, 1500, max_order=1).loc[0.0, "gas_cos"]
+mean_torque = mc.torque_orders(machine, 1500, max_order=1).loc[0.0, "gas_cos"]
 propeller = mc.PowerLawLoad(torque=mean_torque, rpm=1500, exponent=2)
 print(f"mean gas torque {mean_torque:.1f} N·m: the propeller takes it at 1500 rpm")
 
@@ -74,7 +74,7 @@ print(f"mean gas torque {mean_torque:.1f} N·m: the propeller takes it at 1500 r
 duration, tolerance = (2.5, 1e-7) if FAST else (4.0, 1e-8)
 times = np.linspace(0.0, duration, int(duration * 2000) + 1)
 run = mc.simulate(
-    engine,
+    machine,
     times,
     rpm0=300,
     load=propeller,
@@ -87,13 +87,13 @@ print(f"energy check: drift {run.energy_drift:.1e} of the largest kinetic energy
 # %%
 # The steady state it approaches, solved directly (in closed form for a square-law
 # load):
-steady = mc.steady_state(engine, load=propeller)
+steady = mc.steady_state(machine, load=propeller)
 print(f"steady state: {steady.rpm:.1f} rpm mean, δ = {steady.delta:.3f}")
 
 # The last working cycle (4π) of the run: its time-mean speed and δ.
-start = run.phi[-1] - engine.cycle
+start = run.phi[-1] - machine.cycle
 t_start = np.interp(start, run.phi, run.time)
-last_mean = engine.cycle / (run.time[-1] - t_start)
+last_mean = machine.cycle / (run.time[-1] - t_start)
 window = run.omega[run.phi >= start]
 last_delta = (window.max() - window.min()) / last_mean
 last_rpm = last_mean * 30 / math.pi

@@ -32,7 +32,7 @@ for name, layout in mc.LAYOUTS.items():
 # four-stroke gas cycle), on the cross-plane crank. The crank web and counterweight go
 # once on each of the four throws, and the firing order is the evenest the crank allows:
 # every 90° of crank angle.
-cylinder = mc.presets.ENGINES["inline-4"].cylinders[0]
+cylinder = mc.presets.MACHINES["inline-4"].cylinders[0]
 v8 = mc.Machine.from_layout("v8-cross", cylinder, shaft_inertia=0.25, rpm=3000)
 single = mc.Machine(
     [cylinder], shaft_inertia=0.25, strokes=4, rpm=3000, name="one cylinder"

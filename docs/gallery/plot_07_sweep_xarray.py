@@ -28,7 +28,7 @@ import multicrank as mc
 # Short settings for the documentation's continuous-integration build.
 FAST = os.environ.get("MULTICRANK_DOCS_FAST", "") not in ("", "0")
 
-unit = mc.presets.ENGINES["slow-compressor"].design()
+unit = mc.presets.MACHINES["slow-compressor"].design()
 grid = mc.design_grid(
     crank_ratio=np.linspace(0.1, 0.45, 15 if FAST else 71),
     inclination=np.radians(np.linspace(0, 90, 10 if FAST else 46)),

@@ -13,7 +13,7 @@ import os as _os
 from typing import Any as _Any
 
 from . import _moved
-from . import presets as presets  # public: mc.presets.ENGINES (the built-in machines), mc.presets.LAYOUTS
+from . import presets as presets  # public: mc.presets.MACHINES (the built-in machines), mc.presets.LAYOUTS
 from ._native import MechanismError, __version__, build_profile
 from ._native import _after_fork_in_child as _native_after_fork_in_child
 from .gravity import (

@@ -29,25 +29,23 @@ from pathlib import Path
 from typing import Any
 
 from ._native import MechanismError
+from ._validation import warn_renamed
 from .gravity.layouts import LAYOUTS, Layout, layout_engine
 from .machine.machine import Machine
 
 # DEFAULT_MACHINE (MACHINES[DEFAULT_MACHINE_NAME]) is a module attribute too, read on first use.
-# ENGINES, DEFAULT_ENGINE_NAME and DEFAULT_ENGINE are the former names of MACHINES,
-# DEFAULT_MACHINE_NAME and DEFAULT_MACHINE (the same objects).
+# The former names (_RENAMED) are read through __getattr__ with a DeprecationWarning.
 __all__ = [
-    "DEFAULT_ENGINE_NAME",
     "DEFAULT_MACHINE_NAME",
-    "ENGINES",
     "LAYOUTS",
     "MACHINES",
     "MACHINE_CLASSES",
     "MACHINE_FILES",
     "SPEED_FLUCTUATION",
     "Layout",
-    "engine_by_name_or_file",
     "layout_engine",
-    "load_engine",
+    "load_machine",
+    "machine_by_name_or_file",
 ]
 
 #: The usual coefficient of speed fluctuation δ = (ω_max − ω_min)/ω_mean of each class of
@@ -77,7 +75,6 @@ MACHINE_CLASSES: dict[str, str] = {
 
 #: The built-in machine that the command line and the report take when none is named.
 DEFAULT_MACHINE_NAME = "slow-compressor"
-DEFAULT_ENGINE_NAME = DEFAULT_MACHINE_NAME
 
 #: The built-in machines' TOML files by name, in the order of ``MACHINES`` (docs/machine-files.md).
 MACHINE_FILES: dict[str, Path] = {
@@ -118,18 +115,31 @@ class _Machines(Mapping[str, Machine]):
 
 #: The built-in machines by name (a mapping; each is read from ``MACHINE_FILES`` when first looked up).
 MACHINES: Mapping[str, Machine] = _Machines(MACHINE_FILES)
-#: The former name of ``MACHINES`` (the same mapping).
-ENGINES = MACHINES
+
+#: The former names of this module's machines (a machine is a :class:`~multicrank.Machine`; an engine,
+#: :class:`~multicrank.Engine`, is its dimensionless crank units at one speed), each the same
+#: object as its new name, read with a DeprecationWarning.
+_RENAMED = {
+    "ENGINES": "MACHINES",
+    "DEFAULT_ENGINE_NAME": "DEFAULT_MACHINE_NAME",
+    "DEFAULT_ENGINE": "DEFAULT_MACHINE",
+    "engine_by_name_or_file": "machine_by_name_or_file",
+    "load_engine": "load_machine",
+}
 
 
 def __getattr__(name: str) -> Any:
+    if name in _RENAMED:
+        new = _RENAMED[name]
+        warn_renamed(f"multicrank.presets.{name}", f"multicrank.presets.{new}")
+        return globals()[new] if new in globals() else __getattr__(new)
     # DEFAULT_MACHINE (the slow compressor) is read on first use, as every preset is.
-    if name in ("DEFAULT_MACHINE", "DEFAULT_ENGINE"):
+    if name == "DEFAULT_MACHINE":
         return MACHINES[DEFAULT_MACHINE_NAME]
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
-def load_engine(path: str | os.PathLike[str]) -> Machine:
+def load_machine(path: str | os.PathLike[str]) -> Machine:
     """A machine from a TOML machine file: :meth:`multicrank.Machine.from_toml`.
 
     Parameters
@@ -145,10 +155,10 @@ def load_engine(path: str | os.PathLike[str]) -> Machine:
     return Machine.from_toml(path)
 
 
-def engine_by_name_or_file(spec: str | os.PathLike[str]) -> Machine:
+def machine_by_name_or_file(spec: str | os.PathLike[str]) -> Machine:
     """A built-in machine by name (``MACHINES``), or one loaded from a TOML machine file.
 
-    What the command line's ``--engine`` takes.
+    What the command line's ``--machine`` takes.
 
     Parameters
     ----------
@@ -168,17 +178,17 @@ def engine_by_name_or_file(spec: str | os.PathLike[str]) -> Machine:
 
     Examples
     --------
-    >>> from multicrank.presets import engine_by_name_or_file
-    >>> machine = engine_by_name_or_file("inline-4")
+    >>> from multicrank.presets import machine_by_name_or_file
+    >>> machine = machine_by_name_or_file("inline-4")
     >>> machine.name, len(machine), machine.strokes, machine.rpm
     ('inline-4', 4, 4, 6000.0)
     """
     if isinstance(spec, str) and spec in MACHINES:
         return MACHINES[spec]
     if not isinstance(spec, str | os.PathLike):
-        raise MechanismError(f"engine = {spec!r}: give a built-in machine's name or a machine file's path")
+        raise MechanismError(f"machine = {spec!r}: give a built-in machine's name or a machine file's path")
     if os.path.exists(spec):
-        return load_engine(spec)
+        return load_machine(spec)
     raise MechanismError(
-        f"engine = {str(spec)!r} is neither a built-in machine ({', '.join(MACHINES)}) nor a machine file (TOML)"
+        f"machine = {str(spec)!r} is neither a built-in machine ({', '.join(MACHINES)}) nor a machine file (TOML)"
     )

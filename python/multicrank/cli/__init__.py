@@ -1,7 +1,7 @@
 """The ``multicrank`` command line (click): the group ``main`` and one module per command group.
 
 ``_group`` holds the group itself (errors as one line, exit status 2) and the shared
-``--engine``; ``_output`` the ``--format``/``--out`` of a result; ``gravity`` the commands
+``--machine``; ``_output`` the ``--format``/``--out`` of a result; ``gravity`` the commands
 ``eval`` and ``tables``; ``motion`` ``motion`` and ``simulate``; ``sweep`` ``sweep``;
 ``report`` ``report``. Each command imports what it computes with when it runs, so that
 ``multicrank --help`` stays quick.

@@ -1,5 +1,5 @@
 """The ``multicrank`` command group: its error handling, which turns a user's mistake into one
-line and exit status 2, and the ``--engine`` option that most commands share."""
+line and exit status 2, and the ``--machine`` option that most commands share."""
 
 from __future__ import annotations
 
@@ -9,12 +9,12 @@ import click
 
 from .._native import MechanismError, __version__
 from .._optional import OptionalDependencyError
-from ..presets import DEFAULT_ENGINE_NAME, ENGINES
+from ..presets import DEFAULT_MACHINE_NAME, MACHINES
 
 if TYPE_CHECKING:
     from ..machine.machine import Machine
 
-__all__ = ["MissingExtra", "UserError", "engine_option", "main"]
+__all__ = ["MissingExtra", "UserError", "machine_option", "main"]
 
 
 class MissingExtra(click.ClickException):
@@ -55,22 +55,25 @@ def main() -> None:
     """
 
 
-def _load_engine(ctx: click.Context, param: click.Parameter, spec: str) -> Machine:
-    """--engine: a built-in machine's name or a TOML machine file, as a multicrank.Machine."""
-    from ..presets import engine_by_name_or_file
+def _load_machine(ctx: click.Context, param: click.Parameter, spec: str) -> Machine:
+    """--machine: a built-in machine's name or a TOML machine file, as a multicrank.Machine."""
+    from ..presets import machine_by_name_or_file
 
     try:
-        return engine_by_name_or_file(spec)
+        return machine_by_name_or_file(spec)
     except MechanismError as error:
-        raise UserError(f"--engine: {error}") from None
+        raise UserError(f"--machine: {error}") from None
 
 
-engine_option = click.option(
+# --engine is the option's name of 0.1, still accepted (a machine is what it always took).
+machine_option = click.option(
+    "--machine",
     "--engine",
-    "engine",
-    default=DEFAULT_ENGINE_NAME,
+    "machine",
+    default=DEFAULT_MACHINE_NAME,
     show_default=True,
-    callback=_load_engine,
+    callback=_load_machine,
     metavar="NAME|FILE",
-    help=f"A built-in machine ({', '.join(ENGINES)}) or a TOML machine file (docs/machine-files.md).",
+    help=f"A built-in machine ({', '.join(MACHINES)}) or a TOML machine file (docs/machine-files.md); "
+    "--engine is its former name.",
 )

@@ -13,7 +13,7 @@ import numpy as np
 from .._native import MechanismError
 from ..gravity.evaluation import generalized_force, potential_energy
 from ..gravity.mechanism import crank_phases
-from ._group import UserError, engine_option
+from ._group import UserError, machine_option
 from ._output import format_option
 
 if TYPE_CHECKING:
@@ -43,7 +43,7 @@ def _inline_variant(
 
 
 @click.command("eval", short_help="U_w*(φ) and Q_u*(φ) of a machine on a coarse φ grid.")
-@engine_option
+@machine_option
 @click.option("--cranks", type=click.IntRange(min=1), help="Override the number of cranks k.")
 @click.option("--strokes", type=click.Choice(["2", "4"]), help="Override the working cycle: two- or four-stroke.")
 @click.option("--acting", type=click.Choice(["single", "double"]), help="Override: single- or double-acting cylinders.")
@@ -67,7 +67,7 @@ def _inline_variant(
 )
 @format_option
 def eval_command(
-    engine: Machine,
+    machine: Machine,
     cranks: int | None,
     strokes: str | None,
     acting: str | None,
@@ -82,15 +82,15 @@ def eval_command(
     cylinder (k cranks at the cycle's phases); --inclination tilts every cylinder.
     """
     try:
-        machine = _inline_variant(engine, cranks, strokes, acting, inclination)
-        speed = machine.rpm if rpm is None else rpm
+        evaluated = _inline_variant(machine, cranks, strokes, acting, inclination)
+        speed = evaluated.rpm if rpm is None else rpm
         if speed is None:
-            raise MechanismError(f"machine {machine.name!r} has no running speed: give --rpm")
+            raise MechanismError(f"machine {evaluated.name!r} has no running speed: give --rpm")
         try:
-            design = machine.design(speed)  # the paper's machine: the in-line functions
+            design = evaluated.design(speed)  # the paper's machine: the in-line functions
         except MechanismError:
             design = None
-        units = machine.engine(speed)
+        units = evaluated.engine(speed)
     except MechanismError as error:
         raise UserError(str(error)) from None
     phi_deg = np.arange(points) * (360.0 / points)
@@ -103,20 +103,20 @@ def eval_command(
         force = units.generalized_force(phi)
     rows = list(zip(phi_deg.tolist(), energy.tolist(), force.tolist(), strict=True))
     if acting is None:  # as the machine given is (the overrides leave its pressures behind)
-        acting = "double" if any(c.pressure_crank_end is not None for c in engine.cylinders) else "single"
+        acting = "double" if any(c.pressure_crank_end is not None for c in machine.cylinders) else "single"
     out = sys.stdout
     if fmt == "json":
         meta: dict[str, Any] = dict(
-            engine=machine.name, cylinders=len(machine), strokes=machine.strokes, acting=acting, rpm=speed
+            name=evaluated.name, cylinders=len(evaluated), strokes=evaluated.strokes, acting=acting, rpm=speed
         )
         if design is not None:
-            meta.update({k: v for k, v in design.items() if k != "phases"}, cranks=len(machine))
+            meta.update({k: v for k, v in design.items() if k != "phases"}, cranks=len(evaluated))
         else:
             meta.update({k: getattr(units, k).tolist() for k in ("crank_ratio", "inclination", "u1", "u2")})
         meta["phases_deg"] = np.degrees(units.phase).tolist()
         json.dump(
             {
-                "engine": meta,
+                "machine": meta,
                 "phi_deg": phi_deg.tolist(),
                 "potential_energy": energy.tolist(),
                 "generalized_force": force.tolist(),
@@ -133,13 +133,13 @@ def eval_command(
         return
     if design is not None:
         out.write(
-            f"{machine.name}: k = {len(machine)}, {machine.strokes}-stroke, {acting}-acting, "
+            f"{evaluated.name}: k = {len(evaluated)}, {evaluated.strokes}-stroke, {acting}-acting, "
             f"γ = {np.degrees(design['inclination']):g}°, λ = {design['crank_ratio']:.4g}, n = {speed:g} rpm\n"
             f"u1 = {design['u1']:.6g}, u2 = {design['u2']:.6g} (dimensionless, ÷ I_w ω²)\n\n"
         )
     else:
         out.write(
-            f"{machine.name}: {len(machine)} cylinders, {machine.strokes}-stroke, {acting}-acting, "
+            f"{evaluated.name}: {len(evaluated)} cylinders, {evaluated.strokes}-stroke, {acting}-acting, "
             f"n = {speed:g} rpm (dimensionless, ÷ I_w ω²)\n\n"
         )
     out.write(f"{'φ [deg]':>9}  {'U_w*':>14}  {'Q_u*':>14}\n")

@@ -13,7 +13,7 @@ import numpy as np
 from .._files import write_atomically
 from .._native import MechanismError
 from .._shaft import omega_from_rpm, rpm_from_omega
-from ._group import UserError, engine_option
+from ._group import UserError, machine_option
 from ._output import format_option, write_result
 
 if TYPE_CHECKING:
@@ -62,7 +62,7 @@ drive_option = click.option(
 
 
 @click.command("simulate", short_help="The motion in time: start-up, run-down, stall.")
-@engine_option
+@machine_option
 @click.option(
     "--rpm",
     type=float,
@@ -105,7 +105,7 @@ drive_option = click.option(
 )
 @click.option("--progress/--no-progress", default=True, show_default=True, help="Show a progress bar.")
 def simulate_command(
-    engine: Machine,
+    machine: Machine,
     rpm: float | None,
     duration: float | None,
     samples: int,
@@ -126,18 +126,18 @@ def simulate_command(
     from ..motion.transient import simulate
 
     try:
-        machine = engine if gas else _without_gas(engine)
+        if not gas:
+            machine = _without_gas(machine)
         start = _speed(machine, rpm, "--rpm")
-        omega0 = omega_from_rpm(start)
         if duration is None:
-            duration = 20 * machine.cycle / omega0 if omega0 > 0 else 1.0
+            duration = 20 * machine.cycle / omega_from_rpm(start)
         if not (math.isfinite(duration) and duration > 0):
             raise MechanismError(f"--duration = {duration} is out of range; allowed: > 0 [s]")
         t_eval = np.linspace(0.0, duration, samples)
         result = simulate(
             machine,
             t_eval,
-            omega0=omega0,
+            rpm0=start,
             load=parse_torque(load, "load", balance=True),
             drive=None if drive is None else parse_torque(drive, "drive", balance=False),
             gravity=gravity,
@@ -156,7 +156,7 @@ def simulate_command(
     ]
     shown = frame if fmt != "table" else frame.iloc[:: max(1, len(frame) // 20)]
     meta = dict(
-        engine=machine.name,
+        machine=machine.name,
         start_rpm=start,
         load=load,
         drive=drive,
@@ -187,7 +187,7 @@ def _without_gas(machine: Machine) -> Machine:
 
 
 @click.command("motion", short_help="Steady running: δ with and without gravity, flywheel.")
-@engine_option
+@machine_option
 @click.option(
     "--rpm",
     "speeds",
@@ -235,7 +235,7 @@ def _without_gas(machine: Machine) -> Machine:
 )
 @click.option("--progress/--no-progress", default=True, show_default=True, help="Show a progress bar over the speeds.")
 def motion_command(
-    engine: Machine,
+    machine: Machine,
     speeds: tuple[float, ...],
     points: int,
     load: str,
@@ -260,7 +260,6 @@ def motion_command(
     from ..motion.steady import StallError, steady_state
     from ..presets import MACHINE_CLASSES, SPEED_FLUCTUATION
 
-    machine = engine
     load_rule = parse_torque(load, "load", balance=True)
     drive_rule = None if drive is None else parse_torque(drive, "drive", balance=False)
     balance = load_rule == "balance"
@@ -328,7 +327,7 @@ def motion_command(
     ]
     if target is not None:
         summary.append(f"flywheel: the shaft inertia [kg·m²] for δ = {target:.4g} (1/{1 / target:.4g})")
-    meta = dict(engine=machine.name, load=load, drive=drive, target_delta=target, units=units)
+    meta = dict(machine=machine.name, load=load, drive=drive, target_delta=target, units=units)
     write_result(frame, fmt, out_path, summary=summary, json_meta=meta)
 
 

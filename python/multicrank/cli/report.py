@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING
 import click
 
 from .._native import MechanismError
-from ._group import UserError, engine_option
+from ._group import UserError, machine_option
 
 if TYPE_CHECKING:
     from ..machine.machine import Machine
@@ -33,7 +33,7 @@ def _finite_option(value: float | None, option: str) -> float | None:
     metavar="DIR",
     help="The folder for index.html and its figures (PNG) and tables (CSV).",
 )
-@engine_option
+@machine_option
 @click.option(
     "--k-max",
     type=click.IntRange(min=1, max=24),
@@ -65,7 +65,7 @@ def _finite_option(value: float | None, option: str) -> float | None:
 @click.option("--progress/--no-progress", default=True, show_default=True, help="Show a progress bar.")
 def report_command(
     out_dir: str,
-    engine: Machine,
+    machine: Machine,
     k_max: int,
     n_max: int,
     points: int,
@@ -81,7 +81,7 @@ def report_command(
     from ..report.settings import DEFAULT_THRESHOLD, ReportSettings
 
     settings = ReportSettings(
-        engine=engine,
+        machine=machine,
         k_max=k_max,
         n_max=n_max,
         points=points,

@@ -240,7 +240,7 @@ def flywheel_inertia(
     The slow compressor's flywheel for δ = 1/40 at 120 rpm, with gravity and without:
 
     >>> import multicrank as mc
-    >>> compressor = mc.presets.ENGINES["slow-compressor"]
+    >>> compressor = mc.presets.MACHINES["slow-compressor"]
     >>> flywheel = mc.flywheel_inertia(compressor, delta=1 / 40, rpm=120)
     >>> print(f"I_w = {flywheel.shaft_inertia:.1f} kg·m² "
     ...       f"({flywheel.shaft_inertia_without_gravity:.1f} without gravity; "

@@ -82,7 +82,7 @@ def torque_orders(machine: Machine, rpm: float, *, max_order: int = 12, gravity:
     Examples
     --------
     >>> import multicrank as mc
-    >>> compressor = mc.presets.ENGINES["slow-compressor"]
+    >>> compressor = mc.presets.MACHINES["slow-compressor"]
     >>> orders = mc.torque_orders(compressor, 120, max_order=3)
     >>> orders[["gas_amplitude", "gravity_amplitude", "total_amplitude"]].round(1)
            gas_amplitude  gravity_amplitude  total_amplitude

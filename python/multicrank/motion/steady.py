@@ -88,7 +88,7 @@ class StallError(MechanismError):
     Examples
     --------
     >>> import multicrank as mc
-    >>> compressor = mc.presets.ENGINES["slow-compressor"]
+    >>> compressor = mc.presets.MACHINES["slow-compressor"]
     >>> try:
     ...     mc.steady_state(compressor, rpm=5)
     ... except mc.StallError as error:
@@ -407,7 +407,7 @@ def steady_state(
     The slow compressor at its speed, the motor taking the mean torque ("balance"):
 
     >>> import multicrank as mc
-    >>> compressor = mc.presets.ENGINES["slow-compressor"]
+    >>> compressor = mc.presets.MACHINES["slow-compressor"]
     >>> state = mc.steady_state(compressor, rpm=120)
     >>> print(f"δ = {state.delta:.5f} with gravity, "
     ...       f"{state.delta_without_gravity:.5f} without")

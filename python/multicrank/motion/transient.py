@@ -11,7 +11,7 @@ integrator). J, J', U, the gravity and the gas torques come from the Rust core t
 :class:`~multicrank.Machine`; here they are only put together.
 
 Speeds follow the house convention: a name carries its unit, ``omega…`` in rad/s
-(``omega0``, ``balance_speed``, the result's ``omega``) and ``rpm…`` in 1/min (``rpm0``,
+(``omega0``, the result's ``omega``) and ``rpm…`` in 1/min (``rpm0``,
 ``balance_rpm``, the result's ``rpm``).
 
 SciPy is imported when a run starts, pandas and xarray when a result is converted.
@@ -267,7 +267,7 @@ def simulate(
 
     >>> import numpy as np
     >>> import multicrank as mc
-    >>> compressor = mc.presets.ENGINES["slow-compressor"]
+    >>> compressor = mc.presets.MACHINES["slow-compressor"]
     >>> times = np.linspace(0.0, 10.0, 201)  # s
     >>> run = mc.simulate(compressor, times, rpm0=120)
     >>> print(f"stalled: {run.stalled}, after {run.stall_time:.2f} s; "

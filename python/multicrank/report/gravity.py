@@ -43,9 +43,9 @@ __all__ = [
     "ERRATA",
     "PAPER_TABLE_1",
     "curves_figure",
-    "engines_figure",
     "gravity_html",
     "layouts_figure",
+    "machines_figure",
     "paper_table_frame",
     "significance_map",
     "spectra_figure",
@@ -143,10 +143,10 @@ def _small_multiples(plt: Any, count: int, xlabel: str, ylabel: str, **options: 
     return fig, list(axes.flat[:count])
 
 
-def _unit(engine: Machine, cranks: int, strokes: int) -> dict[str, Any]:
+def _unit(machine: Machine, cranks: int, strokes: int) -> dict[str, Any]:
     """The machine's crank unit (its first cylinder) on a regular single-acting k-crank shaft of
     the given cycle (the machines of the paper's eq. 16 and Tables 1–2)."""
-    return {**_unit_machine(engine).design(), "phases": crank_phases(cranks, strokes, "single")}
+    return {**_unit_machine(machine).design(), "phases": crank_phases(cranks, strokes, "single")}
 
 
 def curves_figure(settings: ReportSettings, strokes: int, quantity: str) -> tuple[Figure, pd.DataFrame]:
@@ -161,7 +161,7 @@ def curves_figure(settings: ReportSettings, strokes: int, quantity: str) -> tupl
     fig, panels = _small_multiples(plt, settings.k_max, "φ [deg]", label, sharex=True)
     table = {"phi_deg": phi_deg}
     for k, ax in enumerate(panels, start=1):
-        design = _unit(settings.engine, k, strokes)
+        design = _unit(settings.machine, k, strokes)
         values = potential_energy(phi, **design) if quantity == "energy" else generalized_force(phi, **design)
         table[f"k{k}"] = values
         shown = values - values[0] if quantity == "energy" else values
@@ -185,9 +185,9 @@ def curves_figure(settings: ReportSettings, strokes: int, quantity: str) -> tupl
         formatter = ScalarFormatter(useMathText=True)
         formatter.set_powerlimits((-2, 3))
         ax.yaxis.set_major_formatter(formatter)
-    gamma = math.degrees(settings.engine.cylinders[0].inclination)
+    gamma = math.degrees(settings.machine.cylinders[0].inclination)
     fig.suptitle(
-        f"{label} of {settings.engine.name}'s crank unit on k cranks, {strokes}-stroke, "
+        f"{label} of {settings.machine.name}'s crank unit on k cranks, {strokes}-stroke, "
         f"single-acting, γ = {gamma:g}° (dimensionless, ÷ I_w ω²)",
         fontsize=10,
     )
@@ -201,7 +201,7 @@ def spectra_figure(settings: ReportSettings, strokes: int) -> tuple[Figure, pd.D
     n = np.arange(settings.n_max + 1)
     records = []
     for k, ax in enumerate(panels, start=1):
-        a, b = fourier_coefficients(**_unit(settings.engine, k, strokes), n_max=settings.n_max)
+        a, b = fourier_coefficients(**_unit(settings.machine, k, strokes), n_max=settings.n_max)
         amplitude = np.hypot(a, b)
         records += [{"k": k, "n": int(i), "amplitude": amplitude[i]} for i in n if amplitude[i] > 0]
         shown = amplitude > 0
@@ -209,7 +209,7 @@ def spectra_figure(settings: ReportSettings, strokes: int) -> tuple[Figure, pd.D
         ax.set_yscale("log")
         ax.set_xticks(range(0, settings.n_max + 1, 6))
     fig.suptitle(
-        f"Harmonic amplitudes of Q_u* (exact Λ_n), {settings.engine.name}'s unit on k cranks, "
+        f"Harmonic amplitudes of Q_u* (exact Λ_n), {settings.machine.name}'s unit on k cranks, "
         f"{strokes}-stroke, single-acting",
         fontsize=10,
     )
@@ -250,16 +250,16 @@ def truncation_figure(settings: ReportSettings) -> tuple[Figure, pd.DataFrame]:
 
 
 def significance_map(settings: ReportSettings) -> tuple[Figure, pd.DataFrame]:
-    """δ_g over k and λ for the engine's unit (two- and four-stroke), at its speed."""
+    """δ_g over k and λ for the machine's unit (two- and four-stroke), at its speed."""
     plt = pyplot()
     from matplotlib.colors import TwoSlopeNorm
 
-    engine = settings.engine
+    machine = settings.machine
     lam = np.linspace(0.1, 0.5, 41)
     ks = np.arange(1, settings.k_max + 1)
     fig, axes = plt.subplots(1, 2, figsize=(10, 3.9), sharey=True)
     records = []
-    unit = _unit_machine(engine).design()
+    unit = _unit_machine(machine).design()
     # Red: gravity matters (δ_g above the threshold); blue: negligible. White at the threshold.
     center = math.log10(settings.threshold)
     norm = TwoSlopeNorm(vcenter=center, vmin=min(-14.0, center - 1), vmax=max(0.0, center + 1))
@@ -286,25 +286,25 @@ def significance_map(settings: ReportSettings) -> tuple[Figure, pd.DataFrame]:
     bar = fig.colorbar(image, ax=axes, shrink=0.9)
     bar.set_label("log₁₀ δ_g  (δ_g = max U_w* − min U_w*)")
     fig.suptitle(
-        f"Gravity's share of the speed fluctuation δ_g, {engine.name}'s unit at {running_speed(engine):g} rpm: "
+        f"Gravity's share of the speed fluctuation δ_g, {machine.name}'s unit at {running_speed(machine):g} rpm: "
         f"red, gravity matters; blue, negligible (δ_g < {settings.threshold:.2g})",
         fontsize=10,
     )
     return fig, pd.DataFrame(records)
 
 
-def engines_figure(settings: ReportSettings) -> tuple[Figure, pd.DataFrame]:
-    """δ_g of every preset machine over its speed range (δ_g ∝ 1/n²), from its whole engine."""
+def machines_figure(settings: ReportSettings) -> tuple[Figure, pd.DataFrame]:
+    """δ_g of every preset machine over its speed range (δ_g ∝ 1/n²), from its engine (all its cylinders)."""
     plt = pyplot()
     fig, ax = plt.subplots(figsize=(9.5, 4.0))
     records = []
-    for i, engine in enumerate(settings.engines.values()):
-        low, high = speed_range(engine)
+    for i, machine in enumerate(settings.machines.values()):
+        low, high = speed_range(machine)
         rpm = np.geomspace(low, high, 40)
-        delta = np.array([float(engine.engine(r).speed_fluctuation()) for r in rpm])
-        ax.loglog(rpm, np.maximum(delta, 1e-18), color=f"C{i}", label=f"{engine.name} ({len(engine)} cyl.)")
+        delta = np.array([float(machine.engine(r).speed_fluctuation()) for r in rpm])
+        ax.loglog(rpm, np.maximum(delta, 1e-18), color=f"C{i}", label=f"{machine.name} ({len(machine)} cyl.)")
         records += [
-            {"engine": engine.name, "cylinders": len(engine), "rpm": r, "delta_g": d}
+            {"machine": machine.name, "cylinders": len(machine), "rpm": r, "delta_g": d}
             for r, d in zip(rpm, delta, strict=True)
         ]
     ax.axhline(settings.threshold, color="black", ls="--", lw=1)
@@ -316,7 +316,7 @@ def engines_figure(settings: ReportSettings) -> tuple[Figure, pd.DataFrame]:
     )
     ax.set_xlabel("speed n [rpm]")
     ax.set_ylabel("δ_g")
-    ax.set_title("Gravity's share of the coefficient of speed fluctuation over each engine's speed range")
+    ax.set_title("Gravity's share of the coefficient of speed fluctuation over each machine's speed range")
     ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     fig.tight_layout()
     return fig, pd.DataFrame(records)
@@ -328,9 +328,9 @@ def layouts_figure(settings: ReportSettings) -> tuple[Figure, pd.DataFrame]:
     plt = pyplot()
     from ..sweeps.driver import sweep
 
-    engine = settings.engine
-    rpm = running_speed(engine)
-    cylinder = engine.cylinders[0].replace(pressure=None, pressure_crank_end=None)  # gravity alone, any cycle
+    machine = settings.machine
+    rpm = running_speed(machine)
+    cylinder = machine.cylinders[0].replace(pressure=None, pressure_crank_end=None)  # gravity alone, any cycle
     chosen = [
         name
         for name in LAYOUTS
@@ -339,12 +339,14 @@ def layouts_figure(settings: ReportSettings) -> tuple[Figure, pd.DataFrame]:
         in ("inline-1-2t", "inline-2-2t", "inline-3-4t", "inline-4-4t", "inline-6-4t", "inline-8-4t", "inline-12-2t")
     ]
     engines = [
-        Machine.from_layout(name, cylinder, shaft_inertia=engine.shaft_inertia, g=engine.g)
+        Machine.from_layout(name, cylinder, shaft_inertia=machine.shaft_inertia, g=machine.g)
         .engine(rpm)
         .replace(name=name)
         for name in chosen
     ]
+    # The sweep names each engine in its "engine" column: here, by the layout it is.
     table = sweep(engines, outputs=["energy_range", "leading_harmonic", "leading_amplitude"])
+    table = table.rename(columns={"engine": "layout"})
     table.insert(1, "description", [LAYOUTS[name].note for name in chosen])
     fig, ax = plt.subplots(figsize=(9.5, 5.2))
     delta = table["energy_range"].to_numpy()
@@ -353,7 +355,7 @@ def layouts_figure(settings: ReportSettings) -> tuple[Figure, pd.DataFrame]:
     positive = delta[delta > 0]
     low = min(positive.min() if positive.size else settings.threshold, settings.threshold) / 30
     colours = ["C3" if d >= settings.threshold else "C0" for d in delta]
-    ax.barh(table["engine"], np.where(delta > 0, delta - low, np.nan), left=low, color=colours)
+    ax.barh(table["layout"], np.where(delta > 0, delta - low, np.nan), left=low, color=colours)
     ax.set_xscale("log")
     ax.set_xlim(left=low)
     ax.axvline(settings.threshold, color="black", ls="--", lw=1)
@@ -363,7 +365,7 @@ def layouts_figure(settings: ReportSettings) -> tuple[Figure, pd.DataFrame]:
     ax.invert_yaxis()
     ax.set_xlabel("δ_g (dashed: threshold; red above it)")
     ax.set_title(
-        f"Layouts with {engine.name}'s cylinder (λ = {cylinder.crank_ratio:.3g}, {rpm:g} rpm): "
+        f"Layouts with {machine.name}'s cylinder (λ = {cylinder.crank_ratio:.3g}, {rpm:g} rpm): "
         "gravity's δ_g and leading harmonic n",
         fontsize=10,
     )
@@ -423,26 +425,26 @@ def gravity_html(
     paper: pd.DataFrame,
     layouts: pd.DataFrame,
 ) -> str:
-    """The report's gravity sections, after the motion part: the engine and the verdict,
+    """The report's gravity sections, after the motion part: the machine and the verdict,
     gravity significance, layouts, the curves, spectra and tables on k cranks, the paper's
     truncation error, the conventions and the errata. ``figures`` holds the embedded figures
     by name, ``tables`` the :func:`surviving_tables`, ``paper`` the :func:`paper_table_frame`
     and ``layouts`` the table of :func:`layouts_figure`."""
-    engine = settings.engine
-    rpm = running_speed(engine)
+    machine = settings.machine
+    rpm = running_speed(machine)
     sections: list[str] = []
-    unit = _unit_machine(engine).design()
-    delta = float(engine.engine(rpm).speed_fluctuation())
+    unit = _unit_machine(machine).design()
+    delta = float(machine.engine(rpm).speed_fluctuation())
     verdict = "may be neglected" if delta < settings.threshold else "may NOT be neglected"
-    first = engine.cylinders[0]
-    inline = _is_inline(engine)
-    acting = "double" if any(c.pressure_crank_end is not None for c in engine.cylinders) else "single"
-    gammas = ", ".join(f"{g:g}°" for g in sorted({round(math.degrees(c.inclination), 9) for c in engine.cylinders}))
-    engine_rows = "".join(
+    first = machine.cylinders[0]
+    inline = _is_inline(machine)
+    acting = "double" if any(c.pressure_crank_end is not None for c in machine.cylinders) else "single"
+    gammas = ", ".join(f"{g:g}°" for g in sorted({round(math.degrees(c.inclination), 9) for c in machine.cylinders}))
+    machine_rows = "".join(
         f"<tr><th>{html.escape(k)}</th><td>{html.escape(str(v))}</td></tr>"
         for k, v in [
-            ("cylinders", len(engine)),
-            ("cycle", f"{engine.strokes}-stroke, {acting}-acting"),
+            ("cylinders", len(machine)),
+            ("cycle", f"{machine.strokes}-stroke, {acting}-acting"),
             ("inclination γ", gammas),
             ("crank ratio λ = r/l", f"{first.crank_ratio:.4g}"),
             (
@@ -454,7 +456,7 @@ def gravity_html(
                 "piston / rod / crank / counterweight mass (first cylinder)",
                 f"{first.piston_mass:g} / {first.rod_mass:g} / {first.crank_mass:g} / {first.counterweight_mass:g} kg",
             ),
-            ("shaft inertia I_w", f"{engine.shaft_inertia:g} kg·m²"),
+            ("shaft inertia I_w", f"{machine.shaft_inertia:g} kg·m²"),
             ("speed", f"{rpm:g} rpm"),
             ("U1, U2 (first cylinder)", f"{unit['u1']:.6g}, {unit['u2']:.6g}"),
             ("δ_g at this speed (the whole machine)", f"{delta:.4g}"),
@@ -463,17 +465,17 @@ def gravity_html(
     unit_note = (
         ""
         if inline
-        else f"""<p class="note">{html.escape(engine.name)} is not a machine of identical cylinders on one bank
-(the paper's machine): δ<sub>g</sub> above is the whole machine's, from its engine of {len(engine)} units; the
+        else f"""<p class="note">{html.escape(machine.name)} is not a machine of identical cylinders on one bank
+(the paper's machine): δ<sub>g</sub> above is the whole machine's, from its engine of {len(machine)} units; the
 sections on k cranks below put its first cylinder, with its throw's crank web and counterweight, on k in-line
 cranks.</p>"""
     )
     derived_12 = tables["table1_two_stroke_single"].loc[[n for n in paper.index if n <= settings.n_max]]
     matches = bool((derived_12 == paper.loc[derived_12.index]).all().all())
     sections.append(f"""
-<h2>The engine</h2>
-<p>{html.escape(engine.note)}</p>
-<table>{engine_rows}</table>
+<h2>The machine</h2>
+<p>{html.escape(machine.note)}</p>
+<table>{machine_rows}</table>
 {unit_note}
 <p><b>Verdict:</b> with δ<sub>g</sub> = {delta:.3g} against the threshold {settings.threshold:.2g},
 gravity <b>{verdict}</b> in this machine's speed fluctuation at {rpm:g} rpm.
@@ -484,16 +486,16 @@ machines (AC generators); pumps and compressors allow 1/20–1/50 and vehicle en
 <h2>Gravity significance — when may gravity be neglected?</h2>
 <p>δ<sub>g</sub> = max U<sub>w</sub>* − min U<sub>w</sub>* over a revolution, from the exact extrema (roots of
 Q<sub>u</sub>*), is to first order gravity's share of the coefficient of speed fluctuation. Gravity may be
-neglected where δ<sub>g</sub> &lt; {settings.threshold:.2g}. Below: the engine's crank unit on k cranks over λ
+neglected where δ<sub>g</sub> &lt; {settings.threshold:.2g}. Below: the machine's crank unit on k cranks over λ
 (left two-stroke, right four-stroke), and every preset machine over its speed range (δ<sub>g</sub> ∝ 1/n²).
 Balanced crank sets (where only harmonics of order ≥ k survive) make gravity negligible by many orders of magnitude.</p>
 <img src="{figures["gravity_significance_k_lambda"]}" alt="δ_g over k and λ">
-<img src="{figures["gravity_significance_engines"]}" alt="δ_g per engine over its speed range">
-<p class="note">Data: gravity_significance_k_lambda.csv, gravity_significance_engines.csv</p>
+<img src="{figures["gravity_significance_machines"]}" alt="δ_g per machine over its speed range">
+<p class="note">Data: gravity_significance_k_lambda.csv, gravity_significance_machines.csv</p>
 """)
     layout_records: Iterable[Any] = layouts.itertuples()  # the columns of layouts_figure's table
     layout_rows = "".join(
-        f"<tr><td>{html.escape(r.engine)}</td><td style='text-align:left'>{html.escape(r.description)}</td>"
+        f"<tr><td>{html.escape(r.layout)}</td><td style='text-align:left'>{html.escape(r.description)}</td>"
         f"<td>{r.cylinders}</td><td>{r.energy_range:.3g}</td>"
         + (
             f"<td>{r.leading_harmonic}</td><td>{r.leading_amplitude:.3g}</td></tr>"
@@ -504,7 +506,7 @@ Balanced crank sets (where only harmonics of order ≥ k survive) make gravity n
     )
     sections.append(f"""
 <h2>Layouts: V, boxer, W, odd-fire</h2>
-<p>The same cylinder ({html.escape(engine.name)}'s first, at {rpm:g} rpm) on every bank of every preset layout,
+<p>The same cylinder ({html.escape(machine.name)}'s first, at {rpm:g} rpm) on every bank of every preset layout,
 its crank web and counterweight once per throw (<code>Machine.from_layout</code>).
 Cylinders sharing a crank pin have phases α = β − γ (pin angle β, bank γ); boxers have opposed cylinders on
 throws 180° apart, unlike the 180° V whose opposed cylinders share a pin. Horizontal cylinders (boxers) feel only

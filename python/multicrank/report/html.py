@@ -16,9 +16,9 @@ from .._files import write_atomically
 from .._optional import require
 from .gravity import (
     curves_figure,
-    engines_figure,
     gravity_html,
     layouts_figure,
+    machines_figure,
     paper_table_frame,
     significance_map,
     spectra_figure,
@@ -67,13 +67,13 @@ def write_report(out: str | Path, settings: ReportSettings | None = None, progre
 
     settings = settings or ReportSettings()
     # The user's mistakes first, then the missing extra, both before anything is written.
-    running_speed(settings.engine)
-    for machine in settings.engines.values():
+    running_speed(settings.machine)
+    for machine in settings.machines.values():
         speed_range(machine)
     require("matplotlib", "report")
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    engine = settings.engine
+    machine = settings.machine
     sections: list[str] = []
     steps = [
         "motion",
@@ -82,7 +82,7 @@ def write_report(out: str | Path, settings: ReportSettings | None = None, progre
         "tables",
         "truncation",
         "significance",
-        "engines",
+        "machines",
         "layouts",
     ]
     bar = tqdm(steps, desc="report", unit="part", disable=not progress)
@@ -118,20 +118,20 @@ def write_report(out: str | Path, settings: ReportSettings | None = None, progre
             save("paper_truncation_error", *truncation_figure(settings))
         elif step == "significance":
             save("gravity_significance_k_lambda", *significance_map(settings))
-        elif step == "engines":
-            save("gravity_significance_engines", *engines_figure(settings))
+        elif step == "machines":
+            save("gravity_significance_machines", *machines_figure(settings))
         elif step == "layouts":
             figure, layouts = layouts_figure(settings)
             save("layouts", figure, layouts)
 
-    sections.append(motion_html(motion, engine, figures))
+    sections.append(motion_html(motion, machine, figures))
     sections.append(gravity_html(settings, figures, tables, paper, layouts))
     from .._native import __version__
 
     page = f"""<!DOCTYPE html>
-<html lang="en"><head><meta charset="utf-8"><title>multicrank report — {html.escape(engine.name)}</title>
+<html lang="en"><head><meta charset="utf-8"><title>multicrank report — {html.escape(machine.name)}</title>
 <style>{STYLE}</style></head><body>
-<h1>Gravity in multi-crank mechanisms — report for <i>{html.escape(engine.name)}</i></h1>
+<h1>Gravity in multi-crank mechanisms — report for <i>{html.escape(machine.name)}</i></h1>
 <p>Generalised Lagrange forces due to potential energy after M. Stańczak, corrected and extended by
 multicrank {html.escape(__version__)}: exact Λ<sub>n</sub>, every surviving harmonic, exact extrema.</p>
 {"".join(sections)}

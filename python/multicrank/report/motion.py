@@ -53,7 +53,7 @@ def motion_results(settings: ReportSettings, speeds: int = 9) -> MotionResults:
     from ..motion.steady import StallError, steady_state
     from ..presets import MACHINE_CLASSES, SPEED_FLUCTUATION
 
-    machine = settings.engine
+    machine = settings.machine
     rpm = running_speed(machine)
     state = steady_state(machine, rpm=rpm)
     without = steady_state(machine, rpm=rpm, gravity=False)

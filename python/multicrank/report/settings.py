@@ -7,7 +7,7 @@ from dataclasses import dataclass, field
 
 from .._native import MechanismError
 from ..machine.machine import Machine
-from ..presets import DEFAULT_ENGINE_NAME, ENGINES
+from ..presets import DEFAULT_MACHINE_NAME, MACHINES
 
 __all__ = ["DEFAULT_THRESHOLD", "ReportSettings", "running_speed", "speed_range"]
 
@@ -19,16 +19,16 @@ DEFAULT_THRESHOLD = 1.0 / 3000.0
 
 @dataclass
 class ReportSettings:
-    """What the report is about: ``engine``, the machine (it needs a running speed, ``rpm``),
-    and ``engines``, the machines of the speed-range figure (by default every preset)."""
+    """What the report is about: ``machine`` (it needs a running speed, ``rpm``), and
+    ``machines``, the machines of the speed-range figure (by default every preset)."""
 
-    engine: Machine = field(default_factory=lambda: ENGINES[DEFAULT_ENGINE_NAME])
+    machine: Machine = field(default_factory=lambda: MACHINES[DEFAULT_MACHINE_NAME])
     k_max: int = 12
     n_max: int = 24
     points: int = 721
     threshold: float = DEFAULT_THRESHOLD
     lambdas: int = 60
-    engines: dict[str, Machine] = field(default_factory=lambda: dict(ENGINES))
+    machines: dict[str, Machine] = field(default_factory=lambda: dict(MACHINES))
     #: The δ to size the flywheel for (default: the preset's class limit, or the machine's own
     #: δ without gravity).
     delta: float | None = None
