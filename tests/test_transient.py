@@ -371,6 +371,9 @@ BAD = [
     ({"rpm0": 10.0}, "give exactly one of omega0 and rpm0, got both"),
     ({"omega0": None}, "give exactly one of omega0 and rpm0, got neither"),
     ({"omega0": None, "rpm0": -1.0}, r"rpm0 = -1.0 is out of range; allowed: rpm0 >= 0 \[1/min\]"),
+    # hypothesis found 4.13e-159 rad/s: neither rest nor a speed the integrator can step at
+    ({"omega0": 4.13e-159}, r"omega0 = 4.13e-159 is out of range; allowed: omega0 = 0 \(from rest\) or "),
+    ({"omega0": None, "rpm0": 1e9}, r"rpm0 = 1000000000.0 is out of range; allowed: rpm0 = 0 \(from rest\) or 1e-06"),
     ({"gravity": "yes"}, "gravity must be True or False"),
     ({"progress": 1}, "progress must be True or False"),
     ({"machine": "engine"}, "machine must be a multicrank.Machine"),

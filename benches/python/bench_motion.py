@@ -138,7 +138,7 @@ def measure(repeat: int) -> list[dict]:
 
     if mc.build_profile != "release":
         sys.exit(f"refusing to benchmark a {mc.build_profile} build: pip install . (release) first")
-    from multicrank import _work
+    from multicrank.motion import _work
 
     def first_call(machine, rpm):
         _work._cache.clear()  # as if the machine's indicator diagrams were new

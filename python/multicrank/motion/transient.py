@@ -27,7 +27,7 @@ import numpy as np
 
 from .._native import MechanismError
 from .._shaft import inertia_torque, omega_from_rpm, rpm_from_omega
-from .._validation import as_flag, as_instance, as_real_array, as_scalar, has_gas, one_of, warn_renamed
+from .._validation import SPEED_LIMITS, as_flag, as_instance, as_real_array, as_scalar, has_gas, one_of, warn_renamed
 from ..machine.machine import Machine
 from ._result import MotionResult
 from .loads import AppliedTorques, Torque
@@ -507,11 +507,20 @@ def _start_speed(omega0: Any, rpm0: Any) -> tuple[str, float]:
     finite and ≥ 0."""
     name, value = one_of(("omega0", omega0), ("rpm0", rpm0))
     speed = _finite(value, name)
+    unit = "rad/s" if name == "omega0" else "1/min"
     if speed < 0:
-        unit = "rad/s" if name == "omega0" else "1/min"
         raise MechanismError(
             f"{name} = {speed} is out of range; allowed: {name} >= 0 [{unit}] (gas pressure per cycle angle "
             "assumes forward rotation)"
+        )
+    # From rest, or at a speed within the machines' limits (SPEED_LIMITS, in 1/min): a start
+    # speed of 1e-159 rad/s is no rest and no speed, and the integrator's step control
+    # divides by it (hypothesis found the overflow).
+    low, high = SPEED_LIMITS if name == "rpm0" else (float(omega_from_rpm(s)) for s in SPEED_LIMITS)
+    if speed != 0 and not low <= speed <= high:
+        raise MechanismError(
+            f"{name} = {speed} is out of range; allowed: {name} = 0 (from rest) or {low:g} <= {name} <= {high:g} "
+            f"[{unit}]"
         )
     return name, speed if name == "omega0" else float(omega_from_rpm(speed))
 
