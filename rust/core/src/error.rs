@@ -34,6 +34,9 @@ pub enum MechanismError {
         elements: u128,
         item_bytes: usize,
     },
+    /// The machine cannot keep the mean speed `rpm` asked for: its speed would fall below
+    /// the stall limit (or to zero) near the crank angle `angle` [rad].
+    Stall { angle: f64, rpm: f64 },
 }
 
 impl fmt::Display for MechanismError {
@@ -71,6 +74,12 @@ impl fmt::Display for MechanismError {
                 "{parameter} = {value} asks for {elements} values ({} bytes), more than can \
                  be allocated",
                 elements.saturating_mul(*item_bytes as u128)
+            ),
+            Self::Stall { angle, rpm } => write!(
+                f,
+                "the machine stalls at rpm = {rpm}: it would crawl over its dead point near \
+                 phi = {angle} rad ({:.4} deg)",
+                angle.to_degrees()
             ),
         }
     }
