@@ -35,8 +35,11 @@ pub enum MechanismError {
         item_bytes: usize,
     },
     /// The machine cannot keep the mean speed `rpm` asked for: its speed would fall below
-    /// the stall limit (or to zero) near the crank angle `angle` [rad].
+    /// the stall limit (or to zero) near the crank angle `angle` (rad).
     Stall { angle: f64, rpm: f64 },
+    /// The machine runs so close to stalling at `parameter` = `value` that the steady state's
+    /// panels would have to be refined towards its dead point, which is not done yet.
+    Unresolved { parameter: &'static str, value: f64 },
 }
 
 impl fmt::Display for MechanismError {
@@ -80,6 +83,12 @@ impl fmt::Display for MechanismError {
                 "the machine stalls at rpm = {rpm}: it would crawl over its dead point near \
                  phi = {angle} rad ({:.4} deg)",
                 angle.to_degrees()
+            ),
+            Self::Unresolved { parameter, value } => write!(
+                f,
+                "{parameter} = {value}: the machine runs too close to stalling for the steady \
+                 state's quadrature (grading the panels towards the dead point is not yet in \
+                 the core)"
             ),
         }
     }

@@ -17,10 +17,10 @@ use super::Machine;
 /// Gauss–Legendre points per panel: 12 (exact to degree 23), as in the Python
 /// implementation, whose tests measured δ to 1e-11 with it on π/8 panels.
 const ORDER: usize = 12;
-/// The widest panel [rad] to start from: one eighth of a turn resolves J and U of usual
+/// The widest panel (rad) to start from: one eighth of a turn resolves J and U of usual
 /// machines (crank ratios to ~0.35, a few cylinders) to rounding with 12 points.
 const START_WIDTH: f64 = PI / 8.0;
-/// The panels are not halved below this width [rad]: by then J and U have harmonics beyond
+/// The panels are not halved below this width (rad): by then J and U have harmonics beyond
 /// any real machine's (the Python implementation's limit, π/60).
 const NARROWEST: f64 = PI / 60.0;
 /// The panels resolve a function when the last two Legendre coefficients of every panel's
@@ -36,14 +36,14 @@ pub(crate) struct Cycle<'a> {
     pub dynamics: Dynamics,
     pub forces: Forces<'a>,
     pub work: GasWork<'a>,
-    /// I_w [kg·m²].
+    /// I_w (kg·m²).
     pub inertia: f64,
     pub panels: Panels,
     /// Whether U is kept (g ≠ 0 and not removed by `without_gravity`).
     pub gravity_on: bool,
-    /// U(0) [J].
+    /// U(0) (J).
     u0: f64,
-    /// Nodes, then edges: J − I_w [kg·m²], U − U(0) [J], W [J].
+    /// Nodes, then edges: J − I_w (kg·m²), U − U(0) (J), W (J).
     pub rest: Vec<f64>,
     pub potential: Vec<f64>,
     pub gas_work: Vec<f64>,
@@ -120,7 +120,7 @@ impl<'a> Cycle<'a> {
         self.panels.phi.len()
     }
 
-    /// Φ [rad].
+    /// Φ (rad).
     pub fn cycle(&self) -> f64 {
         self.panels.cycle()
     }
@@ -168,7 +168,7 @@ impl<'a> Cycle<'a> {
         Ok((inertia, slope))
     }
 
-    /// U(φ) − U(0) [J] at any angles (0 without gravity).
+    /// U(φ) − U(0) (J) at any angles (0 without gravity).
     pub fn potential_at(&self, phi: &[f64]) -> Result<Vec<f64>> {
         let mut u = vec![0.0; phi.len()];
         if self.gravity_on {
@@ -179,7 +179,7 @@ impl<'a> Cycle<'a> {
         Ok(u)
     }
 
-    /// M_gas + the gravity torque −U′ [N·m] at any angles (`gas`: whether M_gas is taken).
+    /// M_gas + the gravity torque −U′ (N·m) at any angles (`gas`: whether M_gas is taken).
     pub fn torque_at(&self, phi: &[f64], gas: bool) -> Result<Vec<f64>> {
         let mut torque = vec![0.0; phi.len()];
         if gas {

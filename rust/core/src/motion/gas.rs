@@ -19,13 +19,13 @@ use crate::parallel::Parallelism;
 use super::quadrature::{breaks, gauss_legendre};
 
 /// A periodic piecewise polynomial in SciPy's `PPoly` convention: on [x_i, x_{i+1})
-/// p(θ) = Σ_k c[k][i] (θ − x_i)^(K−1−k), taken modulo the cycle Φ = x_m − x_0 (θ is first
+/// p(θ) = Σ_k c_ki (θ − x_i)^(K−1−k), taken modulo the cycle Φ = x_m − x_0 (θ is first
 /// brought into [x_0, x_0 + Φ)). What an `IndicatorDiagram` interpolates (a periodic cubic
 /// spline, PCHIP or linear), passed as its arrays.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PiecewisePolynomial {
     breakpoints: Vec<f64>,
-    /// c[k][i] at k·m + i.
+    /// c_ki at k·m + i.
     coefficients: Vec<f64>,
     order: usize,
 }
@@ -36,7 +36,7 @@ const SPAN_TOLERANCE: f64 = 1e-9;
 
 impl PiecewisePolynomial {
     /// From breakpoints x[0..=m] (strictly increasing, spanning exactly `cycle`) and
-    /// coefficients c, K rows of m (`coefficients[k * m + i]` = c[k][i]).
+    /// coefficients c, K rows of m (`coefficients[k * m + i]` = c_ki).
     pub fn new(breakpoints: Vec<f64>, coefficients: Vec<f64>, cycle: f64) -> Result<Self> {
         let m = breakpoints.len().saturating_sub(1);
         if m == 0 {
@@ -118,11 +118,11 @@ impl PiecewisePolynomial {
 /// Which pressures act on a unit's piston, and on what areas.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct GasCylinder {
-    /// D [m]: the head end's area is πD²/4; 0: no gas force.
+    /// D (m): the head end's area is πD²/4; 0: no gas force.
     pub bore: f64,
-    /// d [m]: the crank end's area is π(D² − d²)/4.
+    /// d (m): the crank end's area is π(D² − d²)/4.
     pub piston_rod_diameter: f64,
-    /// The index of the head end's gauge pressure [Pa] among the machine's diagrams.
+    /// The index of the head end's gauge pressure (Pa) among the machine's diagrams.
     pub head: Option<usize>,
     /// The crank end's (double-acting), pushing the piston away from the shaft.
     pub crank_end: Option<usize>,
@@ -161,7 +161,7 @@ impl GasCylinder {
         Ok(())
     }
 
-    /// πD²/4 and π(D² − d²)/4 [m²].
+    /// πD²/4 and π(D² − d²)/4 (m²).
     fn areas(&self) -> (f64, f64) {
         (
             PI * self.bore * self.bore / 4.0,
@@ -253,10 +253,10 @@ fn indicator_order(pressure_order: usize) -> usize {
     (pressure_order + 4).div_ceil(2).max(4)
 }
 
-/// The widest panel of an indicator rule [rad] (a table interval wider than this is split).
+/// The widest panel of an indicator rule (rad) (a table interval wider than this is split).
 const INDICATOR_WIDTH: f64 = PI / 64.0;
 
-/// G(x) = ∫₀^x F(θ) s'(θ) dθ of one cylinder at phase 0 [J], for any real x.
+/// G(x) = ∫₀^x F(θ) s'(θ) dθ of one cylinder at phase 0 (J), for any real x.
 #[derive(Debug, Clone)]
 struct Indicator {
     unit: Dynamics,
@@ -388,14 +388,14 @@ impl Indicator {
     }
 }
 
-/// W(φ) = ∫₀^φ M_gas dφ of a machine [J].
+/// W(φ) = ∫₀^φ M_gas dφ of a machine (J).
 #[derive(Debug, Clone)]
 pub(crate) struct GasWork<'a> {
     diagrams: &'a [PiecewisePolynomial],
     /// One G per distinct cylinder, with the phases of the units that share it.
     groups: Vec<(Indicator, Vec<f64>)>,
     origin: f64,
-    /// W(Φ), the indicated work of one cycle [J].
+    /// W(Φ), the indicated work of one cycle (J).
     pub per_cycle: f64,
 }
 

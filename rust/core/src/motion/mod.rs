@@ -30,13 +30,13 @@ pub struct Machine<'a> {
     pub units: &'a [PhysicalCylinder],
     /// Their gas, one per unit ([`GasCylinder::NONE`] where there is none).
     pub gas: &'a [GasCylinder],
-    /// The pressures [Pa] the units' `head` and `crank_end` refer to, each periodic over the
+    /// The pressures (Pa) the units' `head` and `crank_end` refer to, each periodic over the
     /// working cycle.
     pub diagrams: &'a [PiecewisePolynomial],
-    /// I_w [kg·m²]: everything that turns rigidly with the shaft.
+    /// I_w (kg·m²): everything that turns rigidly with the shaft.
     pub shaft_inertia: f64,
     pub strokes: Strokes,
-    /// g [m/s²] (0: none).
+    /// g (m/s²) (0: none).
     pub g: f64,
 }
 
@@ -44,19 +44,19 @@ pub struct Machine<'a> {
 /// the cycle mean of the gas torque) at a given time-mean speed.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SteadyState {
-    /// ω_m = Φ/t_Φ [rad/s], as found (the one asked for, to rounding).
+    /// ω_m = Φ/t_Φ (rad/s), as found (the one asked for, to rounding).
     pub omega_mean: f64,
-    /// t_Φ [s], the time of one working cycle.
+    /// t_Φ (s), the time of one working cycle.
     pub period: f64,
-    /// The extreme speeds [rad/s], located exactly (roots of the net torque).
+    /// The extreme speeds (rad/s), located exactly (roots of the net torque).
     pub omega_max: f64,
     pub omega_min: f64,
-    /// Where they occur, φ in [0, Φ) [rad].
+    /// Where they occur, φ in [0, Φ) (rad).
     pub phi_max: f64,
     pub phi_min: f64,
-    /// E(0) = ½J(0)ω(0)² [J]: with K(φ), ω(φ)² = 2[E(0) + K(φ)]/J(φ) everywhere.
+    /// E(0) = ½J(0)ω(0)² (J): with K(φ), ω(φ)² = 2[E(0) + K(φ)]/J(φ) everywhere.
     pub energy_at_zero: f64,
-    /// The constant load [N·m]: (1/Φ)∫M_gas dφ (gravity's mean is zero).
+    /// The constant load (N·m): (1/Φ)∫M_gas dφ (gravity's mean is zero).
     pub mean_load_torque: f64,
     /// δ = (ω_max − ω_min)/ω_m.
     pub delta: f64,
@@ -75,7 +75,7 @@ pub struct SteadyState {
 const SMALLEST_SPEED_RATIO: f64 = 1e-9;
 
 /// The periodic steady state of `machine` under the "balance" load at the mean speed `rpm`
-/// [1/min] (time mean, ω_m = π·rpm/30), by the energy method (docs/theory.md, "Steady
+/// (1/min) (time mean, ω_m = π·rpm/30), by the energy method (docs/theory.md, "Steady
 /// running"). `min_speed_ratio`: the machine stalls when ω_min < min_speed_ratio·ω_m
 /// (1e-3 in the Python API).
 ///
@@ -101,18 +101,26 @@ pub fn steady_state(machine: &Machine<'_>, rpm: f64, min_speed_ratio: f64) -> Re
     let load = cycle.work.per_cycle / cycle.cycle();
     let stalled = |angle: f64| MechanismError::Stall { angle, rpm };
     let solution = Balance::new(&cycle, load, true)
+        .with_curvature()?
         .solve(omega_mean, min_speed_ratio)?
         .map_err(|stall| stalled(stall.angle))?;
     let delta_or_nan =
         |found: std::result::Result<Periodic, _>| found.map_or(f64::NAN, |p: Periodic| p.delta());
     let delta_without_gravity = if cycle.gravity_on {
         let without = cycle.without_gravity();
-        delta_or_nan(Balance::new(&without, load, true).solve(omega_mean, min_speed_ratio)?)
+        delta_or_nan(
+            Balance::new(&without, load, true)
+                .with_curvature()?
+                .solve(omega_mean, min_speed_ratio)?,
+        )
     } else {
         solution.delta()
     };
-    let delta_gravity_only =
-        delta_or_nan(Balance::new(&cycle, 0.0, false).solve(solution.omega_mean, min_speed_ratio)?);
+    let delta_gravity_only = delta_or_nan(
+        Balance::new(&cycle, 0.0, false)
+            .with_curvature()?
+            .solve(solution.omega_mean, min_speed_ratio)?,
+    );
     Ok(SteadyState {
         omega_mean: solution.omega_mean,
         period: solution.period,
