@@ -34,6 +34,12 @@ pub enum MechanismError {
         elements: u128,
         item_bytes: usize,
     },
+    /// The machine cannot keep the mean speed `rpm` asked for: its speed would fall below
+    /// the stall limit (or to zero) near the crank angle `angle` (rad).
+    Stall { angle: f64, rpm: f64 },
+    /// The machine runs so close to stalling at `parameter` = `value` that the steady state's
+    /// panels would have to be refined towards its dead point, which is not done yet.
+    Unresolved { parameter: &'static str, value: f64 },
 }
 
 impl fmt::Display for MechanismError {
@@ -71,6 +77,18 @@ impl fmt::Display for MechanismError {
                 "{parameter} = {value} asks for {elements} values ({} bytes), more than can \
                  be allocated",
                 elements.saturating_mul(*item_bytes as u128)
+            ),
+            Self::Stall { angle, rpm } => write!(
+                f,
+                "the machine stalls at rpm = {rpm}: it would crawl over its dead point near \
+                 phi = {angle} rad ({:.4} deg)",
+                angle.to_degrees()
+            ),
+            Self::Unresolved { parameter, value } => write!(
+                f,
+                "{parameter} = {value}: the machine runs too close to stalling for the steady \
+                 state's quadrature (grading the panels towards the dead point is not yet in \
+                 the core)"
             ),
         }
     }

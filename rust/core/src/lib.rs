@@ -28,6 +28,7 @@ mod exact;
 mod extrema;
 mod harmonics;
 mod mechanism;
+mod motion;
 mod parallel;
 mod series;
 mod series_kernels;
@@ -49,6 +50,7 @@ pub use mechanism::{
     crank_phases, dimensionless_moments, Acting, Design, Phases, PhysicalColumns, PhysicalUnit,
     Strokes, STANDARD_GRAVITY,
 };
+pub use motion::{steady_state, GasCylinder, Machine, PiecewisePolynomial, SteadyState};
 pub use parallel::Parallelism;
 pub use series::{build_series, fourier_table, FourierSeries, SeriesKind};
 pub use series_kernels::{evaluate_series, evaluate_series_or_exact};

@@ -1,0 +1,198 @@
+//! The machine over one working cycle (docs/theory.md, "Steady running", "How the integrals
+//! are taken"): J − I_w, J′, U − U(0) and the gas work W tabulated at the nodes and edges of
+//! Gauss–Legendre panels cut at the gassed units' dead centres, and the same quantities at
+//! any angle. Every value comes from `Dynamics` (J, J′, U, the torques) and `gas`
+//! (the forces and their work): here are only the tables.
+
+use std::f64::consts::PI;
+
+use crate::dynamics::Dynamics;
+use crate::error::Result;
+use crate::parallel::Parallelism;
+
+use super::gas::{Forces, GasWork};
+use super::quadrature::{breaks, Panels};
+use super::Machine;
+
+/// Gauss–Legendre points per panel: 12 (exact to degree 23), as in the Python
+/// implementation, whose tests measured δ to 1e-11 with it on π/8 panels.
+const ORDER: usize = 12;
+/// The widest panel (rad) to start from: one eighth of a turn resolves J and U of usual
+/// machines (crank ratios to ~0.35, a few cylinders) to rounding with 12 points.
+const START_WIDTH: f64 = PI / 8.0;
+/// The panels are not halved below this width (rad): by then J and U have harmonics beyond
+/// any real machine's (the Python implementation's limit, π/60).
+const NARROWEST: f64 = PI / 60.0;
+/// The panels resolve a function when the last two Legendre coefficients of every panel's
+/// interpolant stay below this fraction of its range (then the 12-point rule integrates it
+/// to ~1e-14), …
+const RESOLVED: f64 = 1e-7;
+/// … or below rounding of its size.
+const ROUNDING: f64 = 1e-14;
+
+/// The machine's quantities over its cycle.
+#[derive(Debug, Clone)]
+pub(crate) struct Cycle<'a> {
+    pub dynamics: Dynamics,
+    pub forces: Forces<'a>,
+    pub work: GasWork<'a>,
+    /// I_w (kg·m²).
+    pub inertia: f64,
+    pub panels: Panels,
+    /// Whether U is kept (g ≠ 0 and not removed by `without_gravity`).
+    pub gravity_on: bool,
+    /// U(0) (J).
+    u0: f64,
+    /// Nodes, then edges: J − I_w (kg·m²), U − U(0) (J), W (J).
+    pub rest: Vec<f64>,
+    pub potential: Vec<f64>,
+    pub gas_work: Vec<f64>,
+}
+
+impl<'a> Cycle<'a> {
+    pub fn new(machine: &Machine<'a>, dynamics: Dynamics) -> Result<Self> {
+        let cycle = machine.strokes.cycle_angle();
+        let forces = Forces::new(machine.units, machine.gas, machine.diagrams, cycle)?;
+        let work = GasWork::new(machine.units, machine.gas, machine.diagrams, cycle)?;
+        // The dead centres ψ = φ + α ≡ 0 mod π of every gassed unit: where a pressure given
+        // by branches may switch (the tables' own breakpoints enter through W, exactly).
+        let mut angles = Vec::new();
+        for (unit, gas) in machine.units.iter().zip(machine.gas) {
+            if gas.has_gas() {
+                let centres = (cycle / PI).round() as usize;
+                angles
+                    .extend((0..=centres).map(|k| (k as f64 * PI - unit.phase).rem_euclid(cycle)));
+            }
+        }
+        let cuts = breaks(angles, cycle);
+        let mut width = START_WIDTH;
+        loop {
+            let panels = Panels::new(&cuts, ORDER, width);
+            let tables = Self::tabulate(
+                machine,
+                dynamics.clone(),
+                forces.clone(),
+                work.clone(),
+                panels,
+            )?;
+            if width < NARROWEST || tables.resolved() {
+                return Ok(tables);
+            }
+            width /= 2.0;
+        }
+    }
+
+    fn tabulate(
+        machine: &Machine<'a>,
+        dynamics: Dynamics,
+        forces: Forces<'a>,
+        work: GasWork<'a>,
+        panels: Panels,
+    ) -> Result<Self> {
+        let everywhere: Vec<f64> = panels.phi.iter().chain(&panels.edges).copied().collect();
+        let mut tables = Self {
+            dynamics,
+            forces,
+            gas_work: work.at(&everywhere)?,
+            work,
+            inertia: machine.shaft_inertia,
+            panels,
+            gravity_on: machine.g != 0.0,
+            u0: 0.0,
+            rest: Vec::new(),
+            potential: Vec::new(),
+        };
+        let (inertia, _) = tables.inertia_at(&everywhere)?;
+        tables.rest = inertia.iter().map(|j| j - tables.inertia).collect();
+        if tables.gravity_on {
+            let mut u0 = [0.0];
+            tables
+                .dynamics
+                .potential_energy(&[0.0], &mut u0, Parallelism::SERIAL)?;
+            tables.u0 = u0[0];
+        }
+        tables.potential = tables.potential_at(&everywhere)?;
+        Ok(tables)
+    }
+
+    /// Nodes in the tables (before the edges).
+    pub fn nodes(&self) -> usize {
+        self.panels.phi.len()
+    }
+
+    /// Φ (rad).
+    pub fn cycle(&self) -> f64 {
+        self.panels.cycle()
+    }
+
+    /// The same machine with g = 0 (the panels, J and W kept).
+    pub fn without_gravity(&self) -> Self {
+        let mut other = self.clone();
+        other.gravity_on = false;
+        other.u0 = 0.0;
+        other.potential.iter_mut().for_each(|u| *u = 0.0);
+        other
+    }
+
+    /// Whether the panels resolve J − I_w and U (their interpolants' last two Legendre
+    /// coefficients below `RESOLVED` of the range, or of rounding).
+    fn resolved(&self) -> bool {
+        let n = self.nodes();
+        [&self.rest[..n], &self.potential[..n]]
+            .iter()
+            .all(|values| {
+                let (low, high) = values
+                    .iter()
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
+                        (a.min(v), b.max(v))
+                    });
+                let spread = high - low;
+                if spread == 0.0 {
+                    return true;
+                }
+                let size = values.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
+                self.panels.tail(values) <= (RESOLVED * spread).max(ROUNDING * size)
+            })
+    }
+
+    /// (J, J′) at any angles.
+    pub fn inertia_at(&self, phi: &[f64]) -> Result<(Vec<f64>, Vec<f64>)> {
+        let (mut inertia, mut slope) = (vec![0.0; phi.len()], vec![0.0; phi.len()]);
+        self.dynamics.reduced_inertia(
+            self.inertia,
+            phi,
+            &mut inertia,
+            &mut slope,
+            Parallelism::SERIAL,
+        )?;
+        Ok((inertia, slope))
+    }
+
+    /// U(φ) − U(0) (J) at any angles (0 without gravity).
+    pub fn potential_at(&self, phi: &[f64]) -> Result<Vec<f64>> {
+        let mut u = vec![0.0; phi.len()];
+        if self.gravity_on {
+            self.dynamics
+                .potential_energy(phi, &mut u, Parallelism::SERIAL)?;
+            u.iter_mut().for_each(|u| *u -= self.u0);
+        }
+        Ok(u)
+    }
+
+    /// M_gas + the gravity torque −U′ (N·m) at any angles (`gas`: whether M_gas is taken).
+    pub fn torque_at(&self, phi: &[f64], gas: bool) -> Result<Vec<f64>> {
+        let mut torque = vec![0.0; phi.len()];
+        if gas {
+            let forces = self.forces.at(phi);
+            self.dynamics
+                .gas_torque(phi, &forces, &mut torque, Parallelism::SERIAL)?;
+        }
+        if self.gravity_on {
+            let mut weight = vec![0.0; phi.len()];
+            self.dynamics
+                .gravity_torque(phi, &mut weight, Parallelism::SERIAL)?;
+            torque.iter_mut().zip(&weight).for_each(|(m, w)| *m += w);
+        }
+        Ok(torque)
+    }
+}

@@ -1,0 +1,494 @@
+//! The gas: pressures as periodic piecewise polynomials, and the gas work
+//! W(φ) = ∫₀^φ M_gas dφ integrated exactly against the piston velocity (docs/theory.md,
+//! "Steady running", "How the integrals are taken").
+//!
+//! The gas torque of unit j is F(θ_j)·s'(ψ_j), ψ_j = φ + α_j, θ_j = ψ_j mod Φ, so its work from
+//! φ = 0 is G(φ + α_j) − G(α_j) with G(x) = ∫₀^x F(θ) s'(θ) dθ the indicator work of that
+//! unit's cylinder alone at phase 0 (continued beyond a cycle by G(x + Φ) = G(x) + G(Φ)).
+//! Units that differ only in phase, inclination and masses share one G. G is integrated on
+//! panels cut at every breakpoint of the cylinder's tables: there the pressure is one
+//! polynomial and F·s' analytic, so a few Gauss points integrate it to rounding, and so
+//! they do any part [edge, x] of a panel — G is exact at every x, not only at the nodes.
+
+use std::f64::consts::PI;
+
+use crate::dynamics::{Dynamics, PhysicalCylinder};
+use crate::error::{check, MechanismError, Result};
+use crate::parallel::Parallelism;
+
+use super::quadrature::{breaks, gauss_legendre};
+
+/// A periodic piecewise polynomial in SciPy's `PPoly` convention: on [x_i, x_{i+1})
+/// p(θ) = Σ_k c_ki (θ − x_i)^(K−1−k), taken modulo the cycle Φ = x_m − x_0 (θ is first
+/// brought into [x_0, x_0 + Φ)). What an `IndicatorDiagram` interpolates (a periodic cubic
+/// spline, PCHIP or linear), passed as its arrays.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PiecewisePolynomial {
+    breakpoints: Vec<f64>,
+    /// c_ki at k·m + i.
+    coefficients: Vec<f64>,
+    order: usize,
+}
+
+/// Breakpoints whose span differs from the cycle by more than this (relative) are refused:
+/// a table that does not close over Φ (the tolerance of IndicatorDiagram's own check).
+const SPAN_TOLERANCE: f64 = 1e-9;
+
+impl PiecewisePolynomial {
+    /// From breakpoints x[0..=m] (strictly increasing, spanning exactly `cycle`) and
+    /// coefficients c, K rows of m (`coefficients[k * m + i]` = c_ki).
+    pub fn new(breakpoints: Vec<f64>, coefficients: Vec<f64>, cycle: f64) -> Result<Self> {
+        let m = breakpoints.len().saturating_sub(1);
+        if m == 0 {
+            return Err(MechanismError::Empty {
+                parameter: "breakpoints",
+            });
+        }
+        if coefficients.is_empty() || coefficients.len() % m != 0 {
+            return Err(MechanismError::LengthMismatch {
+                parameter: "coefficients",
+                expected: m * (coefficients.len() / m).max(1),
+                found: coefficients.len(),
+            });
+        }
+        for &x in &breakpoints {
+            check("breakpoints", x, "finite, strictly increasing", |_| true)?;
+        }
+        if let Some(pair) = breakpoints.windows(2).find(|p| p[1] <= p[0]) {
+            return Err(MechanismError::OutOfRange {
+                parameter: "breakpoints",
+                value: pair[1],
+                allowed: "strictly increasing",
+            });
+        }
+        for &c in &coefficients {
+            check("coefficients", c, "finite", |_| true)?;
+        }
+        let span = breakpoints[m] - breakpoints[0];
+        check(
+            "breakpoints",
+            span,
+            "a span of exactly one cycle (2π or 4π)",
+            |s| (s - cycle).abs() <= SPAN_TOLERANCE * cycle,
+        )?;
+        Ok(Self {
+            order: coefficients.len() / m,
+            breakpoints,
+            coefficients,
+        })
+    }
+
+    pub fn breakpoints(&self) -> &[f64] {
+        &self.breakpoints
+    }
+
+    /// K: the number of coefficients per piece (degree + 1).
+    pub fn order(&self) -> usize {
+        self.order
+    }
+
+    fn pieces(&self) -> usize {
+        self.breakpoints.len() - 1
+    }
+
+    fn cycle(&self) -> f64 {
+        self.breakpoints[self.pieces()] - self.breakpoints[0]
+    }
+
+    /// p(θ), θ taken modulo the cycle as `IndicatorDiagram` takes it: x_0 + (θ − x_0) mod Φ,
+    /// in the piece [x_i, x_{i+1}) that holds it (the last piece at x_m).
+    pub fn value(&self, theta: f64) -> f64 {
+        let x0 = self.breakpoints[0];
+        let t = x0 + (theta - x0).rem_euclid(self.cycle());
+        let m = self.pieces();
+        let i = self
+            .breakpoints
+            .partition_point(|&x| x <= t)
+            .saturating_sub(1)
+            .min(m - 1);
+        let dx = t - self.breakpoints[i];
+        let mut p = 0.0;
+        for k in 0..self.order {
+            p = p * dx + self.coefficients[k * m + i];
+        }
+        p
+    }
+}
+
+/// Which pressures act on a unit's piston, and on what areas.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GasCylinder {
+    /// D (m): the head end's area is πD²/4; 0: no gas force.
+    pub bore: f64,
+    /// d (m): the crank end's area is π(D² − d²)/4.
+    pub piston_rod_diameter: f64,
+    /// The index of the head end's gauge pressure (Pa) among the machine's diagrams.
+    pub head: Option<usize>,
+    /// The crank end's (double-acting), pushing the piston away from the shaft.
+    pub crank_end: Option<usize>,
+}
+
+impl GasCylinder {
+    /// No gas on this unit.
+    pub const NONE: Self = Self {
+        bore: 0.0,
+        piston_rod_diameter: 0.0,
+        head: None,
+        crank_end: None,
+    };
+
+    pub(crate) fn has_gas(&self) -> bool {
+        self.bore > 0.0 && (self.head.is_some() || self.crank_end.is_some())
+    }
+
+    fn validate(&self, diagrams: usize) -> Result<()> {
+        check("bore", self.bore, "bore >= 0", |d| d >= 0.0)?;
+        check(
+            "piston_rod_diameter",
+            self.piston_rod_diameter,
+            "0 <= piston_rod_diameter < bore",
+            |d| d >= 0.0 && (d < self.bore || (self.bore == 0.0 && d == 0.0)),
+        )?;
+        for index in [self.head, self.crank_end].into_iter().flatten() {
+            if index >= diagrams {
+                return Err(MechanismError::InvalidChoice {
+                    parameter: "pressure",
+                    value: index.to_string(),
+                    allowed: "the index of one of the machine's diagrams",
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// πD²/4 and π(D² − d²)/4 (m²).
+    fn areas(&self) -> (f64, f64) {
+        (
+            PI * self.bore * self.bore / 4.0,
+            PI * (self.bore * self.bore - self.piston_rod_diameter * self.piston_rod_diameter)
+                / 4.0,
+        )
+    }
+}
+
+/// The net piston forces F = p(θ)·A − p_c(θ)·A_c of a machine's units.
+#[derive(Debug, Clone)]
+pub(crate) struct Forces<'a> {
+    gas: &'a [GasCylinder],
+    diagrams: &'a [PiecewisePolynomial],
+    phases: Vec<f64>,
+    cycle: f64,
+}
+
+impl<'a> Forces<'a> {
+    pub fn new(
+        units: &[PhysicalCylinder],
+        gas: &'a [GasCylinder],
+        diagrams: &'a [PiecewisePolynomial],
+        cycle: f64,
+    ) -> Result<Self> {
+        if gas.len() != units.len() {
+            return Err(MechanismError::LengthMismatch {
+                parameter: "gas",
+                expected: units.len(),
+                found: gas.len(),
+            });
+        }
+        for cylinder in gas {
+            cylinder.validate(diagrams.len())?;
+        }
+        for diagram in diagrams {
+            check(
+                "breakpoints",
+                diagram.cycle(),
+                "a span of the machine's cycle",
+                |s| (s - cycle).abs() <= SPAN_TOLERANCE * cycle,
+            )?;
+        }
+        Ok(Self {
+            gas,
+            diagrams,
+            phases: units.iter().map(|u| u.phase).collect(),
+            cycle,
+        })
+    }
+
+    /// F of unit j at its cycle angle θ.
+    fn force(&self, j: usize, theta: f64) -> f64 {
+        let cylinder = &self.gas[j];
+        if !cylinder.has_gas() {
+            return 0.0;
+        }
+        let (head, crank) = cylinder.areas();
+        let mut force = 0.0;
+        if let Some(d) = cylinder.head {
+            force += self.diagrams[d].value(theta) * head;
+        }
+        if let Some(d) = cylinder.crank_end {
+            force -= self.diagrams[d].value(theta) * crank;
+        }
+        force
+    }
+
+    /// Every unit's force at every φ, unit-major (as `Dynamics::gas_torque` takes them):
+    /// θ_j = (φ + α_j) mod Φ.
+    pub fn at(&self, phi: &[f64]) -> Vec<f64> {
+        let mut out = Vec::with_capacity(phi.len() * self.gas.len());
+        for (j, phase) in self.phases.iter().enumerate() {
+            out.extend(
+                phi.iter()
+                    .map(|p| self.force(j, (p + phase).rem_euclid(self.cycle))),
+            );
+        }
+        out
+    }
+}
+
+/// Gauss points per panel of an indicator rule: with the pressure one polynomial of K
+/// coefficients on the panel, 2n − 1 ≥ (K − 1) + 4 leaves s' to be approximated to degree
+/// 4 on a panel at most π/64 wide, whose error (≤ (π/128)⁵/5! relative) the Gauss rule's
+/// own error bound, (n!)⁴ h^(2n+1)/((2n+1)((2n)!)³)·max|f^(2n)|, shrinks to rounding.
+/// n ≥ 4 as in the Python implementation (`_work.py`).
+fn indicator_order(pressure_order: usize) -> usize {
+    (pressure_order + 4).div_ceil(2).max(4)
+}
+
+/// The widest panel of an indicator rule (rad) (a table interval wider than this is split).
+const INDICATOR_WIDTH: f64 = PI / 64.0;
+
+/// G(x) = ∫₀^x F(θ) s'(θ) dθ of one cylinder at phase 0 (J), for any real x.
+#[derive(Debug, Clone)]
+struct Indicator {
+    unit: Dynamics,
+    gas: GasCylinder,
+    cycle: f64,
+    edges: Vec<f64>,
+    /// G at the edges.
+    at_edges: Vec<f64>,
+    nodes: Vec<f64>,
+    weights: Vec<f64>,
+}
+
+impl Indicator {
+    fn new(
+        unit: &PhysicalCylinder,
+        gas: GasCylinder,
+        diagrams: &[PiecewisePolynomial],
+        cycle: f64,
+    ) -> Result<Self> {
+        let alone = PhysicalCylinder {
+            phase: 0.0,
+            ..*unit
+        };
+        let dynamics = Dynamics::new(&[alone], 0.0)?;
+        let tables: Vec<&PiecewisePolynomial> = [gas.head, gas.crank_end]
+            .into_iter()
+            .flatten()
+            .map(|d| &diagrams[d])
+            .collect();
+        let mut angles: Vec<f64> = (0..=(cycle / PI).round() as usize)
+            .map(|k| k as f64 * PI)
+            .collect();
+        for table in &tables {
+            angles.extend(table.breakpoints().iter().map(|x| x.rem_euclid(cycle)));
+        }
+        let order = tables.iter().map(|t| t.order()).max().unwrap_or(1);
+        let (nodes, weights) = gauss_legendre(indicator_order(order));
+        let mut edges = Vec::new();
+        for pair in breaks(angles, cycle).windows(2) {
+            let width = pair[1] - pair[0];
+            let count = (width / INDICATOR_WIDTH).ceil().max(1.0) as usize;
+            let step = width / count as f64;
+            edges.extend((0..count).map(|k| pair[0] + step * k as f64));
+        }
+        edges.push(cycle);
+        let mut indicator = Self {
+            unit: dynamics,
+            gas,
+            cycle,
+            edges,
+            at_edges: Vec::new(),
+            nodes,
+            weights,
+        };
+        let starts = &indicator.edges[..indicator.edges.len() - 1];
+        let ends = &indicator.edges[1..];
+        let pieces = indicator.pieces(starts, ends, diagrams)?;
+        let mut running = Vec::with_capacity(pieces.len() + 1);
+        let mut total = 0.0;
+        running.push(0.0);
+        for piece in pieces {
+            total += piece;
+            running.push(total);
+        }
+        indicator.at_edges = running;
+        Ok(indicator)
+    }
+
+    fn per_cycle(&self) -> f64 {
+        self.at_edges[self.at_edges.len() - 1]
+    }
+
+    /// ∫ F s' dθ over [a_i, b_i], each within one panel, by one Gauss rule each (one call to
+    /// the core for all of their points).
+    fn pieces(&self, a: &[f64], b: &[f64], diagrams: &[PiecewisePolynomial]) -> Result<Vec<f64>> {
+        let n = self.nodes.len();
+        let mut theta = Vec::with_capacity(a.len() * n);
+        for (a, b) in a.iter().zip(b) {
+            let (half, middle) = (0.5 * (b - a), 0.5 * (a + b));
+            theta.extend(self.nodes.iter().map(|x| middle + half * x));
+        }
+        let gas = [self.gas];
+        let forces = Forces {
+            gas: &gas,
+            diagrams,
+            phases: vec![0.0],
+            cycle: self.cycle,
+        }
+        .at(&theta);
+        let mut torque = vec![0.0; theta.len()];
+        self.unit
+            .gas_torque(&theta, &forces, &mut torque, Parallelism::SERIAL)?;
+        Ok(a.iter()
+            .zip(b)
+            .zip(torque.chunks_exact(n))
+            .map(|((a, b), f)| {
+                0.5 * (b - a) * f.iter().zip(&self.weights).map(|(f, w)| f * w).sum::<f64>()
+            })
+            .collect())
+    }
+
+    /// G(x) for each x.
+    fn at(&self, x: &[f64], diagrams: &[PiecewisePolynomial]) -> Result<Vec<f64>> {
+        let panels = self.edges.len() - 1;
+        let mut turns = Vec::with_capacity(x.len());
+        let mut starts = Vec::with_capacity(x.len());
+        let mut ends = Vec::with_capacity(x.len());
+        let mut base = Vec::with_capacity(x.len());
+        for &x in x {
+            let t = (x / self.cycle).floor();
+            let y = x - t * self.cycle;
+            let p = self
+                .edges
+                .partition_point(|&e| e <= y)
+                .saturating_sub(1)
+                .min(panels - 1);
+            turns.push(t);
+            starts.push(self.edges[p]);
+            ends.push(y);
+            base.push(self.at_edges[p]);
+        }
+        let pieces = self.pieces(&starts, &ends, diagrams)?;
+        Ok(turns
+            .iter()
+            .zip(&base)
+            .zip(&pieces)
+            .map(|((t, g), piece)| t * self.per_cycle() + g + piece)
+            .collect())
+    }
+}
+
+/// W(φ) = ∫₀^φ M_gas dφ of a machine (J).
+#[derive(Debug, Clone)]
+pub(crate) struct GasWork<'a> {
+    diagrams: &'a [PiecewisePolynomial],
+    /// One G per distinct cylinder, with the phases of the units that share it.
+    groups: Vec<(Indicator, Vec<f64>)>,
+    origin: f64,
+    /// W(Φ), the indicated work of one cycle (J).
+    pub per_cycle: f64,
+}
+
+impl<'a> GasWork<'a> {
+    pub fn new(
+        units: &[PhysicalCylinder],
+        gas: &[GasCylinder],
+        diagrams: &'a [PiecewisePolynomial],
+        cycle: f64,
+    ) -> Result<Self> {
+        // Units alike in all that G depends on: the same diagrams, areas, r and l.
+        type Key = (Option<usize>, Option<usize>, [u64; 4]);
+        let mut keys: Vec<Key> = Vec::new();
+        let mut members: Vec<(usize, Vec<f64>)> = Vec::new();
+        for (j, (unit, cylinder)) in units.iter().zip(gas).enumerate() {
+            if !cylinder.has_gas() {
+                continue;
+            }
+            let key = (
+                cylinder.head,
+                cylinder.crank_end,
+                [
+                    cylinder.bore.to_bits(),
+                    cylinder.piston_rod_diameter.to_bits(),
+                    unit.crank_radius.to_bits(),
+                    unit.rod_length.to_bits(),
+                ],
+            );
+            match keys.iter().position(|k| *k == key) {
+                Some(g) => members[g].1.push(unit.phase),
+                None => {
+                    keys.push(key);
+                    members.push((j, vec![unit.phase]));
+                }
+            }
+        }
+        let mut groups = Vec::with_capacity(members.len());
+        for (j, phases) in members {
+            groups.push((Indicator::new(&units[j], gas[j], diagrams, cycle)?, phases));
+        }
+        let mut work = Self {
+            diagrams,
+            groups,
+            origin: 0.0,
+            per_cycle: 0.0,
+        };
+        work.per_cycle = work
+            .groups
+            .iter()
+            .map(|(g, phases)| g.per_cycle() * phases.len() as f64)
+            .sum();
+        let mut origin = 0.0;
+        for (g, phases) in &work.groups {
+            origin += g.at(phases, diagrams)?.iter().sum::<f64>();
+        }
+        work.origin = origin;
+        Ok(work)
+    }
+
+    /// W at each φ.
+    pub fn at(&self, phi: &[f64]) -> Result<Vec<f64>> {
+        let mut total = vec![-self.origin; phi.len()];
+        for (g, phases) in &self.groups {
+            for phase in phases {
+                let shifted: Vec<f64> = phi.iter().map(|p| p + phase).collect();
+                for (w, value) in total.iter_mut().zip(g.at(&shifted, self.diagrams)?) {
+                    *w += value;
+                }
+            }
+        }
+        Ok(total)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_piecewise_polynomial_wraps_and_takes_its_pieces() {
+        // p = 1 + θ on [0, 1), 2 − (θ − 1)·2 on [1, 2π): linear, PPoly order 2.
+        let x = vec![0.0, 1.0, 2.0 * PI];
+        let slope2 = -2.0 / (2.0 * PI - 1.0);
+        let p = PiecewisePolynomial::new(x, vec![1.0, slope2, 1.0, 2.0], 2.0 * PI).unwrap();
+        assert_eq!(p.value(0.5), 1.5);
+        assert_eq!(p.value(1.0), 2.0);
+        assert!((p.value(0.5 + 2.0 * PI) - 1.5).abs() < 1e-15);
+        assert!((p.value(-0.5) - (2.0 + slope2 * (2.0 * PI - 1.5))).abs() < 1e-14);
+        assert!(PiecewisePolynomial::new(vec![0.0, 1.0], vec![1.0], 2.0 * PI).is_err());
+        assert!(
+            PiecewisePolynomial::new(vec![0.0, 7.0, 2.0 * PI], vec![1.0; 2], 2.0 * PI).is_err()
+        );
+        assert!(PiecewisePolynomial::new(vec![0.0, 2.0 * PI], vec![1.0; 3], 2.0 * PI).is_ok());
+        assert!(PiecewisePolynomial::new(vec![0.0, 2.0 * PI], vec![f64::NAN], 2.0 * PI).is_err());
+    }
+}

@@ -1,0 +1,139 @@
+//! Steady running at a mean speed (docs/theory.md, "Steady running"): the periodic motion of
+//! a machine under the "balance" load by the energy method, its coefficient of speed
+//! fluctuation δ, and what gravity does to it.
+//!
+//! The rooms: `quadrature` (Gauss–Legendre panels over the cycle), `gas` (pressures as
+//! periodic piecewise polynomials and the exact gas work), `cycle` (the machine's J, U and W
+//! tabulated on the panels, and at any angle), `balance` (the energy method and Brent's
+//! method). J, J′, U and the torques are `Dynamics`'s.
+
+mod balance;
+mod cycle;
+mod gas;
+mod quadrature;
+
+use std::f64::consts::PI;
+
+use crate::dynamics::{Dynamics, PhysicalCylinder};
+use crate::error::{check, MechanismError, Result};
+use crate::mechanism::Strokes;
+
+use balance::{Balance, Periodic};
+use cycle::Cycle;
+
+pub use gas::{GasCylinder, PiecewisePolynomial};
+
+/// A machine as the steady state takes it (SI units).
+#[derive(Debug, Clone, Copy)]
+pub struct Machine<'a> {
+    /// The slider-crank units.
+    pub units: &'a [PhysicalCylinder],
+    /// Their gas, one per unit ([`GasCylinder::NONE`] where there is none).
+    pub gas: &'a [GasCylinder],
+    /// The pressures (Pa) the units' `head` and `crank_end` refer to, each periodic over the
+    /// working cycle.
+    pub diagrams: &'a [PiecewisePolynomial],
+    /// I_w (kg·m²): everything that turns rigidly with the shaft.
+    pub shaft_inertia: f64,
+    pub strokes: Strokes,
+    /// g (m/s²) (0: none).
+    pub g: f64,
+}
+
+/// A machine's periodic steady running under the "balance" load (a constant load equal to
+/// the cycle mean of the gas torque) at a given time-mean speed.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SteadyState {
+    /// ω_m = Φ/t_Φ (rad/s), as found (the one asked for, to rounding).
+    pub omega_mean: f64,
+    /// t_Φ (s), the time of one working cycle.
+    pub period: f64,
+    /// The extreme speeds (rad/s), located exactly (roots of the net torque).
+    pub omega_max: f64,
+    pub omega_min: f64,
+    /// Where they occur, φ in [0, Φ) (rad).
+    pub phi_max: f64,
+    pub phi_min: f64,
+    /// E(0) = ½J(0)ω(0)² (J): with K(φ), ω(φ)² = 2[E(0) + K(φ)]/J(φ) everywhere.
+    pub energy_at_zero: f64,
+    /// The constant load (N·m): (1/Φ)∫M_gas dφ (gravity's mean is zero).
+    pub mean_load_torque: f64,
+    /// δ = (ω_max − ω_min)/ω_m.
+    pub delta: f64,
+    /// (ω_max − ω_min)/((ω_max + ω_min)/2), the textbook convention.
+    pub delta_midrange: f64,
+    /// δ of the same machine and load rule with g = 0, at the same mean speed; NaN where
+    /// that machine would stall.
+    pub delta_without_gravity: f64,
+    /// δ with gas and load removed, gravity (and the variation of J) alone, at the same mean
+    /// speed; NaN where it would stall.
+    pub delta_gravity_only: f64,
+}
+
+/// The lowest ratio ω_min/ω_m accepted for `min_speed_ratio`: below it the crawl over a dead
+/// centre takes longer than any run (and 1/ratio² leaves the range of a double on the way).
+const SMALLEST_SPEED_RATIO: f64 = 1e-9;
+
+/// The periodic steady state of `machine` under the "balance" load at the mean speed `rpm`
+/// (1/min) (time mean, ω_m = π·rpm/30), by the energy method (docs/theory.md, "Steady
+/// running"). `min_speed_ratio`: the machine stalls when ω_min < min_speed_ratio·ω_m
+/// (1e-3 in the Python API).
+///
+/// Errors: bad input, naming the parameter; [`MechanismError::Stall`] when the machine
+/// cannot keep that mean speed.
+pub fn steady_state(machine: &Machine<'_>, rpm: f64, min_speed_ratio: f64) -> Result<SteadyState> {
+    check(
+        "shaft_inertia",
+        machine.shaft_inertia,
+        "shaft_inertia > 0",
+        |i| i > 0.0,
+    )?;
+    check("rpm", rpm, "rpm > 0", |n| n > 0.0)?;
+    check(
+        "min_speed_ratio",
+        min_speed_ratio,
+        "1e-9 <= min_speed_ratio < 1",
+        |r| (SMALLEST_SPEED_RATIO..1.0).contains(&r),
+    )?;
+    let dynamics = Dynamics::new(machine.units, machine.g)?;
+    let cycle = Cycle::new(machine, dynamics)?;
+    let omega_mean = PI * rpm / 30.0;
+    let load = cycle.work.per_cycle / cycle.cycle();
+    let stalled = |angle: f64| MechanismError::Stall { angle, rpm };
+    let solution = Balance::new(&cycle, load, true)
+        .with_curvature()?
+        .solve(omega_mean, min_speed_ratio)?
+        .map_err(|stall| stalled(stall.angle))?;
+    let delta_or_nan =
+        |found: std::result::Result<Periodic, _>| found.map_or(f64::NAN, |p: Periodic| p.delta());
+    let delta_without_gravity = if cycle.gravity_on {
+        let without = cycle.without_gravity();
+        delta_or_nan(
+            Balance::new(&without, load, true)
+                .with_curvature()?
+                .solve(omega_mean, min_speed_ratio)?,
+        )
+    } else {
+        solution.delta()
+    };
+    let delta_gravity_only = delta_or_nan(
+        Balance::new(&cycle, 0.0, false)
+            .with_curvature()?
+            .solve(solution.omega_mean, min_speed_ratio)?,
+    );
+    Ok(SteadyState {
+        omega_mean: solution.omega_mean,
+        period: solution.period,
+        omega_max: solution.omega_max,
+        omega_min: solution.omega_min,
+        phi_max: solution.phi_max,
+        phi_min: solution.phi_min,
+        energy_at_zero: solution.energy_at_zero,
+        mean_load_torque: load,
+        delta: solution.delta(),
+        delta_midrange: 2.0 * (solution.omega_max - solution.omega_min)
+            / (solution.omega_max + solution.omega_min),
+        delta_without_gravity,
+        delta_gravity_only,
+    })
+}
