@@ -16,7 +16,7 @@ import math
 import os
 import pickle
 import uuid
-from collections.abc import Iterable, Mapping
+from collections.abc import Iterable
 from pathlib import Path
 from typing import Any
 
@@ -28,13 +28,21 @@ from .._shaft import rpm_from_omega
 from .._validation import as_count, as_flag, as_instance
 from ..machine.machine import Machine
 from ..sweeps.chunks import in_memory, is_dask, to_parquet
-from ..sweeps.designs import as_frame, as_passthrough, design_rows, designs_digest, grid_axes_of
+from ..sweeps.designs import (
+    as_frame,
+    as_outputs,
+    as_passthrough,
+    check_columns,
+    design_rows,
+    designs_digest,
+    grid_axes_of,
+)
 from ..sweeps.store import as_out, fingerprint
 from ._periodic import resolve_rules
 from .flywheel import _as_delta, flywheel_inertia
 from .loads import BALANCE
 from .steady import StallError, steady_state
-from .variants import MACHINE_COLUMNS, MachineGrid, check_names, check_values, row_variant
+from .variants import MACHINE_COLUMNS, MachineGrid, check_values, row_variant
 
 __all__ = ["MOTION_SWEEP_OUTPUTS", "MachineGrid", "motion_sweep"]
 
@@ -65,22 +73,7 @@ def _as_outputs(outputs: Any, delta: float | None) -> tuple[str, ...]:
     if outputs is None:
         asked: tuple[str, ...] = _STEADY + (_FLYWHEEL if delta is not None else ())
     else:
-        if isinstance(outputs, str):
-            outputs = (outputs,)
-        elif isinstance(outputs, (bytes, Mapping)) or not isinstance(outputs, Iterable):
-            raise MechanismError(
-                f"outputs must be an output name or a list of them, got {type(outputs).__name__}; "
-                f"allowed: {', '.join(MOTION_SWEEP_OUTPUTS)}"
-            )
-        asked = tuple(outputs)
-        unknown = [o for o in asked if not isinstance(o, str) or o not in MOTION_SWEEP_OUTPUTS]
-        if unknown:
-            raise MechanismError(f"outputs {unknown!r} are unknown; allowed: {', '.join(MOTION_SWEEP_OUTPUTS)}")
-        if not asked:
-            raise MechanismError(f"outputs must name at least one output; allowed: {', '.join(MOTION_SWEEP_OUTPUTS)}")
-        repeated = sorted({o for o in asked if asked.count(o) > 1})
-        if repeated:
-            raise MechanismError(f"outputs names {', '.join(repeated)} more than once")
+        asked = as_outputs(outputs, MOTION_SWEEP_OUTPUTS)
     flywheel = [o for o in asked if o in _FLYWHEEL]
     if flywheel and delta is None:
         raise MechanismError(f"outputs {flywheel!r} need delta=, the coefficient of speed fluctuation to size for")
@@ -203,6 +196,11 @@ def _check_table(machine: Machine, frame: pd.DataFrame) -> None:
     for position in {0, len(frame) - 1} if len(frame) else ():
         row = frame.iloc[position]
         row_variant(machine, {name: row[name] for name in names}, frame.index[position])
+
+
+def _check_names(names: Any, passthrough: tuple[str, ...], outputs: tuple[str, ...]) -> None:
+    """The columns of a motion sweep's designs: machine columns, and those passed through."""
+    check_columns(names, passthrough, outputs, known=MACHINE_COLUMNS, required=(), what="machine")
 
 
 def _meta(designs: Any, outputs: tuple[str, ...]) -> pd.DataFrame:
@@ -328,12 +326,12 @@ def motion_sweep(
             raise MechanismError(
                 "designs is a MachineGrid of another machine than machine: make the grid of the machine you sweep"
             )
-        check_names([*designs.axes, *designs.constants], passthrough, outputs)
+        _check_names([*designs.axes, *designs.constants], passthrough, outputs)
         names: list[str] = [*designs.axes, *designs.constants]
     elif is_dask(designs):
         if path is not None:
             raise MechanismError("out= is not available for dask input: write with dask's to_parquet")
-        check_names(list(designs.columns), passthrough, outputs)
+        _check_names(list(designs.columns), passthrough, outputs)
         _check_speed(designs.columns, machine, rules.route)
         return designs.map_partitions(_solve_partition, machine, outputs, load, target, meta=_meta(designs, outputs))
     else:
@@ -342,7 +340,7 @@ def motion_sweep(
                 f"designs must be a MachineGrid, a pandas DataFrame or a dask DataFrame, got {type(designs).__name__}"
             )
         designs = as_frame(designs)
-        check_names(designs.columns, passthrough, outputs)
+        _check_names(designs.columns, passthrough, outputs)
         names = list(designs.columns)
     _check_speed(names, machine, rules.route)
     if not isinstance(designs, MachineGrid):

@@ -13,7 +13,7 @@ every other column is a :class:`~multicrank.Cylinder` field set on every cylinde
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Mapping
+from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
@@ -24,7 +24,7 @@ from .._validation import as_instance, as_real_array, as_speed
 from ..machine.cylinder import Cylinder, Pressure
 from ..machine.machine import Machine
 from ..pressure.diagram import IndicatorDiagram
-from ..sweeps.designs import ProductGrid, suggestion
+from ..sweeps.designs import ProductGrid
 
 __all__ = [
     "CYLINDER_COLUMNS",
@@ -33,6 +33,7 @@ __all__ = [
     "ScaledPressure",
     "check_values",
     "machine_variant",
+    "row_variant",
     "scaled_pressure",
 ]
 
@@ -147,31 +148,6 @@ def check_values(name: str, values: Any) -> np.ndarray:
     if bad.size:
         raise MechanismError(f"{name} = {array[bad[0]]} is out of range; allowed: a finite number")
     return array
-
-
-def check_names(names: Iterable[Any], passthrough: tuple[str, ...], outputs: tuple[str, ...]) -> None:
-    """Raise unless every name is a machine column or passed through, once; passthrough names
-    must exist and be neither machine columns nor outputs."""
-    names = list(names)
-    duplicated = sorted({str(n) for n in names if names.count(n) > 1})
-    if duplicated:
-        raise MechanismError(f"designs have the column(s) {', '.join(duplicated)} more than once")
-    clash = [n for n in passthrough if n in MACHINE_COLUMNS or n in outputs]
-    if clash:
-        raise MechanismError(
-            f"passthrough names {', '.join(map(repr, clash))}: machine columns and outputs are not passed through"
-        )
-    absent = [n for n in passthrough if n not in names]
-    if absent:
-        raise MechanismError(f"passthrough names {', '.join(map(repr, absent))}, which the designs do not have")
-    unknown = [n for n in names if n not in MACHINE_COLUMNS and n not in passthrough]
-    if unknown:
-        first = unknown[0]
-        raise MechanismError(
-            f"designs have the unknown column(s) {', '.join(map(repr, unknown))}{suggestion(first, MACHINE_COLUMNS)}"
-            f"; known: {', '.join(MACHINE_COLUMNS)}. Carry other columns through the sweep with "
-            f"passthrough=[{first!r}, ...]"
-        )
 
 
 def row_variant(machine: Machine, design: Mapping[str, Any], row: Any) -> Machine:

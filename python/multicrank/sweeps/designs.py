@@ -100,36 +100,66 @@ def suggestion(name: Any, known: Iterable[str]) -> str:
     return f" (did you mean {close[0]!r}?)" if close else ""
 
 
-def check_columns(columns: Any, passthrough: tuple[str, ...] = (), outputs: tuple[str, ...] = ()) -> None:
-    """Raise unless ``columns`` holds every required design column, once, and no column
-    but the known ones and those in ``passthrough``; passthrough names must exist and be
-    neither design columns nor outputs (which the sweep would overwrite)."""
+def check_columns(
+    columns: Any,
+    passthrough: tuple[str, ...] = (),
+    outputs: tuple[str, ...] = (),
+    *,
+    known: tuple[str, ...] = KNOWN_COLUMNS,
+    required: tuple[str, ...] = DESIGN_COLUMNS,
+    what: str = "design",
+) -> None:
+    """Raise unless ``columns`` holds every ``required`` column, once, and no column but the
+    ``known`` ones and those in ``passthrough``; passthrough names must exist and be neither
+    known columns nor outputs (which the sweep would overwrite). ``what`` names the columns
+    in messages ("design", "machine")."""
     names = list(columns)
     duplicated = sorted({str(n) for n in names if names.count(n) > 1})
     if duplicated:
         raise MechanismError(f"designs have the column(s) {', '.join(duplicated)} more than once")
-    missing = [c for c in DESIGN_COLUMNS if c not in names]
+    missing = [c for c in required if c not in names]
     if missing:
         raise MechanismError(
-            f"designs lack the column(s) {', '.join(missing)}; required: {', '.join(DESIGN_COLUMNS)} "
-            f"(optional: {', '.join(OPTIONAL_COLUMNS)})"
+            f"designs lack the column(s) {', '.join(missing)}; required: {', '.join(required)} "
+            f"(optional: {', '.join(c for c in known if c not in required)})"
         )
-    clash = [n for n in passthrough if n in KNOWN_COLUMNS or n in outputs]
+    clash = [n for n in passthrough if n in known or n in outputs]
     if clash:
         raise MechanismError(
-            f"passthrough names {', '.join(map(repr, clash))}: design columns and outputs are not passed through"
+            f"passthrough names {', '.join(map(repr, clash))}: {what} columns and outputs are not passed through"
         )
     absent = [n for n in passthrough if n not in names]
     if absent:
         raise MechanismError(f"passthrough names {', '.join(map(repr, absent))}, which the designs do not have")
-    unknown = [n for n in names if n not in KNOWN_COLUMNS and n not in passthrough]
+    unknown = [n for n in names if n not in known and n not in passthrough]
     if unknown:
         first = unknown[0]
         raise MechanismError(
-            f"designs have the unknown column(s) {', '.join(map(repr, unknown))}{suggestion(first, KNOWN_COLUMNS)}; "
-            f"known: {', '.join(KNOWN_COLUMNS)}. Carry other columns through the sweep with "
+            f"designs have the unknown column(s) {', '.join(map(repr, unknown))}{suggestion(first, known)}; "
+            f"known: {', '.join(known)}. Carry other columns through the sweep with "
             f"passthrough=[{first!r}, ...]"
         )
+
+
+def as_outputs(outputs: Any, allowed: tuple[str, ...] = SWEEP_OUTPUTS) -> tuple[str, ...]:
+    """The outputs a sweep is asked for: one name or a sequence of them, from ``allowed``, each once."""
+    if isinstance(outputs, str):
+        outputs = (outputs,)
+    elif isinstance(outputs, (bytes, Mapping)) or not isinstance(outputs, Iterable):
+        raise MechanismError(
+            f"outputs must be an output name or a list of them, got {type(outputs).__name__}; "
+            f"allowed: {', '.join(allowed)}"
+        )
+    outputs = tuple(outputs)
+    unknown = [o for o in outputs if not isinstance(o, str) or o not in allowed]
+    if unknown:
+        raise MechanismError(f"outputs {unknown!r} are unknown; allowed: {', '.join(allowed)}")
+    if not outputs:
+        raise MechanismError(f"outputs must name at least one output; allowed: {', '.join(allowed)}")
+    repeated = sorted({o for o in outputs if outputs.count(o) > 1})
+    if repeated:
+        raise MechanismError(f"outputs names {', '.join(repeated)} more than once")
+    return outputs
 
 
 def _integer_column(values: Any, name: str, allowed: tuple[int, ...] | None, minimum: int) -> np.ndarray:

@@ -11,7 +11,6 @@ per partition).
 from __future__ import annotations
 
 import os
-from collections.abc import Iterable, Mapping
 from pathlib import Path
 from typing import Any
 
@@ -30,6 +29,7 @@ from .designs import (
     SWEEP_OUTPUTS,
     DesignGrid,
     as_frame,
+    as_outputs,
     as_passthrough,
     check_columns,
     design_grid,
@@ -77,26 +77,6 @@ def _as_phi(phi: Any) -> np.ndarray:
             f"{array.shape}"
         )
     return contiguous(array)
-
-
-def _as_outputs(outputs: Any) -> tuple[str, ...]:
-    if isinstance(outputs, str):
-        outputs = (outputs,)
-    elif isinstance(outputs, (bytes, Mapping)) or not isinstance(outputs, Iterable):
-        raise MechanismError(
-            f"outputs must be an output name or a list of them, got {type(outputs).__name__}; "
-            f"allowed: {', '.join(SWEEP_OUTPUTS)}"
-        )
-    outputs = tuple(outputs)
-    unknown = [o for o in outputs if not isinstance(o, str) or o not in SWEEP_OUTPUTS]
-    if unknown:
-        raise MechanismError(f"outputs {unknown!r} are unknown; allowed: {', '.join(SWEEP_OUTPUTS)}")
-    if not outputs:
-        raise MechanismError(f"outputs must name at least one output; allowed: {', '.join(SWEEP_OUTPUTS)}")
-    repeated = sorted({o for o in outputs if outputs.count(o) > 1})
-    if repeated:
-        raise MechanismError(f"outputs names {', '.join(repeated)} more than once")
-    return outputs
 
 
 # ----------------------------------------------------------------------------- the sweep
@@ -232,7 +212,7 @@ def sweep(
     λ = 0.45, γ = 90°, u1 = 0.1: δ_g = 5.6873e-05, leading harmonic 6
     """
     as_option(method, "method", ("exact", "series"))
-    outputs = _as_outputs(outputs)
+    outputs = as_outputs(outputs)
     phi = _as_phi(phi)
     chunk_size = as_count(chunk_size, "chunk_size", minimum=1)
     resume = as_flag(resume, "resume")
