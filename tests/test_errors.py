@@ -72,6 +72,7 @@ KINDS: dict[str, set[str]] = {
     "flag": set(),
     "path_or_none": {"none"},
     "outputs": set(),
+    "outputs_or_none": {"none"},  # None: the default outputs
     "designs": set(),
     "axes_or_none": {"none"},
     "frame": set(),
@@ -417,6 +418,36 @@ REGISTRY.update(
                 "rpm": (600.0, "positive"),
                 "max_order": (6, "count"),
                 "gravity": (True, "flag"),
+            },
+        ),
+    }
+)
+
+REGISTRY.update(
+    {
+        "MachineGrid": (
+            mc.MachineGrid,
+            {
+                "machine": (MACHINE, "machine"),
+                "shaft_inertia": ([0.5, 0.6], "positive"),
+                "rpm": (600.0, "positive"),
+                "pressure_scale": ([0.5, 1.0], "real"),
+                "piston_mass": ([0.1, 0.2], "positive"),
+            },
+        ),
+        "motion_sweep": (
+            mc.motion_sweep,
+            {
+                "machine": (MACHINE, "machine"),
+                "designs": (pd.DataFrame({"shaft_inertia": [0.6]}), "designs"),
+                "outputs": (["delta"], "outputs_or_none"),
+                "load": ("balance", "load"),
+                "delta": (None, "positive_or_none"),  # a float is refused by name: outputs ask no flywheel
+                "out": (None, "path_or_none"),
+                "resume": (False, "flag"),
+                "chunk_size": (None, "count_or_none"),
+                "progress": (False, "flag"),
+                "passthrough": ((), "passthrough"),
             },
         ),
     }

@@ -63,6 +63,9 @@ _LAZY = {
     "design_grid": "sweeps.designs",
     "to_xarray": "sweeps.designs",
     "sweep": "sweeps.driver",
+    "MOTION_SWEEP_OUTPUTS": "motion.sweep",
+    "MachineGrid": "motion.variants",
+    "motion_sweep": "motion.sweep",
 }
 
 
@@ -82,6 +85,7 @@ _os.register_at_fork(after_in_child=_native_after_fork_in_child)
 __all__ = [
     "FORCE_METHODS",
     "LAYOUTS",
+    "MOTION_SWEEP_OUTPUTS",
     "STANDARD_GRAVITY",
     "SWEEP_OUTPUTS",
     "Cylinder",
@@ -92,6 +96,7 @@ __all__ = [
     "IndicatorDiagram",
     "Layout",
     "Machine",
+    "MachineGrid",
     "MechanismError",
     "PowerLawLoad",
     "StallError",
@@ -112,6 +117,7 @@ __all__ = [
     "harmonic_table",
     "lambda_coefficients",
     "layout_engine",
+    "motion_sweep",
     "paper_coefficient",
     "potential_energy",
     "set_parallel_threshold",

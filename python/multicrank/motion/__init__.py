@@ -5,6 +5,8 @@
 - `flywheel`: the flywheel for a coefficient of speed fluctuation;
 - `transient`: the motion in time (SciPy's integrators, stall events);
 - `orders`: the torque orders of the cycle;
+- `variants` and `sweep`: machines that differ in a few numbers (`MachineGrid`) and their
+  steady states at sweep scale (`motion_sweep`); loaded on first use (they need pandas);
 - `_result`: what the results share (``solved``, ``to_pandas``, ``to_xarray``);
 - `_periodic`: the periodic solution by its route, which `steady` and `flywheel` share;
 - `_quadrature`, `_work`, `_solvers`: the cycle quadrature, the gas work and the steady-state

@@ -1,5 +1,6 @@
 """Design sweeps: `designs` (grids of designs, lazily, and `to_xarray`), `driver` (`sweep`:
-in memory, to Parquet, or on a dask DataFrame) and `store` (the Parquet parts, their
+in memory, to Parquet, or on a dask DataFrame), `chunks` (how any sweep runs its chunks,
+shared with :func:`~multicrank.motion_sweep`) and `store` (the Parquet parts, their
 fingerprint and resume).
 
 Nothing is imported here: the sweep machinery pulls in pandas (and, where installed,

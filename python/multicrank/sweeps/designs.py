@@ -16,7 +16,7 @@ import hashlib
 import json
 import math
 from collections.abc import Callable, Iterable, Mapping
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 import pandas as pd
@@ -33,6 +33,7 @@ __all__ = [
     "OPTIONAL_COLUMNS",
     "SWEEP_OUTPUTS",
     "DesignGrid",
+    "ProductGrid",
     "design_grid",
     "to_xarray",
 ]
@@ -93,41 +94,72 @@ def as_passthrough(passthrough: Any) -> tuple[str, ...]:
     return names
 
 
-def _suggestion(name: Any, known: Iterable[str]) -> str:
+def suggestion(name: Any, known: Iterable[str]) -> str:
+    """The hint for the known name closest to ``name`` (" (did you mean 'x'?)"), or "" where none is."""
     close = difflib.get_close_matches(str(name), list(known), n=1)
     return f" (did you mean {close[0]!r}?)" if close else ""
 
 
-def check_columns(columns: Any, passthrough: tuple[str, ...] = (), outputs: tuple[str, ...] = ()) -> None:
-    """Raise unless ``columns`` holds every required design column, once, and no column
-    but the known ones and those in ``passthrough``; passthrough names must exist and be
-    neither design columns nor outputs (which the sweep would overwrite)."""
+def check_columns(
+    columns: Any,
+    passthrough: tuple[str, ...] = (),
+    outputs: tuple[str, ...] = (),
+    *,
+    known: tuple[str, ...] = KNOWN_COLUMNS,
+    required: tuple[str, ...] = DESIGN_COLUMNS,
+    what: str = "design",
+) -> None:
+    """Raise unless ``columns`` holds every ``required`` column, once, and no column but the
+    ``known`` ones and those in ``passthrough``; passthrough names must exist and be neither
+    known columns nor outputs (which the sweep would overwrite). ``what`` names the columns
+    in messages ("design", "machine")."""
     names = list(columns)
     duplicated = sorted({str(n) for n in names if names.count(n) > 1})
     if duplicated:
         raise MechanismError(f"designs have the column(s) {', '.join(duplicated)} more than once")
-    missing = [c for c in DESIGN_COLUMNS if c not in names]
+    missing = [c for c in required if c not in names]
     if missing:
         raise MechanismError(
-            f"designs lack the column(s) {', '.join(missing)}; required: {', '.join(DESIGN_COLUMNS)} "
-            f"(optional: {', '.join(OPTIONAL_COLUMNS)})"
+            f"designs lack the column(s) {', '.join(missing)}; required: {', '.join(required)} "
+            f"(optional: {', '.join(c for c in known if c not in required)})"
         )
-    clash = [n for n in passthrough if n in KNOWN_COLUMNS or n in outputs]
+    clash = [n for n in passthrough if n in known or n in outputs]
     if clash:
         raise MechanismError(
-            f"passthrough names {', '.join(map(repr, clash))}: design columns and outputs are not passed through"
+            f"passthrough names {', '.join(map(repr, clash))}: {what} columns and outputs are not passed through"
         )
     absent = [n for n in passthrough if n not in names]
     if absent:
         raise MechanismError(f"passthrough names {', '.join(map(repr, absent))}, which the designs do not have")
-    unknown = [n for n in names if n not in KNOWN_COLUMNS and n not in passthrough]
+    unknown = [n for n in names if n not in known and n not in passthrough]
     if unknown:
         first = unknown[0]
         raise MechanismError(
-            f"designs have the unknown column(s) {', '.join(map(repr, unknown))}{_suggestion(first, KNOWN_COLUMNS)}; "
-            f"known: {', '.join(KNOWN_COLUMNS)}. Carry other columns through the sweep with "
+            f"designs have the unknown column(s) {', '.join(map(repr, unknown))}{suggestion(first, known)}; "
+            f"known: {', '.join(known)}. Carry other columns through the sweep with "
             f"passthrough=[{first!r}, ...]"
         )
+
+
+def as_outputs(outputs: Any, allowed: tuple[str, ...] = SWEEP_OUTPUTS) -> tuple[str, ...]:
+    """The outputs a sweep is asked for: one name or a sequence of them, from ``allowed``, each once."""
+    if isinstance(outputs, str):
+        outputs = (outputs,)
+    elif isinstance(outputs, (bytes, Mapping)) or not isinstance(outputs, Iterable):
+        raise MechanismError(
+            f"outputs must be an output name or a list of them, got {type(outputs).__name__}; "
+            f"allowed: {', '.join(allowed)}"
+        )
+    outputs = tuple(outputs)
+    unknown = [o for o in outputs if not isinstance(o, str) or o not in allowed]
+    if unknown:
+        raise MechanismError(f"outputs {unknown!r} are unknown; allowed: {', '.join(allowed)}")
+    if not outputs:
+        raise MechanismError(f"outputs must name at least one output; allowed: {', '.join(allowed)}")
+    repeated = sorted({o for o in outputs if outputs.count(o) > 1})
+    if repeated:
+        raise MechanismError(f"outputs names {', '.join(repeated)} more than once")
+    return outputs
 
 
 def _integer_column(values: Any, name: str, allowed: tuple[int, ...] | None, minimum: int) -> np.ndarray:
@@ -190,87 +222,66 @@ def phase_table(columns: dict[str, np.ndarray]) -> tuple[np.ndarray, list[np.nda
 
 
 # ----------------------------------------------------------------------------- grids
-class DesignGrid:
-    """The Cartesian product of design axes, generated lazily chunk by chunk.
+class ProductGrid:
+    """The lazy Cartesian product of named 1-D axes and scalar constants: what
+    :class:`DesignGrid` and :class:`~multicrank.MachineGrid` share.
 
-    1-D axes span the grid (C order, the first axis varies slowest); scalars are constant
-    columns. ``len(grid)`` is the number of designs; ``grid.frame(start, stop)`` builds only
-    those rows, so a sweep of 10⁷ designs never holds them all. Only design columns are
-    accepted, and every value is validated here, so that a misspelt name or a bad value
-    fails at once rather than chunks into a sweep.
-
-    Parameters
-    ----------
-    **axes
-        Design columns by name, each a 1-D sequence (an axis) or a scalar (a constant):
-        ``crank_ratio`` λ [dimensionless], ``inclination`` γ [rad], ``u1``, ``u2``
-        [dimensionless], and optionally ``cranks`` (int ≥ 1, default 1), ``strokes`` (2 or 4,
-        default 2) and ``acting`` ("single" or "double", default "single").
-
-    Attributes
-    ----------
-    axes : dict of str to ndarray
-        The 1-D axes, in the order given.
-    constants : dict
-        The scalar columns.
-    shape : tuple of int
-        The length of every axis.
-
-    See Also
-    --------
-    design_grid : The same product as a DataFrame, at once.
-    sweep : Takes a grid and sweeps it chunk by chunk.
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> import multicrank as mc
-    >>> grid = mc.DesignGrid(crank_ratio=np.linspace(0.2, 0.45, 26),
-    ...                      inclination=np.radians([0, 45, 90]),
-    ...                      u1=np.geomspace(1e-4, 1e-1, 31), u2=0.0, cranks=range(1, 13))
-    >>> len(grid), grid.shape
-    (29016, (26, 3, 31, 12))
-    >>> grid.frame(0, 2)
-       crank_ratio  inclination      u1  cranks   u2
-    0          0.2          0.0  0.0001       1  0.0
-    1          0.2          0.0  0.0001       2  0.0
+    A subclass names the columns it takes (``KNOWN``), what they are in words (``COLUMN``,
+    ``GRID``, for messages) and checks an axis's values (:meth:`_check_values`); rows are
+    formed here, chunk by chunk, in C order (the first axis varies slowest).
     """
+
+    #: The column names an axis may have.
+    KNOWN: ClassVar[tuple[str, ...]] = ()
+    #: What an axis is, in words ("a design column").
+    COLUMN: ClassVar[str] = "a column"
+    #: What the grid is, in words ("a design grid").
+    GRID: ClassVar[str] = "a grid"
+
+    axes: dict[str, np.ndarray]
+    constants: dict[str, Any]
+    shape: tuple[int, ...]
 
     def __init__(self, **axes: Any) -> None:
         if not axes:
-            raise MechanismError("a design grid needs at least one axis")
-        unknown = [name for name in axes if name not in KNOWN_COLUMNS]
+            raise MechanismError(f"{self.GRID} needs at least one axis")
+        unknown = [name for name in axes if name not in self.KNOWN]
         if unknown:
             raise MechanismError(
-                f"grid axis {unknown[0]!r} is not a design column{_suggestion(unknown[0], KNOWN_COLUMNS)}; "
-                f"known: {', '.join(KNOWN_COLUMNS)}"
+                f"grid axis {unknown[0]!r} is not {self.COLUMN}{suggestion(unknown[0], self.KNOWN)}; "
+                f"known: {', '.join(self.KNOWN)}"
             )
-        self.axes: dict[str, np.ndarray] = {}
-        self.constants: dict[str, Any] = {}
+        self.axes = {}
+        self.constants = {}
         for name, values in axes.items():
             array = _as_array(list(values) if isinstance(values, range) else values, f"grid axis {name!r}")
             if array.ndim == 0:
-                _column(name, array.reshape(1))  # validated now, not chunks into a sweep
+                self._check_values(name, array.reshape(1))  # validated now, not chunks into a sweep
                 self.constants[name] = array.item()
                 continue
             if array.ndim != 1 or array.size == 0:
                 raise MechanismError(
                     f"grid axis {name!r} must be a scalar or a non-empty 1-D sequence, got shape {array.shape}"
                 )
-            _column(name, array)
+            self._check_values(name, array)
             self.axes[name] = array
         self.shape = tuple(len(v) for v in self.axes.values())
         if math.prod(self.shape) > INDEX_MAX:
             sizes = " × ".join(f"{len(v)} {k}" for k, v in self.axes.items())
             raise MechanismError(f"the grid's axes make {math.prod(self.shape)} designs ({sizes}); at most {INDEX_MAX}")
 
+    def _check_values(self, name: str, values: np.ndarray) -> None:
+        """Raise unless ``values`` (1-D) are allowed in column ``name``."""
+        raise NotImplementedError
+
     def __len__(self) -> int:
         return math.prod(self.shape)
 
     def __eq__(self, other: object) -> bool:
         # By value: the same axes and constants in the same order (the order is the rows').
-        if not isinstance(other, DesignGrid):
+        if type(other) is not type(self):
             return NotImplemented
+        assert isinstance(other, ProductGrid)
         return (
             list(self.axes) == list(other.axes)
             and all(np.array_equal(values, other.axes[name]) for name, values in self.axes.items())
@@ -327,6 +338,60 @@ class DesignGrid:
         return {k: v.tolist() for k, v in self.axes.items()}
 
 
+class DesignGrid(ProductGrid):
+    """The Cartesian product of design axes, generated lazily chunk by chunk.
+
+    1-D axes span the grid (C order, the first axis varies slowest); scalars are constant
+    columns. ``len(grid)`` is the number of designs; ``grid.frame(start, stop)`` builds only
+    those rows, so a sweep of 10⁷ designs never holds them all. Only design columns are
+    accepted, and every value is validated here, so that a misspelt name or a bad value
+    fails at once rather than chunks into a sweep.
+
+    Parameters
+    ----------
+    **axes
+        Design columns by name, each a 1-D sequence (an axis) or a scalar (a constant):
+        ``crank_ratio`` λ [dimensionless], ``inclination`` γ [rad], ``u1``, ``u2``
+        [dimensionless], and optionally ``cranks`` (int ≥ 1, default 1), ``strokes`` (2 or 4,
+        default 2) and ``acting`` ("single" or "double", default "single").
+
+    Attributes
+    ----------
+    axes : dict of str to ndarray
+        The 1-D axes, in the order given.
+    constants : dict
+        The scalar columns.
+    shape : tuple of int
+        The length of every axis.
+
+    See Also
+    --------
+    design_grid : The same product as a DataFrame, at once.
+    sweep : Takes a grid and sweeps it chunk by chunk.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import multicrank as mc
+    >>> grid = mc.DesignGrid(crank_ratio=np.linspace(0.2, 0.45, 26),
+    ...                      inclination=np.radians([0, 45, 90]),
+    ...                      u1=np.geomspace(1e-4, 1e-1, 31), u2=0.0, cranks=range(1, 13))
+    >>> len(grid), grid.shape
+    (29016, (26, 3, 31, 12))
+    >>> grid.frame(0, 2)
+       crank_ratio  inclination      u1  cranks   u2
+    0          0.2          0.0  0.0001       1  0.0
+    1          0.2          0.0  0.0001       2  0.0
+    """
+
+    KNOWN = KNOWN_COLUMNS
+    COLUMN = "a design column"
+    GRID = "a design grid"
+
+    def _check_values(self, name: str, values: np.ndarray) -> None:
+        _column(name, values)
+
+
 def design_grid(**axes: Any) -> pd.DataFrame:
     """The Cartesian product of the given axes as a DataFrame (one row per design).
 
@@ -364,15 +429,15 @@ def design_grid(**axes: Any) -> pd.DataFrame:
 
 def design_rows(designs: Any) -> tuple[int, Callable[[int, int], pd.DataFrame]]:
     """(number of designs, function start, stop -> the DataFrame of those rows)."""
-    if isinstance(designs, DesignGrid):
+    if isinstance(designs, ProductGrid):
         return len(designs), designs.frame
     frame = as_frame(designs)
     return len(frame), lambda start, stop: frame.iloc[start:stop]
 
 
 def grid_axes_of(designs: Any) -> dict[str, list] | None:
-    """The grid axes that designs come from (a DesignGrid, or a frame of :func:`design_grid`)."""
-    if isinstance(designs, DesignGrid):
+    """The grid axes that designs come from (a grid, or a frame of :func:`design_grid`)."""
+    if isinstance(designs, ProductGrid):
         return designs.axis_lists()
     return getattr(designs, "attrs", {}).get("grid_axes")
 
@@ -391,7 +456,7 @@ def designs_digest(designs: Any) -> str:
         digest.update(json.dumps([kind, str(name), str(values.dtype), len(values)]).encode())
         digest.update(pd.util.hash_pandas_object(values, index=False).to_numpy().tobytes())
 
-    if isinstance(designs, DesignGrid):
+    if isinstance(designs, ProductGrid):
         for name, array in designs.axes.items():
             update("axis", name, pd.Series(array))
         for name, value in designs.constants.items():
@@ -426,7 +491,8 @@ def to_xarray(result: pd.DataFrame, axes: Mapping[str, Any] | None = None) -> An
     Parameters
     ----------
     result : pandas.DataFrame
-        What :func:`sweep` returned for a :func:`design_grid` (or a :class:`DesignGrid`).
+        What :func:`sweep` returned for a :func:`design_grid` (or a :class:`DesignGrid`), or
+        :func:`motion_sweep` for a :class:`MachineGrid`.
     axes : mapping of str to sequence, optional
         The grid's axes, ``{name: values}`` in grid order; default the ``grid_axes`` the
         grid left in ``result.attrs``.
@@ -482,7 +548,9 @@ def to_xarray(result: pd.DataFrame, axes: Mapping[str, Any] | None = None) -> An
                 f"axes[{name!r}]: result's column {name!r} does not run over this axis in grid order (C order, "
                 "the first axis slowest); pass the rows of the whole grid, in its order"
             )
-    outputs = [c for c in result.columns if c in SWEEP_OUTPUTS]
+    # A motion sweep names its outputs in attrs; a gravity sweep's are SWEEP_OUTPUTS.
+    named = result.attrs.get("sweep_outputs", SWEEP_OUTPUTS)
+    outputs = [c for c in result.columns if c in named]
     dims = list(arrays)
     return xr.Dataset(
         {name: (dims, result[name].to_numpy().reshape(shape)) for name in outputs},

@@ -10,9 +10,7 @@ per partition).
 
 from __future__ import annotations
 
-import math
 import os
-from collections.abc import Iterable, Mapping
 from pathlib import Path
 from typing import Any
 
@@ -25,11 +23,13 @@ from .._native import sweep_engines as _native_sweep_engines
 from .._validation import as_count, as_flag, as_option, as_real_array, check_size, contiguous
 from ..gravity.engines import Engine
 from ..gravity.evaluation import generalized_force
+from .chunks import in_memory, is_dask, progress_bar, to_parquet
 from .designs import (
     DESIGN_COLUMNS,
     SWEEP_OUTPUTS,
     DesignGrid,
     as_frame,
+    as_outputs,
     as_passthrough,
     check_columns,
     design_grid,
@@ -41,7 +41,7 @@ from .designs import (
     to_xarray,
     validate_designs,
 )
-from .store import PartStore, as_out, fingerprint
+from .store import as_out, fingerprint
 
 # DesignGrid, design_grid and to_xarray live in designs; they are re-exported here, where
 # multicrank's lazy attributes and earlier code have always found them.
@@ -79,26 +79,6 @@ def _as_phi(phi: Any) -> np.ndarray:
     return contiguous(array)
 
 
-def _as_outputs(outputs: Any) -> tuple[str, ...]:
-    if isinstance(outputs, str):
-        outputs = (outputs,)
-    elif isinstance(outputs, (bytes, Mapping)) or not isinstance(outputs, Iterable):
-        raise MechanismError(
-            f"outputs must be an output name or a list of them, got {type(outputs).__name__}; "
-            f"allowed: {', '.join(SWEEP_OUTPUTS)}"
-        )
-    outputs = tuple(outputs)
-    unknown = [o for o in outputs if not isinstance(o, str) or o not in SWEEP_OUTPUTS]
-    if unknown:
-        raise MechanismError(f"outputs {unknown!r} are unknown; allowed: {', '.join(SWEEP_OUTPUTS)}")
-    if not outputs:
-        raise MechanismError(f"outputs must name at least one output; allowed: {', '.join(SWEEP_OUTPUTS)}")
-    repeated = sorted({o for o in outputs if outputs.count(o) > 1})
-    if repeated:
-        raise MechanismError(f"outputs names {', '.join(repeated)} more than once")
-    return outputs
-
-
 # ----------------------------------------------------------------------------- the sweep
 def _reduce(columns: dict[str, np.ndarray], phi: np.ndarray, outputs: tuple[str, ...]) -> dict[str, np.ndarray]:
     """One call into Rust per _CALL_SIZE designs; returns the requested output columns."""
@@ -129,14 +109,6 @@ def _sweep_frame(frame: pd.DataFrame, phi: np.ndarray, outputs: tuple[str, ...])
     for name, values in reduced.items():
         result[name] = values
     return result
-
-
-def _progress_bar(total: int, enabled: bool, initial: int = 0) -> Any:
-    if not enabled:
-        return None
-    from tqdm.auto import tqdm
-
-    return tqdm(total=total, initial=initial, unit="designs", unit_scale=True, desc="sweep", smoothing=0.1)
 
 
 def sweep(
@@ -240,7 +212,7 @@ def sweep(
     λ = 0.45, γ = 90°, u1 = 0.1: δ_g = 5.6873e-05, leading harmonic 6
     """
     as_option(method, "method", ("exact", "series"))
-    outputs = _as_outputs(outputs)
+    outputs = as_outputs(outputs)
     phi = _as_phi(phi)
     chunk_size = as_count(chunk_size, "chunk_size", minimum=1)
     resume = as_flag(resume, "resume")
@@ -256,7 +228,7 @@ def sweep(
             raise MechanismError("out=, curves= and passthrough= take tabular designs, not a list of engines")
         return _sweep_engines(list(designs), phi, outputs, progress)
 
-    if _is_dask(designs):
+    if is_dask(designs):
         if path is not None or curves:
             raise MechanismError("out= and curves= are not available for dask input: write with dask's to_parquet")
         check_columns(list(designs.columns), passthrough, outputs)
@@ -277,19 +249,7 @@ def sweep(
     total, rows = design_rows(designs)
     if curves:  # the designs × φ matrix, checked before the sweep rather than after it
         check_size("curves", f"True for {total} designs × {len(phi)} points", total * len(phi))
-    bar = _progress_bar(total, progress)
-    pieces = []
-    try:
-        for start in range(0, total, chunk_size):
-            pieces.append(_sweep_frame(rows(start, start + chunk_size), phi, outputs))
-            if bar is not None:
-                bar.update(len(pieces[-1]))
-    finally:
-        if bar is not None:
-            bar.close()
-    if not pieces:
-        pieces.append(_sweep_frame(rows(0, 0), phi, outputs))
-    result = pd.concat(pieces) if len(pieces) > 1 else pieces[0]
+    result = in_memory(total, chunk_size, lambda start, stop: _sweep_frame(rows(start, stop), phi, outputs), progress)
     grid_axes = grid_axes_of(designs)
     if grid_axes:
         result.attrs["grid_axes"] = grid_axes
@@ -323,7 +283,7 @@ def _is_engine_list(designs: Any) -> bool:
 def _sweep_engines(engines: list[Engine], phi: np.ndarray, outputs: tuple[str, ...], progress: bool) -> pd.DataFrame:
     """The outputs of each cylinder-level engine, reduced in Rust like designs: for layouts,
     unequal cylinders and Monte-Carlo samples of manufacturing tolerances."""
-    bar = _progress_bar(len(engines), progress)
+    bar = progress_bar(len(engines), progress)
     parts: list[dict[str, np.ndarray]] = []
     try:
         for start in range(0, len(engines), _ENGINE_CALL_SIZE):
@@ -340,29 +300,18 @@ def _sweep_engines(engines: list[Engine], phi: np.ndarray, outputs: tuple[str, .
     return frame
 
 
-def _is_dask(designs: Any) -> bool:
-    module = type(designs).__module__
-    return module.startswith("dask") and hasattr(designs, "map_partitions")
-
-
 def _sweep_to_parquet(
     designs: Any, out: Path, phi: np.ndarray, outputs: tuple[str, ...], chunk_size: int, resume: bool, progress: bool
 ) -> Path:
     """Sweep chunk by chunk into the parts of a :class:`~multicrank.store.PartStore`, then merge."""
     total, rows = design_rows(designs)
-    store = PartStore(out, fingerprint(total, phi, outputs, chunk_size, designs_digest(designs)), resume=resume)
-    n_chunks = math.ceil(total / chunk_size)
-    done = store.finished()
-    bar = _progress_bar(total, progress, initial=sum(min(chunk_size, total - i * chunk_size) for i in done))
-    try:
-        for index in range(n_chunks):
-            if index in done:
-                continue
-            start = index * chunk_size
-            written = store.write(index, _sweep_frame(rows(start, start + chunk_size), phi, outputs))
-            if bar is not None:
-                bar.update(written)
-    finally:
-        if bar is not None:
-            bar.close()
-    return store.merge(n_chunks, lambda: _sweep_frame(rows(0, 0), phi, outputs))
+    manifest = fingerprint(total, phi, outputs, chunk_size, designs_digest(designs))
+    return to_parquet(
+        out,
+        manifest,
+        total,
+        chunk_size,
+        lambda start, stop: _sweep_frame(rows(start, stop), phi, outputs),
+        resume,
+        progress,
+    )

@@ -5,8 +5,9 @@ written under a temporary name and renamed, so a part exists whole or not at all
 by the SHA-256 of its bytes, so a part damaged afterwards (a disk error, a stray edit) is
 recognised — recomputed on resume, never merged. Next to the parts, ``manifest.json``
 fingerprints the sweep: the whole definition of its designs (see
-:func:`multicrank.designs.designs_digest`), φ, the outputs, the chunking and the library's
-version; a resume proceeds only if it matches. When every part is there they are merged in
+:func:`multicrank.designs.designs_digest`), φ (of a gravity sweep), the machine, load and
+flywheel target (of a motion sweep), the outputs, the chunking and the library's version; a
+resume proceeds only if it matches, and a refusal names what differs. When every part is there they are merged in
 order, one row group each, into a temporary file that is renamed to ``out``; the parts are
 then removed. Whatever fails or is interrupted on the way (a full disk, Ctrl-C, a kill)
 leaves no half-written file at ``out`` or beside it, only whole, checksummed parts for a
@@ -21,7 +22,7 @@ import os
 import re
 import shutil
 import warnings
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Any
 
@@ -39,18 +40,32 @@ _FORMAT = 2
 _PART = re.compile(r"part-(\d{8,})-([0-9a-f]{64})\.parquet")
 
 
-def fingerprint(total: int, phi: np.ndarray, outputs: tuple[str, ...], chunk_size: int, designs: str) -> dict:
+def fingerprint(
+    total: int,
+    phi: np.ndarray | None,
+    outputs: tuple[str, ...],
+    chunk_size: int,
+    designs: str,
+    *,
+    settings: Mapping[str, Any] | None = None,
+) -> dict:
     """What must match for a resume: the designs (``designs``, a digest of their whole
-    definition), their number and chunking, the φ grid, the outputs and the library version."""
-    return {
+    definition), their number and chunking, the φ grid (None: a sweep without one), the
+    outputs, the library version and whatever else decides the rows (``settings``: names to
+    JSON-able values, e.g. digests of a motion sweep's machine and load)."""
+    manifest: dict[str, Any] = {
         "format": _FORMAT,
         "multicrank": __version__,
         "designs": total,
         "designs_sha256": designs,
         "chunk_size": chunk_size,
         "outputs": list(outputs),
-        "phi_sha256": hashlib.sha256(np.ascontiguousarray(phi, dtype=np.float64).tobytes()).hexdigest(),
     }
+    if phi is not None:
+        manifest["phi_sha256"] = hashlib.sha256(np.ascontiguousarray(phi, dtype=np.float64).tobytes()).hexdigest()
+    if settings is not None:
+        manifest["settings"] = dict(settings)
+    return manifest
 
 
 def as_out(out: Any) -> Path:
@@ -68,6 +83,14 @@ def as_out(out: Any) -> Path:
     if parts.exists() and not parts.is_dir():
         raise MechanismError(f"out = {str(out)!r}: {parts} exists and is not a directory of a sweep's parts")
     return path
+
+
+def _differences(found: Any, manifest: dict) -> str:
+    """The keys in which a store's manifest differs from a sweep's, in words."""
+    if not isinstance(found, dict):
+        return "its manifest is missing or unreadable: designs, settings, outputs or chunk_size may"
+    keys = sorted(k for k in {*found, *manifest} if found.get(k) != manifest.get(k))
+    return ", ".join(keys)
 
 
 def _parts_of(out: Path) -> Path:
@@ -97,12 +120,12 @@ class PartStore:
             if self.parts.exists():
                 if not resume:
                     shutil.rmtree(self.parts)
-                elif self._read_manifest(manifest_file) != manifest and (
+                elif (found := self._read_manifest(manifest_file)) != manifest and (
                     manifest_file.exists() or any(self.parts.glob("part-*"))
                 ):
                     raise MechanismError(
-                        f"cannot resume: {self.parts} belongs to a different sweep (designs, phi, outputs, chunk_size"
-                        " or multicrank version differ); run without resume to start afresh"
+                        f"cannot resume: {self.parts} belongs to a different sweep ({_differences(found, manifest)} "
+                        "differ); run without resume to start afresh"
                     )
             self.parts.mkdir(parents=True, exist_ok=True)
             write_atomically(manifest_file, json.dumps(manifest, sort_keys=True).encode())

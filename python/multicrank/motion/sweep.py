@@ -1,0 +1,368 @@
+"""Motion at sweep scale: the steady state (and the flywheel) of many variants of one machine,
+one row each (:func:`motion_sweep`).
+
+Designs are rows of :mod:`~multicrank.motion.variants`' columns — a :class:`MachineGrid`, a
+pandas DataFrame or a dask DataFrame — processed chunk by chunk as :func:`~multicrank.sweep`
+does (in memory, streamed to resumable Parquet parts, or one chunk per dask partition). Every
+chunk is solved by one function, :func:`_solve_chunk`: today a loop over
+:func:`~multicrank.steady_state` and :func:`~multicrank.flywheel_inertia`, later the Rust
+core's batched solver, with the same rows.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import math
+import os
+import pickle
+import uuid
+from collections.abc import Iterable
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+from .._native import MechanismError
+from .._shaft import rpm_from_omega
+from .._validation import as_count, as_flag, as_instance
+from ..machine.machine import Machine
+from ..sweeps.chunks import in_memory, is_dask, to_parquet
+from ..sweeps.designs import (
+    as_frame,
+    as_outputs,
+    as_passthrough,
+    check_columns,
+    design_rows,
+    designs_digest,
+    grid_axes_of,
+)
+from ..sweeps.store import as_out, fingerprint
+from ._periodic import resolve_rules
+from .flywheel import _as_delta, flywheel_inertia
+from .loads import BALANCE
+from .steady import StallError, steady_state
+from .variants import MACHINE_COLUMNS, MachineGrid, check_values, row_variant
+
+__all__ = ["MOTION_SWEEP_OUTPUTS", "MachineGrid", "motion_sweep"]
+
+#: Every output a motion sweep can compute, in column order.
+MOTION_SWEEP_OUTPUTS: tuple[str, ...] = (
+    "delta",
+    "delta_without_gravity",
+    "delta_gravity_only",
+    "gravity_effect",
+    "rpm_min",
+    "rpm_max",
+    "stalled",
+    "flywheel_inertia",
+    "flywheel_inertia_without_gravity",
+)
+# The outputs of the steady state, and of the flywheel (which needs delta=).
+_STEADY = MOTION_SWEEP_OUTPUTS[:7]
+_FLYWHEEL = MOTION_SWEEP_OUTPUTS[7:]
+# Designs per chunk: a steady state costs a few ms, so a chunk of 256 is about a second of
+# work — Ctrl-C keeps all but that, and a part of Parquet is not too small to be worth a file.
+DEFAULT_CHUNK_SIZE = 256
+
+
+# ----------------------------------------------------------------------------- options
+def _as_outputs(outputs: Any, delta: float | None) -> tuple[str, ...]:
+    """The outputs asked for, in column order; default the steady state's, and the flywheel's
+    with ``delta=``. ``stalled`` comes with any output of the steady state."""
+    if outputs is None:
+        asked: tuple[str, ...] = _STEADY + (_FLYWHEEL if delta is not None else ())
+    else:
+        asked = as_outputs(outputs, MOTION_SWEEP_OUTPUTS)
+    flywheel = [o for o in asked if o in _FLYWHEEL]
+    if flywheel and delta is None:
+        raise MechanismError(f"outputs {flywheel!r} need delta=, the coefficient of speed fluctuation to size for")
+    if delta is not None and not flywheel:
+        raise MechanismError("delta= is given but outputs name no flywheel_inertia: ask for it, or leave delta out")
+    if any(o in _STEADY for o in asked):
+        asked = (*asked, "stalled")
+    return tuple(o for o in MOTION_SWEEP_OUTPUTS if o in asked)
+
+
+def _digest(value: Any, what: str, resume: bool) -> str:
+    """A SHA-256 of a pickle of ``value`` (a machine, a load), for a sweep's fingerprint; for
+    one that cannot be pickled, a random one (its sweep is never resumed) unless ``resume``."""
+    try:
+        return hashlib.sha256(pickle.dumps(value, protocol=4)).hexdigest()
+    except Exception as error:  # a lambda pressure or load: no fingerprint, so no resume
+        if not resume:
+            return f"unpicklable-{uuid.uuid4().hex}"
+        raise MechanismError(
+            f"{what} cannot be pickled ({error}), so a resume could not tell its sweep from another: give "
+            f"{what} as picklable objects (IndicatorDiagram, PowerLawLoad, module-level functions), or sweep "
+            "without resume=True"
+        ) from None
+
+
+# ----------------------------------------------------------------------------- the rows
+def _solve_chunk(
+    machine: Machine, frame: pd.DataFrame, outputs: tuple[str, ...], load: Any, delta: float | None
+) -> pd.DataFrame:
+    """The designs of ``frame`` with one column per output: the work of every chunk and of
+    every dask partition, and the one place where a design is solved.
+
+    Today a loop over rows: each row's machine (:func:`~multicrank.motion.variants.machine_variant`)
+    solved by :func:`steady_state` (with gravity) and, where the flywheel is asked for,
+    :func:`flywheel_inertia`. This is the seam where the Rust core's batched steady state
+    will plug in: it must return the same columns, rows and dtypes (δ to 1e-12 relative).
+
+    A design that stalls (a :class:`StallError`, or a δ that is not finite) is a row with
+    ``stalled`` True and NaN in the δ and speed columns; a flywheel that no shaft inertia
+    gives (the target unreachable) is NaN. A design the machine refuses (a rod shorter than
+    its crank) raises :class:`MechanismError` naming the row.
+    """
+    rows = len(frame)
+    columns = {name: np.full(rows, math.nan) for name in outputs if name != "stalled"}
+    stalled = np.zeros(rows, dtype=bool)
+    names = [c for c in frame.columns if c in MACHINE_COLUMNS]
+    steady = any(o in _STEADY for o in outputs)
+    flywheel = any(o in _FLYWHEEL for o in outputs)
+    for i, (label, values) in enumerate(zip(frame.index, frame[names].itertuples(index=False, name=None), strict=True)):
+        design = dict(zip(names, values, strict=True))
+        variant = row_variant(machine, design, label)
+        rpm = design.get("rpm")
+        if steady:
+            try:
+                state = steady_state(variant, rpm=rpm, load=load)
+            except StallError:
+                stalled[i] = True
+            else:
+                if not math.isfinite(state.delta):
+                    stalled[i] = True
+                else:
+                    found = {
+                        "delta": state.delta,
+                        "delta_without_gravity": state.delta_without_gravity,
+                        "delta_gravity_only": state.delta_gravity_only,
+                        "gravity_effect": state.delta / state.delta_without_gravity - 1.0,
+                        "rpm_min": rpm_from_omega(state.omega_min),
+                        "rpm_max": rpm_from_omega(state.omega_max),
+                    }
+                    for name, value in found.items():
+                        if name in columns:
+                            columns[name][i] = value
+        if flywheel:
+            assert delta is not None
+            try:
+                sized = flywheel_inertia(variant, delta=delta, rpm=rpm, load=load)
+            except MechanismError:  # the target is unreachable (a StallError is one too)
+                continue
+            for name, value in (
+                ("flywheel_inertia", sized.shaft_inertia),
+                ("flywheel_inertia_without_gravity", sized.shaft_inertia_without_gravity),
+            ):
+                if name in columns:
+                    columns[name][i] = value
+    result = frame.copy()
+    for name in outputs:
+        result[name] = stalled if name == "stalled" else columns[name]
+    return result
+
+
+def _solve_partition(
+    frame: pd.DataFrame, machine: Machine, outputs: tuple[str, ...], load: Any, delta: float | None
+) -> pd.DataFrame:
+    """:func:`_solve_chunk` of a dask partition (which dask passes first)."""
+    return _solve_chunk(machine, frame, outputs, load, delta)
+
+
+# ----------------------------------------------------------------------------- the sweep
+def _check_speed(names: Iterable[str], machine: Machine, route: str) -> None:
+    """The speed of every design: an ``rpm`` column or the machine's own, with "balance";
+    none with a load that fixes the speed."""
+    names = list(names)
+    if route == BALANCE and "rpm" not in names and machine.rpm is None:
+        raise MechanismError(
+            f"rpm is required with load='balance': give the designs an rpm column [1/min], or the machine "
+            f"{machine.name!r} an rpm of its own"
+        )
+    if route != BALANCE and "rpm" in names:
+        raise MechanismError(
+            f"the designs' rpm column is not allowed with this load: a {route} load fixes the mean speed itself"
+        )
+
+
+def _check_table(machine: Machine, frame: pd.DataFrame) -> None:
+    """Every value of a table of designs a finite number (rpm a speed), and the machines of
+    its first and last rows built (a row the machine refuses later stops the sweep, named)."""
+    names = [c for c in frame.columns if c in MACHINE_COLUMNS]
+    for name in names:
+        check_values(name, frame[name].to_numpy())
+    for position in {0, len(frame) - 1} if len(frame) else ():
+        row = frame.iloc[position]
+        row_variant(machine, {name: row[name] for name in names}, frame.index[position])
+
+
+def _check_names(names: Any, passthrough: tuple[str, ...], outputs: tuple[str, ...]) -> None:
+    """The columns of a motion sweep's designs: machine columns, and those passed through."""
+    check_columns(names, passthrough, outputs, known=MACHINE_COLUMNS, required=(), what="machine")
+
+
+def _meta(designs: Any, outputs: tuple[str, ...]) -> pd.DataFrame:
+    meta = designs._meta.copy()
+    for name in outputs:
+        meta[name] = np.zeros(0, dtype=bool if name == "stalled" else np.float64)
+    return meta
+
+
+def motion_sweep(
+    machine: Machine,
+    designs: Any,
+    *,
+    outputs: Any = None,
+    load: Any = BALANCE,
+    delta: Any = None,
+    out: str | os.PathLike | None = None,
+    resume: bool = False,
+    chunk_size: int | None = None,
+    progress: bool = False,
+    passthrough: Any = (),
+) -> Any:
+    """The steady running of many variants of one machine: δ with and without gravity, the
+    speed extremes and (with ``delta=``) the flywheel, one row per design.
+
+    Every row is what :func:`steady_state` (with gravity) and :func:`flywheel_inertia` give
+    for that design's machine (:class:`MachineGrid` says how a design changes the machine).
+
+    Parameters
+    ----------
+    machine : Machine
+        The base machine.
+    designs : MachineGrid, DataFrame or dask DataFrame
+        The designs: a :class:`MachineGrid` (of ``machine``: its own base machine is used), or
+        a table whose columns name what changes: ``shaft_inertia`` [kg·m²], ``rpm`` [1/min],
+        ``g`` [m/s²], ``pressure_scale`` [dimensionless] and any :class:`Cylinder` field set on
+        every cylinder (``crank_radius``, ``rod_length``, ``piston_mass``, ``rod_mass``,
+        ``rod_cg``, ``rod_inertia``, ``crank_mass``, ``crank_cg_radius``,
+        ``counterweight_mass``, ``counterweight_radius``, ``bore``; SI units). Any other
+        column is refused unless named in ``passthrough``.
+    outputs : str or sequence of str, optional
+        Names from :data:`MOTION_SWEEP_OUTPUTS`: ``delta``, ``delta_without_gravity``,
+        ``delta_gravity_only`` (δ of the steady state, of the machine with g = 0 and of
+        gravity alone, :class:`SteadyState`), ``gravity_effect`` = δ/δ_without_gravity − 1
+        (the relative change gravity makes; note :attr:`SteadyState.gravity_effect` is the
+        difference δ − δ_without_gravity), ``rpm_min``, ``rpm_max`` [1/min] (the speed
+        extremes), ``stalled`` (added with any of these), ``flywheel_inertia`` and
+        ``flywheel_inertia_without_gravity`` [kg·m²] (:class:`FlywheelInertia`'s
+        ``shaft_inertia`` and ``shaft_inertia_without_gravity``; need ``delta``). Default:
+        all of the steady state's, and the flywheel's with ``delta``. Only what is asked is
+        computed.
+    load : "balance", PowerLawLoad or callable, default "balance"
+        The load, as for :func:`steady_state`; checked once, before any work. With
+        "balance" each design runs at its ``rpm`` (default the machine's own ``rpm``; a
+        sweep with neither is refused); other loads fix the speed, and an ``rpm`` column is
+        refused.
+    delta : float, optional
+        The coefficient of speed fluctuation to size the flywheel for [dimensionless].
+    out : str or os.PathLike, optional
+        Stream the result to this Parquet file, chunk by chunk, as :func:`sweep` does
+        (atomic, checksummed parts in ``<out>.parts/``); returns the path.
+    resume : bool, default False
+        With ``out``: continue an interrupted sweep from its finished chunks. The machine,
+        the designs, the outputs, the load, ``delta`` and ``chunk_size`` must be the
+        interrupted sweep's, or the resume is refused.
+    chunk_size : int, optional
+        Designs per chunk (and per Parquet row group), default 256. Results do not depend on it.
+    progress : bool, default False
+        Show a progress bar (designs/s, ETA).
+    passthrough : str or sequence of str, default ()
+        Columns of a table that are carried through unchanged (labels, ids, …).
+
+    Returns
+    -------
+    pandas.DataFrame or pathlib.Path or dask.dataframe.DataFrame
+        The designs and one column per output, same rows and order (a grid's result
+        remembers its axes for :func:`to_xarray`); the Parquet file's path with ``out``; a
+        lazy dask DataFrame for dask input (one chunk per partition).
+
+    Raises
+    ------
+    MechanismError
+        For an unknown or misspelt column or output, a bad value, a load or option that is
+        refused — before any work; for a design whose machine cannot be built, naming it.
+        A design that stalls is never an error: it is a row with ``stalled`` True and NaN δ.
+
+    Examples
+    --------
+    The slow compressor with three flywheels at three speeds:
+
+    >>> import multicrank as mc
+    >>> compressor = mc.presets.MACHINES["slow-compressor"]
+    >>> grid = mc.MachineGrid(compressor, shaft_inertia=[250.0, 350.0, 450.0], rpm=[90.0, 120.0, 150.0])
+    >>> result = mc.motion_sweep(compressor, grid, outputs=["delta", "gravity_effect"])
+    >>> result.round(4)
+       shaft_inertia    rpm   delta  gravity_effect  stalled
+    0          250.0   90.0  0.0762          0.1706    False
+    1          250.0  120.0  0.0413          0.1814    False
+    2          250.0  150.0  0.0252          0.2004    False
+    3          350.0   90.0  0.0545          0.1690    False
+    4          350.0  120.0  0.0295          0.1804    False
+    5          350.0  150.0  0.0181          0.1996    False
+    6          450.0   90.0  0.0425          0.1681    False
+    7          450.0  120.0  0.0230          0.1798    False
+    8          450.0  150.0  0.0141          0.1992    False
+    >>> dict(mc.to_xarray(result)["delta"].sizes)
+    {'shaft_inertia': 3, 'rpm': 3}
+    """
+    machine = as_instance(machine, Machine, "machine")
+    target = None if delta is None else _as_delta(delta)
+    outputs = _as_outputs(outputs, target)
+    rules = resolve_rules(load, None)  # the load, checked once
+    size = DEFAULT_CHUNK_SIZE if chunk_size is None else as_count(chunk_size, "chunk_size", minimum=1)
+    resume = as_flag(resume, "resume")
+    progress = as_flag(progress, "progress")
+    passthrough = as_passthrough(passthrough)
+    path = None if out is None else as_out(out)
+    if resume and path is None:
+        raise MechanismError("resume=True needs out= (the Parquet file of the interrupted sweep)")
+
+    if isinstance(designs, MachineGrid):
+        if designs.machine != machine:
+            raise MechanismError(
+                "designs is a MachineGrid of another machine than machine: make the grid of the machine you sweep"
+            )
+        _check_names([*designs.axes, *designs.constants], passthrough, outputs)
+        names: list[str] = [*designs.axes, *designs.constants]
+    elif is_dask(designs):
+        if path is not None:
+            raise MechanismError("out= is not available for dask input: write with dask's to_parquet")
+        _check_names(list(designs.columns), passthrough, outputs)
+        _check_speed(designs.columns, machine, rules.route)
+        return designs.map_partitions(_solve_partition, machine, outputs, load, target, meta=_meta(designs, outputs))
+    else:
+        if not isinstance(designs, pd.DataFrame):
+            raise MechanismError(
+                f"designs must be a MachineGrid, a pandas DataFrame or a dask DataFrame, got {type(designs).__name__}"
+            )
+        designs = as_frame(designs)
+        _check_names(designs.columns, passthrough, outputs)
+        names = list(designs.columns)
+    _check_speed(names, machine, rules.route)
+    if not isinstance(designs, MachineGrid):
+        _check_table(machine, designs)
+
+    total, rows = design_rows(designs)
+
+    def compute(start: int, stop: int) -> pd.DataFrame:
+        return _solve_chunk(machine, rows(start, stop), outputs, load, target)
+
+    if path is not None:
+        settings = {
+            "sweep": "motion",
+            "machine_sha256": _digest(machine, "machine", resume),
+            "load_sha256": _digest(load, "load", resume),
+            "delta": target,
+        }
+        manifest = fingerprint(total, None, outputs, size, designs_digest(designs), settings=settings)
+        return Path(to_parquet(path, manifest, total, size, compute, resume, progress, desc="motion sweep"))
+    result = in_memory(total, size, compute, progress, desc="motion sweep")
+    grid_axes = grid_axes_of(designs)
+    if grid_axes:
+        result.attrs["grid_axes"] = grid_axes
+    result.attrs["sweep_outputs"] = list(outputs)
+    return result
