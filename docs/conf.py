@@ -52,6 +52,33 @@ myst_heading_anchors = 3
 # docs/generated (gitignored), from the templates in docs/_templates/autosummary.
 templates_path = ["_templates"]
 autosummary_generate = True
+
+
+def _inherited_from_the_package() -> dict[str, list[str]]:
+    """For each public class, the public methods it inherits from a class of multicrank's own
+    (DesignGrid's and MachineGrid's frame, to_frame, … from their ProductGrid): documented on
+    the class's page like its own, unlike what it inherits from Python's builtins."""
+    import inspect
+
+    found = {}
+    for name in multicrank.__all__:
+        value = getattr(multicrank, name)
+        if not inspect.isclass(value):
+            continue
+        own = set(vars(value))
+        methods = {
+            member
+            for base in value.__mro__[1:]
+            if base.__module__.startswith("multicrank")
+            for member, attribute in vars(base).items()
+            if not member.startswith("_") and member not in own and inspect.isfunction(attribute)
+        }
+        if methods:
+            found[f"multicrank.{name}"] = sorted(methods)
+    return found
+
+
+autosummary_context = {"package_inherited": _inherited_from_the_package()}
 autodoc_typehints = "none"  # the numpydoc "Parameters" sections carry the types and units
 autodoc_member_order = "bysource"
 add_module_names = False

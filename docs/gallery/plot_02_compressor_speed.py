@@ -39,7 +39,7 @@ for solved in (with_gravity, without_gravity):
     print(
         f"gravity={solved.gravity}: δ = {solved.delta:.5f} = 1/{1 / solved.delta:.1f}"
     )
-change = with_gravity.gravity_effect / without_gravity.delta
+change = with_gravity.gravity_effect  # δ/δ₀ − 1
 print(f"gravity changes δ by {100 * change:+.1f} %")
 print(
     f"the motor's torque: {-with_gravity.mean_load_torque:.0f} N·m, "

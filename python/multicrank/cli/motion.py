@@ -289,7 +289,7 @@ def motion_command(
             rpm=state.rpm if rpm is None else rpm,  # the speed asked for, or the one the load gives
             delta=state.delta,
             delta_without_gravity=state.delta_without_gravity,
-            gravity_change_percent=100 * state.gravity_effect / state.delta_without_gravity,
+            gravity_change_percent=100 * state.gravity_effect,
             delta_gravity_only=state.delta_gravity_only,
             delta_midrange=state.delta_midrange,
             rpm_min=rpm_from_omega(state.omega_min),

@@ -261,8 +261,13 @@ class SteadyState(MotionResult):
 
     @property
     def gravity_effect(self) -> float:
-        """δ − δ_without_gravity: what gravity adds to the fluctuation (may be negative)."""
-        return self.delta - self.delta_without_gravity
+        """δ/δ₀ − 1, δ₀ = ``delta_without_gravity``: the relative change gravity makes to the
+        fluctuation [dimensionless] (may be negative), as ``mc.motion_sweep``'s column of the
+        same name; NaN where the machine without gravity stalls, ∞ where it runs without
+        any fluctuation (gravity is then all of δ)."""
+        if self.delta_without_gravity == 0:
+            return math.nan if self.delta == 0 else math.inf
+        return self.delta / self.delta_without_gravity - 1.0
 
     # -- the names of 0.1, read with a DeprecationWarning -----------------------------------------
     J: ClassVar[renamed] = renamed("reduced_inertia")
@@ -295,7 +300,8 @@ class SteadyState(MotionResult):
             f"  ω_min            {self.omega_min:.8g} rad/s at φ = {degrees(self.phi_min):.4f}°",
             f"  load torque      {self.mean_load_torque:.6g} N·m",
             f"  δ (time mean)    {self.delta:.6e}   (about the midrange: {self.delta_midrange:.6e})",
-            f"  δ without gravity {self.delta_without_gravity:.6e}   (gravity changes δ by {self.gravity_effect:+.3e})",
+            f"  δ without gravity {self.delta_without_gravity:.6e}   "
+            f"(gravity changes δ by {100 * self.gravity_effect:+.3g} %)",
             f"  δ gravity alone  {self.delta_gravity_only:.6e}",
         ]
         return "\n".join(lines)

@@ -139,7 +139,7 @@ def _solve_chunk(
                         "delta": state.delta,
                         "delta_without_gravity": state.delta_without_gravity,
                         "delta_gravity_only": state.delta_gravity_only,
-                        "gravity_effect": state.delta / state.delta_without_gravity - 1.0,
+                        "gravity_effect": state.gravity_effect,
                         "rpm_min": rpm_from_omega(state.omega_min),
                         "rpm_max": rpm_from_omega(state.omega_max),
                     }
@@ -245,9 +245,9 @@ def motion_sweep(
         Names from :data:`MOTION_SWEEP_OUTPUTS`: ``delta``, ``delta_without_gravity``,
         ``delta_gravity_only`` (δ of the steady state, of the machine with g = 0 and of
         gravity alone, :class:`SteadyState`), ``gravity_effect`` = δ/δ_without_gravity − 1
-        (the relative change gravity makes; note :attr:`SteadyState.gravity_effect` is the
-        difference δ − δ_without_gravity), ``rpm_min``, ``rpm_max`` [1/min] (the speed
-        extremes), ``stalled`` (added with any of these), ``flywheel_inertia`` and
+        (the relative change gravity makes, :attr:`SteadyState.gravity_effect`),
+        ``rpm_min``, ``rpm_max`` [1/min] (the speed extremes), ``stalled`` (added with any of
+        these), ``flywheel_inertia`` and
         ``flywheel_inertia_without_gravity`` [kg·m²] (:class:`FlywheelInertia`'s
         ``shaft_inertia`` and ``shaft_inertia_without_gravity``; need ``delta``). Default:
         all of the steady state's, and the flywheel's with ``delta``. Only what is asked is
