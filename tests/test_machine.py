@@ -175,3 +175,21 @@ def test_descriptive_fields_are_kept_and_carried_by_replace():
 def test_bad_descriptive_fields_name_the_parameter(changes, name):
     with pytest.raises(mc.MechanismError, match=name):
         inline_machine().replace(**changes)
+
+
+def test_a_two_mass_rod_stays_one_when_its_rod_changes():
+    """replace() of a rod's mass, length or centre of gravity recomputes a default (two-mass)
+    rod inertia — a sweep of rod_mass would otherwise keep the first rod's — and keeps one
+    that was given."""
+    default = mc.Cylinder(crank_radius=0.1, rod_length=0.4, piston_mass=5.0, rod_mass=3.0, rod_cg=0.15)
+    assert default.rod_inertia == 3.0 * 0.15 * (0.4 - 0.15)
+    for change in ({"rod_mass": 6.0}, {"rod_length": 0.5}, {"rod_cg": 0.1}):
+        changed = default.replace(**change)
+        fresh = mc.Cylinder(
+            **{**dict(crank_radius=0.1, rod_length=0.4, piston_mass=5.0, rod_mass=3.0, rod_cg=0.15), **change}
+        )
+        assert changed.rod_inertia == fresh.rod_inertia != default.rod_inertia
+    given = default.replace(rod_inertia=0.01)
+    assert given.replace(rod_mass=6.0).rod_inertia == 0.01
+    assert default.replace(rod_mass=6.0, rod_inertia=0.02).rod_inertia == 0.02
+    assert default.replace(piston_mass=9.0).rod_inertia == default.rod_inertia

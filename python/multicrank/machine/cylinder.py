@@ -139,10 +139,7 @@ class Cylinder:
                 continue
             object.__setattr__(self, field, as_scalar(value, field))
         if self.rod_inertia is None:
-            # The two-mass rod (ΔI = 0), by the core's formula; at least 0, so that a rod_cg
-            # outside 0…l is reported as such by the core's check below, not as a negative inertia.
-            two_mass = _native_two_mass_rod_inertia(self.rod_mass, self.rod_length, self.rod_cg)
-            object.__setattr__(self, "rod_inertia", max(two_mass, 0.0))
+            object.__setattr__(self, "rod_inertia", self._two_mass_rod_inertia())
         if not (math.isfinite(self.bore) and self.bore >= 0):
             raise MechanismError(f"bore = {self.bore} is out of range; allowed: bore >= 0 [m]")
         if not (math.isfinite(self.piston_rod_diameter) and 0 <= self.piston_rod_diameter):
@@ -365,9 +362,24 @@ class Cylinder:
         Returns
         -------
         Cylinder
-            The changed copy, checked as a new one is.
+            The changed copy, checked as a new one is. A two-mass rod stays one: where
+            ``rod_inertia`` is the two-mass value m_k z_k (l − z_k) (the default) and the
+            change moves ``rod_mass``, ``rod_length`` or ``rod_cg`` but gives no
+            ``rod_inertia``, the copy's is the two-mass value of its own rod.
         """
+        rod = {"rod_mass", "rod_length", "rod_cg"}
+        if "rod_inertia" not in changes and rod & changes.keys() and self._two_mass_rod():
+            changes["rod_inertia"] = None
         return dataclasses.replace(self, **changes)
+
+    def _two_mass_rod_inertia(self) -> float:
+        """The two-mass rod's I_k (ΔI = 0), by the core's formula; at least 0, so that a rod_cg
+        outside 0…l is reported as such by the core's check, not as a negative inertia."""
+        return max(_native_two_mass_rod_inertia(self.rod_mass, self.rod_length, self.rod_cg), 0.0)
+
+    def _two_mass_rod(self) -> bool:
+        """Whether the rod's inertia is the two-mass rod's (ΔI = 0)."""
+        return self.rod_inertia == self._two_mass_rod_inertia()
 
 
 def unit_columns(cylinders: Sequence[Cylinder]) -> dict[str, np.ndarray]:
