@@ -2,8 +2,8 @@
 //! fixtures written by tests/data/make_motion_fixtures.py for built-in machines.
 
 use multicrank_core::{
-    steady_state, GasCylinder, Machine, MechanismError, PhysicalCylinder, PiecewisePolynomial,
-    SteadyState, Strokes,
+    flywheel_inertia, steady_state, GasCylinder, Machine, MechanismError, PhysicalCylinder,
+    PiecewisePolynomial, SteadyState, Strokes,
 };
 use serde_json::Value;
 
@@ -224,6 +224,63 @@ fn a_stall_names_the_lowest_speed_that_runs() {
         }
     }
     assert!(cases >= 1);
+}
+
+/// The flywheel for δ = 1/40, 1/100 and the machine's class value against Python's
+/// `flywheel_inertia`: both roots are taken to 1e-12 in log I_w (xtol) on steady states that
+/// agree to ~1e-13, so I_w agrees to ~1e-12 (where Python's own δ is exact); the textbook estimate and ΔE to the location
+/// of K's extremes (ours exact, Python's on interpolants: ~1e-12 of ΔE).
+#[test]
+fn the_flywheel_agrees_with_the_python_implementation() {
+    for f in fixtures() {
+        let machine = machine_of(&f);
+        for case in &f.flywheels {
+            let delta = number(case, "delta");
+            let found = flywheel_inertia(&machine, delta, f.rpm, 1e-3).expect("a flywheel");
+            // Python's δ takes its extremes on the panels' interpolants: where that δ is off
+            // (the boxer compressor's pressure-table kinks: ~1e-7), so is its I_w, by about as
+            // much; `refined_delta` is the exact δ at Python's I_w.
+            let own = relative(number(case, "refined_delta"), delta);
+            let inertia_tolerance = 1e-10 + 2.0 * own;
+            let mut worst: f64 = 0.0;
+            for (key, value, tolerance) in [
+                ("shaft_inertia", found.shaft_inertia, inertia_tolerance),
+                (
+                    "shaft_inertia_without_gravity",
+                    found.shaft_inertia_without_gravity,
+                    inertia_tolerance,
+                ),
+                ("textbook", found.textbook, 1e-10),
+                ("energy_swing", found.energy_swing, 1e-10),
+            ] {
+                let error = relative(value, number(case, key));
+                println!(
+                    "{:18} δ {delta:.4} {key:30} {value:.17e} {error:.2e}",
+                    f.name
+                );
+                assert!(
+                    error <= tolerance,
+                    "{} δ {delta} {key}: {value} vs {}",
+                    f.name,
+                    number(case, key)
+                );
+                worst = worst.max(error);
+            }
+            println!("{} δ {delta}: worst {worst:.2e}", f.name);
+            // The steady state at that flywheel has the δ asked for.
+            let sized = Machine {
+                shaft_inertia: found.shaft_inertia,
+                ..machine
+            };
+            let state = steady_state(&sized, f.rpm, 1e-3).expect("runs");
+            assert!(
+                relative(state.delta, delta) < 1e-11,
+                "{} {}",
+                state.delta,
+                delta
+            );
+        }
+    }
 }
 
 /// `state` against Python's `expected` (its steady_state) and `refined` (its extremes

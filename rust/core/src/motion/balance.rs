@@ -366,7 +366,8 @@ impl<'c, 'a> Balance<'c, 'a> {
             } else {
                 f64::INFINITY
             };
-            if !(reach < GRADE_REACH * half) {
+            // reach is never NaN: value ≥ 0, bend_here > 0 (else ∞).
+            if reach >= GRADE_REACH * half {
                 continue;
             }
             let width = (reach / (2.0 * GRADE_REACH)).max(1e-12 * cycle);

@@ -9,6 +9,7 @@
 
 mod balance;
 mod cycle;
+mod flywheel;
 mod gas;
 mod quadrature;
 
@@ -174,5 +175,92 @@ pub fn steady_state(machine: &Machine<'_>, rpm: f64, min_speed_ratio: f64) -> Re
             / (solution.omega_max + solution.omega_min),
         delta_without_gravity,
         delta_gravity_only,
+    })
+}
+
+/// The shaft inertia that gives a machine a coefficient of speed fluctuation δ under the
+/// "balance" load (docs/theory.md, "Flywheel").
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FlywheelInertia {
+    /// I_w (kg·m²) giving the time-mean δ asked for, to the steady state's accuracy (the
+    /// root to 1e-12 in log I_w).
+    pub shaft_inertia: f64,
+    /// The same for the machine with g = 0 (equal to `shaft_inertia` without gravity); NaN
+    /// where only gravity makes the machine fluctuate that much.
+    pub shaft_inertia_without_gravity: f64,
+    /// The textbook estimate ΔE/(δω_m²) − mean(J − I_w) (kg·m²).
+    pub textbook: f64,
+    /// (textbook − shaft_inertia)/shaft_inertia.
+    pub textbook_error: f64,
+    /// ΔE = max K − min K (J) of the textbook estimate, the load balancing the gas.
+    pub energy_swing: f64,
+    /// The δ asked for.
+    pub delta: f64,
+    /// The mean speed (1/min).
+    pub rpm: f64,
+}
+
+/// The shaft inertia I_w (kg·m²) that gives `machine` (its own `shaft_inertia` replaced)
+/// the coefficient of speed fluctuation `delta` (≥ 1e-9) at the mean speed `rpm` (1/min),
+/// the "balance" load: Brent's method on log I_w over exact steady states, δ falling as I_w
+/// grows (the Python implementation's `flywheel_inertia`). `min_speed_ratio` as for
+/// [`steady_state`]. The cycle's tables are made once: a trial I_w only changes J = I_w +
+/// (J − I_w).
+///
+/// Errors: bad input, naming the parameter; `delta` unreachable (the machine stalls before
+/// its fluctuation grows that large, or the rods' own inertia keeps it below).
+pub fn flywheel_inertia(
+    machine: &Machine<'_>,
+    delta: f64,
+    rpm: f64,
+    min_speed_ratio: f64,
+) -> Result<FlywheelInertia> {
+    check("delta", delta, "delta >= 1e-9", |d| {
+        d >= flywheel::SMALLEST_DELTA
+    })?;
+    check(
+        "shaft_inertia",
+        machine.shaft_inertia,
+        "shaft_inertia > 0",
+        |i| i > 0.0,
+    )?;
+    check("rpm", rpm, "rpm > 0", |n| n > 0.0)?;
+    check(
+        "min_speed_ratio",
+        min_speed_ratio,
+        "1e-9 <= min_speed_ratio < 1",
+        |r| (SMALLEST_SPEED_RATIO..1.0).contains(&r),
+    )?;
+    let dynamics = Dynamics::new(machine.units, machine.g)?;
+    let cycle = Cycle::new(machine, dynamics)?;
+    let omega_mean = PI * rpm / 30.0;
+    let load = balance_load(&cycle);
+    let balance = Balance::new(&cycle, load, true)?;
+    let (swing, textbook) = flywheel::textbook(&balance, &cycle, delta, omega_mean)?;
+    let start = flywheel::start(
+        swing,
+        textbook,
+        &cycle,
+        delta,
+        omega_mean,
+        machine.shaft_inertia,
+    );
+    let inertia = flywheel::inertia_for(&balance, omega_mean, min_speed_ratio, delta, start)?;
+    let without = if cycle.gravity_on {
+        let without = cycle.without_gravity();
+        let balance = Balance::new(&without, load, true)?;
+        flywheel::inertia_for(&balance, omega_mean, min_speed_ratio, delta, inertia)
+            .unwrap_or(f64::NAN)
+    } else {
+        inertia
+    };
+    Ok(FlywheelInertia {
+        shaft_inertia: inertia,
+        shaft_inertia_without_gravity: without,
+        textbook,
+        textbook_error: (textbook - inertia) / inertia,
+        energy_swing: swing,
+        delta,
+        rpm,
     })
 }
