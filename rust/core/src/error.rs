@@ -35,11 +35,18 @@ pub enum MechanismError {
         item_bytes: usize,
     },
     /// The machine cannot keep the mean speed `rpm` asked for: its speed would fall below
-    /// the stall limit (or to zero) near the crank angle `angle` (rad).
-    Stall { angle: f64, rpm: f64 },
-    /// The machine runs so close to stalling at `parameter` = `value` that the steady state's
-    /// panels would have to be refined towards its dead point, which is not done yet.
-    Unresolved { parameter: &'static str, value: f64 },
+    /// the stall limit (or to zero) near the crank angle `angle` (rad); `min_rpm`, where
+    /// found, is the lowest mean speed (1/min) that runs.
+    Stall {
+        angle: f64,
+        rpm: f64,
+        min_rpm: Option<f64>,
+    },
+    /// Design `row` of a batch has a bad value: `error` names the parameter.
+    InRow {
+        row: usize,
+        error: Box<MechanismError>,
+    },
 }
 
 impl fmt::Display for MechanismError {
@@ -78,18 +85,28 @@ impl fmt::Display for MechanismError {
                  be allocated",
                 elements.saturating_mul(*item_bytes as u128)
             ),
-            Self::Stall { angle, rpm } => write!(
-                f,
-                "the machine stalls at rpm = {rpm}: it would crawl over its dead point near \
-                 phi = {angle} rad ({:.4} deg)",
-                angle.to_degrees()
-            ),
-            Self::Unresolved { parameter, value } => write!(
-                f,
-                "{parameter} = {value}: the machine runs too close to stalling for the steady \
-                 state's quadrature (grading the panels towards the dead point is not yet in \
-                 the core)"
-            ),
+            Self::Stall {
+                angle,
+                rpm,
+                min_rpm,
+            } => {
+                write!(
+                    f,
+                    "the machine stalls at rpm = {rpm}: it would crawl over its dead point \
+                     near phi = {angle} rad ({:.4} deg)",
+                    angle.to_degrees()
+                )?;
+                match min_rpm {
+                    Some(min_rpm) => {
+                        write!(
+                            f,
+                            "; the lowest mean speed that runs is min_rpm = {min_rpm}"
+                        )
+                    }
+                    None => Ok(()),
+                }
+            }
+            Self::InRow { row, error } => write!(f, "design {row}: {error}"),
         }
     }
 }

@@ -50,7 +50,10 @@ pub use mechanism::{
     crank_phases, dimensionless_moments, Acting, Design, Phases, PhysicalColumns, PhysicalUnit,
     Strokes, STANDARD_GRAVITY,
 };
-pub use motion::{steady_state, GasCylinder, Machine, PiecewisePolynomial, SteadyState};
+pub use motion::{
+    flywheel_inertia, steady_state, FlywheelInertia, GasCylinder, Machine, PiecewisePolynomial,
+    SteadyState,
+};
 pub use parallel::Parallelism;
 pub use series::{build_series, fourier_table, FourierSeries, SeriesKind};
 pub use series_kernels::{evaluate_series, evaluate_series_or_exact};

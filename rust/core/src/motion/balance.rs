@@ -6,9 +6,10 @@
 //! written E = s + K̃ with K̃ = K − min K ≥ 0 and s > 0 the kinetic energy left at the worst
 //! angle; s is the root of (Φ/(t_Φ(s)·ω_m))² − 1, increasing and nearly linear in s.
 
-use crate::error::{MechanismError, Result};
+use crate::error::Result;
 
 use super::cycle::Cycle;
+use super::quadrature::Panels;
 
 /// Brent's method: a root of `f` in [a, b] where f(a) and f(b) differ in sign (or one is 0),
 /// to |error| ≤ xtol + rtol·|x| (rtol ≥ 4ε, else the bracket could stop shrinking). Inverse
@@ -122,38 +123,80 @@ impl Periodic {
     }
 }
 
-/// K̃ on the cycle's tables, and the root in s.
+/// A solution, or the stall that refused it.
+pub(crate) type Solved = std::result::Result<Periodic, Stall>;
+
+/// How close to the real axis E's nearest complex zero may come to a panel, in its half-
+/// widths: a zero at distance d leaves a 12-point Gauss rule a Bernstein ellipse of ρ ≥ 3
+/// (1/ω = √(J/2E) to ~1e-12) when d ≥ 1.5 half-widths (the Python implementation's
+/// `_GRADE_REACH`).
+const GRADE_REACH: f64 = 1.5;
+
+/// Geometric grading towards a near-zero of E: each panel this many times wider than the
+/// last (`_GRADE_RATIO`).
+const GRADE_RATIO: f64 = 4.0;
+
+/// The step (rad) of the central differences that estimate K'' = M′: small beside a panel
+/// (≥ π/60 wide), large enough that rounding of M (~1e-16·|M|) stays below 1e-10 of the
+/// slope.
+const SLOPE_STEP: f64 = 1e-5;
+
+/// Refinements of the time mesh before the answer is taken (the Python implementation's
+/// 16): each grades for the s found on the last.
+const MESH_ROUNDS: usize = 16;
+
+/// The rule on which t_Φ = ∫₀^Φ √(J/2E) dφ is taken: the base panels graded towards E's
+/// near-zeros, and there K̃ (J) and J − I_w (kg·m²), nodes then edges.
+#[derive(Debug, Clone)]
+struct Graded {
+    panels: Panels,
+    lifted: Vec<f64>,
+    rest: Vec<f64>,
+}
+
+/// A time mesh: the base panels and tables or a graded one.
+#[derive(Clone, Copy)]
+struct Mesh<'m> {
+    panels: &'m Panels,
+    lifted: &'m [f64],
+    rest: &'m [f64],
+}
+
+impl Mesh<'_> {
+    fn nodes(&self) -> usize {
+        self.panels.phi.len()
+    }
+}
+
+/// K̃ on the cycle's tables, and the root in s (docs/theory.md, "Steady running").
+#[derive(Debug, Clone)]
 pub(crate) struct Balance<'c, 'a> {
     cycle: &'c Cycle<'a>,
     gas: bool,
     /// The constant load (N·m).
     pub load: f64,
-    /// max |K''| over the nodes (N·m/rad) (0 until `with_curvature`).
+    /// I_w (kg·m²): the cycle's own, or another (`with_inertia`; K does not depend on it).
+    inertia: f64,
+    /// K'' = (M_gas − U′)′ at the base nodes (N·m/rad), by central differences of the exact
+    /// torque: how sharply E = s + K̃ may dip.
+    curvature: Vec<f64>,
+    /// max |K''| over the nodes (N·m/rad).
     sharpest: f64,
-    /// min K over the samples (J).
+    /// min K (J): over the samples, then (`locate_minimum`) between them.
     k_min: f64,
-    /// Where (rad), and J − I_w there.
+    /// Where (rad), and J − I_w there (kg·m²).
     lowest: f64,
     rest_low: f64,
-    /// K̃ = K − min K at the nodes, then the edges (J).
+    /// Whether min K was located between the samples.
+    exact: bool,
+    /// K̃ = K − min K at the base nodes, then the edges (J).
     lifted: Vec<f64>,
 }
-
-/// How close to the real axis E's nearest complex zero may come before the base panels no
-/// longer integrate 1/ω = √(J/2E) to ~1e-12, in half-widths of the widest panel: a zero at
-/// distance d leaves a 12-point Gauss rule a Bernstein ellipse of ρ ≥ 3 when d ≥ 1.5 half-
-/// widths (the Python implementation's `_GRADE_REACH`).
-const GRADE_REACH: f64 = 1.5;
-
-/// The step (rad) of the central differences that estimate K'' = M′ for that bound: small
-/// beside a panel (≥ π/60 wide), large enough that rounding of M (~1e-16·|M|) stays below
-/// 1e-10 of the slope.
-const SLOPE_STEP: f64 = 1e-5;
 
 impl<'c, 'a> Balance<'c, 'a> {
     /// The energy method on `cycle` with the constant `load` (N·m); `gas`: whether the gas
     /// work is taken (false: gravity and the variation of J alone).
-    pub fn new(cycle: &'c Cycle<'a>, load: f64, gas: bool) -> Self {
+    pub fn new(cycle: &'c Cycle<'a>, load: f64, gas: bool) -> Result<Self> {
         let n = cycle.nodes();
         let angles = cycle.panels.phi.iter().chain(&cycle.panels.edges);
         let k: Vec<f64> = angles
@@ -188,54 +231,61 @@ impl<'c, 'a> Balance<'c, 'a> {
             }
         };
         let k_min = k[lowest];
-        Self {
+        let phi = &cycle.panels.phi;
+        let shifted = |h: f64| phi.iter().map(|p| p + h).collect::<Vec<f64>>();
+        let ahead = cycle.torque_at(&shifted(SLOPE_STEP), gas)?;
+        let behind = cycle.torque_at(&shifted(-SLOPE_STEP), gas)?;
+        let curvature: Vec<f64> = ahead
+            .iter()
+            .zip(&behind)
+            .map(|(a, b)| (a - b) / (2.0 * SLOPE_STEP))
+            .collect();
+        Ok(Self {
             cycle,
             gas,
             load,
-            sharpest: 0.0,
+            inertia: cycle.inertia,
+            sharpest: curvature.iter().fold(0.0, |m, c| f64::max(m, c.abs())),
+            curvature,
             k_min,
             lowest: at(lowest),
             rest_low: cycle.rest[lowest],
+            exact: false,
             lifted: k.iter().map(|k| k - k_min).collect(),
+        })
+    }
+
+    /// The same torques on a shaft of inertia I_w = `inertia` (kg·m²): no table is made
+    /// again (the Python implementation's `Balance.with_inertia`).
+    pub fn with_inertia(&self, inertia: f64) -> Self {
+        Self {
+            inertia,
+            ..self.clone()
         }
     }
 
-    /// max |K''| = max |M′| over the nodes, by central differences of the exact torque: how
-    /// sharply E = s + K̃ may dip, for the bound on the complex zeros of E.
-    pub fn with_curvature(mut self) -> Result<Self> {
-        let phi = &self.cycle.panels.phi;
-        let shifted = |h: f64| phi.iter().map(|p| p + h).collect::<Vec<f64>>();
-        let ahead = self.cycle.torque_at(&shifted(SLOPE_STEP), self.gas)?;
-        let behind = self.cycle.torque_at(&shifted(-SLOPE_STEP), self.gas)?;
-        self.sharpest = ahead.iter().zip(&behind).fold(0.0, |m, (a, b)| {
-            f64::max(m, ((a - b) / (2.0 * SLOPE_STEP)).abs())
-        });
-        Ok(self)
+    /// max K̃ over the samples (J): about max K − min K.
+    pub fn swing(&self) -> f64 {
+        self.lifted.iter().fold(f64::NEG_INFINITY, |m, &k| m.max(k))
     }
 
-    /// Whether the base panels resolve 1/ω for E = s + K̃: E's complex zeros are at least
-    /// √(2s/max|K''|) from the real axis, to be kept `GRADE_REACH` half-widths away.
-    fn resolves(&self, s: f64) -> bool {
-        let half = self
-            .cycle
-            .panels
-            .edges
-            .windows(2)
-            .fold(0.0, |m, e| f64::max(m, 0.5 * (e[1] - e[0])));
-        2.0 * s >= self.sharpest * (GRADE_REACH * half).powi(2)
+    fn base(&self) -> Mesh<'_> {
+        Mesh {
+            panels: &self.cycle.panels,
+            lifted: &self.lifted,
+            rest: &self.cycle.rest,
+        }
     }
 
-    /// t_Φ(s) = ∫₀^Φ √(J/2(s + K̃)) dφ on the panels.
-    fn period(&self, s: f64) -> f64 {
-        let cycle = self.cycle;
-        cycle
-            .panels
-            .weights
-            .iter()
-            .zip(&cycle.rest)
-            .zip(&self.lifted)
-            .map(|((w, rest), k)| w * (0.5 * (cycle.inertia + rest) / (s + k)).sqrt())
-            .sum()
+    fn view<'m>(&'m self, graded: &'m Option<Graded>) -> Mesh<'m> {
+        graded.as_ref().map_or_else(
+            || self.base(),
+            |g| Mesh {
+                panels: &g.panels,
+                lifted: &g.lifted,
+                rest: &g.rest,
+            },
+        )
     }
 
     /// K̃(φ) (J) at any angles in [0, Φ].
@@ -254,63 +304,232 @@ impl<'c, 'a> Balance<'c, 'a> {
             .collect())
     }
 
-    /// The periodic solution of mean speed `omega_mean` (rad/s); `Err(Stall)` inside `Ok`
-    /// when it needs ω_min < `ratio`·ω_m.
-    pub fn solve(
-        &self,
-        omega_mean: f64,
-        ratio: f64,
-    ) -> Result<std::result::Result<Periodic, Stall>> {
-        let cycle = self.cycle;
-        let target = cycle.cycle() / omega_mean;
-        let excess = |s: f64| -> Result<f64> { Ok((target / self.period(s)).powi(2) - 1.0) };
-        // At s_low the speed at the worst angle is ratio·ω_m: if the mean speed there is
-        // already above the one asked for, the solution has a smaller s, and stalls.
-        let s_low = 0.5 * (cycle.inertia + self.rest_low) * (ratio * omega_mean).powi(2);
-        // Near stall 1/ω peaks sharper than the base panels resolve, and their t_Φ could err
-        // either way: the Python implementation then grades the panels geometrically towards
-        // the peak. Not ported yet: where it would be needed, say so rather than guess.
-        let unresolved = || MechanismError::Unresolved {
-            parameter: "rpm",
-            value: 30.0 * omega_mean / std::f64::consts::PI,
-        };
-        if excess(s_low)? > 0.0 {
-            if !self.resolves(s_low) {
-                return Err(unresolved());
-            }
-            return Ok(Err(Stall { angle: self.lowest }));
-        }
-        // At s_high, ω² = 2(s + K̃)/J ≥ ω_m² everywhere: the mean speed is at least ω_m.
-        let j_max = cycle.rest.iter().fold(f64::NEG_INFINITY, |a, &r| a.max(r)) + cycle.inertia;
-        let mut high = 0.5 * j_max * omega_mean * omega_mean * 1.01;
-        // Never more than a step or two (s_high bounds the root); the bound only ends the
-        // loop on a NaN.
-        for _ in 0..64 {
-            if excess(high)? >= 0.0 {
-                break;
-            }
-            high *= 2.0;
-        }
-        // rtol 1e-15: s to rounding (the excess is nearly linear in s).
-        let Some(s) = brent(excess, s_low, high, 0.0, 1e-15)? else {
-            return Ok(Err(Stall { angle: self.lowest }));
-        };
-        if !self.resolves(s) {
-            return Err(unresolved());
-        }
-        self.finish(s, ratio)
+    /// K′ = M_gas − U′ − M_load (N·m) at one angle.
+    fn slope_at(&self, phi: f64) -> Result<f64> {
+        let folded = [phi.rem_euclid(self.cycle.cycle())];
+        Ok(self.cycle.torque_at(&folded, self.gas)?[0] - self.load)
     }
 
-    /// t_Φ, ω_m and the extremes of ω for E = s + K̃.
-    fn finish(&self, s: f64, ratio: f64) -> Result<std::result::Result<Periodic, Stall>> {
+    /// min K between the samples: K̃ ≥ 0 also on graded nodes near it (the Python
+    /// implementation's `_locate_minimum`). Once.
+    fn locate_minimum(&mut self) -> Result<()> {
+        if self.exact {
+            return Ok(());
+        }
+        self.exact = true;
+        let (lowest, dip) = refine_extremum(
+            &self.cycle.panels,
+            &self.lifted,
+            false,
+            |phi| self.slope_at(phi),
+            |phi| Ok(self.lifted_at(&[phi.rem_euclid(self.cycle.cycle())])?[0]),
+        )?;
+        if dip < 0.0 {
+            let lowest = lowest.rem_euclid(self.cycle.cycle());
+            self.k_min += dip;
+            self.lifted.iter_mut().for_each(|k| *k -= dip);
+            self.lowest = lowest;
+            self.rest_low = self.cycle.rest_at(&[lowest])?[0];
+        }
+        Ok(())
+    }
+
+    /// Edges to add to the base panels so that ∫√(J/2E) dφ stays spectrally accurate where
+    /// E = s + K̃ nearly vanishes: geometric panels (ratio 4) towards every local minimum of
+    /// E whose complex zeros, at d = √(2E/|E''|) from the real axis, come closer than 1.5
+    /// half-widths of the widest panel; the innermost panel [φ_i − d/3, φ_i + d/3] (the
+    /// Python implementation's `grading` and `_near_zeros`). Empty where none does.
+    fn grading(&self, s: f64) -> Vec<f64> {
+        let panels = &self.cycle.panels;
+        let cycle = panels.cycle();
+        let half = panels.widest_half();
+        let energy: Vec<f64> = self.lifted.iter().map(|k| s + k).collect();
+        let samples = panels.in_angle_order(&energy);
+        // The curvature of an edge is that of its panel's first node.
+        let mut bend = Vec::with_capacity(samples.len());
+        for panel in self.curvature.chunks_exact(panels.order) {
+            bend.push(panel[0]);
+            bend.extend_from_slice(panel);
+        }
+        let count = samples.len();
+        let mut extra = Vec::new();
+        for i in 0..count {
+            let (before, after) = ((i + count - 1) % count, (i + 1) % count);
+            let (angle, value) = samples[i];
+            if !(value < samples[before].1 && value <= samples[after].1) {
+                continue;
+            }
+            // E'' from the neighbours too: a minimum on an edge has both panels' curvature.
+            let bend_here = bend[i].abs().max(bend[before].abs()).max(bend[after].abs());
+            let reach = if bend_here > 0.0 {
+                (2.0 * value.max(0.0) / bend_here).sqrt()
+            } else {
+                f64::INFINITY
+            };
+            // reach is never NaN: value ≥ 0, bend_here > 0 (else ∞).
+            if reach >= GRADE_REACH * half {
+                continue;
+            }
+            let width = (reach / (2.0 * GRADE_REACH)).max(1e-12 * cycle);
+            let steps = ((2.0 * half / width).ln() / GRADE_RATIO.ln()).ceil() as i32;
+            for k in 0..=steps {
+                let step = width * GRADE_RATIO.powi(k);
+                extra.push((angle - step).rem_euclid(cycle));
+                extra.push((angle + step).rem_euclid(cycle));
+            }
+        }
+        extra
+    }
+
+    /// The time mesh fit for E = s + K̃: `None` for the base panels, where E's nearest
+    /// complex zero, at least √(2s/max|K''|) from the real axis, is far enough from all of
+    /// them; else the base panels graded (min K first located exactly).
+    fn mesh(&mut self, s: f64) -> Result<Option<Graded>> {
+        let half = self.cycle.panels.widest_half();
+        if 2.0 * s >= self.sharpest * (GRADE_REACH * half).powi(2) || self.grading(s).is_empty() {
+            return Ok(None);
+        }
+        self.locate_minimum()?;
+        let extra = self.grading(s);
+        if extra.is_empty() {
+            return Ok(None);
+        }
+        let panels = self.cycle.panels.refined(&extra);
+        let everywhere: Vec<f64> = panels.phi.iter().chain(&panels.edges).copied().collect();
+        Ok(Some(Graded {
+            lifted: self.lifted_at(&everywhere)?,
+            rest: self.cycle.rest_at(&everywhere)?,
+            panels,
+        }))
+    }
+
+    /// t_Φ(s) = ∫₀^Φ √(J/2(s + K̃)) dφ on a mesh.
+    fn period(&self, mesh: Mesh<'_>, s: f64) -> f64 {
+        mesh.panels
+            .weights
+            .iter()
+            .zip(mesh.rest)
+            .zip(mesh.lifted)
+            .map(|((w, rest), k)| w * (0.5 * (self.inertia + rest) / (s + k)).sqrt())
+            .sum()
+    }
+
+    /// The periodic solution of mean speed `omega_mean` (rad/s); `Err(Stall)` inside `Ok`
+    /// when it needs ω_min < `ratio`·ω_m. s by Brent's method on (ω_m(s)/ω_m)² − 1, nearly
+    /// linear in s, on a mesh graded for that s (again until the mesh no longer grows).
+    pub fn solve(&mut self, omega_mean: f64, ratio: f64) -> Result<Solved> {
         let cycle = self.cycle;
-        let panels = &cycle.panels;
-        let n = cycle.nodes();
-        let omega: Vec<f64> = cycle
+        let target = cycle.cycle() / omega_mean;
+        // At s_low the speed at the worst angle is ratio·ω_m: if the mean speed there is
+        // already above the one asked for, the solution has a smaller s, and stalls.
+        let s_low = 0.5 * (self.inertia + self.rest_low) * (ratio * omega_mean).powi(2);
+        // At s_high, ω² = 2(s + K̃)/J ≥ ω_m² everywhere: the mean speed is at least ω_m.
+        let j_max = cycle.rest.iter().fold(f64::NEG_INFINITY, |a, &r| a.max(r)) + self.inertia;
+        let s_high = 0.5 * j_max * omega_mean * omega_mean * 1.01;
+        let mut graded = self.mesh(s_high)?;
+        let mut s = s_high;
+        let period =
+            |this: &Self, graded: &Option<Graded>, s: f64| this.period(this.view(graded), s);
+        for _ in 0..MESH_ROUNDS {
+            let size = self.view(&graded).nodes();
+            let excess =
+                |s: f64| -> Result<f64> { Ok((target / period(self, &graded, s)).powi(2) - 1.0) };
+            if excess(s_low)? > 0.0 {
+                let finer = self.mesh(s_low)?;
+                if self.view(&finer).nodes() > size {
+                    // Decide on a mesh that resolves the peak at s_low.
+                    graded = finer;
+                    continue;
+                }
+                return Ok(Err(Stall { angle: self.lowest }));
+            }
+            let mut high = s_high;
+            // Never more than a step or two (s_high bounds the root); the bound only ends
+            // the loop on a NaN.
+            for _ in 0..64 {
+                if excess(high)? >= 0.0 {
+                    break;
+                }
+                high *= 2.0;
+            }
+            // rtol 1e-15: s to rounding (the excess is nearly linear in s).
+            let Some(root) = brent(excess, s_low, high, 0.0, 1e-15)? else {
+                return Ok(Err(Stall { angle: self.lowest }));
+            };
+            s = root;
+            let finer = self.mesh(s)?;
+            if self.view(&finer).nodes() <= size {
+                break;
+            }
+            graded = finer;
+        }
+        self.finish(self.view(&graded), s, ratio)
+    }
+
+    /// The periodic solution with E = s + K̃ (its mean speed follows), no stall check (the
+    /// Python implementation's `at_margin`).
+    fn at_margin(&mut self, s: f64) -> Result<Solved> {
+        let graded = self.mesh(s)?;
+        self.finish(self.view(&graded), s, 0.0)
+    }
+
+    /// The lowest mean speed (rad/s) whose solution keeps ω_min ≥ `ratio`·ω_m (the stall
+    /// error's min_rpm): the root in log s of ω_min/ω_m − ratio, which grows with s
+    /// (Brent's method, to 1e-12 in log s as the Python implementation's
+    /// `lowest_running_speed`). `above`: an s (J) known to stall.
+    pub fn lowest_running_speed(&mut self, ratio: f64, above: f64) -> Result<f64> {
+        let swing = self.swing();
+        let mut shortfall = |log_s: f64| -> Result<f64> {
+            Ok(match self.at_margin(log_s.exp())? {
+                Ok(p) => p.omega_min / p.omega_mean - ratio,
+                Err(_) => -ratio,
+            })
+        };
+        let mut low = above.max(1e-300).ln();
+        let mut high = swing.max(above).max(1e-300).ln() + 1.0;
+        // The ratio rises from 0 (s → 0) to 1 (s → ∞): a few steps of e² each.
+        for _ in 0..400 {
+            if shortfall(high)? >= 0.0 {
+                break;
+            }
+            high += 2.0;
+        }
+        for _ in 0..400 {
+            if shortfall(low)? <= 0.0 {
+                break;
+            }
+            low -= 2.0;
+        }
+        let found = brent(&mut shortfall, low, high, 1e-12, 4.0 * f64::EPSILON)?;
+        let Some(log_s) = found else {
+            return Ok(f64::NAN);
+        };
+        Ok(self
+            .at_margin(log_s.exp())?
+            .map_or(f64::NAN, |p| p.omega_mean))
+    }
+
+    /// max K − min K (J), both located between the samples and evaluated exactly: the ΔE of
+    /// the textbook flywheel estimate (the Python implementation's `energy_swing`).
+    pub fn energy_swing(&self) -> Result<f64> {
+        let value = |phi: f64| Ok(self.lifted_at(&[phi.rem_euclid(self.cycle.cycle())])?[0]);
+        let slope = |phi: f64| self.slope_at(phi);
+        let panels = &self.cycle.panels;
+        let (_, top) = refine_extremum(panels, &self.lifted, true, slope, value)?;
+        let (_, bottom) = refine_extremum(panels, &self.lifted, false, slope, value)?;
+        Ok(top.max(self.swing()) - bottom.min(0.0))
+    }
+
+    /// t_Φ, ω_m and the extremes of ω for E = s + K̃ on a mesh.
+    fn finish(&self, mesh: Mesh<'_>, s: f64, ratio: f64) -> Result<Solved> {
+        let cycle = self.cycle;
+        let panels = mesh.panels;
+        let n = mesh.nodes();
+        let omega: Vec<f64> = mesh
             .rest
             .iter()
-            .zip(&self.lifted)
-            .map(|(rest, k)| (2.0 * (s + k).max(0.0) / (cycle.inertia + rest)).sqrt())
+            .zip(mesh.lifted)
+            .map(|(rest, k)| (2.0 * (s + k).max(0.0) / (self.inertia + rest)).sqrt())
             .collect();
         if let Some(i) = omega.iter().position(|&w| w <= 0.0) {
             let angle = if i < n {
@@ -322,8 +541,21 @@ impl<'c, 'a> Balance<'c, 'a> {
         }
         let period = panels.integral(&omega[..n].iter().map(|w| 1.0 / w).collect::<Vec<_>>());
         let omega_mean = cycle.cycle() / period;
-        let (phi_max, omega_max) = self.extremum(s, &omega, true)?;
-        let (phi_min, omega_min) = self.extremum(s, &omega, false)?;
+        let speed = |phi: f64| Ok(self.speed_and_torque(s, phi)?.0);
+        let (phi_max, omega_max) = refine_extremum(
+            panels,
+            &omega,
+            true,
+            |phi| self.speed_and_torque(s, phi).map(|x| x.1),
+            speed,
+        )?;
+        let (phi_min, omega_min) = refine_extremum(
+            panels,
+            &omega,
+            false,
+            |phi| self.speed_and_torque(s, phi).map(|x| x.1),
+            speed,
+        )?;
         let solution = Periodic {
             omega_mean,
             period,
@@ -342,76 +574,67 @@ impl<'c, 'a> Balance<'c, 'a> {
         Ok(Ok(solution))
     }
 
-    /// ω(φ) exactly and the sign of dω/dφ: J φ̈ = M_gas − U′ − M_load − ½J′ω², the net torque
-    /// with the inertia torque, whose roots are the extremes of ω.
+    /// ω(φ) exactly and the net torque J φ̈ = M_gas − U′ − M_load − ½J′ω², whose sign is
+    /// that of dω/dφ and whose roots are the extremes of ω.
     fn speed_and_torque(&self, s: f64, phi: f64) -> Result<(f64, f64)> {
         let folded = [phi.rem_euclid(self.cycle.cycle())];
         let energy = s + self.lifted_at(&folded)?[0];
-        let (j, slope) = self.cycle.inertia_at(&folded)?;
+        let (rest, slope) = self.cycle.inertia_at(&folded)?;
+        let j = self.inertia + rest[0];
         let torque = self.cycle.torque_at(&folded, self.gas)?[0] - self.load;
         Ok((
-            (2.0 * energy.max(0.0) / j[0]).sqrt(),
-            torque - slope[0] * energy / j[0],
+            (2.0 * energy.max(0.0) / j).sqrt(),
+            torque - slope[0] * energy / j,
         ))
     }
+}
 
-    /// The angle and value of the largest (`largest`) or smallest ω: the best sample of
-    /// nodes and edges, then the root of the net torque between it and a neighbour sample
-    /// (Brent's method, to rounding), where ω is evaluated exactly. Kept only where better
-    /// than the sample (an extremum at a kink of the torque has no root there).
-    fn extremum(&self, s: f64, omega: &[f64], largest: bool) -> Result<(f64, f64)> {
-        let panels = &self.cycle.panels;
-        let (n, order) = (self.cycle.nodes(), panels.order);
-        // The samples in angle order: edge p, the nodes of panel p, …; the last edge is edge 0.
-        let mut samples: Vec<(f64, f64)> = Vec::with_capacity(n + panels.count());
-        for p in 0..panels.count() {
-            samples.push((panels.edges[p], omega[n + p]));
-            let nodes = p * order..(p + 1) * order;
-            samples.extend(
-                panels.phi[nodes.clone()]
-                    .iter()
-                    .copied()
-                    .zip(omega[nodes].iter().copied()),
-            );
+/// The angle and value of the largest (`largest`) or smallest of a function known at the
+/// nodes then edges of `panels` (`values`): the best sample, then the root of its slope
+/// (`slope`, any angle) between it and a neighbour sample (Brent's method, to rounding),
+/// where the function is evaluated exactly (`value`). Kept only where better than the
+/// sample (an extremum at a kink of the slope has no root there).
+fn refine_extremum(
+    panels: &Panels,
+    values: &[f64],
+    largest: bool,
+    mut slope: impl FnMut(f64) -> Result<f64>,
+    mut value: impl FnMut(f64) -> Result<f64>,
+) -> Result<(f64, f64)> {
+    let cycle = panels.cycle();
+    let samples = panels.in_angle_order(values);
+    let sign = if largest { 1.0 } else { -1.0 };
+    let mut best = 0;
+    for (i, sample) in samples.iter().enumerate() {
+        if sign * sample.1 > sign * samples[best].1 {
+            best = i;
         }
-        let sign = if largest { 1.0 } else { -1.0 };
-        let mut best = 0;
-        for (i, sample) in samples.iter().enumerate() {
-            if sign * sample.1 > sign * samples[best].1 {
-                best = i;
-            }
-        }
-        let count = samples.len();
-        let (angle, value) = samples[best];
-        let before = samples[(best + count - 1) % count].0;
-        let before = if before > angle {
-            before - self.cycle.cycle()
-        } else {
-            before
-        };
-        let after = samples[(best + 1) % count].0;
-        let after = if after < angle {
-            after + self.cycle.cycle()
-        } else {
-            after
-        };
-        // ω rises (for a maximum) up to the root: the net torque, times sign, goes from
-        // positive to negative.
-        let rate = |phi: f64| -> Result<f64> { Ok(sign * self.speed_and_torque(s, phi)?.1) };
-        let here = rate(angle)?;
-        let (a, b) = if here > 0.0 {
-            (angle, after)
-        } else {
-            (before, angle)
-        };
-        if let Some(root) = brent(rate, a, b, 0.0, 4.0 * f64::EPSILON)? {
-            let (found, _) = self.speed_and_torque(s, root)?;
-            if sign * found > sign * value {
-                return Ok((root, found));
-            }
-        }
-        Ok((angle, value))
     }
+    let count = samples.len();
+    let (angle, at_best) = samples[best];
+    let before = samples[(best + count - 1) % count].0;
+    let before = if before > angle {
+        before - cycle
+    } else {
+        before
+    };
+    let after = samples[(best + 1) % count].0;
+    let after = if after < angle { after + cycle } else { after };
+    // The function rises (for a maximum) up to the root: its slope, times sign, goes from
+    // positive to negative.
+    let mut rate = |phi: f64| -> Result<f64> { Ok(sign * slope(phi)?) };
+    let (a, b) = if rate(angle)? > 0.0 {
+        (angle, after)
+    } else {
+        (before, angle)
+    };
+    if let Some(root) = brent(rate, a, b, 0.0, 4.0 * f64::EPSILON)? {
+        let found = value(root)?;
+        if sign * found > sign * at_best {
+            return Ok((root, found));
+        }
+    }
+    Ok((angle, at_best))
 }
 
 #[cfg(test)]

@@ -36,7 +36,8 @@ pub(crate) struct Cycle<'a> {
     pub dynamics: Dynamics,
     pub forces: Forces<'a>,
     pub work: GasWork<'a>,
-    /// I_w (kg·m²).
+    /// I_w (kg·m²) of the machine tabulated; a solve may take another
+    /// (`Balance::with_inertia`): the tables hold J − I_w.
     pub inertia: f64,
     pub panels: Panels,
     /// Whether U is kept (g ≠ 0 and not removed by `without_gravity`).
@@ -102,8 +103,7 @@ impl<'a> Cycle<'a> {
             rest: Vec::new(),
             potential: Vec::new(),
         };
-        let (inertia, _) = tables.inertia_at(&everywhere)?;
-        tables.rest = inertia.iter().map(|j| j - tables.inertia).collect();
+        tables.rest = tables.rest_at(&everywhere)?;
         if tables.gravity_on {
             let mut u0 = [0.0];
             tables
@@ -155,7 +155,8 @@ impl<'a> Cycle<'a> {
             })
     }
 
-    /// (J, J′) at any angles.
+    /// (J − I_w (kg·m²), J′ (kg·m²/rad)) at any angles: the rods' and pistons' share of J
+    /// and its slope, for any I_w.
     pub fn inertia_at(&self, phi: &[f64]) -> Result<(Vec<f64>, Vec<f64>)> {
         let (mut inertia, mut slope) = (vec![0.0; phi.len()], vec![0.0; phi.len()]);
         self.dynamics.reduced_inertia(
@@ -165,7 +166,18 @@ impl<'a> Cycle<'a> {
             &mut slope,
             Parallelism::SERIAL,
         )?;
+        inertia.iter_mut().for_each(|j| *j -= self.inertia);
         Ok((inertia, slope))
+    }
+
+    /// J − I_w (kg·m²) at any angles.
+    pub fn rest_at(&self, phi: &[f64]) -> Result<Vec<f64>> {
+        Ok(self.inertia_at(phi)?.0)
+    }
+
+    /// (1/Φ)∫(J − I_w) dφ (kg·m²): the rods' and pistons' mean share of J.
+    pub fn mean_rest(&self) -> f64 {
+        self.panels.integral(&self.rest[..self.nodes()]) / self.cycle()
     }
 
     /// U(φ) − U(0) (J) at any angles (0 without gravity).

@@ -9,6 +9,7 @@
 
 mod balance;
 mod cycle;
+mod flywheel;
 mod gas;
 mod quadrature;
 
@@ -18,7 +19,7 @@ use crate::dynamics::{Dynamics, PhysicalCylinder};
 use crate::error::{check, MechanismError, Result};
 use crate::mechanism::Strokes;
 
-use balance::{Balance, Periodic};
+use balance::{Balance, Solved};
 use cycle::Cycle;
 
 pub use gas::{GasCylinder, PiecewisePolynomial};
@@ -70,6 +71,41 @@ pub struct SteadyState {
     pub delta_gravity_only: f64,
 }
 
+/// The constant "balance" load (N·m): the cycle mean of the gas torque, W(Φ)/Φ.
+fn balance_load(cycle: &Cycle<'_>) -> f64 {
+    cycle.work.per_cycle / cycle.cycle()
+}
+
+/// δ of a solution, NaN where it stalls.
+fn delta_or_nan(found: Solved) -> f64 {
+    found.map_or(f64::NAN, |p| p.delta())
+}
+
+/// δ of the machine of `cycle` with g = 0, with I_w = `inertia` (kg·m²), the same load at
+/// ω_m = `omega_mean` (rad/s); NaN where it stalls.
+fn delta_without_gravity(
+    cycle: &Cycle<'_>,
+    load: f64,
+    inertia: f64,
+    omega_mean: f64,
+    ratio: f64,
+) -> Result<f64> {
+    let without = cycle.without_gravity();
+    let found = Balance::new(&without, load, true)?
+        .with_inertia(inertia)
+        .solve(omega_mean, ratio)?;
+    Ok(delta_or_nan(found))
+}
+
+/// δ of gravity (and the variation of J) alone, gas and load removed, with I_w = `inertia`
+/// (kg·m²) at ω_m = `omega_mean` (rad/s); NaN where it stalls.
+fn delta_gravity_only(cycle: &Cycle<'_>, inertia: f64, omega_mean: f64, ratio: f64) -> Result<f64> {
+    let found = Balance::new(cycle, 0.0, false)?
+        .with_inertia(inertia)
+        .solve(omega_mean, ratio)?;
+    Ok(delta_or_nan(found))
+}
+
 /// The lowest ratio ω_min/ω_m accepted for `min_speed_ratio`: below it the crawl over a dead
 /// centre takes longer than any run (and 1/ratio² leaves the range of a double on the way).
 const SMALLEST_SPEED_RATIO: f64 = 1e-9;
@@ -79,8 +115,12 @@ const SMALLEST_SPEED_RATIO: f64 = 1e-9;
 /// running"). `min_speed_ratio`: the machine stalls when ω_min < min_speed_ratio·ω_m
 /// (1e-3 in the Python API).
 ///
+/// Near stall the time quadrature is graded geometrically towards the speed minimum (the
+/// Python implementation's `graded_mesh`), so that the answer holds down to the lowest speed
+/// that runs.
+///
 /// Errors: bad input, naming the parameter; [`MechanismError::Stall`] when the machine
-/// cannot keep that mean speed.
+/// cannot keep that mean speed, with the lowest mean speed that runs (`min_rpm`).
 pub fn steady_state(machine: &Machine<'_>, rpm: f64, min_speed_ratio: f64) -> Result<SteadyState> {
     check(
         "shaft_inertia",
@@ -98,29 +138,29 @@ pub fn steady_state(machine: &Machine<'_>, rpm: f64, min_speed_ratio: f64) -> Re
     let dynamics = Dynamics::new(machine.units, machine.g)?;
     let cycle = Cycle::new(machine, dynamics)?;
     let omega_mean = PI * rpm / 30.0;
-    let load = cycle.work.per_cycle / cycle.cycle();
-    let stalled = |angle: f64| MechanismError::Stall { angle, rpm };
-    let solution = Balance::new(&cycle, load, true)
-        .with_curvature()?
-        .solve(omega_mean, min_speed_ratio)?
-        .map_err(|stall| stalled(stall.angle))?;
-    let delta_or_nan =
-        |found: std::result::Result<Periodic, _>| found.map_or(f64::NAN, |p: Periodic| p.delta());
+    let load = balance_load(&cycle);
+    let solution = match Balance::new(&cycle, load, true)?.solve(omega_mean, min_speed_ratio)? {
+        Ok(solution) => solution,
+        Err(stall) => {
+            // The lowest speed that runs, searched from an s known to stall (the Python
+            // implementation's `_stall_error`).
+            let mut balance = Balance::new(&cycle, load, true)?;
+            let above = 1e-6 * balance.swing();
+            let lowest = balance.lowest_running_speed(min_speed_ratio, above)?;
+            return Err(MechanismError::Stall {
+                angle: stall.angle.rem_euclid(cycle.cycle()),
+                rpm,
+                min_rpm: lowest.is_finite().then(|| 30.0 * lowest / PI),
+            });
+        }
+    };
     let delta_without_gravity = if cycle.gravity_on {
-        let without = cycle.without_gravity();
-        delta_or_nan(
-            Balance::new(&without, load, true)
-                .with_curvature()?
-                .solve(omega_mean, min_speed_ratio)?,
-        )
+        delta_without_gravity(&cycle, load, cycle.inertia, omega_mean, min_speed_ratio)?
     } else {
         solution.delta()
     };
-    let delta_gravity_only = delta_or_nan(
-        Balance::new(&cycle, 0.0, false)
-            .with_curvature()?
-            .solve(solution.omega_mean, min_speed_ratio)?,
-    );
+    let delta_gravity_only =
+        delta_gravity_only(&cycle, cycle.inertia, solution.omega_mean, min_speed_ratio)?;
     Ok(SteadyState {
         omega_mean: solution.omega_mean,
         period: solution.period,
@@ -135,5 +175,92 @@ pub fn steady_state(machine: &Machine<'_>, rpm: f64, min_speed_ratio: f64) -> Re
             / (solution.omega_max + solution.omega_min),
         delta_without_gravity,
         delta_gravity_only,
+    })
+}
+
+/// The shaft inertia that gives a machine a coefficient of speed fluctuation δ under the
+/// "balance" load (docs/theory.md, "Flywheel").
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FlywheelInertia {
+    /// I_w (kg·m²) giving the time-mean δ asked for, to the steady state's accuracy (the
+    /// root to 1e-12 in log I_w).
+    pub shaft_inertia: f64,
+    /// The same for the machine with g = 0 (equal to `shaft_inertia` without gravity); NaN
+    /// where only gravity makes the machine fluctuate that much.
+    pub shaft_inertia_without_gravity: f64,
+    /// The textbook estimate ΔE/(δω_m²) − mean(J − I_w) (kg·m²).
+    pub textbook: f64,
+    /// (textbook − shaft_inertia)/shaft_inertia.
+    pub textbook_error: f64,
+    /// ΔE = max K − min K (J) of the textbook estimate, the load balancing the gas.
+    pub energy_swing: f64,
+    /// The δ asked for.
+    pub delta: f64,
+    /// The mean speed (1/min).
+    pub rpm: f64,
+}
+
+/// The shaft inertia I_w (kg·m²) that gives `machine` (its own `shaft_inertia` replaced)
+/// the coefficient of speed fluctuation `delta` (≥ 1e-9) at the mean speed `rpm` (1/min),
+/// the "balance" load: Brent's method on log I_w over exact steady states, δ falling as I_w
+/// grows (the Python implementation's `flywheel_inertia`). `min_speed_ratio` as for
+/// [`steady_state`]. The cycle's tables are made once: a trial I_w only changes J = I_w +
+/// (J − I_w).
+///
+/// Errors: bad input, naming the parameter; `delta` unreachable (the machine stalls before
+/// its fluctuation grows that large, or the rods' own inertia keeps it below).
+pub fn flywheel_inertia(
+    machine: &Machine<'_>,
+    delta: f64,
+    rpm: f64,
+    min_speed_ratio: f64,
+) -> Result<FlywheelInertia> {
+    check("delta", delta, "delta >= 1e-9", |d| {
+        d >= flywheel::SMALLEST_DELTA
+    })?;
+    check(
+        "shaft_inertia",
+        machine.shaft_inertia,
+        "shaft_inertia > 0",
+        |i| i > 0.0,
+    )?;
+    check("rpm", rpm, "rpm > 0", |n| n > 0.0)?;
+    check(
+        "min_speed_ratio",
+        min_speed_ratio,
+        "1e-9 <= min_speed_ratio < 1",
+        |r| (SMALLEST_SPEED_RATIO..1.0).contains(&r),
+    )?;
+    let dynamics = Dynamics::new(machine.units, machine.g)?;
+    let cycle = Cycle::new(machine, dynamics)?;
+    let omega_mean = PI * rpm / 30.0;
+    let load = balance_load(&cycle);
+    let balance = Balance::new(&cycle, load, true)?;
+    let (swing, textbook) = flywheel::textbook(&balance, &cycle, delta, omega_mean)?;
+    let start = flywheel::start(
+        swing,
+        textbook,
+        &cycle,
+        delta,
+        omega_mean,
+        machine.shaft_inertia,
+    );
+    let inertia = flywheel::inertia_for(&balance, omega_mean, min_speed_ratio, delta, start)?;
+    let without = if cycle.gravity_on {
+        let without = cycle.without_gravity();
+        let balance = Balance::new(&without, load, true)?;
+        flywheel::inertia_for(&balance, omega_mean, min_speed_ratio, delta, inertia)
+            .unwrap_or(f64::NAN)
+    } else {
+        inertia
+    };
+    Ok(FlywheelInertia {
+        shaft_inertia: inertia,
+        shaft_inertia_without_gravity: without,
+        textbook,
+        textbook_error: (textbook - inertia) / inertia,
+        energy_swing: swing,
+        delta,
+        rpm,
     })
 }

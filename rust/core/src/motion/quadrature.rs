@@ -67,6 +67,9 @@ fn legendre_and_slope(n: usize, x: f64) -> (f64, f64) {
 pub(crate) struct Panels {
     /// The order of every panel's rule.
     pub order: usize,
+    /// The widest panel (rad) a piece between breaks was cut to ([`Panels::refined`] cuts
+    /// the same way).
+    pub max_width: f64,
     /// Panel edges, from 0 to Φ (P + 1).
     pub edges: Vec<f64>,
     /// The nodes, panel after panel (P · order).
@@ -103,12 +106,47 @@ impl Panels {
         }
         Self {
             order,
+            max_width,
             edges,
             phi,
             weights,
             unit_nodes,
             unit_weights,
         }
+    }
+
+    /// The same rule with more edges (`extra`, angles in [0, Φ]): the union of the edges
+    /// (exact duplicates dropped, as NumPy's `union1d`) cut again to `max_width`.
+    pub fn refined(&self, extra: &[f64]) -> Self {
+        let mut edges: Vec<f64> = self.edges.iter().chain(extra).copied().collect();
+        edges.sort_by(f64::total_cmp);
+        edges.dedup();
+        Self::new(&edges, self.order, self.max_width)
+    }
+
+    /// The largest half-width of a panel (rad).
+    pub fn widest_half(&self) -> f64 {
+        self.edges
+            .windows(2)
+            .fold(0.0, |m, e| f64::max(m, 0.5 * (e[1] - e[0])))
+    }
+
+    /// The samples of a function given at the nodes then the edges (`values`), in angle
+    /// order: edge p, the nodes of panel p, edge p + 1, … (the last edge, Φ ≡ 0, left out).
+    pub fn in_angle_order(&self, values: &[f64]) -> Vec<(f64, f64)> {
+        let (n, order) = (self.phi.len(), self.order);
+        let mut samples = Vec::with_capacity(n + self.count());
+        for p in 0..self.count() {
+            samples.push((self.edges[p], values[n + p]));
+            let nodes = p * order..(p + 1) * order;
+            samples.extend(
+                self.phi[nodes.clone()]
+                    .iter()
+                    .copied()
+                    .zip(values[nodes].iter().copied()),
+            );
+        }
+        samples
     }
 
     pub fn count(&self) -> usize {

@@ -1,5 +1,7 @@
 """Write motion_fixtures.json: built-in machines, their indicator diagrams as SciPy PPoly arrays,
-and what the Python implementation's ``mc.steady_state`` (load "balance") says of them.
+and what the Python implementation's ``mc.steady_state`` (load "balance") says of them: at the
+machine's own speed, near stall (graded panels) and below it (``StallError.min_rpm``), and the
+flywheels ``mc.flywheel_inertia`` sizes for δ = 1/40, 1/100 and the machine's class value.
 
 The Rust core's energy method (rust/core/src/motion/) is checked against these numbers by
 rust/core/tests/motion.rs. Run from the repository root, with the compiled extension in place:
@@ -24,8 +26,13 @@ import multicrank as mc
 from multicrank.machine.cylinder import unit_columns
 from multicrank.motion import _periodic
 from multicrank.motion._solvers import Balance
+from multicrank.presets import MACHINE_CLASSES, SPEED_FLUCTUATION
 
 MACHINES = ("slow-compressor", "marine-2t-twin", "inline-4", "boxer-compressor")
+#: Speeds [1/min] near stall, where the time quadrature is graded towards the dead point, and
+#: below it (a StallError with min_rpm), per machine.
+NEAR_STALL = {"slow-compressor": (9.0, 12.0)}
+STALLS = {"slow-compressor": (5.0,)}
 RESULTS = (
     "delta",
     "delta_midrange",
@@ -39,6 +46,7 @@ RESULTS = (
     "period",
     "mean_load_torque",
 )
+FLYWHEEL = ("shaft_inertia", "shaft_inertia_without_gravity", "textbook", "energy_swing")
 
 
 def fixture(name: str) -> dict:
@@ -67,7 +75,42 @@ def fixture(name: str) -> dict:
         )
         cylinders.append(unit)
     state = mc.steady_state(machine, rpm=machine.rpm)
-    extremes = refined_extremes(machine, state)
+    extremes = refined_extremes(machine, machine.rpm)
+    near = [
+        {
+            "rpm": rpm,
+            "steady_state": {key: float(getattr(slow, key)) for key in RESULTS},
+            "refined": refined_extremes(machine, rpm),
+        }
+        for rpm in NEAR_STALL.get(name, ())
+        for slow in [mc.steady_state(machine, rpm=rpm)]
+    ]
+    stalls = []
+    for rpm in STALLS.get(name, ()):
+        try:
+            mc.steady_state(machine, rpm=rpm)
+        except mc.StallError as error:
+            stalls.append(
+                {
+                    "rpm": rpm,
+                    "angle": error.angle,
+                    "min_rpm": error.min_rpm,
+                    "refined_min_rpm": refined_min_rpm(machine, rpm),
+                }
+            )
+        else:
+            raise AssertionError(f"{name} runs at {rpm} rpm")
+    targets = (1 / 40, 1 / 100, SPEED_FLUCTUATION[MACHINE_CLASSES[name]][1])
+    flywheels = []
+    for delta in targets:
+        found = mc.flywheel_inertia(machine, delta=delta, rpm=machine.rpm)
+        # δ at Python's I_w with its extremes searched again exactly: where Python's own δ
+        # (extremes on interpolants) is off, so is its I_w, by about as much (relative).
+        sized = machine.replace(shaft_inertia=found.shaft_inertia)
+        exact = refined_extremes(sized, machine.rpm)["delta"]
+        flywheels.append(
+            {"delta": delta, "refined_delta": exact} | {key: float(getattr(found, key)) for key in FLYWHEEL}
+        )
     return {
         "name": name,
         "strokes": machine.strokes,
@@ -78,10 +121,13 @@ def fixture(name: str) -> dict:
         "diagrams": diagrams,
         "steady_state": {key: float(getattr(state, key)) for key in RESULTS},
         "refined": extremes,
+        "near_stall": near,
+        "stalls": stalls,
+        "flywheels": flywheels,
     }
 
 
-def refined_extremes(machine, state) -> dict:
+def refined_extremes(machine, rpm: float) -> dict:
     """ω_max and ω_min searched again, by SciPy's bounded Brent minimiser on the Python
     solutions' own exact ω(φ) around the angles they located (± a tenth of a radian, several
     Gauss nodes), for the machine, the machine with g = 0 and gravity alone: an independent
@@ -90,7 +136,7 @@ def refined_extremes(machine, state) -> dict:
     the δ they give."""
     tables = _periodic.cycle_tables(machine, True)
     rules = _periodic.resolve_rules("balance", None)
-    omega_mean = math.pi * machine.rpm / 30
+    omega_mean = math.pi * rpm / 30
     solution = _periodic.balance_at(tables, rules, omega_mean).solve(omega_mean, 1e-3)
     variants = {
         "": solution,
@@ -115,6 +161,36 @@ def refined_extremes(machine, state) -> dict:
             found[f"{prefix}phi_{name}"] = float(best.x % machine.cycle)
         found[f"{prefix}delta"] = (found[f"{prefix}omega_max"] - found[f"{prefix}omega_min"]) / periodic.omega_mean
     return found
+
+
+def refined_min_rpm(machine, rpm: float, ratio: float = 1e-3) -> float:
+    """StallError.min_rpm searched again with ω_min taken as in refined_extremes: the root in
+    log s of ω_min/ω_m − ratio with ω_min found by SciPy's bounded Brent minimiser on the exact
+    ω(φ) of each trial (steady_state locates ω_min on the panels' interpolants, which near
+    stall, where the dip of ω is a few 1e-4 rad wide, leaves it ~1e-6 high)."""
+    tables = _periodic.cycle_tables(machine, True)
+    rules = _periodic.resolve_rules("balance", None)
+    balance = _periodic.balance_at(tables, rules, math.pi * rpm / 30)
+
+    def shortfall(log_s: float) -> float:
+        periodic = balance.at_margin(math.exp(log_s))
+        centre = periodic.extremes.phi_min
+
+        def omega(phi: float) -> float:
+            return float(periodic.omega_at(np.array([phi % machine.cycle]))[0])
+
+        best = scipy.optimize.minimize_scalar(
+            omega, bounds=(centre - 0.1, centre + 0.1), method="bounded", options={"xatol": 1e-12}
+        )
+        return min(omega(best.x), periodic.extremes.omega_min) / periodic.omega_mean - ratio
+
+    low, high = math.log(1e-6 * balance.swing), math.log(balance.swing) + 1.0
+    while shortfall(high) < 0:
+        high += 2.0
+    while shortfall(low) > 0:
+        low -= 2.0
+    log_s = scipy.optimize.brentq(shortfall, low, high, xtol=1e-12)
+    return balance.at_margin(math.exp(log_s)).omega_mean * 30 / math.pi
 
 
 def main() -> None:

@@ -1,0 +1,158 @@
+//! The flywheel for a coefficient of speed fluctuation (docs/theory.md, "Flywheel"): the
+//! shaft inertia I_w whose steady state under the "balance" load has the δ asked for, by
+//! Brent's method on log I_w over exact steady states, with the textbook estimate
+//! ΔE/(δω_m²) − mean(J − I_w) as the start. Trial inertias reuse the cycle's tables
+//! (`Balance::with_inertia`): J − I_w, U and W do not depend on I_w.
+
+use crate::error::{MechanismError, Result};
+
+use super::balance::{brent, Balance};
+use super::cycle::Cycle;
+
+/// The smallest δ a flywheel is sized for: below it δ is within the rounding of the speeds
+/// it is found from (the Python implementation's bound).
+pub(crate) const SMALLEST_DELTA: f64 = 1e-9;
+
+/// The steps (in log I_w) that widen the bracket from the estimate outwards: the estimate
+/// is near for a machine of small δ and ~10 % off for a compressor at δ ≈ 1/30; the first
+/// steps cover both, then ×4 each (Python's `_inertia_for`).
+fn bracket_steps() -> impl Iterator<Item = f64> {
+    [0.05, 0.2, 0.7]
+        .into_iter()
+        .chain(std::iter::repeat_n(4f64.ln(), 100))
+}
+
+/// The I_w (kg·m²) with δ(I_w) = `delta` for the torques of `balance` at ω_m = `omega_mean`
+/// (rad/s): Brent's method on log(δ(I_w)/delta) in log I_w (to 1e-12 absolute and 1e-15
+/// relative, as the Python implementation's `_inertia_for`), δ falling as I_w grows; a
+/// machine that stalls counts as δ = ∞. `start`: the estimate to bracket from.
+///
+/// Errors: `delta` unreachable (the machine would stall before its fluctuation grows that
+/// large, or its rods' own inertia keeps δ below it).
+pub(crate) fn inertia_for(
+    balance: &Balance<'_, '_>,
+    omega_mean: f64,
+    ratio: f64,
+    delta: f64,
+    start: f64,
+) -> Result<f64> {
+    let unreachable = |allowed: &'static str| MechanismError::OutOfRange {
+        parameter: "delta",
+        value: delta,
+        allowed,
+    };
+    let mut known: Vec<(f64, f64)> = Vec::new();
+    // log(δ(I_w)/delta), +∞ where the machine stalls; each I_w solved once.
+    let mut excess = |log_inertia: f64| -> Result<f64> {
+        if let Some(&(_, value)) = known.iter().find(|(x, _)| *x == log_inertia) {
+            return Ok(value);
+        }
+        let value = match balance
+            .with_inertia(log_inertia.exp())
+            .solve(omega_mean, ratio)?
+        {
+            Ok(p) if p.delta() > 0.0 => (p.delta() / delta).ln(),
+            // A flywheel so heavy that δ rounds to 0 is beyond the target.
+            Ok(_) => f64::NEG_INFINITY,
+            Err(_) => f64::INFINITY,
+        };
+        known.push((log_inertia, value));
+        Ok(value)
+    };
+    let origin = start.max(1e-300).ln();
+    let (mut low, mut high) = (origin, origin);
+    if excess(origin)? > 0.0 {
+        let mut found = false;
+        for step in bracket_steps() {
+            (low, high) = (high, high + step);
+            if excess(high)? <= 0.0 {
+                found = true;
+                break;
+            }
+        }
+        if !found {
+            return Err(unreachable(
+                "a delta some shaft_inertia reaches (δ never falls that low)",
+            ));
+        }
+    } else {
+        let mut found = false;
+        for step in bracket_steps() {
+            (high, low) = (low, low - step);
+            if excess(low)? > 0.0 {
+                found = true;
+                break;
+            }
+            // δ(I_w) levels off as I_w → 0 (the rods' and pistons' inertia remains).
+            if low < origin - 60.0 || (excess(low)? - excess(high)?).abs() < 1e-9 {
+                break;
+            }
+        }
+        if !found {
+            return Err(unreachable(
+                "a delta some shaft_inertia reaches (even a massless shaft keeps δ below it: \
+                 the rods' and pistons' own inertia limits the fluctuation)",
+            ));
+        }
+    }
+    // A stall on the low side is +∞: the low end moves to the lightest shaft that still
+    // runs (bisection); a target beyond it is unreachable.
+    if excess(low)?.is_infinite() {
+        let mut running = high;
+        for _ in 0..40 {
+            let middle = 0.5 * (low + running);
+            if excess(middle)?.is_infinite() {
+                low = middle;
+            } else {
+                running = middle;
+            }
+        }
+        if excess(running)? < 0.0 {
+            return Err(unreachable(
+                "a delta the machine reaches before it stalls (ω_min < min_speed_ratio·ω_m)",
+            ));
+        }
+        low = running;
+    }
+    match brent(&mut excess, low, high, 1e-12, 1e-15)? {
+        Some(log_inertia) => Ok(log_inertia.exp()),
+        None => Err(unreachable("a delta some shaft_inertia reaches")),
+    }
+}
+
+/// (ΔE (J), the textbook I_w (kg·m²)) for `delta` at ω_m = `omega_mean` (rad/s): ΔE = max K
+/// − min K with the balancing load, I_w = ΔE/(δω_m²) − mean(J − I_w).
+pub(crate) fn textbook(
+    balance: &Balance<'_, '_>,
+    cycle: &Cycle<'_>,
+    delta: f64,
+    omega_mean: f64,
+) -> Result<(f64, f64)> {
+    let swing = balance.energy_swing()?;
+    Ok((
+        swing,
+        swing / (delta * omega_mean * omega_mean) - cycle.mean_rest(),
+    ))
+}
+
+/// The start of the search: the textbook I_w where positive, else ΔE/(δω_m²), else the
+/// larger of mean(J − I_w) and `fallback` (kg·m²).
+pub(crate) fn start(
+    swing: f64,
+    textbook: f64,
+    cycle: &Cycle<'_>,
+    delta: f64,
+    omega_mean: f64,
+    fallback: f64,
+) -> f64 {
+    let start = if textbook > 0.0 {
+        textbook
+    } else {
+        swing / (delta * omega_mean * omega_mean)
+    };
+    if start > 0.0 {
+        start
+    } else {
+        cycle.mean_rest().max(fallback)
+    }
+}
