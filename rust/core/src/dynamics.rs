@@ -69,7 +69,7 @@ pub(crate) struct Slider {
 }
 
 impl PhysicalCylinder {
-    fn validate(&self) -> Result<()> {
+    pub(crate) fn validate(&self) -> Result<()> {
         // The geometry and mass rules are those of the dimensionless moments.
         self.masses(0.0).validate_masses()?;
         check("rod_inertia", self.rod_inertia, "rod_inertia >= 0", |x| {

@@ -51,8 +51,8 @@ pub use mechanism::{
     Strokes, STANDARD_GRAVITY,
 };
 pub use motion::{
-    flywheel_inertia, steady_state, FlywheelInertia, GasCylinder, Machine, PiecewisePolynomial,
-    SteadyState,
+    flywheel_inertia, motion_sweep, steady_state, DesignColumns, FlywheelInertia, GasCylinder,
+    Machine, MotionColumns, MotionOutputs, PiecewisePolynomial, SteadyState,
 };
 pub use parallel::Parallelism;
 pub use series::{build_series, fourier_table, FourierSeries, SeriesKind};

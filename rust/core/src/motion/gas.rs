@@ -78,6 +78,16 @@ impl PiecewisePolynomial {
         })
     }
 
+    /// The same pressure times `factor` (every coefficient scaled; a motion sweep's
+    /// `pressure_scale`).
+    pub(crate) fn scaled(&self, factor: f64) -> Self {
+        Self {
+            breakpoints: self.breakpoints.clone(),
+            coefficients: self.coefficients.iter().map(|c| c * factor).collect(),
+            order: self.order,
+        }
+    }
+
     pub fn breakpoints(&self) -> &[f64] {
         &self.breakpoints
     }
@@ -141,7 +151,7 @@ impl GasCylinder {
         self.bore > 0.0 && (self.head.is_some() || self.crank_end.is_some())
     }
 
-    fn validate(&self, diagrams: usize) -> Result<()> {
+    pub(crate) fn validate(&self, diagrams: usize) -> Result<()> {
         check("bore", self.bore, "bore >= 0", |d| d >= 0.0)?;
         check(
             "piston_rod_diameter",

@@ -5,13 +5,15 @@
 //! The rooms: `quadrature` (Gauss–Legendre panels over the cycle), `gas` (pressures as
 //! periodic piecewise polynomials and the exact gas work), `cycle` (the machine's J, U and W
 //! tabulated on the panels, and at any angle), `balance` (the energy method and Brent's
-//! method). J, J′, U and the torques are `Dynamics`'s.
+//! method), `flywheel` (the shaft inertia for a δ) and `sweep` (many variants of one machine,
+//! one row each). J, J′, U and the torques are `Dynamics`'s.
 
 mod balance;
 mod cycle;
 mod flywheel;
 mod gas;
 mod quadrature;
+mod sweep;
 
 use std::f64::consts::PI;
 
@@ -23,6 +25,7 @@ use balance::{Balance, Solved};
 use cycle::Cycle;
 
 pub use gas::{GasCylinder, PiecewisePolynomial};
+pub use sweep::{motion_sweep, DesignColumns, MotionColumns, MotionOutputs};
 
 /// A machine as the steady state takes it (SI units).
 #[derive(Debug, Clone, Copy)]
