@@ -2,14 +2,20 @@
 //! the dynamics of a four-cylinder in-line machine on 10⁵ points of φ (reduced inertia
 //! J and J′ together, gas torque, piston travel, gravity torque), in points per second;
 //! the energy extrema and the sweep outputs of 1000 designs (k = 4), in designs per second.
-//! Run: `cargo bench -p multicrank-benches --bench machine` (release profile).
+//! The motion sweep (δ with and without gravity) of 128 variants of a gassed four-cylinder
+//! four-stroke machine, serial and parallel, and one steady state of it, in designs per
+//! second.
+//! Run: `cargo bench -p multicrank-benches --bench machine` (release profile); the motion
+//! groups alone: `… --bench machine -- motion`.
 
-use std::f64::consts::{FRAC_PI_2, TAU};
+use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use multicrank_core::{
-    all_energy_extrema, build_series, crank_phases, sweep, Acting, Design, Dynamics, Kinematics,
-    Parallelism, PhaseSetTable, Phases, PhysicalCylinder, SeriesKind, Strokes, SweepOutputs,
+    all_energy_extrema, build_series, crank_phases, motion_sweep, steady_state, sweep, Acting,
+    Design, DesignColumns, Dynamics, GasCylinder, Kinematics, Machine, MotionOutputs, Parallelism,
+    PhaseSetTable, Phases, PhysicalCylinder, PiecewisePolynomial, SeriesKind, Strokes,
+    SweepOutputs,
 };
 
 const POINTS: usize = 100_000;
@@ -17,8 +23,12 @@ const DESIGNS: usize = 1000;
 const SERIAL: Parallelism = Parallelism::SERIAL;
 
 fn machine() -> Dynamics {
+    Dynamics::new(&units(), 9.81).expect("a valid machine")
+}
+
+fn units() -> Vec<PhysicalCylinder> {
     let phases = crank_phases(4, Strokes::Four, Acting::Single).expect("k >= 1");
-    let units: Vec<PhysicalCylinder> = phases
+    phases
         .iter()
         .map(|&phase| PhysicalCylinder {
             crank_radius: 0.05,
@@ -34,8 +44,7 @@ fn machine() -> Dynamics {
             phase,
             inclination: FRAC_PI_2,
         })
-        .collect();
-    Dynamics::new(&units, 9.81).expect("a valid machine")
+        .collect()
 }
 
 /// λ spread over [0.2, 0.4], γ over a half turn: designs as a sweep sees them.
@@ -106,5 +115,77 @@ fn designs_per_second(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, dynamics, designs_per_second);
+/// Motion designs: I_w × rpm, 16 × 8.
+const MOTION_DESIGNS: usize = 128;
+
+/// A four-stroke cylinder pressure (Pa), piecewise linear over 4π from outer dead centre of
+/// the firing stroke: expansion, exhaust, intake, compression.
+fn pressure() -> PiecewisePolynomial {
+    let x = [0.0, 0.1, 0.5, 1.0, 2.0, 3.0, 3.6, 3.9, 4.0].map(|t| t * PI);
+    let p = [60e5, 55e5, 15e5, 3e5, 0.1e5, 0.0, 3e5, 30e5, 60e5];
+    let pieces = x.len() - 1;
+    let slopes = (0..pieces).map(|i| (p[i + 1] - p[i]) / (x[i + 1] - x[i]));
+    let coefficients = slopes.chain(p[..pieces].iter().copied()).collect();
+    PiecewisePolynomial::new(x.to_vec(), coefficients, 4.0 * PI).expect("a valid diagram")
+}
+
+fn motion(c: &mut Criterion) {
+    let units = units();
+    let gas = vec![
+        GasCylinder {
+            bore: 0.08,
+            piston_rod_diameter: 0.0,
+            head: Some(0),
+            crank_end: None,
+        };
+        units.len()
+    ];
+    let diagrams = [pressure()];
+    let machine = Machine {
+        units: &units,
+        gas: &gas,
+        diagrams: &diagrams,
+        shaft_inertia: 0.2,
+        strokes: Strokes::Four,
+        g: 9.81,
+    };
+    let (inertia, rpm): (Vec<f64>, Vec<f64>) = (0..MOTION_DESIGNS)
+        .map(|i| (0.1 + 0.02 * (i / 8) as f64, 1500.0 + 500.0 * (i % 8) as f64))
+        .unzip();
+    let designs = DesignColumns {
+        shaft_inertia: Some(&inertia),
+        rpm: Some(&rpm),
+        ..DesignColumns::new(MOTION_DESIGNS)
+    };
+    let outputs = MotionOutputs {
+        delta: true,
+        delta_without_gravity: true,
+        ..MotionOutputs::default()
+    };
+    let run = |parallelism| {
+        let found = motion_sweep(&machine, None, &designs, outputs, None, 1e-3, parallelism)
+            .expect("a sweep");
+        assert!(found.stalled.iter().all(|s| !s), "a design stalls");
+        found
+    };
+    let mut group = c.benchmark_group("motion_sweep");
+    group.throughput(Throughput::Elements(MOTION_DESIGNS as u64));
+    group.sample_size(10);
+    group.bench_function("delta_with_without_gravity/serial", |b| {
+        b.iter(|| run(SERIAL))
+    });
+    group.bench_function("delta_with_without_gravity/parallel", |b| {
+        b.iter(|| run(Parallelism { threshold: 0 }))
+    });
+    group.finish();
+    let mut group = c.benchmark_group("motion_steady_state");
+    group.throughput(Throughput::Elements(1));
+    group.sample_size(10);
+    group.bench_function("steady_state", |b| {
+        b.iter(|| steady_state(&machine, 3000.0, 1e-3).expect("runs"))
+    });
+    group.finish();
+}
+
+criterion_group!(benches, dynamics, designs_per_second, motion);
 criterion_main!(benches);
