@@ -186,10 +186,36 @@ fn crank_blocks<K: CrankTerm, M: MulAdd, A: AngleSource>(
     // LANES points at a time keep sin/cos and the running sum in registers through the
     // crank loop (several independent vectors hide the latency of sqrt and division). The
     // last block is padded; every lane sees the same operations, so a point's value does
-    // not depend on the block it falls in.
-    for (b, o) in out.chunks_mut(LANES).enumerate() {
-        let (s, c) = angles.block::<M, LANES>(b * LANES, o.len());
-        store(o, &crank_sum::<K, M, LANES>(units, phases, &s, &c));
+    // not depend on the block it falls in. Whole blocks have a loop of their own, where
+    // len = LANES is a constant (fixed-size loads and stores, no padded copies on the
+    // stack; see `series_kernels::series_blocks`).
+    // (A function, not a closure: a closure called twice is not inlined into the
+    // multiversioned kernels, and outside them it is compiled without their features.)
+    #[inline(always)]
+    fn block<K: CrankTerm, M: MulAdd, A: AngleSource>(
+        units: &[K::Unit],
+        phases: &Phases,
+        angles: A,
+        offset: usize,
+        len: usize,
+    ) -> [f64; LANES] {
+        let (s, c) = angles.block::<M, LANES>(offset, len);
+        crank_sum::<K, M, LANES>(units, phases, &s, &c)
+    }
+    let mut whole = out.chunks_exact_mut(LANES);
+    let mut offset = 0;
+    for o in &mut whole {
+        if let Ok(o) = <&mut [f64; LANES]>::try_from(o) {
+            *o = block::<K, M, A>(units, phases, angles, offset, LANES);
+        }
+        offset += LANES;
+    }
+    let tail = whole.into_remainder();
+    if !tail.is_empty() {
+        store(
+            tail,
+            &block::<K, M, A>(units, phases, angles, offset, tail.len()),
+        );
     }
 }
 
