@@ -51,12 +51,31 @@ peak = effect.max("shaft_inertia").idxmax("rpm").item()
 print(f"the largest effect is at {peak:.0f} rpm")
 
 # %%
-# Where gravity changes δ by more than 5 %
-# ----------------------------------------
-# The colours are centred at 0 (red: gravity makes the running rougher, blue: smoother);
-# the black line is the 5 % contour, the dashed one δ = 1/40. The square is the machine
-# as built.
+# The flywheel each speed needs for δ = 1/40
+# ------------------------------------------
+# A 1-D grid of speeds, with ``delta=``: the shaft inertia that gives exactly δ = 1/40
+# (the compressor class asks for 1/50 to 1/20), with gravity and without. The flywheel
+# does not enter the search as an axis: the sweep finds it.
 TARGET = 1 / 40
+speeds = mc.MachineGrid(compressor, rpm=np.geomspace(30, 1200, 12 if FAST else 50))
+sized = mc.motion_sweep(
+    compressor,
+    speeds,
+    delta=TARGET,
+    outputs=["flywheel_inertia", "flywheel_inertia_without_gravity"],
+)
+extra = sized["flywheel_inertia"] / sized["flywheel_inertia_without_gravity"] - 1
+cheapest = sized["rpm"][sized["flywheel_inertia"].idxmin()]
+print(f"gravity asks for {extra.min():.0%} to {extra.max():.0%} more flywheel")
+print(f"the smallest flywheel is needed at {cheapest:.0f} rpm")
+
+# %%
+# The map, and the flywheel
+# --------------------------
+# Left, gravity's change of δ: the colours are centred at 0 (red: gravity makes the
+# running rougher, blue: smoother); the black line is the 5 % contour, the dashed one
+# δ = 1/40. Right, the flywheel for δ = 1/40 with and without gravity. The squares are
+# the machine as built; the dotted lines the speeds it was built for.
 largest = float(abs(effect).max())
 figure, (ax, right) = plt.subplots(
     1, 2, figsize=(9.5, 4.4), layout="constrained", width_ratios=(1.15, 1)
@@ -96,21 +115,6 @@ ax.set_ylabel("shaft inertia $I_w$ [kg·m²]")
 ax.set_title("gravity's change of δ")
 ax.legend(loc="lower left")
 figure.colorbar(image, ax=ax, label="δ/δ₀ − 1 [%]", ticks=np.arange(-30, 31, 10))
-
-# %%
-# The flywheel each speed needs for δ = 1/40
-# ------------------------------------------
-# A 1-D grid of speeds, with ``delta=``: the shaft inertia that gives exactly δ = 1/40
-# (the compressor class asks for 1/50 to 1/20), with gravity and without. The flywheel
-# does not enter the search as an axis: the sweep finds it.
-speeds = mc.MachineGrid(compressor, rpm=np.geomspace(30, 1200, 12 if FAST else 50))
-sized = mc.motion_sweep(
-    compressor,
-    speeds,
-    delta=TARGET,
-    outputs=["flywheel_inertia", "flywheel_inertia_without_gravity"],
-)
-extra = sized["flywheel_inertia"] / sized["flywheel_inertia_without_gravity"] - 1
 right.plot(sized["rpm"], sized["flywheel_inertia"], "-o", ms=3, label="with gravity")
 right.plot(
     sized["rpm"],
@@ -144,10 +148,6 @@ right.set_title("the flywheel for δ = 1/40")
 right.legend(loc="upper right")
 figure.suptitle("slow-compressor: where gravity matters to its running")
 plt.show()
-
-cheapest = sized["rpm"][sized["flywheel_inertia"].idxmin()]
-print(f"gravity asks for {extra.min():.0%} to {extra.max():.0%} more flywheel")
-print(f"the smallest flywheel is needed at {cheapest:.0f} rpm")
 
 # %%
 # Gravity makes this compressor run rougher everywhere on the map: red, never blue. Over
