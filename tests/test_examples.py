@@ -43,13 +43,13 @@ def _run(name: str) -> tuple[dict, list[tuple[int, int]]]:
 
 
 def run(name: str) -> dict:
-    if name == "plot_07_sweep_xarray.py":
+    if name in ("plot_07_sweep_xarray.py", "plot_08_where_gravity_matters.py"):
         pytest.importorskip("xarray")
     return _run(name)[0]
 
 
 def test_the_gallery_has_its_examples():
-    assert len(SCRIPTS) == 7
+    assert len(SCRIPTS) == 8
     for name in SCRIPTS:
         text = (GALLERY / name).read_text(encoding="utf-8")
         assert text.startswith('"""\n'), f"{name}: the module docstring (title and summary) comes first"
@@ -141,3 +141,38 @@ def test_sweep_to_xarray_matches_speed_fluctuation():
         phases=mc.crank_phases(2, 2),
     )
     assert math.isclose(float(cell), float(expected), rel_tol=1e-12)
+
+
+def test_where_gravity_matters_says_what_the_map_shows():
+    import multicrank as mc
+
+    space = run("plot_08_where_gravity_matters.py")
+    effect, low, high = space["effect"], space["low"], space["high"]  # per cent
+    assert not space["result"]["stalled"].any()
+    assert float(effect.min()) > 0  # "red, never blue"
+    built_for = effect.sel(rpm=slice(low, high))
+    assert 15 <= float(built_for.min()) and float(built_for.max()) <= 33  # "15 to 31 %"
+    # "under 5 % only at about 650 rpm", for every flywheel (the contours are vertical there)
+    speeds = effect["rpm"].values
+    for row in effect.values:
+        first_below = speeds[np.argmax(row < 5.0)]
+        assert row[-1] < 5.0 and 550 < first_below < 800
+        assert np.all(row[speeds >= first_below] < 5.0)
+    assert 200 < space["peak"] < 330  # "peaks near 270 rpm"
+    as_built = space["as_built"]
+    assert round(1 / as_built.delta) == 34 and math.isclose(as_built.gravity_effect, 0.18, abs_tol=0.005)
+    row = space["result"].query("shaft_inertia == shaft_inertia.max()")  # a row is its steady state
+    machine = space["compressor"].replace(shaft_inertia=2000.0)
+    state = mc.steady_state(machine, rpm=row["rpm"].iloc[3])
+    assert math.isclose(row["gravity_effect"].iloc[3], state.gravity_effect, rel_tol=1e-12)
+    # the flywheel for 1/40: more with gravity everywhere; 15 % at 120 rpm, almost a quarter
+    # too small near 300 rpm without it; it stops falling above about 450 rpm
+    sized, extra = space["sized"], space["extra"]
+    assert (extra > 0).all()
+    at_120 = mc.flywheel_inertia(space["compressor"], delta=1 / 40, rpm=120)
+    assert 0.14 < 1 - at_120.shaft_inertia_without_gravity / at_120.shaft_inertia < 0.16
+    assert 0.22 < 1 - 1 / (1 + extra.max()) < 0.25
+    assert 230 < sized["rpm"][extra.idxmax()] < 330
+    assert 350 < space["cheapest"] < 600
+    tail = sized["flywheel_inertia"][sized["rpm"] > 600]
+    assert tail.between(35, 50).all()  # "levels off near 45 kg·m²"
