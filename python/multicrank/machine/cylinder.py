@@ -23,10 +23,10 @@ from .._native import two_mass_rod_inertia as _native_two_mass_rod_inertia
 from .._validation import as_option, as_real_array, as_scalar, contiguous
 from ..pressure.diagram import IndicatorDiagram
 
-__all__ = ["Cylinder", "Pressure", "diagram_strokes", "unit_columns"]
+__all__ = ["UNIT_FIELDS", "Cylinder", "Pressure", "diagram_strokes", "unit_columns"]
 
 #: The fields of a cylinder that the core's kinematics and gravity take, in its order.
-_UNIT_FIELDS = (
+UNIT_FIELDS = (
     "crank_radius",
     "rod_length",
     "piston_mass",
@@ -133,7 +133,7 @@ class Cylinder:
     piston_rod_diameter: float = 0.0
 
     def __post_init__(self) -> None:
-        for field in (*_UNIT_FIELDS, "bore", "piston_rod_diameter"):
+        for field in (*UNIT_FIELDS, "bore", "piston_rod_diameter"):
             value = getattr(self, field)
             if field == "rod_inertia" and value is None:
                 continue
@@ -384,7 +384,7 @@ class Cylinder:
 
 def unit_columns(cylinders: Sequence[Cylinder]) -> dict[str, np.ndarray]:
     """The units as the core's bundle of equal-length float64 columns."""
-    return {field: contiguous(np.array([getattr(c, field) for c in cylinders], dtype=float)) for field in _UNIT_FIELDS}
+    return {field: contiguous(np.array([getattr(c, field) for c in cylinders], dtype=float)) for field in UNIT_FIELDS}
 
 
 def diagram_strokes(cylinder: Cylinder) -> int | None:

@@ -21,7 +21,7 @@ import numpy as np
 
 from .._native import MechanismError
 from .._validation import as_instance, as_real_array, as_speed
-from ..machine.cylinder import Cylinder, Pressure
+from ..machine.cylinder import UNIT_FIELDS, Cylinder, Pressure
 from ..machine.machine import Machine
 from ..pressure.diagram import IndicatorDiagram
 from ..sweeps.designs import ProductGrid
@@ -37,20 +37,9 @@ __all__ = [
     "scaled_pressure",
 ]
 
-#: The Cylinder fields a design may change, each set on every cylinder.
-CYLINDER_COLUMNS: tuple[str, ...] = (
-    "crank_radius",
-    "rod_length",
-    "piston_mass",
-    "rod_mass",
-    "rod_cg",
-    "rod_inertia",
-    "crank_mass",
-    "crank_cg_radius",
-    "counterweight_mass",
-    "counterweight_radius",
-    "bore",
-)
+#: The Cylinder fields a design may change, each set on every cylinder: its geometry and
+#: masses (not where it sits: phase and inclination) and its bore.
+CYLINDER_COLUMNS: tuple[str, ...] = (*(f for f in UNIT_FIELDS if f not in ("phase", "inclination")), "bore")
 #: Every column a motion sweep's design may have, in the order of the issue.
 MACHINE_COLUMNS: tuple[str, ...] = ("shaft_inertia", "rpm", "g", "pressure_scale", *CYLINDER_COLUMNS)
 
