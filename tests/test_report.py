@@ -62,6 +62,7 @@ def test_report_files(report):
         "motion_speed",
         "motion_torques",
         "motion_speed_range",
+        "motion_gravity_map",
         "motion_orders",
     ]:
         assert f"{stem}.png" in names and f"{stem}.csv" in names
@@ -75,7 +76,7 @@ def test_report_files(report):
     ]:
         assert f"{table}.csv" in names
     page = (report / "index.html").read_text(encoding="utf-8")
-    assert page.count("data:image/png;base64,") == 14  # self-contained
+    assert page.count("data:image/png;base64,") == 15  # self-contained
     for heading in [
         "The machine",
         "Gravity significance",
@@ -257,3 +258,30 @@ def test_report_leads_with_the_machines_motion(report):
     assert ranged["rpm"].min() == pytest.approx(low) and ranged["rpm"].max() == pytest.approx(high)
     at_speed = ranged.iloc[(ranged["rpm"] - 2000).abs().idxmin()]
     assert at_speed["delta"] == pytest.approx(mc.steady_state(machine, rpm=at_speed["rpm"]).delta, rel=1e-9)
+
+
+def test_report_maps_where_gravity_matters(report):
+    """The map over speed × shaft inertia is mc.motion_sweep of the machine's variants, with
+    δ_g beside it, and the page says what it shows."""
+    from multicrank.report import ReportSettings
+
+    machine = MACHINES["inline-4"]
+    frame = pd.read_csv(report / "motion_gravity_map.csv", dtype=str)
+    columns = ["shaft_inertia", "rpm", "delta", "delta_without_gravity", "gravity_effect", "stalled", "delta_g"]
+    assert list(frame.columns) == columns
+    frame = frame.astype({name: float for name in columns if name != "stalled"})
+    points = ReportSettings().gravity_map_points
+    assert len(frame) == points**2
+    inertias, speeds = np.unique(frame["shaft_inertia"]), np.unique(frame["rpm"])
+    assert inertias[[0, -1]] == pytest.approx([0.25 * machine.shaft_inertia, 4 * machine.shaft_inertia])
+    assert speeds[[0, -1]] == pytest.approx(machine.rpm_range)
+    grid = mc.MachineGrid(machine, shaft_inertia=inertias, rpm=speeds)
+    expected = mc.motion_sweep(machine, grid, outputs=["delta", "delta_without_gravity", "gravity_effect"])
+    for name in ("shaft_inertia", "rpm", "delta", "delta_without_gravity", "gravity_effect"):
+        np.testing.assert_allclose(frame[name], expected[name], rtol=1e-12, err_msg=name)
+    assert (frame["stalled"] == "False").all() and not expected["stalled"].any()
+    row = frame.iloc[-1]
+    variant = machine.replace(shaft_inertia=row.shaft_inertia)
+    assert row.delta_g == pytest.approx(float(variant.engine(row.rpm).speed_fluctuation()), rel=1e-12)
+    page = (report / "index.html").read_text(encoding="utf-8")
+    assert "Where gravity matters" in page and f"{points} × {points} exact steady states" in page

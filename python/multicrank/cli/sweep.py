@@ -1,5 +1,9 @@
 """``multicrank sweep``: a grid of designs into a Parquet file, its axes from the options or a
-TOML ``--config`` file, every mistake in either one line naming it."""
+TOML ``--config`` file, every mistake in either one line naming it.
+
+``sweep`` is a group: used plainly it is the gravity sweep of dimensionless designs (its options
+are the group's, as before the group existed); ``sweep motion`` (:mod:`.motion_sweep`) sweeps
+variants of a machine. The axis syntax and the checks of a ``--config`` file are here, for both."""
 
 from __future__ import annotations
 
@@ -15,7 +19,15 @@ from .._native import SWEEP_OUTPUTS, MechanismError
 from .._optional import require
 from ._group import UserError
 
-__all__ = ["parse_axis", "sweep_command"]
+__all__ = [
+    "grid_axes",
+    "output_names",
+    "parse_axis",
+    "progress_option",
+    "read_config",
+    "resume_option",
+    "sweep_command",
+]
 
 _AXES: dict[str, tuple[str, Any]] = {
     # option name: (grid column, kind)
@@ -69,11 +81,11 @@ def parse_axis(text: str, kind: Any, name: str = "axis") -> list[Any]:
     return values
 
 
-def _grid_axes(options: dict[str, Any], config: dict[str, Any]) -> dict[str, Any]:
-    """The grid's axes: each from its option or, where none is given, from [axes] of --config;
-    inclinations from degrees to radians."""
+def grid_axes(options: dict[str, Any], config: dict[str, Any], known: dict[str, tuple[str, Any]]) -> dict[str, Any]:
+    """The grid's axes of ``known`` (option name: (grid column, kind)): each from its option
+    or, where none is given, from [axes] of --config; inclinations from degrees to radians."""
     axes = {}
-    for name, (column, kind) in _AXES.items():
+    for name, (column, kind) in known.items():
         value = options.get(name)
         where = f"--{name.replace('_', '-')}"
         if value is None:
@@ -108,37 +120,40 @@ def _config_value(value: Any, kind: Any, where: str) -> Any:
     return value
 
 
-_CONFIG_KEYS = ("axes", "phi", "outputs")
-
-
-def _sweep_config(path: str | None) -> dict[str, Any]:
-    """The --config file as a checked table: [axes] with known names, phi a positive integer,
+def read_config(path: str | None, keys: tuple[str, ...], axes: Any) -> dict[str, Any]:
+    """The --config file as a checked table: only ``keys``, [axes] with names of ``axes``,
     outputs a list (or comma-separated string) of names. Every mistake is one line naming it."""
     if not path:
         return {}
     table = read_toml(path, "a sweep configuration", label=f"--config {path}")
-    unknown = sorted(set(table) - set(_CONFIG_KEYS))
+    unknown = sorted(set(table) - set(keys))
     if unknown:
-        raise MechanismError(f"--config {path}: unknown keys {unknown}; it takes {list(_CONFIG_KEYS)}")
-    axes = table.get("axes", {})
-    if not isinstance(axes, dict):
-        raise MechanismError(f"--config {path}: axes must be a table [axes], not {type(axes).__name__}")
-    unknown = sorted(set(axes) - set(_AXES))
+        raise MechanismError(f"--config {path}: unknown keys {unknown}; it takes {list(keys)}")
+    known = table.get("axes", {})
+    if not isinstance(known, dict):
+        raise MechanismError(f"--config {path}: axes must be a table [axes], not {type(known).__name__}")
+    unknown = sorted(set(known) - set(axes))
     if unknown:
-        raise MechanismError(f"--config {path}: unknown axes {unknown}; the axes are {list(_AXES)}")
-    phi = table.get("phi")
-    if phi is not None and (isinstance(phi, bool) or not isinstance(phi, int) or phi < 1):
-        raise MechanismError(f"--config {path}: phi = {phi!r}; it is a positive integer (points per revolution)")
+        raise MechanismError(f"--config {path}: unknown axes {unknown}; the axes are {list(axes)}")
     outputs = table.get("outputs")
     if isinstance(outputs, str):
-        table["outputs"] = _output_names(outputs, f"--config {path}: outputs")
+        table["outputs"] = output_names(outputs, f"--config {path}: outputs")
     elif outputs is not None:
         if not isinstance(outputs, list) or not outputs or not all(isinstance(name, str) for name in outputs):
             raise MechanismError(f"--config {path}: outputs = {outputs!r}; it is a list of output names")
     return table
 
 
-def _output_names(text: str, where: str) -> list[str]:
+def _sweep_config(path: str | None) -> dict[str, Any]:
+    """The gravity sweep's --config: [axes], outputs, and phi a positive integer."""
+    table = read_config(path, ("axes", "phi", "outputs"), _AXES)
+    phi = table.get("phi")
+    if phi is not None and (isinstance(phi, bool) or not isinstance(phi, int) or phi < 1):
+        raise MechanismError(f"--config {path}: phi = {phi!r}; it is a positive integer (points per revolution)")
+    return table
+
+
+def output_names(text: str, where: str) -> list[str]:
     """The output names of a comma-separated list (--outputs, or outputs in --config)."""
     names = [name.strip() for name in text.split(",") if name.strip()]
     if not names:
@@ -146,7 +161,17 @@ def _output_names(text: str, where: str) -> list[str]:
     return names
 
 
-@click.command("sweep", short_help="Sweep a grid of designs into a Parquet file.")
+# The options every sweep has.
+resume_option = click.option("--resume", is_flag=True, help="Continue an interrupted sweep into the same --out.")
+progress_option = click.option("--progress/--no-progress", default=True, show_default=True, help="Show a progress bar.")
+
+
+@click.group(
+    "sweep",
+    invoke_without_command=True,
+    subcommand_metavar="[motion [OPTIONS]]",
+    short_help="Sweep a grid of designs (or of machines: sweep motion) into Parquet.",
+)
 @click.option("--crank-ratio", metavar="AXIS", help='λ = r/l axis, e.g. "0.2:0.45:26" or "0.25,0.3".')
 @click.option("--inclination", metavar="AXIS", help='γ axis in DEGREES (90 = upright), e.g. "0:90:7".')
 @click.option(
@@ -175,7 +200,7 @@ def _output_names(text: str, where: str) -> list[str]:
     metavar="FILE",
     help="The Parquet file.",
 )
-@click.option("--resume", is_flag=True, help="Continue an interrupted sweep into the same --out.")
+@resume_option
 @click.option(
     "--chunk-size",
     type=click.IntRange(min=1),
@@ -183,8 +208,10 @@ def _output_names(text: str, where: str) -> list[str]:
     show_default=True,
     help="Designs per chunk (and Parquet row group); the results do not depend on it.",
 )
-@click.option("--progress/--no-progress", default=True, show_default=True, help="Show a progress bar.")
+@progress_option
+@click.pass_context
 def sweep_command(
+    ctx: click.Context,
     config: str | None,
     phi: int | None,
     outputs: str | None,
@@ -196,6 +223,11 @@ def sweep_command(
 ) -> None:
     """Sweep a grid of designs and write the results to Parquet.
 
+    Used as it is, the gravity sweep: dimensionless designs (λ, γ, U1, U2, cranks, strokes,
+    acting), their U*, Q* and extrema, with the options below. With the command "motion"
+    (multicrank sweep motion --help): the steady running of variants of a machine (speed,
+    flywheel, masses, …), δ with and without gravity and the flywheel.
+
     Each axis is a range "start:stop:count" (count points, both ends included; integer axes
     also take "start:stop"), or a comma-separated list. Axes not given default to
     u2 = 0, cranks = 1, strokes = 2, acting = single; crank-ratio, inclination and u1 are
@@ -204,19 +236,32 @@ def sweep_command(
     Ctrl-C stops the sweep with exit status 130; the finished chunks are kept next to --out,
     and the same command with --resume continues from them.
     """
+    if ctx.invoked_subcommand is not None:
+        given = [
+            f"--{param.name.replace('_', '-')}"
+            for param in ctx.command.params
+            if param.name and ctx.get_parameter_source(param.name) is click.core.ParameterSource.COMMANDLINE
+        ]
+        if given:
+            raise click.UsageError(
+                f"{', '.join(given)}: given before '{ctx.invoked_subcommand}', an option of the gravity sweep; the "
+                f"options of 'sweep {ctx.invoked_subcommand}' come after it (multicrank sweep "
+                f"{ctx.invoked_subcommand} --help)"
+            )
+        return
     import time
 
     from ..sweeps.designs import SWEEP_OUTPUTS, DesignGrid
     from ..sweeps.driver import sweep
 
     table = _sweep_config(config)
-    axes = _grid_axes(axis_options, table.get("axes", {}))
+    axes = grid_axes(axis_options, table.get("axes", {}), _AXES)
     axes.setdefault("u2", 0.0)
     missing = [name for name in ("crank_ratio", "inclination", "u1") if name not in axes]
     if missing:
         raise click.UsageError(f"missing axes: {', '.join(missing)} (give them as options or in --config)")
     phi = phi or int(table.get("phi", 720))
-    chosen = _output_names(outputs, "--outputs") if outputs else table.get("outputs", list(SWEEP_OUTPUTS))
+    chosen = output_names(outputs, "--outputs") if outputs else table.get("outputs", list(SWEEP_OUTPUTS))
     unknown = [name for name in chosen if name not in SWEEP_OUTPUTS]
     if unknown:
         raise MechanismError(f"outputs: unknown {unknown}; the outputs are {list(SWEEP_OUTPUTS)}")

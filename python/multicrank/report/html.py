@@ -25,7 +25,15 @@ from .gravity import (
     surviving_tables,
     truncation_figure,
 )
-from .motion import motion_html, motion_results, orders_figure, speed_figure, speed_range_figure, torque_figure
+from .motion import (
+    gravity_map_figure,
+    motion_html,
+    motion_results,
+    orders_figure,
+    speed_figure,
+    speed_range_figure,
+    torque_figure,
+)
 from .settings import ReportSettings, running_speed, speed_range
 
 if TYPE_CHECKING:
@@ -100,6 +108,7 @@ def write_report(out: str | Path, settings: ReportSettings | None = None, progre
             save("motion_speed", *speed_figure(motion))
             save("motion_torques", *torque_figure(motion))
             save("motion_speed_range", *speed_range_figure(motion))
+            save("motion_gravity_map", *gravity_map_figure(motion, machine, settings.threshold))
             save("motion_orders", *orders_figure(motion))
         elif step == "curves":
             for strokes in (2, 4):
@@ -124,7 +133,7 @@ def write_report(out: str | Path, settings: ReportSettings | None = None, progre
             figure, layouts = layouts_figure(settings)
             save("layouts", figure, layouts)
 
-    sections.append(motion_html(motion, machine, figures))
+    sections.append(motion_html(motion, machine, figures, settings.threshold))
     sections.append(gravity_html(settings, figures, tables, paper, layouts))
     from .._native import __version__
 

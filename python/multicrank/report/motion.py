@@ -1,6 +1,6 @@
 """The report's first part: the machine's steady running with and without gravity — δ, the
-flywheel, ω(φ), the torques and their orders, δ over the speed range — as figures, tables
-and its HTML section."""
+flywheel, ω(φ), the torques and their orders, δ over the speed range, where gravity matters
+over speed × flywheel — as figures, tables and its HTML section."""
 
 from __future__ import annotations
 
@@ -12,6 +12,7 @@ import numpy as np
 import pandas as pd
 
 from .._shaft import rpm_from_omega
+from .._validation import as_count
 from ..machine.machine import Machine
 from .plotting import pyplot
 from .settings import ReportSettings, running_speed, speed_range
@@ -20,7 +21,10 @@ if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
 __all__ = [
+    "GRAVITY_MAP_INERTIA",
     "MotionResults",
+    "gravity_map",
+    "gravity_map_figure",
     "motion_html",
     "motion_results",
     "orders_figure",
@@ -43,6 +47,38 @@ class MotionResults:
     flywheel: Any  # FlywheelInertia for ``target``
     speeds: pd.DataFrame
     orders: pd.DataFrame
+    gravity_map: pd.DataFrame  # gravity_map(): the map over speed × shaft inertia
+
+
+#: The shaft inertias of the "where gravity matters" map, as multiples of the machine's own
+#: (log-spaced from the first to the second): a flywheel a quarter of it to four times it.
+GRAVITY_MAP_INERTIA = (0.25, 4.0)
+#: What the map computes (mc.motion_sweep's outputs); ``stalled`` comes with them.
+GRAVITY_MAP_OUTPUTS = ("delta", "delta_without_gravity", "gravity_effect")
+
+
+def gravity_map(settings: ReportSettings) -> pd.DataFrame:
+    """The machine's steady running over its speed range × shaft inertias of
+    :data:`GRAVITY_MAP_INERTIA` times its own (evenly spaced speeds, log-spaced inertias),
+    ``settings.gravity_map_points`` of each: :func:`~multicrank.motion_sweep`'s rows (the
+    balance load at each speed) and δ_g, the paper's first-order measure, of each variant."""
+    from ..motion.sweep import motion_sweep
+    from ..motion.variants import MachineGrid, machine_variant
+
+    machine = settings.machine
+    points = as_count(settings.gravity_map_points, "gravity_map_points", minimum=2)
+    low, high = speed_range(machine)
+    grid = MachineGrid(
+        machine,
+        shaft_inertia=machine.shaft_inertia * np.geomspace(*GRAVITY_MAP_INERTIA, points),
+        rpm=np.linspace(low, high, points),
+    )
+    frame = motion_sweep(machine, grid, outputs=list(GRAVITY_MAP_OUTPUTS))
+    frame["delta_g"] = [
+        float(machine_variant(machine, {"shaft_inertia": inertia}).engine(rpm).speed_fluctuation())
+        for inertia, rpm in zip(frame["shaft_inertia"], frame["rpm"], strict=True)
+    ]
+    return frame
 
 
 def motion_results(settings: ReportSettings, speeds: int = 9) -> MotionResults:
@@ -91,6 +127,7 @@ def motion_results(settings: ReportSettings, speeds: int = 9) -> MotionResults:
         flywheel=flywheel,
         speeds=pd.DataFrame(rows),
         orders=torque_orders(machine, rpm),
+        gravity_map=gravity_map(settings),
     )
 
 
@@ -176,7 +213,86 @@ def orders_figure(results: MotionResults) -> tuple[Figure, pd.DataFrame]:
     return fig, orders.reset_index()
 
 
-def motion_html(results: MotionResults, machine: Machine, figures: dict[str, str]) -> str:
+def gravity_map_figure(results: MotionResults, machine: Machine, threshold: float) -> tuple[Figure, pd.DataFrame]:
+    """Where gravity matters: its effect on δ in % over speed × shaft inertia, the colours
+    centred at 0, the machine as built marked and the line δ_g = ``threshold`` where it
+    crosses the map."""
+    plt = pyplot()
+    from matplotlib import patheffects
+    from matplotlib.colors import CenteredNorm
+    from matplotlib.lines import Line2D
+    from matplotlib.ticker import LogLocator, MaxNLocator, NullFormatter, ScalarFormatter
+
+    frame = results.gravity_map
+    effect = 100 * frame.pivot(index="shaft_inertia", columns="rpm", values="gravity_effect").to_numpy()
+    delta_g = frame.pivot(index="shaft_inertia", columns="rpm", values="delta_g").to_numpy()
+    speeds, inertias = np.unique(frame["rpm"]), np.unique(frame["shaft_inertia"])
+    largest = float(np.nanmax(np.abs(effect))) if np.isfinite(effect).any() else 0.0
+    largest = largest if largest > 0 else 1.0
+    fig, ax = plt.subplots(figsize=(8, 4.8))
+    filled = ax.contourf(speeds, inertias, effect, levels=np.linspace(-largest, largest, 41), cmap="RdBu_r",
+                         norm=CenteredNorm(vcenter=0.0, halfrange=largest))  # fmt: skip
+    label = "gravity's effect on δ: δ / δ without gravity − 1 [%]"
+    fig.colorbar(filled, ax=ax, label=label, ticks=MaxNLocator(nbins=8, symmetric=True), format="%+g")
+    lines = ax.contour(speeds, inertias, effect, levels=6, colors="0.15", linewidths=0.6)
+    halo = [patheffects.withStroke(linewidth=2.5, foreground="white")]
+    for label in ax.clabel(lines, fmt="%+.3g %%", fontsize=8):
+        label.set_path_effects(halo)
+    handles = ax.plot(results.rpm, machine.shaft_inertia, "*", ms=15, mfc="white", mec="black",
+                      label=f"as built: {100 * results.state.gravity_effect:+.3g} %")  # fmt: skip
+    if np.nanmin(delta_g) < threshold < np.nanmax(delta_g):
+        neglected = ax.contour(speeds, inertias, delta_g, levels=[threshold], colors="black", linewidths=1.8,
+                               linestyles="--")  # fmt: skip
+        neglected.set_path_effects(halo)
+        handles.append(Line2D([], [], color="black", ls="--", label=f"δ_g = {threshold:.2g} (the report's threshold)"))
+    ax.legend(handles=handles, loc="upper left", fontsize=8, framealpha=0.9)
+    ax.set_yscale("log")
+    ax.yaxis.set_major_locator(LogLocator(subs=(1.0, 2.0, 5.0)))
+    ax.yaxis.set_major_formatter(ScalarFormatter())
+    ax.yaxis.set_minor_formatter(NullFormatter())
+    ax.grid(False)
+    ax.set_xlabel("mean speed [rpm]")
+    ax.set_ylabel("shaft inertia I_w [kg·m²]")
+    ax.set_title("where gravity matters: how much it changes δ, over speed × flywheel")
+    ax.grid(False)
+    return fig, frame
+
+
+def _gravity_map_caption(results: MotionResults, machine: Machine, threshold: float) -> str:
+    """What the "where gravity matters" map shows, with its numbers."""
+    frame = results.gravity_map
+    effect = 100 * frame["gravity_effect"]
+    points = int(np.sqrt(len(frame)))
+    low, high = frame["rpm"].min(), frame["rpm"].max()
+    lightest, heaviest = frame["shaft_inertia"].min(), frame["shaft_inertia"].max()
+    delta_g = frame["delta_g"]
+    if delta_g.min() >= threshold:
+        line = f"δ<sub>g</sub> is above the threshold {threshold:.2g} everywhere on the map."
+    elif delta_g.max() <= threshold:
+        line = f"δ<sub>g</sub> is below the threshold {threshold:.2g} everywhere on the map."
+    else:
+        line = (
+            f"The dashed line is δ<sub>g</sub> = {threshold:.2g}, the threshold of the gravity-significance map below: "
+            "towards higher speed and a heavier flywheel δ<sub>g</sub> is smaller and the first-order measure calls "
+            "gravity negligible."
+        )
+    stalled = (
+        f" Blank: the machine stalls ({int(frame['stalled'].sum())} of {len(frame)})." if frame["stalled"].any() else ""
+    )
+    return (
+        f"<p>How much gravity changes the coefficient of speed fluctuation, δ/δ<sub>without gravity</sub> − 1 in %, "
+        f"for this machine at mean speeds {low:.4g} … {high:.4g} rpm and shaft inertias I<sub>w</sub> "
+        f"{lightest:.4g} … {heaviest:.4g} kg·m² ({GRAVITY_MAP_INERTIA[0]:g} … {GRAVITY_MAP_INERTIA[1]:g} times its "
+        f"own, log-spaced): {points} × {points} exact steady states (<code>mc.motion_sweep</code>, the balance "
+        f"load at each speed). Red: gravity makes δ larger; blue: smaller; white: no change. The star is the machine "
+        f"as built ({100 * results.state.gravity_effect:+.3g} %); over the map gravity changes δ by "
+        f"{effect.min():+.3g} … {effect.max():+.3g} %. A flywheel divides δ with and without gravity nearly alike, so "
+        f"the relative change varies little along the inertia axis, while δ<sub>g</sub> = max U* − min U* falls as "
+        f"1/(I<sub>w</sub>n²). {line}{stalled}</p>"
+    )
+
+
+def motion_html(results: MotionResults, machine: Machine, figures: dict[str, str], threshold: float) -> str:
     """The report's first section: what gravity does to this machine's speed fluctuation."""
     state, without, flywheel = results.state, results.without, results.flywheel
     change = 100 * (state.delta / without.delta - 1)
@@ -227,10 +343,14 @@ with ω<sub>m</sub> the time mean.</p>
 <p>Gravity's torque does not depend on the speed, the gas and inertia torques' effect on δ falls or grows with
 it: gravity matters most at low speed. The grey line is the target δ.</p>
 <img src="{figures["motion_speed_range"]}" alt="δ over the speed range">
+<h3>Where gravity matters: speed × flywheel</h3>
+{_gravity_map_caption(results, machine, threshold)}
+<img src="{figures["motion_gravity_map"]}" alt="gravity's effect on δ over speed and shaft inertia">
 <h3>Torque orders at {results.rpm:g} rpm</h3>
 <p>Fourier amplitudes per order (harmonics per revolution; half orders in a four-stroke cycle) in N·m, for
 torsional-vibration tools: gravity and inertia exact, gas from the cycle quadrature. The eight largest:</p>
 <table><tr><th>order</th><th>gas</th><th>inertia</th><th>gravity</th><th>total</th></tr>{order_rows}</table>
 <img src="{figures["motion_orders"]}" alt="torque orders">
-<p class="note">Data: motion_speed.csv, motion_torques.csv, motion_speed_range.csv, motion_orders.csv</p>
+<p class="note">Data: motion_speed.csv, motion_torques.csv, motion_speed_range.csv, motion_gravity_map.csv,
+motion_orders.csv</p>
 """

@@ -32,6 +32,9 @@ class ReportSettings:
     #: The δ to size the flywheel for (default: the preset's class limit, or the machine's own
     #: δ without gravity).
     delta: float | None = None
+    #: Points per axis of the "where gravity matters" map (speed × shaft inertia): the map
+    #: solves this many squared steady states, a few ms each.
+    gravity_map_points: int = 15
 
 
 def running_speed(machine: Machine) -> float:

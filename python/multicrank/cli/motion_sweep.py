@@ -1,0 +1,208 @@
+"""``multicrank sweep motion``: the steady running of many variants of one machine
+(:func:`multicrank.motion_sweep`), its axes from the options or a TOML ``--config`` file in
+the gravity sweep's syntax, to Parquet or printed; every mistake one line naming it."""
+
+from __future__ import annotations
+
+import sys
+from typing import TYPE_CHECKING, Any
+
+import click
+
+from .._native import MechanismError
+from ._group import UserError, machine_option
+from ._output import format_option
+from .motion import parse_torque
+from .sweep import grid_axes, output_names, progress_option, read_config, resume_option
+
+if TYPE_CHECKING:
+    from ..machine.machine import Machine
+
+__all__ = ["MOTION_AXES", "motion_sweep_command"]
+
+#: The axes of a motion sweep, option name: what it is and its unit for --help. The names are
+#: multicrank.motion.variants.MACHINE_COLUMNS (a test keeps them equal; that module is not
+#: imported here, to keep ``multicrank --help`` quick).
+MOTION_AXES: dict[str, str] = {
+    "shaft_inertia": "shaft inertia I_w [kg·m²]",
+    "rpm": "mean speed [1/min] (default: the machine's own)",
+    "g": "gravitational acceleration [m/s²]",
+    "pressure_scale": "factor on every indicator diagram [dimensionless]",
+    "crank_radius": "crank radius [m]",
+    "rod_length": "rod length [m]",
+    "piston_mass": "piston mass [kg]",
+    "rod_mass": "rod mass [kg]",
+    "rod_cg": "rod centre of gravity from the crank pin [m]",
+    "rod_inertia": "rod moment of inertia about its centre of gravity [kg·m²]",
+    "crank_mass": "crank mass [kg]",
+    "crank_cg_radius": "crank centre-of-gravity radius [m]",
+    "counterweight_mass": "counterweight mass [kg]",
+    "counterweight_radius": "counterweight radius [m]",
+    "bore": "cylinder bore [m]",
+}
+_AXES = {name: (name, float) for name in MOTION_AXES}
+_CONFIG_KEYS = ("axes", "outputs", "load", "delta")
+
+
+def _axis_options(command: Any) -> Any:
+    """One option per axis, in MOTION_AXES' order on --help."""
+    for name, what in reversed(MOTION_AXES.items()):
+        command = click.option(f"--{name.replace('_', '-')}", metavar="AXIS", help=f"{what[0].upper()}{what[1:]}.")(
+            command
+        )
+    return command
+
+
+def _config_load(table: dict[str, Any], path: str | None) -> str | None:
+    """load in --config: a string as --load takes it, or a torque [N·m]."""
+    load = table.get("load")
+    if load is None:
+        return None
+    if isinstance(load, bool) or not isinstance(load, str | int | float):
+        raise MechanismError(f"--config {path}: load = {load!r}; it is a string as --load takes it, or a number [N·m]")
+    return str(load)
+
+
+def _config_delta(table: dict[str, Any], path: str | None) -> float | None:
+    delta = table.get("delta")
+    if delta is not None and (isinstance(delta, bool) or not isinstance(delta, int | float)):
+        raise MechanismError(f"--config {path}: delta = {delta!r}; it is a number (the target δ)")
+    return None if delta is None else float(delta)
+
+
+@click.command("motion", short_help="The steady running of variants of a machine: δ with and without gravity.")
+@machine_option
+@_axis_options
+@click.option(
+    "--config",
+    type=click.Path(exists=True, dir_okay=False),
+    help="TOML file with an [axes] table (the axes' names with underscores: lists, numbers or range "
+    "strings) and optional outputs, load, delta; options given override it.",
+)
+@click.option(
+    "--outputs",
+    metavar="NAMES",
+    help="Comma-separated outputs, of delta, delta_without_gravity, delta_gravity_only, gravity_effect, "
+    "rpm_min, rpm_max, stalled, flywheel_inertia, flywheel_inertia_without_gravity "
+    "[default: the steady state's, and the flywheel's with --delta].",
+)
+@click.option(
+    "--load",
+    default=None,
+    metavar="LOAD",
+    help="balance (the constant that takes the mean gas torque, at each design's rpm), a constant torque "
+    "[N·m], or power:TORQUE:RPM[:EXPONENT] (the speed follows from it; no --rpm axis) [default: balance].",
+)
+@click.option(
+    "--delta",
+    type=float,
+    default=None,
+    metavar="DELTA",
+    help="Size the flywheel for this coefficient of speed fluctuation δ, e.g. 0.025 for 1/40 "
+    "(adds the flywheel_inertia outputs).",
+)
+@click.option(
+    "--out",
+    type=click.Path(dir_okay=False),
+    default=None,
+    metavar="FILE",
+    help="Write the result to this Parquet file, chunk by chunk [default: print it, as --format says; "
+    "--format is for a printed result only].",
+)
+@format_option
+@resume_option
+@click.option(
+    "--chunk-size",
+    type=click.IntRange(min=1),
+    default=None,
+    help="Designs per chunk (and Parquet row group) [default: 256]; the results do not depend on it.",
+)
+@progress_option
+@click.pass_context
+def motion_sweep_command(
+    ctx: click.Context,
+    machine: Machine,
+    config: str | None,
+    outputs: str | None,
+    load: str | None,
+    delta: float | None,
+    out: str | None,
+    fmt: str,
+    resume: bool,
+    chunk_size: int | None,
+    progress: bool,
+    **axis_options: str | None,
+) -> None:
+    """The steady running of variants of one machine (--machine), one row per design.
+
+    Each axis changes the machine: a range "start:stop:count" (count points, both ends
+    included) or a comma-separated list; a single value is a constant. The cylinder fields
+    are set on every cylinder. The grid is every combination of the axes, in the order of
+    this help (the first varies slowest). Without --rpm each design runs at the machine's own
+    speed.
+
+    Outputs per design: δ with gravity, without (g = 0) and of gravity alone, gravity_effect
+    = δ/δ without gravity − 1, the speed extremes [1/min], stalled, and with --delta the
+    flywheel [kg·m²] with and without gravity. A design that stalls is a row with stalled
+    true and no δ.
+
+    Ctrl-C stops the sweep with exit status 130; with --out the finished chunks are kept, and
+    the same command with --resume continues from them.
+    """
+    import time
+
+    from ..motion.loads import BALANCE
+    from ..motion.sweep import motion_sweep
+    from ..motion.variants import MachineGrid
+
+    table = read_config(config, _CONFIG_KEYS, _AXES)
+    axes = grid_axes(axis_options, table.get("axes", {}), _AXES)
+    if not axes:
+        raise MechanismError("no axes: give at least one, e.g. --rpm 60:300:9, as an option or in [axes] of --config")
+    load_text = load if load is not None else _config_load(table, config) or BALANCE
+    load_rule = parse_torque(load_text, "load", balance=True)
+    target = delta if delta is not None else _config_delta(table, config)
+    chosen = output_names(outputs, "--outputs") if outputs else table.get("outputs")
+    if out is None:
+        if resume:
+            raise MechanismError("--resume needs --out, the Parquet file of the interrupted sweep")
+    elif ctx.get_parameter_source("fmt") is click.core.ParameterSource.COMMANDLINE:
+        raise MechanismError("--format is for a printed result; with --out the result is written as Parquet")
+    grid = MachineGrid(machine, **axes)
+    started = time.perf_counter()
+    try:
+        result = motion_sweep(
+            machine, grid, outputs=chosen, load=load_rule, delta=target, out=out, resume=resume,
+            chunk_size=chunk_size, progress=progress,
+        )  # fmt: skip
+    except OSError as error:  # a full disk, a directory that went away: the kept parts stay
+        raise UserError(f"--out {out}: {error.strerror or error}; finished chunks are kept for --resume") from None
+    except KeyboardInterrupt:
+        kept = f"finished chunks are kept; rerun with --resume to continue into {out}" if out else "nothing was written"
+        click.echo(f"\ninterrupted: {kept}", err=True)
+        sys.exit(130)
+    elapsed = time.perf_counter() - started
+    rate = f"{len(grid) / elapsed:,.0f} designs/s" if elapsed > 0 else "instant"
+    heading = f"{machine.name}: {len(grid):,} designs (load {load_text}) in {elapsed:.2f} s ({rate})"
+    if out is not None:
+        from .._optional import require
+
+        frame = require("pyarrow.parquet", "parquet").read_table(result).to_pandas()
+        click.echo(f"{heading} → {result}")
+        numbers = frame.drop(columns=[*axes, "stalled"], errors="ignore")
+        click.echo(numbers.describe().T[["min", "mean", "max"]].to_string(float_format=lambda v: f"{v:.6g}"))
+        return
+    units = {name: unit for name, unit in _UNITS.items() if name in result}
+    meta = dict(machine=machine.name, load=load_text, target_delta=target, units=units)
+    summary = [heading, "gravity_effect = δ/δ without gravity − 1; δ = (ω_max − ω_min)/ω_mean (time mean)"]
+    if target is not None:
+        summary.append(f"flywheel_inertia: the shaft inertia [kg·m²] for δ = {target:.4g} (1/{1 / target:.4g})")
+    from ._output import write_result
+
+    write_result(result, fmt, None, summary=summary, json_meta=meta)
+
+
+_UNITS = {
+    "shaft_inertia": "kg·m²", "rpm": "1/min", "g": "m/s²", "rpm_min": "1/min", "rpm_max": "1/min",
+    "flywheel_inertia": "kg·m²", "flywheel_inertia_without_gravity": "kg·m²",
+}  # fmt: skip
