@@ -29,6 +29,7 @@ import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 
+import click
 import pytest
 
 import multicrank as mc
@@ -170,8 +171,15 @@ def test_shell_commands_parse(page, scratch):
         assert args, where
         command = main.commands.get(args[0])
         assert command is not None, f"{where}: no such command"
+        name, rest = args[0], args[1:]
         try:
-            command.make_context(args[0], args[1:])
+            # A group's own options, then its subcommand's ("multicrank sweep motion …"),
+            # each parsed as the command line would.
+            while isinstance(command, click.Group) and (sub := next((w for w in rest if w in command.commands), None)):
+                index = rest.index(sub)
+                command.make_context(name, rest[:index])
+                command, name, rest = command.commands[sub], sub, rest[index + 1 :]
+            command.make_context(name, rest)
         except Exception as error:  # click.UsageError and the --machine loader's errors
             pytest.fail(f"{where}: {error}")
 
