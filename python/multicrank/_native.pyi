@@ -7,15 +7,18 @@ by name.
 """
 
 from collections.abc import Mapping, Sequence
+from typing import Any, final
 
 import numpy as np
 import numpy.typing as npt
 
 __all__ = [
     "EXTREMA_FIELDS",
+    "MOTION_SWEEP_OUTPUTS",
     "STANDARD_GRAVITY",
     "SWEEP_OUTPUTS",
     "MechanismError",
+    "MotionMachine",
     "__version__",
     "_after_fork_in_child",
     "build_profile",
@@ -52,8 +55,43 @@ build_profile: str
 STANDARD_GRAVITY: float
 SWEEP_OUTPUTS: list[str]
 EXTREMA_FIELDS: list[str]
+MOTION_SWEEP_OUTPUTS: list[str]
 
 class MechanismError(ValueError): ...
+
+_Table = tuple[_Array, _Array] | None
+
+@final
+class MotionMachine:
+    """A machine as its steady state takes it, converted and checked once (immutable).
+
+    ``pressure`` and ``pressure_crank_end``: per unit None or the gauge pressure's SciPy
+    ``PPoly`` arrays (x, c), c of shape (K, len(x) - 1). A stall is a MechanismError with
+    attributes ``angle`` [rad], ``rpm`` and ``min_rpm`` [1/min, or None].
+    """
+
+    def __new__(
+        cls,
+        units: _Columns,
+        bore: _Array,
+        piston_rod_diameter: _Array,
+        pressure: Sequence[_Table],
+        pressure_crank_end: Sequence[_Table],
+        shaft_inertia: float,
+        strokes: int,
+        g: float,
+    ) -> MotionMachine: ...
+    def steady_state(self, rpm: float, min_speed_ratio: float = 1e-3) -> dict[str, float]: ...
+    def flywheel_inertia(self, delta: float, rpm: float, min_speed_ratio: float = 1e-3) -> dict[str, float]: ...
+    def sweep(
+        self,
+        designs: dict[str, _Array],
+        outputs: Sequence[str],
+        rpm: float | None = None,
+        target_delta: float | None = None,
+        min_speed_ratio: float = 1e-3,
+        parallel_threshold: int | None = None,
+    ) -> dict[str, npt.NDArray[Any]]: ...
 
 def crank_phases(cranks: int, strokes: int, acting: str) -> _Array: ...
 def evaluate(

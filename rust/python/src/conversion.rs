@@ -1,15 +1,19 @@
 //! Arguments in, arrays out — the one place where Python objects become slices and
 //! core values, and results become numpy arrays and dicts: φ as points or a uniform grid,
 //! the design, engine, physical and machine bundles, output sizes checked before
-//! allocation, arrays filled with the GIL released.
+//! allocation, arrays filled with the GIL released; a motion machine's gas tables and a
+//! motion sweep's design columns.
 
 use multicrank_core as core;
-use numpy::{IntoPyArray, PyArray1, PyArrayMethods, PyReadonlyArray1};
-use pyo3::exceptions::PyMemoryError;
+use numpy::{
+    IntoPyArray, PyArray1, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2,
+    PyUntypedArrayMethods,
+};
+use pyo3::exceptions::{PyMemoryError, PyTypeError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::error::to_py_err;
+use crate::error::{to_py_err, MechanismError};
 
 /// The crank angles of an evaluation: points, or a uniform grid (start, step, count).
 #[derive(FromPyObject)]
@@ -158,8 +162,9 @@ pub(crate) struct MachineColumns<'py> {
 }
 
 impl MachineColumns<'_> {
-    /// The validated units under gravity `g` (O(units): built with the GIL held).
-    pub(crate) fn dynamics(&self, g: f64) -> PyResult<core::Dynamics> {
+    /// The units, one per row of the columns (their lengths checked; values are the core's
+    /// to check).
+    pub(crate) fn units(&self) -> PyResult<Vec<core::PhysicalCylinder>> {
         let columns = [
             self.crank_radius.as_slice()?,
             self.rod_length.as_slice()?,
@@ -182,7 +187,7 @@ impl MachineColumns<'_> {
                 found: bad.len(),
             }));
         }
-        let units: Vec<core::PhysicalCylinder> = (0..n)
+        Ok((0..n)
             .map(|i| core::PhysicalCylinder {
                 crank_radius: columns[0][i],
                 rod_length: columns[1][i],
@@ -197,8 +202,162 @@ impl MachineColumns<'_> {
                 phase: columns[10][i],
                 inclination: columns[11][i],
             })
-            .collect();
-        core::Dynamics::new(&units, g).map_err(to_py_err)
+            .collect())
+    }
+
+    /// The validated units under gravity `g` (O(units): built with the GIL held).
+    pub(crate) fn dynamics(&self, g: f64) -> PyResult<core::Dynamics> {
+        core::Dynamics::new(&self.units()?, g).map_err(to_py_err)
+    }
+}
+
+/// One cylinder end's pressure: SciPy's `PPoly` arrays, the breakpoints x (m + 1) and the
+/// coefficients c (K × m); None where that end has no gas.
+pub(crate) type DiagramArg<'py> = Option<(PyReadonlyArray1<'py, f64>, PyReadonlyArray2<'py, f64>)>;
+
+/// A `LengthMismatch` naming `parameter` unless `found == expected`.
+fn check_length(parameter: &'static str, expected: usize, found: usize) -> PyResult<()> {
+    if found == expected {
+        Ok(())
+    } else {
+        Err(to_py_err(core::MechanismError::LengthMismatch {
+            parameter,
+            expected,
+            found,
+        }))
+    }
+}
+
+/// The gas of a machine's `units` units: per unit its bore D and piston-rod diameter d (m)
+/// and the tables of its two ends (`head`: the `pressure`, `crank_end`: the
+/// `pressure_crank_end`), as the core's cylinders and the distinct diagrams they index
+/// (tables equal to the last bit are one diagram, so that units alike share their indicator
+/// work). Each table is checked by the core against the working cycle `cycle` (rad); an
+/// error names the end and the unit.
+pub(crate) fn gas_tables(
+    units: usize,
+    bore: &[f64],
+    piston_rod_diameter: &[f64],
+    head: &[DiagramArg<'_>],
+    crank_end: &[DiagramArg<'_>],
+    cycle: f64,
+) -> PyResult<(Vec<core::GasCylinder>, Vec<core::PiecewisePolynomial>)> {
+    check_length("bore", units, bore.len())?;
+    check_length("piston_rod_diameter", units, piston_rod_diameter.len())?;
+    check_length("pressure", units, head.len())?;
+    check_length("pressure_crank_end", units, crank_end.len())?;
+    let mut diagrams: Vec<core::PiecewisePolynomial> = Vec::new();
+    let mut index =
+        |end: &'static str, j: usize, table: &DiagramArg<'_>| -> PyResult<Option<usize>> {
+            let Some((x, c)) = table else {
+                return Ok(None);
+            };
+            let named = |error: core::MechanismError| {
+                MechanismError::new_err(format!("{end} of cylinder {j}: {error}"))
+            };
+            let (x, c) = (x.as_array(), c.as_array());
+            let pieces = x.len().saturating_sub(1);
+            if c.ncols() != pieces {
+                return Err(named(core::MechanismError::LengthMismatch {
+                    parameter: "coefficients (columns: one per piece)",
+                    expected: pieces,
+                    found: c.ncols(),
+                }));
+            }
+            // c_ki at k·m + i: the rows of c one after another, whatever its strides.
+            let diagram = core::PiecewisePolynomial::new(
+                x.iter().copied().collect(),
+                c.iter().copied().collect(),
+                cycle,
+            )
+            .map_err(named)?;
+            Ok(Some(match diagrams.iter().position(|d| *d == diagram) {
+                Some(i) => i,
+                None => {
+                    diagrams.push(diagram);
+                    diagrams.len() - 1
+                }
+            }))
+        };
+    let mut gas = Vec::with_capacity(units);
+    for j in 0..units {
+        gas.push(core::GasCylinder {
+            bore: bore[j],
+            piston_rod_diameter: piston_rod_diameter[j],
+            head: index("pressure", j, &head[j])?,
+            crank_end: index("pressure_crank_end", j, &crank_end[j])?,
+        });
+    }
+    Ok((gas, diagrams))
+}
+
+/// A motion sweep's design columns by name (`core::DesignColumns`'s fields), each a 1-D
+/// float64 array.
+pub(crate) struct MotionDesigns<'py>(Vec<(String, PyReadonlyArray1<'py, f64>)>);
+
+impl<'py> MotionDesigns<'py> {
+    /// From a dict of column name → array (a value that is no float64 array is a
+    /// `TypeError` naming its column).
+    pub(crate) fn extract(designs: &Bound<'py, PyDict>) -> PyResult<Self> {
+        let mut columns = Vec::with_capacity(designs.len());
+        for (name, values) in designs.iter() {
+            let name: String = name.extract()?;
+            let values = values
+                .extract::<PyReadonlyArray1<'py, f64>>()
+                .map_err(|_| {
+                    PyTypeError::new_err(format!(
+                        "designs[{name:?}] must be a 1-D float64 array, not {}",
+                        values
+                            .get_type()
+                            .name()
+                            .map_or_else(|_| "?".to_owned(), |n| n.to_string())
+                    ))
+                })?;
+            columns.push((name, values));
+        }
+        Ok(Self(columns))
+    }
+
+    /// The core's columns: as many designs as the first column is long (one, the base
+    /// machine, without columns); a name the core does not know names `designs`.
+    pub(crate) fn columns(&self) -> PyResult<core::DesignColumns<'_>> {
+        let count = match self.0.first() {
+            Some((_, values)) => values.len(),
+            None => 1,
+        };
+        let mut designs = core::DesignColumns::new(count);
+        for (name, values) in &self.0 {
+            let values = Some(values.as_slice()?);
+            let field = match name.as_str() {
+                "shaft_inertia" => &mut designs.shaft_inertia,
+                "rpm" => &mut designs.rpm,
+                "g" => &mut designs.g,
+                "pressure_scale" => &mut designs.pressure_scale,
+                "crank_radius" => &mut designs.crank_radius,
+                "rod_length" => &mut designs.rod_length,
+                "piston_mass" => &mut designs.piston_mass,
+                "rod_mass" => &mut designs.rod_mass,
+                "rod_cg" => &mut designs.rod_cg,
+                "rod_inertia" => &mut designs.rod_inertia,
+                "crank_mass" => &mut designs.crank_mass,
+                "crank_cg_radius" => &mut designs.crank_cg_radius,
+                "counterweight_mass" => &mut designs.counterweight_mass,
+                "counterweight_radius" => &mut designs.counterweight_radius,
+                "bore" => &mut designs.bore,
+                other => {
+                    return Err(to_py_err(core::MechanismError::InvalidChoice {
+                        parameter: "designs",
+                        value: format!("{other:?}"),
+                        allowed: "shaft_inertia, rpm, g, pressure_scale, crank_radius, \
+                                  rod_length, piston_mass, rod_mass, rod_cg, rod_inertia, \
+                                  crank_mass, crank_cg_radius, counterweight_mass, \
+                                  counterweight_radius, bore",
+                    }))
+                }
+            };
+            *field = values;
+        }
+        Ok(designs)
     }
 }
 

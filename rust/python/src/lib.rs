@@ -10,8 +10,9 @@
 //! (work size from which it goes parallel; None = the global default).
 //!
 //! One file per domain, like the core: `conversion` (arguments and arrays, in one place),
-//! `evaluation`, `harmonics`, `extrema`, `sweep`, `engine`, `machine`, `parallel`
-//! (thresholds and fork), `error`; this file only assembles the module.
+//! `evaluation`, `harmonics`, `extrema`, `sweep`, `engine`, `machine`, `motion` (the
+//! `MotionMachine` class: steady running, built once), `parallel` (thresholds and fork),
+//! `error`; this file only assembles the module.
 
 mod conversion;
 mod engine;
@@ -20,6 +21,7 @@ mod evaluation;
 mod extrema;
 mod harmonics;
 mod machine;
+mod motion;
 mod parallel;
 mod sweep;
 
@@ -50,6 +52,8 @@ mod _native {
         machine_engine, machine_evaluate, machine_gas_torque, machine_inertia, two_mass_rod_inertia,
     };
     #[pymodule_export]
+    use crate::motion::MotionMachine;
+    #[pymodule_export]
     use crate::parallel::{_after_fork_in_child, get_parallel_threshold, set_parallel_threshold};
     #[pymodule_export]
     use crate::sweep::{sweep, sweep_engines};
@@ -69,6 +73,7 @@ mod _native {
         m.add("STANDARD_GRAVITY", core::STANDARD_GRAVITY)?;
         m.add("SWEEP_OUTPUTS", core::SweepRow::NAMES.to_vec())?;
         m.add("EXTREMA_FIELDS", core::EnergyExtrema::NAMES.to_vec())?;
+        m.add("MOTION_SWEEP_OUTPUTS", core::MotionOutputs::NAMES.to_vec())?;
         Ok(())
     }
 }

@@ -1,0 +1,284 @@
+//! Steady running at sweep scale: a machine converted and checked once (`MotionMachine`),
+//! then its steady state, its flywheel and sweeps of its variants, each call with the GIL
+//! released around the core.
+
+use multicrank_core as core;
+use numpy::{IntoPyArray, PyReadonlyArray1};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use crate::conversion::{gas_tables, DiagramArg, MachineColumns, MotionDesigns};
+use crate::error::to_py_err;
+use crate::parallel::parallelism;
+
+/// The core's error as a `MechanismError`; a stall also carries `angle` (rad), `rpm` and
+/// `min_rpm` (1/min, None where no speed runs) as attributes of the exception.
+fn motion_err(py: Python<'_>, error: core::MechanismError) -> PyErr {
+    let stall = match error {
+        core::MechanismError::Stall {
+            angle,
+            rpm,
+            min_rpm,
+        } => Some((angle, rpm, min_rpm)),
+        _ => None,
+    };
+    let err = to_py_err(error);
+    if let Some((angle, rpm, min_rpm)) = stall {
+        let value = err.value(py);
+        let set = value
+            .setattr("angle", angle)
+            .and_then(|()| value.setattr("rpm", rpm))
+            .and_then(|()| value.setattr("min_rpm", min_rpm));
+        if let Err(failed) = set {
+            return failed;
+        }
+    }
+    err
+}
+
+/// A machine as its steady state takes it, converted and checked once and reused by every
+/// call: its units, their gas (the indicator diagrams as SciPy `PPoly` arrays), I_w, the
+/// strokes and g. Immutable; safe to share between threads.
+///
+/// MotionMachine(units, bore, piston_rod_diameter, pressure, pressure_crank_end,
+/// shaft_inertia, strokes, g): `units` the unit columns (as `machine_evaluate` takes them),
+/// `bore` and `piston_rod_diameter` (m) one per unit, `pressure` and `pressure_crank_end`
+/// one per unit, each None or the pair (x, c) of the gauge pressure's (Pa) `PPoly`
+/// (breakpoints x spanning one working cycle, coefficients c of shape (K, len(x) − 1)),
+/// `shaft_inertia` I_w (kg·m²) > 0, `strokes` 2 or 4, `g` (m/s²).
+#[pyclass(frozen, name = "MotionMachine", module = "multicrank._native")]
+pub(crate) struct MotionMachine {
+    units: Vec<core::PhysicalCylinder>,
+    gas: Vec<core::GasCylinder>,
+    diagrams: Vec<core::PiecewisePolynomial>,
+    shaft_inertia: f64,
+    strokes: core::Strokes,
+    g: f64,
+}
+
+impl MotionMachine {
+    /// The core's view of it.
+    fn machine(&self) -> core::Machine<'_> {
+        core::Machine {
+            units: &self.units,
+            gas: &self.gas,
+            diagrams: &self.diagrams,
+            shaft_inertia: self.shaft_inertia,
+            strokes: self.strokes,
+            g: self.g,
+        }
+    }
+}
+
+/// A dict of named floats.
+fn fields<'py>(py: Python<'py>, values: &[(&str, f64)]) -> PyResult<Bound<'py, PyDict>> {
+    let dict = PyDict::new(py);
+    for (name, value) in values {
+        dict.set_item(name, value)?;
+    }
+    Ok(dict)
+}
+
+#[pymethods]
+impl MotionMachine {
+    #[new]
+    #[pyo3(signature = (
+        units, bore, piston_rod_diameter, pressure, pressure_crank_end, shaft_inertia, strokes, g
+    ))]
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        units: MachineColumns<'_>,
+        bore: PyReadonlyArray1<'_, f64>,
+        piston_rod_diameter: PyReadonlyArray1<'_, f64>,
+        pressure: Vec<DiagramArg<'_>>,
+        pressure_crank_end: Vec<DiagramArg<'_>>,
+        shaft_inertia: f64,
+        strokes: i64,
+        g: f64,
+    ) -> PyResult<Self> {
+        let strokes = core::Strokes::from_count(strokes).map_err(to_py_err)?;
+        if !(shaft_inertia.is_finite() && shaft_inertia > 0.0) {
+            return Err(to_py_err(core::MechanismError::OutOfRange {
+                parameter: "shaft_inertia",
+                value: shaft_inertia,
+                allowed: "shaft_inertia > 0",
+            }));
+        }
+        let units = units.units()?;
+        let (gas, diagrams) = gas_tables(
+            units.len(),
+            bore.as_slice()?,
+            piston_rod_diameter.as_slice()?,
+            &pressure,
+            &pressure_crank_end,
+            strokes.cycle_angle(),
+        )?;
+        let machine = Self {
+            units,
+            gas,
+            diagrams,
+            shaft_inertia,
+            strokes,
+            g,
+        };
+        // The core's own checks of a machine (units, g, gas), by a sweep of no designs.
+        core::motion_sweep(
+            &machine.machine(),
+            None,
+            &core::DesignColumns::new(0),
+            core::MotionOutputs::default(),
+            None,
+            1e-3,
+            core::Parallelism::SERIAL,
+        )
+        .map_err(to_py_err)?;
+        Ok(machine)
+    }
+
+    /// steady_state(rpm, min_speed_ratio=1e-3) -> dict of floats: the periodic steady state
+    /// under the "balance" load at the mean speed `rpm` (1/min): omega_mean, period,
+    /// omega_max, omega_min, phi_max, phi_min, energy_at_zero, mean_load_torque, delta,
+    /// delta_midrange, delta_without_gravity, delta_gravity_only (SI units). A stall is a
+    /// MechanismError with attributes angle, rpm and min_rpm.
+    #[pyo3(signature = (rpm, min_speed_ratio=1e-3))]
+    fn steady_state<'py>(
+        &self,
+        py: Python<'py>,
+        rpm: f64,
+        min_speed_ratio: f64,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let s = py
+            .detach(|| core::steady_state(&self.machine(), rpm, min_speed_ratio))
+            .map_err(|error| motion_err(py, error))?;
+        fields(
+            py,
+            &[
+                ("omega_mean", s.omega_mean),
+                ("period", s.period),
+                ("omega_max", s.omega_max),
+                ("omega_min", s.omega_min),
+                ("phi_max", s.phi_max),
+                ("phi_min", s.phi_min),
+                ("energy_at_zero", s.energy_at_zero),
+                ("mean_load_torque", s.mean_load_torque),
+                ("delta", s.delta),
+                ("delta_midrange", s.delta_midrange),
+                ("delta_without_gravity", s.delta_without_gravity),
+                ("delta_gravity_only", s.delta_gravity_only),
+            ],
+        )
+    }
+
+    /// flywheel_inertia(delta, rpm, min_speed_ratio=1e-3) -> dict of floats: the shaft
+    /// inertia giving the coefficient of speed fluctuation `delta` at `rpm` (1/min) under the
+    /// "balance" load: shaft_inertia, shaft_inertia_without_gravity, textbook,
+    /// textbook_error, energy_swing, delta, rpm.
+    #[pyo3(signature = (delta, rpm, min_speed_ratio=1e-3))]
+    fn flywheel_inertia<'py>(
+        &self,
+        py: Python<'py>,
+        delta: f64,
+        rpm: f64,
+        min_speed_ratio: f64,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let f = py
+            .detach(|| core::flywheel_inertia(&self.machine(), delta, rpm, min_speed_ratio))
+            .map_err(|error| motion_err(py, error))?;
+        fields(
+            py,
+            &[
+                ("shaft_inertia", f.shaft_inertia),
+                (
+                    "shaft_inertia_without_gravity",
+                    f.shaft_inertia_without_gravity,
+                ),
+                ("textbook", f.textbook),
+                ("textbook_error", f.textbook_error),
+                ("energy_swing", f.energy_swing),
+                ("delta", f.delta),
+                ("rpm", f.rpm),
+            ],
+        )
+    }
+
+    /// sweep(designs, outputs, rpm=None, target_delta=None, min_speed_ratio=1e-3,
+    /// parallel_threshold=None) -> {output: array}: the steady state (and the flywheel for
+    /// `target_delta`) of every design, this machine with the design's columns applied
+    /// (`designs`: column name → float64 array, one value per design; no columns: one
+    /// design, this machine), at its `rpm` column or at `rpm`. The outputs asked (names from
+    /// MOTION_SWEEP_OUTPUTS), and `stalled` (bool) with any output of the steady state; a
+    /// stalled design is NaN in its δ and speed columns, an unreachable target NaN in the
+    /// flywheel columns. A bad value of a design is a MechanismError naming the design and
+    /// the parameter. Bit-identical for any thread count.
+    #[pyo3(signature = (
+        designs, outputs, rpm=None, target_delta=None, min_speed_ratio=1e-3,
+        parallel_threshold=None
+    ))]
+    #[allow(clippy::too_many_arguments)]
+    fn sweep<'py>(
+        &self,
+        py: Python<'py>,
+        designs: &Bound<'py, PyDict>,
+        outputs: Vec<String>,
+        rpm: Option<f64>,
+        target_delta: Option<f64>,
+        min_speed_ratio: f64,
+        parallel_threshold: Option<usize>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let asked = core::MotionOutputs::from_names(&outputs).map_err(to_py_err)?;
+        let designs = MotionDesigns::extract(designs)?;
+        let columns = designs.columns()?;
+        let parallelism = parallelism(parallel_threshold);
+        let mut found = py
+            .detach(|| {
+                core::motion_sweep(
+                    &self.machine(),
+                    rpm,
+                    &columns,
+                    asked,
+                    target_delta,
+                    min_speed_ratio,
+                    parallelism,
+                )
+            })
+            .map_err(to_py_err)?;
+        let dict = PyDict::new(py);
+        for name in core::MotionOutputs::NAMES {
+            let column = match name {
+                "stalled" => {
+                    if asked.steady() {
+                        dict.set_item(name, std::mem::take(&mut found.stalled).into_pyarray(py))?;
+                    }
+                    continue;
+                }
+                "delta" => &mut found.delta,
+                "delta_without_gravity" => &mut found.delta_without_gravity,
+                "delta_gravity_only" => &mut found.delta_gravity_only,
+                "gravity_effect" => &mut found.gravity_effect,
+                "rpm_min" => &mut found.rpm_min,
+                "rpm_max" => &mut found.rpm_max,
+                "flywheel_inertia" => &mut found.flywheel_inertia,
+                "flywheel_inertia_without_gravity" => &mut found.flywheel_inertia_without_gravity,
+                _ => continue,
+            };
+            if outputs.iter().any(|o| o == name) {
+                dict.set_item(name, std::mem::take(column).into_pyarray(py))?;
+            }
+        }
+        Ok(dict)
+    }
+
+    fn __repr__(&self) -> String {
+        let strokes = match self.strokes {
+            core::Strokes::Two => 2,
+            core::Strokes::Four => 4,
+        };
+        format!(
+            "MotionMachine({} units, {} diagrams, {strokes}-stroke, shaft_inertia={}, g={})",
+            self.units.len(),
+            self.diagrams.len(),
+            self.shaft_inertia,
+            self.g
+        )
+    }
+}
