@@ -52,6 +52,8 @@ def main() -> int:
     parser.add_argument("--repeat", type=int, default=10, help="calls per case in one child, best kept")
     args = parser.parse_args()
     env = dict(os.environ, RAYON_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1")
+    # Absolute, not resolved: a venv's python is a link, and the venv is where it points from.
+    args.pythons = [os.path.abspath(python) for python in args.pythons]
     best: list[dict[str, float]] = [{} for _ in args.pythons]
     for _ in range(args.rounds):
         for i, python in enumerate(args.pythons):

@@ -107,9 +107,9 @@ def machine_variant(machine: Machine, design: Mapping[str, Any]) -> Machine:
     -------
     Machine
         ``machine`` itself where nothing changes; otherwise a checked copy. A cylinder field
-        is set on every cylinder; a cylinder whose ``rod_inertia`` was left to its default
-        keeps the value it had (the two-mass rod of its old masses and length) unless
-        ``rod_inertia`` is a column too, as :meth:`Cylinder.replace` does.
+        is set on every cylinder; a two-mass rod (``rod_inertia`` left to its default)
+        stays one when the design changes the rod's mass, length or centre of gravity,
+        unless ``rod_inertia`` is a column too, as :meth:`Cylinder.replace` does.
 
     Raises
     ------
