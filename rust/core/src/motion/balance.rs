@@ -123,6 +123,15 @@ impl Periodic {
     }
 }
 
+/// A solution's speed and time at requested angles.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct Curves {
+    /// ω(φ_i) (rad/s).
+    pub omega: Vec<f64>,
+    /// t(φ_i) (s), from φ = 0.
+    pub time: Vec<f64>,
+}
+
 /// A solution, or the stall that refused it.
 pub(crate) type Solved = std::result::Result<Periodic, Stall>;
 
@@ -418,6 +427,51 @@ impl<'c, 'a> Balance<'c, 'a> {
     /// when it needs ω_min < `ratio`·ω_m. s by Brent's method on (ω_m(s)/ω_m)² − 1, nearly
     /// linear in s, on a mesh graded for that s (again until the mesh no longer grows).
     pub fn solve(&mut self, omega_mean: f64, ratio: f64) -> Result<Solved> {
+        Ok(self.solve_on_mesh(omega_mean, ratio)?.0)
+    }
+
+    /// As [`Balance::solve`], with ω(φ) (rad/s) and t(φ) (s, from φ = 0) of the solution at
+    /// `phi` (rad, each in [0, Φ]) as the Python implementation's `Periodic.omega_at` and
+    /// `time_at` give them (see [`Balance::curves`]).
+    pub fn solve_with_curves(
+        &mut self,
+        omega_mean: f64,
+        ratio: f64,
+        phi: &[f64],
+    ) -> Result<std::result::Result<(Periodic, Curves), Stall>> {
+        let (solved, graded) = self.solve_on_mesh(omega_mean, ratio)?;
+        match solved {
+            Ok(solution) => {
+                let curves = self.curves(self.view(&graded), solution.margin, phi)?;
+                Ok(Ok((solution, curves)))
+            }
+            Err(stall) => Ok(Err(stall)),
+        }
+    }
+
+    /// ω(φ) = √(2E/J) with E = s + K̃(φ) evaluated exactly (the Python implementation's
+    /// `omega_at`), and t(φ) = ∫₀^φ dφ/ω with each panel's interpolant of 1/ω through the
+    /// mesh's nodes integrated exactly (its `time_at`: `antiderivative(1/ω)`), at `phi`
+    /// (rad, in [0, Φ]; an angle on an edge is taken on the panel that starts there).
+    fn curves(&self, mesh: Mesh<'_>, s: f64, phi: &[f64]) -> Result<Curves> {
+        let lifted = self.lifted_at(phi)?;
+        let rest = self.cycle.rest_at(phi)?;
+        let omega = lifted
+            .iter()
+            .zip(&rest)
+            .map(|(k, rest)| (2.0 * (s + k).max(0.0) / (self.inertia + rest)).sqrt())
+            .collect();
+        let inverse: Vec<f64> = mesh.rest[..mesh.nodes()]
+            .iter()
+            .zip(mesh.lifted)
+            .map(|(rest, k)| 1.0 / (2.0 * (s + k).max(0.0) / (self.inertia + rest)).sqrt())
+            .collect();
+        let time = mesh.panels.running_at(&inverse, phi);
+        Ok(Curves { omega, time })
+    }
+
+    /// `solve`, and the graded mesh the answer was taken on (`None`: the base panels).
+    fn solve_on_mesh(&mut self, omega_mean: f64, ratio: f64) -> Result<(Solved, Option<Graded>)> {
         let cycle = self.cycle;
         let target = cycle.cycle() / omega_mean;
         // At s_low the speed at the worst angle is ratio·ω_m: if the mean speed there is
@@ -441,7 +495,7 @@ impl<'c, 'a> Balance<'c, 'a> {
                     graded = finer;
                     continue;
                 }
-                return Ok(Err(Stall { angle: self.lowest }));
+                return Ok((Err(Stall { angle: self.lowest }), graded));
             }
             let mut high = s_high;
             // Never more than a step or two (s_high bounds the root); the bound only ends
@@ -454,7 +508,7 @@ impl<'c, 'a> Balance<'c, 'a> {
             }
             // rtol 1e-15: s to rounding (the excess is nearly linear in s).
             let Some(root) = brent(excess, s_low, high, 0.0, 1e-15)? else {
-                return Ok(Err(Stall { angle: self.lowest }));
+                return Ok((Err(Stall { angle: self.lowest }), graded));
             };
             s = root;
             let finer = self.mesh(s)?;
@@ -463,7 +517,8 @@ impl<'c, 'a> Balance<'c, 'a> {
             }
             graded = finer;
         }
-        self.finish(self.view(&graded), s, ratio)
+        let solved = self.finish(self.view(&graded), s, ratio)?;
+        Ok((solved, graded))
     }
 
     /// The periodic solution with E = s + K̃ (its mean speed follows), no stall check (the

@@ -125,6 +125,49 @@ const SMALLEST_SPEED_RATIO: f64 = 1e-9;
 /// Errors: bad input, naming the parameter; [`MechanismError::Stall`] when the machine
 /// cannot keep that mean speed, with the lowest mean speed that runs (`min_rpm`).
 pub fn steady_state(machine: &Machine<'_>, rpm: f64, min_speed_ratio: f64) -> Result<SteadyState> {
+    Ok(solve_steady_state(machine, rpm, min_speed_ratio, &[])?.state)
+}
+
+/// A steady state with its speed and time at requested angles.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SteadyCurves {
+    /// The numbers, as [`steady_state`] gives them.
+    pub state: SteadyState,
+    /// ω(φ_i) (rad/s): √(2E/J) with E(φ) = E(0) + K(φ) evaluated exactly at φ_i (the
+    /// Python implementation's `Periodic.omega_at`).
+    pub omega: Vec<f64>,
+    /// t(φ_i) (s), the time from φ = 0: ∫₀^φ dφ/ω with each panel's interpolant of 1/ω
+    /// through the time mesh's nodes integrated exactly (its `Periodic.time_at`). t(0) = 0
+    /// and t(Φ) = `period` to rounding (`SteadyState` in Python sets both exactly).
+    pub time: Vec<f64>,
+}
+
+/// [`steady_state`], with ω (rad/s) and t (s, from φ = 0) of the solution at the angles
+/// `phi` (rad, each in [0, Φ]): the arrays of the Python implementation's `SteadyState`
+/// (its `points` angles are `linspace(0, Φ, points)`).
+///
+/// Errors: as [`steady_state`]; an angle outside [0, Φ] (or not finite), naming `phi`.
+pub fn steady_state_curves(
+    machine: &Machine<'_>,
+    rpm: f64,
+    min_speed_ratio: f64,
+    phi: &[f64],
+) -> Result<SteadyCurves> {
+    let cycle = machine.strokes.cycle_angle();
+    for &angle in phi {
+        check("phi", angle, "0 <= phi <= cycle angle", |a| {
+            (0.0..=cycle).contains(&a)
+        })?;
+    }
+    solve_steady_state(machine, rpm, min_speed_ratio, phi)
+}
+
+fn solve_steady_state(
+    machine: &Machine<'_>,
+    rpm: f64,
+    min_speed_ratio: f64,
+    phi: &[f64],
+) -> Result<SteadyCurves> {
     check(
         "shaft_inertia",
         machine.shaft_inertia,
@@ -142,8 +185,10 @@ pub fn steady_state(machine: &Machine<'_>, rpm: f64, min_speed_ratio: f64) -> Re
     let cycle = Cycle::new(machine, dynamics)?;
     let omega_mean = PI * rpm / 30.0;
     let load = balance_load(&cycle);
-    let solution = match Balance::new(&cycle, load, true)?.solve(omega_mean, min_speed_ratio)? {
-        Ok(solution) => solution,
+    let solved =
+        Balance::new(&cycle, load, true)?.solve_with_curves(omega_mean, min_speed_ratio, phi)?;
+    let (solution, curves) = match solved {
+        Ok(found) => found,
         Err(stall) => {
             // The lowest speed that runs, searched from an s known to stall (the Python
             // implementation's `_stall_error`).
@@ -164,7 +209,7 @@ pub fn steady_state(machine: &Machine<'_>, rpm: f64, min_speed_ratio: f64) -> Re
     };
     let delta_gravity_only =
         delta_gravity_only(&cycle, cycle.inertia, solution.omega_mean, min_speed_ratio)?;
-    Ok(SteadyState {
+    let state = SteadyState {
         omega_mean: solution.omega_mean,
         period: solution.period,
         omega_max: solution.omega_max,
@@ -178,6 +223,11 @@ pub fn steady_state(machine: &Machine<'_>, rpm: f64, min_speed_ratio: f64) -> Re
             / (solution.omega_max + solution.omega_min),
         delta_without_gravity,
         delta_gravity_only,
+    };
+    Ok(SteadyCurves {
+        state,
+        omega: curves.omega,
+        time: curves.time,
     })
 }
 

@@ -163,6 +163,65 @@ impl Panels {
         self.weights.iter().zip(values).map(|(w, f)| w * f).sum()
     }
 
+    /// The running integral F(φ) = ∫₀^φ f dφ at `phi` (rad, in [0, Φ]) from f at the nodes
+    /// (`values`): the panel sums up to φ's panel, then that panel's interpolant of f
+    /// (degree order − 1) integrated exactly from its edge to φ (the Python
+    /// implementation's `CycleQuadrature.antiderivative`). φ's panel is the last whose edge
+    /// is ≤ φ (NumPy's `searchsorted(…, side="right") − 1`, kept in 0..P).
+    ///
+    /// The interpolant's Legendre coefficients come from the Gauss rule's discrete
+    /// orthogonality, c_k = (2k + 1)/2 · Σ_i w_i f_i P_k(x_i) (exact: degree ≤ 2·order − 2),
+    /// and ∫_{−1}^x P_k = (P_{k+1}(x) − P_{k−1}(x))/(2k + 1) (x + 1 for k = 0).
+    pub fn running_at(&self, values: &[f64], phi: &[f64]) -> Vec<f64> {
+        let n = self.order;
+        let count = self.count();
+        let mut at_edges = Vec::with_capacity(count + 1);
+        at_edges.push(0.0);
+        for (p, panel) in values.chunks_exact(n).enumerate() {
+            let half = 0.5 * (self.edges[p + 1] - self.edges[p]);
+            let sum: f64 = panel
+                .iter()
+                .zip(&self.unit_weights)
+                .map(|(f, w)| f * w)
+                .sum();
+            at_edges.push(at_edges[p] + half * sum);
+        }
+        // P_k at the unit nodes, k = 0..n − 1.
+        let basis: Vec<Vec<f64>> = self
+            .unit_nodes
+            .iter()
+            .map(|&x| legendre_all(n, x))
+            .collect();
+        phi.iter()
+            .map(|&angle| {
+                let p = self.edges.partition_point(|&e| e <= angle).clamp(1, count) - 1;
+                let half = 0.5 * (self.edges[p + 1] - self.edges[p]);
+                let x = (angle - 0.5 * (self.edges[p] + self.edges[p + 1])) / half;
+                let panel = &values[p * n..(p + 1) * n];
+                // P_0(x) … P_n(x) at φ.
+                let at = legendre_all(n + 1, x);
+                let mut integral = 0.0;
+                for k in 0..n {
+                    let c: f64 = panel
+                        .iter()
+                        .zip(&self.unit_weights)
+                        .zip(&basis)
+                        .map(|((f, w), b)| f * w * b[k])
+                        .sum::<f64>()
+                        * (2 * k + 1) as f64
+                        * 0.5;
+                    let primitive = if k == 0 {
+                        x + 1.0
+                    } else {
+                        (at[k + 1] - at[k - 1]) / (2 * k + 1) as f64
+                    };
+                    integral += c * primitive;
+                }
+                at_edges[p] + half * integral
+            })
+            .collect()
+    }
+
     /// The largest |Legendre coefficient| of degrees order − 2 and order − 1 over the panels,
     /// of the polynomial through `values` at each panel's nodes: how well the panels resolve
     /// f. By the discrete orthogonality of the Gauss rule (exact to degree 2·order − 1),
@@ -201,6 +260,23 @@ fn legendre(n: usize, x: f64) -> f64 {
         let next = ((2.0 * k - 1.0) * x * p - (k - 1.0) * previous) / k;
         previous = p;
         p = next;
+    }
+    p
+}
+
+/// P_0(x) … P_{count − 1}(x) by the three-term recurrence.
+fn legendre_all(count: usize, x: f64) -> Vec<f64> {
+    let mut p = Vec::with_capacity(count);
+    for k in 0..count {
+        let value = match k {
+            0 => 1.0,
+            1 => x,
+            _ => {
+                let k = k as f64;
+                ((2.0 * k - 1.0) * x * p[p.len() - 1] - (k - 1.0) * p[p.len() - 2]) / k
+            }
+        };
+        p.push(value);
     }
     p
 }
@@ -293,6 +369,26 @@ mod tests {
                 assert!((sum - exact).abs() < 1e-14, "n {n} degree {degree}: {sum}");
             }
         }
+    }
+
+    #[test]
+    fn the_running_integral_is_exact_for_polynomials_and_spectral_otherwise() {
+        let cycle = 2.0 * PI;
+        let panels = Panels::new(&breaks(vec![1.0], cycle), 12, PI / 8.0);
+        // Degree 11 on every panel: the interpolant is the function.
+        let cubic: Vec<f64> = panels.phi.iter().map(|p| p.powi(11) - 3.0 * p).collect();
+        let phi = [0.0, 0.3, 1.0, 2.5, cycle];
+        for (found, p) in panels.running_at(&cubic, &phi).iter().zip(phi) {
+            let exact = p.powi(12) / 12.0 - 1.5 * p * p;
+            assert!(
+                (found - exact).abs() <= 1e-13 * (1.0 + exact.abs()),
+                "{p}: {found} {exact}"
+            );
+        }
+        let smooth: Vec<f64> = panels.phi.iter().map(|p| p.sin().exp()).collect();
+        let found = panels.running_at(&smooth, &[cycle])[0];
+        let exact = 2.0 * PI * 1.266_065_877_752_008_4;
+        assert!((found - exact).abs() < 1e-14 * exact);
     }
 
     #[test]

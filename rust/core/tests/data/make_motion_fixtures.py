@@ -46,6 +46,19 @@ RESULTS = (
     "period",
     "mean_load_torque",
 )
+#: SteadyState's arrays: φ = linspace(0, Φ, POINTS).
+POINTS = 361
+#: The square-law load's results (closed form) kept beside its arrays.
+SQUARE_LAW = (
+    "delta",
+    "omega_mean",
+    "omega_max",
+    "omega_min",
+    "phi_max",
+    "phi_min",
+    "period",
+    "mean_load_torque",
+)
 FLYWHEEL = ("shaft_inertia", "shaft_inertia_without_gravity", "textbook", "energy_swing")
 
 
@@ -74,16 +87,17 @@ def fixture(name: str) -> dict:
             crank_end=diagram(cylinder.pressure_crank_end),
         )
         cylinders.append(unit)
-    state = mc.steady_state(machine, rpm=machine.rpm)
+    state = mc.steady_state(machine, rpm=machine.rpm, points=POINTS)
     extremes = refined_extremes(machine, machine.rpm)
     near = [
         {
             "rpm": rpm,
             "steady_state": {key: float(getattr(slow, key)) for key in RESULTS},
             "refined": refined_extremes(machine, rpm),
+            "curves": curves(slow),
         }
         for rpm in NEAR_STALL.get(name, ())
-        for slow in [mc.steady_state(machine, rpm=rpm)]
+        for slow in [mc.steady_state(machine, rpm=rpm, points=POINTS)]
     ]
     stalls = []
     for rpm in STALLS.get(name, ()):
@@ -120,11 +134,47 @@ def fixture(name: str) -> dict:
         "cylinders": cylinders,
         "diagrams": diagrams,
         "steady_state": {key: float(getattr(state, key)) for key in RESULTS},
+        "curves": curves(state),
         "refined": extremes,
+        "square_law": square_laws(machine, state.mean_load_torque),
         "near_stall": near,
         "stalls": stalls,
         "flywheels": flywheels,
     }
+
+
+def curves(state) -> dict:
+    """SteadyState's phi, omega [rad/s] and time [s] (t(0) = 0 and t(Φ) = period are set)."""
+    return {key: getattr(state, key).tolist() for key in ("phi", "omega", "time")}
+
+
+def square_laws(machine, balance_load: float) -> list:
+    """``mc.steady_state`` under a square-law load (the closed form) at M_n = T, the "balance"
+    load at the machine's own speed, and n_n that speed: an engine (T > 0) alone and with a
+    constant drive of T/2 beside a load of 1.5 T; a compressor (T < 0) with a drive of 1.5|T|
+    beside a load of |T|/2, and of 3|T| beside 2|T| (all run near the machine's speed)."""
+    found = []
+    size = abs(balance_load)
+    cases = (
+        ((None, size), (0.5 * size, 1.5 * size))
+        if balance_load > 0
+        else ((1.5 * size, 0.5 * size), (3 * size, 2 * size))
+    )
+    for drive, torque in cases:
+        load = mc.PowerLawLoad(torque, rpm=machine.rpm)
+        state = mc.steady_state(machine, load=load, drive=drive, points=POINTS)
+        assert state.method == "closed form", state.method
+        found.append(
+            {
+                "torque": torque,
+                "rpm": machine.rpm,
+                "drive": 0.0 if drive is None else drive,
+                "coefficient": load.coefficient,
+            }
+            | {key: float(getattr(state, key)) for key in SQUARE_LAW}
+            | {"curves": curves(state)}
+        )
+    return found
 
 
 def refined_extremes(machine, rpm: float) -> dict:
