@@ -51,9 +51,9 @@ pub use mechanism::{
     Strokes, STANDARD_GRAVITY,
 };
 pub use motion::{
-    flywheel_inertia, motion_sweep, steady_state, steady_state_curves, DesignColumns,
-    FlywheelInertia, GasCylinder, Machine, MotionColumns, MotionOutputs, PiecewisePolynomial,
-    SteadyCurves, SteadyState,
+    flywheel_inertia, motion_sweep, square_law_steady_state, steady_state, steady_state_curves,
+    DesignColumns, FlywheelInertia, GasCylinder, Machine, MotionColumns, MotionOutputs,
+    PiecewisePolynomial, SteadyCurves, SteadyState,
 };
 pub use parallel::Parallelism;
 pub use series::{build_series, fourier_table, FourierSeries, SeriesKind};

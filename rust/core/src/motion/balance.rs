@@ -343,51 +343,10 @@ impl<'c, 'a> Balance<'c, 'a> {
         Ok(())
     }
 
-    /// Edges to add to the base panels so that ∫√(J/2E) dφ stays spectrally accurate where
-    /// E = s + K̃ nearly vanishes: geometric panels (ratio 4) towards every local minimum of
-    /// E whose complex zeros, at d = √(2E/|E''|) from the real axis, come closer than 1.5
-    /// half-widths of the widest panel; the innermost panel [φ_i − d/3, φ_i + d/3] (the
-    /// Python implementation's `grading` and `_near_zeros`). Empty where none does.
+    /// The grading edges for E = s + K̃ (see [`grading`]).
     fn grading(&self, s: f64) -> Vec<f64> {
-        let panels = &self.cycle.panels;
-        let cycle = panels.cycle();
-        let half = panels.widest_half();
         let energy: Vec<f64> = self.lifted.iter().map(|k| s + k).collect();
-        let samples = panels.in_angle_order(&energy);
-        // The curvature of an edge is that of its panel's first node.
-        let mut bend = Vec::with_capacity(samples.len());
-        for panel in self.curvature.chunks_exact(panels.order) {
-            bend.push(panel[0]);
-            bend.extend_from_slice(panel);
-        }
-        let count = samples.len();
-        let mut extra = Vec::new();
-        for i in 0..count {
-            let (before, after) = ((i + count - 1) % count, (i + 1) % count);
-            let (angle, value) = samples[i];
-            if !(value < samples[before].1 && value <= samples[after].1) {
-                continue;
-            }
-            // E'' from the neighbours too: a minimum on an edge has both panels' curvature.
-            let bend_here = bend[i].abs().max(bend[before].abs()).max(bend[after].abs());
-            let reach = if bend_here > 0.0 {
-                (2.0 * value.max(0.0) / bend_here).sqrt()
-            } else {
-                f64::INFINITY
-            };
-            // reach is never NaN: value ≥ 0, bend_here > 0 (else ∞).
-            if reach >= GRADE_REACH * half {
-                continue;
-            }
-            let width = (reach / (2.0 * GRADE_REACH)).max(1e-12 * cycle);
-            let steps = ((2.0 * half / width).ln() / GRADE_RATIO.ln()).ceil() as i32;
-            for k in 0..=steps {
-                let step = width * GRADE_RATIO.powi(k);
-                extra.push((angle - step).rem_euclid(cycle));
-                extra.push((angle + step).rem_euclid(cycle));
-            }
-        }
-        extra
+        grading(&self.cycle.panels, &energy, &self.curvature)
     }
 
     /// The time mesh fit for E = s + K̃: `None` for the base panels, where E's nearest
@@ -644,12 +603,57 @@ impl<'c, 'a> Balance<'c, 'a> {
     }
 }
 
+/// Edges to add to the base panels so that ∫√(J/2E) dφ stays spectrally accurate where
+/// E (`energy`, nodes then edges; E'' = `curvature` at the nodes) nearly vanishes:
+/// geometric panels (ratio 4) towards every local minimum of E whose complex zeros, at d = √(2E/|E''|) from the real axis, come closer than 1.5
+/// half-widths of the widest panel; the innermost panel [φ_i − d/3, φ_i + d/3] (the
+/// Python implementation's `grading` and `_near_zeros`). Empty where none does.
+pub(crate) fn grading(panels: &Panels, energy: &[f64], curvature: &[f64]) -> Vec<f64> {
+    let cycle = panels.cycle();
+    let half = panels.widest_half();
+    let samples = panels.in_angle_order(energy);
+    // The curvature of an edge is that of its panel's first node.
+    let mut bend = Vec::with_capacity(samples.len());
+    for panel in curvature.chunks_exact(panels.order) {
+        bend.push(panel[0]);
+        bend.extend_from_slice(panel);
+    }
+    let count = samples.len();
+    let mut extra = Vec::new();
+    for i in 0..count {
+        let (before, after) = ((i + count - 1) % count, (i + 1) % count);
+        let (angle, value) = samples[i];
+        if !(value < samples[before].1 && value <= samples[after].1) {
+            continue;
+        }
+        // E'' from the neighbours too: a minimum on an edge has both panels' curvature.
+        let bend_here = bend[i].abs().max(bend[before].abs()).max(bend[after].abs());
+        let reach = if bend_here > 0.0 {
+            (2.0 * value.max(0.0) / bend_here).sqrt()
+        } else {
+            f64::INFINITY
+        };
+        // reach is never NaN: value ≥ 0, bend_here > 0 (else ∞).
+        if reach >= GRADE_REACH * half {
+            continue;
+        }
+        let width = (reach / (2.0 * GRADE_REACH)).max(1e-12 * cycle);
+        let steps = ((2.0 * half / width).ln() / GRADE_RATIO.ln()).ceil() as i32;
+        for k in 0..=steps {
+            let step = width * GRADE_RATIO.powi(k);
+            extra.push((angle - step).rem_euclid(cycle));
+            extra.push((angle + step).rem_euclid(cycle));
+        }
+    }
+    extra
+}
+
 /// The angle and value of the largest (`largest`) or smallest of a function known at the
 /// nodes then edges of `panels` (`values`): the best sample, then the root of its slope
 /// (`slope`, any angle) between it and a neighbour sample (Brent's method, to rounding),
 /// where the function is evaluated exactly (`value`). Kept only where better than the
 /// sample (an extremum at a kink of the slope has no root there).
-fn refine_extremum(
+pub(crate) fn refine_extremum(
     panels: &Panels,
     values: &[f64],
     largest: bool,

@@ -13,6 +13,7 @@ mod cycle;
 mod flywheel;
 mod gas;
 mod quadrature;
+mod square_law;
 mod sweep;
 
 use std::f64::consts::PI;
@@ -23,6 +24,7 @@ use crate::mechanism::Strokes;
 
 use balance::{Balance, Solved};
 use cycle::Cycle;
+use square_law::SquareLaw;
 
 pub use gas::{GasCylinder, PiecewisePolynomial};
 pub use sweep::{motion_sweep, DesignColumns, MotionColumns, MotionOutputs};
@@ -226,6 +228,102 @@ fn solve_steady_state(
     };
     Ok(SteadyCurves {
         state,
+        omega: curves.omega,
+        time: curves.time,
+    })
+}
+
+/// The periodic steady state of `machine` under a square-law load M = c·ω² (c =
+/// `coefficient`, N·m·s²/rad²: a PowerLawLoad of exponent 2, c = M_n/ω_n²) beside a constant
+/// `drive` (N·m), in closed form (docs/theory.md, "Steady running"; the Python
+/// implementation's `SquareLaw`): the mean speed is a result. With ω (rad/s) and t (s) at
+/// `phi` (rad, in [0, Φ]) as [`steady_state_curves`] gives them.
+///
+/// In the [`SteadyState`]: `mean_load_torque` is the load's cycle mean (1/Φ)∫cω² dφ;
+/// `energy_at_zero` E₀; `delta_without_gravity` the same load and drive with g = 0 and
+/// `delta_gravity_only` gravity alone ("balance", gas and load removed) at the mean speed
+/// found, each NaN where it stalls.
+///
+/// Errors: bad input, naming the parameter; a drive whose cycle mean with the gas torque is
+/// not positive (`drive`: nothing to balance); a load damping more than 700 e-folds of E per
+/// cycle (`load`); [`MechanismError::Stall`] (its `rpm` NaN: none was asked for, `min_rpm`
+/// none) where E would reach zero or ω_min < `min_speed_ratio`·ω_m.
+pub fn square_law_steady_state(
+    machine: &Machine<'_>,
+    coefficient: f64,
+    drive: f64,
+    min_speed_ratio: f64,
+    phi: &[f64],
+) -> Result<SteadyCurves> {
+    check(
+        "shaft_inertia",
+        machine.shaft_inertia,
+        "shaft_inertia > 0",
+        |i| i > 0.0,
+    )?;
+    check("load", coefficient, "a square-law coefficient > 0", |c| {
+        c > 0.0
+    })?;
+    check("drive", drive, "a finite constant drive", |_| true)?;
+    check(
+        "min_speed_ratio",
+        min_speed_ratio,
+        "1e-9 <= min_speed_ratio < 1",
+        |r| (SMALLEST_SPEED_RATIO..1.0).contains(&r),
+    )?;
+    let cycle_angle = machine.strokes.cycle_angle();
+    for &angle in phi {
+        check("phi", angle, "0 <= phi <= cycle angle", |a| {
+            (0.0..=cycle_angle).contains(&a)
+        })?;
+    }
+    let dynamics = Dynamics::new(machine.units, machine.g)?;
+    let cycle = Cycle::new(machine, dynamics)?;
+    let mean = balance_load(&cycle) + drive;
+    if mean.is_nan() || mean <= 0.0 {
+        return Err(MechanismError::OutOfRange {
+            parameter: "drive",
+            value: mean,
+            allowed: "a cycle mean of gas and drive torque > 0 (N·m) for a square-law load",
+        });
+    }
+    let (solution, curves, mean_load) =
+        match SquareLaw::new(&cycle, coefficient, drive)?.solve(min_speed_ratio, phi)? {
+            Ok(found) => found,
+            Err(stall) => {
+                return Err(MechanismError::Stall {
+                    angle: stall.angle.rem_euclid(cycle.cycle()),
+                    rpm: f64::NAN,
+                    min_rpm: None,
+                })
+            }
+        };
+    let delta_without_gravity = if cycle.gravity_on {
+        let without = cycle.without_gravity();
+        SquareLaw::new(&without, coefficient, drive)?
+            .solve(min_speed_ratio, &[])?
+            .map_or(f64::NAN, |found| found.0.delta())
+    } else {
+        solution.delta()
+    };
+    let delta_gravity_only =
+        delta_gravity_only(&cycle, cycle.inertia, solution.omega_mean, min_speed_ratio)?;
+    Ok(SteadyCurves {
+        state: SteadyState {
+            omega_mean: solution.omega_mean,
+            period: solution.period,
+            omega_max: solution.omega_max,
+            omega_min: solution.omega_min,
+            phi_max: solution.phi_max,
+            phi_min: solution.phi_min,
+            energy_at_zero: solution.energy_at_zero,
+            mean_load_torque: mean_load,
+            delta: solution.delta(),
+            delta_midrange: 2.0 * (solution.omega_max - solution.omega_min)
+                / (solution.omega_max + solution.omega_min),
+            delta_without_gravity,
+            delta_gravity_only,
+        },
         omega: curves.omega,
         time: curves.time,
     })

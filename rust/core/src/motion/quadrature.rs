@@ -164,19 +164,28 @@ impl Panels {
     }
 
     /// The running integral F(φ) = ∫₀^φ f dφ at `phi` (rad, in [0, Φ]) from f at the nodes
-    /// (`values`): the panel sums up to φ's panel, then that panel's interpolant of f
-    /// (degree order − 1) integrated exactly from its edge to φ (the Python
-    /// implementation's `CycleQuadrature.antiderivative`). φ's panel is the last whose edge
-    /// is ≤ φ (NumPy's `searchsorted(…, side="right") − 1`, kept in 0..P).
+    /// (`values`): see [`Antiderivative`].
+    pub fn running_at(&self, values: &[f64], phi: &[f64]) -> Vec<f64> {
+        let running = self.antiderivative(values);
+        phi.iter().map(|&angle| running.at(angle)).collect()
+    }
+
+    /// The running integral of f, given at the nodes (`values`), everywhere: each panel's
+    /// interpolant (degree order − 1) integrated exactly (the Python implementation's
+    /// `CycleQuadrature.antiderivative`).
     ///
     /// The interpolant's Legendre coefficients come from the Gauss rule's discrete
-    /// orthogonality, c_k = (2k + 1)/2 · Σ_i w_i f_i P_k(x_i) (exact: degree ≤ 2·order − 2),
-    /// and ∫_{−1}^x P_k = (P_{k+1}(x) − P_{k−1}(x))/(2k + 1) (x + 1 for k = 0).
-    pub fn running_at(&self, values: &[f64], phi: &[f64]) -> Vec<f64> {
+    /// orthogonality, c_k = (2k + 1)/2 · Σ_i w_i f_i P_k(x_i) (exact: degree ≤ 2·order − 2).
+    pub fn antiderivative(&self, values: &[f64]) -> Antiderivative<'_> {
         let n = self.order;
-        let count = self.count();
-        let mut at_edges = Vec::with_capacity(count + 1);
+        let basis: Vec<Vec<f64>> = self
+            .unit_nodes
+            .iter()
+            .map(|&x| legendre_all(n, x))
+            .collect();
+        let mut at_edges = Vec::with_capacity(self.count() + 1);
         at_edges.push(0.0);
+        let mut coefficients = Vec::with_capacity(values.len());
         for (p, panel) in values.chunks_exact(n).enumerate() {
             let half = 0.5 * (self.edges[p + 1] - self.edges[p]);
             let sum: f64 = panel
@@ -185,41 +194,57 @@ impl Panels {
                 .map(|(f, w)| f * w)
                 .sum();
             at_edges.push(at_edges[p] + half * sum);
+            coefficients.extend((0..n).map(|k| {
+                panel
+                    .iter()
+                    .zip(&self.unit_weights)
+                    .zip(&basis)
+                    .map(|((f, w), b)| f * w * b[k])
+                    .sum::<f64>()
+                    * (2 * k + 1) as f64
+                    * 0.5
+            }));
         }
-        // P_k at the unit nodes, k = 0..n − 1.
-        let basis: Vec<Vec<f64>> = self
+        Antiderivative {
+            panels: self,
+            at_edges,
+            coefficients,
+        }
+    }
+
+    /// f′ at the nodes of the polynomial through f at each panel's nodes (the Python
+    /// implementation's `CycleQuadrature.slope`): Σ_k c_k P_k′(x_i)/half.
+    pub fn slope(&self, values: &[f64]) -> Vec<f64> {
+        let n = self.order;
+        let derivatives: Vec<Vec<f64>> = self
             .unit_nodes
             .iter()
-            .map(|&x| legendre_all(n, x))
-            .collect();
-        phi.iter()
-            .map(|&angle| {
-                let p = self.edges.partition_point(|&e| e <= angle).clamp(1, count) - 1;
-                let half = 0.5 * (self.edges[p + 1] - self.edges[p]);
-                let x = (angle - 0.5 * (self.edges[p] + self.edges[p + 1])) / half;
-                let panel = &values[p * n..(p + 1) * n];
-                // P_0(x) … P_n(x) at φ.
-                let at = legendre_all(n + 1, x);
-                let mut integral = 0.0;
-                for k in 0..n {
-                    let c: f64 = panel
-                        .iter()
-                        .zip(&self.unit_weights)
-                        .zip(&basis)
-                        .map(|((f, w), b)| f * w * b[k])
-                        .sum::<f64>()
-                        * (2 * k + 1) as f64
-                        * 0.5;
-                    let primitive = if k == 0 {
-                        x + 1.0
-                    } else {
-                        (at[k + 1] - at[k - 1]) / (2 * k + 1) as f64
-                    };
-                    integral += c * primitive;
-                }
-                at_edges[p] + half * integral
+            .map(|&x| {
+                let p = legendre_all(n, x);
+                // P_k′ = k(x P_k − P_{k−1})/(x² − 1): the nodes are inside (−1, 1).
+                (0..n)
+                    .map(|k| {
+                        if k == 0 {
+                            0.0
+                        } else {
+                            k as f64 * (x * p[k] - p[k - 1]) / (x * x - 1.0)
+                        }
+                    })
+                    .collect()
             })
-            .collect()
+            .collect();
+        let running = self.antiderivative(values);
+        let mut slopes = Vec::with_capacity(values.len());
+        for p in 0..self.count() {
+            let half = 0.5 * (self.edges[p + 1] - self.edges[p]);
+            let c = &running.coefficients[p * n..(p + 1) * n];
+            slopes.extend(
+                derivatives
+                    .iter()
+                    .map(|d| c.iter().zip(d).map(|(c, d)| c * d).sum::<f64>() / half),
+            );
+        }
+        slopes
     }
 
     /// The largest |Legendre coefficient| of degrees order − 2 and order − 1 over the panels,
@@ -262,6 +287,54 @@ fn legendre(n: usize, x: f64) -> f64 {
         p = next;
     }
     p
+}
+
+/// The running integral F(φ) = ∫₀^φ f dφ of a function given at the nodes of [`Panels`].
+#[derive(Debug, Clone)]
+pub(crate) struct Antiderivative<'p> {
+    panels: &'p Panels,
+    /// F at the edges: F(0) = 0, F(Φ) the whole integral.
+    pub at_edges: Vec<f64>,
+    /// Each panel's Legendre coefficients of f's interpolant (order per panel).
+    coefficients: Vec<f64>,
+}
+
+impl Antiderivative<'_> {
+    /// F(φ), φ (rad) in [0, Φ]: the panel sums up to φ's panel, then that panel's
+    /// interpolant integrated from its edge to φ, ∫_{−1}^x P_k = (P_{k+1}(x) − P_{k−1}(x))/
+    /// (2k + 1) (x + 1 for k = 0). φ's panel is the last whose edge is ≤ φ (NumPy's
+    /// `searchsorted(…, side="right") − 1`, kept in 0..P).
+    pub fn at(&self, angle: f64) -> f64 {
+        let (edges, n) = (&self.panels.edges, self.panels.order);
+        let p = edges
+            .partition_point(|&e| e <= angle)
+            .clamp(1, self.panels.count())
+            - 1;
+        let half = 0.5 * (edges[p + 1] - edges[p]);
+        let x = (angle - 0.5 * (edges[p] + edges[p + 1])) / half;
+        let basis = legendre_all(n + 1, x);
+        let integral: f64 = self.coefficients[p * n..(p + 1) * n]
+            .iter()
+            .enumerate()
+            .map(|(k, c)| {
+                c * if k == 0 {
+                    x + 1.0
+                } else {
+                    (basis[k + 1] - basis[k - 1]) / (2 * k + 1) as f64
+                }
+            })
+            .sum();
+        self.at_edges[p] + half * integral
+    }
+
+    /// F at the nodes.
+    pub fn at_nodes(&self) -> Vec<f64> {
+        self.panels
+            .phi
+            .iter()
+            .map(|&angle| self.at(angle))
+            .collect()
+    }
 }
 
 /// P_0(x) … P_{count − 1}(x) by the three-term recurrence.
@@ -384,6 +457,11 @@ mod tests {
                 (found - exact).abs() <= 1e-13 * (1.0 + exact.abs()),
                 "{p}: {found} {exact}"
             );
+        }
+        let slope = panels.slope(&cubic);
+        for (found, p) in slope.iter().zip(&panels.phi) {
+            let exact = 11.0 * p.powi(10) - 3.0;
+            assert!((found - exact).abs() <= 1e-11 * (1.0 + exact.abs()), "{p}");
         }
         let smooth: Vec<f64> = panels.phi.iter().map(|p| p.sin().exp()).collect();
         let found = panels.running_at(&smooth, &[cycle])[0];

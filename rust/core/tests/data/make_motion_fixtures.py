@@ -51,6 +51,8 @@ POINTS = 361
 #: The square-law load's results (closed form) kept beside its arrays.
 SQUARE_LAW = (
     "delta",
+    "delta_without_gravity",
+    "delta_gravity_only",
     "omega_mean",
     "omega_max",
     "omega_min",
