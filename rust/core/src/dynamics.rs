@@ -16,13 +16,11 @@
 //! of `exact`'s block kernels, so it runs on the same vectorised sincos, rotations, angle
 //! sources and threads as the gravity kernels.
 
-use std::f64::consts::PI;
-
 use crate::angles::{Phi, PreparedPhi};
 use crate::engine::{Cylinder, Engine};
 use crate::error::{check, check_length, check_rows_length, MechanismError, Result};
 use crate::exact::{crank_run, CrankTerm, Quantity};
-use crate::mechanism::{Phases, PhysicalUnit};
+use crate::mechanism::{check_rpm, check_shaft_inertia, omega_from_rpm, Phases, PhysicalUnit};
 use crate::parallel::{for_each_row_segment, Parallelism};
 use crate::trig::MulAdd;
 
@@ -277,11 +275,9 @@ impl Dynamics {
     /// The dimensionless engine of these units at `rpm` with shaft inertia I_w:
     /// U1, U2 divided by I_w ω², ω = π·rpm/30.
     pub fn dimensionless(&self, shaft_inertia: f64, rpm: f64) -> Result<Engine> {
-        check("shaft_inertia", shaft_inertia, "shaft_inertia > 0", |i| {
-            i > 0.0
-        })?;
-        check("rpm", rpm, "rpm > 0", |n| n > 0.0)?;
-        let omega = PI * rpm / 30.0;
+        check_shaft_inertia(shaft_inertia)?;
+        check_rpm(rpm)?;
+        let omega = omega_from_rpm(rpm);
         let scale = shaft_inertia * omega * omega;
         Engine::new(
             self.gravity
@@ -314,9 +310,7 @@ impl Dynamics {
         slope: &mut [f64],
         parallelism: Parallelism,
     ) -> Result<()> {
-        check("shaft_inertia", shaft_inertia, "shaft_inertia > 0", |i| {
-            i > 0.0
-        })?;
+        check_shaft_inertia(shaft_inertia)?;
         let phi = phi.into();
         check_length("inertia", phi.len(), inertia.len())?;
         check_length("slope", phi.len(), slope.len())?;
@@ -571,7 +565,7 @@ mod tests {
         }
         // The dimensionless engine at a speed is the same energy over I_w ω².
         let engine = machine.dimensionless(2.0, 300.0).unwrap();
-        let omega = std::f64::consts::PI * 300.0 / 30.0;
+        let omega = crate::mechanism::omega_from_rpm(300.0);
         let mut star = vec![0.0; phi.len()];
         engine
             .evaluate(

@@ -6,6 +6,22 @@ use std::f64::consts::{PI, TAU};
 
 use crate::error::{check, check_length, try_with_capacity, MechanismError, Result};
 
+/// ω = π n/30 [rad/s] of a speed n [1/min] (2π rad a revolution, 60 s a minute): the core's
+/// one conversion.
+pub fn omega_from_rpm(rpm: f64) -> f64 {
+    PI * rpm / 30.0
+}
+
+/// A shaft's moment of inertia I_w [kg·m²]: > 0, as every use of one requires.
+pub(crate) fn check_shaft_inertia(value: f64) -> Result<f64> {
+    check("shaft_inertia", value, "shaft_inertia > 0", |i| i > 0.0)
+}
+
+/// A speed n [1/min]: > 0, as every use of one requires.
+pub(crate) fn check_rpm(value: f64) -> Result<f64> {
+    check("rpm", value, "rpm > 0", |n| n > 0.0)
+}
+
 /// Two- or four-stroke working cycle: one cycle spans T = 2π or 4π of crank angle.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Strokes {
@@ -295,7 +311,7 @@ impl PhysicalUnit {
     /// printed eq. 5–6 swap the two shares (erratum 3).
     pub fn dimensionless_moments(&self) -> Result<(f64, f64)> {
         self.validate()?;
-        let omega = PI * self.rpm / 30.0;
+        let omega = omega_from_rpm(self.rpm);
         let scale = self.g / (self.shaft_inertia * omega * omega);
         let (reciprocating, rotating) = self.moment_arms();
         Ok((scale * reciprocating, scale * rotating))

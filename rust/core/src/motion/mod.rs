@@ -20,7 +20,7 @@ use std::f64::consts::PI;
 
 use crate::dynamics::{Dynamics, PhysicalCylinder};
 use crate::error::{check, MechanismError, Result};
-use crate::mechanism::Strokes;
+use crate::mechanism::{check_rpm, check_shaft_inertia, omega_from_rpm, Strokes};
 
 use balance::{Balance, Solved};
 use cycle::Cycle;
@@ -115,6 +115,22 @@ fn delta_gravity_only(cycle: &Cycle<'_>, inertia: f64, omega_mean: f64, ratio: f
 /// centre takes longer than any run (and 1/ratio² leaves the range of a double on the way).
 const SMALLEST_SPEED_RATIO: f64 = 1e-9;
 
+/// `min_speed_ratio`, as every solve takes it: 1e-9 ≤ ratio < 1.
+fn check_speed_ratio(value: f64) -> Result<f64> {
+    check(
+        "min_speed_ratio",
+        value,
+        "1e-9 <= min_speed_ratio < 1",
+        |r| (SMALLEST_SPEED_RATIO..1.0).contains(&r),
+    )
+}
+
+/// The machine's working cycle tabulated for a solve: its units checked (`Dynamics`), then
+/// J, U and the gas work on the cycle's panels.
+fn tabulated<'a>(machine: &Machine<'a>) -> Result<Cycle<'a>> {
+    Cycle::new(machine, Dynamics::new(machine.units, machine.g)?)
+}
+
 /// The periodic steady state of `machine` under the "balance" load at the mean speed `rpm`
 /// (1/min) (time mean, ω_m = π·rpm/30), by the energy method (docs/theory.md, "Steady
 /// running"). `min_speed_ratio`: the machine stalls when ω_min < min_speed_ratio·ω_m
@@ -170,22 +186,11 @@ fn solve_steady_state(
     min_speed_ratio: f64,
     phi: &[f64],
 ) -> Result<SteadyCurves> {
-    check(
-        "shaft_inertia",
-        machine.shaft_inertia,
-        "shaft_inertia > 0",
-        |i| i > 0.0,
-    )?;
-    check("rpm", rpm, "rpm > 0", |n| n > 0.0)?;
-    check(
-        "min_speed_ratio",
-        min_speed_ratio,
-        "1e-9 <= min_speed_ratio < 1",
-        |r| (SMALLEST_SPEED_RATIO..1.0).contains(&r),
-    )?;
-    let dynamics = Dynamics::new(machine.units, machine.g)?;
-    let cycle = Cycle::new(machine, dynamics)?;
-    let omega_mean = PI * rpm / 30.0;
+    check_shaft_inertia(machine.shaft_inertia)?;
+    check_rpm(rpm)?;
+    check_speed_ratio(min_speed_ratio)?;
+    let cycle = tabulated(machine)?;
+    let omega_mean = omega_from_rpm(rpm);
     let load = balance_load(&cycle);
     let solved =
         Balance::new(&cycle, load, true)?.solve_with_curves(omega_mean, min_speed_ratio, phi)?;
@@ -255,30 +260,19 @@ pub fn square_law_steady_state(
     min_speed_ratio: f64,
     phi: &[f64],
 ) -> Result<SteadyCurves> {
-    check(
-        "shaft_inertia",
-        machine.shaft_inertia,
-        "shaft_inertia > 0",
-        |i| i > 0.0,
-    )?;
+    check_shaft_inertia(machine.shaft_inertia)?;
     check("load", coefficient, "a square-law coefficient > 0", |c| {
         c > 0.0
     })?;
     check("drive", drive, "a finite constant drive", |_| true)?;
-    check(
-        "min_speed_ratio",
-        min_speed_ratio,
-        "1e-9 <= min_speed_ratio < 1",
-        |r| (SMALLEST_SPEED_RATIO..1.0).contains(&r),
-    )?;
+    check_speed_ratio(min_speed_ratio)?;
     let cycle_angle = machine.strokes.cycle_angle();
     for &angle in phi {
         check("phi", angle, "0 <= phi <= cycle angle", |a| {
             (0.0..=cycle_angle).contains(&a)
         })?;
     }
-    let dynamics = Dynamics::new(machine.units, machine.g)?;
-    let cycle = Cycle::new(machine, dynamics)?;
+    let cycle = tabulated(machine)?;
     let mean = balance_load(&cycle) + drive;
     if mean.is_nan() || mean <= 0.0 {
         return Err(MechanismError::OutOfRange {
@@ -369,22 +363,11 @@ pub fn flywheel_inertia(
     check("delta", delta, "delta >= 1e-9", |d| {
         d >= flywheel::SMALLEST_DELTA
     })?;
-    check(
-        "shaft_inertia",
-        machine.shaft_inertia,
-        "shaft_inertia > 0",
-        |i| i > 0.0,
-    )?;
-    check("rpm", rpm, "rpm > 0", |n| n > 0.0)?;
-    check(
-        "min_speed_ratio",
-        min_speed_ratio,
-        "1e-9 <= min_speed_ratio < 1",
-        |r| (SMALLEST_SPEED_RATIO..1.0).contains(&r),
-    )?;
-    let dynamics = Dynamics::new(machine.units, machine.g)?;
-    let cycle = Cycle::new(machine, dynamics)?;
-    let omega_mean = PI * rpm / 30.0;
+    check_shaft_inertia(machine.shaft_inertia)?;
+    check_rpm(rpm)?;
+    check_speed_ratio(min_speed_ratio)?;
+    let cycle = tabulated(machine)?;
+    let omega_mean = omega_from_rpm(rpm);
     let load = balance_load(&cycle);
     let balance = Balance::new(&cycle, load, true)?;
     let (swing, textbook) = flywheel::textbook(&balance, &cycle, delta, omega_mean)?;

@@ -10,14 +10,14 @@ use std::f64::consts::PI;
 
 use crate::dynamics::{two_mass_rod_inertia, Dynamics, PhysicalCylinder};
 use crate::error::{check, check_length, MechanismError, Result};
+use crate::mechanism::{check_rpm, check_shaft_inertia, omega_from_rpm};
 use crate::parallel::{map_indices, Parallelism};
 
 use super::balance::Balance;
-use super::cycle::Cycle;
 use super::gas::{GasCylinder, PiecewisePolynomial};
 use super::{
-    balance_load, delta_gravity_only, delta_without_gravity, flywheel, Machine,
-    SMALLEST_SPEED_RATIO,
+    balance_load, check_speed_ratio, delta_gravity_only, delta_without_gravity, flywheel,
+    tabulated, Machine,
 };
 
 /// Per-design overrides of a base machine: each column optional (`None`: the base
@@ -256,14 +256,10 @@ fn variant(
     row: usize,
 ) -> Result<Variant> {
     let value = |column: Option<&[f64]>| column.map(|c| c[row]);
-    let shaft_inertia = check(
-        "shaft_inertia",
-        value(designs.shaft_inertia).unwrap_or(base.shaft_inertia),
-        "shaft_inertia > 0",
-        |i| i > 0.0,
-    )?;
+    let shaft_inertia =
+        check_shaft_inertia(value(designs.shaft_inertia).unwrap_or(base.shaft_inertia))?;
     let rpm = match value(designs.rpm).or(rpm) {
-        Some(rpm) => check("rpm", rpm, "rpm > 0", |n| n > 0.0)?,
+        Some(rpm) => check_rpm(rpm)?,
         None => {
             return Err(MechanismError::OutOfRange {
                 parameter: "rpm",
@@ -364,9 +360,8 @@ fn solve(
         strokes: base.strokes,
         g: variant.g,
     };
-    let dynamics = Dynamics::new(machine.units, machine.g)?;
-    let cycle = Cycle::new(&machine, dynamics)?;
-    let omega_mean = PI * variant.rpm / 30.0;
+    let cycle = tabulated(&machine)?;
+    let omega_mean = omega_from_rpm(variant.rpm);
     let load = balance_load(&cycle);
     // As `steady_state` and `flywheel_inertia` make it: a solve refines its own copy.
     let balance = Balance::new(&cycle, load, true)?;
@@ -454,12 +449,7 @@ pub fn motion_sweep(
     min_speed_ratio: f64,
     parallelism: Parallelism,
 ) -> Result<MotionColumns> {
-    check(
-        "min_speed_ratio",
-        min_speed_ratio,
-        "1e-9 <= min_speed_ratio < 1",
-        |r| (SMALLEST_SPEED_RATIO..1.0).contains(&r),
-    )?;
+    check_speed_ratio(min_speed_ratio)?;
     if outputs.flywheel() {
         check(
             "delta",
