@@ -54,7 +54,6 @@ from ._periodic import (
 )
 from ._result import MotionResult
 from ._solvers import Balance, CycleTables, Periodic, Stall
-from .flywheel import FlywheelInertia, flywheel_inertia  # noqa: F401  (their home until flywheel.py; CLI, report)
 from .loads import BALANCE, PowerLawLoad, Torque
 
 __all__ = ["PowerLawLoad", "StallError", "SteadyState", "steady_state"]
