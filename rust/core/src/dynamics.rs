@@ -311,12 +311,42 @@ impl Dynamics {
         parallelism: Parallelism,
     ) -> Result<()> {
         check_shaft_inertia(shaft_inertia)?;
+        self.inertia_with(
+            shaft_inertia + self.rotating,
+            phi,
+            inertia,
+            slope,
+            parallelism,
+        )
+    }
+
+    /// J − I_w (kg·m²) and J′ (kg·m²/rad): the rods', pistons' and cranks' share of the
+    /// reduced inertia, the same doubles whatever shaft it is later added to (the steady
+    /// state's tables, made once for every I_w).
+    pub(crate) fn inertia_beside_shaft<'a>(
+        &self,
+        phi: impl Into<Phi<'a>>,
+        inertia: &mut [f64],
+        slope: &mut [f64],
+        parallelism: Parallelism,
+    ) -> Result<()> {
+        self.inertia_with(self.rotating, phi, inertia, slope, parallelism)
+    }
+
+    /// The sliders' varying inertia plus `constant` (kg·m²), and its slope (kg·m²/rad).
+    fn inertia_with<'a>(
+        &self,
+        constant: f64,
+        phi: impl Into<Phi<'a>>,
+        inertia: &mut [f64],
+        slope: &mut [f64],
+        parallelism: Parallelism,
+    ) -> Result<()> {
         let phi = phi.into();
         check_length("inertia", phi.len(), inertia.len())?;
         check_length("slope", phi.len(), slope.len())?;
         let phi = PreparedPhi::new(phi, parallelism);
         let work = phi.len().saturating_mul(self.len());
-        let constant = shaft_inertia + self.rotating;
         for_each_row_segment(inertia, phi.len(), work, parallelism, |_, col, segment| {
             let run = phi.run(col, segment.len());
             crank_run::<Inertia>(&self.sliders, &self.phases, run, segment);

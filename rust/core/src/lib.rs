@@ -53,7 +53,7 @@ pub use mechanism::{
 pub use motion::{
     flywheel_inertia, motion_sweep, square_law_steady_state, steady_state, steady_state_curves,
     DesignColumns, FlywheelInertia, GasCylinder, Machine, MotionColumns, MotionOutputs,
-    PiecewisePolynomial, SteadyCurves, SteadyState,
+    PiecewisePolynomial, SteadyCurves, SteadyState, SteadyTables,
 };
 pub use parallel::Parallelism;
 pub use series::{build_series, fourier_table, FourierSeries, SeriesKind};

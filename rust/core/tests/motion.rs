@@ -5,7 +5,7 @@ use multicrank_core::{
     flywheel_inertia, motion_sweep, square_law_steady_state, steady_state, steady_state_curves,
     two_mass_rod_inertia, DesignColumns, GasCylinder, Machine, MechanismError, MotionColumns,
     MotionOutputs, Parallelism, PhysicalCylinder, PiecewisePolynomial, SteadyCurves, SteadyState,
-    Strokes,
+    SteadyTables, Strokes,
 };
 use serde_json::Value;
 
@@ -1432,4 +1432,53 @@ fn only_the_outputs_asked_are_computed() {
     assert!(sized.flywheel_inertia.iter().all(|i| i.is_nan()));
     println!("delta alone {quick:?}; with the unreachable flywheel {slow:?}");
     assert!(quick < slow, "{quick:?} vs {slow:?}");
+}
+
+/// Tables made once serve every shaft inertia and speed: each steady state and flywheel from
+/// them is bit-equal to the one of the machine built with that I_w; without the comparisons
+/// δ is the same and they are NaN.
+#[test]
+fn tables_made_once_give_every_inertia_and_speed_exactly() {
+    for f in fixtures() {
+        let base = machine_of(&f);
+        let tables = SteadyTables::new(&base).expect("tables");
+        let phi = [0.0, 0.5, tables.cycle()];
+        for (factor, speed) in [(1.0, 1.0), (0.7, 1.2), (2.5, 0.9)] {
+            let inertia = factor * f.shaft_inertia;
+            let rpm = speed * f.rpm;
+            let machine = Machine {
+                shaft_inertia: inertia,
+                ..base
+            };
+            let fresh = steady_state_curves(&machine, rpm, 1e-3, &phi);
+            let reused = tables.steady_state(inertia, rpm, 1e-3, &phi, true);
+            match (fresh, reused) {
+                (Ok(fresh), Ok(reused)) => {
+                    assert_eq!(
+                        format!("{fresh:?}"),
+                        format!("{reused:?}"),
+                        "{} {factor} {speed}",
+                        f.name
+                    );
+                    let alone = tables
+                        .steady_state(inertia, rpm, 1e-3, &[], false)
+                        .expect("runs");
+                    assert_eq!(alone.state.delta, fresh.state.delta);
+                    assert!(alone.state.delta_without_gravity.is_nan());
+                    assert!(alone.state.delta_gravity_only.is_nan());
+                    assert!(alone.omega.is_empty() && alone.time.is_empty());
+                }
+                (Err(fresh), Err(reused)) => assert_eq!(fresh, reused, "{}", f.name),
+                (fresh, reused) => panic!("{}: {fresh:?} vs {reused:?}", f.name),
+            }
+            let sized = flywheel_inertia(&machine, 0.02, rpm, 1e-3);
+            let from_tables = tables.flywheel_inertia(0.02, rpm, 1e-3, inertia, true);
+            assert_eq!(
+                format!("{sized:?}"),
+                format!("{from_tables:?}"),
+                "{} flywheel",
+                f.name
+            );
+        }
+    }
 }

@@ -6,6 +6,8 @@
 //! written E = s + K̃ with K̃ = K − min K ≥ 0 and s > 0 the kinetic energy left at the worst
 //! angle; s is the root of (Φ/(t_Φ(s)·ω_m))² − 1, increasing and nearly linear in s.
 
+use std::sync::Arc;
+
 use crate::error::Result;
 
 use super::cycle::Cycle;
@@ -145,11 +147,6 @@ const GRADE_REACH: f64 = 1.5;
 /// last (`_GRADE_RATIO`).
 const GRADE_RATIO: f64 = 4.0;
 
-/// The step (rad) of the central differences that estimate K'' = M′: small beside a panel
-/// (≥ π/60 wide), large enough that rounding of M (~1e-16·|M|) stays below 1e-10 of the
-/// slope.
-const SLOPE_STEP: f64 = 1e-5;
-
 /// Refinements of the time mesh before the answer is taken (the Python implementation's
 /// 16): each grades for the s found on the last.
 const MESH_ROUNDS: usize = 16;
@@ -179,8 +176,8 @@ impl Mesh<'_> {
 
 /// K̃ on the cycle's tables, and the root in s (docs/theory.md, "Steady running").
 #[derive(Debug, Clone)]
-pub(crate) struct Balance<'c, 'a> {
-    cycle: &'c Cycle<'a>,
+pub(crate) struct Balance {
+    cycle: Arc<Cycle>,
     gas: bool,
     /// The constant load (N·m).
     pub load: f64,
@@ -202,10 +199,10 @@ pub(crate) struct Balance<'c, 'a> {
     lifted: Vec<f64>,
 }
 
-impl<'c, 'a> Balance<'c, 'a> {
+impl Balance {
     /// The energy method on `cycle` with the constant `load` (N·m); `gas`: whether the gas
     /// work is taken (false: gravity and the variation of J alone).
-    pub fn new(cycle: &'c Cycle<'a>, load: f64, gas: bool) -> Result<Self> {
+    pub fn new(cycle: &Arc<Cycle>, load: f64, gas: bool) -> Result<Self> {
         let n = cycle.nodes();
         let angles = cycle.panels.phi.iter().chain(&cycle.panels.edges);
         let k: Vec<f64> = angles
@@ -240,17 +237,9 @@ impl<'c, 'a> Balance<'c, 'a> {
             }
         };
         let k_min = k[lowest];
-        let phi = &cycle.panels.phi;
-        let shifted = |h: f64| phi.iter().map(|p| p + h).collect::<Vec<f64>>();
-        let ahead = cycle.torque_at(&shifted(SLOPE_STEP), gas)?;
-        let behind = cycle.torque_at(&shifted(-SLOPE_STEP), gas)?;
-        let curvature: Vec<f64> = ahead
-            .iter()
-            .zip(&behind)
-            .map(|(a, b)| (a - b) / (2.0 * SLOPE_STEP))
-            .collect();
+        let curvature = cycle.curvature(gas);
         Ok(Self {
-            cycle,
+            cycle: Arc::clone(cycle),
             gas,
             load,
             inertia: cycle.inertia,
@@ -271,6 +260,11 @@ impl<'c, 'a> Balance<'c, 'a> {
             inertia,
             ..self.clone()
         }
+    }
+
+    /// Φ (rad).
+    pub fn cycle(&self) -> f64 {
+        self.cycle.cycle()
     }
 
     /// max K̃ over the samples (J): about max K − min K.
@@ -373,13 +367,29 @@ impl<'c, 'a> Balance<'c, 'a> {
 
     /// t_Φ(s) = ∫₀^Φ √(J/2(s + K̃)) dφ on a mesh.
     fn period(&self, mesh: Mesh<'_>, s: f64) -> f64 {
-        mesh.panels
-            .weights
-            .iter()
-            .zip(mesh.rest)
-            .zip(mesh.lifted)
-            .map(|((w, rest), k)| w * (0.5 * (self.inertia + rest) / (s + k)).sqrt())
-            .sum()
+        let term = |w: f64, rest: f64, k: f64| w * (0.5 * (self.inertia + rest) / (s + k)).sqrt();
+        let n = mesh.nodes();
+        let (w, rest, k) = (
+            &mesh.panels.weights[..n],
+            &mesh.rest[..n],
+            &mesh.lifted[..n],
+        );
+        // LANES running sums added at the end: the same sum in the same order every time,
+        // and one the compiler keeps in vector registers (a single running sum of doubles
+        // it may not reorder); the period is taken a dozen times per solve.
+        let mut lanes = [0.0; LANES];
+        let whole = n / LANES * LANES;
+        for ((w, rest), k) in w[..whole]
+            .chunks_exact(LANES)
+            .zip(rest[..whole].chunks_exact(LANES))
+            .zip(k[..whole].chunks_exact(LANES))
+        {
+            for lane in 0..LANES {
+                lanes[lane] += term(w[lane], rest[lane], k[lane]);
+            }
+        }
+        let tail: f64 = (whole..n).map(|i| term(w[i], rest[i], k[i])).sum();
+        lanes.iter().sum::<f64>() + tail
     }
 
     /// The periodic solution of mean speed `omega_mean` (rad/s); `Err(Stall)` inside `Ok`
@@ -431,7 +441,7 @@ impl<'c, 'a> Balance<'c, 'a> {
 
     /// `solve`, and the graded mesh the answer was taken on (`None`: the base panels).
     fn solve_on_mesh(&mut self, omega_mean: f64, ratio: f64) -> Result<(Solved, Option<Graded>)> {
-        let cycle = self.cycle;
+        let cycle = Arc::clone(&self.cycle);
         let target = cycle.cycle() / omega_mean;
         // At s_low the speed at the worst angle is ratio·ω_m: if the mean speed there is
         // already above the one asked for, the solution has a smaller s, and stalls.
@@ -536,7 +546,7 @@ impl<'c, 'a> Balance<'c, 'a> {
 
     /// t_Φ, ω_m and the extremes of ω for E = s + K̃ on a mesh.
     fn finish(&self, mesh: Mesh<'_>, s: f64, ratio: f64) -> Result<Solved> {
-        let cycle = self.cycle;
+        let cycle = &self.cycle;
         let panels = mesh.panels;
         let n = mesh.nodes();
         let omega: Vec<f64> = mesh
@@ -602,6 +612,9 @@ impl<'c, 'a> Balance<'c, 'a> {
         ))
     }
 }
+
+/// The running sums of the period's quadrature.
+const LANES: usize = 8;
 
 /// Edges to add to the base panels so that ∫√(J/2E) dφ stays spectrally accurate where
 /// E (`energy`, nodes then edges; E'' = `curvature` at the nodes) nearly vanishes:

@@ -5,12 +5,13 @@
 //! (the forces and their work): here are only the tables.
 
 use std::f64::consts::PI;
+use std::sync::Arc;
 
 use crate::dynamics::Dynamics;
 use crate::error::Result;
 use crate::parallel::Parallelism;
 
-use super::gas::{Forces, GasWork};
+use super::gas::{Forces, GasWork, PiecewisePolynomial};
 use super::quadrature::{breaks, Panels};
 use super::Machine;
 
@@ -30,14 +31,20 @@ const RESOLVED: f64 = 1e-7;
 /// … or below rounding of its size.
 const ROUNDING: f64 = 1e-14;
 
-/// The machine's quantities over its cycle.
+/// The step (rad) of the central differences that estimate K'' = M′: small beside a panel
+/// (≥ π/60 wide), large enough that rounding of M (~1e-16·|M|) stays below 1e-10 of the
+/// slope.
+const SLOPE_STEP: f64 = 1e-5;
+
+/// The machine's quantities over its cycle. Nothing in them depends on I_w or on the
+/// speed: one `Cycle` serves every shaft inertia and every mean speed.
 #[derive(Debug, Clone)]
-pub(crate) struct Cycle<'a> {
+pub(crate) struct Cycle {
     pub dynamics: Dynamics,
-    pub forces: Forces<'a>,
-    pub work: GasWork<'a>,
-    /// I_w (kg·m²) of the machine tabulated; a solve may take another
-    /// (`Balance::with_inertia`): the tables hold J − I_w.
+    pub forces: Forces,
+    pub work: GasWork,
+    /// I_w (kg·m²) of the machine tabulated, the default of a solve (`Balance::with_inertia`
+    /// takes another): the tables hold J − I_w, which does not depend on it.
     pub inertia: f64,
     pub panels: Panels,
     /// Whether U is kept (g ≠ 0 and not removed by `without_gravity`).
@@ -48,13 +55,28 @@ pub(crate) struct Cycle<'a> {
     pub rest: Vec<f64>,
     pub potential: Vec<f64>,
     pub gas_work: Vec<f64>,
+    /// M_gas′ and the gravity torque's slope −U″ (N·m/rad) at the nodes, by central
+    /// differences of the exact torques: how sharply the kinetic energy may dip.
+    pub gas_curvature: Vec<f64>,
+    pub gravity_curvature: Vec<f64>,
 }
 
-impl<'a> Cycle<'a> {
-    pub fn new(machine: &Machine<'a>, dynamics: Dynamics) -> Result<Self> {
+impl Cycle {
+    /// The tables of `machine` (its units checked as `dynamics`), its diagrams copied.
+    pub fn new(machine: &Machine<'_>, dynamics: Dynamics) -> Result<Self> {
+        Self::with_diagrams(machine, dynamics, machine.diagrams.into())
+    }
+
+    /// The tables of `machine` with `diagrams` in place of its own (the same pressures, or
+    /// scaled ones, shared).
+    pub fn with_diagrams(
+        machine: &Machine<'_>,
+        dynamics: Dynamics,
+        diagrams: Arc<[PiecewisePolynomial]>,
+    ) -> Result<Self> {
         let cycle = machine.strokes.cycle_angle();
-        let forces = Forces::new(machine.units, machine.gas, machine.diagrams, cycle)?;
-        let work = GasWork::new(machine.units, machine.gas, machine.diagrams, cycle)?;
+        let forces = Forces::new(machine.units, machine.gas, diagrams.clone(), cycle)?;
+        let work = GasWork::new(machine.units, machine.gas, diagrams, cycle)?;
         // The dead centres ψ = φ + α ≡ 0 mod π of every gassed unit: where a pressure given
         // by branches may switch (the tables' own breakpoints enter through W, exactly).
         let mut angles = Vec::new();
@@ -69,7 +91,7 @@ impl<'a> Cycle<'a> {
         let mut width = START_WIDTH;
         loop {
             let panels = Panels::new(&cuts, ORDER, width);
-            let tables = Self::tabulate(
+            let mut tables = Self::tabulate(
                 machine,
                 dynamics.clone(),
                 forces.clone(),
@@ -77,17 +99,41 @@ impl<'a> Cycle<'a> {
                 panels,
             )?;
             if width < NARROWEST || tables.resolved() {
+                tables.curvatures()?;
                 return Ok(tables);
             }
             width /= 2.0;
         }
     }
 
+    /// `gas_curvature` and `gravity_curvature` on the panels found.
+    fn curvatures(&mut self) -> Result<()> {
+        let phi = &self.panels.phi;
+        let shifted = |h: f64| phi.iter().map(|p| p + h).collect::<Vec<f64>>();
+        let (ahead, behind) = (shifted(SLOPE_STEP), shifted(-SLOPE_STEP));
+        let difference = |a: Vec<f64>, b: Vec<f64>| -> Vec<f64> {
+            a.iter()
+                .zip(&b)
+                .map(|(a, b)| (a - b) / (2.0 * SLOPE_STEP))
+                .collect()
+        };
+        self.gas_curvature = difference(self.gas_torque_at(&ahead)?, self.gas_torque_at(&behind)?);
+        self.gravity_curvature = if self.gravity_on {
+            difference(
+                self.gravity_torque_at(&ahead)?,
+                self.gravity_torque_at(&behind)?,
+            )
+        } else {
+            vec![0.0; phi.len()]
+        };
+        Ok(())
+    }
+
     fn tabulate(
-        machine: &Machine<'a>,
+        machine: &Machine<'_>,
         dynamics: Dynamics,
-        forces: Forces<'a>,
-        work: GasWork<'a>,
+        forces: Forces,
+        work: GasWork,
         panels: Panels,
     ) -> Result<Self> {
         let everywhere: Vec<f64> = panels.phi.iter().chain(&panels.edges).copied().collect();
@@ -102,6 +148,8 @@ impl<'a> Cycle<'a> {
             u0: 0.0,
             rest: Vec::new(),
             potential: Vec::new(),
+            gas_curvature: Vec::new(),
+            gravity_curvature: Vec::new(),
         };
         tables.rest = tables.rest_at(&everywhere)?;
         if tables.gravity_on {
@@ -131,6 +179,7 @@ impl<'a> Cycle<'a> {
         other.gravity_on = false;
         other.u0 = 0.0;
         other.potential.iter_mut().for_each(|u| *u = 0.0);
+        other.gravity_curvature.iter_mut().for_each(|c| *c = 0.0);
         other
     }
 
@@ -159,14 +208,8 @@ impl<'a> Cycle<'a> {
     /// and its slope, for any I_w.
     pub fn inertia_at(&self, phi: &[f64]) -> Result<(Vec<f64>, Vec<f64>)> {
         let (mut inertia, mut slope) = (vec![0.0; phi.len()], vec![0.0; phi.len()]);
-        self.dynamics.reduced_inertia(
-            self.inertia,
-            phi,
-            &mut inertia,
-            &mut slope,
-            Parallelism::SERIAL,
-        )?;
-        inertia.iter_mut().for_each(|j| *j -= self.inertia);
+        self.dynamics
+            .inertia_beside_shaft(phi, &mut inertia, &mut slope, Parallelism::SERIAL)?;
         Ok((inertia, slope))
     }
 
@@ -191,20 +234,47 @@ impl<'a> Cycle<'a> {
         Ok(u)
     }
 
-    /// M_gas + the gravity torque −U′ (N·m) at any angles (`gas`: whether M_gas is taken).
-    pub fn torque_at(&self, phi: &[f64], gas: bool) -> Result<Vec<f64>> {
+    /// M_gas (N·m) at any angles.
+    fn gas_torque_at(&self, phi: &[f64]) -> Result<Vec<f64>> {
         let mut torque = vec![0.0; phi.len()];
-        if gas {
-            let forces = self.forces.at(phi);
-            self.dynamics
-                .gas_torque(phi, &forces, &mut torque, Parallelism::SERIAL)?;
-        }
+        let forces = self.forces.at(phi);
+        self.dynamics
+            .gas_torque(phi, &forces, &mut torque, Parallelism::SERIAL)?;
+        Ok(torque)
+    }
+
+    /// The gravity torque −U′ (N·m) at any angles (0 without gravity).
+    fn gravity_torque_at(&self, phi: &[f64]) -> Result<Vec<f64>> {
+        let mut weight = vec![0.0; phi.len()];
         if self.gravity_on {
-            let mut weight = vec![0.0; phi.len()];
             self.dynamics
                 .gravity_torque(phi, &mut weight, Parallelism::SERIAL)?;
-            torque.iter_mut().zip(&weight).for_each(|(m, w)| *m += w);
+        }
+        Ok(weight)
+    }
+
+    /// M_gas + the gravity torque −U′ (N·m) at any angles (`gas`: whether M_gas is taken).
+    pub fn torque_at(&self, phi: &[f64], gas: bool) -> Result<Vec<f64>> {
+        let mut torque = self.gravity_torque_at(phi)?;
+        if gas {
+            torque
+                .iter_mut()
+                .zip(self.gas_torque_at(phi)?)
+                .for_each(|(m, g)| *m += g);
         }
         Ok(torque)
+    }
+
+    /// K'' = (M_gas − U′)′ at the base nodes (N·m/rad) (`gas`: whether M_gas is taken).
+    pub fn curvature(&self, gas: bool) -> Vec<f64> {
+        if gas {
+            self.gas_curvature
+                .iter()
+                .zip(&self.gravity_curvature)
+                .map(|(g, w)| g + w)
+                .collect()
+        } else {
+            self.gravity_curvature.clone()
+        }
     }
 }

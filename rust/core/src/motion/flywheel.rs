@@ -30,7 +30,7 @@ fn bracket_steps() -> impl Iterator<Item = f64> {
 /// Errors: `delta` unreachable (the machine would stall before its fluctuation grows that
 /// large, or its rods' own inertia keeps δ below it).
 pub(crate) fn inertia_for(
-    balance: &Balance<'_, '_>,
+    balance: &Balance,
     omega_mean: f64,
     ratio: f64,
     delta: f64,
@@ -123,8 +123,8 @@ pub(crate) fn inertia_for(
 /// (ΔE (J), the textbook I_w (kg·m²)) for `delta` at ω_m = `omega_mean` (rad/s): ΔE = max K
 /// − min K with the balancing load, I_w = ΔE/(δω_m²) − mean(J − I_w).
 pub(crate) fn textbook(
-    balance: &Balance<'_, '_>,
-    cycle: &Cycle<'_>,
+    balance: &Balance,
+    cycle: &Cycle,
     delta: f64,
     omega_mean: f64,
 ) -> Result<(f64, f64)> {
@@ -140,7 +140,7 @@ pub(crate) fn textbook(
 pub(crate) fn start(
     swing: f64,
     textbook: f64,
-    cycle: &Cycle<'_>,
+    cycle: &Cycle,
     delta: f64,
     omega_mean: f64,
     fallback: f64,

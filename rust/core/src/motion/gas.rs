@@ -11,6 +11,7 @@
 //! they do any part [edge, x] of a panel — G is exact at every x, not only at the nodes.
 
 use std::f64::consts::PI;
+use std::sync::Arc;
 
 use crate::dynamics::{Dynamics, PhysicalCylinder};
 use crate::error::{check, MechanismError, Result};
@@ -28,6 +29,9 @@ pub struct PiecewisePolynomial {
     /// c_ki at k·m + i.
     coefficients: Vec<f64>,
     order: usize,
+    /// m/(x_m − x_0): the piece of θ guessed as if the breakpoints were uniform (tables
+    /// usually are), then corrected by a step or two.
+    per_radian: f64,
 }
 
 /// Breakpoints whose span differs from the cycle by more than this (relative) are refused:
@@ -73,6 +77,7 @@ impl PiecewisePolynomial {
         )?;
         Ok(Self {
             order: coefficients.len() / m,
+            per_radian: m as f64 / span,
             breakpoints,
             coefficients,
         })
@@ -85,6 +90,7 @@ impl PiecewisePolynomial {
             breakpoints: self.breakpoints.clone(),
             coefficients: self.coefficients.iter().map(|c| c * factor).collect(),
             order: self.order,
+            per_radian: self.per_radian,
         }
     }
 
@@ -109,19 +115,57 @@ impl PiecewisePolynomial {
     /// in the piece [x_i, x_{i+1}) that holds it (the last piece at x_m).
     pub fn value(&self, theta: f64) -> f64 {
         let x0 = self.breakpoints[0];
-        let t = x0 + (theta - x0).rem_euclid(self.cycle());
+        let t = x0 + periodic(theta - x0, self.cycle());
+        let i = self.piece(t);
         let m = self.pieces();
-        let i = self
-            .breakpoints
-            .partition_point(|&x| x <= t)
-            .saturating_sub(1)
-            .min(m - 1);
         let dx = t - self.breakpoints[i];
         let mut p = 0.0;
         for k in 0..self.order {
             p = p * dx + self.coefficients[k * m + i];
         }
         p
+    }
+
+    /// The piece holding t: the last i with x_i ≤ t, kept in 0..m (NumPy's
+    /// `searchsorted(x, t, side="right") − 1`, clipped). Guessed from the mean breakpoint
+    /// spacing, then walked a few steps; a binary search where the breakpoints are far from
+    /// uniform. The same piece either way.
+    fn piece(&self, t: f64) -> usize {
+        let x = &self.breakpoints;
+        let last = self.pieces() - 1;
+        let guess = ((t - x[0]) * self.per_radian).clamp(0.0, last as f64) as usize;
+        let mut i = guess;
+        for _ in 0..4 {
+            if x[i] > t {
+                if i == 0 {
+                    return 0;
+                }
+                i -= 1;
+            } else if i < last && x[i + 1] <= t {
+                i += 1;
+            } else {
+                return i;
+            }
+        }
+        x.partition_point(|&b| b <= t).saturating_sub(1).min(last)
+    }
+}
+
+/// `angle.rem_euclid(period)`, to the last bit, without a division where the angle is less
+/// than a period outside [0, period): there the one subtraction or addition is exact
+/// (Sterbenz) or the very one `rem_euclid` makes.
+#[inline]
+pub(crate) fn periodic(angle: f64, period: f64) -> f64 {
+    if (0.0..period).contains(&angle) {
+        angle
+    } else if (period..2.0 * period).contains(&angle) {
+        angle - period
+    } else if -period < angle && angle < 0.0 {
+        // rem_euclid: fmod leaves the angle, then adds the period (which may round to it).
+        // (−Φ itself folds to −0.)
+        angle + period
+    } else {
+        angle.rem_euclid(period)
     }
 }
 
@@ -183,18 +227,18 @@ impl GasCylinder {
 
 /// The net piston forces F = p(θ)·A − p_c(θ)·A_c of a machine's units.
 #[derive(Debug, Clone)]
-pub(crate) struct Forces<'a> {
-    gas: &'a [GasCylinder],
-    diagrams: &'a [PiecewisePolynomial],
+pub(crate) struct Forces {
+    gas: Vec<GasCylinder>,
+    diagrams: Arc<[PiecewisePolynomial]>,
     phases: Vec<f64>,
     cycle: f64,
 }
 
-impl<'a> Forces<'a> {
+impl Forces {
     pub fn new(
         units: &[PhysicalCylinder],
-        gas: &'a [GasCylinder],
-        diagrams: &'a [PiecewisePolynomial],
+        gas: &[GasCylinder],
+        diagrams: Arc<[PiecewisePolynomial]>,
         cycle: f64,
     ) -> Result<Self> {
         if gas.len() != units.len() {
@@ -207,7 +251,7 @@ impl<'a> Forces<'a> {
         for cylinder in gas {
             cylinder.validate(diagrams.len())?;
         }
-        for diagram in diagrams {
+        for diagram in diagrams.iter() {
             check(
                 "breakpoints",
                 diagram.cycle(),
@@ -216,7 +260,7 @@ impl<'a> Forces<'a> {
             )?;
         }
         Ok(Self {
-            gas,
+            gas: gas.to_vec(),
             diagrams,
             phases: units.iter().map(|u| u.phase).collect(),
             cycle,
@@ -225,19 +269,7 @@ impl<'a> Forces<'a> {
 
     /// F of unit j at its cycle angle θ.
     fn force(&self, j: usize, theta: f64) -> f64 {
-        let cylinder = &self.gas[j];
-        if !cylinder.has_gas() {
-            return 0.0;
-        }
-        let (head, crank) = cylinder.areas();
-        let mut force = 0.0;
-        if let Some(d) = cylinder.head {
-            force += self.diagrams[d].value(theta) * head;
-        }
-        if let Some(d) = cylinder.crank_end {
-            force -= self.diagrams[d].value(theta) * crank;
-        }
-        force
+        cylinder_force(&self.gas[j], &self.diagrams, theta)
     }
 
     /// Every unit's force at every φ, unit-major (as `Dynamics::gas_torque` takes them):
@@ -247,11 +279,40 @@ impl<'a> Forces<'a> {
         for (j, phase) in self.phases.iter().enumerate() {
             out.extend(
                 phi.iter()
-                    .map(|p| self.force(j, (p + phase).rem_euclid(self.cycle))),
+                    .map(|p| self.force(j, periodic(p + phase, self.cycle))),
             );
         }
         out
     }
+}
+
+/// F = p(θ)·A − p_c(θ)·A_c (N) of one cylinder at its cycle angle θ.
+fn cylinder_force(cylinder: &GasCylinder, diagrams: &[PiecewisePolynomial], theta: f64) -> f64 {
+    if !cylinder.has_gas() {
+        return 0.0;
+    }
+    let (head, crank) = cylinder.areas();
+    let mut force = 0.0;
+    if let Some(d) = cylinder.head {
+        force += diagrams[d].value(theta) * head;
+    }
+    if let Some(d) = cylinder.crank_end {
+        force -= diagrams[d].value(theta) * crank;
+    }
+    force
+}
+
+/// F of one cylinder at phase 0 at every θ (rad), θ taken modulo the cycle.
+fn one_cylinder_forces(
+    cylinder: GasCylinder,
+    diagrams: &[PiecewisePolynomial],
+    cycle: f64,
+    theta: &[f64],
+) -> Vec<f64> {
+    theta
+        .iter()
+        .map(|&t| cylinder_force(&cylinder, diagrams, periodic(t, cycle)))
+        .collect()
 }
 
 /// Gauss points per panel of an indicator rule: with the pressure one polynomial of K
@@ -348,14 +409,7 @@ impl Indicator {
             let (half, middle) = (0.5 * (b - a), 0.5 * (a + b));
             theta.extend(self.nodes.iter().map(|x| middle + half * x));
         }
-        let gas = [self.gas];
-        let forces = Forces {
-            gas: &gas,
-            diagrams,
-            phases: vec![0.0],
-            cycle: self.cycle,
-        }
-        .at(&theta);
+        let forces = one_cylinder_forces(self.gas, diagrams, self.cycle, &theta);
         let mut torque = vec![0.0; theta.len()];
         self.unit
             .gas_torque(&theta, &forces, &mut torque, Parallelism::SERIAL)?;
@@ -400,8 +454,8 @@ impl Indicator {
 
 /// W(φ) = ∫₀^φ M_gas dφ of a machine (J).
 #[derive(Debug, Clone)]
-pub(crate) struct GasWork<'a> {
-    diagrams: &'a [PiecewisePolynomial],
+pub(crate) struct GasWork {
+    diagrams: Arc<[PiecewisePolynomial]>,
     /// One G per distinct cylinder, with the phases of the units that share it.
     groups: Vec<(Indicator, Vec<f64>)>,
     origin: f64,
@@ -409,11 +463,11 @@ pub(crate) struct GasWork<'a> {
     pub per_cycle: f64,
 }
 
-impl<'a> GasWork<'a> {
+impl GasWork {
     pub fn new(
         units: &[PhysicalCylinder],
         gas: &[GasCylinder],
-        diagrams: &'a [PiecewisePolynomial],
+        diagrams: Arc<[PiecewisePolynomial]>,
         cycle: f64,
     ) -> Result<Self> {
         // Units alike in all that G depends on: the same diagrams, areas, r and l.
@@ -444,7 +498,7 @@ impl<'a> GasWork<'a> {
         }
         let mut groups = Vec::with_capacity(members.len());
         for (j, phases) in members {
-            groups.push((Indicator::new(&units[j], gas[j], diagrams, cycle)?, phases));
+            groups.push((Indicator::new(&units[j], gas[j], &diagrams, cycle)?, phases));
         }
         let mut work = Self {
             diagrams,
@@ -459,7 +513,7 @@ impl<'a> GasWork<'a> {
             .sum();
         let mut origin = 0.0;
         for (g, phases) in &work.groups {
-            origin += g.at(phases, diagrams)?.iter().sum::<f64>();
+            origin += g.at(phases, &work.diagrams)?.iter().sum::<f64>();
         }
         work.origin = origin;
         Ok(work)
@@ -469,9 +523,14 @@ impl<'a> GasWork<'a> {
     pub fn at(&self, phi: &[f64]) -> Result<Vec<f64>> {
         let mut total = vec![-self.origin; phi.len()];
         for (g, phases) in &self.groups {
-            for phase in phases {
-                let shifted: Vec<f64> = phi.iter().map(|p| p + phase).collect();
-                for (w, value) in total.iter_mut().zip(g.at(&shifted, self.diagrams)?) {
+            // Every phase of the group in one call, phase-major; added phase by phase.
+            let shifted: Vec<f64> = phases
+                .iter()
+                .flat_map(|phase| phi.iter().map(move |p| p + phase))
+                .collect();
+            let values = g.at(&shifted, &self.diagrams)?;
+            for per_phase in values.chunks_exact(phi.len().max(1)) {
+                for (w, value) in total.iter_mut().zip(per_phase) {
                     *w += value;
                 }
             }
@@ -500,5 +559,59 @@ mod tests {
         );
         assert!(PiecewisePolynomial::new(vec![0.0, 2.0 * PI], vec![1.0; 3], 2.0 * PI).is_ok());
         assert!(PiecewisePolynomial::new(vec![0.0, 2.0 * PI], vec![f64::NAN], 2.0 * PI).is_err());
+    }
+
+    #[test]
+    fn the_fold_is_rem_euclid_to_the_last_bit() {
+        for period in [2.0 * PI, 4.0 * PI, 1.0, 3.0e-3] {
+            let mut angles = vec![0.0, -0.0, period, -period, 2.0 * period, -2.0 * period];
+            angles.extend([1e-300, -1e-300, -1e-17, f64::EPSILON, -f64::EPSILON]);
+            // A fine sweep over several periods either side, and just around the ends.
+            angles.extend((-4000..4000).map(|i| i as f64 * period / 997.0));
+            for k in -3..=3 {
+                let end = k as f64 * period;
+                let mut x = end;
+                for _ in 0..8 {
+                    x = x.next_up();
+                    angles.push(x);
+                }
+                let mut x = end;
+                for _ in 0..8 {
+                    x = x.next_down();
+                    angles.push(x);
+                }
+            }
+            for angle in angles {
+                let (found, expected) = (periodic(angle, period), angle.rem_euclid(period));
+                assert_eq!(
+                    found.to_bits(),
+                    expected.to_bits(),
+                    "{angle:e} mod {period}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn the_guessed_piece_is_the_searched_one() {
+        // Uniform, nearly uniform and very uneven breakpoints over 4π.
+        let cycle = 4.0 * PI;
+        let uniform: Vec<f64> = (0..=720).map(|i| cycle * i as f64 / 720.0).collect();
+        let bunched: Vec<f64> = (0..=50)
+            .map(|i| cycle * (i as f64 / 50.0).powi(3))
+            .collect();
+        let shifted: Vec<f64> = (0..=90).map(|i| -1.0 + cycle * i as f64 / 90.0).collect();
+        for x in [uniform, bunched, shifted] {
+            let m = x.len() - 1;
+            let p = PiecewisePolynomial::new(x.clone(), vec![1.0; 2 * m], cycle).unwrap();
+            let mut probes: Vec<f64> = x.clone();
+            probes.extend(x.iter().map(|b| b.next_up()));
+            probes.extend(x.iter().map(|b| b.next_down()));
+            probes.extend((0..5000).map(|i| x[0] + cycle * i as f64 / 4999.0));
+            for t in probes.into_iter().filter(|t| (x[0]..=x[m]).contains(t)) {
+                let searched = x.partition_point(|&b| b <= t).saturating_sub(1).min(m - 1);
+                assert_eq!(p.piece(t), searched, "{t}");
+            }
+        }
     }
 }

@@ -17,12 +17,13 @@ mod square_law;
 mod sweep;
 
 use std::f64::consts::PI;
+use std::sync::Arc;
 
 use crate::dynamics::{Dynamics, PhysicalCylinder};
 use crate::error::{check, MechanismError, Result};
 use crate::mechanism::{check_rpm, check_shaft_inertia, omega_from_rpm, Strokes};
 
-use balance::{Balance, Solved};
+use balance::{Balance, Periodic, Solved, Stall};
 use cycle::Cycle;
 use square_law::SquareLaw;
 
@@ -77,38 +78,13 @@ pub struct SteadyState {
 }
 
 /// The constant "balance" load (N·m): the cycle mean of the gas torque, W(Φ)/Φ.
-fn balance_load(cycle: &Cycle<'_>) -> f64 {
+fn balance_load(cycle: &Cycle) -> f64 {
     cycle.work.per_cycle / cycle.cycle()
 }
 
 /// δ of a solution, NaN where it stalls.
 fn delta_or_nan(found: Solved) -> f64 {
     found.map_or(f64::NAN, |p| p.delta())
-}
-
-/// δ of the machine of `cycle` with g = 0, with I_w = `inertia` (kg·m²), the same load at
-/// ω_m = `omega_mean` (rad/s); NaN where it stalls.
-fn delta_without_gravity(
-    cycle: &Cycle<'_>,
-    load: f64,
-    inertia: f64,
-    omega_mean: f64,
-    ratio: f64,
-) -> Result<f64> {
-    let without = cycle.without_gravity();
-    let found = Balance::new(&without, load, true)?
-        .with_inertia(inertia)
-        .solve(omega_mean, ratio)?;
-    Ok(delta_or_nan(found))
-}
-
-/// δ of gravity (and the variation of J) alone, gas and load removed, with I_w = `inertia`
-/// (kg·m²) at ω_m = `omega_mean` (rad/s); NaN where it stalls.
-fn delta_gravity_only(cycle: &Cycle<'_>, inertia: f64, omega_mean: f64, ratio: f64) -> Result<f64> {
-    let found = Balance::new(cycle, 0.0, false)?
-        .with_inertia(inertia)
-        .solve(omega_mean, ratio)?;
-    Ok(delta_or_nan(found))
 }
 
 /// The lowest ratio ω_min/ω_m accepted for `min_speed_ratio`: below it the crawl over a dead
@@ -125,10 +101,242 @@ fn check_speed_ratio(value: f64) -> Result<f64> {
     )
 }
 
-/// The machine's working cycle tabulated for a solve: its units checked (`Dynamics`), then
-/// J, U and the gas work on the cycle's panels.
-fn tabulated<'a>(machine: &Machine<'a>) -> Result<Cycle<'a>> {
-    Cycle::new(machine, Dynamics::new(machine.units, machine.g)?)
+/// A machine's working cycle tabulated once for every steady state of it under the
+/// "balance" load, whatever the shaft inertia I_w and the mean speed: J − I_w, U, the gas
+/// work W and the torques' slopes on the cycle's panels, and the energy method's set-up with
+/// gravity, with g = 0 and of gravity alone (none of them depends on I_w or the speed).
+/// What `MotionMachine` keeps in Python, and what a motion sweep shares between designs
+/// that differ only in I_w and speed. Immutable; every solve works on its own copy.
+#[derive(Debug, Clone)]
+pub struct SteadyTables {
+    cycle: Arc<Cycle>,
+    /// The "balance" load (N·m).
+    load: f64,
+    /// The machine as it is; with g = 0 (`None` when g = 0 already); gravity alone.
+    machine: Balance,
+    without_gravity: Option<Balance>,
+    gravity_only: Balance,
+}
+
+/// The lowest mean speed that runs, searched from an s known to stall (the Python
+/// implementation's `_stall_error`).
+fn stall_error(balance: &Balance, stall: Stall, rpm: f64, ratio: f64) -> Result<MechanismError> {
+    let mut balance = balance.clone();
+    let above = 1e-6 * balance.swing();
+    let lowest = balance.lowest_running_speed(ratio, above)?;
+    Ok(MechanismError::Stall {
+        angle: stall.angle.rem_euclid(balance.cycle()),
+        rpm,
+        min_rpm: lowest.is_finite().then(|| 30.0 * lowest / PI),
+    })
+}
+
+impl SteadyTables {
+    /// The tables of `machine` (its units, gas and g checked, naming the parameter).
+    pub fn new(machine: &Machine<'_>) -> Result<Self> {
+        Self::from_cycle(Cycle::new(
+            machine,
+            Dynamics::new(machine.units, machine.g)?,
+        )?)
+    }
+
+    /// The tables of `machine` with `diagrams` for its own (a sweep's shared or scaled ones).
+    pub(crate) fn with_diagrams(
+        machine: &Machine<'_>,
+        diagrams: Arc<[PiecewisePolynomial]>,
+    ) -> Result<Self> {
+        let dynamics = Dynamics::new(machine.units, machine.g)?;
+        Self::from_cycle(Cycle::with_diagrams(machine, dynamics, diagrams)?)
+    }
+
+    fn from_cycle(cycle: Cycle) -> Result<Self> {
+        let cycle = Arc::new(cycle);
+        let load = balance_load(&cycle);
+        let without_gravity = if cycle.gravity_on {
+            Some(Balance::new(
+                &Arc::new(cycle.without_gravity()),
+                load,
+                true,
+            )?)
+        } else {
+            None
+        };
+        Ok(Self {
+            machine: Balance::new(&cycle, load, true)?,
+            gravity_only: Balance::new(&cycle, 0.0, false)?,
+            without_gravity,
+            load,
+            cycle,
+        })
+    }
+
+    /// Φ (rad).
+    pub fn cycle(&self) -> f64 {
+        self.cycle.cycle()
+    }
+
+    /// The "balance" load (N·m): the cycle mean of the gas torque.
+    pub fn load(&self) -> f64 {
+        self.load
+    }
+
+    /// The periodic steady state with I_w = `shaft_inertia` (kg·m²) at the mean speed `rpm`
+    /// (1/min), as [`steady_state_curves`] gives it, with ω and t at `phi` (rad, each in
+    /// [0, Φ]; none: no curves). `compare`: whether δ without gravity and of gravity alone
+    /// are solved too (else NaN, and two solves saved).
+    ///
+    /// Errors: bad input, naming the parameter; [`MechanismError::Stall`] with the lowest
+    /// mean speed that runs.
+    pub fn steady_state(
+        &self,
+        shaft_inertia: f64,
+        rpm: f64,
+        min_speed_ratio: f64,
+        phi: &[f64],
+        compare: bool,
+    ) -> Result<SteadyCurves> {
+        check_shaft_inertia(shaft_inertia)?;
+        check_rpm(rpm)?;
+        check_speed_ratio(min_speed_ratio)?;
+        let cycle = self.cycle();
+        for &angle in phi {
+            check("phi", angle, "0 <= phi <= cycle angle", |a| {
+                (0.0..=cycle).contains(&a)
+            })?;
+        }
+        let omega_mean = omega_from_rpm(rpm);
+        let balance = self.machine.with_inertia(shaft_inertia);
+        let (solution, curves) =
+            match balance
+                .clone()
+                .solve_with_curves(omega_mean, min_speed_ratio, phi)?
+            {
+                Ok(found) => found,
+                Err(stall) => return Err(stall_error(&balance, stall, rpm, min_speed_ratio)?),
+            };
+        let (delta_without_gravity, delta_gravity_only) = if compare {
+            (
+                self.delta_without_gravity(shaft_inertia, omega_mean, min_speed_ratio)?
+                    .unwrap_or(solution.delta()),
+                self.delta_gravity_only(shaft_inertia, solution.omega_mean, min_speed_ratio)?,
+            )
+        } else {
+            (f64::NAN, f64::NAN)
+        };
+        Ok(SteadyCurves {
+            state: state_of(
+                &solution,
+                self.load,
+                delta_without_gravity,
+                delta_gravity_only,
+            ),
+            omega: curves.omega,
+            time: curves.time,
+        })
+    }
+
+    /// δ alone (NaN where the machine stalls) with I_w = `shaft_inertia` at ω_m =
+    /// `omega_mean` (rad/s), and the solution: one solve, no curves.
+    pub(crate) fn solve(&self, shaft_inertia: f64, omega_mean: f64, ratio: f64) -> Result<Solved> {
+        self.machine
+            .with_inertia(shaft_inertia)
+            .solve(omega_mean, ratio)
+    }
+
+    /// δ of the machine with g = 0, the same load, at ω_m = `omega_mean` (rad/s), NaN where
+    /// it stalls; `None` where the machine has no gravity (δ₀ is then δ).
+    pub(crate) fn delta_without_gravity(
+        &self,
+        shaft_inertia: f64,
+        omega_mean: f64,
+        ratio: f64,
+    ) -> Result<Option<f64>> {
+        self.without_gravity
+            .as_ref()
+            .map(|balance| {
+                Ok(delta_or_nan(
+                    balance
+                        .with_inertia(shaft_inertia)
+                        .solve(omega_mean, ratio)?,
+                ))
+            })
+            .transpose()
+    }
+
+    /// δ of gravity (and the variation of J) alone, gas and load removed, at ω_m =
+    /// `omega_mean` (rad/s); NaN where it stalls.
+    pub(crate) fn delta_gravity_only(
+        &self,
+        shaft_inertia: f64,
+        omega_mean: f64,
+        ratio: f64,
+    ) -> Result<f64> {
+        Ok(delta_or_nan(
+            self.gravity_only
+                .with_inertia(shaft_inertia)
+                .solve(omega_mean, ratio)?,
+        ))
+    }
+
+    /// The shaft inertia for the coefficient of speed fluctuation `delta` at `rpm`, as
+    /// [`flywheel_inertia`] gives it; `fallback` (kg·m²): where the search starts when the
+    /// textbook estimate is not positive. `without`: whether the g = 0 machine's is sized
+    /// too (else NaN).
+    pub fn flywheel_inertia(
+        &self,
+        delta: f64,
+        rpm: f64,
+        min_speed_ratio: f64,
+        fallback: f64,
+        without: bool,
+    ) -> Result<FlywheelInertia> {
+        check("delta", delta, "delta >= 1e-9", |d| {
+            d >= flywheel::SMALLEST_DELTA
+        })?;
+        check_rpm(rpm)?;
+        check_speed_ratio(min_speed_ratio)?;
+        let omega_mean = omega_from_rpm(rpm);
+        let balance = &self.machine;
+        let (swing, textbook) = flywheel::textbook(balance, &self.cycle, delta, omega_mean)?;
+        let start = flywheel::start(swing, textbook, &self.cycle, delta, omega_mean, fallback);
+        let inertia = flywheel::inertia_for(balance, omega_mean, min_speed_ratio, delta, start)?;
+        let without = match (&self.without_gravity, without) {
+            (_, false) => f64::NAN,
+            (None, true) => inertia,
+            (Some(balance), true) => {
+                flywheel::inertia_for(balance, omega_mean, min_speed_ratio, delta, inertia)
+                    .unwrap_or(f64::NAN)
+            }
+        };
+        Ok(FlywheelInertia {
+            shaft_inertia: inertia,
+            shaft_inertia_without_gravity: without,
+            textbook,
+            textbook_error: (textbook - inertia) / inertia,
+            energy_swing: swing,
+            delta,
+            rpm,
+        })
+    }
+}
+
+/// A solution's numbers as a [`SteadyState`].
+fn state_of(solution: &Periodic, load: f64, without: f64, alone: f64) -> SteadyState {
+    SteadyState {
+        omega_mean: solution.omega_mean,
+        period: solution.period,
+        omega_max: solution.omega_max,
+        omega_min: solution.omega_min,
+        phi_max: solution.phi_max,
+        phi_min: solution.phi_min,
+        energy_at_zero: solution.energy_at_zero,
+        mean_load_torque: load,
+        delta: solution.delta(),
+        delta_midrange: 2.0 * (solution.omega_max - solution.omega_min)
+            / (solution.omega_max + solution.omega_min),
+        delta_without_gravity: without,
+        delta_gravity_only: alone,
+    }
 }
 
 /// The periodic steady state of `machine` under the "balance" load at the mean speed `rpm`
@@ -143,7 +351,7 @@ fn tabulated<'a>(machine: &Machine<'a>) -> Result<Cycle<'a>> {
 /// Errors: bad input, naming the parameter; [`MechanismError::Stall`] when the machine
 /// cannot keep that mean speed, with the lowest mean speed that runs (`min_rpm`).
 pub fn steady_state(machine: &Machine<'_>, rpm: f64, min_speed_ratio: f64) -> Result<SteadyState> {
-    Ok(solve_steady_state(machine, rpm, min_speed_ratio, &[])?.state)
+    Ok(steady_state_curves(machine, rpm, min_speed_ratio, &[])?.state)
 }
 
 /// A steady state with its speed and time at requested angles.
@@ -171,71 +379,8 @@ pub fn steady_state_curves(
     min_speed_ratio: f64,
     phi: &[f64],
 ) -> Result<SteadyCurves> {
-    let cycle = machine.strokes.cycle_angle();
-    for &angle in phi {
-        check("phi", angle, "0 <= phi <= cycle angle", |a| {
-            (0.0..=cycle).contains(&a)
-        })?;
-    }
-    solve_steady_state(machine, rpm, min_speed_ratio, phi)
-}
-
-fn solve_steady_state(
-    machine: &Machine<'_>,
-    rpm: f64,
-    min_speed_ratio: f64,
-    phi: &[f64],
-) -> Result<SteadyCurves> {
     check_shaft_inertia(machine.shaft_inertia)?;
-    check_rpm(rpm)?;
-    check_speed_ratio(min_speed_ratio)?;
-    let cycle = tabulated(machine)?;
-    let omega_mean = omega_from_rpm(rpm);
-    let load = balance_load(&cycle);
-    let solved =
-        Balance::new(&cycle, load, true)?.solve_with_curves(omega_mean, min_speed_ratio, phi)?;
-    let (solution, curves) = match solved {
-        Ok(found) => found,
-        Err(stall) => {
-            // The lowest speed that runs, searched from an s known to stall (the Python
-            // implementation's `_stall_error`).
-            let mut balance = Balance::new(&cycle, load, true)?;
-            let above = 1e-6 * balance.swing();
-            let lowest = balance.lowest_running_speed(min_speed_ratio, above)?;
-            return Err(MechanismError::Stall {
-                angle: stall.angle.rem_euclid(cycle.cycle()),
-                rpm,
-                min_rpm: lowest.is_finite().then(|| 30.0 * lowest / PI),
-            });
-        }
-    };
-    let delta_without_gravity = if cycle.gravity_on {
-        delta_without_gravity(&cycle, load, cycle.inertia, omega_mean, min_speed_ratio)?
-    } else {
-        solution.delta()
-    };
-    let delta_gravity_only =
-        delta_gravity_only(&cycle, cycle.inertia, solution.omega_mean, min_speed_ratio)?;
-    let state = SteadyState {
-        omega_mean: solution.omega_mean,
-        period: solution.period,
-        omega_max: solution.omega_max,
-        omega_min: solution.omega_min,
-        phi_max: solution.phi_max,
-        phi_min: solution.phi_min,
-        energy_at_zero: solution.energy_at_zero,
-        mean_load_torque: load,
-        delta: solution.delta(),
-        delta_midrange: 2.0 * (solution.omega_max - solution.omega_min)
-            / (solution.omega_max + solution.omega_min),
-        delta_without_gravity,
-        delta_gravity_only,
-    };
-    Ok(SteadyCurves {
-        state,
-        omega: curves.omega,
-        time: curves.time,
-    })
+    SteadyTables::new(machine)?.steady_state(machine.shaft_inertia, rpm, min_speed_ratio, phi, true)
 }
 
 /// The periodic steady state of `machine` under a square-law load M = c·ω² (c =
@@ -272,8 +417,9 @@ pub fn square_law_steady_state(
             (0.0..=cycle_angle).contains(&a)
         })?;
     }
-    let cycle = tabulated(machine)?;
-    let mean = balance_load(&cycle) + drive;
+    let tables = SteadyTables::new(machine)?;
+    let cycle = &tables.cycle;
+    let mean = tables.load + drive;
     if mean.is_nan() || mean <= 0.0 {
         return Err(MechanismError::OutOfRange {
             parameter: "drive",
@@ -282,7 +428,7 @@ pub fn square_law_steady_state(
         });
     }
     let (solution, curves, mean_load) =
-        match SquareLaw::new(&cycle, coefficient, drive)?.solve(min_speed_ratio, phi)? {
+        match SquareLaw::new(cycle, coefficient, drive)?.solve(min_speed_ratio, phi)? {
             Ok(found) => found,
             Err(stall) => {
                 return Err(MechanismError::Stall {
@@ -301,23 +447,14 @@ pub fn square_law_steady_state(
         solution.delta()
     };
     let delta_gravity_only =
-        delta_gravity_only(&cycle, cycle.inertia, solution.omega_mean, min_speed_ratio)?;
+        tables.delta_gravity_only(machine.shaft_inertia, solution.omega_mean, min_speed_ratio)?;
     Ok(SteadyCurves {
-        state: SteadyState {
-            omega_mean: solution.omega_mean,
-            period: solution.period,
-            omega_max: solution.omega_max,
-            omega_min: solution.omega_min,
-            phi_max: solution.phi_max,
-            phi_min: solution.phi_min,
-            energy_at_zero: solution.energy_at_zero,
-            mean_load_torque: mean_load,
-            delta: solution.delta(),
-            delta_midrange: 2.0 * (solution.omega_max - solution.omega_min)
-                / (solution.omega_max + solution.omega_min),
+        state: state_of(
+            &solution,
+            mean_load,
             delta_without_gravity,
             delta_gravity_only,
-        },
+        ),
         omega: curves.omega,
         time: curves.time,
     })
@@ -366,35 +503,11 @@ pub fn flywheel_inertia(
     check_shaft_inertia(machine.shaft_inertia)?;
     check_rpm(rpm)?;
     check_speed_ratio(min_speed_ratio)?;
-    let cycle = tabulated(machine)?;
-    let omega_mean = omega_from_rpm(rpm);
-    let load = balance_load(&cycle);
-    let balance = Balance::new(&cycle, load, true)?;
-    let (swing, textbook) = flywheel::textbook(&balance, &cycle, delta, omega_mean)?;
-    let start = flywheel::start(
-        swing,
-        textbook,
-        &cycle,
-        delta,
-        omega_mean,
-        machine.shaft_inertia,
-    );
-    let inertia = flywheel::inertia_for(&balance, omega_mean, min_speed_ratio, delta, start)?;
-    let without = if cycle.gravity_on {
-        let without = cycle.without_gravity();
-        let balance = Balance::new(&without, load, true)?;
-        flywheel::inertia_for(&balance, omega_mean, min_speed_ratio, delta, inertia)
-            .unwrap_or(f64::NAN)
-    } else {
-        inertia
-    };
-    Ok(FlywheelInertia {
-        shaft_inertia: inertia,
-        shaft_inertia_without_gravity: without,
-        textbook,
-        textbook_error: (textbook - inertia) / inertia,
-        energy_swing: swing,
+    SteadyTables::new(machine)?.flywheel_inertia(
         delta,
         rpm,
-    })
+        min_speed_ratio,
+        machine.shaft_inertia,
+        true,
+    )
 }

@@ -19,8 +19,8 @@ use super::quadrature::{Antiderivative, Panels};
 const MOST_E_FOLDS: f64 = 700.0;
 
 /// E(φ) of the periodic solution under a load c·ω² and a constant drive.
-pub(crate) struct SquareLaw<'c, 'a> {
-    cycle: &'c Cycle<'a>,
+pub(crate) struct SquareLaw<'c> {
+    cycle: &'c Cycle,
     coefficient: f64,
     drive: f64,
     rate: Antiderivative<'c>,
@@ -33,11 +33,11 @@ pub(crate) struct SquareLaw<'c, 'a> {
     curvature: Vec<f64>,
 }
 
-impl<'c, 'a> SquareLaw<'c, 'a> {
+impl<'c> SquareLaw<'c> {
     /// The closed form for the load c = `coefficient` (N·m·s²/rad²) and the constant
     /// `drive` (N·m). Errors: more than 700 e-folds of E damped per cycle (the load
     /// names the parameter).
-    pub fn new(cycle: &'c Cycle<'a>, coefficient: f64, drive: f64) -> Result<Self> {
+    pub fn new(cycle: &'c Cycle, coefficient: f64, drive: f64) -> Result<Self> {
         let panels = &cycle.panels;
         let n = cycle.nodes();
         let j: Vec<f64> = cycle.rest[..n].iter().map(|r| cycle.inertia + r).collect();

@@ -6,19 +6,17 @@
 //! same tables, the same solves, in the same order — less what was not asked for. Every row
 //! is solved on its own, so the columns are bit-identical for any thread count.
 
+use std::collections::HashMap;
 use std::f64::consts::PI;
+use std::sync::Arc;
 
 use crate::dynamics::{two_mass_rod_inertia, Dynamics, PhysicalCylinder};
 use crate::error::{check, check_length, MechanismError, Result};
 use crate::mechanism::{check_rpm, check_shaft_inertia, omega_from_rpm};
 use crate::parallel::{map_indices, Parallelism};
 
-use super::balance::Balance;
 use super::gas::{GasCylinder, PiecewisePolynomial};
-use super::{
-    balance_load, check_speed_ratio, delta_gravity_only, delta_without_gravity, flywheel,
-    tabulated, Machine,
-};
+use super::{check_speed_ratio, flywheel, Machine, SteadyTables};
 
 /// Per-design overrides of a base machine: each column optional (`None`: the base
 /// machine's value), one value per design when given. The cylinder fields are set on every
@@ -335,84 +333,68 @@ fn variant(
     })
 }
 
-/// One design solved: `steady_state` and `flywheel_inertia` of its machine, less what is
-/// not asked for; a stall is a row, not an error.
-fn solve(
+/// The tables of a design's machine: `shared`, the base diagrams, scaled where the design
+/// says so.
+fn tables(
     base: &Machine<'_>,
+    shared: &Arc<[PiecewisePolynomial]>,
+    variant: &Variant,
+) -> Result<SteadyTables> {
+    let diagrams = match variant.pressure_scale {
+        Some(factor) => shared.iter().map(|d| d.scaled(factor)).collect(),
+        None => Arc::clone(shared),
+    };
+    let machine = Machine {
+        units: &variant.units,
+        gas: &variant.gas,
+        diagrams: &[],
+        shaft_inertia: variant.shaft_inertia,
+        strokes: base.strokes,
+        g: variant.g,
+    };
+    SteadyTables::with_diagrams(&machine, diagrams)
+}
+
+/// One design solved on its machine's tables: `steady_state` and `flywheel_inertia` of
+/// that machine, less what is not asked for; a stall is a row, not an error.
+fn solve(
+    tables: &SteadyTables,
     variant: &Variant,
     outputs: MotionOutputs,
     target: Option<f64>,
     ratio: f64,
 ) -> Result<Row> {
-    let scaled: Vec<PiecewisePolynomial>;
-    let diagrams = match variant.pressure_scale {
-        Some(factor) => {
-            scaled = base.diagrams.iter().map(|d| d.scaled(factor)).collect();
-            &scaled[..]
-        }
-        None => base.diagrams,
-    };
-    let machine = Machine {
-        units: &variant.units,
-        gas: &variant.gas,
-        diagrams,
-        shaft_inertia: variant.shaft_inertia,
-        strokes: base.strokes,
-        g: variant.g,
-    };
-    let cycle = tabulated(&machine)?;
+    let inertia = variant.shaft_inertia;
     let omega_mean = omega_from_rpm(variant.rpm);
-    let load = balance_load(&cycle);
-    // As `steady_state` and `flywheel_inertia` make it: a solve refines its own copy.
-    let balance = Balance::new(&cycle, load, true)?;
     let mut row = Row::NONE;
     if outputs.steady() {
-        match balance.clone().solve(omega_mean, ratio)? {
+        match tables.solve(inertia, omega_mean, ratio)? {
             Ok(solution) if solution.delta().is_finite() => {
                 let delta = solution.delta();
                 row.delta = delta;
                 row.rpm_min = solution.omega_min * 30.0 / PI;
                 row.rpm_max = solution.omega_max * 30.0 / PI;
                 if outputs.delta_without_gravity || outputs.gravity_effect {
-                    let without = if cycle.gravity_on {
-                        delta_without_gravity(&cycle, load, cycle.inertia, omega_mean, ratio)?
-                    } else {
-                        delta
-                    };
+                    let without = tables
+                        .delta_without_gravity(inertia, omega_mean, ratio)?
+                        .unwrap_or(delta);
                     row.delta_without_gravity = without;
                     row.gravity_effect = gravity_effect(delta, without);
                 }
                 if outputs.delta_gravity_only {
                     row.delta_gravity_only =
-                        delta_gravity_only(&cycle, cycle.inertia, solution.omega_mean, ratio)?;
+                        tables.delta_gravity_only(inertia, solution.omega_mean, ratio)?;
                 }
             }
             _ => row.stalled = true,
         }
     }
     if let (true, Some(delta)) = (outputs.flywheel(), target) {
-        let (swing, textbook) = flywheel::textbook(&balance, &cycle, delta, omega_mean)?;
-        let start = flywheel::start(
-            swing,
-            textbook,
-            &cycle,
-            delta,
-            omega_mean,
-            machine.shaft_inertia,
-        );
-        match flywheel::inertia_for(&balance, omega_mean, ratio, delta, start) {
-            Ok(inertia) => {
-                row.flywheel_inertia = inertia;
-                if outputs.flywheel_inertia_without_gravity {
-                    row.flywheel_inertia_without_gravity = if cycle.gravity_on {
-                        let without = cycle.without_gravity();
-                        let balance = Balance::new(&without, load, true)?;
-                        flywheel::inertia_for(&balance, omega_mean, ratio, delta, inertia)
-                            .unwrap_or(f64::NAN)
-                    } else {
-                        inertia
-                    };
-                }
+        let without = outputs.flywheel_inertia_without_gravity;
+        match tables.flywheel_inertia(delta, variant.rpm, ratio, inertia, without) {
+            Ok(found) => {
+                row.flywheel_inertia = found.shaft_inertia;
+                row.flywheel_inertia_without_gravity = found.shaft_inertia_without_gravity;
             }
             // The target unreachable: NaN in the flywheel's columns only.
             Err(MechanismError::OutOfRange {
@@ -422,6 +404,22 @@ fn solve(
         }
     }
     Ok(row)
+}
+
+/// Designs solved together: within a block, designs that differ only in I_w and speed
+/// share their machine's tables (made once per distinct machine); a block bounds the tables
+/// held at once (~100 kB each).
+const BLOCK: usize = 512;
+
+/// What of design `row` changes its machine's tables: every column but `shaft_inertia` and
+/// `rpm`, bit for bit.
+fn tables_key(designs: &DesignColumns<'_>, row: usize) -> Vec<u64> {
+    designs
+        .named()
+        .iter()
+        .filter(|(name, _)| !matches!(*name, "shaft_inertia" | "rpm"))
+        .filter_map(|(_, column)| column.map(|c| c[row].to_bits()))
+        .collect()
 }
 
 /// The steady state under the "balance" load (and, with `target_delta`, the flywheel for
@@ -476,23 +474,58 @@ pub fn motion_sweep(
             error: Box::new(error),
         })?;
     }
-    let work = n
-        .saturating_mul(base.units.len())
-        .saturating_mul(WORK_PER_DESIGN_AND_UNIT);
-    let rows = map_indices(n, work, parallelism, |row| {
-        variant(base, rpm, designs, row)
-            .and_then(|v| solve(base, &v, outputs, target_delta, min_speed_ratio))
-    });
-    let rows = rows
-        .into_iter()
-        .enumerate()
-        .map(|(row, result)| {
-            result.map_err(|error| MechanismError::InRow {
-                row,
-                error: Box::new(error),
+    let shared: Arc<[PiecewisePolynomial]> = base.diagrams.into();
+    let in_row = |row: usize| {
+        move |error| MechanismError::InRow {
+            row,
+            error: Box::new(error),
+        }
+    };
+    let mut rows = Vec::with_capacity(n);
+    for start in (0..n).step_by(BLOCK) {
+        let block = start..(start + BLOCK).min(n);
+        // The distinct machines of the block, in order of their first design.
+        let mut first_of: HashMap<Vec<u64>, usize> = HashMap::new();
+        let mut firsts = Vec::new();
+        let machine_of: Vec<usize> = block
+            .clone()
+            .map(|row| {
+                *first_of.entry(tables_key(designs, row)).or_insert_with(|| {
+                    firsts.push(row);
+                    firsts.len() - 1
+                })
             })
-        })
-        .collect::<Result<Vec<Row>>>()?;
+            .collect();
+        let work = |count: usize| {
+            count
+                .saturating_mul(base.units.len())
+                .saturating_mul(WORK_PER_DESIGN_AND_UNIT)
+        };
+        let made = map_indices(firsts.len(), work(firsts.len()), parallelism, |m| {
+            let row = firsts[m];
+            variant(base, rpm, designs, row)
+                .and_then(|v| tables(base, &shared, &v))
+                .map_err(in_row(row))
+        });
+        let made = made.into_iter().collect::<Result<Vec<_>>>()?;
+        let solved = map_indices(block.len(), work(block.len()), parallelism, |i| {
+            let row = block.start + i;
+            variant(base, rpm, designs, row)
+                .and_then(|v| {
+                    solve(
+                        &made[machine_of[i]],
+                        &v,
+                        outputs,
+                        target_delta,
+                        min_speed_ratio,
+                    )
+                })
+                .map_err(in_row(row))
+        });
+        for row in solved {
+            rows.push(row?);
+        }
+    }
     let column = |asked: bool, get: fn(&Row) -> f64| -> Vec<f64> {
         if asked {
             rows.iter().map(get).collect()
