@@ -81,8 +81,20 @@ class MotionMachine:
         strokes: int,
         g: float,
     ) -> MotionMachine: ...
-    def steady_state(self, rpm: float, min_speed_ratio: float = 1e-3) -> dict[str, float]: ...
-    def flywheel_inertia(self, delta: float, rpm: float, min_speed_ratio: float = 1e-3) -> dict[str, float]: ...
+    def steady_state(
+        self,
+        rpm: float,
+        min_speed_ratio: float = 1e-3,
+        phi: _Array | None = None,
+        compare: bool = True,
+        shaft_inertia: float | None = None,
+    ) -> dict[str, Any]: ...
+    def square_law(
+        self, coefficient: float, drive: float = 0.0, min_speed_ratio: float = 1e-3, phi: _Array | None = None
+    ) -> dict[str, Any]: ...
+    def flywheel_inertia(
+        self, delta: float, rpm: float, min_speed_ratio: float = 1e-3, without_gravity: bool = True
+    ) -> dict[str, float]: ...
     def sweep(
         self,
         designs: dict[str, _Array],

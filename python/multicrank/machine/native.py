@@ -6,6 +6,9 @@ converted and checked once and reused by every call.
 
 from __future__ import annotations
 
+import threading
+import weakref
+
 import numpy as np
 
 from .._native import MotionMachine
@@ -14,7 +17,7 @@ from ..pressure.diagram import IndicatorDiagram
 from .cylinder import unit_columns
 from .machine import Machine
 
-__all__ = ["native_machine"]
+__all__ = ["motion_machine", "native_machine"]
 
 _Table = tuple[np.ndarray, np.ndarray] | None
 
@@ -67,3 +70,26 @@ def native_machine(machine: Machine) -> MotionMachine | None:
         strokes=machine.strokes,
         g=machine.g,
     )
+
+
+#: The native machines made so far, by (id of the Machine, gravity kept): each made once and
+#: kept while its Machine lives (a Machine is immutable), so that its cycle's tables, made by
+#: the first steady state, serve every later one.
+_MADE: dict[tuple[int, bool], MotionMachine | None] = {}
+_MAKING = threading.Lock()
+
+
+def motion_machine(machine: Machine, *, gravity: bool = True) -> MotionMachine | None:
+    """The :class:`~multicrank._native.MotionMachine` of ``machine`` (with g = 0 where
+    ``gravity`` is False), made on first use and kept while ``machine`` lives; None where a
+    pressure is a Python callable (see :func:`native_machine`)."""
+    key = (id(machine), gravity or machine.g == 0)
+    with _MAKING:
+        if key in _MADE:
+            return _MADE[key]
+    made = native_machine(machine if key[1] else machine.replace(g=0.0))
+    with _MAKING:
+        if key not in _MADE:
+            _MADE[key] = made
+            weakref.finalize(machine, _MADE.pop, key, None)
+        return _MADE[key]

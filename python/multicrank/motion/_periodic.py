@@ -48,9 +48,10 @@ def as_min_speed_ratio(value: Any) -> float:
     return ratio
 
 
-def mean_speed(value: Any, route: str, machine: Machine) -> float | None:
-    """ω_m [rad/s] of ``rpm`` = ``value`` [1/min], default the machine's own ``rpm`` (as
-    :meth:`~multicrank.Machine.engine` takes it); None where the load fixes the speed."""
+def mean_rpm(value: Any, route: str, machine: Machine) -> float | None:
+    """The mean speed n [1/min] asked for, ``rpm`` = ``value``, default the machine's own
+    ``rpm`` (as :meth:`~multicrank.Machine.engine` takes it), checked; None where the load
+    fixes the speed."""
     if route != BALANCE:
         if value is not None:
             raise MechanismError(
@@ -65,7 +66,13 @@ def mean_speed(value: Any, route: str, machine: Machine) -> float | None:
                 "has no rpm of its own)"
             )
         value = machine.rpm
-    return omega_from_rpm(as_speed(value, "rpm"))
+    return as_speed(value, "rpm")
+
+
+def mean_speed(value: Any, route: str, machine: Machine) -> float | None:
+    """ω_m [rad/s] of :func:`mean_rpm`; None where the load fixes the speed."""
+    rpm = mean_rpm(value, route, machine)
+    return None if rpm is None else omega_from_rpm(rpm)
 
 
 #: How each route is solved (:attr:`SteadyState.method`), and what that is in words.

@@ -12,9 +12,10 @@ from dataclasses import dataclass
 from typing import Any, ClassVar
 
 from .._native import MechanismError
-from .._shaft import rpm_from_omega
+from .._shaft import omega_from_rpm, rpm_from_omega
 from .._validation import as_flag, as_instance, as_scalar
 from ..machine.machine import Machine
+from ..machine.native import motion_machine
 from ._periodic import (
     DEFAULT_MIN_SPEED_RATIO,
     METHODS,
@@ -23,7 +24,7 @@ from ._periodic import (
     as_min_speed_ratio,
     balance_at,
     cycle_tables,
-    mean_speed,
+    mean_rpm,
     resolve_rules,
     solve_periodic,
 )
@@ -250,9 +251,31 @@ def flywheel_inertia(
     machine = as_instance(machine, Machine, "machine")
     target = _as_delta(delta)
     rules = resolve_rules(load, drive)
-    omega_mean = mean_speed(rpm, rules.route, machine)
+    rpm_value = mean_rpm(rpm, rules.route, machine)
+    omega_mean = None if rpm_value is None else omega_from_rpm(rpm_value)
     gravity = as_flag(gravity, "gravity")
     ratio = as_min_speed_ratio(min_speed_ratio)
+    native = motion_machine(machine, gravity=gravity) if rules.route == BALANCE and rules.drive is None else None
+    sized = None
+    if native is not None:
+        assert rpm_value is not None
+        try:
+            sized = native.flywheel_inertia(target, rpm_value, ratio)
+        except MechanismError:
+            # An unreachable δ: the Python implementation below refuses it again, saying how
+            # close the machine comes (a rare path; a sweep takes the core's NaN).
+            sized = None
+    if sized is not None:
+        return FlywheelInertia(
+            shaft_inertia=sized["shaft_inertia"],
+            shaft_inertia_without_gravity=sized["shaft_inertia_without_gravity"],
+            textbook=sized["textbook"],
+            textbook_error=sized["textbook_error"],
+            delta=target,
+            rpm=sized["rpm"],
+            energy_swing=sized["energy_swing"],
+            method=METHODS[rules.route],
+        )
     cycle = cycle_tables(machine, gravity)
 
     def estimate(cycle: CycleTables, omega: float) -> tuple[float, float]:

@@ -38,17 +38,19 @@ from typing import Any, ClassVar
 import numpy as np
 
 from .._native import MechanismError
-from .._shaft import inertia_torque, rpm_from_omega
+from .._shaft import inertia_torque, omega_from_rpm, rpm_from_omega
 from .._validation import as_count, as_flag, as_instance, renamed
 from ..machine.machine import Machine
+from ..machine.native import motion_machine
 from ._periodic import (
     DEFAULT_MIN_SPEED_RATIO,
+    METHODS,
     SOLVED,
     Rules,
     as_min_speed_ratio,
     balance_at,
     cycle_tables,
-    mean_speed,
+    mean_rpm,
     resolve_rules,
     solve_periodic,
 )
@@ -431,39 +433,31 @@ def steady_state(
     """
     machine = as_instance(machine, Machine, "machine")
     rules = resolve_rules(load, drive)
-    omega_mean = mean_speed(rpm, rules.route, machine)
+    rpm_value = mean_rpm(rpm, rules.route, machine)
     gravity = as_flag(gravity, "gravity")
     ratio = as_min_speed_ratio(min_speed_ratio)
     count = _as_points(points)
 
     phi = np.linspace(0.0, machine.cycle, count)
-    cycle = cycle_tables(machine, gravity)
-    try:
-        solution = solve_periodic(cycle, rules, omega_mean, ratio)
-    except Stall as error:
-        raise _stall_error(error, cycle, rules, omega_mean, ratio) from None
-    mean = solution.omega_mean
-    if cycle.gravity_on:
-        delta_without = _delta_or_nan(cycle.without_gravity(), rules, omega_mean, ratio)
+    found = _native_solution(machine, rules, rpm_value, gravity, ratio, phi)
+    if found is None:
+        found = _python_solution(machine, rules, rpm_value, gravity, ratio, phi)
+    omega = found.pop("omega")
+    time = found.pop("time")
+    time[0], time[-1] = 0.0, found["period"]
+    # The machine's own arrays: from the core with the solution where it solved it.
+    arrays_at = found.pop("arrays", None)
+    if arrays_at is None:
+        J, slope = machine.reduced_inertia(phi)
+        gas = machine.gas_torque(phi)
+        weight = machine.gravity_torque(phi) if gravity and machine.g != 0 else np.zeros(count)
     else:
-        delta_without = solution.delta
-    # Gravity alone: gas, drive and load gone; the conservative machine at the same mean speed.
-    try:
-        delta_alone = Balance(cycle, None, 0.0, gas=False).solve(mean, ratio).delta
-    except Stall:
-        delta_alone = math.nan
-
-    J, slope = cycle.J_at(phi)
-    omega = np.sqrt(2.0 * np.maximum(solution.energy_at(phi), 0.0) / J)
-    time = solution.time_at(phi)
-    time[0], time[-1] = 0.0, solution.period
-    gas = cycle.machine.gas_torque(phi)
-    weight = cycle.machine.gravity_torque(phi) if cycle.gravity_on else np.zeros(count)
+        J, slope, gas, weight = arrays_at
     inertia = inertia_torque(slope, omega)
-    speed = np.full(count, mean) if rules.route == BALANCE else omega
+    speed = np.full(count, found["omega_mean"]) if rules.route == BALANCE else omega
     drive_ = rules.drive(phi, speed) if rules.drive is not None else np.zeros(count)
     if rules.route == BALANCE:
-        load_ = np.full(count, solution.load_torque)
+        load_ = np.full(count, found["mean_load_torque"])
     else:
         load_ = rules.load(phi, omega) if isinstance(rules.load, Torque) else np.zeros(count)
     acceleration = (gas + weight + inertia + drive_ - load_) / J
@@ -482,15 +476,105 @@ def steady_state(
     )
     for array in arrays.values():
         array.flags.writeable = False
-    extremes = solution.extremes
     return SteadyState(
         machine=machine,
-        method=solution.method,
         load_rule=_describe(load, rules),
         gravity=gravity,
         min_speed_ratio=ratio,
         cycle=machine.cycle,
         **arrays,
+        **found,
+    )
+
+
+#: The numbers of a solution as :class:`SteadyState` takes them (beside ω and t at the angles).
+_NUMBERS = (
+    "omega_mean",
+    "omega_max",
+    "omega_min",
+    "phi_max",
+    "phi_min",
+    "period",
+    "mean_load_torque",
+    "delta_without_gravity",
+    "delta_gravity_only",
+)
+
+
+def _native_solution(
+    machine: Machine, rules: Rules, rpm: float | None, gravity: bool, ratio: float, phi: np.ndarray
+) -> dict[str, Any] | None:
+    """The steady state by the Rust core, where it solves it: the "balance" load with no
+    drive, or a square law beside at most a constant drive, every pressure a table. None
+    elsewhere (a callable pressure, load or drive: the Python implementation's)."""
+    balance = rules.route == BALANCE and rules.drive is None
+    square_law = rules.route == "square-law"
+    if not (balance or square_law):
+        return None
+    native = motion_machine(machine, gravity=gravity)
+    if native is None:
+        return None
+    try:
+        if balance:
+            assert rpm is not None
+            found = native.steady_state(rpm, ratio, phi)
+        else:
+            assert isinstance(rules.load, Torque)
+            found = native.square_law(rules.load.value.coefficient, rules.constant_drive, ratio, phi)
+    except MechanismError as error:
+        angle = getattr(error, "angle", None)
+        if angle is None:
+            raise
+        raise _native_stall(angle, rpm, getattr(error, "min_rpm", None), ratio) from None
+    numbers = {name: float(found[name]) for name in _NUMBERS}
+    solution = dict(numbers, omega=found["omega"], time=found["time"], method=METHODS[rules.route])
+    if balance:
+        names = ("reduced_inertia", "reduced_inertia_slope", "gas_torque", "gravity_torque")
+        solution["arrays"] = tuple(found[name] for name in names)
+    return solution
+
+
+def _native_stall(angle: float, rpm: float | None, min_rpm: float | None, ratio: float) -> StallError:
+    """The core's stall as :func:`_stall_error` words it."""
+    if rpm is None or min_rpm is None:
+        return StallError(
+            f"the machine stalls with this load: its speed would fall below min_speed_ratio·ω_m near φ = "
+            f"{math.degrees(angle):.4g}°; it has no steady running (min_speed_ratio = {ratio:g})",
+            angle=angle,
+        )
+    return StallError(
+        f"the machine stalls at rpm = {rpm:.6g}: it would crawl over its dead point at φ = {math.degrees(angle):.4g}° "
+        f"(ω_min < min_speed_ratio·ω_m with min_speed_ratio = {ratio:g}); the lowest mean speed that runs is "
+        f"min_rpm = {min_rpm:.6g}",
+        angle=angle,
+        min_rpm=min_rpm,
+    )
+
+
+def _python_solution(
+    machine: Machine, rules: Rules, rpm: float | None, gravity: bool, ratio: float, phi: np.ndarray
+) -> dict[str, Any]:
+    """The steady state by the Python implementation (any load, drive and pressure): the
+    numbers of :class:`SteadyState`, its method, and ω and t at ``phi``."""
+    omega_mean = None if rpm is None else omega_from_rpm(rpm)
+    cycle = cycle_tables(machine, gravity)
+    try:
+        solution = solve_periodic(cycle, rules, omega_mean, ratio)
+    except Stall as error:
+        raise _stall_error(error, cycle, rules, omega_mean, ratio) from None
+    mean = solution.omega_mean
+    if cycle.gravity_on:
+        delta_without = _delta_or_nan(cycle.without_gravity(), rules, omega_mean, ratio)
+    else:
+        delta_without = solution.delta
+    # Gravity alone: gas, drive and load gone; the conservative machine at the same mean speed.
+    try:
+        delta_alone = Balance(cycle, None, 0.0, gas=False).solve(mean, ratio).delta
+    except Stall:
+        delta_alone = math.nan
+    J, _ = cycle.J_at(phi)
+    extremes = solution.extremes
+    return dict(
         omega_mean=mean,
         omega_max=extremes.omega_max,
         omega_min=extremes.omega_min,
@@ -500,6 +584,9 @@ def steady_state(
         mean_load_torque=_load_mean(cycle, rules, solution),
         delta_without_gravity=delta_without,
         delta_gravity_only=delta_alone,
+        method=solution.method,
+        omega=np.sqrt(2.0 * np.maximum(solution.energy_at(phi), 0.0) / J),
+        time=solution.time_at(phi),
     )
 
 

@@ -4,9 +4,11 @@ one row each (:func:`motion_sweep`).
 Designs are rows of :mod:`~multicrank.motion.variants`' columns — a :class:`MachineGrid`, a
 pandas DataFrame or a dask DataFrame — processed chunk by chunk as :func:`~multicrank.sweep`
 does (in memory, streamed to resumable Parquet parts, or one chunk per dask partition). Every
-chunk is solved by one function, :func:`_solve_chunk`: today a loop over
-:func:`~multicrank.steady_state` and :func:`~multicrank.flywheel_inertia`, later the Rust
-core's batched solver, with the same rows.
+chunk is solved by one function, :func:`_solve_chunk`: by the Rust core's batched solver
+(:meth:`multicrank._native.MotionMachine.sweep`, designs in parallel, the GIL released) where
+the machine's pressures are tables and the load is "balance", else by a loop over
+:func:`~multicrank.steady_state` and :func:`~multicrank.flywheel_inertia`; the rows are the
+same either way.
 """
 
 from __future__ import annotations
@@ -23,10 +25,12 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
+from .._native import MOTION_SWEEP_OUTPUTS as _CORE_OUTPUTS
 from .._native import MechanismError
 from .._shaft import rpm_from_omega
-from .._validation import as_count, as_flag, as_instance
+from .._validation import as_count, as_flag, as_instance, contiguous
 from ..machine.machine import Machine
+from ..machine.native import motion_machine
 from ..sweeps.chunks import in_memory, is_dask, to_parquet
 from ..sweeps.designs import (
     as_frame,
@@ -46,24 +50,16 @@ from .variants import MACHINE_COLUMNS, MachineGrid, check_values, row_variant
 
 __all__ = ["MOTION_SWEEP_OUTPUTS", "MachineGrid", "motion_sweep"]
 
-#: Every output a motion sweep can compute, in column order.
-MOTION_SWEEP_OUTPUTS: tuple[str, ...] = (
-    "delta",
-    "delta_without_gravity",
-    "delta_gravity_only",
-    "gravity_effect",
-    "rpm_min",
-    "rpm_max",
-    "stalled",
-    "flywheel_inertia",
-    "flywheel_inertia_without_gravity",
-)
+#: Every output a motion sweep can compute, in column order (the core's).
+MOTION_SWEEP_OUTPUTS: tuple[str, ...] = tuple(_CORE_OUTPUTS)
 # The outputs of the steady state, and of the flywheel (which needs delta=).
 _STEADY = MOTION_SWEEP_OUTPUTS[:7]
 _FLYWHEEL = MOTION_SWEEP_OUTPUTS[7:]
-# Designs per chunk: a steady state costs a few ms, so a chunk of 256 is about a second of
-# work — Ctrl-C keeps all but that, and a part of Parquet is not too small to be worth a file.
-DEFAULT_CHUNK_SIZE = 256
+# Designs per chunk: about a second of work — Ctrl-C keeps all but that, and a part of Parquet
+# is not too small to be worth a file. The core solves a design in ~0.05–0.2 ms; the Python
+# loop (callable pressures, other loads) in a few ms.
+DEFAULT_CHUNK_SIZE = 8192
+DEFAULT_PYTHON_CHUNK_SIZE = 256
 
 
 # ----------------------------------------------------------------------------- options
@@ -106,16 +102,38 @@ def _solve_chunk(
     """The designs of ``frame`` with one column per output: the work of every chunk and of
     every dask partition, and the one place where a design is solved.
 
-    Today a loop over rows: each row's machine (:func:`~multicrank.motion.variants.machine_variant`)
-    solved by :func:`steady_state` (with gravity) and, where the flywheel is asked for,
-    :func:`flywheel_inertia`. This is the seam where the Rust core's batched steady state
-    will plug in: it must return the same columns, rows and dtypes (δ to 1e-12 relative).
+    By the Rust core's batched steady state where it solves the machine (tables for
+    pressures, the "balance" load): every row bit-equal to :func:`steady_state` and
+    :func:`flywheel_inertia` of its machine, which take the same core path. Else a loop over
+    rows: each row's machine (:func:`~multicrank.motion.variants.machine_variant`) solved by
+    :func:`steady_state` (with gravity) and, where the flywheel is asked for,
+    :func:`flywheel_inertia`.
 
     A design that stalls (a :class:`StallError`, or a δ that is not finite) is a row with
     ``stalled`` True and NaN in the δ and speed columns; a flywheel that no shaft inertia
     gives (the target unreachable) is NaN. A design the machine refuses (a rod shorter than
     its crank) raises :class:`MechanismError` naming the row.
     """
+    native = motion_machine(machine) if isinstance(load, str) and load == BALANCE else None
+    if native is not None:
+        names = [c for c in frame.columns if c in MACHINE_COLUMNS]
+        designs = {name: contiguous(frame[name].to_numpy(dtype=np.float64)) for name in names}
+        try:
+            found = native.sweep(designs, list(outputs), rpm=machine.rpm, target_delta=delta)
+        except MechanismError:
+            found = None  # a design the machine refuses: the loop below names its row and values
+        if found is not None:
+            result = frame.copy()
+            for name in outputs:
+                result[name] = found[name]
+            return result
+    return _solve_rows(machine, frame, outputs, load, delta)
+
+
+def _solve_rows(
+    machine: Machine, frame: pd.DataFrame, outputs: tuple[str, ...], load: Any, delta: float | None
+) -> pd.DataFrame:
+    """:func:`_solve_chunk` by the Python implementation, row by row."""
     rows = len(frame)
     columns = {name: np.full(rows, math.nan) for name in outputs if name != "stalled"}
     stalled = np.zeros(rows, dtype=bool)
@@ -267,7 +285,9 @@ def motion_sweep(
         the designs, the outputs, the load, ``delta`` and ``chunk_size`` must be the
         interrupted sweep's, or the resume is refused.
     chunk_size : int, optional
-        Designs per chunk (and per Parquet row group), default 256. Results do not depend on it.
+        Designs per chunk (and per Parquet row group), default 8192 where the Rust core solves
+        the machine and 256 where Python does (a callable pressure, a load other than
+        "balance"): about a second of work each. Results do not depend on it.
     progress : bool, default False
         Show a progress bar (designs/s, ETA).
     passthrough : str or sequence of str, default ()
@@ -313,7 +333,11 @@ def motion_sweep(
     target = None if delta is None else _as_delta(delta)
     outputs = _as_outputs(outputs, target)
     rules = resolve_rules(load, None)  # the load, checked once
-    size = DEFAULT_CHUNK_SIZE if chunk_size is None else as_count(chunk_size, "chunk_size", minimum=1)
+    if chunk_size is None:
+        native = isinstance(load, str) and load == BALANCE and motion_machine(machine) is not None
+        size = DEFAULT_CHUNK_SIZE if native else DEFAULT_PYTHON_CHUNK_SIZE
+    else:
+        size = as_count(chunk_size, "chunk_size", minimum=1)
     resume = as_flag(resume, "resume")
     progress = as_flag(progress, "progress")
     passthrough = as_passthrough(passthrough)

@@ -52,8 +52,8 @@ pub use mechanism::{
 };
 pub use motion::{
     flywheel_inertia, motion_sweep, square_law_steady_state, steady_state, steady_state_curves,
-    DesignColumns, FlywheelInertia, GasCylinder, Machine, MotionColumns, MotionOutputs,
-    PiecewisePolynomial, SteadyCurves, SteadyState, SteadyTables,
+    CycleArrays, DesignColumns, FlywheelInertia, GasCylinder, Machine, MotionColumns,
+    MotionOutputs, PiecewisePolynomial, SteadyCurves, SteadyState, SteadyTables,
 };
 pub use parallel::Parallelism;
 pub use series::{build_series, fourier_table, FourierSeries, SeriesKind};

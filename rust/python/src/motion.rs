@@ -3,6 +3,8 @@
 //! released around the core.
 
 use multicrank_core as core;
+use std::sync::OnceLock;
+
 use numpy::{IntoPyArray, PyReadonlyArray1};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -38,7 +40,9 @@ fn motion_err(py: Python<'_>, error: core::MechanismError) -> PyErr {
 
 /// A machine as its steady state takes it, converted and checked once and reused by every
 /// call: its units, their gas (the indicator diagrams as SciPy `PPoly` arrays), I_w, the
-/// strokes and g. Immutable; safe to share between threads.
+/// strokes and g; its working cycle tabulated by the first steady state or flywheel and
+/// kept for every later one (at any speed and shaft inertia). Immutable; safe to share
+/// between threads.
 ///
 /// MotionMachine(units, bore, piston_rod_diameter, pressure, pressure_crank_end,
 /// shaft_inertia, strokes, g): `units` the unit columns (as `machine_evaluate` takes them),
@@ -54,9 +58,21 @@ pub(crate) struct MotionMachine {
     shaft_inertia: f64,
     strokes: core::Strokes,
     g: f64,
+    /// The cycle's tables, made on first use.
+    tables: OnceLock<core::SteadyTables>,
 }
 
 impl MotionMachine {
+    /// The cycle's tables: made by the first call (two threads may both make them; one
+    /// set is kept, and both are the same doubles).
+    fn tables(&self) -> core::Result<&core::SteadyTables> {
+        if let Some(tables) = self.tables.get() {
+            return Ok(tables);
+        }
+        let made = core::SteadyTables::new(&self.machine())?;
+        Ok(self.tables.get_or_init(|| made))
+    }
+
     /// The core's view of it.
     fn machine(&self) -> core::Machine<'_> {
         core::Machine {
@@ -75,6 +91,37 @@ fn fields<'py>(py: Python<'py>, values: &[(&str, f64)]) -> PyResult<Bound<'py, P
     let dict = PyDict::new(py);
     for (name, value) in values {
         dict.set_item(name, value)?;
+    }
+    Ok(dict)
+}
+
+/// A steady state's numbers, and its curves where asked.
+fn steady_dict(
+    py: Python<'_>,
+    found: core::SteadyCurves,
+    curves: bool,
+) -> PyResult<Bound<'_, PyDict>> {
+    let s = found.state;
+    let dict = fields(
+        py,
+        &[
+            ("omega_mean", s.omega_mean),
+            ("period", s.period),
+            ("omega_max", s.omega_max),
+            ("omega_min", s.omega_min),
+            ("phi_max", s.phi_max),
+            ("phi_min", s.phi_min),
+            ("energy_at_zero", s.energy_at_zero),
+            ("mean_load_torque", s.mean_load_torque),
+            ("delta", s.delta),
+            ("delta_midrange", s.delta_midrange),
+            ("delta_without_gravity", s.delta_without_gravity),
+            ("delta_gravity_only", s.delta_gravity_only),
+        ],
+    )?;
+    if curves {
+        dict.set_item("omega", found.omega.into_pyarray(py))?;
+        dict.set_item("time", found.time.into_pyarray(py))?;
     }
     Ok(dict)
 }
@@ -120,6 +167,7 @@ impl MotionMachine {
             shaft_inertia,
             strokes,
             g,
+            tables: OnceLock::new(),
         };
         // The core's own checks of a machine (units, g, gas), by a sweep of no designs.
         core::motion_sweep(
@@ -135,54 +183,107 @@ impl MotionMachine {
         Ok(machine)
     }
 
-    /// steady_state(rpm, min_speed_ratio=1e-3) -> dict of floats: the periodic steady state
-    /// under the "balance" load at the mean speed `rpm` (1/min): omega_mean, period,
+    /// steady_state(rpm, min_speed_ratio=1e-3, phi=None, compare=True, shaft_inertia=None)
+    /// -> dict: the periodic steady state under the "balance" load at the mean speed `rpm`
+    /// (1/min) with I_w = `shaft_inertia` (kg·m², default the machine's): omega_mean, period,
     /// omega_max, omega_min, phi_max, phi_min, energy_at_zero, mean_load_torque, delta,
-    /// delta_midrange, delta_without_gravity, delta_gravity_only (SI units). A stall is a
-    /// MechanismError with attributes angle, rpm and min_rpm.
-    #[pyo3(signature = (rpm, min_speed_ratio=1e-3))]
+    /// delta_midrange, delta_without_gravity, delta_gravity_only (SI units; the last two
+    /// NaN unless `compare`), and with `phi` (rad, in [0, Φ]) the arrays omega (rad/s),
+    /// time (s from φ = 0), reduced_inertia, reduced_inertia_slope, gas_torque and
+    /// gravity_torque there. A stall is a MechanismError with attributes angle, rpm
+    /// and min_rpm.
+    #[pyo3(signature = (rpm, min_speed_ratio=1e-3, phi=None, compare=true, shaft_inertia=None))]
     fn steady_state<'py>(
         &self,
         py: Python<'py>,
         rpm: f64,
         min_speed_ratio: f64,
+        phi: Option<PyReadonlyArray1<'py, f64>>,
+        compare: bool,
+        shaft_inertia: Option<f64>,
     ) -> PyResult<Bound<'py, PyDict>> {
-        let s = py
-            .detach(|| core::steady_state(&self.machine(), rpm, min_speed_ratio))
+        let angles = phi.as_ref().map(|a| a.as_slice()).transpose()?;
+        let inertia = shaft_inertia.unwrap_or(self.shaft_inertia);
+        let (found, arrays) = py
+            .detach(|| {
+                let tables = self.tables()?;
+                let found = tables.steady_state(
+                    inertia,
+                    rpm,
+                    min_speed_ratio,
+                    angles.unwrap_or(&[]),
+                    compare,
+                )?;
+                let arrays = angles
+                    .map(|phi| tables.arrays_at(inertia, phi))
+                    .transpose()?;
+                Ok((found, arrays))
+            })
             .map_err(|error| motion_err(py, error))?;
-        fields(
-            py,
-            &[
-                ("omega_mean", s.omega_mean),
-                ("period", s.period),
-                ("omega_max", s.omega_max),
-                ("omega_min", s.omega_min),
-                ("phi_max", s.phi_max),
-                ("phi_min", s.phi_min),
-                ("energy_at_zero", s.energy_at_zero),
-                ("mean_load_torque", s.mean_load_torque),
-                ("delta", s.delta),
-                ("delta_midrange", s.delta_midrange),
-                ("delta_without_gravity", s.delta_without_gravity),
-                ("delta_gravity_only", s.delta_gravity_only),
-            ],
-        )
+        let dict = steady_dict(py, found, angles.is_some())?;
+        if let Some(arrays) = arrays {
+            dict.set_item("reduced_inertia", arrays.reduced_inertia.into_pyarray(py))?;
+            dict.set_item(
+                "reduced_inertia_slope",
+                arrays.reduced_inertia_slope.into_pyarray(py),
+            )?;
+            dict.set_item("gas_torque", arrays.gas_torque.into_pyarray(py))?;
+            dict.set_item("gravity_torque", arrays.gravity_torque.into_pyarray(py))?;
+        }
+        Ok(dict)
     }
 
-    /// flywheel_inertia(delta, rpm, min_speed_ratio=1e-3) -> dict of floats: the shaft
-    /// inertia giving the coefficient of speed fluctuation `delta` at `rpm` (1/min) under the
-    /// "balance" load: shaft_inertia, shaft_inertia_without_gravity, textbook,
-    /// textbook_error, energy_swing, delta, rpm.
-    #[pyo3(signature = (delta, rpm, min_speed_ratio=1e-3))]
+    /// square_law(coefficient, drive=0.0, min_speed_ratio=1e-3, phi=None) -> dict: the
+    /// periodic steady state under the load c·ω² (c = `coefficient`, N·m·s²/rad²) beside a
+    /// constant `drive` (N·m), in closed form: the numbers of steady_state (the mean speed a
+    /// result, mean_load_torque the load's cycle mean), with `phi` omega and time there.
+    #[pyo3(signature = (coefficient, drive=0.0, min_speed_ratio=1e-3, phi=None))]
+    fn square_law<'py>(
+        &self,
+        py: Python<'py>,
+        coefficient: f64,
+        drive: f64,
+        min_speed_ratio: f64,
+        phi: Option<PyReadonlyArray1<'py, f64>>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let angles = phi.as_ref().map(|a| a.as_slice()).transpose()?;
+        let found = py
+            .detach(|| {
+                core::square_law_steady_state(
+                    &self.machine(),
+                    coefficient,
+                    drive,
+                    min_speed_ratio,
+                    angles.unwrap_or(&[]),
+                )
+            })
+            .map_err(|error| motion_err(py, error))?;
+        steady_dict(py, found, angles.is_some())
+    }
+
+    /// flywheel_inertia(delta, rpm, min_speed_ratio=1e-3, without_gravity=True) -> dict of
+    /// floats: the shaft inertia giving the coefficient of speed fluctuation `delta` at `rpm`
+    /// (1/min) under the "balance" load: shaft_inertia, shaft_inertia_without_gravity (NaN
+    /// unless `without_gravity`), textbook, textbook_error, energy_swing, delta, rpm.
+    #[pyo3(signature = (delta, rpm, min_speed_ratio=1e-3, without_gravity=true))]
     fn flywheel_inertia<'py>(
         &self,
         py: Python<'py>,
         delta: f64,
         rpm: f64,
         min_speed_ratio: f64,
+        without_gravity: bool,
     ) -> PyResult<Bound<'py, PyDict>> {
         let f = py
-            .detach(|| core::flywheel_inertia(&self.machine(), delta, rpm, min_speed_ratio))
+            .detach(|| {
+                self.tables()?.flywheel_inertia(
+                    delta,
+                    rpm,
+                    min_speed_ratio,
+                    self.shaft_inertia,
+                    without_gravity,
+                )
+            })
             .map_err(|error| motion_err(py, error))?;
         fields(
             py,

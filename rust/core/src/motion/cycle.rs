@@ -235,7 +235,7 @@ impl Cycle {
     }
 
     /// M_gas (N·m) at any angles.
-    fn gas_torque_at(&self, phi: &[f64]) -> Result<Vec<f64>> {
+    pub fn gas_torque_at(&self, phi: &[f64]) -> Result<Vec<f64>> {
         let mut torque = vec![0.0; phi.len()];
         let forces = self.forces.at(phi);
         self.dynamics
@@ -244,7 +244,7 @@ impl Cycle {
     }
 
     /// The gravity torque −U′ (N·m) at any angles (0 without gravity).
-    fn gravity_torque_at(&self, phi: &[f64]) -> Result<Vec<f64>> {
+    pub fn gravity_torque_at(&self, phi: &[f64]) -> Result<Vec<f64>> {
         let mut weight = vec![0.0; phi.len()];
         if self.gravity_on {
             self.dynamics

@@ -235,6 +235,23 @@ impl SteadyTables {
         })
     }
 
+    /// The machine's own arrays at `phi` (rad, any angles) with I_w = `shaft_inertia`
+    /// (kg·m²): J (kg·m²), J′ (kg·m²/rad), M_gas and the gravity torque −U′ (N·m), as the
+    /// tables take them.
+    pub fn arrays_at(&self, shaft_inertia: f64, phi: &[f64]) -> Result<CycleArrays> {
+        check_shaft_inertia(shaft_inertia)?;
+        let (mut reduced_inertia, slope) = self.cycle.inertia_at(phi)?;
+        reduced_inertia
+            .iter_mut()
+            .for_each(|rest| *rest += shaft_inertia);
+        Ok(CycleArrays {
+            reduced_inertia,
+            reduced_inertia_slope: slope,
+            gas_torque: self.cycle.gas_torque_at(phi)?,
+            gravity_torque: self.cycle.gravity_torque_at(phi)?,
+        })
+    }
+
     /// δ alone (NaN where the machine stalls) with I_w = `shaft_inertia` at ω_m =
     /// `omega_mean` (rad/s), and the solution: one solve, no curves.
     pub(crate) fn solve(&self, shaft_inertia: f64, omega_mean: f64, ratio: f64) -> Result<Solved> {
@@ -318,6 +335,19 @@ impl SteadyTables {
             rpm,
         })
     }
+}
+
+/// A machine's arrays over its cycle ([`SteadyTables::arrays_at`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct CycleArrays {
+    /// J (kg·m²).
+    pub reduced_inertia: Vec<f64>,
+    /// J′ (kg·m²/rad).
+    pub reduced_inertia_slope: Vec<f64>,
+    /// M_gas (N·m).
+    pub gas_torque: Vec<f64>,
+    /// −U′ (N·m), 0 without gravity.
+    pub gravity_torque: Vec<f64>,
 }
 
 /// A solution's numbers as a [`SteadyState`].

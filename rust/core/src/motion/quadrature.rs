@@ -312,18 +312,20 @@ impl Antiderivative<'_> {
             - 1;
         let half = 0.5 * (edges[p + 1] - edges[p]);
         let x = (angle - 0.5 * (edges[p] + edges[p + 1])) / half;
-        let basis = legendre_all(n + 1, x);
-        let integral: f64 = self.coefficients[p * n..(p + 1) * n]
-            .iter()
-            .enumerate()
-            .map(|(k, c)| {
-                c * if k == 0 {
-                    x + 1.0
-                } else {
-                    (basis[k + 1] - basis[k - 1]) / (2 * k + 1) as f64
-                }
-            })
-            .sum();
+        // P_{k−1}, P_k and P_{k+1} by the three-term recurrence as k runs (the values
+        // `legendre_all` gives, without a table per angle).
+        let coefficients = &self.coefficients[p * n..(p + 1) * n];
+        let mut integral = coefficients[0] * (x + 1.0);
+        let (mut previous, mut current) = (1.0, x);
+        for (k, c) in coefficients.iter().enumerate().skip(1) {
+            let next = {
+                let j = (k + 1) as f64;
+                ((2.0 * j - 1.0) * x * current - (j - 1.0) * previous) / j
+            };
+            integral += c * (next - previous) / (2 * k + 1) as f64;
+            previous = current;
+            current = next;
+        }
         self.at_edges[p] + half * integral
     }
 
