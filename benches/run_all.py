@@ -58,6 +58,17 @@ def criterion_table() -> str:
     return "\n".join(rows)
 
 
+MOTION_SWEEP_HEADING = "## Motion at sweep scale: `mc.motion_sweep` against the per-machine path"
+MOTION_SWEEP_NOTE = (
+    "Outputs δ and δ without gravity (the flywheel row: I_w for δ = 0.01 with and without gravity), "
+    "best of 3. Designs that differ only in shaft inertia and speed share their machine's cycle "
+    "tables (speed × flywheel); a counterweight or a rod length makes new ones for every design. "
+    "The per-machine path: `machine_variant` then the Python implementation of the steady state "
+    "(or the flywheel), the library's only path before the core's motion, on 48 designs in the "
+    "same child. A 10⁶-design sweep to Parquet: `python benches/python/bench_motion_sweep.py --million`."
+)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--criterion", action="store_true", help="also run the criterion benches (a few minutes)")
@@ -66,6 +77,7 @@ def main() -> None:
     sweeps = run(sys.executable, "benches/python/bench_sweep.py", "--markdown")
     machine = run(sys.executable, "benches/python/bench_machine.py", "--markdown")
     motion = run(sys.executable, "benches/python/bench_motion.py", "--markdown")
+    motion_sweep = run(sys.executable, "benches/python/bench_motion_sweep.py", "--markdown")
     cpu = next(
         (
             line.split(":", 1)[1].strip()
@@ -107,6 +119,12 @@ def main() -> None:
         motion.strip(),
         "",
         MOTION_NOTE,
+        "",
+        MOTION_SWEEP_HEADING,
+        "",
+        motion_sweep.strip(),
+        "",
+        MOTION_SWEEP_NOTE,
         "",
     ]
     if args.criterion:

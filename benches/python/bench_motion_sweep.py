@@ -1,0 +1,194 @@
+"""Motion at sweep scale against the per-machine path, same process.
+
+    python benches/python/bench_motion_sweep.py [--markdown]
+    python benches/python/bench_motion_sweep.py --million [--out DIR]
+
+Machine: the "inline-4" preset (four cylinders, four-stroke, tabulated indicator diagrams,
+gravity). Three sweeps of it with ``mc.motion_sweep``:
+
+- speed × flywheel (``rpm`` × ``shaft_inertia``, 4096 designs), δ with and without gravity:
+  the designs share their machine's cycle tables (the core tabulates them once per block);
+- counterweight × rod length (1024 designs), the same outputs: every design its own tables;
+- the flywheel for δ = 0.01 (with and without gravity) over rpm × rod length (256 designs);
+
+each with one rayon thread and with all cores (a child process per thread count: rayon fixes
+its pool at first use). The baseline, measured in the same child: what the library did per
+machine before the core's motion (issue 20) — the variant built with ``Machine.replace``, then
+the Python implementation of the steady state (or the flywheel), on the first 48 designs.
+
+--million: one 10⁶-design speed × flywheel sweep streamed to Parquet with progress, reporting
+the wall time and the peak resident memory (bounded: one chunk at a time).
+Refuses a debug build of the extension.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import resource
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+BASELINE_DESIGNS = 48
+
+
+def grids():
+    import numpy as np
+
+    import multicrank as mc
+
+    machine = mc.presets.MACHINES["inline-4"]
+    cylinder = machine.cylinders[0]
+    return machine, {
+        "speed × flywheel": (
+            mc.MachineGrid(machine, rpm=np.linspace(1500, 6000, 64), shaft_inertia=np.linspace(0.1, 0.5, 64)),
+            None,
+        ),
+        "counterweight × rod length": (
+            mc.MachineGrid(
+                machine,
+                counterweight_mass=np.linspace(0.5, 2.0, 32),
+                rod_length=cylinder.rod_length * np.linspace(0.9, 1.1, 32),
+            ),
+            None,
+        ),
+        "flywheel for δ = 0.01": (
+            mc.MachineGrid(
+                machine, rpm=np.linspace(1500, 6000, 16), rod_length=cylinder.rod_length * np.linspace(0.9, 1.1, 16)
+            ),
+            0.01,
+        ),
+    }
+
+
+def baseline_rate(machine, frame, delta) -> float:
+    """Designs/s of the per-machine Python path (replace, then the Python implementation)."""
+    from multicrank.motion import flywheel as flywheel_module
+    from multicrank.motion import steady
+    from multicrank.motion._periodic import resolve_rules
+    from multicrank.motion.variants import MACHINE_COLUMNS, machine_variant
+
+    names = [c for c in frame.columns if c in MACHINE_COLUMNS]
+    rows = frame.head(BASELINE_DESIGNS)
+    rules = resolve_rules("balance", None)
+    original = flywheel_module.motion_machine
+    flywheel_module.motion_machine = lambda *args, **kwargs: None  # the Python implementation
+    try:
+        start = time.perf_counter()
+        for values in rows[names].itertuples(index=False, name=None):
+            design = dict(zip(names, values, strict=True))
+            variant = machine_variant(machine, design)
+            rpm = design.get("rpm", machine.rpm)
+            if delta is None:
+                steady._python_solution(variant, rules, rpm, True, 1e-3, steady.np.linspace(0, variant.cycle, 361))
+            else:
+                flywheel_module.flywheel_inertia(variant, delta=delta, rpm=rpm)
+        return len(rows) / (time.perf_counter() - start)
+    finally:
+        flywheel_module.motion_machine = original
+
+
+def child() -> list[dict]:
+    import multicrank as mc
+
+    machine, cases = grids()
+    rows = []
+    for name, (grid, delta) in cases.items():
+        outputs = (
+            ["flywheel_inertia", "flywheel_inertia_without_gravity"] if delta else ["delta", "delta_without_gravity"]
+        )
+        mc.motion_sweep(machine, grid.frame(0, 8), outputs=outputs, delta=delta)  # tables of the preset made
+        best = float("inf")
+        for _ in range(3):
+            start = time.perf_counter()
+            mc.motion_sweep(machine, grid, outputs=outputs, delta=delta)
+            best = min(best, time.perf_counter() - start)
+        rate = len(grid) / best
+        base = baseline_rate(machine, grid.frame(0, BASELINE_DESIGNS), delta)
+        rows.append(dict(sweep=name, designs=len(grid), rate=rate, baseline=base))
+    return rows
+
+
+def million(out: Path) -> None:
+    import numpy as np
+
+    import multicrank as mc
+
+    machine = mc.presets.MACHINES["inline-4"]
+    grid = mc.MachineGrid(machine, rpm=np.linspace(1500, 6000, 1000), shaft_inertia=np.linspace(0.1, 0.5, 1000))
+    path = out / "million.parquet"
+    start = time.perf_counter()
+    mc.motion_sweep(
+        machine, grid, outputs=["delta", "delta_without_gravity", "gravity_effect"], out=path, progress=True
+    )
+    wall = time.perf_counter() - start
+    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+    import pyarrow.parquet as pq
+
+    table = pq.read_table(path)
+    print(
+        f"{len(grid):,} designs in {wall:.1f} s ({len(grid) / wall:,.0f} designs/s) on {os.cpu_count()} cores; "
+        f"peak resident memory {peak:.0f} MiB; {table.num_rows:,} rows, {path.stat().st_size / 2**20:.1f} MiB of Parquet; "
+        f"{int(np.isnan(table['delta'].to_numpy()).sum())} NaN δ"
+    )
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--child", action="store_true", help=argparse.SUPPRESS)
+    parser.add_argument("--markdown", action="store_true")
+    parser.add_argument("--million", action="store_true")
+    parser.add_argument("--out", type=Path)
+    args = parser.parse_args()
+    import multicrank as mc
+
+    if mc.build_profile == "debug":
+        sys.exit("refusing a debug build of multicrank: build the release wheel first")
+    if args.child:
+        print(json.dumps(child()))
+        return
+    if args.million:
+        if args.out is None:
+            with tempfile.TemporaryDirectory() as directory:
+                million(Path(directory))
+        else:
+            million(args.out)
+        return
+    results = {}
+    for threads in ("1", str(os.cpu_count())):
+        done = subprocess.run(
+            [sys.executable, __file__, "--child"],
+            env=dict(os.environ, RAYON_NUM_THREADS=threads, OPENBLAS_NUM_THREADS="1"),
+            capture_output=True,
+            text=True,
+            check=True,
+        )
+        results[threads] = json.loads(done.stdout.strip().splitlines()[-1])
+    cpu = next(
+        (
+            line.split(":", 1)[1].strip()
+            for line in Path("/proc/cpuinfo").read_text().splitlines()
+            if line.startswith("model name")
+        ),
+        "?",
+    )
+    print(f"CPU: {cpu}; inline-4 preset; baseline: replace + the Python steady state/flywheel, same child")
+    head = "| sweep | designs | threads | designs/s | per-machine path (designs/s) | ratio |"
+    print(head if args.markdown else head.replace("|", " "))
+    if args.markdown:
+        print("|---|---:|---:|---:|---:|---:|")
+    for threads, rows in results.items():
+        for row in rows:
+            line = (
+                f"| {row['sweep']} | {row['designs']} | {threads} | {row['rate']:,.0f} | "
+                f"{row['baseline']:,.0f} | {row['rate'] / row['baseline']:.0f}× |"
+            )
+            print(line if args.markdown else line.replace("|", " "))
+
+
+if __name__ == "__main__":
+    main()
