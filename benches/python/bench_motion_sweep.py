@@ -132,7 +132,8 @@ def million(out: Path) -> None:
     table = pq.read_table(path)
     print(
         f"{len(grid):,} designs in {wall:.1f} s ({len(grid) / wall:,.0f} designs/s) on {os.cpu_count()} cores; "
-        f"peak resident memory {peak:.0f} MiB; {table.num_rows:,} rows, {path.stat().st_size / 2**20:.1f} MiB of Parquet; "
+        f"peak resident memory {peak:.0f} MiB; {table.num_rows:,} rows, "
+        f"{path.stat().st_size / 2**20:.1f} MiB of Parquet; "
         f"{int(np.isnan(table['delta'].to_numpy()).sum())} NaN δ"
     )
 
