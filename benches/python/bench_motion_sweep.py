@@ -84,7 +84,7 @@ def baseline_rate(machine, frame, delta) -> float:
             variant = machine_variant(machine, design)
             rpm = design.get("rpm", machine.rpm)
             if delta is None:
-                steady._python_solution(variant, rules, rpm, True, 1e-3, steady.np.linspace(0, variant.cycle, 361))
+                steady._python_solution(variant, rules, rpm, True, 1e-3, 361)[1]("arrays")
             else:
                 flywheel_module.flywheel_inertia(variant, delta=delta, rpm=rpm)
         return len(rows) / (time.perf_counter() - start)

@@ -89,6 +89,14 @@ class MotionMachine:
         compare: bool = True,
         shaft_inertia: float | None = None,
     ) -> dict[str, Any]: ...
+    def comparisons(
+        self,
+        rpm: float,
+        delta: float,
+        omega_mean: float,
+        min_speed_ratio: float = 1e-3,
+        shaft_inertia: float | None = None,
+    ) -> tuple[float, float]: ...
     def square_law(
         self, coefficient: float, drive: float = 0.0, min_speed_ratio: float = 1e-3, phi: _Array | None = None
     ) -> dict[str, Any]: ...

@@ -84,9 +84,9 @@ def motion_machine(machine: Machine, *, gravity: bool = True) -> MotionMachine |
     ``gravity`` is False), made on first use and kept while ``machine`` lives; None where a
     pressure is a Python callable (see :func:`native_machine`)."""
     key = (id(machine), gravity or machine.g == 0)
-    with _MAKING:
-        if key in _MADE:
-            return _MADE[key]
+    known = _MADE.get(key, _MAKING)  # a lookup needs no lock; _MAKING marks "not made yet"
+    if known is not _MAKING:
+        return known  # type: ignore[return-value]
     made = native_machine(machine if key[1] else machine.replace(g=0.0))
     with _MAKING:
         if key not in _MADE:

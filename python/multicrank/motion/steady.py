@@ -32,7 +32,9 @@ SciPy is imported when a steady state is computed.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
+from functools import cached_property
 from typing import Any, ClassVar
 
 import numpy as np
@@ -188,17 +190,6 @@ class SteadyState(MotionResult):
     gravity: bool
     min_speed_ratio: float
     cycle: float
-    phi: np.ndarray = field(repr=False)
-    omega: np.ndarray = field(repr=False)
-    time: np.ndarray = field(repr=False)
-    reduced_inertia: np.ndarray = field(repr=False)
-    reduced_inertia_slope: np.ndarray = field(repr=False)
-    gas_torque: np.ndarray = field(repr=False)
-    gravity_torque: np.ndarray = field(repr=False)
-    inertia_torque: np.ndarray = field(repr=False)
-    drive_torque: np.ndarray = field(repr=False)
-    load_torque: np.ndarray = field(repr=False)
-    acceleration: np.ndarray = field(repr=False)
     omega_mean: float
     omega_max: float
     omega_min: float
@@ -206,8 +197,46 @@ class SteadyState(MotionResult):
     phi_min: float
     period: float
     mean_load_torque: float
-    delta_without_gravity: float
-    delta_gravity_only: float
+    #: What is computed on first use: ``later("arrays")`` the arrays by name,
+    #: ``later("comparisons")`` the two comparison δ by name (each once, then kept).
+    _later: Callable[[str], dict[str, Any]] = field(repr=False, compare=False)
+
+    # The arrays and the two comparison solves, computed when first read: δ alone costs one
+    # solve (docs: "What is computed when").
+    @cached_property
+    def _arrays(self) -> dict[str, np.ndarray]:
+        return self._later("arrays")
+
+    @cached_property
+    def _comparisons(self) -> dict[str, float]:
+        return self._later("comparisons")
+
+    phi = property(lambda self: self._arrays["phi"], doc="Crank angle φ [rad].")
+    omega = property(lambda self: self._arrays["omega"], doc="Shaft speed ω(φ) [rad/s].")
+    time = property(lambda self: self._arrays["time"], doc="t(φ) [s] from φ = 0.")
+    reduced_inertia = property(lambda self: self._arrays["reduced_inertia"], doc="J(φ) [kg·m²].")
+    reduced_inertia_slope = property(lambda self: self._arrays["reduced_inertia_slope"], doc="J′(φ) [kg·m²/rad].")
+    gas_torque = property(lambda self: self._arrays["gas_torque"], doc="M_gas [N·m].")
+    gravity_torque = property(lambda self: self._arrays["gravity_torque"], doc="−dU/dφ [N·m].")
+    inertia_torque = property(lambda self: self._arrays["inertia_torque"], doc="−½ J′ω² [N·m].")
+    drive_torque = property(lambda self: self._arrays["drive_torque"], doc="M_drive [N·m].")
+    load_torque = property(lambda self: self._arrays["load_torque"], doc="M_load [N·m].")
+    acceleration = property(lambda self: self._arrays["acceleration"], doc="φ̈ [rad/s²].")
+    delta_without_gravity = property(
+        lambda self: self._comparisons["delta_without_gravity"], doc="δ with g = 0 [dimensionless]."
+    )
+    delta_gravity_only = property(
+        lambda self: self._comparisons["delta_gravity_only"], doc="δ of gravity alone [dimensionless]."
+    )
+
+    def __getstate__(self) -> dict[str, Any]:
+        # A pickle holds every number and array, computed now, and no way to compute more.
+        state = dict(self.__dict__, _arrays=self._arrays, _comparisons=self._comparisons)
+        state["_later"] = None
+        return state
+
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        self.__dict__.update(state)
 
     COLUMNS: ClassVar[dict[str, str]] = {
         "phi": "rad",
@@ -438,29 +467,58 @@ def steady_state(
     ratio = as_min_speed_ratio(min_speed_ratio)
     count = _as_points(points)
 
-    phi = np.linspace(0.0, machine.cycle, count)
-    found = _native_solution(machine, rules, rpm_value, gravity, ratio, phi)
-    if found is None:
-        found = _python_solution(machine, rules, rpm_value, gravity, ratio, phi)
-    omega = found.pop("omega")
-    time = found.pop("time")
-    time[0], time[-1] = 0.0, found["period"]
-    # The machine's own arrays: from the core with the solution where it solved it.
-    arrays_at = found.pop("arrays", None)
-    if arrays_at is None:
+    solved = _native_solution(machine, rules, rpm_value, gravity, ratio, count)
+    if solved is None:
+        solved = _python_solution(machine, rules, rpm_value, gravity, ratio, count)
+    numbers, later = solved
+    return SteadyState(
+        machine=machine,
+        load_rule=_describe(load, rules),
+        gravity=gravity,
+        min_speed_ratio=ratio,
+        cycle=machine.cycle,
+        **numbers,
+        _later=later,
+    )
+
+
+#: The numbers of a solution that :class:`SteadyState` holds from the start.
+_NUMBERS = ("omega_mean", "omega_max", "omega_min", "phi_max", "phi_min", "period", "mean_load_torque")
+#: Its comparison δ, computed when first read on the core's route.
+_COMPARISONS = ("delta_without_gravity", "delta_gravity_only")
+
+_Solved = tuple[dict[str, Any], Callable[[str], dict[str, Any]]]
+
+
+def _arrays(
+    machine: Machine,
+    rules: Rules,
+    gravity: bool,
+    phi: np.ndarray,
+    curves: dict[str, Any],
+    omega_mean: float,
+    period: float,
+    mean_load: float,
+) -> dict[str, np.ndarray]:
+    """The arrays of :class:`SteadyState` (read-only) from ω and t at ``phi`` (``curves``),
+    with J, J′, M_gas and the gravity torque from ``curves`` where the core gave them."""
+    count = phi.size
+    omega, time = curves["omega"], curves["time"]
+    time[0], time[-1] = 0.0, period
+    if "gas_torque" in curves:
+        J, slope = curves["reduced_inertia"], curves["reduced_inertia_slope"]
+        gas, weight = curves["gas_torque"], curves["gravity_torque"]
+    else:
         J, slope = machine.reduced_inertia(phi)
         gas = machine.gas_torque(phi)
         weight = machine.gravity_torque(phi) if gravity and machine.g != 0 else np.zeros(count)
-    else:
-        J, slope, gas, weight = arrays_at
     inertia = inertia_torque(slope, omega)
-    speed = np.full(count, found["omega_mean"]) if rules.route == BALANCE else omega
+    speed = np.full(count, omega_mean) if rules.route == BALANCE else omega
     drive_ = rules.drive(phi, speed) if rules.drive is not None else np.zeros(count)
     if rules.route == BALANCE:
-        load_ = np.full(count, found["mean_load_torque"])
+        load_ = np.full(count, mean_load)
     else:
         load_ = rules.load(phi, omega) if isinstance(rules.load, Torque) else np.zeros(count)
-    acceleration = (gas + weight + inertia + drive_ - load_) / J
     arrays = dict(
         phi=phi,
         omega=omega,
@@ -472,40 +530,19 @@ def steady_state(
         inertia_torque=inertia,
         drive_torque=drive_,
         load_torque=load_,
-        acceleration=acceleration,
+        acceleration=(gas + weight + inertia + drive_ - load_) / J,
     )
     for array in arrays.values():
         array.flags.writeable = False
-    return SteadyState(
-        machine=machine,
-        load_rule=_describe(load, rules),
-        gravity=gravity,
-        min_speed_ratio=ratio,
-        cycle=machine.cycle,
-        **arrays,
-        **found,
-    )
-
-
-#: The numbers of a solution as :class:`SteadyState` takes them (beside ω and t at the angles).
-_NUMBERS = (
-    "omega_mean",
-    "omega_max",
-    "omega_min",
-    "phi_max",
-    "phi_min",
-    "period",
-    "mean_load_torque",
-    "delta_without_gravity",
-    "delta_gravity_only",
-)
+    return arrays
 
 
 def _native_solution(
-    machine: Machine, rules: Rules, rpm: float | None, gravity: bool, ratio: float, phi: np.ndarray
-) -> dict[str, Any] | None:
+    machine: Machine, rules: Rules, rpm: float | None, gravity: bool, ratio: float, points: int
+) -> _Solved | None:
     """The steady state by the Rust core, where it solves it: the "balance" load with no
-    drive, or a square law beside at most a constant drive, every pressure a table. None
+    drive (one solve now; the arrays and the two comparison solves when first read), or a
+    square law beside at most a constant drive (all at once), every pressure a table. None
     elsewhere (a callable pressure, load or drive: the Python implementation's)."""
     balance = rules.route == BALANCE and rules.drive is None
     square_law = rules.route == "square-law"
@@ -514,10 +551,11 @@ def _native_solution(
     native = motion_machine(machine, gravity=gravity)
     if native is None:
         return None
+    phi = np.linspace(0.0, machine.cycle, points)
     try:
         if balance:
             assert rpm is not None
-            found = native.steady_state(rpm, ratio, phi)
+            found = native.steady_state(rpm, ratio, None, False)
         else:
             assert isinstance(rules.load, Torque)
             found = native.square_law(rules.load.value.coefficient, rules.constant_drive, ratio, phi)
@@ -527,11 +565,21 @@ def _native_solution(
             raise
         raise _native_stall(angle, rpm, getattr(error, "min_rpm", None), ratio) from None
     numbers = {name: float(found[name]) for name in _NUMBERS}
-    solution = dict(numbers, omega=found["omega"], time=found["time"], method=METHODS[rules.route])
-    if balance:
-        names = ("reduced_inertia", "reduced_inertia_slope", "gas_torque", "gravity_torque")
-        solution["arrays"] = tuple(found[name] for name in names)
-    return solution
+    args = (machine, rules, gravity, phi)
+    mean, period, load = numbers["omega_mean"], numbers["period"], numbers["mean_load_torque"]
+
+    def later(what: str) -> dict[str, Any]:
+        if not balance:  # the square law gave everything at once
+            if what == "arrays":
+                return _arrays(*args, found, mean, period, load)
+            return {name: float(found[name]) for name in _COMPARISONS}
+        assert rpm is not None
+        if what == "arrays":
+            return _arrays(*args, native.steady_state(rpm, ratio, phi, False), mean, period, load)
+        compared = native.comparisons(rpm, float(found["delta"]), mean, ratio)
+        return dict(zip(_COMPARISONS, compared, strict=True))
+
+    return dict(numbers, method=METHODS[rules.route]), later
 
 
 def _native_stall(angle: float, rpm: float | None, min_rpm: float | None, ratio: float) -> StallError:
@@ -552,10 +600,11 @@ def _native_stall(angle: float, rpm: float | None, min_rpm: float | None, ratio:
 
 
 def _python_solution(
-    machine: Machine, rules: Rules, rpm: float | None, gravity: bool, ratio: float, phi: np.ndarray
-) -> dict[str, Any]:
-    """The steady state by the Python implementation (any load, drive and pressure): the
-    numbers of :class:`SteadyState`, its method, and ω and t at ``phi``."""
+    machine: Machine, rules: Rules, rpm: float | None, gravity: bool, ratio: float, points: int
+) -> _Solved:
+    """The steady state by the Python implementation (any load, drive and pressure), all at
+    once."""
+    phi = np.linspace(0.0, machine.cycle, points)
     omega_mean = None if rpm is None else omega_from_rpm(rpm)
     cycle = cycle_tables(machine, gravity)
     try:
@@ -574,7 +623,7 @@ def _python_solution(
         delta_alone = math.nan
     J, _ = cycle.J_at(phi)
     extremes = solution.extremes
-    return dict(
+    numbers = dict(
         omega_mean=mean,
         omega_max=extremes.omega_max,
         omega_min=extremes.omega_min,
@@ -582,12 +631,11 @@ def _python_solution(
         phi_min=extremes.phi_min,
         period=solution.period,
         mean_load_torque=_load_mean(cycle, rules, solution),
-        delta_without_gravity=delta_without,
-        delta_gravity_only=delta_alone,
-        method=solution.method,
-        omega=np.sqrt(2.0 * np.maximum(solution.energy_at(phi), 0.0) / J),
-        time=solution.time_at(phi),
     )
+    curves = dict(omega=np.sqrt(2.0 * np.maximum(solution.energy_at(phi), 0.0) / J), time=solution.time_at(phi))
+    arrays = _arrays(machine, rules, gravity, phi, curves, mean, solution.period, numbers["mean_load_torque"])
+    compared = dict(delta_without_gravity=delta_without, delta_gravity_only=delta_alone)
+    return dict(numbers, method=solution.method), lambda what: arrays if what == "arrays" else compared
 
 
 def _describe(load: Any, rules: Rules) -> str:

@@ -233,6 +233,28 @@ impl MotionMachine {
         Ok(dict)
     }
 
+    /// comparisons(rpm, delta, omega_mean, min_speed_ratio=1e-3, shaft_inertia=None) ->
+    /// (delta_without_gravity, delta_gravity_only): the two comparison solves of the steady
+    /// state at `rpm` that steady_state(compare=False) found (its `delta` and `omega_mean`,
+    /// rad/s), each NaN where it stalls.
+    #[pyo3(signature = (rpm, delta, omega_mean, min_speed_ratio=1e-3, shaft_inertia=None))]
+    fn comparisons(
+        &self,
+        py: Python<'_>,
+        rpm: f64,
+        delta: f64,
+        omega_mean: f64,
+        min_speed_ratio: f64,
+        shaft_inertia: Option<f64>,
+    ) -> PyResult<(f64, f64)> {
+        let inertia = shaft_inertia.unwrap_or(self.shaft_inertia);
+        py.detach(|| {
+            self.tables()?
+                .comparisons(inertia, rpm, delta, omega_mean, min_speed_ratio)
+        })
+        .map_err(|error| motion_err(py, error))
+    }
+
     /// square_law(coefficient, drive=0.0, min_speed_ratio=1e-3, phi=None) -> dict: the
     /// periodic steady state under the load c·ω² (c = `coefficient`, N·m·s²/rad²) beside a
     /// constant `drive` (N·m), in closed form: the numbers of steady_state (the mean speed a

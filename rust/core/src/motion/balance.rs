@@ -25,9 +25,21 @@ pub(crate) fn brent(
     xtol: f64,
     rtol: f64,
 ) -> Result<Option<f64>> {
+    let (fa, fb) = (f(a)?, f(b)?);
+    brent_from(f, (a, fa), (b, fb), xtol, rtol)
+}
+
+/// [`brent`] from ends whose values are known, `(a, f(a))` and `(b, f(b))`.
+pub(crate) fn brent_from(
+    mut f: impl FnMut(f64) -> Result<f64>,
+    (a, fa): (f64, f64),
+    (b, fb): (f64, f64),
+    xtol: f64,
+    rtol: f64,
+) -> Result<Option<f64>> {
     let rtol = rtol.max(4.0 * f64::EPSILON);
     let (mut a, mut b) = (a, b);
-    let (mut fa, mut fb) = (f(a)?, f(b)?);
+    let (mut fa, mut fb) = (fa, fb);
     if !(fa.is_finite() && fb.is_finite()) || fa * fb > 0.0 {
         return Ok(None);
     }
@@ -267,6 +279,11 @@ impl Balance {
         self.cycle.cycle()
     }
 
+    /// (1/Φ)∫(J − I_w) dφ (kg·m²).
+    pub fn mean_rest(&self) -> f64 {
+        self.cycle.mean_rest()
+    }
+
     /// max K̃ over the samples (J): about max K − min K.
     pub fn swing(&self) -> f64 {
         self.lifted.iter().fold(f64::NEG_INFINITY, |m, &k| m.max(k))
@@ -411,7 +428,14 @@ impl Balance {
         let (solved, graded) = self.solve_on_mesh(omega_mean, ratio)?;
         match solved {
             Ok(solution) => {
-                let curves = self.curves(self.view(&graded), solution.margin, phi)?;
+                let curves = if phi.is_empty() {
+                    Curves {
+                        omega: Vec::new(),
+                        time: Vec::new(),
+                    }
+                } else {
+                    self.curves(self.view(&graded), solution.margin, phi)?
+                };
                 Ok(Ok((solution, curves)))
             }
             Err(stall) => Ok(Err(stall)),
@@ -457,7 +481,8 @@ impl Balance {
             let size = self.view(&graded).nodes();
             let excess =
                 |s: f64| -> Result<f64> { Ok((target / period(self, &graded, s)).powi(2) - 1.0) };
-            if excess(s_low)? > 0.0 {
+            let at_low = excess(s_low)?;
+            if at_low > 0.0 {
                 let finer = self.mesh(s_low)?;
                 if self.view(&finer).nodes() > size {
                     // Decide on a mesh that resolves the peak at s_low.
@@ -467,16 +492,19 @@ impl Balance {
                 return Ok((Err(Stall { angle: self.lowest }), graded));
             }
             let mut high = s_high;
+            let mut at_high = excess(high)?;
             // Never more than a step or two (s_high bounds the root); the bound only ends
             // the loop on a NaN.
             for _ in 0..64 {
-                if excess(high)? >= 0.0 {
+                if at_high >= 0.0 {
                     break;
                 }
                 high *= 2.0;
+                at_high = excess(high)?;
             }
             // rtol 1e-15: s to rounding (the excess is nearly linear in s).
-            let Some(root) = brent(excess, s_low, high, 0.0, 1e-15)? else {
+            let found = brent_from(excess, (s_low, at_low), (high, at_high), 0.0, 1e-15)?;
+            let Some(root) = found else {
                 return Ok((Err(Stall { angle: self.lowest }), graded));
             };
             s = root;
@@ -695,18 +723,95 @@ pub(crate) fn refine_extremum(
     // The function rises (for a maximum) up to the root: its slope, times sign, goes from
     // positive to negative.
     let mut rate = |phi: f64| -> Result<f64> { Ok(sign * slope(phi)?) };
-    let (a, b) = if rate(angle)? > 0.0 {
-        (angle, after)
+    // Start at the vertex of the parabola through the best sample and its neighbours (a
+    // smooth extremum is there to a small fraction of the spacing) and bracket the root
+    // with a step of NARROW_BRACKET of the span the way the slope points: a root to rounding
+    // in a few steps. Where the step does not reach it (a kink, a sharp peak), the bracket
+    // runs on to the neighbour sample.
+    let (f_before, f_after) = (
+        samples[(best + count - 1) % count].1,
+        samples[(best + 1) % count].1,
+    );
+    let start =
+        parabola_vertex((before, f_before), (angle, at_best), (after, f_after)).unwrap_or(angle);
+    let at_start = rate(start)?;
+    let step = NARROW_BRACKET * (after - before);
+    let found = if at_start == 0.0 {
+        Some(start)
+    } else if at_start > 0.0 {
+        let near = (start + step).min(after);
+        let at_near = rate(near)?;
+        if at_near <= 0.0 {
+            brent_from(
+                &mut rate,
+                (start, at_start),
+                (near, at_near),
+                0.0,
+                4.0 * f64::EPSILON,
+            )?
+        } else {
+            let at_end = rate(after)?;
+            brent_from(
+                &mut rate,
+                (near, at_near),
+                (after, at_end),
+                0.0,
+                4.0 * f64::EPSILON,
+            )?
+        }
     } else {
-        (before, angle)
+        let near = (start - step).max(before);
+        let at_near = rate(near)?;
+        if at_near >= 0.0 {
+            brent_from(
+                &mut rate,
+                (near, at_near),
+                (start, at_start),
+                0.0,
+                4.0 * f64::EPSILON,
+            )?
+        } else {
+            let at_end = rate(before)?;
+            brent_from(
+                &mut rate,
+                (before, at_end),
+                (near, at_near),
+                0.0,
+                4.0 * f64::EPSILON,
+            )?
+        }
     };
-    if let Some(root) = brent(rate, a, b, 0.0, 4.0 * f64::EPSILON)? {
+    if let Some(root) = found {
         let found = value(root)?;
         if sign * found > sign * at_best {
             return Ok((root, found));
         }
     }
     Ok((angle, at_best))
+}
+
+/// The half-width of the narrow bracket about a parabola's vertex, as a fraction of the
+/// span of the three samples.
+const NARROW_BRACKET: f64 = 1e-3;
+
+/// The abscissa of the vertex of the parabola through three points (x ascending); `None`
+/// where they are collinear or the vertex falls outside [x₀, x₂].
+fn parabola_vertex(
+    (x0, y0): (f64, f64),
+    (x1, y1): (f64, f64),
+    (x2, y2): (f64, f64),
+) -> Option<f64> {
+    let (d0, d2) = (x0 - x1, x2 - x1);
+    let (s0, s2) = ((y0 - y1) / d0, (y2 - y1) / d2);
+    let curvature = (s2 - s0) / (x2 - x0);
+    if !(curvature.is_finite() && curvature != 0.0) {
+        return None;
+    }
+    // Newton's form p = y1 + s0(x − x1) + c(x − x1)(x − x0): p′ = 0 at
+    // x1 − (s0 − c·d0)/(2c).
+    let b = s0 - curvature * d0;
+    let vertex = x1 - b / (2.0 * curvature);
+    (x0 < vertex && vertex < x2).then_some(vertex)
 }
 
 #[cfg(test)]

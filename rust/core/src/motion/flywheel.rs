@@ -6,7 +6,7 @@
 
 use crate::error::{MechanismError, Result};
 
-use super::balance::{brent, Balance};
+use super::balance::{brent, brent_from, Balance};
 use super::cycle::Cycle;
 
 /// The smallest δ a flywheel is sized for: below it δ is within the rounding of the speeds
@@ -60,6 +60,9 @@ pub(crate) fn inertia_for(
         Ok(value)
     };
     let origin = start.max(1e-300).ln();
+    if let Some(root) = newton_bracket(&mut excess, origin, balance.mean_rest())? {
+        return Ok(root.exp());
+    }
     let (mut low, mut high) = (origin, origin);
     if excess(origin)? > 0.0 {
         let mut found = false;
@@ -118,6 +121,47 @@ pub(crate) fn inertia_for(
         Some(log_inertia) => Ok(log_inertia.exp()),
         None => Err(unreachable("a delta some shaft_inertia reaches")),
     }
+}
+
+/// The root of `excess` (log(δ/target) in x = log I_w) from `origin`, bracketed in three
+/// evaluations where δ behaves as it does on a usual flywheel: δ ∝ 1/(I_w + mean(J − I_w))
+/// gives the slope d log δ/d x ≈ −I_w/(I_w + `rest`), a Newton step from the origin lands
+/// next to the root, and twice the next step beyond it brackets it; then Brent's method
+/// (as [`inertia_for`]'s). `None` where that bracket does not hold (a stall, a flat δ): the
+/// caller's wider search then takes over.
+fn newton_bracket(
+    excess: &mut impl FnMut(f64) -> Result<f64>,
+    origin: f64,
+    rest: f64,
+) -> Result<Option<f64>> {
+    let slope = |x: f64| {
+        let inertia = x.exp();
+        -inertia / (inertia + rest.max(0.0))
+    };
+    let first = excess(origin)?;
+    if !first.is_finite() {
+        return Ok(None);
+    }
+    let near = origin - first / slope(origin);
+    let at_near = excess(near)?;
+    if at_near == 0.0 {
+        return Ok(Some(near));
+    }
+    if !at_near.is_finite() {
+        return Ok(None);
+    }
+    let step = -at_near / slope(near);
+    let far = near + 2.0 * step + step.signum() * 1e-9;
+    let at_far = excess(far)?;
+    if !(at_far.is_finite() && at_near * at_far < 0.0) {
+        return Ok(None);
+    }
+    let (low, high) = if near < far {
+        ((near, at_near), (far, at_far))
+    } else {
+        ((far, at_far), (near, at_near))
+    };
+    brent_from(excess, low, high, 1e-12, 1e-15)
 }
 
 /// (ΔE (J), the textbook I_w (kg·m²)) for `delta` at ω_m = `omega_mean` (rad/s): ΔE = max K

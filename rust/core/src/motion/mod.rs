@@ -214,25 +214,44 @@ impl SteadyTables {
                 Ok(found) => found,
                 Err(stall) => return Err(stall_error(&balance, stall, rpm, min_speed_ratio)?),
             };
-        let (delta_without_gravity, delta_gravity_only) = if compare {
-            (
-                self.delta_without_gravity(shaft_inertia, omega_mean, min_speed_ratio)?
-                    .unwrap_or(solution.delta()),
-                self.delta_gravity_only(shaft_inertia, solution.omega_mean, min_speed_ratio)?,
-            )
-        } else {
-            (f64::NAN, f64::NAN)
-        };
+        let mut state = state_of(&solution, self.load, f64::NAN, f64::NAN);
+        if compare {
+            (state.delta_without_gravity, state.delta_gravity_only) = self.comparisons(
+                shaft_inertia,
+                rpm,
+                state.delta,
+                state.omega_mean,
+                min_speed_ratio,
+            )?;
+        }
         Ok(SteadyCurves {
-            state: state_of(
-                &solution,
-                self.load,
-                delta_without_gravity,
-                delta_gravity_only,
-            ),
+            state,
             omega: curves.omega,
             time: curves.time,
         })
+    }
+
+    /// (δ without gravity, δ of gravity alone) of a steady state found by
+    /// [`SteadyTables::steady_state`] with I_w = `shaft_inertia` at `rpm` (its `delta` and
+    /// `omega_mean`, rad/s): the two comparison solves it skips without `compare` — δ₀ at the
+    /// speed asked for (δ itself without gravity), δ of gravity alone at the mean speed
+    /// found; each NaN where it stalls.
+    pub fn comparisons(
+        &self,
+        shaft_inertia: f64,
+        rpm: f64,
+        delta: f64,
+        omega_mean: f64,
+        min_speed_ratio: f64,
+    ) -> Result<(f64, f64)> {
+        check_shaft_inertia(shaft_inertia)?;
+        check_rpm(rpm)?;
+        check_speed_ratio(min_speed_ratio)?;
+        let without = self
+            .delta_without_gravity(shaft_inertia, omega_from_rpm(rpm), min_speed_ratio)?
+            .unwrap_or(delta);
+        let alone = self.delta_gravity_only(shaft_inertia, omega_mean, min_speed_ratio)?;
+        Ok((without, alone))
     }
 
     /// The machine's own arrays at `phi` (rad, any angles) with I_w = `shaft_inertia`
