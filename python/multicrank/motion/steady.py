@@ -131,6 +131,10 @@ class SteadyState(MotionResult):
     that give them. Speeds: ``omega…`` in rad/s, ``rpm…`` in 1/min. ``print(state)`` shows
     :meth:`summary`; ``to_pandas()`` and ``to_xarray()`` convert it.
 
+    It computes what is read: the numbers (δ, the speeds, the period, the load) come with it;
+    the arrays and ``delta_without_gravity`` and ``delta_gravity_only`` (two more solves) are
+    computed when first read, then kept. A pickle holds them all.
+
     Attributes
     ----------
     phi : ndarray
@@ -202,7 +206,7 @@ class SteadyState(MotionResult):
     _later: Callable[[str], dict[str, Any]] = field(repr=False, compare=False)
 
     # The arrays and the two comparison solves, computed when first read: δ alone costs one
-    # solve (docs: "What is computed when").
+    # solve (docs/theory.md, "Where it is computed, and when").
     @cached_property
     def _arrays(self) -> dict[str, np.ndarray]:
         return self._later("arrays")
@@ -211,23 +215,70 @@ class SteadyState(MotionResult):
     def _comparisons(self) -> dict[str, float]:
         return self._later("comparisons")
 
-    phi = property(lambda self: self._arrays["phi"], doc="Crank angle φ [rad].")
-    omega = property(lambda self: self._arrays["omega"], doc="Shaft speed ω(φ) [rad/s].")
-    time = property(lambda self: self._arrays["time"], doc="t(φ) [s] from φ = 0.")
-    reduced_inertia = property(lambda self: self._arrays["reduced_inertia"], doc="J(φ) [kg·m²].")
-    reduced_inertia_slope = property(lambda self: self._arrays["reduced_inertia_slope"], doc="J′(φ) [kg·m²/rad].")
-    gas_torque = property(lambda self: self._arrays["gas_torque"], doc="M_gas [N·m].")
-    gravity_torque = property(lambda self: self._arrays["gravity_torque"], doc="−dU/dφ [N·m].")
-    inertia_torque = property(lambda self: self._arrays["inertia_torque"], doc="−½ J′ω² [N·m].")
-    drive_torque = property(lambda self: self._arrays["drive_torque"], doc="M_drive [N·m].")
-    load_torque = property(lambda self: self._arrays["load_torque"], doc="M_load [N·m].")
-    acceleration = property(lambda self: self._arrays["acceleration"], doc="φ̈ [rad/s²].")
-    delta_without_gravity = property(
-        lambda self: self._comparisons["delta_without_gravity"], doc="δ with g = 0 [dimensionless]."
-    )
-    delta_gravity_only = property(
-        lambda self: self._comparisons["delta_gravity_only"], doc="δ of gravity alone [dimensionless]."
-    )
+    @property
+    def phi(self) -> np.ndarray:
+        """Crank angle φ [rad], uniform over the closed cycle."""
+        return self._arrays["phi"]
+
+    @property
+    def omega(self) -> np.ndarray:
+        """Shaft speed ω(φ) [rad/s]."""
+        return self._arrays["omega"]
+
+    @property
+    def time(self) -> np.ndarray:
+        """t(φ) [s] from φ = 0; ``time[-1]`` = t_Φ."""
+        return self._arrays["time"]
+
+    @property
+    def reduced_inertia(self) -> np.ndarray:
+        """J(φ) [kg·m²]."""
+        return self._arrays["reduced_inertia"]
+
+    @property
+    def reduced_inertia_slope(self) -> np.ndarray:
+        """J′(φ) [kg·m²/rad]."""
+        return self._arrays["reduced_inertia_slope"]
+
+    @property
+    def gas_torque(self) -> np.ndarray:
+        """M_gas [N·m]."""
+        return self._arrays["gas_torque"]
+
+    @property
+    def gravity_torque(self) -> np.ndarray:
+        """−dU/dφ [N·m] (zero when solved without gravity)."""
+        return self._arrays["gravity_torque"]
+
+    @property
+    def inertia_torque(self) -> np.ndarray:
+        """−½ J′(φ) ω² [N·m] at the actual speed."""
+        return self._arrays["inertia_torque"]
+
+    @property
+    def drive_torque(self) -> np.ndarray:
+        """M_drive [N·m]."""
+        return self._arrays["drive_torque"]
+
+    @property
+    def load_torque(self) -> np.ndarray:
+        """M_load [N·m], positive resisting."""
+        return self._arrays["load_torque"]
+
+    @property
+    def acceleration(self) -> np.ndarray:
+        """φ̈ [rad/s²] = (gas + gravity + inertia + drive − load)/J."""
+        return self._arrays["acceleration"]
+
+    @property
+    def delta_without_gravity(self) -> float:
+        """δ of the same machine and load rule with g = 0 [dimensionless]; NaN where it stalls."""
+        return self._comparisons["delta_without_gravity"]
+
+    @property
+    def delta_gravity_only(self) -> float:
+        """δ of gravity (and the variation of J) alone [dimensionless]; NaN where it stalls."""
+        return self._comparisons["delta_gravity_only"]
 
     def __getstate__(self) -> dict[str, Any]:
         # A pickle holds every number and array, computed now, and no way to compute more.
