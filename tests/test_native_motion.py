@@ -326,3 +326,58 @@ def test_the_sweeps_two_paths_give_the_same_rows():
     for name in ("delta", "delta_without_gravity"):
         np.testing.assert_allclose(core[name], python[name], rtol=1e-9, err_msg=name)
     assert core["stalled"].tolist() == python["stalled"].tolist()
+
+
+# -- a machine built once, and a result that computes what is read ------------------------------
+
+
+def test_a_steady_state_computes_its_arrays_and_comparisons_only_when_read():
+    machine = mc.presets.MACHINES["inline-4"]
+    state = mc.steady_state(machine)
+    assert "_arrays" not in state.__dict__ and "_comparisons" not in state.__dict__
+    delta = state.delta
+    assert "_arrays" not in state.__dict__ and "_comparisons" not in state.__dict__
+    # Read later, they are those of a result that computed everything (the Python route's
+    # arrays are eager: the same numbers from the other implementation, to its accuracy).
+    assert state.omega.shape == (361,) and "_comparisons" not in state.__dict__
+    assert state.delta_without_gravity == pytest.approx(0.007514092, rel=1e-6)
+    assert state.delta == delta and not state.omega.flags.writeable
+    again = mc.steady_state(machine)
+    np.testing.assert_array_equal(again.acceleration, state.acceleration)
+
+
+def test_a_pickled_steady_state_carries_everything():
+    import pickle
+
+    state = mc.steady_state(mc.presets.MACHINES["slow-compressor"], rpm=120)
+    loaded = pickle.loads(pickle.dumps(state))
+    assert loaded.delta_gravity_only == state.delta_gravity_only
+    np.testing.assert_array_equal(loaded.time, state.time)
+    assert loaded._later is None and loaded.summary() == state.summary()
+
+
+def test_one_native_machine_per_machine_kept_while_it_lives():
+    import gc
+
+    from multicrank.machine import native
+
+    machine = mc.presets.MACHINES["inline-4"].replace(shaft_inertia=0.31)
+    first = native.motion_machine(machine)
+    assert native.motion_machine(machine) is first
+    assert native.motion_machine(machine, gravity=False) is not first
+    # An equal machine is another object: its own native machine, the same numbers.
+    twin = machine.replace()
+    assert native.motion_machine(twin) is not first
+    assert mc.steady_state(twin).delta == mc.steady_state(machine).delta
+    keys = [key for key in native._MADE if key[0] == id(machine)]
+    del machine, first
+    gc.collect()
+    assert not any(key in native._MADE for key in keys)
+
+
+def test_threads_share_one_native_machine_and_agree():
+    machine = mc.presets.MACHINES["genset-v12"].replace(shaft_inertia=41.0)
+    speeds = np.linspace(900.0, 1800.0, 16)
+    with ThreadPoolExecutor(4) as pool:
+        found = list(pool.map(lambda rpm: mc.steady_state(machine, rpm=rpm).delta, speeds))
+    assert found == [mc.steady_state(machine, rpm=rpm).delta for rpm in speeds]

@@ -123,12 +123,13 @@ pub(crate) fn inertia_for(
     }
 }
 
-/// The root of `excess` (log(δ/target) in x = log I_w) from `origin`, bracketed in three
+/// The root of `excess` (log(δ/target) in x = log I_w) from `origin`, bracketed in four
 /// evaluations where δ behaves as it does on a usual flywheel: δ ∝ 1/(I_w + mean(J − I_w))
-/// gives the slope d log δ/d x ≈ −I_w/(I_w + `rest`), a Newton step from the origin lands
-/// next to the root, and twice the next step beyond it brackets it; then Brent's method
-/// (as [`inertia_for`]'s). `None` where that bracket does not hold (a stall, a flat δ): the
-/// caller's wider search then takes over.
+/// gives the slope d log δ/d x ≈ −I_w/(I_w + `rest`) for a Newton step from the origin, a
+/// secant step follows, and twice the next secant step beyond it brackets the root; then
+/// Brent's method (as [`inertia_for`]'s) on that narrow bracket. `None` where the bracket
+/// does not hold (a stall, a flat δ): the caller's wider search then takes over (the
+/// values found are kept by `excess`).
 fn newton_bracket(
     excess: &mut impl FnMut(f64) -> Result<f64>,
     origin: f64,
@@ -138,28 +139,40 @@ fn newton_bracket(
         let inertia = x.exp();
         -inertia / (inertia + rest.max(0.0))
     };
-    let first = excess(origin)?;
-    if !first.is_finite() {
+    let (x0, e0) = (origin, excess(origin)?);
+    if !e0.is_finite() {
         return Ok(None);
     }
-    let near = origin - first / slope(origin);
-    let at_near = excess(near)?;
-    if at_near == 0.0 {
-        return Ok(Some(near));
+    let x1 = x0 - e0 / slope(x0);
+    let e1 = excess(x1)?;
+    if e1 == 0.0 {
+        return Ok(Some(x1));
     }
-    if !at_near.is_finite() {
+    // The secant through (x0, e0) and (x1, e1), then the next: where they cannot be taken
+    // (equal values, not finite) the bracket is given up.
+    let secant = |(xa, ea): (f64, f64), (xb, eb): (f64, f64)| -(eb * (xb - xa)) / (eb - ea);
+    let step = secant((x0, e0), (x1, e1));
+    if !step.is_finite() {
         return Ok(None);
     }
-    let step = -at_near / slope(near);
-    let far = near + 2.0 * step + step.signum() * 1e-9;
-    let at_far = excess(far)?;
-    if !(at_far.is_finite() && at_near * at_far < 0.0) {
+    let x2 = x1 + step;
+    let e2 = excess(x2)?;
+    if e2 == 0.0 {
+        return Ok(Some(x2));
+    }
+    let next = secant((x1, e1), (x2, e2));
+    if !(e2.is_finite() && next.is_finite()) {
         return Ok(None);
     }
-    let (low, high) = if near < far {
-        ((near, at_near), (far, at_far))
+    let x3 = x2 + 2.0 * next + next.signum() * 1e-13;
+    let e3 = excess(x3)?;
+    if !(e3.is_finite() && e2 * e3 < 0.0) {
+        return Ok(None);
+    }
+    let (low, high) = if x2 < x3 {
+        ((x2, e2), (x3, e3))
     } else {
-        ((far, at_far), (near, at_near))
+        ((x3, e3), (x2, e2))
     };
     brent_from(excess, low, high, 1e-12, 1e-15)
 }
