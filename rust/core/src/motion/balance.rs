@@ -312,7 +312,7 @@ impl Balance {
     fn lifted_at(&self, phi: &[f64]) -> Result<Vec<f64>> {
         let u = self.cycle.potential_at(phi)?;
         let w = if self.gas {
-            self.cycle.work.at(phi)?
+            self.cycle.gas.work.at(phi)?
         } else {
             vec![0.0; phi.len()]
         };

@@ -5,7 +5,7 @@
 //! (the forces and their work): here are only the tables.
 
 use std::f64::consts::PI;
-use std::sync::Arc;
+use std::sync::{Arc, Mutex, OnceLock, PoisonError};
 
 use crate::dynamics::Dynamics;
 use crate::error::Result;
@@ -36,13 +36,92 @@ const ROUNDING: f64 = 1e-14;
 /// slope.
 const SLOPE_STEP: f64 = 1e-5;
 
+/// What of a machine's tables its gas alone decides: the forces, the indicator work G of
+/// each cylinder, the panels' cuts (the gassed units' dead centres), and W and M_gas′ on the
+/// panels of each width tried. Kept apart so that designs that differ only in masses, g, I_w
+/// or speed share it (a motion sweep's); W on the panels of a width is made by whichever
+/// design asks first — the same doubles whoever does.
+#[derive(Debug)]
+pub(crate) struct Gas {
+    pub forces: Forces,
+    pub work: GasWork,
+    cuts: Vec<f64>,
+    on_panels: Mutex<Vec<(u64, Arc<OnPanels>)>>,
+}
+
+/// W (J) at the nodes then edges of the panels of one width, and M_gas′ (N·m/rad) at their
+/// nodes (made on first use).
+#[derive(Debug)]
+struct OnPanels {
+    work: Vec<f64>,
+    slope: OnceLock<Vec<f64>>,
+}
+
+impl Gas {
+    /// The gas of `machine` with `diagrams` in place of its own (the same pressures, or
+    /// scaled ones, shared); checks it.
+    pub fn new(machine: &Machine<'_>, diagrams: Arc<[PiecewisePolynomial]>) -> Result<Self> {
+        let cycle = machine.strokes.cycle_angle();
+        let forces = Forces::new(machine.units, machine.gas, diagrams.clone(), cycle)?;
+        let work = GasWork::new(machine.units, machine.gas, diagrams, cycle)?;
+        // The dead centres ψ = φ + α ≡ 0 mod π of every gassed unit: where a pressure given
+        // by branches may switch (the tables' own breakpoints enter through W, exactly).
+        let mut angles = Vec::new();
+        for (unit, gas) in machine.units.iter().zip(machine.gas) {
+            if gas.has_gas() {
+                let centres = (cycle / PI).round() as usize;
+                angles
+                    .extend((0..=centres).map(|k| (k as f64 * PI - unit.phase).rem_euclid(cycle)));
+            }
+        }
+        Ok(Self {
+            forces,
+            work,
+            cuts: breaks(angles, cycle),
+            on_panels: Mutex::new(Vec::new()),
+        })
+    }
+
+    /// W on `panels` (cut to `width`), made once per width.
+    fn on(&self, panels: &Panels, width: f64) -> Result<Arc<OnPanels>> {
+        let key = width.to_bits();
+        let find = |made: &Vec<(u64, Arc<OnPanels>)>| {
+            made.iter()
+                .find(|(k, _)| *k == key)
+                .map(|(_, on)| Arc::clone(on))
+        };
+        // A poisoned lock holds nothing half-made: every entry was pushed whole.
+        if let Some(on) = find(
+            &self
+                .on_panels
+                .lock()
+                .unwrap_or_else(PoisonError::into_inner),
+        ) {
+            return Ok(on);
+        }
+        let everywhere: Vec<f64> = panels.phi.iter().chain(&panels.edges).copied().collect();
+        let made = Arc::new(OnPanels {
+            work: self.work.at(&everywhere)?,
+            slope: OnceLock::new(),
+        });
+        let mut all = self
+            .on_panels
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner);
+        if let Some(on) = find(&all) {
+            return Ok(on);
+        }
+        all.push((key, Arc::clone(&made)));
+        Ok(made)
+    }
+}
+
 /// The machine's quantities over its cycle. Nothing in them depends on I_w or on the
 /// speed: one `Cycle` serves every shaft inertia and every mean speed.
 #[derive(Debug, Clone)]
 pub(crate) struct Cycle {
     pub dynamics: Dynamics,
-    pub forces: Forces,
-    pub work: GasWork,
+    pub gas: Arc<Gas>,
     /// I_w (kg·m²) of the machine tabulated, the default of a solve (`Balance::with_inertia`
     /// takes another): the tables hold J − I_w, which does not depend on it.
     pub inertia: f64,
@@ -64,50 +143,30 @@ pub(crate) struct Cycle {
 impl Cycle {
     /// The tables of `machine` (its units checked as `dynamics`), its diagrams copied.
     pub fn new(machine: &Machine<'_>, dynamics: Dynamics) -> Result<Self> {
-        Self::with_diagrams(machine, dynamics, machine.diagrams.into())
+        let gas = Gas::new(machine, machine.diagrams.into())?;
+        Self::with_gas(machine, dynamics, &Arc::new(gas))
     }
 
-    /// The tables of `machine` with `diagrams` in place of its own (the same pressures, or
-    /// scaled ones, shared).
-    pub fn with_diagrams(
-        machine: &Machine<'_>,
-        dynamics: Dynamics,
-        diagrams: Arc<[PiecewisePolynomial]>,
-    ) -> Result<Self> {
-        let cycle = machine.strokes.cycle_angle();
-        let forces = Forces::new(machine.units, machine.gas, diagrams.clone(), cycle)?;
-        let work = GasWork::new(machine.units, machine.gas, diagrams, cycle)?;
-        // The dead centres ψ = φ + α ≡ 0 mod π of every gassed unit: where a pressure given
-        // by branches may switch (the tables' own breakpoints enter through W, exactly).
-        let mut angles = Vec::new();
-        for (unit, gas) in machine.units.iter().zip(machine.gas) {
-            if gas.has_gas() {
-                let centres = (cycle / PI).round() as usize;
-                angles
-                    .extend((0..=centres).map(|k| (k as f64 * PI - unit.phase).rem_euclid(cycle)));
-            }
-        }
-        let cuts = breaks(angles, cycle);
+    /// The tables of `machine` whose gas is `gas` (made for it, or for a machine that differs
+    /// from it only in masses, g or I_w).
+    pub fn with_gas(machine: &Machine<'_>, dynamics: Dynamics, gas: &Arc<Gas>) -> Result<Self> {
         let mut width = START_WIDTH;
         loop {
-            let panels = Panels::new(&cuts, ORDER, width);
-            let mut tables = Self::tabulate(
-                machine,
-                dynamics.clone(),
-                forces.clone(),
-                work.clone(),
-                panels,
-            )?;
+            let panels = Panels::new(&gas.cuts, ORDER, width);
+            let mut tables = Self::tabulate(machine, dynamics.clone(), gas, panels)?;
             if width < NARROWEST || tables.resolved() {
-                tables.curvatures()?;
+                // W only on the panels kept (J and U decide them).
+                let on = gas.on(&tables.panels, width)?;
+                tables.gas_work = on.work.clone();
+                tables.curvatures(&on)?;
                 return Ok(tables);
             }
             width /= 2.0;
         }
     }
 
-    /// `gas_curvature` and `gravity_curvature` on the panels found.
-    fn curvatures(&mut self) -> Result<()> {
+    /// `gas_curvature` (once per gas and width) and `gravity_curvature` on the panels found.
+    fn curvatures(&mut self, on: &OnPanels) -> Result<()> {
         let phi = &self.panels.phi;
         let shifted = |h: f64| phi.iter().map(|p| p + h).collect::<Vec<f64>>();
         let (ahead, behind) = (shifted(SLOPE_STEP), shifted(-SLOPE_STEP));
@@ -117,7 +176,13 @@ impl Cycle {
                 .map(|(a, b)| (a - b) / (2.0 * SLOPE_STEP))
                 .collect()
         };
-        self.gas_curvature = difference(self.gas_torque_at(&ahead)?, self.gas_torque_at(&behind)?);
+        self.gas_curvature = match on.slope.get() {
+            Some(slope) => slope.clone(),
+            None => {
+                let slope = difference(self.gas_torque_at(&ahead)?, self.gas_torque_at(&behind)?);
+                on.slope.get_or_init(|| slope).clone()
+            }
+        };
         self.gravity_curvature = if self.gravity_on {
             difference(
                 self.gravity_torque_at(&ahead)?,
@@ -132,22 +197,20 @@ impl Cycle {
     fn tabulate(
         machine: &Machine<'_>,
         dynamics: Dynamics,
-        forces: Forces,
-        work: GasWork,
+        gas: &Arc<Gas>,
         panels: Panels,
     ) -> Result<Self> {
         let everywhere: Vec<f64> = panels.phi.iter().chain(&panels.edges).copied().collect();
         let mut tables = Self {
             dynamics,
-            forces,
-            gas_work: work.at(&everywhere)?,
-            work,
+            gas: Arc::clone(gas),
             inertia: machine.shaft_inertia,
             panels,
             gravity_on: machine.g != 0.0,
             u0: 0.0,
             rest: Vec::new(),
             potential: Vec::new(),
+            gas_work: Vec::new(),
             gas_curvature: Vec::new(),
             gravity_curvature: Vec::new(),
         };
@@ -237,7 +300,7 @@ impl Cycle {
     /// M_gas (N·m) at any angles.
     pub fn gas_torque_at(&self, phi: &[f64]) -> Result<Vec<f64>> {
         let mut torque = vec![0.0; phi.len()];
-        let forces = self.forces.at(phi);
+        let forces = self.gas.forces.at(phi);
         self.dynamics
             .gas_torque(phi, &forces, &mut torque, Parallelism::SERIAL)?;
         Ok(torque)

@@ -60,8 +60,22 @@ pub(crate) fn inertia_for(
         Ok(value)
     };
     let origin = start.max(1e-300).ln();
-    if let Some(root) = newton_bracket(&mut excess, origin, balance.mean_rest())? {
+    let rest = balance.mean_rest();
+    if let Some(root) = newton_bracket(&mut excess, origin, rest)? {
         return Ok(root.exp());
+    }
+    // δ rises as I_w falls, towards δ of a massless shaft: where a shaft a billionth of the
+    // rods' and pistons' inertia still runs below the target, no shaft reaches it (one
+    // solve, where stepping down until δ levels off takes a dozen).
+    let massless = (1e-9 * rest).max(1e-300).ln();
+    if excess(origin)? <= 0.0 && massless < origin {
+        let at_floor = excess(massless)?;
+        if at_floor.is_finite() && at_floor < 0.0 {
+            return Err(unreachable(
+                "a delta some shaft_inertia reaches (even a massless shaft keeps δ below it: \
+                 the rods' and pistons' own inertia limits the fluctuation)",
+            ));
+        }
     }
     let (mut low, mut high) = (origin, origin);
     if excess(origin)? > 0.0 {
@@ -169,6 +183,36 @@ fn newton_bracket(
     if !(e3.is_finite() && e2 * e3 < 0.0) {
         return Ok(None);
     }
+    // A step inside the bracket lands next to the root; δ falls as I_w grows, so the
+    // root lies on the side the sign of the excess there says: one step of CERTIFY there
+    // brackets it to within the tolerance (Brent's method would step blindly and may need
+    // another solve).
+    let (low, high) = (x2.min(x3), x2.max(x3));
+    let quadratic = x1 * e2 * e3 / ((e1 - e2) * (e1 - e3))
+        + x2 * e1 * e3 / ((e2 - e1) * (e2 - e3))
+        + x3 * e1 * e2 / ((e3 - e1) * (e3 - e2));
+    // Inverse quadratic interpolation through the last three (the secant where it leaves
+    // the bracket).
+    let x4 = if (low..=high).contains(&quadratic) {
+        quadratic
+    } else {
+        x3 - e3 * (x3 - x2) / (e3 - e2)
+    };
+    let e4 = excess(x4)?;
+    // The excess is a smooth function with the bracket's slope there: |e4/slope| is x4's
+    // distance to the root, accepted well within the tolerance (δ's own rounding, ~1e-14
+    // in the excess, cannot bring a worse x4 below that bar).
+    let slope = (e3 - e2) / (x3 - x2);
+    if e4.abs() <= 0.1 * CERTIFY * slope.abs() {
+        return Ok(Some(x4));
+    }
+    if e4.is_finite() && (low..=high).contains(&x4) {
+        let x5 = x4 + CERTIFY.copysign(e4);
+        let e5 = excess(x5)?;
+        if e4 * e5 <= 0.0 {
+            return Ok(Some(x4));
+        }
+    }
     let (low, high) = if x2 < x3 {
         ((x2, e2), (x3, e3))
     } else {
@@ -177,19 +221,14 @@ fn newton_bracket(
     brent_from(excess, low, high, 1e-12, 1e-15)
 }
 
-/// (ΔE (J), the textbook I_w (kg·m²)) for `delta` at ω_m = `omega_mean` (rad/s): ΔE = max K
-/// − min K with the balancing load, I_w = ΔE/(δω_m²) − mean(J − I_w).
-pub(crate) fn textbook(
-    balance: &Balance,
-    cycle: &Cycle,
-    delta: f64,
-    omega_mean: f64,
-) -> Result<(f64, f64)> {
-    let swing = balance.energy_swing()?;
-    Ok((
-        swing,
-        swing / (delta * omega_mean * omega_mean) - cycle.mean_rest(),
-    ))
+/// A step (in log I_w) within the flywheel's tolerance of 1e-12: a sign change across it
+/// puts the root within 1e-12 of its start.
+const CERTIFY: f64 = 0.9e-12;
+
+/// The textbook I_w (kg·m²) for `delta` at ω_m = `omega_mean` (rad/s) from ΔE = `swing` (J,
+/// max K − min K with the balancing load): ΔE/(δω_m²) − mean(J − I_w).
+pub(crate) fn textbook(swing: f64, cycle: &Cycle, delta: f64, omega_mean: f64) -> f64 {
+    swing / (delta * omega_mean * omega_mean) - cycle.mean_rest()
 }
 
 /// The start of the search: the textbook I_w where positive, else ΔE/(δω_m²), else the

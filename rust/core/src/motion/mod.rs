@@ -17,14 +17,14 @@ mod square_law;
 mod sweep;
 
 use std::f64::consts::PI;
-use std::sync::Arc;
+use std::sync::{Arc, OnceLock};
 
 use crate::dynamics::{Dynamics, PhysicalCylinder};
 use crate::error::{check, MechanismError, Result};
 use crate::mechanism::{check_rpm, check_shaft_inertia, omega_from_rpm, Strokes};
 
 use balance::{Balance, Periodic, Solved, Stall};
-use cycle::Cycle;
+use cycle::{Cycle, Gas};
 use square_law::SquareLaw;
 
 pub use gas::{GasCylinder, PiecewisePolynomial};
@@ -79,7 +79,7 @@ pub struct SteadyState {
 
 /// The constant "balance" load (N·m): the cycle mean of the gas torque, W(Φ)/Φ.
 fn balance_load(cycle: &Cycle) -> f64 {
-    cycle.work.per_cycle / cycle.cycle()
+    cycle.gas.work.per_cycle / cycle.cycle()
 }
 
 /// δ of a solution, NaN where it stalls.
@@ -116,6 +116,9 @@ pub struct SteadyTables {
     machine: Balance,
     without_gravity: Option<Balance>,
     gravity_only: Balance,
+    /// ΔE = max K − min K (J) of the machine, found on first use (it depends on neither
+    /// I_w nor the speed).
+    swing: OnceLock<f64>,
 }
 
 /// The lowest mean speed that runs, searched from an s known to stall (the Python
@@ -140,13 +143,11 @@ impl SteadyTables {
         )?)
     }
 
-    /// The tables of `machine` with `diagrams` for its own (a sweep's shared or scaled ones).
-    pub(crate) fn with_diagrams(
-        machine: &Machine<'_>,
-        diagrams: Arc<[PiecewisePolynomial]>,
-    ) -> Result<Self> {
+    /// The tables of `machine` whose gas is `gas` (a sweep's, shared by its designs that
+    /// differ only in masses, g, I_w or speed).
+    pub(crate) fn with_gas(machine: &Machine<'_>, gas: &Arc<Gas>) -> Result<Self> {
         let dynamics = Dynamics::new(machine.units, machine.g)?;
-        Self::from_cycle(Cycle::with_diagrams(machine, dynamics, diagrams)?)
+        Self::from_cycle(Cycle::with_gas(machine, dynamics, gas)?)
     }
 
     fn from_cycle(cycle: Cycle) -> Result<Self> {
@@ -167,7 +168,18 @@ impl SteadyTables {
             without_gravity,
             load,
             cycle,
+            swing: OnceLock::new(),
         })
+    }
+
+    /// ΔE = max K − min K (J) with the balancing load, both located exactly: the energy
+    /// swing of the textbook flywheel estimate.
+    fn energy_swing(&self) -> Result<f64> {
+        if let Some(&swing) = self.swing.get() {
+            return Ok(swing);
+        }
+        let swing = self.machine.energy_swing()?;
+        Ok(*self.swing.get_or_init(|| swing))
     }
 
     /// Φ (rad).
@@ -333,7 +345,8 @@ impl SteadyTables {
         check_speed_ratio(min_speed_ratio)?;
         let omega_mean = omega_from_rpm(rpm);
         let balance = &self.machine;
-        let (swing, textbook) = flywheel::textbook(balance, &self.cycle, delta, omega_mean)?;
+        let swing = self.energy_swing()?;
+        let textbook = flywheel::textbook(swing, &self.cycle, delta, omega_mean);
         let start = flywheel::start(swing, textbook, &self.cycle, delta, omega_mean, fallback);
         let inertia = flywheel::inertia_for(balance, omega_mean, min_speed_ratio, delta, start)?;
         let without = match (&self.without_gravity, without) {

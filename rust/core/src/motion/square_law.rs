@@ -95,7 +95,7 @@ impl<'c> SquareLaw<'c> {
 
     /// E(φ) (J) at any angles in [0, Φ]: W + e^{−A}(E₀ + ∫₀^φ e^{A}(…) dφ).
     fn energy_at(&self, phi: &[f64]) -> Result<Vec<f64>> {
-        let work = self.cycle.work.at(phi)?;
+        let work = self.cycle.gas.work.at(phi)?;
         Ok(phi
             .iter()
             .zip(&work)

@@ -15,6 +15,7 @@ use crate::error::{check, check_length, MechanismError, Result};
 use crate::mechanism::{check_rpm, check_shaft_inertia, omega_from_rpm};
 use crate::parallel::{map_indices, Parallelism};
 
+use super::cycle::Gas;
 use super::gas::{GasCylinder, PiecewisePolynomial};
 use super::{check_speed_ratio, flywheel, Machine, SteadyTables};
 
@@ -333,26 +334,28 @@ fn variant(
     })
 }
 
-/// The tables of a design's machine: `shared`, the base diagrams, scaled where the design
-/// says so.
-fn tables(
-    base: &Machine<'_>,
-    shared: &Arc<[PiecewisePolynomial]>,
-    variant: &Variant,
-) -> Result<SteadyTables> {
+/// A design's machine (its diagrams: `shared`, the base ones, scaled where the design says
+/// so), and the gas of it.
+fn gas(base: &Machine<'_>, shared: &Arc<[PiecewisePolynomial]>, variant: &Variant) -> Result<Gas> {
     let diagrams = match variant.pressure_scale {
         Some(factor) => shared.iter().map(|d| d.scaled(factor)).collect(),
         None => Arc::clone(shared),
     };
-    let machine = Machine {
-        units: &variant.units,
-        gas: &variant.gas,
-        diagrams: &[],
-        shaft_inertia: variant.shaft_inertia,
-        strokes: base.strokes,
-        g: variant.g,
-    };
-    SteadyTables::with_diagrams(&machine, diagrams)
+    Gas::new(&variant.machine(base), diagrams)
+}
+
+impl Variant {
+    /// The machine of the design, its diagrams apart (a `Gas` holds them).
+    fn machine<'v>(&'v self, base: &Machine<'_>) -> Machine<'v> {
+        Machine {
+            units: &self.units,
+            gas: &self.gas,
+            diagrams: &[],
+            shaft_inertia: self.shaft_inertia,
+            strokes: base.strokes,
+            g: self.g,
+        }
+    }
 }
 
 /// One design solved on its machine's tables: `steady_state` and `flywheel_inertia` of
@@ -411,15 +414,44 @@ fn solve(
 /// held at once (~100 kB each).
 const BLOCK: usize = 512;
 
-/// What of design `row` changes its machine's tables: every column but `shaft_inertia` and
-/// `rpm`, bit for bit.
-fn tables_key(designs: &DesignColumns<'_>, row: usize) -> Vec<u64> {
+/// The columns that change a machine's gas (its W and M_gas): the pressures and the
+/// kinematics of the gassed cylinders.
+const GAS_COLUMNS: [&str; 4] = ["pressure_scale", "crank_radius", "rod_length", "bore"];
+
+/// What of design `row` changes its machine's tables (every column but `shaft_inertia` and
+/// `rpm`; `gas`: only the gas's columns), bit for bit.
+fn row_key(designs: &DesignColumns<'_>, row: usize, gas: bool) -> Vec<u64> {
     designs
         .named()
         .iter()
-        .filter(|(name, _)| !matches!(*name, "shaft_inertia" | "rpm"))
+        .filter(|(name, _)| {
+            if gas {
+                GAS_COLUMNS.contains(name)
+            } else {
+                !matches!(*name, "shaft_inertia" | "rpm")
+            }
+        })
         .filter_map(|(_, column)| column.map(|c| c[row].to_bits()))
         .collect()
+}
+
+/// The distinct keys of `rows`, in order of their first row: (each row's index among them,
+/// the first row of each).
+fn distinct(
+    rows: impl Iterator<Item = usize>,
+    key: impl Fn(usize) -> Vec<u64>,
+) -> (Vec<usize>, Vec<usize>) {
+    let mut first_of: HashMap<Vec<u64>, usize> = HashMap::new();
+    let mut firsts = Vec::new();
+    let index = rows
+        .map(|row| {
+            *first_of.entry(key(row)).or_insert_with(|| {
+                firsts.push(row);
+                firsts.len() - 1
+            })
+        })
+        .collect();
+    (index, firsts)
 }
 
 /// The steady state under the "balance" load (and, with `target_delta`, the flywheel for
@@ -484,27 +516,28 @@ pub fn motion_sweep(
     let mut rows = Vec::with_capacity(n);
     for start in (0..n).step_by(BLOCK) {
         let block = start..(start + BLOCK).min(n);
-        // The distinct machines of the block, in order of their first design.
-        let mut first_of: HashMap<Vec<u64>, usize> = HashMap::new();
-        let mut firsts = Vec::new();
-        let machine_of: Vec<usize> = block
-            .clone()
-            .map(|row| {
-                *first_of.entry(tables_key(designs, row)).or_insert_with(|| {
-                    firsts.push(row);
-                    firsts.len() - 1
-                })
-            })
-            .collect();
+        // The distinct gases and machines of the block, in order of their first design.
+        let (gas_of, gas_firsts) = distinct(block.clone(), |row| row_key(designs, row, true));
+        let (machine_of, firsts) = distinct(block.clone(), |row| row_key(designs, row, false));
         let work = |count: usize| {
             count
                 .saturating_mul(base.units.len())
                 .saturating_mul(WORK_PER_DESIGN_AND_UNIT)
         };
+        let gases = map_indices(gas_firsts.len(), work(gas_firsts.len()), parallelism, |g| {
+            let row = gas_firsts[g];
+            variant(base, rpm, designs, row)
+                .and_then(|v| gas(base, &shared, &v))
+                .map(Arc::new)
+                .map_err(in_row(row))
+        });
+        let gases = gases.into_iter().collect::<Result<Vec<_>>>()?;
         let made = map_indices(firsts.len(), work(firsts.len()), parallelism, |m| {
             let row = firsts[m];
             variant(base, rpm, designs, row)
-                .and_then(|v| tables(base, &shared, &v))
+                .and_then(|v| {
+                    SteadyTables::with_gas(&v.machine(base), &gases[gas_of[row - block.start]])
+                })
                 .map_err(in_row(row))
         });
         let made = made.into_iter().collect::<Result<Vec<_>>>()?;
