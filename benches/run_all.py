@@ -62,7 +62,8 @@ MOTION_SWEEP_HEADING = "## Motion at sweep scale: `mc.motion_sweep` against the 
 MOTION_SWEEP_NOTE = (
     "Outputs δ and δ without gravity (the flywheel row: I_w for δ = 0.01 with and without gravity), "
     "best of 3. Designs that differ only in shaft inertia and speed share their machine's cycle "
-    "tables (speed × flywheel); a counterweight or a rod length makes new ones for every design. "
+    "tables (speed × flywheel); a counterweight makes new ones, sharing the gas work of designs "
+    "with the same rod length; a rod length and a crank radius make everything new. "
     "The per-machine path: `machine_variant` then the Python implementation of the steady state "
     "(or the flywheel), the library's only path before the core's motion, on 48 designs in the "
     "same child. A 10⁶-design sweep to Parquet: `python benches/python/bench_motion_sweep.py --million`."

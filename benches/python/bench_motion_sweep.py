@@ -8,7 +8,9 @@ gravity). Three sweeps of it with ``mc.motion_sweep``:
 
 - speed × flywheel (``rpm`` × ``shaft_inertia``, 4096 designs), δ with and without gravity:
   the designs share their machine's cycle tables (the core tabulates them once per block);
-- counterweight × rod length (1024 designs), the same outputs: every design its own tables;
+- counterweight × rod length (1024 designs), the same outputs: every design its own tables,
+  the designs of one rod length one gas work (G, and W on the panels);
+- rod length × crank radius (1024 designs): every design its own tables and gas work;
 - the flywheel for δ = 0.01 (with and without gravity) over rpm × rod length (256 designs);
 
 each with one rayon thread and with all cores (a child process per thread count: rayon fixes
@@ -53,6 +55,14 @@ def grids():
                 machine,
                 counterweight_mass=np.linspace(0.5, 2.0, 32),
                 rod_length=cylinder.rod_length * np.linspace(0.9, 1.1, 32),
+            ),
+            None,
+        ),
+        "rod length × crank radius": (
+            mc.MachineGrid(
+                machine,
+                rod_length=cylinder.rod_length * np.linspace(0.9, 1.1, 32),
+                crank_radius=cylinder.crank_radius * np.linspace(0.95, 1.05, 32),
             ),
             None,
         ),

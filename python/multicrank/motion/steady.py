@@ -602,13 +602,13 @@ def _native_solution(
     native = motion_machine(machine, gravity=gravity)
     if native is None:
         return None
-    phi = np.linspace(0.0, machine.cycle, points)
     try:
         if balance:
             assert rpm is not None
             found = native.steady_state(rpm, ratio, None, False)
         else:
             assert isinstance(rules.load, Torque)
+            phi = np.linspace(0.0, machine.cycle, points)
             found = native.square_law(rules.load.value.coefficient, rules.constant_drive, ratio, phi)
     except MechanismError as error:
         angle = getattr(error, "angle", None)
@@ -616,17 +616,18 @@ def _native_solution(
             raise
         raise _native_stall(angle, rpm, getattr(error, "min_rpm", None), ratio) from None
     numbers = {name: float(found[name]) for name in _NUMBERS}
-    args = (machine, rules, gravity, phi)
     mean, period, load = numbers["omega_mean"], numbers["period"], numbers["mean_load_torque"]
 
     def later(what: str) -> dict[str, Any]:
+        phi = np.linspace(0.0, machine.cycle, points)  # (the angles only when the arrays are read)
         if not balance:  # the square law gave everything at once
             if what == "arrays":
-                return _arrays(*args, found, mean, period, load)
+                return _arrays(machine, rules, gravity, phi, found, mean, period, load)
             return {name: float(found[name]) for name in _COMPARISONS}
         assert rpm is not None
         if what == "arrays":
-            return _arrays(*args, native.steady_state(rpm, ratio, phi, False), mean, period, load)
+            curves = native.steady_state(rpm, ratio, phi, False)
+            return _arrays(machine, rules, gravity, phi, curves, mean, period, load)
         compared = native.comparisons(rpm, float(found["delta"]), mean, ratio)
         return dict(zip(_COMPARISONS, compared, strict=True))
 
