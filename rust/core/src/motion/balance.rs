@@ -735,51 +735,35 @@ pub(crate) fn refine_extremum(
     let start =
         parabola_vertex((before, f_before), (angle, at_best), (after, f_after)).unwrap_or(angle);
     let at_start = rate(start)?;
-    let step = NARROW_BRACKET * (after - before);
     let found = if at_start == 0.0 {
         Some(start)
-    } else if at_start > 0.0 {
-        let near = (start + step).min(after);
-        let at_near = rate(near)?;
-        if at_near <= 0.0 {
-            brent_from(
-                &mut rate,
-                (start, at_start),
-                (near, at_near),
-                0.0,
-                4.0 * f64::EPSILON,
-            )?
-        } else {
-            let at_end = rate(after)?;
-            brent_from(
-                &mut rate,
-                (near, at_near),
-                (after, at_end),
-                0.0,
-                4.0 * f64::EPSILON,
-            )?
-        }
     } else {
-        let near = (start - step).max(before);
-        let at_near = rate(near)?;
-        if at_near >= 0.0 {
-            brent_from(
-                &mut rate,
-                (near, at_near),
-                (start, at_start),
-                0.0,
-                4.0 * f64::EPSILON,
-            )?
+        // The rate falls through the root: it lies ahead of a positive rate, behind a
+        // negative one.
+        let (ahead, end) = if at_start > 0.0 {
+            (1.0, after)
         } else {
-            let at_end = rate(before)?;
-            brent_from(
-                &mut rate,
-                (before, at_end),
-                (near, at_near),
-                0.0,
-                4.0 * f64::EPSILON,
-            )?
-        }
+            (-1.0, before)
+        };
+        let near = start + ahead * NARROW_BRACKET * (after - before);
+        let near = if ahead > 0.0 {
+            near.min(end)
+        } else {
+            near.max(end)
+        };
+        let at_near = rate(near)?;
+        let (from, to) = if at_near * at_start <= 0.0 {
+            ((start, at_start), (near, at_near))
+        } else {
+            ((near, at_near), (end, rate(end)?))
+        };
+        // Brent's method from the ends in ascending order.
+        let (low, high) = if from.0 < to.0 {
+            (from, to)
+        } else {
+            (to, from)
+        };
+        brent_from(&mut rate, low, high, 0.0, 4.0 * f64::EPSILON)?
     };
     if let Some(root) = found {
         let found = value(root)?;

@@ -4,7 +4,7 @@
 //! ΔE/(δω_m²) − mean(J − I_w) as the start. Trial inertias reuse the cycle's tables
 //! (`Balance::with_inertia`): J − I_w, U and W do not depend on I_w.
 
-use crate::error::{MechanismError, Result};
+use crate::error::{check, MechanismError, Result};
 
 use super::balance::{brent, brent_from, Balance};
 use super::cycle::Cycle;
@@ -12,6 +12,11 @@ use super::cycle::Cycle;
 /// The smallest δ a flywheel is sized for: below it δ is within the rounding of the speeds
 /// it is found from (the Python implementation's bound).
 pub(crate) const SMALLEST_DELTA: f64 = 1e-9;
+
+/// A target δ, as every flywheel takes it: ≥ 1e-9.
+pub(crate) fn check_delta(value: f64) -> Result<f64> {
+    check("delta", value, "delta >= 1e-9", |d| d >= SMALLEST_DELTA)
+}
 
 /// The steps (in log I_w) that widen the bracket from the estimate outwards: the estimate
 /// is near for a machine of small δ and ~10 % off for a compressor at δ ≈ 1/30; the first

@@ -338,9 +338,7 @@ impl SteadyTables {
         fallback: f64,
         without: bool,
     ) -> Result<FlywheelInertia> {
-        check("delta", delta, "delta >= 1e-9", |d| {
-            d >= flywheel::SMALLEST_DELTA
-        })?;
+        flywheel::check_delta(delta)?;
         check_rpm(rpm)?;
         check_speed_ratio(min_speed_ratio)?;
         let omega_mean = omega_from_rpm(rpm);
@@ -559,9 +557,7 @@ pub fn flywheel_inertia(
     rpm: f64,
     min_speed_ratio: f64,
 ) -> Result<FlywheelInertia> {
-    check("delta", delta, "delta >= 1e-9", |d| {
-        d >= flywheel::SMALLEST_DELTA
-    })?;
+    flywheel::check_delta(delta)?;
     check_shaft_inertia(machine.shaft_inertia)?;
     check_rpm(rpm)?;
     check_speed_ratio(min_speed_ratio)?;
