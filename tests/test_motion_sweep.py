@@ -20,7 +20,8 @@ from multicrank.motion.variants import MACHINE_COLUMNS, ScaledPressure, machine_
 COMPRESSOR = mc.presets.MACHINES["slow-compressor"]  # two-stroke, one double-acting cylinder
 INLINE_4 = mc.presets.MACHINES["inline-4"]  # four-stroke
 V12 = mc.presets.MACHINES["genset-v12"]  # a V (v12-60), four-stroke
-RTOL = 1e-12  # the contract: every row equals steady_state to 1e-12 relative
+RTOL = 1e-12
+DELTA_ATOL = 1e-15  # and a few ε absolute for a δ (see assert_rows_match)
 
 
 def expected_row(machine: mc.Machine, design: dict, load="balance", delta=None) -> dict:
@@ -64,6 +65,10 @@ def assert_rows_match(machine: mc.Machine, result: pd.DataFrame, load="balance",
                 # pressure_scale row's diagrams are the base's coefficients scaled, the
                 # variant's re-interpolated from scaled pressures: equal to rounding).
                 np.testing.assert_allclose(1 + row[name], 1 + value, rtol=RTOL, atol=0, err_msg=name)
+            elif name.startswith("delta"):
+                # δ = (ω_max − ω_min)/ω_m is a difference of speeds: its rounding is absolute,
+                # a few ε (a δ of 1e-5 is known to ~1e-11 relative, no better).
+                np.testing.assert_allclose(row[name], value, rtol=RTOL, atol=DELTA_ATOL, err_msg=name)
             else:
                 np.testing.assert_allclose(row[name], value, rtol=RTOL, atol=0, err_msg=name)
 
