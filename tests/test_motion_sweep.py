@@ -20,7 +20,7 @@ from multicrank.motion.variants import MACHINE_COLUMNS, ScaledPressure, machine_
 COMPRESSOR = mc.presets.MACHINES["slow-compressor"]  # two-stroke, one double-acting cylinder
 INLINE_4 = mc.presets.MACHINES["inline-4"]  # four-stroke
 V12 = mc.presets.MACHINES["genset-v12"]  # a V (v12-60), four-stroke
-RTOL = 1e-12
+RTOL = 1e-12  # the contract: every row equals steady_state to 1e-12 relative
 DELTA_ATOL = 1e-15  # and a few ε absolute for a δ (see assert_rows_match)
 
 
