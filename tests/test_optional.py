@@ -57,9 +57,17 @@ def test_require_names_the_extra(monkeypatch, module, extra):
 
 
 def test_every_extra_is_named_in_the_messages():
-    assert set(EXTRAS) == {"report", "parquet", "xarray", "dask"}
+    assert set(EXTRAS) == {"report", "parquet", "xarray", "dask", "symbolic"}
     with pytest.raises(ValueError, match="unknown extra"):
         require("numpy", "plots")
+
+
+def test_symbolic_without_sympy(monkeypatch):
+    from multicrank import symbolic
+
+    hide(monkeypatch, "sympy")
+    with pytest.raises(ImportError, match=r'pip install "multicrank\[symbolic\]"'):
+        symbolic.gravity(cranks=2)
 
 
 def test_to_xarray_without_xarray(monkeypatch):

@@ -11,6 +11,7 @@ report   matplotlib                           ``multicrank report`` / ``write_re
 parquet  pyarrow                              ``sweep(..., out=...)``, ``multicrank sweep``
 xarray   xarray                               ``to_xarray``
 dask     dask[dataframe], distributed         sweeps of a dask DataFrame on a cluster
+symbolic sympy                                :mod:`multicrank.symbolic`
 ======== ==================================== ==========================================
 """
 
@@ -27,6 +28,7 @@ EXTRAS = {
     "parquet": "a sweep to Parquet",
     "xarray": "to_xarray",
     "dask": "a sweep on Dask",
+    "symbolic": "SymPy expressions (multicrank.symbolic)",
 }
 
 
