@@ -57,7 +57,7 @@ def test_require_names_the_extra(monkeypatch, module, extra):
 
 
 def test_every_extra_is_named_in_the_messages():
-    assert set(EXTRAS) == {"report", "parquet", "xarray", "dask", "symbolic"}
+    assert set(EXTRAS) == {"report", "parquet", "xarray", "dask", "symbolic", "torsion"}
     with pytest.raises(ValueError, match="unknown extra"):
         require("numpy", "plots")
 

@@ -51,6 +51,7 @@ from .motion import (
     flywheel_inertia,
     simulate,
     steady_state,
+    to_opentorsion,
     torque_orders,
 )
 from .pressure import IndicatorDiagram
@@ -126,6 +127,7 @@ __all__ = [
     "steady_state",
     "surviving_harmonics",
     "sweep",
+    "to_opentorsion",
     "to_xarray",
     "torque_orders",
     "uniform_grid",

@@ -12,6 +12,7 @@ parquet  pyarrow                              ``sweep(..., out=...)``, ``multicr
 xarray   xarray                               ``to_xarray``
 dask     dask[dataframe], distributed         sweeps of a dask DataFrame on a cluster
 symbolic sympy                                :mod:`multicrank.symbolic`
+torsion  opentorsion                          ``to_opentorsion``
 ======== ==================================== ==========================================
 """
 
@@ -29,6 +30,7 @@ EXTRAS = {
     "xarray": "to_xarray",
     "dask": "a sweep on Dask",
     "symbolic": "SymPy expressions (multicrank.symbolic)",
+    "torsion": "to_opentorsion",
 }
 
 

@@ -4,7 +4,7 @@
 - `steady`: the exact periodic steady state;
 - `flywheel`: the flywheel for a coefficient of speed fluctuation;
 - `transient`: the motion in time (SciPy's integrators, stall events);
-- `orders`: the torque orders of the cycle;
+- `orders`: the torque orders of the cycle, and their hand-off to openTorsion;
 - `variants` and `sweep`: machines that differ in a few numbers (`MachineGrid`) and their
   steady states at sweep scale (`motion_sweep`); loaded on first use (they need pandas);
 - `_result`: what the results share (``solved``, ``to_pandas``, ``to_xarray``);
@@ -22,7 +22,7 @@ Units and names: a speed's name carries its unit — ``rpm…`` in 1/min, ``omeg
 from ._result import MotionResult
 from .flywheel import FlywheelInertia, flywheel_inertia
 from .loads import PowerLawLoad
-from .orders import torque_orders
+from .orders import to_opentorsion, torque_orders
 from .steady import StallError, SteadyState, steady_state
 from .transient import Transient, simulate
 
@@ -36,5 +36,6 @@ __all__ = [
     "flywheel_inertia",
     "simulate",
     "steady_state",
+    "to_opentorsion",
     "torque_orders",
 ]

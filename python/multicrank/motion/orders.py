@@ -30,12 +30,14 @@ from typing import Any
 
 import numpy as np
 
+from .._native import MechanismError
+from .._optional import require
 from .._shaft import omega_from_rpm
-from .._validation import as_count, as_flag, as_instance, as_speed
+from .._validation import as_count, as_flag, as_instance, as_option, as_speed
 from ..machine.machine import Machine
 from ._quadrature import CycleQuadrature
 
-__all__ = ["ORDER_PARTS", "torque_orders"]
+__all__ = ["ORDER_PARTS", "to_opentorsion", "torque_orders"]
 
 #: The torques of :func:`torque_orders`, in column order.
 ORDER_PARTS = ("gas", "inertia", "gravity", "total")
@@ -143,3 +145,67 @@ def _coefficients(rule: CycleQuadrature, values: np.ndarray, orders: np.ndarray)
     weighted = (rule.weights * values).reshape(-1)
     factor = np.where(orders == 0, 1.0, 2.0) / rule.cycle
     return factor * (np.cos(angle) @ weighted), factor * (np.sin(angle) @ weighted)
+
+
+def to_opentorsion(orders: Any, *, dofs: Any, node: Any, part: str = "total", mean: Any = False) -> Any:
+    """The torque orders as an openTorsion excitation (the ``torsion`` extra).
+
+    The excitation of a torsional model at the machine's crankshaft node: each order ν of
+    :func:`torque_orders` becomes a component of angular frequency ν·ω_m [rad/s] (half
+    orders for a four-stroke machine) and complex amplitude A_ν·e^(−iθ_ν) [N·m], in
+    openTorsion's convention that a complex amplitude u stands for Re(u·e^(iωt)) =
+    abs(u)·cos(ωt + arg u): with φ = ω_m t, Σ_ν A_ν cos(νφ − θ_ν) is the torque of the orders.
+
+    Parameters
+    ----------
+    orders : pandas.DataFrame
+        A table of :func:`torque_orders` (its ``attrs`` give ω_m).
+    dofs : int
+        The number of degrees of freedom of the torsional model, ≥ 1.
+    node : int
+        The model's node where the machine acts, 0 ≤ node < dofs.
+    part : {"total", "gas", "inertia", "gravity"}, default "total"
+        Which torque.
+    mean : bool, default False
+        Whether the mean torque (order 0, frequency 0) is a component too; vibratory
+        analyses leave it out.
+
+    Returns
+    -------
+    opentorsion.PeriodicExcitation
+        ``omegas`` the components' angular frequencies [rad/s]; ``U[node]`` their complex
+        amplitudes [N·m] (zero at every other node).
+
+    Raises
+    ------
+    MechanismError
+        For a table that is not :func:`torque_orders`' or a bad ``dofs``, ``node`` or ``part``.
+    OptionalDependencyError
+        Without openTorsion.
+
+    Examples
+    --------
+    >>> import multicrank as mc
+    >>> engine = mc.presets.MACHINES["inline-4"]
+    >>> orders = mc.torque_orders(engine, 3000, max_order=4)
+    >>> excitation = mc.to_opentorsion(orders, dofs=3, node=0)
+    >>> [round(float(w / orders.attrs["omega"]), 6) for w in excitation.omegas]
+    [0.5, 1.0, 1.5, 2.0, 2.5, 3.0, 3.5, 4.0]
+    """
+    import pandas as pd
+
+    if not isinstance(orders, pd.DataFrame) or "omega" not in orders.attrs or orders.index.name != "order":
+        raise MechanismError("orders must be a table of mc.torque_orders (indexed by order, with its attrs)")
+    chosen = as_option(part, "part", ORDER_PARTS)
+    count = as_count(dofs, "dofs", minimum=1)
+    at = as_count(node, "node", minimum=0)
+    if at >= count:
+        raise MechanismError(f"node = {at} is out of range; allowed: 0 <= node < dofs = {count}")
+    keep = np.asarray(orders.index) > 0 if not as_flag(mean, "mean") else np.ones(len(orders), dtype=bool)
+    table = orders[keep]
+    opentorsion = require("opentorsion", "torsion")
+    frequencies = np.asarray(table.index, dtype=float) * float(orders.attrs["omega"])
+    excitation = opentorsion.PeriodicExcitation(count, frequencies)
+    amplitude = table[f"{chosen}_amplitude"].to_numpy()
+    excitation.add_sines(at, frequencies, amplitude, -table[f"{chosen}_phase"].to_numpy())
+    return excitation
