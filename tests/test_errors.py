@@ -420,6 +420,16 @@ REGISTRY.update(
                 "gravity": (True, "flag"),
             },
         ),
+        "to_opentorsion": (
+            mc.to_opentorsion,
+            {
+                "orders": (mc.torque_orders(MACHINE, 600.0, max_order=3), "frame"),
+                "dofs": (3, "count"),
+                "node": (1, "count"),
+                "part": ("total", "option"),
+                "mean": (False, "flag"),
+            },
+        ),
     }
 )
 
