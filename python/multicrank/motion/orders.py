@@ -179,7 +179,7 @@ def to_opentorsion(orders: Any, *, dofs: Any, node: Any, part: str = "total", me
     Raises
     ------
     MechanismError
-        For a table that is not :func:`torque_orders`' or a bad ``dofs``, ``node`` or ``part``.
+        For a table not made by :func:`torque_orders`, or a bad ``dofs``, ``node`` or ``part``.
     OptionalDependencyError
         Without openTorsion.
 
