@@ -100,6 +100,11 @@ class Rules:
         return self.torques.drive
 
     @property
+    def plain_balance(self) -> bool:
+        """The "balance" load with no drive: the energy method the Rust core solves."""
+        return self.route == BALANCE and self.drive is None
+
+    @property
     def constant_drive(self) -> float:
         return 0.0 if self.drive is None else float(self.drive.value)
 

@@ -255,7 +255,7 @@ def flywheel_inertia(
     omega_mean = None if rpm_value is None else omega_from_rpm(rpm_value)
     gravity = as_flag(gravity, "gravity")
     ratio = as_min_speed_ratio(min_speed_ratio)
-    native = motion_machine(machine, gravity=gravity) if rules.route == BALANCE and rules.drive is None else None
+    native = motion_machine(machine, gravity=gravity) if rules.plain_balance else None
     sized = None
     if native is not None:
         assert rpm_value is not None

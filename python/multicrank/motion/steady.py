@@ -595,21 +595,23 @@ def _native_solution(
     drive (one solve now; the arrays and the two comparison solves when first read), or a
     square law beside at most a constant drive (all at once), every pressure a table. None
     elsewhere (a callable pressure, load or drive: the Python implementation's)."""
-    balance = rules.route == BALANCE and rules.drive is None
+    balance = rules.plain_balance
     square_law = rules.route == "square-law"
     if not (balance or square_law):
         return None
     native = motion_machine(machine, gravity=gravity)
     if native is None:
         return None
+    # The square law's curves come with its solution; "balance" makes its angles only when
+    # its arrays are read.
+    square_law_phi = None if balance else np.linspace(0.0, machine.cycle, points)
     try:
         if balance:
             assert rpm is not None
             found = native.steady_state(rpm, ratio, None, False)
         else:
             assert isinstance(rules.load, Torque)
-            phi = np.linspace(0.0, machine.cycle, points)
-            found = native.square_law(rules.load.value.coefficient, rules.constant_drive, ratio, phi)
+            found = native.square_law(rules.load.value.coefficient, rules.constant_drive, ratio, square_law_phi)
     except MechanismError as error:
         angle = getattr(error, "angle", None)
         if angle is None:
@@ -619,17 +621,20 @@ def _native_solution(
     mean, period, load = numbers["omega_mean"], numbers["period"], numbers["mean_load_torque"]
 
     def later(what: str) -> dict[str, Any]:
-        phi = np.linspace(0.0, machine.cycle, points)  # (the angles only when the arrays are read)
-        if not balance:  # the square law gave everything at once
-            if what == "arrays":
-                return _arrays(machine, rules, gravity, phi, found, mean, period, load)
-            return {name: float(found[name]) for name in _COMPARISONS}
-        assert rpm is not None
-        if what == "arrays":
-            curves = native.steady_state(rpm, ratio, phi, False)
-            return _arrays(machine, rules, gravity, phi, curves, mean, period, load)
-        compared = native.comparisons(rpm, float(found["delta"]), mean, ratio)
-        return dict(zip(_COMPARISONS, compared, strict=True))
+        if what == "comparisons":
+            if not balance:  # the square law gave them with the rest
+                return {name: float(found[name]) for name in _COMPARISONS}
+            assert rpm is not None
+            compared = native.comparisons(rpm, float(found["delta"]), mean, ratio)
+            return dict(zip(_COMPARISONS, compared, strict=True))
+        if balance:
+            assert rpm is not None
+            phi = np.linspace(0.0, machine.cycle, points)
+            return _arrays(
+                machine, rules, gravity, phi, native.steady_state(rpm, ratio, phi, False), mean, period, load
+            )
+        assert square_law_phi is not None
+        return _arrays(machine, rules, gravity, square_law_phi, found, mean, period, load)
 
     return dict(numbers, method=METHODS[rules.route]), later
 

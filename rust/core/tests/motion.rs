@@ -38,6 +38,25 @@ struct Fixture {
     square_law: Vec<Value>,
 }
 
+/// A fixture's diagram (its `PPoly` arrays x and c), every coefficient times `scale` (a
+/// design's pressure_scale, as the sweep applies it; ×1 leaves each one as it is).
+fn diagram(d: &Value, cycle: f64, scale: f64) -> PiecewisePolynomial {
+    let x: Vec<f64> = d["x"]
+        .as_array()
+        .expect("x")
+        .iter()
+        .map(|v| v.as_f64().expect("x"))
+        .collect();
+    let c: Vec<f64> = d["c"]
+        .as_array()
+        .expect("c")
+        .iter()
+        .flat_map(|row| row.as_array().expect("c row").iter())
+        .map(|v| v.as_f64().expect("c") * scale)
+        .collect();
+    PiecewisePolynomial::new(x, c, cycle).expect("a valid diagram")
+}
+
 fn fixtures() -> Vec<Fixture> {
     let text = include_str!("data/motion_fixtures.json");
     let data: Value = serde_json::from_str(text).expect("the fixtures parse");
@@ -52,22 +71,7 @@ fn fixtures() -> Vec<Fixture> {
                 .as_array()
                 .expect("diagrams")
                 .iter()
-                .map(|d| {
-                    let x: Vec<f64> = d["x"]
-                        .as_array()
-                        .expect("x")
-                        .iter()
-                        .map(|v| v.as_f64().expect("x"))
-                        .collect();
-                    let c: Vec<f64> = d["c"]
-                        .as_array()
-                        .expect("c")
-                        .iter()
-                        .flat_map(|row| row.as_array().expect("c row").iter())
-                        .map(|v| v.as_f64().expect("c"))
-                        .collect();
-                    PiecewisePolynomial::new(x, c, cycle).expect("a valid diagram")
-                })
+                .map(|d| diagram(d, cycle, 1.0))
                 .collect();
             let cylinders = m["cylinders"].as_array().expect("cylinders");
             let units = cylinders
@@ -866,22 +870,7 @@ fn hand_built(f: &Fixture, d: &Design) -> HandBuilt {
         .as_array()
         .expect("diagrams")
         .iter()
-        .map(|d| {
-            let x: Vec<f64> = d["x"]
-                .as_array()
-                .expect("x")
-                .iter()
-                .map(|v| v.as_f64().expect("x"))
-                .collect();
-            let c: Vec<f64> = d["c"]
-                .as_array()
-                .expect("c")
-                .iter()
-                .flat_map(|row| row.as_array().expect("c row").iter())
-                .map(|v| v.as_f64().expect("c") * scale)
-                .collect();
-            PiecewisePolynomial::new(x, c, cycle).expect("a valid diagram")
-        })
+        .map(|d| diagram(d, cycle, scale))
         .collect();
     let units = f
         .units
