@@ -15,7 +15,7 @@ from hypothesis import strategies as st
 
 import multicrank as mc
 from multicrank.motion import sweep as motion_sweep_module
-from multicrank.motion.variants import MACHINE_COLUMNS, ScaledPressure, machine_variant
+from multicrank.motion.variants import ScaledPressure, machine_columns, machine_variant
 
 COMPRESSOR = mc.presets.MACHINES["slow-compressor"]  # two-stroke, one double-acting cylinder
 INLINE_4 = mc.presets.MACHINES["inline-4"]  # four-stroke
@@ -52,7 +52,8 @@ def expected_row(machine: mc.Machine, design: dict, load="balance", delta=None) 
 
 
 def assert_rows_match(machine: mc.Machine, result: pd.DataFrame, load="balance", delta=None) -> None:
-    names = [c for c in result.columns if c in MACHINE_COLUMNS]
+    known = machine_columns(machine)
+    names = [c for c in result.columns if c in known]
     for _, row in result.iterrows():
         expected = expected_row(machine, {n: row[n] for n in names}, load, delta)
         for name, value in expected.items():
@@ -91,6 +92,9 @@ def designs(draw):
             max_size=4,
         )
     )
+    # A cylinder's own phase (a firing order) and counterweight, on a cylinder drawn.
+    unit = draw(st.integers(0, len(machine) - 1))
+    own = draw(st.sets(st.sampled_from([f"phase[{unit}]", f"counterweight_mass[{unit}]"]), max_size=2))
     rows = draw(st.integers(1, 2))
     base = {
         "shaft_inertia": machine.shaft_inertia,
@@ -102,6 +106,14 @@ def designs(draw):
         "counterweight_mass": max(cylinder.counterweight_mass, 1.0),
     }
     table = {name: [base[name] * draw(factor) for _ in range(rows)] for name in sorted(columns)}
+    for name in sorted(own):
+        if name.startswith("phase"):
+            # Moved by a turn (another firing order of a four-stroke) or anywhere.
+            moves = st.sampled_from([0.0, 2 * math.pi]) | st.floats(-7.0, 7.0)
+            table[name] = [machine.cylinders[unit].phase + draw(moves) for _ in range(rows)]
+        else:
+            table[name] = [draw(st.floats(0.0, 2.0)) * max(machine.cylinders[unit].counterweight_mass, 1.0)
+                           for _ in range(rows)]  # fmt: skip
     return machine, pd.DataFrame(table)
 
 
@@ -128,6 +140,29 @@ def test_machine_variant_is_the_machine_built_by_hand():
     ]
     assert machine_variant(COMPRESSOR, design) == COMPRESSOR.replace(cylinders=cylinders, shaft_inertia=300.0, g=5.0)
     assert machine_variant(COMPRESSOR, {"rpm": 100.0}) is COMPRESSOR
+
+
+def test_a_column_of_one_cylinder_sets_that_cylinder_alone():
+    design = {
+        "counterweight_mass": 3.0,
+        "counterweight_mass[2]": 1.5,
+        "phase[3]": 0.25,
+        "counterweight_radius[0]": 0.05,
+    }
+    cylinders = list(INLINE_4.cylinders)
+    cylinders = [c.replace(counterweight_mass=3.0) for c in cylinders]
+    cylinders[2] = cylinders[2].replace(counterweight_mass=1.5)
+    cylinders[3] = cylinders[3].replace(phase=0.25)
+    cylinders[0] = cylinders[0].replace(counterweight_radius=0.05)
+    assert machine_variant(INLINE_4, design) == INLINE_4.replace(cylinders=cylinders)
+    with pytest.raises(mc.MechanismError, match=r"phase\[4\]"):
+        machine_variant(INLINE_4, {"phase[4]": 0.0})
+    with pytest.raises(mc.MechanismError, match=r"phase\[4\]"):
+        mc.motion_sweep(INLINE_4, pd.DataFrame({"phase[4]": [0.0]}))
+    with pytest.raises(mc.MechanismError, match=r"crank_mass\[0\]"):
+        mc.MachineGrid(INLINE_4, **{"crank_mass[0]": [1.0, 2.0]})
+    grid = mc.MachineGrid(INLINE_4, **{"counterweight_mass[1]": [0.0, 2.0], "phase[2]": 0.5})
+    assert_rows_match(INLINE_4, mc.motion_sweep(INLINE_4, grid, outputs="delta"))
 
 
 def test_a_grid_with_the_flywheel_matches_flywheel_inertia():

@@ -46,7 +46,7 @@ from ._periodic import resolve_rules
 from .flywheel import _as_delta, flywheel_inertia
 from .loads import BALANCE
 from .steady import StallError, steady_state
-from .variants import MACHINE_COLUMNS, MachineGrid, check_values, row_variant
+from .variants import MachineGrid, check_values, machine_columns, row_variant
 
 __all__ = ["MOTION_SWEEP_OUTPUTS", "MachineGrid", "motion_sweep"]
 
@@ -116,7 +116,8 @@ def _solve_chunk(
     """
     native = motion_machine(machine) if isinstance(load, str) and load == BALANCE else None
     if native is not None:
-        names = [c for c in frame.columns if c in MACHINE_COLUMNS]
+        known = machine_columns(machine)
+        names = [c for c in frame.columns if c in known]
         designs = {name: contiguous(frame[name].to_numpy(dtype=np.float64)) for name in names}
         try:
             found = native.sweep(designs, list(outputs), rpm=machine.rpm, target_delta=delta)
@@ -137,7 +138,8 @@ def _solve_rows(
     rows = len(frame)
     columns = {name: np.full(rows, math.nan) for name in outputs if name != "stalled"}
     stalled = np.zeros(rows, dtype=bool)
-    names = [c for c in frame.columns if c in MACHINE_COLUMNS]
+    known = machine_columns(machine)
+    names = [c for c in frame.columns if c in known]
     steady = any(o in _STEADY for o in outputs)
     flywheel = any(o in _FLYWHEEL for o in outputs)
     for i, (label, values) in enumerate(zip(frame.index, frame[names].itertuples(index=False, name=None), strict=True)):
@@ -208,7 +210,8 @@ def _check_speed(names: Iterable[str], machine: Machine, route: str) -> None:
 def _check_table(machine: Machine, frame: pd.DataFrame) -> None:
     """Every value of a table of designs a finite number (rpm a speed), and the machines of
     its first and last rows built (a row the machine refuses later stops the sweep, named)."""
-    names = [c for c in frame.columns if c in MACHINE_COLUMNS]
+    known = machine_columns(machine)
+    names = [c for c in frame.columns if c in known]
     for name in names:
         check_values(name, frame[name].to_numpy())
     for position in {0, len(frame) - 1} if len(frame) else ():
@@ -216,9 +219,9 @@ def _check_table(machine: Machine, frame: pd.DataFrame) -> None:
         row_variant(machine, {name: row[name] for name in names}, frame.index[position])
 
 
-def _check_names(names: Any, passthrough: tuple[str, ...], outputs: tuple[str, ...]) -> None:
+def _check_names(machine: Machine, names: Any, passthrough: tuple[str, ...], outputs: tuple[str, ...]) -> None:
     """The columns of a motion sweep's designs: machine columns, and those passed through."""
-    check_columns(names, passthrough, outputs, known=MACHINE_COLUMNS, required=(), what="machine")
+    check_columns(names, passthrough, outputs, known=machine_columns(machine), required=(), what="machine")
 
 
 def _meta(designs: Any, outputs: tuple[str, ...]) -> pd.DataFrame:
@@ -257,7 +260,9 @@ def motion_sweep(
         ``g`` [m/s²], ``pressure_scale`` [dimensionless] and any :class:`Cylinder` field set on
         every cylinder (``crank_radius``, ``rod_length``, ``piston_mass``, ``rod_mass``,
         ``rod_cg``, ``rod_inertia``, ``crank_mass``, ``crank_cg_radius``,
-        ``counterweight_mass``, ``counterweight_radius``, ``bore``; SI units). Any other
+        ``counterweight_mass``, ``counterweight_radius``, ``bore``; SI units), and a field of
+        cylinder j alone (from 0), set after those: ``"phase[j]"`` α_j [rad] (a firing
+        order), ``"counterweight_mass[j]"`` [kg], ``"counterweight_radius[j]"`` [m]. Any other
         column is refused unless named in ``passthrough``.
     outputs : str or sequence of str, optional
         Names from :data:`MOTION_SWEEP_OUTPUTS`: ``delta``, ``delta_without_gravity``,
@@ -350,12 +355,12 @@ def motion_sweep(
             raise MechanismError(
                 "designs is a MachineGrid of another machine than machine: make the grid of the machine you sweep"
             )
-        _check_names([*designs.axes, *designs.constants], passthrough, outputs)
+        _check_names(machine, [*designs.axes, *designs.constants], passthrough, outputs)
         names: list[str] = [*designs.axes, *designs.constants]
     elif is_dask(designs):
         if path is not None:
             raise MechanismError("out= is not available for dask input: write with dask's to_parquet")
-        _check_names(list(designs.columns), passthrough, outputs)
+        _check_names(machine, list(designs.columns), passthrough, outputs)
         _check_speed(designs.columns, machine, rules.route)
         return designs.map_partitions(_solve_partition, machine, outputs, load, target, meta=_meta(designs, outputs))
     else:
@@ -364,7 +369,7 @@ def motion_sweep(
                 f"designs must be a MachineGrid, a pandas DataFrame or a dask DataFrame, got {type(designs).__name__}"
             )
         designs = as_frame(designs)
-        _check_names(designs.columns, passthrough, outputs)
+        _check_names(machine, designs.columns, passthrough, outputs)
         names = list(designs.columns)
     _check_speed(names, machine, rules.route)
     if not isinstance(designs, MachineGrid):

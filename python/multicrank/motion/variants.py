@@ -8,11 +8,15 @@ The columns: ``shaft_inertia`` and ``g`` replace the machine's own (:meth:`Machi
 stored on the machine, whose ``rpm_range`` describes where it is meant to run, not where it
 may be studied); ``pressure_scale`` multiplies every indicator diagram of every cylinder;
 every other column is a :class:`~multicrank.Cylinder` field set on every cylinder
-(:meth:`Cylinder.replace <multicrank.Cylinder.replace>`).
+(:meth:`Cylinder.replace <multicrank.Cylinder.replace>`), except ``"phase[j]"``,
+``"counterweight_mass[j]"`` and ``"counterweight_radius[j]"``, which set that field of
+cylinder j alone (a firing order, a counterweight per throw), after the columns of every
+cylinder.
 """
 
 from __future__ import annotations
 
+import re
 from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
@@ -29,9 +33,11 @@ from ..sweeps.designs import ProductGrid
 __all__ = [
     "CYLINDER_COLUMNS",
     "MACHINE_COLUMNS",
+    "UNIT_COLUMNS",
     "MachineGrid",
     "ScaledPressure",
     "check_values",
+    "machine_columns",
     "machine_variant",
     "row_variant",
     "scaled_pressure",
@@ -42,6 +48,26 @@ __all__ = [
 CYLINDER_COLUMNS: tuple[str, ...] = (*(f for f in UNIT_FIELDS if f not in ("phase", "inclination")), "bore")
 #: Every column a motion sweep's design may have, in the order of the issue.
 MACHINE_COLUMNS: tuple[str, ...] = ("shaft_inertia", "rpm", "g", "pressure_scale", *CYLINDER_COLUMNS)
+#: The Cylinder fields a design may set on one cylinder alone, as the column ``"field[j]"``
+#: (j the cylinder's index in the machine, from 0): where it sits in the firing order, and
+#: its counterweight (only the first moment enters: gravity).
+UNIT_COLUMNS: tuple[str, ...] = ("phase", "counterweight_mass", "counterweight_radius")
+_UNIT_COLUMN = re.compile(r"(?P<field>[a-z_]+)\[(?P<index>[0-9]+)\]")
+
+
+def machine_columns(machine: Machine) -> tuple[str, ...]:
+    """Every column a design of ``machine`` may have: :data:`MACHINE_COLUMNS`, then
+    ``"field[j]"`` for each field of :data:`UNIT_COLUMNS` and each cylinder j."""
+    own = (f"{field}[{j}]" for j in range(len(machine.cylinders)) for field in UNIT_COLUMNS)
+    return (*MACHINE_COLUMNS, *own)
+
+
+def _unit_column(name: str) -> tuple[str, int] | None:
+    """The field and cylinder of a one-cylinder column ``"field[j]"``; None for any other name."""
+    match = _UNIT_COLUMN.fullmatch(name)
+    if match is None or match["field"] not in UNIT_COLUMNS:
+        return None
+    return match["field"], int(match["index"])
 
 
 @dataclass(frozen=True)
@@ -100,7 +126,7 @@ def machine_variant(machine: Machine, design: Mapping[str, Any]) -> Machine:
     machine : Machine
         The base machine.
     design : mapping of str to float
-        Column name → value, names from :data:`MACHINE_COLUMNS` (others are ignored, as is
+        Column name → value, names from :func:`machine_columns` (others are ignored, as is
         ``rpm``: the speed is asked of the steady state, not stored on the machine).
 
     Returns
@@ -109,18 +135,34 @@ def machine_variant(machine: Machine, design: Mapping[str, Any]) -> Machine:
         ``machine`` itself where nothing changes; otherwise a checked copy. A cylinder field
         is set on every cylinder; a two-mass rod (``rod_inertia`` left to its default)
         stays one when the design changes the rod's mass, length or centre of gravity,
-        unless ``rod_inertia`` is a column too, as :meth:`Cylinder.replace` does.
+        unless ``rod_inertia`` is a column too, as :meth:`Cylinder.replace` does. A column
+        ``"field[j]"`` sets that field of cylinder j alone, after the columns of every cylinder.
 
     Raises
     ------
     MechanismError
-        For a value the machine or a cylinder refuses, naming the field.
+        For a value the machine or a cylinder refuses, naming the field; for a column of a
+        cylinder the machine does not have.
     """
     changes: dict[str, Any] = {name: float(design[name]) for name in ("shaft_inertia", "g") if name in design}
     fields = {name: float(design[name]) for name in CYLINDER_COLUMNS if name in design}
     scale = float(design["pressure_scale"]) if "pressure_scale" in design else None
-    if fields or scale is not None:
-        changes["cylinders"] = [_cylinder_variant(c, fields, scale) for c in machine.cylinders]
+    own: dict[int, dict[str, float]] = {}
+    for name, value in design.items():
+        parsed = _unit_column(str(name))
+        if parsed is not None:
+            field, index = parsed
+            if index >= len(machine.cylinders):
+                raise MechanismError(
+                    f"the column {name!r} sets cylinder {index}, but machine {machine.name!r} has "
+                    f"{len(machine.cylinders)} (numbered from 0)"
+                )
+            own.setdefault(index, {})[field] = float(value)
+    if fields or scale is not None or own:
+        cylinders = [_cylinder_variant(c, fields, scale) for c in machine.cylinders]
+        for index, values in own.items():
+            cylinders[index] = cylinders[index].replace(**values)
+        changes["cylinders"] = cylinders
     return machine.replace(**changes) if changes else machine
 
 
@@ -144,7 +186,8 @@ def row_variant(machine: Machine, design: Mapping[str, Any], row: Any) -> Machin
     try:
         return machine_variant(machine, design)
     except MechanismError as error:
-        values = ", ".join(f"{k} = {v:g}" for k, v in design.items() if k in MACHINE_COLUMNS)
+        known = machine_columns(machine)
+        values = ", ".join(f"{k} = {v:g}" for k, v in design.items() if k in known)
         raise MechanismError(f"design {row} ({values}): {error}") from None
 
 
@@ -168,7 +211,9 @@ class MachineGrid(ProductGrid):
         :class:`Cylinder` field set on every cylinder: ``crank_radius``, ``rod_length``,
         ``rod_cg``, ``counterweight_radius``, ``crank_cg_radius``, ``bore`` [m],
         ``piston_mass``, ``rod_mass``, ``crank_mass``, ``counterweight_mass`` [kg],
-        ``rod_inertia`` [kg·m²].
+        ``rod_inertia`` [kg·m²]; and a field of cylinder j alone (from 0; pass these as
+        ``**{"phase[1]": ...}``): ``"phase[j]"`` [rad], ``"counterweight_mass[j]"`` [kg],
+        ``"counterweight_radius[j]"`` [m].
 
     Attributes
     ----------
@@ -211,6 +256,9 @@ class MachineGrid(ProductGrid):
         for index in self._checked_rows():
             frame = self.frame(index, index + 1)
             row_variant(self.machine, {str(k): v for k, v in frame.iloc[0].items()}, index)
+
+    def _known(self) -> tuple[str, ...]:
+        return machine_columns(self.machine)
 
     def _check_values(self, name: str, values: np.ndarray) -> None:
         check_values(name, values)

@@ -245,11 +245,12 @@ class ProductGrid:
     def __init__(self, **axes: Any) -> None:
         if not axes:
             raise MechanismError(f"{self.GRID} needs at least one axis")
-        unknown = [name for name in axes if name not in self.KNOWN]
+        known = self._known()
+        unknown = [name for name in axes if name not in known]
         if unknown:
             raise MechanismError(
-                f"grid axis {unknown[0]!r} is not {self.COLUMN}{suggestion(unknown[0], self.KNOWN)}; "
-                f"known: {', '.join(self.KNOWN)}"
+                f"grid axis {unknown[0]!r} is not {self.COLUMN}{suggestion(unknown[0], known)}; "
+                f"known: {', '.join(known)}"
             )
         self.axes = {}
         self.constants = {}
@@ -269,6 +270,11 @@ class ProductGrid:
         if math.prod(self.shape) > INDEX_MAX:
             sizes = " × ".join(f"{len(v)} {k}" for k, v in self.axes.items())
             raise MechanismError(f"the grid's axes make {math.prod(self.shape)} designs ({sizes}); at most {INDEX_MAX}")
+
+    def _known(self) -> tuple[str, ...]:
+        """The column names an axis of this grid may have (``KNOWN``, unless the grid says
+        otherwise)."""
+        return self.KNOWN
 
     def _check_values(self, name: str, values: np.ndarray) -> None:
         """Raise unless ``values`` (1-D) are allowed in column ``name``."""

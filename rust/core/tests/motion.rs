@@ -5,9 +5,10 @@ use multicrank_core::{
     flywheel_inertia, motion_sweep, square_law_steady_state, steady_state, steady_state_curves,
     two_mass_rod_inertia, DesignColumns, GasCylinder, Machine, MechanismError, MotionColumns,
     MotionOutputs, Parallelism, PhysicalCylinder, PiecewisePolynomial, SteadyCurves, SteadyState,
-    SteadyTables, Strokes,
+    SteadyTables, Strokes, UnitColumn, UnitField,
 };
 use serde_json::Value;
+use std::f64::consts::PI;
 
 fn number(value: &Value, key: &str) -> f64 {
     value[key]
@@ -1005,8 +1006,22 @@ fn check_rows(f: &Fixture, designs: &[Design], found: &MotionColumns, target: Op
             strokes: f.strokes,
             g: h.g,
         };
-        let what = |key: &str| format!("{} row {i} {key}", f.name);
-        match steady_state(&machine, h.rpm, 1e-3) {
+        check_row(&f.name, i, &machine, h.rpm, found, target);
+    }
+}
+
+/// Row `i` of a sweep against steady_state and flywheel_inertia of `machine` at `rpm`.
+fn check_row(
+    name: &str,
+    i: usize,
+    machine: &Machine<'_>,
+    rpm: f64,
+    found: &MotionColumns,
+    target: Option<f64>,
+) {
+    {
+        let what = |key: &str| format!("{name} row {i} {key}");
+        match steady_state(machine, rpm, 1e-3) {
             Ok(state) => {
                 assert!(!found.stalled[i], "{}", what("stalled"));
                 same(found.delta[i], state.delta, &what("delta"));
@@ -1052,7 +1067,7 @@ fn check_rows(f: &Fixture, designs: &[Design], found: &MotionColumns, target: Op
             Err(other) => panic!("{}: {other}", what("steady_state")),
         }
         if let Some(delta) = target {
-            match flywheel_inertia(&machine, delta, h.rpm, 1e-3) {
+            match flywheel_inertia(machine, delta, rpm, 1e-3) {
                 Ok(sized) => {
                     same(
                         found.flywheel_inertia[i],
@@ -1118,6 +1133,103 @@ fn every_sweep_row_is_the_steady_state_of_its_machine() {
         .expect("a sweep");
         assert_eq!(found.stalled.len(), designs.len());
         check_rows(&f, &designs, &found, Some(target));
+    }
+}
+
+/// A unit's own phase and counterweight (the design aid's firing orders and counterweights
+/// per throw), set after the columns of every unit: each row bit-equal to the machine with
+/// those values set by hand, on every fixture machine, flywheel included.
+#[test]
+fn a_unit_column_sets_that_unit_alone() {
+    for f in fixtures() {
+        let last = f.units.len() - 1;
+        let (first, moved) = (f.units[0], f.units[last]);
+        let phases = [
+            moved.phase,
+            moved.phase + 2.0 * PI,
+            moved.phase - 0.3,
+            moved.phase,
+        ];
+        let masses = [
+            first.counterweight_mass,
+            first.counterweight_mass + 2.0,
+            first.counterweight_mass,
+            0.5,
+        ];
+        let radii = [first.counterweight_radius, 0.05, 0.05, 0.11];
+        // Every unit's counterweight first, then unit 0's own: the own value wins.
+        let everywhere = [7.0; 4];
+        let view = DesignColumns {
+            counterweight_mass: Some(&everywhere),
+            units: vec![
+                UnitColumn {
+                    field: UnitField::Phase,
+                    unit: last,
+                    values: &phases,
+                },
+                UnitColumn {
+                    field: UnitField::CounterweightMass,
+                    unit: 0,
+                    values: &masses,
+                },
+                UnitColumn {
+                    field: UnitField::CounterweightRadius,
+                    unit: 0,
+                    values: &radii,
+                },
+            ],
+            ..DesignColumns::new(4)
+        };
+        let target = 1.0 / 60.0;
+        let found = motion_sweep(
+            &machine_of(&f),
+            Some(f.rpm),
+            &view,
+            all_outputs(),
+            Some(target),
+            1e-3,
+            Parallelism::default(),
+        )
+        .expect("a sweep");
+        for row in 0..4 {
+            let mut units: Vec<PhysicalCylinder> = f
+                .units
+                .iter()
+                .map(|u| PhysicalCylinder {
+                    counterweight_mass: 7.0,
+                    ..*u
+                })
+                .collect();
+            units[last].phase = phases[row];
+            units[0].counterweight_mass = masses[row];
+            units[0].counterweight_radius = radii[row];
+            let machine = Machine {
+                units: &units,
+                ..machine_of(&f)
+            };
+            check_row(&f.name, row, &machine, f.rpm, &found, Some(target));
+        }
+        // A unit the machine does not have names the column.
+        let view = DesignColumns {
+            units: vec![UnitColumn {
+                field: UnitField::Phase,
+                unit: f.units.len(),
+                values: &phases,
+            }],
+            ..DesignColumns::new(4)
+        };
+        let error = motion_sweep(
+            &machine_of(&f),
+            Some(f.rpm),
+            &view,
+            all_outputs(),
+            Some(target),
+            1e-3,
+            Parallelism::SERIAL,
+        )
+        .unwrap_err();
+        let expected = format!("phase[{}]", f.units.len());
+        assert!(error.to_string().contains(&expected), "{error}");
     }
 }
 

@@ -291,8 +291,8 @@ pub(crate) fn gas_tables(
     Ok((gas, diagrams))
 }
 
-/// A motion sweep's design columns by name (`core::DesignColumns`'s fields), each a 1-D
-/// float64 array.
+/// A motion sweep's design columns by name (`core::DesignColumns`'s fields, and
+/// `"field[j]"` for a field of unit j alone), each a 1-D float64 array.
 pub(crate) struct MotionDesigns<'py>(Vec<(String, PyReadonlyArray1<'py, f64>)>);
 
 impl<'py> MotionDesigns<'py> {
@@ -327,7 +327,7 @@ impl<'py> MotionDesigns<'py> {
         };
         let mut designs = core::DesignColumns::new(count);
         for (name, values) in &self.0 {
-            let values = Some(values.as_slice()?);
+            let values = values.as_slice()?;
             let field = match name.as_str() {
                 "shaft_inertia" => &mut designs.shaft_inertia,
                 "rpm" => &mut designs.rpm,
@@ -344,21 +344,42 @@ impl<'py> MotionDesigns<'py> {
                 "counterweight_mass" => &mut designs.counterweight_mass,
                 "counterweight_radius" => &mut designs.counterweight_radius,
                 "bore" => &mut designs.bore,
-                other => {
-                    return Err(to_py_err(core::MechanismError::InvalidChoice {
-                        parameter: "designs",
-                        value: format!("{other:?}"),
-                        allowed: "shaft_inertia, rpm, g, pressure_scale, crank_radius, \
-                                  rod_length, piston_mass, rod_mass, rod_cg, rod_inertia, \
-                                  crank_mass, crank_cg_radius, counterweight_mass, \
-                                  counterweight_radius, bore",
-                    }))
-                }
+                other => match unit_column(other) {
+                    Some((field, unit)) => {
+                        designs.units.push(core::UnitColumn {
+                            field,
+                            unit,
+                            values,
+                        });
+                        continue;
+                    }
+                    None => {
+                        return Err(to_py_err(core::MechanismError::InvalidChoice {
+                            parameter: "designs",
+                            value: format!("{other:?}"),
+                            allowed: "shaft_inertia, rpm, g, pressure_scale, crank_radius, \
+                                      rod_length, piston_mass, rod_mass, rod_cg, rod_inertia, \
+                                      crank_mass, crank_cg_radius, counterweight_mass, \
+                                      counterweight_radius, bore, and phase[j], \
+                                      counterweight_mass[j], counterweight_radius[j] of unit j",
+                        }))
+                    }
+                },
             };
-            *field = values;
+            *field = Some(values);
         }
         Ok(designs)
     }
+}
+
+/// A one-unit column's field and unit, from its name `"field[j]"` (j a decimal index).
+fn unit_column(name: &str) -> Option<(core::UnitField, usize)> {
+    let (field, rest) = name.split_once('[')?;
+    let unit = rest.strip_suffix(']')?;
+    if unit.is_empty() || !unit.bytes().all(|b| b.is_ascii_digit()) {
+        return None;
+    }
+    Some((core::UnitField::from_name(field)?, unit.parse().ok()?))
 }
 
 /// How many values an output holds, and which request asked for them: the size is checked

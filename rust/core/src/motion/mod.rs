@@ -28,7 +28,7 @@ use cycle::{Cycle, Gas};
 use square_law::SquareLaw;
 
 pub use gas::{GasCylinder, PiecewisePolynomial};
-pub use sweep::{motion_sweep, DesignColumns, MotionColumns, MotionOutputs};
+pub use sweep::{motion_sweep, DesignColumns, MotionColumns, MotionOutputs, UnitColumn, UnitField};
 
 /// A machine as the steady state takes it (SI units).
 #[derive(Debug, Clone, Copy)]

@@ -27,7 +27,10 @@ use super::{check_speed_ratio, flywheel, Machine, SteadyTables};
 /// ([`two_mass_rod_inertia`]). Without a `rod_inertia` column, a unit whose base rod is the
 /// two-mass rod stays one when `rod_mass`, `rod_length` or `rod_cg` change (as the Python
 /// API's `Cylinder.replace`); any other unit keeps its rod inertia.
-#[derive(Debug, Clone, Copy, Default)]
+///
+/// `units`: a field set on one unit alone ([`UnitColumn`]), after the columns set on every
+/// unit: what a firing order (the phases) or a counterweight per throw changes.
+#[derive(Debug, Clone, Default)]
 pub struct DesignColumns<'a> {
     /// The number of designs (every column given has this length).
     pub designs: usize,
@@ -51,6 +54,69 @@ pub struct DesignColumns<'a> {
     pub counterweight_radius: Option<&'a [f64]>,
     /// The gas cylinders' D (m).
     pub bore: Option<&'a [f64]>,
+    /// Fields of single units, one value per design each.
+    pub units: Vec<UnitColumn<'a>>,
+}
+
+/// A field a design may set on one unit alone (the Python API's `"phase[j]"` columns).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum UnitField {
+    /// α_j (rad): where the unit sits on the crank and in its working cycle.
+    Phase,
+    /// m_p (kg) of the unit's counterweight.
+    CounterweightMass,
+    /// r_p (m) of the unit's counterweight.
+    CounterweightRadius,
+}
+
+impl UnitField {
+    /// Every field by its public name.
+    pub const NAMES: [(&'static str, Self); 3] = [
+        ("phase", Self::Phase),
+        ("counterweight_mass", Self::CounterweightMass),
+        ("counterweight_radius", Self::CounterweightRadius),
+    ];
+
+    /// The field of a public name, if there is one.
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::NAMES
+            .iter()
+            .find(|(known, _)| *known == name)
+            .map(|(_, field)| *field)
+    }
+
+    /// Its public name.
+    pub fn name(self) -> &'static str {
+        Self::NAMES
+            .iter()
+            .find(|(_, field)| *field == self)
+            .map_or("", |(name, _)| name)
+    }
+
+    /// Whether it changes the machine's gas: the phase moves the unit in its working cycle;
+    /// a counterweight enters gravity alone.
+    fn changes_gas(self) -> bool {
+        self == Self::Phase
+    }
+
+    /// Sets this field of `unit` to `value`.
+    fn set(self, unit: &mut PhysicalCylinder, value: f64) {
+        match self {
+            Self::Phase => unit.phase = value,
+            Self::CounterweightMass => unit.counterweight_mass = value,
+            Self::CounterweightRadius => unit.counterweight_radius = value,
+        }
+    }
+}
+
+/// One unit's own values of a field, one per design; set after the columns set on every
+/// unit, and after an earlier column of the same unit and field.
+#[derive(Debug, Clone, Copy)]
+pub struct UnitColumn<'a> {
+    pub field: UnitField,
+    /// The unit's index in the machine.
+    pub unit: usize,
+    pub values: &'a [f64],
 }
 
 impl<'a> DesignColumns<'a> {
@@ -281,7 +347,8 @@ fn variant(
     let units = base
         .units
         .iter()
-        .map(|unit| {
+        .enumerate()
+        .map(|(index, unit)| {
             let set = |column: Option<&[f64]>, own: f64| value(column).unwrap_or(own);
             let mut new = PhysicalCylinder {
                 crank_radius: set(designs.crank_radius, unit.crank_radius),
@@ -308,6 +375,9 @@ fn variant(
                 }
                 None => unit.rod_inertia,
             };
+            for column in designs.units.iter().filter(|c| c.unit == index) {
+                column.field.set(&mut new, column.values[row]);
+            }
             new.validate()?;
             Ok(new)
         })
@@ -419,11 +489,11 @@ const BLOCK: usize = 512;
 const GAS_COLUMNS: [&str; 4] = ["pressure_scale", "crank_radius", "rod_length", "bore"];
 
 /// What of design `row` changes its machine's tables (every column but `shaft_inertia` and
-/// `rpm`; `gas`: only the gas's columns), bit for bit.
+/// `rpm`; `gas`: only the gas's columns, and the units' phases), bit for bit.
 fn row_key(designs: &DesignColumns<'_>, row: usize, gas: bool) -> Vec<u64> {
-    designs
+    let shared = designs
         .named()
-        .iter()
+        .into_iter()
         .filter(|(name, _)| {
             if gas {
                 GAS_COLUMNS.contains(name)
@@ -431,8 +501,13 @@ fn row_key(designs: &DesignColumns<'_>, row: usize, gas: bool) -> Vec<u64> {
                 !matches!(*name, "shaft_inertia" | "rpm")
             }
         })
-        .filter_map(|(_, column)| column.map(|c| c[row].to_bits()))
-        .collect()
+        .filter_map(|(_, column)| column.map(|c| c[row].to_bits()));
+    let units = designs
+        .units
+        .iter()
+        .filter(|c| !gas || c.field.changes_gas())
+        .map(|c| c.values[row].to_bits());
+    shared.chain(units).collect()
 }
 
 /// The distinct keys of `rows`, in order of their first row: (each row's index among them,
@@ -498,6 +573,16 @@ pub fn motion_sweep(
         if let Some(column) = column {
             check_length(name, designs.designs, column.len())?;
         }
+    }
+    for column in &designs.units {
+        if column.unit >= base.units.len() {
+            return Err(MechanismError::InvalidChoice {
+                parameter: "designs",
+                value: format!("{}[{}]", column.field.name(), column.unit),
+                allowed: "a unit's field with the unit's index below the machine's number of units",
+            });
+        }
+        check_length(column.field.name(), designs.designs, column.values.len())?;
     }
     let n = designs.designs;
     for row in 0..n {
