@@ -67,6 +67,7 @@ _LAZY = {
     "MOTION_SWEEP_OUTPUTS": "motion.sweep",
     "MachineGrid": "motion.variants",
     "motion_sweep": "motion.sweep",
+    "firing_orders": "design.firing",
 }
 
 
@@ -110,6 +111,7 @@ __all__ = [
     "design_grid",
     "dimensionless_moments",
     "energy_extrema",
+    "firing_orders",
     "flywheel_inertia",
     "force_derivative",
     "fourier_coefficients",

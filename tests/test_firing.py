@@ -1,0 +1,190 @@
+"""mc.firing_orders: the candidates against brute force over every phase assignment (four
+strokes) and every permutation of the throws (two strokes), with an oracle that shares
+nothing with the library's way of telling motions apart: each brute-force machine's gas
+torque, gravity torque and J sampled over the cycle, compared under every cyclic shift of
+the samples (found by FFT cross-correlation, then checked point by point)."""
+
+from __future__ import annotations
+
+import itertools
+import math
+
+import numpy as np
+import pytest
+
+import multicrank as mc
+
+CYLINDER = mc.Cylinder(
+    crank_radius=0.045, rod_length=0.15, piston_mass=0.6, rod_mass=0.55, rod_cg=0.1, bore=0.085,
+    crank_mass=1.1, crank_cg_radius=0.025, counterweight_mass=0.8, counterweight_radius=0.04,
+    pressure=mc.presets.MACHINES["inline-4"].cylinders[0].pressure,
+)  # fmt: skip
+TWO_STROKE = CYLINDER.replace(pressure=mc.presets.MACHINES["marine-2t-twin"].cylinders[0].pressure)
+SAMPLES = 1440  # half a degree over 4π: every phase and shift here is a whole number of samples
+RPM = 2400.0
+
+
+def signature(machine: mc.Machine) -> np.ndarray:
+    """What the motion depends on, over 4π (both cycles): gas torque, gravity torque, J."""
+    phi = np.arange(SAMPLES) * 4 * math.pi / SAMPLES
+    return np.stack([machine.gas_torque(phi), machine.gravity_torque(phi), machine.reduced_inertia(phi)[0]])
+
+
+def same_motion(a: np.ndarray, b: np.ndarray) -> bool:
+    """Whether b is a shifted by some whole number of samples, every row to 1e-9 of its size
+    and 1e-12 in its SI unit (a boxer's gravity cancels to ~1e-17 N·m)."""
+    size = np.maximum(np.abs(a).max(axis=1), np.abs(b).max(axis=1))[:, None]
+    tolerance = 1e-9 * size + 1e-12
+    # Σ_rows Σ_i (a_i − b_{i+s})² / size² for every s at once; its smallest few checked directly.
+    a_n, b_n = a / (size + 1e-6), b / (size + 1e-6)
+    spectrum = np.conj(np.fft.rfft(a_n, axis=1)) * np.fft.rfft(b_n, axis=1)
+    cross = np.fft.irfft(spectrum, n=a.shape[1], axis=1).sum(axis=0)
+    distance = (a_n**2).sum() + (b_n**2).sum() - 2 * cross
+    return any(np.all(np.abs(np.roll(b, -shift, axis=1) - a) <= tolerance) for shift in np.argsort(distance)[:4])
+
+
+def classes(machines: list[mc.Machine]) -> list[np.ndarray]:
+    """One signature per class of machines that run alike."""
+    found: list[np.ndarray] = []
+    for machine in machines:
+        mark = signature(machine)
+        if not any(same_motion(known, mark) for known in found):
+            found.append(mark)
+    return found
+
+
+def with_phases(machine: mc.Machine, phases) -> mc.Machine:
+    return machine.replace(
+        cylinders=[c.replace(phase=float(a)) for c, a in zip(machine.cylinders, phases, strict=True)]
+    )
+
+
+def every_assignment(machine: mc.Machine) -> list[mc.Machine]:
+    """Brute force, four strokes: every cylinder at its phase or 2π later, cylinder 0 too."""
+    own = np.array([c.phase for c in machine.cylinders])
+    return [
+        with_phases(machine, np.mod(own + 2 * math.pi * np.array(moved), 4 * math.pi))
+        for moved in itertools.product((0, 1), repeat=len(machine))
+    ]
+
+
+def every_arrangement(machine: mc.Machine) -> list[mc.Machine]:
+    """Brute force, two strokes: every permutation of the throws' angles over the throws
+    (cylinders whose pins coincide, pin = α + γ; each keeps its inclination: α = pin − γ)."""
+    pins = np.round(np.degrees([c.phase + c.inclination for c in machine.cylinders]), 6) % 360
+    angles = sorted(set(pins.tolist()))
+    machines = []
+    for order in itertools.permutations(angles):
+        moved = dict(zip(angles, order, strict=True))
+        machines.append(
+            with_phases(
+                machine, [math.radians(moved[p]) - c.inclination for p, c in zip(pins, machine.cylinders, strict=True)]
+            )
+        )
+    return machines
+
+
+def check_against(table, oracle_machines) -> None:
+    oracle = classes(oracle_machines)
+    assert table.attrs["distinct"] == len(table) == len(oracle)
+    rows = [signature(m) for m in table["machine"]]
+    for i, j in itertools.combinations(range(len(rows)), 2):
+        assert not same_motion(rows[i], rows[j]), (table["firing"][i], table["firing"][j])
+    # Complete: every brute-force class has its row (distinct rows as many as classes).
+    for mark in oracle:
+        assert any(same_motion(row, mark) for row in rows)
+    assert table["delta"].is_monotonic_increasing
+
+
+@pytest.mark.parametrize("layout", ["inline-4-4t", "boxer-4", "v6-60", "inline-5-4t", "inline-6-4t"])
+def test_the_four_stroke_candidates_are_complete_and_distinct(layout):
+    machine = mc.Machine.from_layout(layout, CYLINDER, shaft_inertia=0.25, strokes=4, rpm=RPM)
+    table = mc.firing_orders(machine, max_order=4)
+    assert table.attrs["exhaustive"] and table.attrs["candidates"] == 2 ** (len(machine) - 1)
+    check_against(table, every_assignment(machine))
+
+
+@pytest.mark.parametrize("k", [3, 4, 5])
+def test_the_two_stroke_candidates_are_complete_and_distinct(k):
+    # Unlike cylinders (so that the throws' order matters), then two pairs alike.
+    layout = f"inline-{k}-2t"
+    unlike = mc.Machine.from_layout(layout, TWO_STROKE, shaft_inertia=0.25, strokes=2, rpm=RPM)
+    unlike = unlike.replace(cylinders=[c.replace(piston_mass=0.4 + 0.1 * j) for j, c in enumerate(unlike.cylinders)])
+    table = mc.firing_orders(unlike)
+    assert table.attrs["candidates"] == math.factorial(k - 1) and table.attrs["exhaustive"]
+    check_against(table, every_arrangement(unlike))
+    masses = [0.5, 0.7, 0.5, 0.7, 0.9][:k]
+    paired = unlike.replace(cylinders=[c.replace(piston_mass=m) for c, m in zip(unlike.cylinders, masses, strict=True)])
+    check_against(mc.firing_orders(paired), every_arrangement(paired))
+
+
+def test_alike_throws_arrange_one_way():
+    # Alike cylinders in line: every arrangement of the throws is the same machine.
+    inline = mc.Machine.from_layout("inline-3-2t", TWO_STROKE, shaft_inertia=0.25, strokes=2, rpm=RPM)
+    table = mc.firing_orders(inline)
+    assert table.attrs["candidates"] == table.attrs["distinct"] == 1
+    # Twelve alike throws: one arrangement, found without visiting 11! permutations.
+    diesel = mc.presets.MACHINES["slow-diesel-12"]
+    assert mc.firing_orders(diesel).attrs["candidates"] == 1
+    # A cross-plane V8's throws each carry one cylinder of each bank: alike too.
+    v8 = mc.Machine.from_layout("v8-cross", TWO_STROKE, shaft_inertia=0.25, strokes=2, rpm=RPM)
+    check_against(mc.firing_orders(v8), every_arrangement(v8))
+
+
+def test_the_standard_in_line_six_order_is_among_them_with_its_delta():
+    # A real in-line six crank (throws 0°, 240°, 120°, 120°, 240°, 0° from cylinder 1), firing
+    # 1-5-3-6-2-4: cylinder j fires at φ = −α_j mod 720°.
+    fires = {1: 0, 5: 120, 3: 240, 6: 360, 2: 480, 4: 600}
+    cylinders = [CYLINDER.replace(phase=math.radians((-fires[j]) % 720)) for j in range(1, 7)]
+    machine = mc.Machine(cylinders, shaft_inertia=0.4, strokes=4, rpm=2000)
+    table = mc.firing_orders(machine, max_order=6)
+    row = table[table["firing"] == "1-5-3-6-2-4"]
+    assert len(row) == 1
+    assert row["delta"].iloc[0] == mc.steady_state(machine).delta
+    assert table["firing"].iloc[0] == "1-5-3-6-2-4"  # the even firing shakes least
+    assert row["largest_order"].iloc[0] == 3.0  # an even-firing six: its gas's third order
+
+
+def test_the_cross_plane_v8_fires_evenly_and_is_among_them():
+    machine = mc.Machine.from_layout("v8-cross", CYLINDER, shaft_inertia=0.4, strokes=4, rpm=2000)
+    fire_times = np.sort(np.mod(-np.array([c.phase for c in machine.cylinders]), 4 * math.pi))
+    np.testing.assert_allclose(np.diff(fire_times), math.pi / 2, atol=1e-12)
+    table = mc.firing_orders(machine, max_order=4)
+    mark = signature(machine)
+    matches = [i for i, m in enumerate(table["machine"]) if same_motion(signature(m), mark)]
+    assert len(matches) == 1
+    # The same motion, maybe shifted: the same δ to the solver's accuracy.
+    assert table["delta"].iloc[matches[0]] == pytest.approx(mc.steady_state(machine).delta, rel=1e-9)
+    assert matches[0] == 0  # even firing is the smoothest
+
+
+def test_each_row_is_its_machine():
+    engine = mc.presets.MACHINES["inline-4"]
+    table = mc.firing_orders(engine, rpm=3000.0, max_order=6)
+    assert table.attrs["rpm"] == 3000.0
+    for _, row in table.iterrows():
+        state = mc.steady_state(row["machine"], rpm=3000.0)
+        assert row["delta"] == state.delta
+        assert row["delta_without_gravity"] == state.delta_without_gravity
+        assert [c.phase for c in row["machine"].cylinders] == list(row["phases"])
+        # The largest order, against the whole machine's orders (its own quadrature).
+        orders = mc.torque_orders(row["machine"], 3000.0, max_order=6)["total_amplitude"]
+        orders = orders[orders.index > 0]
+        assert row["largest_order"] == orders.idxmax()
+        assert row["largest_order_amplitude"] == pytest.approx(orders.max(), rel=1e-9)
+
+
+def test_bad_input_is_named():
+    machine = mc.presets.MACHINES["inline-4"]
+    with pytest.raises(mc.MechanismError, match="max_candidates"):
+        mc.firing_orders(machine, max_candidates=0)
+    with pytest.raises(mc.MechanismError, match="max_order"):
+        mc.firing_orders(machine, max_order=0)
+    with pytest.raises(mc.MechanismError, match="rpm"):
+        mc.firing_orders(machine, rpm=-5)
+    with pytest.raises(mc.MechanismError, match="rpm is required"):
+        mc.firing_orders(machine.replace(rpm=None, rpm_range=None))
+    with pytest.raises(mc.MechanismError, match="machine"):
+        mc.firing_orders("inline-4")
+    small = mc.firing_orders(machine, max_candidates=3)
+    assert not small.attrs["exhaustive"] and small.attrs["candidates"] == 8
