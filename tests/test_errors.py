@@ -463,11 +463,40 @@ REGISTRY.update(
     }
 )
 
+REGISTRY.update(
+    {
+        "firing_orders": (
+            mc.firing_orders,
+            {
+                "machine": (MACHINE, "machine"),
+                "rpm": (None, "positive_or_none"),
+                "max_order": (3, "count"),
+                "max_candidates": (10, "count"),
+                "progress": (False, "flag"),
+            },
+        ),
+        "optimize_counterweights": (
+            mc.optimize_counterweights,
+            {
+                "machine": (MACHINE, "machine"),
+                "objective": ("delta", "option"),
+                "bounds": (None, "range_or_none"),
+                "rpm": (None, "positive_or_none"),
+                "seed": (0, "count"),
+                "maxiter": (2, "count"),
+                "progress": (False, "flag"),
+            },
+        ),
+    }
+)
+
 CASES = [(name, parameter) for name, (_, params) in REGISTRY.items() for parameter in params]
 
 # Public callables not in the registry, and why.
 OWNED_ELSEWHERE = {
-    # results, made by steady_state, flywheel_inertia and simulate from checked input
+    # results, made by steady_state, flywheel_inertia, simulate and optimize_counterweights
+    # from checked input
+    "CounterweightOptimum",
     "FlywheelInertia",
     "SteadyState",
     "Transient",

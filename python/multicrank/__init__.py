@@ -68,6 +68,8 @@ _LAZY = {
     "MachineGrid": "motion.variants",
     "motion_sweep": "motion.sweep",
     "firing_orders": "design.firing",
+    "optimize_counterweights": "design.counterweights",
+    "CounterweightOptimum": "design.counterweights",
 }
 
 
@@ -90,6 +92,7 @@ __all__ = [
     "MOTION_SWEEP_OUTPUTS",
     "STANDARD_GRAVITY",
     "SWEEP_OUTPUTS",
+    "CounterweightOptimum",
     "Cylinder",
     "DesignGrid",
     "EnergyExtrema",
@@ -121,6 +124,7 @@ __all__ = [
     "lambda_coefficients",
     "layout_engine",
     "motion_sweep",
+    "optimize_counterweights",
     "paper_coefficient",
     "potential_energy",
     "set_parallel_threshold",
