@@ -1,0 +1,290 @@
+"""``multicrank optimize``: the design aid on the command line — ``optimize firing`` (the
+firing orders a machine's crank allows, ranked by δ with gravity: :func:`multicrank.firing_orders`)
+and ``optimize counterweights`` (the counterweight per throw that minimises an objective:
+:func:`multicrank.optimize_counterweights`)."""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING, Any
+
+import click
+
+from .._native import MechanismError
+from ._group import UserError, machine_option
+from ._output import format_option, write_result
+from .motion import _speed
+
+if TYPE_CHECKING:
+    import pandas as pd
+
+    from ..machine.machine import Machine
+
+__all__ = ["counterweights_command", "firing_command", "optimize_command"]
+
+#: The objectives of ``optimize counterweights`` (multicrank.optimize_counterweights'
+#: ``objective``), with what each is for --help.
+OBJECTIVES: dict[str, str] = {
+    "delta": "δ with gravity at --rpm",
+    "gravity_effect": "|δ/δ without gravity − 1| at --rpm: δ insensitive to gravity",
+    "delta_over_speed_range": "the largest δ over the machine's speed range",
+}
+
+_rpm_option = click.option(
+    "--rpm",
+    type=float,
+    default=None,
+    metavar="RPM",
+    help="The mean speed [1/min] of the steady states (balance load) [default: the machine's own].",
+)
+_out_option = click.option(
+    "--out", "out_path", type=click.Path(dir_okay=False), metavar="FILE", help="Write the table to FILE, not stdout."
+)
+_progress_option = click.option(
+    "--progress/--no-progress", default=True, show_default=True, help="Show a progress bar."
+)
+
+
+# invoke_without_command: used alone the group prints its help itself, not through click's
+# no_args_is_help (an error to make_context, which the docs' tests parse each command with).
+@click.group(
+    "optimize",
+    invoke_without_command=True,
+    subcommand_metavar="COMMAND [ARGS]...",
+    short_help="Design aid: firing orders and counterweights, ranked by δ with gravity.",
+)
+@click.pass_context
+def optimize_command(ctx: click.Context) -> None:
+    """The design aid: what to change in a machine so that it runs smoother with gravity.
+
+    "firing" ranks the firing orders the machine's crank allows by δ with gravity;
+    "counterweights" finds the counterweight of each throw that minimises δ (or how much
+    gravity changes it, or δ over the speed range). Each has --help.
+    """
+    if ctx.invoked_subcommand is None:
+        click.echo(ctx.get_help())
+
+
+def _write(
+    frame: pd.DataFrame, fmt: str, out_path: str | None, *, summary: list[str], json_meta: dict[str, Any]
+) -> None:
+    """write_result, a file that cannot be written one line naming --out."""
+    try:
+        write_result(frame, fmt, out_path, summary=summary, json_meta=json_meta)
+    except OSError as error:
+        raise UserError(f"--out {out_path}: {error.strerror or error}") from None
+
+
+def _count(number: int, noun: str) -> str:
+    """The count and its noun, plural unless one: "1 cylinder", "12 cylinders"."""
+    return f"{number:,} {noun}{'' if number == 1 else 's'}"
+
+
+def _degrees_text(phases: tuple[float, ...]) -> str:
+    """Phases [rad] as degrees to a hundredth, for the printed table: "0 180 360 540"."""
+    return " ".join(f"{round(math.degrees(a), 2) + 0.0:g}" for a in phases)
+
+
+@click.command("firing", short_help="The firing orders the machine's crank allows, ranked by δ with gravity.")
+@machine_option
+@_rpm_option
+@click.option(
+    "--max-order",
+    type=click.IntRange(min=1),
+    default=12,
+    show_default=True,
+    metavar="ORDER",
+    help="The highest torque order ν (per revolution) for largest_order.",
+)
+@click.option(
+    "--max-candidates",
+    type=click.IntRange(min=1),
+    default=100_000,
+    show_default=True,
+    metavar="COUNT",
+    help="At most this many phase assignments are tried; the output says when the crank allows more.",
+)
+@format_option
+@_out_option
+@_progress_option
+def firing_command(
+    machine: Machine,
+    rpm: float | None,
+    max_order: int,
+    max_candidates: int,
+    fmt: str,
+    out_path: str | None,
+    progress: bool,
+) -> None:
+    """The distinct firing orders the machine's crank allows, ranked by δ with gravity.
+
+    A four-stroke crank fixes each cylinder's phase only modulo 360° (the cam decides the
+    revolution it fires on); a two-stroke one is its throws' angles, in any arrangement.
+    Candidates that run alike (the same motion, shifted) are counted once. Each is solved at
+    --rpm with the balance load: δ with and without gravity, gravity_effect = δ/δ without
+    gravity − 1, stalled, and the torque order with the largest amplitude [N·m].
+
+    firing lists the cylinders (numbered from 1) in the order they fire, "+" joining those
+    that fire together; the phases α_j [deg] are in the machine's cylinder order (csv: one
+    column phase_J_deg per cylinder; json: a list phases_deg). Whether every candidate was
+    tried goes above the table (csv: to stderr; json: "exhaustive").
+    """
+    from ..design.firing import firing_orders
+
+    speed = _speed(machine, rpm, "--rpm")
+    table = firing_orders(machine, rpm=speed, max_order=max_order, max_candidates=max_candidates, progress=progress)
+    attrs = dict(table.attrs)
+    frame = table.drop(columns=["machine", "phases"])
+    frame.index = range(1, len(frame) + 1)
+    frame.index.name = "rank"
+    phases = table["phases"].tolist()
+    if fmt == "csv":
+        for j in range(len(machine)):
+            frame.insert(1 + j, f"phase_{j + 1}_deg", [math.degrees(p[j]) for p in phases])
+    elif fmt == "json":
+        frame.insert(1, "phases_deg", [[math.degrees(a) for a in p] for p in phases])
+    else:
+        frame.insert(1, "phases_deg", [_degrees_text(p) for p in phases])
+    allowed = f"the crank allows {_count(attrs['candidates'], 'phase assignment')}"
+    if attrs["exhaustive"]:
+        tried = f"exhaustive: {allowed}, all tried"
+    else:
+        tried = f"not exhaustive: {allowed}, only the first {max_candidates:,} tried (raise --max-candidates)"
+    summary = [
+        f"{machine.name}: {_count(len(machine), 'cylinder')}, {machine.strokes}-stroke, at {attrs['rpm']:g} rpm "
+        f"(balance load): {_count(attrs['distinct'], 'distinct firing order')}, ranked by δ with gravity",
+        tried,
+        "δ = (ω_max − ω_min)/ω_mean; gravity_effect = δ/δ without gravity − 1; phases_deg: α_j [deg] in the "
+        f"machine's cylinder order; largest_order: the torque order ν ≤ {max_order} of the largest amplitude [N·m]",
+    ]
+    if fmt == "csv":
+        click.echo(f"{machine.name}: {tried}", err=True)
+    meta = dict(
+        machine=machine.name,
+        rpm=attrs["rpm"],
+        candidates=attrs["candidates"],
+        distinct=attrs["distinct"],
+        exhaustive=attrs["exhaustive"],
+        max_order=max_order,
+        units=dict(rpm="1/min", phases_deg="deg", largest_order="per revolution", largest_order_amplitude="N·m"),
+    )
+    _write(frame, fmt, out_path, summary=summary, json_meta=meta)
+
+
+def _bounds(value: tuple[float, float] | None) -> tuple[float, float] | None:
+    """--bounds LOW HIGH: finite, 0 <= LOW < HIGH [kg·m]."""
+    if value is None:
+        return None
+    low, high = value
+    if not (math.isfinite(low) and math.isfinite(high) and 0 <= low < high):
+        raise MechanismError(f"--bounds {low:g} {high:g} is out of range; allowed: finite 0 <= LOW < HIGH [kg·m]")
+    return (low, high)
+
+
+@click.command("counterweights", short_help="The counterweight per throw that minimises δ (or gravity's effect on it).")
+@machine_option
+@click.option(
+    "--objective",
+    type=click.Choice(list(OBJECTIVES)),
+    default="delta",
+    show_default=True,
+    help="What to minimise: " + "; ".join(f"{name}: {what}" for name, what in OBJECTIVES.items()) + ".",
+)
+@click.option(
+    "--bounds",
+    nargs=2,
+    type=float,
+    default=None,
+    metavar="LOW HIGH",
+    help="The counterweight's first moment m·r [kg·m] allowed at every throw [default: 0 to twice the "
+    "throw's own first moment of crank, rod and piston masses].",
+)
+@_rpm_option
+@click.option(
+    "--seed", type=click.IntRange(min=0), default=0, show_default=True, metavar="SEED", help="The optimiser's seed."
+)
+@click.option(
+    "--maxiter",
+    type=click.IntRange(min=1),
+    default=200,
+    show_default=True,
+    metavar="GENERATIONS",
+    help="At most this many generations of the differential evolution.",
+)
+@format_option
+@_out_option
+@_progress_option
+def counterweights_command(
+    machine: Machine,
+    objective: str,
+    bounds: tuple[float, float] | None,
+    rpm: float | None,
+    seed: int,
+    maxiter: int,
+    fmt: str,
+    out_path: str | None,
+    progress: bool,
+) -> None:
+    """The counterweight of each throw (its first moment m·r [kg·m], opposite the crank pin)
+    that minimises an objective, by SciPy's differential evolution (each generation one motion
+    sweep), polished.
+
+    Prints one row per throw: the cylinders on it, its angle [deg], the counterweight as
+    given and the optimum [kg·m]; above the table the objective before and after and whether
+    the optimiser converged (csv: to stderr; json: an object with these and the rows).
+    """
+    speed = _speed(machine, rpm, "--rpm")
+    limits = _bounds(bounds)
+
+    from ..design.counterweights import optimize_counterweights
+
+    found = optimize_counterweights(
+        machine,
+        objective=objective,
+        bounds=limits,
+        rpm=speed,
+        seed=seed,
+        maxiter=maxiter,
+        progress=progress,
+    )
+    frame = found.to_frame().set_index("throw")
+    converged = "converged" if found.success else "NOT converged"
+    summary = [
+        f"{machine.name}: the counterweight per throw [kg·m, opposite the crank pin] minimising "
+        f"{found.objective_name} at {found.rpm:g} rpm",
+        f"{found.objective_name}: {found.objective_before:.6g} as given → {found.objective:.6g} "
+        f"({_percent(found.improvement)} lower)",
+    ]
+    if found.objective_name != "delta":
+        summary.append(f"δ with gravity: {found.delta_before:.6g} → {found.delta:.6g}")
+    summary.append(f"{converged}: {found.message} ({found.nit} generations, {found.nfev} evaluations, seed {seed})")
+    if fmt == "csv":
+        for line in summary[1:]:
+            click.echo(f"{machine.name}: {line}", err=True)
+    meta = dict(
+        machine=machine.name,
+        objective_name=found.objective_name,
+        objective_before=float(found.objective_before),
+        objective=float(found.objective),
+        improvement=float(found.improvement),
+        delta_before=float(found.delta_before),
+        delta=float(found.delta),
+        rpm=float(found.rpm),
+        success=bool(found.success),
+        message=str(found.message),
+        nit=int(found.nit),
+        nfev=int(found.nfev),
+        seed=seed,
+        maxiter=maxiter,
+        bounds=None if bounds is None else list(bounds),
+        units=dict(angle_deg="deg", counterweight_before="kg·m", counterweight="kg·m", rpm="1/min"),
+    )
+    _write(frame, fmt, out_path, summary=summary, json_meta=meta)
+
+
+def _percent(fraction: float) -> str:
+    return f"{100 * fraction:.3g} %" if math.isfinite(fraction) else "n/a"
+
+
+optimize_command.add_command(firing_command)
+optimize_command.add_command(counterweights_command)

@@ -1,0 +1,269 @@
+"""`multicrank optimize firing` and `multicrank optimize counterweights`, in-process through
+click's CliRunner: each table is the library's (mc.firing_orders, mc.optimize_counterweights),
+each --format reads back, and every mistake is one line with exit status 2."""
+
+from __future__ import annotations
+
+import io
+import json
+import math
+
+import numpy as np
+import pandas as pd
+import pytest
+from click.testing import CliRunner, Result
+
+import multicrank as mc
+from multicrank import cli
+from multicrank.presets import MACHINES
+
+INLINE_4 = MACHINES["inline-4"]  # four-stroke: 8 phase assignments, a few distinct firing orders
+TWIN = MACHINES["marine-2t-twin"]  # two throws: a quick optimisation
+FAST = ("--maxiter", "3", "--seed", "7")  # a few generations: the command, not the optimum, is tested
+
+
+def runner() -> CliRunner:
+    """A runner whose result keeps stdout apart from stderr (click 8.1 mixes them by default;
+    8.2 keeps both, result.stdout alone, and has no mix_stderr)."""
+    try:
+        return CliRunner(mix_stderr=False)  # type: ignore[call-arg]
+    except TypeError:
+        return CliRunner()
+
+
+def invoke(*args: str) -> Result:
+    result = runner().invoke(cli.main, ["optimize", *args, "--no-progress"])
+    assert result.exit_code == 0, (result.stdout, result.stderr, result.exception)
+    return result
+
+
+def refused(*args: str) -> str:
+    """The last line of a refusal: exit status 2, no traceback."""
+    result = runner().invoke(cli.main, ["optimize", *args])
+    assert result.exit_code == 2, (result.stdout, result.stderr, result.exception)
+    assert isinstance(result.exception, SystemExit)
+    assert "Traceback" not in result.stdout + result.stderr
+    return result.stderr.strip().splitlines()[-1]
+
+
+def csv_frame(result: Result, index: str) -> pd.DataFrame:
+    return pd.read_csv(io.StringIO(result.stdout), index_col=index)
+
+
+# ------------------------------------------------------------------------------------- firing
+
+
+def test_firing_csv_is_the_api_ranking():
+    result = invoke("firing", "--machine", "inline-4", "--format", "csv")
+    frame = csv_frame(result, "rank")
+    expected = mc.firing_orders(INLINE_4)
+    assert frame.index.tolist() == list(range(1, len(expected) + 1))
+    assert frame["firing"].tolist() == expected["firing"].tolist()
+    phases = np.radians(frame[[f"phase_{j + 1}_deg" for j in range(len(INLINE_4))]].to_numpy())
+    np.testing.assert_allclose(phases, np.array(expected["phases"].tolist()), rtol=1e-11, atol=1e-12)
+    for column in ("delta", "delta_without_gravity", "gravity_effect", "largest_order", "largest_order_amplitude"):
+        np.testing.assert_allclose(frame[column], expected[column], rtol=1e-10, err_msg=column)
+    assert frame["stalled"].tolist() == expected["stalled"].tolist()
+    assert "machine" not in frame.columns and "phases" not in frame.columns
+    # The note on the enumeration goes to stderr: the CSV stays CSV.
+    assert "exhaustive" in result.stderr and "exhaustive" not in result.stdout
+
+
+def test_firing_json_carries_the_enumeration_and_the_phases_in_degrees():
+    data = json.loads(invoke("firing", "--machine", "inline-4", "--format", "json", "--rpm", "3000").stdout)
+    expected = mc.firing_orders(INLINE_4, rpm=3000.0)
+    assert data["machine"] == "inline-4" and data["rpm"] == 3000.0
+    assert (data["candidates"], data["distinct"], data["exhaustive"]) == (8, len(expected), True)
+    assert [row["rank"] for row in data["rows"]] == list(range(1, len(expected) + 1))
+    for row, (_, want) in zip(data["rows"], expected.iterrows(), strict=True):
+        assert row["firing"] == want["firing"]
+        np.testing.assert_allclose(np.radians(row["phases_deg"]), want["phases"], rtol=1e-12, atol=1e-12)
+        assert row["delta"] == pytest.approx(want["delta"], rel=1e-12)
+        assert row["largest_order"] == want["largest_order"]
+        assert "machine" not in row
+
+
+def test_firing_table_says_whether_every_candidate_was_tried():
+    text = invoke("firing", "--machine", "inline-4").stdout
+    expected = mc.firing_orders(INLINE_4)
+    head, table = text.split("\n\n", 1)
+    assert "exhaustive: the crank allows 8 phase assignments, all tried" in head
+    assert f"{len(expected)} distinct firing orders" in head
+    lines = table.strip().splitlines()[2:]  # below the header and the index's name
+    assert len(lines) == len(expected)
+    for rank, (line, (_, want)) in enumerate(zip(lines, expected.iterrows(), strict=True), start=1):
+        words = line.split()
+        assert words[:2] == [str(rank), want["firing"]]
+        # The phases in whole degrees here (inline-4: 0, 180, 360, 540), in cylinder order.
+        degrees = [f"{round(math.degrees(a), 2) + 0.0:g}" for a in want["phases"]]
+        assert words[2 : 2 + len(INLINE_4)] == degrees
+        assert f"{want['delta']:.6g}" in words
+
+    cut = invoke("firing", "--machine", "inline-4", "--max-candidates", "2").stdout
+    assert "not exhaustive: the crank allows 8 phase assignments, only the first 2 tried" in cut
+    assert "--max-candidates" in cut
+
+
+def test_firing_csv_that_is_cut_says_so_on_stderr_and_writes_out(tmp_path):
+    target = tmp_path / "firing.csv"
+    result = invoke("firing", "--machine", "inline-4", "--max-candidates", "2", "--format", "csv", "--out", str(target))
+    assert result.stdout == ""
+    assert "not exhaustive" in result.stderr and f"written: {target}" in result.stderr
+    written = pd.read_csv(target, index_col="rank")
+    expected = mc.firing_orders(INLINE_4, max_candidates=2)
+    assert written["firing"].tolist() == expected["firing"].tolist()
+
+
+def test_firing_max_order_reaches_the_library():
+    frame = csv_frame(invoke("firing", "--machine", "inline-4", "--max-order", "1", "--format", "csv"), "rank")
+    expected = mc.firing_orders(INLINE_4, max_order=1)
+    assert (frame["largest_order"] <= 1).all()
+    np.testing.assert_allclose(frame["largest_order_amplitude"], expected["largest_order_amplitude"], rtol=1e-10)
+
+
+# ----------------------------------------------------------------------------- counterweights
+
+
+@pytest.fixture(scope="module")
+def twin_optimum():
+    return mc.optimize_counterweights(TWIN, seed=7, maxiter=3)
+
+
+def test_counterweights_csv_is_the_api_optimum(twin_optimum):
+    result = invoke("counterweights", "--machine", "marine-2t-twin", *FAST, "--format", "csv")
+    frame = csv_frame(result, "throw")
+    expected = twin_optimum.to_frame().set_index("throw")
+    assert frame.index.tolist() == expected.index.tolist()
+    assert frame["cylinders"].astype(str).tolist() == expected["cylinders"].astype(str).tolist()
+    for column in ("angle_deg", "counterweight_before", "counterweight"):
+        np.testing.assert_allclose(frame[column], expected[column], rtol=1e-10, atol=1e-12, err_msg=column)
+    # The summary goes to stderr: the CSV stays CSV.
+    assert "converged" in result.stderr and "converged" not in result.stdout
+    assert f"{twin_optimum.objective:.6g}" in result.stderr
+
+
+def test_counterweights_json_is_the_summary_and_the_rows(twin_optimum):
+    data = json.loads(invoke("counterweights", "--machine", "marine-2t-twin", *FAST, "--format", "json").stdout)
+    found = twin_optimum
+    assert data["objective_name"] == "delta" == found.objective_name
+    assert data["objective"] == pytest.approx(found.objective, rel=1e-12)
+    assert data["objective_before"] == pytest.approx(found.objective_before, rel=1e-12)
+    assert data["delta"] == pytest.approx(found.delta, rel=1e-12)
+    assert data["success"] is bool(found.success) and data["message"] == str(found.message)
+    assert data["rpm"] == TWIN.rpm and data["seed"] == 7 and data["maxiter"] == 3
+    assert [row["throw"] for row in data["rows"]] == list(range(1, len(found.throws) + 1))
+    np.testing.assert_allclose([row["counterweight"] for row in data["rows"]], found.counterweights, rtol=1e-12)
+
+
+def test_counterweights_table_shows_before_after_and_convergence(twin_optimum):
+    text = invoke("counterweights", "--machine", "marine-2t-twin", *FAST).stdout
+    head, table = text.split("\n\n", 1)
+    assert f"{twin_optimum.objective_before:.6g} as given → {twin_optimum.objective:.6g}" in head
+    assert ("converged" if twin_optimum.success else "NOT converged") in head
+    assert str(twin_optimum.message) in head
+    assert len(table.strip().splitlines()) == 2 + len(twin_optimum.throws)
+
+
+def test_counterweights_options_reach_the_library(tmp_path):
+    target = tmp_path / "cw.json"
+    invoke(
+        "counterweights", "--machine", "marine-2t-twin", *FAST, "--objective", "gravity_effect", "--bounds", "0",
+        "50", "--rpm", "250", "--format", "json", "--out", str(target),
+    )  # fmt: skip
+    data = json.loads(target.read_text())
+    found = mc.optimize_counterweights(
+        TWIN, objective="gravity_effect", bounds=(0.0, 50.0), rpm=250.0, seed=7, maxiter=3
+    )
+    assert data["objective_name"] == "gravity_effect" and data["rpm"] == 250.0 and data["bounds"] == [0.0, 50.0]
+    assert data["objective"] == pytest.approx(found.objective, rel=1e-12)
+    counterweights = [row["counterweight"] for row in data["rows"]]
+    np.testing.assert_allclose(counterweights, found.counterweights, rtol=1e-12)
+    assert all(0.0 <= value <= 50.0 for value in counterweights)
+
+
+# ------------------------------------------------------------------------- mistakes and help
+
+
+@pytest.mark.parametrize(
+    ("args", "named"),
+    [
+        (["firing", "--rpm", "0"], "--rpm"),
+        (["firing", "--rpm", "nan"], "--rpm"),
+        (["firing", "--rpm", "fast"], "--rpm"),
+        (["firing", "--max-order", "0"], "--max-order"),
+        (["firing", "--max-candidates", "0"], "--max-candidates"),
+        (["firing", "--format", "xml"], "--format"),
+        (["firing", "--machine", "no-such-machine"], "--machine"),
+        (["counterweights", "--objective", "smoothness"], "--objective"),
+        (["counterweights", "--bounds", "2", "1"], "--bounds"),
+        (["counterweights", "--bounds", "0", "inf"], "--bounds"),
+        (["counterweights", "--bounds", "-1", "5"], "--bounds"),
+        (["counterweights", "--bounds", "0"], "--bounds"),
+        (["counterweights", "--maxiter", "0"], "--maxiter"),
+        (["counterweights", "--seed", "-1"], "--seed"),
+        (["counterweights", "--rpm", "-5"], "--rpm"),
+        (["counterweights", "--machine", "no-such-machine"], "--machine"),
+        (["tune"], "tune"),
+    ],
+)
+def test_mistakes_are_one_line_naming_the_option(args, named):
+    assert named in refused(*args, "--no-progress")
+
+
+@pytest.mark.parametrize("command", ["firing", "counterweights"])
+@pytest.mark.parametrize(
+    ("content", "named"),
+    [
+        (None, "is a directory"),
+        (b"shaft_inertia = [1,\n", "not a valid TOML file"),
+        (b"shaft_inertia = 'heavy'\n[cylinder]\ncrank_radius = 0.1\n", "shaft_inertia"),
+    ],
+)
+def test_a_machine_file_that_cannot_be_read_is_one_line(tmp_path, command, content, named):
+    path = tmp_path / "machine.toml"
+    if content is None:
+        path.mkdir()
+    else:
+        path.write_bytes(content)
+    line = refused(command, "--machine", str(path), "--no-progress")
+    assert line.startswith(f"Error: --machine: {path}") and named in line
+
+
+@pytest.mark.parametrize("command", ["firing", "counterweights"])
+def test_a_machine_without_a_speed_asks_for_rpm(tmp_path, command):
+    path = tmp_path / "bare.toml"
+    path.write_text(
+        'name = "bare"\nshaft_inertia = 5.0\n[cylinder]\ncrank_radius = 0.1\nrod_length = 0.4\nrod_cg = 0.25\n'
+        "piston_mass = 2.0\nrod_mass = 1.0\n"
+    )
+    assert (
+        refused(command, "--machine", str(path), "--no-progress")
+        == "Error: machine 'bare' has no running speed: give --rpm"
+    )
+
+
+def test_an_out_that_cannot_be_written_is_one_line(tmp_path):
+    blocked = tmp_path / "file"
+    blocked.write_text("not a directory")
+    line = refused("firing", "--machine", "inline-4", "--out", str(blocked / "inside.csv"), "--no-progress")
+    assert line.startswith(f"Error: --out {blocked / 'inside.csv'}")
+
+
+def helped(*args: str) -> str:
+    result = runner().invoke(cli.main, [*args, "--help"])
+    assert result.exit_code == 0, result.stderr
+    return result.stdout
+
+
+def test_help():
+    assert "optimize" in helped().split("Commands:")[1]
+    commands = helped("optimize").split("Commands:")[1]
+    assert "firing" in commands and "counterweights" in commands
+    alone = runner().invoke(cli.main, ["optimize"])  # the group alone: its help
+    assert alone.exit_code == 0 and alone.stdout.split("Commands:")[1] == commands
+    firing = helped("optimize", "firing")
+    for option in ("--machine, --engine NAME|FILE", "--rpm RPM", "--max-order ORDER", "--max-candidates COUNT"):
+        assert option in firing
+    counterweights = helped("optimize", "counterweights")
+    for option in ("--objective", "delta_over_speed_range", "--bounds LOW HIGH", "kg·m", "--seed", "--maxiter"):
+        assert option in counterweights
