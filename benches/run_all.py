@@ -70,6 +70,17 @@ MOTION_SWEEP_NOTE = (
 )
 
 
+DESIGN_AID_HEADING = "## The design aid: `mc.firing_orders` and `mc.optimize_counterweights`"
+DESIGN_AID_NOTE = (
+    "Wall times of the whole calls (defaults; counterweights: objective δ, seed 0), all cores. "
+    "A firing order changes every cylinder's place in the cycle, so each candidate of the motion "
+    "sweep is new gas and tables; the per-machine path builds each candidate with "
+    "`Machine.replace` and solves it with `mc.steady_state`. The optimiser's per-machine figure is "
+    "its number of steady states times the time of one `mc.steady_state` of a machine with other "
+    "counterweights (40 timed)."
+)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--criterion", action="store_true", help="also run the criterion benches (a few minutes)")
@@ -79,6 +90,7 @@ def main() -> None:
     machine = run(sys.executable, "benches/python/bench_machine.py", "--markdown")
     motion = run(sys.executable, "benches/python/bench_motion.py", "--markdown")
     motion_sweep = run(sys.executable, "benches/python/bench_motion_sweep.py", "--markdown")
+    design_aid = run(sys.executable, "benches/python/bench_design_aid.py", "--markdown")
     cpu = next(
         (
             line.split(":", 1)[1].strip()
@@ -126,6 +138,12 @@ def main() -> None:
         motion_sweep.strip(),
         "",
         MOTION_SWEEP_NOTE,
+        "",
+        DESIGN_AID_HEADING,
+        "",
+        design_aid.strip(),
+        "",
+        DESIGN_AID_NOTE,
         "",
     ]
     if args.criterion:

@@ -26,7 +26,7 @@ __all__ = ["counterweights_command", "firing_command", "optimize_command"]
 #: ``objective``), with what each is for --help.
 OBJECTIVES: dict[str, str] = {
     "delta": "δ with gravity at --rpm",
-    "gravity_effect": "|δ/δ without gravity − 1| at --rpm: δ insensitive to gravity",
+    "gravity_effect": "the absolute value of δ/δ without gravity − 1 at --rpm: δ insensitive to gravity",
     "delta_over_speed_range": "the largest δ over the machine's speed range",
 }
 

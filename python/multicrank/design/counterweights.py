@@ -97,9 +97,15 @@ class CounterweightOptimum:
         return 1.0 - self.objective / self.objective_before if self.objective_before else 0.0
 
     def to_frame(self) -> Any:
-        """One row per throw: ``throw`` (from 1), ``cylinders`` (from 1, "+"-joined),
-        ``angle_deg`` (its pin angle [°]), ``counterweight_before`` and ``counterweight``
-        (first moments [kg·m])."""
+        """The optimum per throw, as a table.
+
+        Returns
+        -------
+        pandas.DataFrame
+            One row per throw: ``throw`` (from 1), ``cylinders`` (from 1, "+"-joined),
+            ``angle_deg`` (its pin angle [°]), ``counterweight_before`` and
+            ``counterweight`` (first moments [kg·m]).
+        """
         import pandas as pd
 
         return pd.DataFrame(
@@ -224,7 +230,7 @@ def optimize_counterweights(
         The machine: everything but its counterweights stays as given.
     objective : {"delta", "gravity_effect", "delta_over_speed_range"}, default "delta"
         What to minimise: δ with gravity at ``rpm``; the size of gravity's effect on δ,
-        |δ/δ₀ − 1| (δ₀ with g = 0), so that the machine runs as if gravity were not there;
+        the absolute value of δ/δ₀ − 1 (δ₀ with g = 0), so that the machine runs as if gravity were not there;
         or the largest δ at 9 speeds evenly over the machine's ``rpm_range``.
     bounds : (low, high) or sequence of them, optional
         The first moment m_p r_p [kg·m] of each throw's counterweights: one pair for every
