@@ -92,7 +92,15 @@ numpydoc_xref_param_type = False
 numpydoc_validation_checks = {"PR01", "PR02", "PR04", "PR07", "PR10", "RT01", "GL08"}
 # The result classes are made by the library, not by users: their docstrings list
 # attributes, not the fields of a constructor nobody calls (their methods are checked).
-RESULT_CLASSES = ("EnergyExtrema", "SteadyState", "FlywheelInertia", "Transient", "SymbolicGravity", "SymbolicInertia")
+RESULT_CLASSES = (
+    "EnergyExtrema",
+    "SteadyState",
+    "FlywheelInertia",
+    "Transient",
+    "SymbolicGravity",
+    "SymbolicInertia",
+    "CounterweightOptimum",
+)
 numpydoc_validation_exclude = {rf"^multicrank\.(symbolic\.)?{name}$" for name in RESULT_CLASSES}
 
 # -- the gallery: every script in docs/gallery runs at build time and its figures are kept -

@@ -49,7 +49,7 @@ def run(name: str) -> dict:
 
 
 def test_the_gallery_has_its_examples():
-    assert len(SCRIPTS) == 8
+    assert len(SCRIPTS) == 9
     for name in SCRIPTS:
         text = (GALLERY / name).read_text(encoding="utf-8")
         assert text.startswith('"""\n'), f"{name}: the module docstring (title and summary) comes first"
@@ -176,3 +176,25 @@ def test_where_gravity_matters_says_what_the_map_shows():
     assert 350 < space["cheapest"] < 600
     tail = sized["flywheel_inertia"][sized["rpm"] > 600]
     assert tail.between(35, 50).all()  # "levels off near 45 kg·m²"
+
+
+def test_design_aid_says_what_its_figure_shows():
+    import multicrank as mc
+
+    space = run("plot_09_design_aid.py")
+    table, best = space["table"], space["best"]
+    # the six's even firing, as built, first; the worst eleven times rougher
+    assert table["firing"].iloc[0] == "1-6-5-4-3-2" and table.attrs["distinct"] == 6
+    assert math.isclose(space["as_built"].delta, table["delta"].iloc[0], rel_tol=1e-9)
+    assert 10 < space["gain"][0] < 12
+    assert (table["gravity_effect"].abs() < 1e-7).all()  # "the same to 10⁻⁷"
+    # the counterweight: flat without gravity; the optimum within 2 % of the first-order
+    # balance, 14 % off δ, and the low point of the sweep with gravity
+    swept = space["swept"]
+    assert np.ptp(swept["delta_without_gravity"]) < 1e-9 * swept["delta_without_gravity"].max()
+    assert abs(best.counterweights[0] / space["first_order"] - 1) < 0.02
+    assert 0.14 < best.improvement < 0.15
+    assert best.delta <= swept["delta"].min() * (1 + 1e-9)
+    assert 0.18 < swept["delta"].max() / swept["delta"].min() - 1 < 0.22  # "by a fifth"
+    state = mc.steady_state(best.machine)
+    assert math.isclose(state.delta, best.delta, rel_tol=1e-9)
