@@ -158,6 +158,24 @@ def test_the_cross_plane_v8_fires_evenly_and_is_among_them():
     assert matches[0] == 0  # even firing is the smoothest
 
 
+@pytest.mark.parametrize(
+    "machine",
+    [
+        mc.presets.MACHINES["inline-6"],
+        mc.Machine.from_layout("boxer-4", CYLINDER, shaft_inertia=0.25, strokes=4, rpm=RPM),
+        mc.Machine.from_layout("v8-cross", TWO_STROKE, shaft_inertia=0.25, strokes=2, rpm=RPM),
+    ],
+)
+def test_one_row_is_the_machine_as_given(machine):
+    # Each row's own machine made the machine to rank: its row is as_given, and it alone.
+    for _, row in mc.firing_orders(machine).iterrows():
+        table = mc.firing_orders(row["machine"])
+        given = table[table["as_given"]]
+        assert len(given) == 1
+        assert same_motion(signature(given["machine"].iloc[0]), signature(row["machine"]))
+        assert given["delta"].iloc[0] == pytest.approx(row["delta"], rel=1e-9)
+
+
 def test_each_row_is_its_machine():
     engine = mc.presets.MACHINES["inline-4"]
     table = mc.firing_orders(engine, rpm=3000.0, max_order=6)

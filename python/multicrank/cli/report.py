@@ -74,8 +74,9 @@ def report_command(
     progress: bool,
 ) -> None:
     """Write the report: first the machine's steady running with and without gravity (δ, the
-    flywheel, ω(φ), the torques and their orders, δ over the speed range), then the paper's
-    analysis — curves, spectra, Tables 1–2, the truncation error, the gravity-significance map,
+    flywheel, ω(φ), the torques and their orders, δ over the speed range), then what to change
+    (the best firing orders its crank allows and the counterweights that minimise δ), then
+    the paper's analysis — curves, spectra, Tables 1–2, the truncation error, the gravity-significance map,
     conventions and errata — as index.html + PNG + CSV."""
     from ..report.html import write_report
     from ..report.settings import DEFAULT_THRESHOLD, ReportSettings

@@ -153,7 +153,10 @@ def _candidates(machine: Machine, limit: int) -> tuple[np.ndarray, int]:
     regular = bool(np.all(np.abs(spacing - 2 * math.pi / len(angles)) <= _RESOLUTION))
     total = _arrangement_count(throw_kinds, regular)
     found = []
-    for order in itertools.islice(_arrangements(throw_kinds, regular), limit):
+    # The crank as it is first (each throw at its own angle), then every other arrangement.
+    own = tuple(throw_kinds)
+    others = (order for order in _arrangements(throw_kinds, regular) if order != own)
+    for order in itertools.islice(itertools.chain([own], others), limit):
         # The i-th angle to the first throw of kind order[i] not yet placed.
         free = {kind: [t for t, own in enumerate(throw_kinds) if own == kind] for kind in set(throw_kinds)}
         pin = np.empty(k)
@@ -324,9 +327,10 @@ def firing_orders(
     -------
     pandas.DataFrame
         One row per distinct candidate, sorted by ``delta`` (stalled ones last): ``firing``
-        (the cylinders, numbered from 1, in the order they fire from the cylinder at phase
-        0; "+" joins those that fire together), ``phases`` (α_j [rad], a tuple in the
-        machine's cylinder order), ``delta``, ``delta_without_gravity`` and
+        (the cylinders, numbered from 1, in the order they fire from cylinder 1; "+" joins
+        those that fire together), ``as_given`` (True for the one row that runs as the
+        machine given), ``phases`` (α_j [rad], a tuple in the machine's cylinder order),
+        ``delta``, ``delta_without_gravity`` and
         ``gravity_effect`` (δ/δ₀ − 1) of the steady state [dimensionless], ``stalled``,
         ``largest_order`` (the order 0 < ν ≤ max_order of the largest amplitude of the total
         torque — gas, inertia at the mean speed and gravity — on the shaft; half orders for
@@ -374,7 +378,8 @@ def firing_orders(
         raise MechanismError(f"rpm is required: machine {machine.name!r} has no rpm of its own")
     speed = as_speed(machine.rpm if rpm is None else rpm, "rpm")
     found, total = _candidates(machine, limit)
-    phases = found[_distinct(machine, found)]
+    kept = _distinct(machine, found)
+    phases = found[kept]
     designs = pd.DataFrame({f"phase[{j}]": phases[:, j] for j in range(phases.shape[1])})
     designs["rpm"] = speed
     solved = motion_sweep(
@@ -384,6 +389,7 @@ def firing_orders(
     table = pd.DataFrame(
         {
             "firing": [_firing_sequence(p, machine.cycle) for p in phases],
+            "as_given": [row == 0 for row in kept],  # candidate 0 is the machine's own phases
             "phases": [tuple(p.tolist()) for p in phases],
             "delta": solved["delta"].to_numpy(),
             "delta_without_gravity": solved["delta_without_gravity"].to_numpy(),

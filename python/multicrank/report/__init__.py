@@ -2,7 +2,8 @@
 analysis reproduced, corrected and extended, as one HTML page with its figures and tables.
 
 ``settings`` holds what a report is about, ``motion`` its first part (the steady running),
-``gravity`` the paper's analysis, ``html`` the page and the directory written."""
+``design`` what to change (firing orders, counterweights), ``gravity`` the paper's analysis,
+``html`` the page and the directory written."""
 
 from .gravity import PAPER_TABLE_1
 from .html import write_report

@@ -1,6 +1,7 @@
 """The report as a directory: ``index.html`` (its figures embedded, so that the page stands
 alone), every figure as PNG and every table as CSV beside it, each file written whole or not
-at all. The motion part (:mod:`.motion`) comes first, then the gravity part (:mod:`.gravity`)."""
+at all. The motion part (:mod:`.motion`) comes first, then what to change (:mod:`.design`), then
+the gravity part (:mod:`.gravity`)."""
 
 from __future__ import annotations
 
@@ -14,6 +15,7 @@ import pandas as pd
 
 from .._files import write_atomically
 from .._optional import require
+from .design import counterweight_table, design_html, design_results, firing_table
 from .gravity import (
     curves_figure,
     gravity_html,
@@ -63,6 +65,7 @@ table { border-collapse: collapse; margin: 1em 0; font-size: .9em; }
 td, th { border: 1px solid #ccc; padding: .2em .5em; text-align: center; }
 table.bool td { width: 1.6em; color: #1a5fb4; }
 td.diff { background: #fdd; }
+tr.own td { background: #e8f0fe; font-weight: bold; }
 caption { caption-side: top; font-weight: bold; text-align: left; padding-bottom: .3em; }
 .note { color: #555; font-size: .9em; }
 .tables { display: flex; flex-wrap: wrap; gap: 2em; }
@@ -85,6 +88,7 @@ def write_report(out: str | Path, settings: ReportSettings | None = None, progre
     sections: list[str] = []
     steps = [
         "motion",
+        "design",
         "curves",
         "spectra",
         "tables",
@@ -110,6 +114,10 @@ def write_report(out: str | Path, settings: ReportSettings | None = None, progre
             save("motion_speed_range", *speed_range_figure(motion))
             save("motion_gravity_map", *gravity_map_figure(motion, machine, settings.threshold))
             save("motion_orders", *orders_figure(motion))
+        elif step == "design":
+            design = design_results(settings)
+            write_atomically(out / "design_firing_orders.csv", firing_table(design).to_csv(index=False))
+            write_atomically(out / "design_counterweights.csv", counterweight_table(design).to_csv(index=False))
         elif step == "curves":
             for strokes in (2, 4):
                 for quantity in ("energy", "force"):
@@ -134,6 +142,7 @@ def write_report(out: str | Path, settings: ReportSettings | None = None, progre
             save("layouts", figure, layouts)
 
     sections.append(motion_html(motion, machine, figures, settings.threshold))
+    sections.append(design_html(design))
     sections.append(gravity_html(settings, figures, tables, paper, layouts))
     from .._native import __version__
 

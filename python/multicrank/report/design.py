@@ -1,0 +1,210 @@
+"""The report's "What to change" part, between the motion part and the paper's analysis: for
+the machine, the best firing orders its crank allows (:func:`multicrank.firing_orders`) next
+to its own, and the counterweights that make δ with gravity smallest
+(:func:`multicrank.optimize_counterweights`) against those it has, as two tables and their
+HTML section."""
+
+from __future__ import annotations
+
+import html
+import math
+from collections.abc import Iterable
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+from ..machine.machine import Machine
+from .settings import ReportSettings, running_speed
+
+__all__ = [
+    "FIRING_ROWS",
+    "NEGLIGIBLE",
+    "DesignResults",
+    "counterweight_table",
+    "design_html",
+    "design_results",
+    "firing_table",
+]
+
+#: How many of the best firing orders the section lists (the machine's own is added below
+#: them where it ranks lower).
+FIRING_ROWS = 3
+
+#: An optimum that makes δ smaller by less than this fraction is not worth a change.
+NEGLIGIBLE = 1e-3
+
+
+@dataclass(frozen=True)
+class DesignResults:
+    """What the section shows: ``firing``, :func:`~multicrank.firing_orders`'s whole table
+    for the machine; ``own``, the row of it that runs as the machine as given (its
+    ``as_given``); ``optimum``, :func:`~multicrank.optimize_counterweights`'s
+    result (a ``CounterweightOptimum``)."""
+
+    machine: Machine
+    rpm: float
+    firing: pd.DataFrame
+    own: int | None
+    optimum: Any
+
+
+def design_results(settings: ReportSettings) -> DesignResults:
+    """The machine's firing orders and its counterweight optimum at its running speed (the
+    balance load, δ with gravity), each with the library's defaults."""
+    from ..design.counterweights import optimize_counterweights
+    from ..design.firing import firing_orders
+
+    machine = settings.machine
+    rpm = running_speed(machine)
+    firing = firing_orders(machine, rpm=rpm)
+    return DesignResults(
+        machine=machine,
+        rpm=rpm,
+        firing=firing,
+        own=next((int(row) for row in np.flatnonzero(firing["as_given"].to_numpy())), None),
+        optimum=optimize_counterweights(machine, rpm=rpm),
+    )
+
+
+def firing_table(results: DesignResults) -> pd.DataFrame:
+    """The section's firing-order table: the :data:`FIRING_ROWS` best of
+    :func:`~multicrank.firing_orders` and, where it ranks lower, the machine's own; ``rank``
+    (1 = smallest δ with gravity), ``as_given`` (the machine's own phases), ``phases_deg``
+    (α_j in degrees in the machine's cylinder order, space-separated) and the library's
+    columns but ``phases`` and ``machine``."""
+    firing = results.firing
+    rows = list(range(min(FIRING_ROWS, len(firing))))
+    if results.own is not None and results.own not in rows:
+        rows.append(results.own)
+    table = firing.iloc[rows].drop(columns=["phases", "machine"])
+    table.insert(0, "rank", [row + 1 for row in rows])
+    table.insert(
+        3,
+        "phases_deg",
+        [" ".join(f"{math.degrees(a):.10g}" for a in firing["phases"].iloc[row]) for row in rows],
+    )
+    return table.reset_index(drop=True)
+
+
+def counterweight_table(results: DesignResults) -> pd.DataFrame:
+    """The section's counterweight table: one row per throw (``CounterweightOptimum.to_frame``):
+    ``throw``, ``cylinders``, ``angle_deg``, ``counterweight_before`` and ``counterweight``
+    [kg·m]."""
+    frame: pd.DataFrame = results.optimum.to_frame()
+    return frame
+
+
+def _delta(value: float) -> str:
+    return "stalls" if not math.isfinite(value) else f"{value:.5g}"
+
+
+def _percent(value: float) -> str:
+    return "—" if not math.isfinite(value) else f"{100 * value:+.3g} %"
+
+
+def _firing_html(results: DesignResults) -> str:
+    firing, table = results.firing, firing_table(results)
+    candidates, distinct = int(firing.attrs["candidates"]), int(firing.attrs["distinct"])
+    cycle = "two-stroke: the throws' angles arranged over the throws" if results.machine.strokes == 2 else (
+        "four-stroke: each cylinder's phase fixed by the crank modulo 360°, the cam choosing the revolution"
+    )  # fmt: skip
+    if candidates == 1:
+        count = (
+            "A single cylinder has one firing order: there is nothing to choose."
+            if len(results.machine) == 1
+            else f"The crank allows only one firing order ({html.escape(str(firing['firing'].iloc[0]))}): "
+            "there is nothing to choose; another firing order needs another crank."
+        )
+    else:
+        exhaustive = (
+            "every one of them was solved"
+            if firing.attrs["exhaustive"]
+            else "<b>not all of them were tried</b> (the enumeration stopped at its limit, "
+            "<code>max_candidates</code>): a better one may exist"
+        )
+        count = (
+            f"The crank allows {candidates:,} phase assignments ({cycle}), {distinct} of them distinct "
+            f"(running differently, not merely shifted or with alike cylinders swapped); {exhaustive}."
+        )
+    if results.own is None:
+        own = " The machine's own phases are not among the candidates tried."
+    elif candidates == 1:
+        own = ""
+    elif results.own < FIRING_ROWS:
+        own = f" The machine as given is rank {results.own + 1} (marked)."
+    else:
+        own = f" The machine as given is rank {results.own + 1} of {distinct}, the last row."
+    marked = ' class="own"'
+    records: Iterable[Any] = table.itertuples()  # the columns of firing_table
+    body = "".join(
+        f"<tr{marked if r.as_given else ''}><td>{r.rank}</td><td>{html.escape(str(r.firing))}"
+        f"{' (as given)' if r.as_given else ''}</td><td>{_delta(r.delta)}</td>"
+        f"<td>{_delta(r.delta_without_gravity)}</td><td>{_percent(r.gravity_effect)}</td>"
+        f"<td>{r.largest_order:g}</td><td>{r.largest_order_amplitude:.4g}</td></tr>"
+        for r in records
+    )
+    return f"""
+<h3>Firing order</h3>
+<p>{count}{own} Each row is the exact steady state at {results.rpm:g} rpm with the balance load
+(<code>mc.firing_orders</code>), cylinders numbered from 1 in the order they fire, "+" for those firing
+together.</p>
+<table><tr><th>rank</th><th>firing</th><th>δ with gravity</th><th>δ without gravity</th>
+<th>gravity changes δ by</th><th>largest torque order ν</th><th>its amplitude [N·m]</th></tr>{body}</table>
+"""
+
+
+def _counterweight_html(results: DesignResults) -> str:
+    optimum = results.optimum
+    records: Iterable[Any] = counterweight_table(results).itertuples()  # CounterweightOptimum.to_frame's columns
+    body = "".join(
+        f"<tr><td>{r.throw}</td><td>{html.escape(str(r.cylinders))}</td><td>{r.angle_deg:g}°</td>"
+        f"<td>{r.counterweight_before:.4g}</td><td>{r.counterweight:.4g}</td>"
+        f"<td>{r.counterweight - r.counterweight_before:+.3g}</td></tr>"
+        for r in records
+    )
+    work = f"{optimum.nit} generations, {optimum.nfev} evaluations"
+    converged = (
+        f"yes ({work})"
+        if optimum.success
+        else f"<b>no</b> ({html.escape(str(optimum.message))}; {work}): the optimum is the best point found, "
+        "not a proven minimum"
+    )
+    objective = "δ with gravity" if optimum.objective_name == "delta" else html.escape(optimum.objective_name)
+    summary = [
+        ("δ with gravity, as given", f"{optimum.delta_before:.5g}"),
+        ("δ with gravity, optimum counterweights", f"{optimum.delta:.5g}"),
+        (f"{objective} smaller by", f"<b>{100 * optimum.improvement:.3g} %</b>"),
+        ("converged", converged),
+    ]
+    verdict = (
+        f" Here no counterweights within the bounds make δ smaller by {100 * NEGLIGIBLE:g} % or more: they are not "
+        "worth changing for δ."
+        if optimum.improvement < NEGLIGIBLE
+        else ""
+    )
+    summary_body = "".join(f"<tr><th>{k}</th><td>{v}</td></tr>" for k, v in summary)
+    return f"""
+<h3>Counterweights</h3>
+<p>The first moment m·r of each throw's counterweight (kg·m, opposite the crank pin) that makes δ with gravity
+at {optimum.rpm:g} rpm smallest, the rest of the machine as given (<code>mc.optimize_counterweights</code>:
+differential evolution over the library's default bounds, then polished). A counterweight also balances the
+rotating masses: check the shaking forces and bearing loads before changing it for δ.{verdict}</p>
+<table><tr><th>throw</th><th>cylinders</th><th>pin angle</th><th>as given [kg·m]</th><th>optimum [kg·m]</th>
+<th>change [kg·m]</th></tr>{body}</table>
+<table>{summary_body}</table>
+"""
+
+
+def design_html(results: DesignResults) -> str:
+    """The report's "What to change" section: the firing orders and the counterweights."""
+    return f"""
+<h2>What to change</h2>
+<p>Two changes that keep the machine's cylinders and flywheel: another firing order (four-stroke: another
+camshaft; two-stroke: the crank's throws rearranged) and other counterweights, each judged by δ with gravity at
+the machine's speed.</p>
+{_firing_html(results)}
+{_counterweight_html(results)}
+<p class="note">Data: design_firing_orders.csv, design_counterweights.csv</p>
+"""

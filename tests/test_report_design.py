@@ -1,0 +1,155 @@
+"""The report's "What to change" section: the machine's best firing orders and its counterweight
+optimum, as the library computes them, on the page and as CSV, for the default machine (one
+cylinder) and for a four-cylinder one."""
+
+from __future__ import annotations
+
+import math
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+import multicrank as mc
+from multicrank.presets import DEFAULT_MACHINE_NAME, MACHINES
+from multicrank.report.design import FIRING_ROWS, NEGLIGIBLE, DesignResults, firing_table
+
+SCRIPT = Path(sys.executable).with_name("multicrank")
+#: The report's other parts on reduced settings: this file is about the design section.
+SMALL = ["--k-max", "2", "--n-max", "4", "--points", "17", "--no-progress"]
+
+
+def run_report(out: Path, *machine: str) -> Path:
+    result = subprocess.run(
+        [str(SCRIPT), "report", "--out", str(out), *machine, *SMALL], capture_output=True, text=True, timeout=300
+    )
+    assert result.returncode == 0, result.stderr
+    return out
+
+
+@pytest.fixture(scope="module")
+def compressor(tmp_path_factory) -> Path:
+    """The report of the default machine (no --machine: the slow compressor, one cylinder)."""
+    return run_report(tmp_path_factory.mktemp("compressor"))
+
+
+@pytest.fixture(scope="module")
+def inline4(tmp_path_factory) -> Path:
+    return run_report(tmp_path_factory.mktemp("inline4"), "--machine", "inline-4")
+
+
+def read_csv(path: Path) -> pd.DataFrame:
+    # Parsed by Python's float, exact on any pandas (before 3.0 its parser may be an ulp off).
+    frame = pd.read_csv(path, dtype=str, keep_default_na=False)
+    numbers = [c for c in frame if c not in ("firing", "phases_deg", "cylinders", "as_given", "stalled")]
+    return frame.astype({c: float for c in numbers})
+
+
+def section(out: Path) -> str:
+    page = (out / "index.html").read_text(encoding="utf-8")
+    assert page.index("What gravity does to this machine") < page.index("<h2>What to change</h2>")
+    assert page.index("<h2>What to change</h2>") < page.index("<h2>The machine</h2>")
+    return page[page.index("<h2>What to change</h2>") : page.index("<h2>The machine</h2>")]
+
+
+def check_firing(out: Path, machine: mc.Machine) -> tuple[pd.DataFrame, pd.DataFrame, str]:
+    """The firing-order CSV is the library's best rows, the machine's own marked; the page shows them."""
+    expected = mc.firing_orders(machine)
+    table = read_csv(out / "design_firing_orders.csv")
+    assert list(table.columns) == [
+        "rank",
+        "firing",
+        "as_given",
+        "phases_deg",
+        "delta",
+        "delta_without_gravity",
+        "gravity_effect",
+        "stalled",
+        "largest_order",
+        "largest_order_amplitude",
+    ]
+    best = min(FIRING_ROWS, len(expected))
+    assert table["rank"].tolist()[:best] == list(range(1, best + 1))
+    rows = expected.iloc[table["rank"].astype(int) - 1]
+    assert table["firing"].tolist() == rows["firing"].tolist()
+    for name in ("delta", "delta_without_gravity", "gravity_effect", "largest_order", "largest_order_amplitude"):
+        np.testing.assert_allclose(table[name], rows[name], rtol=1e-12, err_msg=name)
+    phases = [np.radians([float(a) for a in text.split()]) for text in table["phases_deg"]]
+    np.testing.assert_allclose(np.concatenate(phases), np.concatenate(rows["phases"].map(list).tolist()), atol=1e-12)
+    own = table[table["as_given"] == "True"]
+    assert len(own) == 1
+    np.testing.assert_allclose(own["delta"], mc.steady_state(machine, rpm=machine.rpm).delta, rtol=1e-12)
+    text = section(out)
+    for r in table.itertuples():
+        assert f"{r.delta:.5g}" in text and f"{r.delta_without_gravity:.5g}" in text
+        assert f"{r.largest_order_amplitude:.4g}" in text
+    assert f"{own['firing'].iloc[0]} (as given)" in text
+    return table, expected, text
+
+
+def check_counterweights(out: Path, machine: mc.Machine) -> tuple[pd.DataFrame, object, str]:
+    """The counterweight CSV is the optimum's table; the page has δ before and after, the
+    improvement and whether it converged."""
+    optimum = mc.optimize_counterweights(machine)
+    table = read_csv(out / "design_counterweights.csv")
+    expected = optimum.to_frame()
+    assert list(table.columns) == ["throw", "cylinders", "angle_deg", "counterweight_before", "counterweight"]
+    assert table["cylinders"].tolist() == expected["cylinders"].astype(str).tolist()
+    for name in ("throw", "angle_deg", "counterweight_before", "counterweight"):
+        np.testing.assert_allclose(table[name], expected[name], rtol=1e-12, atol=1e-15, err_msg=name)
+    np.testing.assert_allclose(table["counterweight_before"], optimum.counterweights_before, rtol=1e-12)
+    np.testing.assert_allclose(table["counterweight"], optimum.counterweights, rtol=1e-12)
+    text = section(out)
+    assert f"{optimum.delta_before:.5g}" in text and f"{optimum.delta:.5g}" in text
+    assert f"{100 * optimum.improvement:.3g} %" in text
+    assert math.isclose(optimum.improvement, 1 - optimum.delta / optimum.delta_before, rel_tol=1e-9)
+    for r in table.itertuples():
+        assert f"{r.counterweight_before:.4g}" in text and f"{r.counterweight:.4g}" in text
+    assert ("converged</th><td>yes" if optimum.success else "converged</th><td><b>no</b>") in text
+    assert ("not worth changing for δ" in text) == (optimum.improvement < NEGLIGIBLE)
+    return table, optimum, text
+
+
+def test_design_section_of_the_default_machine(compressor):
+    """One cylinder: one firing order, said so; one throw's counterweight."""
+    machine = MACHINES[DEFAULT_MACHINE_NAME]
+    assert len(machine) == 1
+    table, expected, text = check_firing(compressor, machine)
+    assert len(table) == 1 and table["as_given"].tolist() == ["True"] and expected.attrs["candidates"] == 1
+    assert "A single cylinder has one firing order" in text
+    weights, optimum, _ = check_counterweights(compressor, machine)
+    assert len(weights) == 1 and weights["cylinders"].tolist() == ["1"]
+    assert optimum.delta <= optimum.delta_before
+
+
+def test_design_section_of_a_four_cylinder_machine(inline4):
+    """inline-4: 8 phase assignments, all tried; the machine's own (1-4-3-2) is the best."""
+    machine = MACHINES["inline-4"]
+    table, expected, text = check_firing(inline4, machine)
+    assert (expected.attrs["candidates"], expected.attrs["exhaustive"]) == (8, True)
+    assert len(table) == 3 and table["as_given"].tolist() == ["True", "False", "False"]
+    assert table["firing"].iloc[0] == "1-4-3-2"
+    assert "The crank allows 8 phase assignments" in text and f"{expected.attrs['distinct']} of them distinct" in text
+    assert "every one of them was solved" in text and "rank 1 (marked)" in text
+    weights, optimum, _ = check_counterweights(inline4, machine)
+    assert len(weights) == len(optimum.throws)
+    assert optimum.delta <= optimum.delta_before
+
+
+def test_the_machines_own_row_is_shown_below_the_best_where_it_ranks_lower():
+    """The machine's own row (the library's ``as_given``) is shown below the best rows where
+    it ranks lower."""
+    six = MACHINES["inline-6"]
+    worst = mc.firing_orders(six)["machine"].iloc[-1]
+    six = mc.firing_orders(worst)
+    last = int(np.flatnonzero(six["as_given"])[0])
+    assert last >= FIRING_ROWS
+    machine = six["machine"].iloc[last]
+    shown = firing_table(DesignResults(machine=machine, rpm=machine.rpm, firing=six, own=last, optimum=None))
+    assert shown["rank"].tolist() == [1, 2, 3, last + 1]
+    assert shown["as_given"].tolist() == [False, False, False, True]
+    assert shown["firing"].tolist() == six["firing"].iloc[[0, 1, 2, last]].tolist()
+    np.testing.assert_allclose(shown["delta"], six["delta"].iloc[[0, 1, 2, last]], rtol=0)
