@@ -236,6 +236,17 @@ def test_report_of_a_machine_that_is_not_in_line(tmp_path):
     )
 
 
+def test_a_flywheel_target_no_shaft_gives_is_said_not_fatal(tmp_path):
+    """The slow diesel's shaft and propeller keep δ far below its class's target: the flywheel
+    table says why there is none, and the report is written."""
+    out = tmp_path / "diesel"
+    run("report", "--out", str(out), "--machine", "slow-diesel-12", "--k-max", "2", "--n-max", "4",
+        "--points", "17", "--no-progress")  # fmt: skip
+    page = (out / "index.html").read_text(encoding="utf-8")
+    assert "no shaft inertia gives it" in page and "is unreachable" in page
+    assert "What to change" in page
+
+
 def test_report_leads_with_the_machines_motion(report):
     """The first section is the steady running with and without gravity and the flywheel,
     and its numbers are the API's."""

@@ -11,6 +11,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import pandas as pd
 
+from .._native import MechanismError
 from .._shaft import rpm_from_omega
 from .._validation import as_count
 from ..machine.machine import Machine
@@ -44,7 +45,8 @@ class MotionResults:
     state: Any  # SteadyState with gravity
     without: Any  # SteadyState with g = 0
     delta_g: float
-    flywheel: Any  # FlywheelInertia for ``target``
+    flywheel: Any  # FlywheelInertia for ``target``; None where no shaft inertia gives it
+    flywheel_refusal: str  # why not, where it is None
     speeds: pd.DataFrame
     orders: pd.DataFrame
     gravity_map: pd.DataFrame  # gravity_map(): the map over speed × shaft inertia
@@ -100,7 +102,12 @@ def motion_results(settings: ReportSettings, speeds: int = 9) -> MotionResults:
         target, source = SPEED_FLUCTUATION[kind][1], f"the {kind} class's limit"
     else:
         target, source = without.delta, "the machine's own δ without gravity (no class known)"
-    flywheel = flywheel_inertia(machine, delta=target, rpm=rpm)
+    try:
+        flywheel, refusal = flywheel_inertia(machine, delta=target, rpm=rpm), ""
+    except MechanismError as error:
+        # A target δ above what even a massless shaft gives (a ship's shaft and propeller
+        # are a flywheel of their own): the section says so instead of failing the report.
+        flywheel, refusal = None, str(error)
     low, high = speed_range(machine)
     rows: list[dict[str, Any]] = []
     for n in np.geomspace(low, high, speeds):
@@ -125,6 +132,7 @@ def motion_results(settings: ReportSettings, speeds: int = 9) -> MotionResults:
         without=without,
         delta_g=float(machine.engine(rpm).speed_fluctuation()),
         flywheel=flywheel,
+        flywheel_refusal=refusal,
         speeds=pd.DataFrame(rows),
         orders=torque_orders(machine, rpm),
         gravity_map=gravity_map(settings),
@@ -296,7 +304,6 @@ def motion_html(results: MotionResults, machine: Machine, figures: dict[str, str
     """The report's first section: what gravity does to this machine's speed fluctuation."""
     state, without, flywheel = results.state, results.without, results.flywheel
     change = 100 * (state.delta / without.delta - 1)
-    extra = 100 * (flywheel.shaft_inertia / flywheel.shaft_inertia_without_gravity - 1)
     load = state.mean_load_torque
     rows = [
         ("mean speed", f"{results.rpm:g} rpm (ω<sub>m</sub> = {state.omega_mean:.6g} rad/s)"),
@@ -311,16 +318,20 @@ def motion_html(results: MotionResults, machine: Machine, figures: dict[str, str
         ("shaft inertia I<sub>w</sub> (as built)", f"{machine.shaft_inertia:.6g} kg·m²"),
     ]
     body = "".join(f"<tr><th>{k}</th><td>{v}</td></tr>" for k, v in rows)
-    fly = [
-        ("target δ", f"{results.target:.4g} (1/{1 / results.target:.4g}): {html.escape(results.target_source)}"),
-        ("I<sub>w</sub> with gravity (exact)", f"{flywheel.shaft_inertia:.6g} kg·m²"),
-        ("I<sub>w</sub> without gravity (exact)", f"{flywheel.shaft_inertia_without_gravity:.6g} kg·m²"),
-        ("gravity asks for", f"<b>{extra:+.3g} %</b> flywheel inertia"),
-        (
-            "textbook ΔE/(δω²) − mean(J − I<sub>w</sub>)",
-            f"{flywheel.textbook:.6g} kg·m² ({100 * flywheel.textbook_error:+.2g} % off the exact)",
-        ),
-    ]
+    fly = [("target δ", f"{results.target:.4g} (1/{1 / results.target:.4g}): {html.escape(results.target_source)}")]
+    if flywheel is None:
+        fly.append(("no shaft inertia gives it", html.escape(results.flywheel_refusal)))
+    else:
+        extra = 100 * (flywheel.shaft_inertia / flywheel.shaft_inertia_without_gravity - 1)
+        fly += [
+            ("I<sub>w</sub> with gravity (exact)", f"{flywheel.shaft_inertia:.6g} kg·m²"),
+            ("I<sub>w</sub> without gravity (exact)", f"{flywheel.shaft_inertia_without_gravity:.6g} kg·m²"),
+            ("gravity asks for", f"<b>{extra:+.3g} %</b> flywheel inertia"),
+            (
+                "textbook ΔE/(δω²) − mean(J − I<sub>w</sub>)",
+                f"{flywheel.textbook:.6g} kg·m² ({100 * flywheel.textbook_error:+.2g} % off the exact)",
+            ),
+        ]
     fly_body = "".join(f"<tr><th>{k}</th><td>{v}</td></tr>" for k, v in fly)
     top = results.orders.sort_values("total_amplitude", ascending=False).head(8)
     order_rows = "".join(
