@@ -25,6 +25,7 @@ import numpy as np
 from .._native import MechanismError
 from .._validation import as_count, as_flag, as_instance, as_option, as_real_array, as_speed
 from ..machine.machine import Machine
+from ._crank import throws as crank_throws
 
 __all__ = ["OBJECTIVES", "CounterweightOptimum", "optimize_counterweights"]
 
@@ -32,8 +33,6 @@ __all__ = ["OBJECTIVES", "CounterweightOptimum", "optimize_counterweights"]
 OBJECTIVES: tuple[str, ...] = ("delta", "gravity_effect", "delta_over_speed_range")
 #: Speeds at which "delta_over_speed_range" evaluates δ, evenly over the machine's rpm_range.
 SPEEDS_IN_RANGE = 9
-#: Pins closer than this [rad] are one throw (the layouts' angles are exact to ~1e-13).
-_SAME_PIN = 1e-9
 
 
 @dataclass(frozen=True)
@@ -124,22 +123,6 @@ class CounterweightOptimum:
             f"CounterweightOptimum({self.objective_name}: {self.objective_before:.6g} → {self.objective:.6g}, "
             f"counterweights [{moments}] kg·m, success={self.success})"
         )
-
-
-def _throws(machine: Machine) -> tuple[tuple[tuple[int, ...], ...], np.ndarray]:
-    """The cylinders of each throw (coinciding pins α + γ modulo 2π), and the pins' angles."""
-    throws: list[list[int]] = []
-    angles: list[float] = []
-    for j, cylinder in enumerate(machine.cylinders):
-        pin = (cylinder.phase + cylinder.inclination) % (2 * math.pi)
-        for index, angle in enumerate(angles):
-            if abs(math.remainder(pin - angle, 2 * math.pi)) <= _SAME_PIN:
-                throws[index].append(j)
-                break
-        else:
-            angles.append(pin)
-            throws.append([j])
-    return tuple(tuple(t) for t in throws), np.array(angles)
 
 
 def _radius(cylinder: Any) -> float:
@@ -296,7 +279,7 @@ def optimize_counterweights(
     seed = as_count(seed, "seed", minimum=0)
     generations = as_count(maxiter, "maxiter", minimum=1)
     progress = as_flag(progress, "progress")
-    throws, angles = _throws(machine)
+    throws, angles = crank_throws(machine)
     limits = _as_bounds(bounds, machine, throws)
     if objective == "delta_over_speed_range":
         if machine.rpm_range is None:

@@ -29,6 +29,7 @@ import numpy as np
 from .._native import MechanismError
 from .._validation import as_count, as_flag, as_instance, as_speed
 from ..machine.machine import Machine
+from ._crank import throws
 
 __all__ = ["firing_orders"]
 
@@ -129,25 +130,13 @@ def _candidates(machine: Machine, limit: int) -> tuple[np.ndarray, int]:
         moved = (np.arange(count)[:, None] >> np.arange(k - 1)[None, :]) & 1
         shifts = np.concatenate((np.zeros((count, 1)), moved), axis=1) * 2 * math.pi
         return np.mod(phases[None, :] + shifts, 4 * math.pi), total
-    # Two strokes: cylinders whose crank pins point the same way share a throw; a throw is
-    # its cylinders (their kinds, which hold their inclinations), and alike throws are
-    # interchangeable.
+    # Two strokes: a throw is its cylinders (their kinds, which hold their inclinations),
+    # and alike throws are interchangeable.
     inclinations = np.array([c.inclination for c in machine.cylinders])
-    pins = np.mod(phases + inclinations, 2 * math.pi)
-    angles: list[float] = []
-    throw_of = []
-    for pin in pins:
-        for index, angle in enumerate(angles):
-            if abs(math.remainder(pin - angle, 2 * math.pi)) <= _RESOLUTION:
-                throw_of.append(index)
-                break
-        else:
-            angles.append(float(pin))
-            throw_of.append(len(angles) - 1)
+    members, angles = throws(machine)
     kinds = _kinds(machine)
-    members = [[j for j, t in enumerate(throw_of) if t == throw] for throw in range(len(angles))]
     throw_kinds = [tuple(sorted(kinds[j] for j in cylinders)) for cylinders in members]
-    spacing = np.diff(np.sort(angles), append=min(angles) + 2 * math.pi)
+    spacing = np.diff(np.sort(angles), append=angles.min() + 2 * math.pi)
     # Turning a regular crank by its spacing maps it onto itself: the first throw keeps its
     # angle. Another set of angles is arranged every way.
     regular = bool(np.all(np.abs(spacing - 2 * math.pi / len(angles)) <= _RESOLUTION))
@@ -158,10 +147,10 @@ def _candidates(machine: Machine, limit: int) -> tuple[np.ndarray, int]:
     others = (order for order in _arrangements(throw_kinds, regular) if order != own)
     for order in itertools.islice(itertools.chain([own], others), limit):
         # The i-th angle to the first throw of kind order[i] not yet placed.
-        free = {kind: [t for t, own in enumerate(throw_kinds) if own == kind] for kind in set(throw_kinds)}
+        free = {kind: [t for t, its in enumerate(throw_kinds) if its == kind] for kind in set(throw_kinds)}
         pin = np.empty(k)
         for angle, kind in zip(angles, order, strict=True):
-            pin[members[free[kind].pop(0)]] = angle
+            pin[list(members[free[kind].pop(0)])] = angle
         found.append(np.mod(pin - inclinations, 2 * math.pi))
     return np.array(found), total
 
