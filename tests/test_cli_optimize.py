@@ -114,6 +114,22 @@ def test_firing_csv_that_is_cut_says_so_on_stderr_and_writes_out(tmp_path):
     assert written["firing"].tolist() == expected["firing"].tolist()
 
 
+def test_a_machine_file_by_engine(tmp_path):
+    """The issue's spelling: --engine FILE.toml, here the cross-plane V8's layout file and a
+    copy of the marine twin's machine file."""
+    from pathlib import Path
+
+    v8 = Path(__file__).resolve().parents[1] / "docs" / "machines" / "v8-cross.toml"
+    found = json.loads(invoke("firing", "--engine", str(v8), "--format", "json").stdout)
+    expected = mc.firing_orders(mc.Machine.from_toml(v8))
+    assert found["distinct"] == expected.attrs["distinct"] and found["candidates"] == expected.attrs["candidates"]
+    twin = tmp_path / "twin.toml"
+    twin.write_text(mc.presets.MACHINE_FILES["marine-2t-twin"].read_text(encoding="utf-8"), encoding="utf-8")
+    optimum = json.loads(invoke("counterweights", "--engine", str(twin), *FAST, "--format", "json").stdout)
+    direct = mc.optimize_counterweights(mc.Machine.from_toml(twin), seed=7, maxiter=3)
+    assert optimum["objective"] == direct.objective and optimum["objective_before"] == direct.objective_before
+
+
 def test_firing_max_order_reaches_the_library():
     frame = csv_frame(invoke("firing", "--machine", "inline-4", "--max-order", "1", "--format", "csv"), "rank")
     expected = mc.firing_orders(INLINE_4, max_order=1)
