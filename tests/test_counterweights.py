@@ -84,6 +84,20 @@ def test_alike_counterweights_are_the_nearest_to_the_machine_as_given():
     np.testing.assert_allclose(best.counterweights, best.counterweights_before, rtol=1e-6)
 
 
+def test_a_counterweight_at_radius_zero_has_no_moment_as_given():
+    # Its mass sits on the axis: no first moment before; the optimum puts it at the crank radius.
+    bare = TWIN.replace(
+        cylinders=[c.replace(counterweight_mass=50.0, counterweight_radius=0.0) for c in TWIN.cylinders]
+    )
+    best = mc.optimize_counterweights(bare, bounds=(0.0, 12.0), maxiter=5)
+    np.testing.assert_array_equal(best.counterweights_before, [0.0, 0.0])
+    for j, moment_j in enumerate(best.counterweights):
+        cylinder = best.machine.cylinders[j]
+        assert cylinder.counterweight_radius == cylinder.crank_radius
+        assert cylinder.counterweight_mass * cylinder.counterweight_radius == pytest.approx(moment_j, rel=1e-12)
+    assert best.objective_before == mc.steady_state(bare).delta
+
+
 def test_the_same_seed_gives_the_same_result():
     first = mc.optimize_counterweights(TWIN, seed=7, bounds=(0.0, 12.0))
     again = mc.optimize_counterweights(TWIN, seed=7, bounds=(0.0, 12.0))

@@ -326,12 +326,11 @@ def optimize_counterweights(
         value = objective_of(designs(moments.reshape(len(throws), -1)))
         return float(value[0]) if moments.ndim == 1 else value  # the polish calls with one x
 
+    # As given: a counterweight at radius 0 has no first moment, whatever its mass.
     before = np.array(
-        [
-            sum(machine.cylinders[j].counterweight_mass * _radius(machine.cylinders[j]) for j in throw)
-            for throw in throws
-        ]
-    )
+        [sum(machine.cylinders[j].counterweight_mass * machine.cylinders[j].counterweight_radius for j in throw)
+         for throw in throws]
+    )  # fmt: skip
     objective_before = float(objective_of(pd.DataFrame({"rpm": speeds}))[0])
     bar = None
     if progress:
