@@ -29,6 +29,7 @@ from multicrank.pressure import (
     STANDARD_ATMOSPHERE,
     IndicatorDiagram,
 )
+from multicrank.pressure.diagram import PRESSURE_FLOOR
 
 TAU = 2 * math.pi
 REF = STANDARD_ATMOSPHERE
@@ -152,6 +153,31 @@ def test_closure_within_tolerance_is_made_exact():
     assert diagram.pressure[-1] == diagram.pressure[0]
     angle[-1] += 1e-7  # within the span tolerance
     assert IndicatorDiagram(angle, pressure, cycle=TAU).angle[-1] == TAU
+
+
+@pytest.mark.parametrize("kind", INTERPOLATIONS)
+def test_subnormal_pressures_are_zero_without_overflow(kind):
+    # The table hypothesis found: zeros and one subnormal value. PCHIP's slopes divide by the
+    # differences (1/2.2e-309 overflows); warnings are errors here. Physically it is p ≡ 0.
+    angle = np.array([0.0, 1.0, 2.5, 4.0, TAU])
+    pressure = np.array([0.0, 2.2e-309, 0.0, 0.0, 0.0])
+    diagram = IndicatorDiagram(angle, pressure, cycle=TAU, kind=kind)
+    theta = np.linspace(-TAU, 2 * TAU, 1001)
+    assert np.all(diagram(theta) == 0.0) and np.all(diagram.derivative(theta) == 0.0)
+    assert diagram.mean_pressure() == 0.0
+    assert np.all(diagram.pressure == 0.0) and pressure[1] == 2.2e-309  # the caller's array is kept
+    # Beside a real pressure, a subnormal value is 0 as well; PCHIP's interpolant stays within
+    # the neighbouring nodes (no overshoot), as it does for a table with that 0 written out.
+    pressure = np.array([1e7, 2.2e-309, -5e-324, 3e5, 1e7])
+    diagram = IndicatorDiagram(angle, pressure, cycle=TAU, kind=kind)
+    np.testing.assert_array_equal(diagram(angle), [1e7, 0.0, 0.0, 3e5, 1e7])
+    if kind != "periodic-cubic":
+        between = np.linspace(angle[1], angle[2], 101)
+        np.testing.assert_array_equal(diagram(between), 0.0)
+    # Just above the floor, a value is kept as given.
+    tiny = 2 * PRESSURE_FLOOR
+    diagram = IndicatorDiagram(angle, [0.0, tiny, 0.0, 0.0, 0.0], cycle=TAU, kind=kind)
+    assert diagram.pressure[1] == tiny and diagram(angle[1]) == tiny
 
 
 def test_mean_pressure_and_indicated_work_in_closed_form():

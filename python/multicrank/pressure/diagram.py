@@ -53,6 +53,7 @@ __all__ = [
     "ANGLE_UNITS",
     "EXAMPLE_COMPRESSOR_CSV",
     "INTERPOLATIONS",
+    "PRESSURE_FLOOR",
     "PRESSURE_UNITS",
     "STANDARD_ATMOSPHERE",
     "IndicatorDiagram",
@@ -65,6 +66,11 @@ ANGLE_UNITS = {"deg": math.pi / 180.0, "rad": 1.0}
 #: A small **synthetic** example table (not measured), made by :meth:`IndicatorDiagram.compressor`;
 #: its header says how. Read it with ``from_csv(EXAMPLE_COMPRESSOR_CSV, pressure_unit="bar", absolute=True)``.
 EXAMPLE_COMPRESSOR_CSV = Path(__file__).resolve().parent.parent / "data" / "compressor_synthetic.csv"
+
+#: Pressures of smaller magnitude [Pa] are taken as exactly 0 by :class:`IndicatorDiagram`: a
+#: gauge pressure of 1e-30 Pa is zero for any machine, and values down in the subnormal range
+#: (below ~2.2e-308) would make the interpolation's slopes overflow (PCHIP divides by them).
+PRESSURE_FLOOR = 1e-30
 
 # A table must span one cycle to this fraction of the cycle (6e-6 rad for 2π): loose
 # enough for angles printed with six digits, tight enough to catch a missing point.
@@ -102,7 +108,9 @@ class IndicatorDiagram:
         at angle + cycle.
     pressure : array_like, shape (N,)
         Gauge pressure p [Pa] at those angles (absolute minus the crankcase pressure; the
-        crankcase side is 0). Finite.
+        crankcase side is 0). Finite. A magnitude below ``PRESSURE_FLOOR`` = 1e-30 Pa is taken
+        as exactly 0 (physically it is; and a subnormal value such as 2.2e-309 would overflow
+        the interpolation's slopes): ``diagram.pressure`` holds the table so flushed.
     cycle : float
         The working cycle Φ [rad]: ``2*math.pi`` (two-stroke) or ``4*math.pi`` (four-stroke).
     kind : {"periodic-cubic", "pchip", "linear"}, default "periodic-cubic"
@@ -194,6 +202,7 @@ class IndicatorDiagram:
             raise MechanismError(
                 f"angle must increase strictly: angle[{a.size - 2}] = {a[-2]:.10g} is at the cycle's end"
             )
+        p = np.where(np.abs(p) < PRESSURE_FLOOR, 0.0, p)
         scale = float(np.max(np.abs(p)))
         mismatch = abs(float(p[-1] - p[0]))
         if mismatch > tolerance * scale:
@@ -203,7 +212,6 @@ class IndicatorDiagram:
                 f"{mismatch / scale:.3g} of max|p|, above closure_tolerance = {tolerance}; the first and last "
                 f"points are the same state of the cycle (raise closure_tolerance to accept the data as it is)"
             )
-        p = p.copy()
         p[-1] = p[0]
         a.flags.writeable = False
         p.flags.writeable = False
