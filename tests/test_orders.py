@@ -152,6 +152,26 @@ def test_half_orders_come_only_from_a_four_stroke_gas_cycle():
     assert gassed.index.tolist() == list(np.arange(25) / 2)
 
 
+def test_what_cancels_exactly_is_zero_not_rounding():
+    """Orders that vanish by symmetry are exactly 0 in the table (not 1e-15 N·m): a flat-plane
+    in-line four's phase sums Σ e^(iνα) (α = 0, π, π, 0) vanish for odd ν, so its inertia and
+    gravity have no odd orders; one cylinder's gravity has ν = 1 and even ν only (the Λ_n), and
+    inertia −½J′ω² has no mean (J is periodic). What does not cancel stays."""
+    four = mc.presets.MACHINES["inline-4"]
+    table = mc.torque_orders(four, 3000, max_order=12)
+    odd = [1.0, 3.0, 5.0, 7.0, 9.0, 11.0]
+    for part in ("inertia", "gravity"):
+        assert np.all(table.loc[odd, [f"{part}_cos", f"{part}_sin", f"{part}_amplitude"]].to_numpy() == 0.0), part
+    assert table.loc[0.0, "inertia_amplitude"] == 0.0
+    assert np.all(table.loc[[2.0, 4.0, 6.0, 8.0], "inertia_amplitude"] > 0)
+    one = mc.presets.MACHINES["slow-compressor"]
+    single = mc.torque_orders(one, 120, max_order=12)
+    assert np.all(single.loc[[3.0, 5.0, 7.0, 9.0, 11.0], "gravity_amplitude"] == 0.0)
+    assert single.loc[0.0, "inertia_amplitude"] == 0.0
+    assert np.all(single.loc[[1.0, 2.0, 4.0, 6.0, 8.0], "gravity_amplitude"] > 0)
+    assert np.all(single.loc[1.0:12.0, "inertia_amplitude"] > 0)  # a single cylinder's inertia has every order
+
+
 def test_tabulated_gas_orders_against_quad_between_the_kinks():
     angle = np.linspace(0.0, 4 * math.pi, 13)
     pressure = 1e5 * np.array([30.0, 12, 5, 2, 1, 0.5, 0.5, 0.8, 1.5, 3, 8, 18, 30])

@@ -42,6 +42,14 @@ __all__ = ["ORDER_PARTS", "to_opentorsion", "torque_orders"]
 #: The torques of :func:`torque_orders`, in column order.
 ORDER_PARTS = ("gas", "inertia", "gravity", "total")
 
+#: A coefficient pair whose amplitude is below this fraction of its part's scale is exactly 0.
+#: The scale is the size of what the part's sum cancels: for inertia and gravity Σ_j max|M_j|
+#: over the units alone, for gas the part's largest amplitude, for the total the largest of
+#: the three. What cancels (an in-line four's odd orders, a single cylinder's odd gravity
+#: orders above the first, inertia's mean) comes out of the quadrature at ≈ 1e-16 … 2e-15 of
+#: that scale (the presets up to order 100); 1e-13 is fifty times above that rounding.
+RESOLUTION = 1e-13
+
 #: The widest quadrature panel [rad], and at most this fraction of the shortest period
 #: (2π/ν_max) per panel: with 12 nodes a panel then integrates cos νφ to rounding.
 _MAX_WIDTH = math.pi / 16
@@ -79,7 +87,12 @@ def torque_orders(machine: Machine, rpm: float, *, max_order: int = 12, gravity:
     -----
     Inertia and gravity are 2π-periodic: their half orders are exactly 0, and only a
     four-stroke gas cycle has half orders. Accuracy: gravity and inertia to rounding; gas
-    torques to rounding for smooth or tabulated pressures (docs/theory.md, "Orders").
+    torques to rounding for smooth or tabulated pressures (docs/theory.md, "Orders"). A
+    coefficient pair whose amplitude is below 1e-13 times the size of what its part cancels
+    (for inertia and gravity Σ_j max|M_j| of the units alone; for gas, its largest amplitude)
+    is exactly 0: what cancels (an in-line four's odd orders, inertia's mean) prints as 0,
+    not as 1e-15 N·m of rounding. "total" is the sum of the parts before that, zeroed by the
+    same rule at the largest of their scales.
 
     Examples
     --------
@@ -125,10 +138,18 @@ def torque_orders(machine: Machine, rpm: float, *, max_order: int = 12, gravity:
         parts["gas"][1] + parts["inertia"][1] + parts["gravity"][1],
     )
 
+    # What cancelled to below the quadrature's rounding is 0, not 1e-15 N·m of noise.
+    scale = {name: float(np.max(np.hypot(*parts[name]))) for name in ORDER_PARTS}
+    inertia_scale, gravity_scale = _uncancelled(machine, revolution.phi, omega)
+    scale["inertia"] = max(scale["inertia"], inertia_scale)
+    scale["gravity"] = max(scale["gravity"], gravity_scale if gravity else 0.0)
+    scale["total"] = max(scale.values())
     columns: dict[str, np.ndarray] = {}
     units: dict[str, str] = {}
     for name in ORDER_PARTS:
         cos, sin = parts[name]
+        resolved = np.hypot(cos, sin) >= RESOLUTION * scale[name]
+        cos, sin = np.where(resolved, cos, 0.0), np.where(resolved, sin, 0.0)
         columns[f"{name}_cos"], columns[f"{name}_sin"] = cos, sin
         columns[f"{name}_amplitude"] = np.hypot(cos, sin)
         columns[f"{name}_phase"] = np.arctan2(sin, cos)
@@ -136,6 +157,17 @@ def torque_orders(machine: Machine, rpm: float, *, max_order: int = 12, gravity:
     frame = pd.DataFrame(columns, index=pd.Index(orders, name="order"))
     frame.attrs.update({"rpm": speed, "omega": omega, "strokes": machine.strokes, "units": units})
     return frame
+
+
+def _uncancelled(machine: Machine, phi: np.ndarray, omega: float) -> tuple[float, float]:
+    """Σ_j max_φ |M_j(φ)| of each unit's inertia and gravity torque alone [N·m]: the size of
+    what the machine's sum over its units cancels, and so the scale of its rounding."""
+    inertia = gravity = 0.0
+    for cylinder in machine.cylinders:
+        alone = machine.replace(cylinders=[cylinder])
+        inertia += float(np.max(np.abs(alone.inertia_torque(phi, omega))))
+        gravity += float(np.max(np.abs(alone.gravity_torque(phi))))
+    return inertia, gravity
 
 
 def _coefficients(rule: CycleQuadrature, values: np.ndarray, orders: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
