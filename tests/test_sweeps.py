@@ -175,6 +175,33 @@ def test_parquet_streaming_matches_in_memory(tmp_path):
     pd.testing.assert_frame_equal(pq.read_table(path).to_pandas(), expected.reset_index(drop=True))
 
 
+# The signal tests send their signal only once the work has visibly started (a part on disk, a
+# line from the child), into work that cannot finish in between: a child that blocks once it has
+# written its parts, or a sweep of 10⁸ designs (about an hour) that the test always ends. No
+# test depends on how fast the machine is; the 300 s bounds only turn a hang into a failure.
+
+# A sweep whose PartStore stops after `parts` parts: it prints a line and waits to be killed.
+_STOPS_AFTER = """
+import sys, time
+import numpy as np
+import multicrank as mc
+from multicrank.sweeps.store import PartStore
+
+original, written = PartStore.write, [0]
+
+def write(self, index, frame):
+    if written[0] == {parts}:
+        print("parts written", flush=True)
+        while True:
+            time.sleep(60)
+    written[0] += 1
+    return original(self, index, frame)
+
+PartStore.write = write
+mc.sweep({grid}, phi=360, out={out!r}, chunk_size=500)
+"""
+
+
 def test_resume_after_a_kill_gives_the_same_file(tmp_path):
     grid_code = (
         "mc.DesignGrid(crank_ratio=np.linspace(0.1, 0.9, 60), inclination=np.linspace(0, 3, 50), u1=[0.2, 0.7],"
@@ -185,16 +212,20 @@ def test_resume_after_a_kill_gives_the_same_file(tmp_path):
     mc.sweep(grid, phi=360, out=uninterrupted, chunk_size=500)
 
     target = tmp_path / "killed.parquet"
-    code = f"import numpy as np, multicrank as mc; mc.sweep({grid_code}, phi=360, out={str(target)!r}, chunk_size=500)"
-    child = subprocess.Popen([sys.executable, "-c", code])
+    code = _STOPS_AFTER.format(parts=3, grid=grid_code, out=str(target))
+    child = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        line = child.stdout.readline()  # the child has written 3 parts and waits
+        assert line == "parts written\n", f"the sweep stopped early: {child.communicate()[1]}"
+        child.send_signal(signal.SIGKILL)
+        child.communicate(timeout=300)
+    finally:
+        if child.poll() is None:
+            child.kill()
+            child.communicate()
+    assert child.returncode == -signal.SIGKILL
     parts = target.with_name(target.name + ".parts")
-    deadline = time.time() + 120
-    while len(list(parts.glob("part-*.parquet"))) < 3 and time.time() < deadline and child.poll() is None:
-        time.sleep(0.02)
-    child.send_signal(signal.SIGKILL)
-    child.wait()
-    done = len(list(parts.glob("part-*.parquet")))
-    assert 0 < done < len(grid) // 500, "the sweep was killed mid-way"
+    assert len(list(parts.glob("part-*.parquet"))) == 3, "the sweep was killed mid-way"
     assert not target.exists()
 
     with pytest.raises(mc.MechanismError, match="cannot resume"):
@@ -205,45 +236,97 @@ def test_resume_after_a_kill_gives_the_same_file(tmp_path):
     assert target.read_bytes() == uninterrupted.read_bytes()
 
 
-def test_ctrl_c_exits_130_keeps_whole_parts_and_resume_completes_the_same_file(tmp_path):
-    """SIGINT to `multicrank sweep` while it runs: exit status 130 with a one-line hint, the
-    finished parts kept whole, no output file; --resume then writes the file byte for byte as
-    an uninterrupted sweep does. No wall-clock bound: 300 s guard against a hang only."""
-    chunk, chunks = 4000, 40
-    # 160 000 designs, ~2.5 s on two cores, so the sweep is still running when the signal
-    # arrives: it is sent as soon as the first part is on disk.
-    grid = ["--crank-ratio", "0.1:0.9:160", "--inclination", "0:90:125", "--u1", "0.2,0.7", "--u2=-0.1,0.1",
-            "--cranks", "1,12", "--chunk-size", str(chunk), "--no-progress"]  # fmt: skip
-    target = tmp_path / "x.parquet"
-    parts = tmp_path / "x.parquet.parts"
-    child = subprocess.Popen(
-        [str(SCRIPT), "sweep", *grid, "--out", str(target)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True
-    )
+def _interrupt_when_a_part_appears(command: list[str], parts: Path, known: set[str]) -> tuple[int, str]:
+    """Runs `command`, sends SIGINT once a part file not in `known` is on disk, and returns the
+    exit status and stderr. The sweep is far too long to finish first: the signal always lands."""
+    child = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     try:
-        deadline = time.monotonic() + 300
-        while not list(parts.glob("part-*.parquet")) and child.poll() is None and time.monotonic() < deadline:
+        guard = time.monotonic() + 300  # a hang fails the test; the speed of the machine does not
+        while child.poll() is None and time.monotonic() < guard:
+            if {path.name for path in parts.glob("part-*.parquet")} - known:
+                break
             time.sleep(0.01)
+        assert child.poll() is None, f"the sweep ended before a new part was written: {child.communicate()[1]}"
         child.send_signal(signal.SIGINT)
         _, err = child.communicate(timeout=300)
     finally:
         if child.poll() is None:
             child.kill()
             child.communicate()
-    assert child.returncode == 130, f"exit status {child.returncode} (0: finished before SIGINT); stderr: {err}"
+    return child.returncode, err
+
+
+def test_ctrl_c_exits_130_keeps_whole_parts_and_resume_continues_from_them(tmp_path):
+    """SIGINT to `multicrank sweep` while it runs: exit status 130 with a one-line hint, the
+    finished parts kept whole, no output file; --resume continues after them and leaves them as
+    they are (interrupted again). The sweep is 1.28·10⁸ designs (about an hour); the test ends it."""
+    chunk = 4000
+    grid = ["--crank-ratio", "0.1:0.9:4000", "--inclination", "0:90:2000", "--u1", "0.2,0.7", "--u2=-0.1,0.1",
+            "--cranks", "1,12", "--chunk-size", str(chunk), "--no-progress"]  # fmt: skip
+    target = tmp_path / "x.parquet"
+    parts = tmp_path / "x.parquet.parts"
+    command = [str(SCRIPT), "sweep", *grid, "--out", str(target)]
+
+    status, err = _interrupt_when_a_part_appears(command, parts, set())
+    assert status == 130, f"exit status {status}; stderr: {err}"
     assert "interrupted" in err and "--resume" in err and "Traceback" not in err
     assert not target.exists()
-    kept = sorted(parts.glob("part-*.parquet"))
-    assert 0 < len(kept) < chunks
-    for part in kept:
-        assert pq.read_table(part).num_rows == chunk  # whole parts only
+    kept = {path.name: path.stat() for path in parts.glob("part-*.parquet")}
+    assert kept
+    for name in kept:
+        assert pq.read_table(parts / name).num_rows == chunk  # whole parts only
+
+    status, err = _interrupt_when_a_part_appears([*command, "--resume"], parts, set(kept))
+    assert status == 130, f"exit status {status}; stderr: {err}"
+    now = sorted(parts.glob("part-*.parquet"))
+    assert len(now) > len(kept) and not target.exists()
+    # Chunks 0, 1, … in order: the resumed sweep went on from the first chunk it did not have,
+    # and did not write the kept parts again (the same files, not rewritten).
+    assert [int(path.name.split("-")[1]) for path in now] == list(range(len(now)))
+    for name, stat in kept.items():
+        again = (parts / name).stat()
+        assert (again.st_ino, again.st_mtime_ns) == (stat.st_ino, stat.st_mtime_ns)
+    for path in now:
+        assert pq.read_table(path).num_rows == chunk
+
+
+def test_cli_resume_after_ctrl_c_writes_the_same_file(tmp_path, monkeypatch):
+    """Ctrl-C (a KeyboardInterrupt after the third part, in-process, so it always lands) gives
+    exit status 130 and the hint; --resume then writes the file byte for byte as an
+    uninterrupted sweep does."""
+    from click.testing import CliRunner
+
+    from multicrank import cli
+    from multicrank.sweeps.store import PartStore
+
+    chunk, chunks = 500, 12
+    grid = ["--crank-ratio", "0.1:0.9:30", "--inclination", "0:90:25", "--u1", "0.2,0.7", "--u2=-0.1,0.1",
+            "--cranks", "1,12", "--chunk-size", str(chunk), "--no-progress"]  # fmt: skip
+    target = tmp_path / "x.parquet"
+    parts = tmp_path / "x.parquet.parts"
+    original, written = PartStore.write, [0]
+
+    def ctrl_c_after_three(self, index, frame):
+        if written[0] == 3:
+            raise KeyboardInterrupt
+        written[0] += 1
+        return original(self, index, frame)
+
+    with monkeypatch.context() as patch:
+        patch.setattr(PartStore, "write", ctrl_c_after_three)
+        result = CliRunner().invoke(cli.main, ["sweep", *grid, "--out", str(target)])
+    assert result.exit_code == 130, result.output
+    assert "interrupted" in result.output and "--resume" in result.output
+    assert not target.exists() and len(list(parts.glob("part-*.parquet"))) == 3
 
     def run(*args: str) -> None:
-        result = subprocess.run([str(SCRIPT), "sweep", *grid, *args], capture_output=True, text=True, timeout=300)
-        assert result.returncode == 0, result.stderr
+        result = CliRunner().invoke(cli.main, ["sweep", *grid, *args])
+        assert result.exit_code == 0, result.output
 
     run("--out", str(target), "--resume")
     run("--out", str(tmp_path / "whole.parquet"))
     assert not parts.exists()
+    assert pq.ParquetFile(target).num_row_groups == chunks
     assert target.read_bytes() == (tmp_path / "whole.parquet").read_bytes()
 
 
