@@ -147,3 +147,196 @@ def test_an_old_path_leaves_the_module_spec_alone():
     )
     result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
     assert result.returncode == 0, result.stderr
+
+
+# -- every public exception and result pickles (issue 26, item 5) ------------------------------
+
+# The rooms whose names are the library's API: the package, each room's __init__, and the public
+# modules beside them.
+ROOMS = (
+    "multicrank",
+    "multicrank.gravity",
+    "multicrank.machine",
+    "multicrank.pressure",
+    "multicrank.motion",
+    "multicrank.sweeps.designs",
+    "multicrank.sweeps.driver",
+    "multicrank.motion.sweep",
+    "multicrank.design",
+    "multicrank.report",
+    "multicrank.symbolic",
+)
+
+
+def _stall_error() -> mc.StallError:
+    with pytest.raises(mc.StallError) as caught:
+        mc.steady_state(MACHINES["slow-compressor"], rpm=5)
+    return caught.value
+
+
+def _internal_stall() -> Exception:
+    from multicrank.motion._solvers import Stall
+
+    return Stall(1.25, "stops at φ = 1.25 rad")
+
+
+def _missing_optional() -> Exception:
+    from multicrank._optional import require
+
+    with pytest.raises(ImportError) as caught:
+        require("multicrank_no_such_module", "report")
+    return caught.value
+
+
+def _cli_error(name: str) -> Exception:
+    from multicrank.cli import _group
+
+    return getattr(_group, name)("a machine file without rpm")
+
+
+def _symbolic(which: str) -> object:
+    pytest.importorskip("sympy")
+    from multicrank import symbolic
+
+    return getattr(symbolic, which)(cranks=2)
+
+
+#: A real instance of each class, by name; a class of the rooms or an exception of the package
+#: missing here fails test_every_public_class_has_an_instance_here.
+INSTANCES = {
+    "CounterweightOptimum": lambda: mc.optimize_counterweights(MACHINES["marine-2t-twin"], seed=7, maxiter=3),
+    "Cylinder": lambda: NOW["cylinder"],
+    "DesignGrid": lambda: NOW["design_grid"],
+    "EnergyExtrema": lambda: NOW["extrema"],
+    "Engine": lambda: NOW["engine"],
+    "FlywheelInertia": lambda: mc.flywheel_inertia(MACHINES["inline-4"], delta=0.04, rpm=1500.0),
+    "IndicatorDiagram": lambda: NOW["diagram"],
+    "Layout": lambda: NOW["layout"],
+    "Machine": lambda: NOW["machine:slow-compressor"],
+    "MachineGrid": lambda: mc.MachineGrid(MACHINES["inline-4"], rpm=[1000.0, 2000.0], shaft_inertia=[0.1, 0.2]),
+    "MechanismError": lambda: mc.MechanismError("rpm = -1 is out of range; allowed: rpm > 0 [1/min]"),
+    "MissingExtra": lambda: _cli_error("MissingExtra"),
+    "UserError": lambda: _cli_error("UserError"),
+    "OptionalDependencyError": _missing_optional,
+    "PowerLawLoad": lambda: NOW["load"],
+    "ReportSettings": lambda: __import__("multicrank.report", fromlist=["ReportSettings"]).ReportSettings(),
+    "Stall": _internal_stall,
+    "StallError": _stall_error,
+    "SteadyState": lambda: mc.steady_state(MACHINES["inline-4"], points=37),
+    "SymbolicGravity": lambda: _symbolic("gravity"),
+    "SymbolicInertia": lambda: _symbolic("reduced_inertia"),
+    "Transient": lambda: mc.simulate(MACHINES["inline-4"], np.linspace(0.0, 0.05, 11), rpm0=1500.0, load="balance"),
+    "UniformGrid": lambda: mc.uniform_grid(100),
+}
+
+
+def _package_modules() -> list[str]:
+    import pkgutil
+
+    return ["multicrank", *(module.name for module in pkgutil.walk_packages(mc.__path__, "multicrank."))]
+
+
+def public_classes() -> set[type]:
+    """Every class a room exports, and every exception class the package defines anywhere (a
+    private one may still reach a user, or a worker's parent)."""
+    import importlib
+    import inspect
+
+    found: set[type] = set()
+    for room in ROOMS:
+        module = importlib.import_module(room)
+        found |= {value for name in module.__all__ if inspect.isclass(value := getattr(module, name))}
+    for name in _package_modules():
+        if name.endswith("__main__"):
+            continue
+        module = importlib.import_module(name)
+        found |= {
+            value
+            for value in vars(module).values()
+            if inspect.isclass(value) and issubclass(value, BaseException) and value.__module__.startswith("multicrank")
+        }
+    # A base class is covered by its subclasses here (MotionResult by SteadyState, …); an
+    # exception is raised as itself too.
+    return {
+        cls
+        for cls in found
+        if issubclass(cls, BaseException) or not any(other is not cls and issubclass(other, cls) for other in found)
+    }
+
+
+def test_every_public_class_has_an_instance_here():
+    assert {cls.__name__ for cls in public_classes()} == set(INSTANCES)
+
+
+def same(a: object, b: object, where: str = "value") -> None:
+    """a and b are of one type with equal attributes, recursively (arrays bit for bit, NaN
+    equal to NaN); an object without attributes compares by ==."""
+    import dataclasses
+
+    import pandas as pd
+
+    assert type(a) is type(b), where
+    if isinstance(a, np.ndarray):
+        assert a.dtype == b.dtype and np.array_equal(a, b, equal_nan=a.dtype.kind in "fc"), where
+    elif isinstance(a, pd.DataFrame | pd.Series):
+        compare = pd.testing.assert_frame_equal if isinstance(a, pd.DataFrame) else pd.testing.assert_series_equal
+        compare(a, b)
+        same(a.attrs, b.attrs, f"{where}.attrs")
+    elif isinstance(a, dict):
+        assert list(a) == list(b), where
+        for key in a:
+            same(a[key], b[key], f"{where}[{key!r}]")
+    elif isinstance(a, list | tuple):
+        assert len(a) == len(b), where
+        for index, (x, y) in enumerate(zip(a, b, strict=True)):
+            same(x, y, f"{where}[{index}]")
+    elif isinstance(a, float):
+        assert a == b or (np.isnan(a) and np.isnan(b)), where
+    elif isinstance(a, BaseException):
+        assert str(a) == str(b), where
+        same(a.args, b.args, f"{where}.args")
+        same(vars(a), vars(b), f"{where}.__dict__")
+    elif type(a).__module__.startswith("multicrank"):
+        if "__getstate__" in {name for cls in type(a).__mro__[:-1] for name in vars(cls)}:
+            same(a.__getstate__(), b.__getstate__(), f"{where}.__getstate__()")  # what it says it is
+            return
+        names = {field.name for field in dataclasses.fields(a)} if dataclasses.is_dataclass(a) else set()
+        names |= set(getattr(a, "__dict__", {}))
+        names |= {name for cls in type(a).__mro__ for name in getattr(cls, "__slots__", ()) if name != "_cache"}
+        for name in sorted(names):
+            same(getattr(a, name), getattr(b, name), f"{where}.{name}")
+    else:
+        assert a == b, where
+
+
+@pytest.mark.parametrize("name", sorted(INSTANCES))
+def test_every_public_class_round_trips_a_pickle(name):
+    value = INSTANCES[name]()
+    same(pickle.loads(pickle.dumps(value)), value, name)
+    same(copy.deepcopy(value), value, name)
+
+
+def test_the_tables_of_the_design_aid_and_the_sweeps_round_trip_a_pickle():
+    inline = MACHINES["inline-4"]
+    tables = {
+        "firing_orders": mc.firing_orders(inline, max_candidates=2),
+        "motion_sweep": mc.motion_sweep(inline, mc.MachineGrid(inline, rpm=[1000.0, 2000.0])),
+        "sweep": mc.sweep(NOW["design_grid"], phi=36),
+    }
+    for name, table in tables.items():
+        same(pickle.loads(pickle.dumps(table)), table, name)
+
+
+def test_a_stall_in_a_process_pool_comes_back_to_the_parent():
+    """A worker's StallError is pickled back to the parent: before it pickled, the pool's
+    result thread died on it and .get() waited for ever (the timeout is only a guard)."""
+    import multiprocessing
+
+    compressor = MACHINES["slow-compressor"]
+    with multiprocessing.get_context("spawn").Pool(1) as pool:
+        pending = pool.apply_async(mc.steady_state, (compressor,), {"rpm": 5.0})
+        with pytest.raises(mc.StallError) as caught:
+            pending.get(timeout=120)
+    expected = _stall_error()
+    assert caught.value.min_rpm == expected.min_rpm and caught.value.angle == expected.angle
+    assert str(caught.value) == str(expected)

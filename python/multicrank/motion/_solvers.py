@@ -14,6 +14,7 @@ t_Φ = ∫₀^Φ dφ/ω = ∫₀^Φ √(J/2E) dφ.
 from __future__ import annotations
 
 import copy
+import copyreg
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -48,6 +49,10 @@ class Stall(Exception):
     def __init__(self, angle: float, message: str) -> None:
         super().__init__(message)
         self.angle = angle
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        # args holds the message only: rebuild without __init__ and restore the angle.
+        return (copyreg.__newobj__, (type(self), *self.args), self.__dict__)
 
 
 class CycleTables:

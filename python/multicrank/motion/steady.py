@@ -31,6 +31,7 @@ SciPy is imported when a steady state is computed.
 
 from __future__ import annotations
 
+import copyreg
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -103,6 +104,12 @@ class StallError(MechanismError):
         super().__init__(message)
         self.angle = float(angle)
         self.min_rpm = None if min_rpm is None else float(min_rpm)
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        # An exception pickles as cls(*args), and angle is keyword-only: rebuild it without
+        # __init__ and restore the attributes, so that the error crosses a pickle (a
+        # multiprocessing worker's error sent back to its parent) whole.
+        return (copyreg.__newobj__, (type(self), *self.args), self.__dict__)
 
 
 # -- inputs ------------------------------------------------------------------------------------
