@@ -11,6 +11,7 @@ import click
 import numpy as np
 
 from .._native import MechanismError
+from .._text import counted
 from ..gravity.evaluation import generalized_force, potential_energy
 from ..gravity.mechanism import crank_phases
 from ._group import UserError, machine_option
@@ -139,7 +140,7 @@ def eval_command(
         )
     else:
         out.write(
-            f"{evaluated.name}: {len(evaluated)} cylinders, {evaluated.strokes}-stroke, {acting}-acting, "
+            f"{evaluated.name}: {counted(len(evaluated), 'cylinder')}, {evaluated.strokes}-stroke, {acting}-acting, "
             f"n = {speed:g} rpm (dimensionless, ÷ I_w ω²)\n\n"
         )
     out.write(f"{'φ [deg]':>9}  {'U_w*':>14}  {'Q_u*':>14}\n")

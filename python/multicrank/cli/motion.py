@@ -13,6 +13,7 @@ import numpy as np
 from .._files import write_atomically
 from .._native import MechanismError
 from .._shaft import omega_from_rpm, rpm_from_omega
+from .._text import counted
 from ._group import UserError, machine_option
 from ._output import format_option, write_result
 
@@ -321,7 +322,7 @@ def motion_command(
         flywheel_textbook="kg·m²", rpm_min="1/min", rpm_max="1/min",
     )  # fmt: skip
     summary = [
-        f"{machine.name}: {len(machine)} cylinders, {machine.strokes}-stroke, shaft inertia "
+        f"{machine.name}: {counted(len(machine), 'cylinder')}, {machine.strokes}-stroke, shaft inertia "
         f"{machine.shaft_inertia:g} kg·m², load {load}, drive {drive or 'none'}",
         "δ = (ω_max − ω_min)/ω_mean (time mean); gravity_change_percent = (δ − δ without gravity)/δ without gravity",
     ]

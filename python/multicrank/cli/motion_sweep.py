@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING, Any
 
 import click
 
+from .._text import counted
 from .._native import MechanismError
 from ._group import UserError, machine_option
 from ._output import format_option
@@ -183,7 +184,7 @@ def motion_sweep_command(
         sys.exit(130)
     elapsed = time.perf_counter() - started
     rate = f"{len(grid) / elapsed:,.0f} designs/s" if elapsed > 0 else "instant"
-    heading = f"{machine.name}: {len(grid):,} designs (load {load_text}) in {elapsed:.2f} s ({rate})"
+    heading = f"{machine.name}: {counted(len(grid), 'design')} (load {load_text}) in {elapsed:.2f} s ({rate})"
     if out is not None:
         from .._optional import require
 

@@ -11,6 +11,7 @@ from typing import TYPE_CHECKING, Any
 import click
 
 from .._native import MechanismError
+from .._text import counted
 from ._group import UserError, machine_option
 from ._output import format_option, write_result
 from .motion import _speed
@@ -75,9 +76,7 @@ def _write(
         raise UserError(f"--out {out_path}: {error.strerror or error}") from None
 
 
-def _count(number: int, noun: str) -> str:
-    """The count and its noun, plural unless one: "1 cylinder", "12 cylinders"."""
-    return f"{number:,} {noun}{'' if number == 1 else 's'}"
+_count = counted  # "1 cylinder", "12 cylinders"
 
 
 def _degrees_text(phases: tuple[float, ...]) -> str:

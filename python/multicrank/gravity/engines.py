@@ -23,6 +23,7 @@ from .._native import engine_extrema as _native_engine_extrema
 from .._native import engine_fourier as _native_engine_fourier
 from .._native import engine_leading_harmonic as _native_engine_leading_harmonic
 from .._native import engine_sensitivity as _native_engine_sensitivity
+from .._text import counted
 from .._validation import as_count, as_design, as_label, as_nonnegative, as_option, check_size, contiguous, finish
 from .extrema import EnergyExtrema
 from .grids import as_phi
@@ -248,7 +249,7 @@ class Engine:
         raise AttributeError(name)
 
     def __repr__(self) -> str:
-        return f"Engine({self.name!r}, {len(self)} units)"
+        return f"Engine({self.name!r}, {counted(len(self), 'unit')})"
 
     def __eq__(self, other: object) -> bool:
         # By value: the same name and the same columns (finite, so no NaN to care about).

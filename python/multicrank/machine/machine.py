@@ -22,6 +22,7 @@ from .._native import machine_evaluate as _native_machine_evaluate
 from .._native import machine_gas_torque as _native_machine_gas_torque
 from .._native import machine_inertia as _native_machine_inertia
 from .._shaft import inertia_torque as _inertia_torque
+from .._text import counted
 from .._validation import as_real_array, as_scalar, as_speed, as_strokes, as_threshold, contiguous
 from .._validation import as_speed_range as _speed_range
 from ..gravity.engines import Engine
@@ -455,7 +456,7 @@ class Machine:
     def __repr__(self) -> str:
         speed = "" if self.rpm is None else f", {self.rpm:g} rpm"
         return (
-            f"Machine({self.name!r}, {len(self)} cylinders, shaft_inertia={self.shaft_inertia:g} kg·m², "
+            f"Machine({self.name!r}, {counted(len(self), 'cylinder')}, shaft_inertia={self.shaft_inertia:g} kg·m², "
             f"{self.strokes}-stroke{speed}, g={self.g:g})"
         )
 

@@ -42,6 +42,7 @@ import numpy as np
 
 from .._native import MechanismError
 from .._shaft import inertia_torque, omega_from_rpm, rpm_from_omega
+from .._text import counted
 from .._validation import as_count, as_flag, as_instance, renamed
 from ..machine.machine import Machine
 from ..machine.native import motion_machine
@@ -381,7 +382,8 @@ class SteadyState(MotionResult):
         """
         degrees = math.degrees
         lines = [
-            f"steady state of {self.machine.name!r} ({self.machine.strokes}-stroke, {len(self.machine)} cylinders), "
+            f"steady state of {self.machine.name!r} "
+            f"({self.machine.strokes}-stroke, {counted(len(self.machine), 'cylinder')}), "
             f"load {self.load_rule}, by {self.method}{'' if self.gravity else ', without gravity'}",
             f"  mean speed       {self.rpm:.6g} rpm (ω_m = {self.omega_mean:.8g} rad/s, t_Φ = {self.period:.6g} s)",
             f"  ω_max            {self.omega_max:.8g} rad/s at φ = {degrees(self.phi_max):.4f}°",

@@ -225,8 +225,9 @@ def simulate(
     balance_speed : float, optional
         The same as ``balance_rpm``, in rad/s (the name of 0.2 and before).
     progress : bool
-        Show a tqdm progress bar of the simulated time (it follows the integrator's farthest
-        evaluation; the result does not depend on it).
+        Show a tqdm progress bar of the simulated time, counted in the output times ``t``
+        passed (it follows the integrator's farthest evaluation; the result does not depend
+        on it).
     rpm0 : float, optional
         The start speed in 1/min instead of ``omega0`` (ω₀ = π n₀/30), finite and ≥ 0.
     balance_rpm : float, optional
@@ -421,15 +422,17 @@ def _integrate(
     if progress:
         from tqdm.auto import tqdm
 
-        span = float(times[-1] - times[0])
-        bar = tqdm(total=span, desc="simulate", unit="s", unit_scale=True)
-        reached = [float(times[0])]
+        # Counted in output times passed: an integer total (a float one prints "0.00/2.00").
+        steps = int(times.size - 1)
+        bar = tqdm(total=steps, desc="simulate", unit="point")
+        passed = [0]
 
         def rhs(t: float, y: np.ndarray) -> list[float]:
-            if t > reached[0]:
+            done = min(int(np.searchsorted(times, t, side="right")) - 1, steps)
+            if done > passed[0]:
                 assert bar is not None
-                bar.update(min(t, float(times[-1])) - reached[0])
-                reached[0] = min(t, float(times[-1]))
+                bar.update(done - passed[0])
+                passed[0] = done
             return model.rhs(t, y)
 
     try:

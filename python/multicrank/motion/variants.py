@@ -24,6 +24,7 @@ from typing import Any
 import numpy as np
 
 from .._native import MechanismError
+from .._text import counted
 from .._validation import as_instance, as_real_array, as_speed
 from ..machine.cylinder import UNIT_FIELDS, Cylinder, Pressure
 from ..machine.machine import Machine
@@ -281,4 +282,5 @@ class MachineGrid(ProductGrid):
 
     def __repr__(self) -> str:
         axes = ", ".join(f"{name}: {len(values)}" for name, values in self.axes.items())
-        return f"MachineGrid({self.machine.name!r}, {len(self)} designs; axes {axes}; constants {self.constants})"
+        designs = counted(len(self), "design")
+        return f"MachineGrid({self.machine.name!r}, {designs}; axes {axes}; constants {self.constants})"

@@ -15,6 +15,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
+from .._text import counted
 from ..machine.machine import Machine
 from .settings import ReportSettings, running_speed
 
@@ -164,7 +165,7 @@ def _counterweight_html(results: DesignResults) -> str:
         f"<td>{r.counterweight - r.counterweight_before:+.3g}</td></tr>"
         for r in records
     )
-    work = f"{optimum.nit} generations, {optimum.nfev} evaluations"
+    work = f"{counted(optimum.nit, 'generation')}, {counted(optimum.nfev, 'evaluation')}"
     converged = (
         f"yes ({work})"
         if optimum.success

@@ -25,6 +25,7 @@ import numpy as np
 import pandas as pd
 
 from .._native import MechanismError
+from .._text import counted
 from ..gravity.evaluation import generalized_force, potential_energy
 from ..gravity.extrema import speed_fluctuation
 from ..gravity.harmonics import fourier_coefficients, harmonic_table, lambda_coefficients
@@ -466,9 +467,9 @@ def gravity_html(
         ""
         if inline
         else f"""<p class="note">{html.escape(machine.name)} is not a machine of identical cylinders on one bank
-(the paper's machine): δ<sub>g</sub> above is the whole machine's, from its engine of {len(machine)} units; the
-sections on k cranks below put its first cylinder, with its throw's crank web and counterweight, on k in-line
-cranks.</p>"""
+(the paper's machine): δ<sub>g</sub> above is the whole machine's, from its engine of
+{counted(len(machine), "unit")}; the sections on k cranks below put its first cylinder, with its throw's crank
+web and counterweight, on k in-line cranks.</p>"""
     )
     derived_12 = tables["table1_two_stroke_single"].loc[[n for n in paper.index if n <= settings.n_max]]
     matches = bool((derived_12 == paper.loc[derived_12.index]).all().all())

@@ -28,7 +28,8 @@ def progress_bar(total: int, enabled: bool, initial: int = 0, desc: str = "sweep
         return None
     from tqdm.auto import tqdm
 
-    return tqdm(total=total, initial=initial, unit="designs", unit_scale=True, desc=desc, smoothing=0.1)
+    # Whole designs: unit_scale would print "0.00/2.00" for a sweep of two.
+    return tqdm(total=int(total), initial=int(initial), unit="designs", desc=desc, smoothing=0.1)
 
 
 def is_dask(designs: Any) -> bool:
