@@ -144,3 +144,32 @@ def test_a_machine_without_speed_or_range_is_refused():
     )
     with pytest.raises(mc.MechanismError, match="bounds is required"):
         mc.optimize_counterweights(massless)
+
+
+def test_a_speed_at_which_no_counterweight_runs_is_a_stall_error_naming_rpm():
+    """At 0.45/min the little one-cylinder machine stalls whatever its counterweight: SciPy's
+    polish used to difference +∞ − +∞ (a RuntimeWarning, an error here) and could return NaN
+    counterweights; now a StallError names the speed and the machine's own lowest speed."""
+    sizes = {"crank_radius": 0.05, "rod_length": 0.2, "rod_cg": 0.05, "crank_cg_radius": 0.02}
+    cylinder = mc.Cylinder(**sizes, piston_mass=1.0, rod_mass=1.0, crank_mass=1.0)
+    machine = mc.Machine([cylinder], shaft_inertia=0.5, rpm=600.0)
+    with pytest.raises(mc.StallError) as own:
+        mc.steady_state(machine, rpm=0.45)
+    with pytest.raises(mc.StallError, match=r"rpm = 0\.45") as caught:
+        mc.optimize_counterweights(machine, rpm=0.45, maxiter=2)
+    assert caught.value.min_rpm == own.value.min_rpm
+    # The compressor at 4/min: also nothing within the default bounds runs.
+    with pytest.raises(mc.StallError, match=r"rpm = 4\b"):
+        mc.optimize_counterweights(COMPRESSOR, rpm=4.0, maxiter=5)
+
+
+def test_counterweights_that_make_a_stalling_machine_run_are_found():
+    """At 8/min the compressor as given stalls (it runs from 8.4/min), and a heavier
+    counterweight makes it run: the result is that design, its δ that of steady_state, the
+    machine as given scoring +∞ and its δ NaN."""
+    with pytest.raises(mc.StallError):
+        mc.steady_state(COMPRESSOR, rpm=8.0)
+    best = mc.optimize_counterweights(COMPRESSOR, rpm=8.0, maxiter=30)
+    assert math.isfinite(best.objective) and np.all(np.isfinite(best.counterweights))
+    assert best.objective == mc.steady_state(best.machine, rpm=8.0).delta
+    assert best.objective_before == math.inf and math.isnan(best.delta_before)

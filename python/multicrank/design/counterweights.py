@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import inspect
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -56,7 +57,8 @@ class CounterweightOptimum:
     objective_name : str
         Which objective: "delta", "gravity_effect" or "delta_over_speed_range".
     delta, delta_before : float
-        δ with gravity at ``rpm``, after and before [dimensionless].
+        δ with gravity at ``rpm``, after and before [dimensionless] (``delta_before`` NaN
+        where the machine as given stalls and the counterweights make it run).
     rpm : float
         The mean speed [1/min] of ``delta`` (and of the "delta" and "gravity_effect"
         objectives).
@@ -194,6 +196,56 @@ def _nearest_alike(found: np.ndarray, before: np.ndarray, angles: np.ndarray, li
     return moved if nearest.success and np.abs(rows @ moved - target).max() <= 1e-12 * scale else found
 
 
+def _delta_or_nan(machine: Machine, rpm: float) -> float:
+    """δ with gravity at ``rpm`` [dimensionless]; NaN where the machine stalls there."""
+    from ..motion.steady import StallError, steady_state
+
+    try:
+        return steady_state(machine, rpm=rpm).delta
+    except StallError:
+        return math.nan
+
+
+def _nothing_runs(machine: Machine, objective: str, rpm: float, limits: np.ndarray) -> MechanismError:
+    """The error when every design the optimiser tried stalls: a StallError naming the speed,
+    with the machine's own stall (where and from which speed it runs) where it has one."""
+    from ..motion.steady import StallError, steady_state
+
+    if objective == "delta_over_speed_range":
+        where = f"over rpm_range = {machine.rpm_range}"
+    else:
+        where = f"at rpm = {rpm:g}"
+    pairs = ", ".join(f"({low:g}, {high:g})" for low, high in limits)
+    message = f"no counterweights within bounds = [{pairs}] kg·m run {where}: every design tried stalls"
+    try:
+        steady_state(machine, rpm=rpm if objective != "delta_over_speed_range" else machine.rpm_range[0])
+    except StallError as error:
+        if error.min_rpm is not None:
+            message += f"; the machine as given runs from min_rpm = {error.min_rpm:g}"
+        return StallError(f"{message} (raise the speed)", angle=error.angle, min_rpm=error.min_rpm)
+    return StallError(f"{message} (raise the speed or widen the bounds)", angle=math.nan)
+
+
+def _polish(result: Any, scores: Callable[[np.ndarray], Any], limits: np.ndarray) -> None:
+    """Polish differential evolution's best point by L-BFGS-B, as SciPy's ``polish=True``
+    does (``result`` updated in place where it improves), but with a stalled design scoring a
+    finite penalty above every value found: the finite differences beside a stall then stay
+    finite (SciPy's own polish takes +∞ − +∞). The penalty is more than ten times the best
+    value, so a polished point that beats the best is one that runs."""
+    from scipy.optimize import minimize  # type: ignore[import-untyped,unused-ignore]
+
+    penalty = max(10.0 * float(result.fun), 4.0)
+
+    def finite(x: np.ndarray) -> float:
+        value = float(scores(x))
+        return value if math.isfinite(value) else penalty
+
+    polished = minimize(finite, np.array(result.x, dtype=float), method="L-BFGS-B", bounds=limits)
+    result.nfev += polished.nfev
+    if polished.fun < result.fun and np.all(np.isfinite(polished.x)):
+        result.x, result.fun, result.jac = polished.x, float(polished.fun), polished.jac
+
+
 def optimize_counterweights(
     machine: Machine,
     *,
@@ -232,7 +284,8 @@ def optimize_counterweights(
     -------
     CounterweightOptimum
         The optimum per throw (``counterweights``, ``to_frame()``), ``objective`` after and
-        ``objective_before`` (the machine as given), δ after and before, the optimised
+        ``objective_before`` (the machine as given; +∞ and ``delta_before`` NaN where it
+        stalls and counterweights make it run), δ after and before, the optimised
         ``machine`` and the optimiser's convergence (``success``, ``message``, ``nit``,
         ``nfev``, ``result``).
 
@@ -240,6 +293,10 @@ def optimize_counterweights(
     ------
     MechanismError
         For bad input, naming the parameter.
+    StallError
+        Where no counterweights within ``bounds`` run at ``rpm`` (or over the speed range):
+        every design tried stalls. Its ``min_rpm`` is the machine as given's lowest speed
+        that runs.
 
     Notes
     -----
@@ -352,7 +409,9 @@ def optimize_counterweights(
             updating="deferred",
             x0=np.clip(before, limits[:, 0], limits[:, 1]),
             callback=advance,
-            polish=True,
+            # Polished below, where a stalled design scores a finite penalty: SciPy's own
+            # polish differences +∞ − +∞ (NaN) beside a stall.
+            polish=False,
             # No crossover: a trial is the whole mutant b + F(r1 − r2), whose resultant is
             # the same step among the resultants — evolution in the resultant's two
             # dimensions, however many throws (a twelve-throw crank converges in 80
@@ -366,6 +425,9 @@ def optimize_counterweights(
     finally:
         if bar is not None:
             bar.close()
+    if not math.isfinite(result.fun):
+        raise _nothing_runs(machine, objective, speed, limits)
+    _polish(result, scores, limits)
     best = _nearest_alike(np.asarray(result.x, dtype=float), before, angles, limits)
     optimum = machine_variant(machine, {str(name): value for name, value in designs(best[:, None]).iloc[0].items()})
     objective_after = scores(best)
@@ -378,7 +440,7 @@ def optimize_counterweights(
         objective_before=objective_before,
         objective_name=objective,
         delta=steady_state(optimum, rpm=speed).delta,
-        delta_before=steady_state(machine, rpm=speed).delta,
+        delta_before=_delta_or_nan(machine, speed),
         rpm=speed,
         machine=optimum,
         machine_before=machine,
