@@ -49,6 +49,8 @@ MACHINE_KEYS = {
     "g": "number",
     "rpm": "number",
     "rpm_range": "numbers",
+    "delta_target": "number",
+    "class": "string",
     "layout": "layout",
     "firing_deg": "numbers",
     "cylinder": "tables",
@@ -221,6 +223,17 @@ class MachineFile:
             raise self.error(key, str(error)) from None
 
 
+def _class_limit(file: MachineFile, kind: str) -> float:
+    """The δ a class of machine allows at most (``presets.SPEED_FLUCTUATION``): a machine
+    file's ``class``, where it gives no ``delta_target``."""
+    from ..presets import SPEED_FLUCTUATION
+
+    if kind not in SPEED_FLUCTUATION:
+        allowed = ", ".join(repr(k) for k in SPEED_FLUCTUATION)
+        raise file.error("class", f"class = {kind!r} is not a class of machine; allowed: {allowed}")
+    return SPEED_FLUCTUATION[kind][1]
+
+
 def read_machine_file(path: str | os.PathLike[str]) -> MachineFile:
     """A machine file read and checked: keys, types, required keys, units (docs/machine-files.md).
 
@@ -242,6 +255,10 @@ def read_machine_file(path: str | os.PathLike[str]) -> MachineFile:
             file.fields[key] = top.get(key)
     if "rpm_range" in data:
         file.fields["rpm_range"] = tuple(top.numbers("rpm_range", length=2))
+    if "delta_target" in data:
+        file.fields["delta_target"] = top.get("delta_target")
+    if "class" in data:
+        file.fields.setdefault("delta_target", _class_limit(file, top.get("class")))
     if "layout" in data:
         file.layout = _layout(file, data["layout"])
     if "firing_deg" in data:

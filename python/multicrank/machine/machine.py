@@ -36,7 +36,7 @@ from .firing import chosen_firing, even_firing
 __all__ = ["Machine"]
 
 #: A machine's fields, as :meth:`Machine.replace` takes them.
-_MACHINE_FIELDS = ("cylinders", "shaft_inertia", "strokes", "g", "name", "rpm", "rpm_range", "note")
+_MACHINE_FIELDS = ("cylinders", "shaft_inertia", "strokes", "g", "name", "rpm", "rpm_range", "note", "delta_target")
 
 
 class Machine:
@@ -64,14 +64,19 @@ class Machine:
         given too, must lie inside.
     note : str
         A description: what the machine is and where its numbers come from.
+    delta_target : float, optional
+        The coefficient of speed fluctuation δ = (ω_max − ω_min)/ω_mean the machine is meant
+        to run at [dimensionless], > 0, where it has one: its class's limit (compressors
+        1/20, vehicle engines 1/100, generator sets 1/300). The report sizes the flywheel
+        for it. Descriptive; nothing else depends on it.
 
     Attributes
     ----------
     cylinders : tuple of Cylinder
         The cylinders, in the order given.
-    shaft_inertia, strokes, g, name, rpm, rpm_range, note
-        The parameters as given (``rpm`` and ``rpm_range`` None where not given). Read
-        them; :meth:`replace` makes a changed copy.
+    shaft_inertia, strokes, g, name, rpm, rpm_range, note, delta_target
+        The parameters as given (``rpm``, ``rpm_range`` and ``delta_target`` None where not
+        given). Read them; :meth:`replace` makes a changed copy.
 
     Raises
     ------
@@ -115,6 +120,7 @@ class Machine:
         rpm: float | None = None,
         rpm_range: tuple[float, float] | None = None,
         note: str = "",
+        delta_target: float | None = None,
     ) -> None:
         if isinstance(cylinders, Cylinder) or not isinstance(cylinders, Sequence):
             raise MechanismError("cylinders must be a sequence of multicrank.Cylinder")
@@ -155,6 +161,7 @@ class Machine:
                         f"{period:.6g} rad), longer than this {self.strokes}-stroke machine's cycle; give strokes="
                         f"{round(period / math.pi)} or a diagram of the machine's cycle"
                     )
+        self.delta_target: float | None = None if delta_target is None else _delta_target(delta_target)
         self._units = unit_columns(cylinders)
 
     # -- construction --------------------------------------------------------------------
@@ -172,6 +179,7 @@ class Machine:
         rpm: float | None = None,
         rpm_range: tuple[float, float] | None = None,
         note: str | None = None,
+        delta_target: float | None = None,
     ) -> Machine:
         """A machine of a layout with one cylinder template on every bank.
 
@@ -206,6 +214,8 @@ class Machine:
             The speeds (low, high) [1/min] the machine runs at, as for :class:`Machine`.
         note : str, optional
             A description; default the layout's note.
+        delta_target : float, optional
+            The δ the machine is meant to run at, as for :class:`Machine`.
 
         Returns
         -------
@@ -302,6 +312,7 @@ class Machine:
             rpm=rpm,
             rpm_range=rpm_range,
             note=layout.note if note is None else note,
+            delta_target=delta_target,
         )
 
     @classmethod
@@ -348,6 +359,9 @@ class Machine:
         ``g``                      m/s²         default 9.80665; 0 switches gravity off
         ``rpm``                    1/min        the running speed (optional)
         ``rpm_range``              1/min        [low, high] (optional)
+        ``delta_target``           1            the δ it is meant to run at (optional)
+        ``class``                  text         its class: ``delta_target`` its limit
+                                                (``presets.SPEED_FLUCTUATION``; optional)
         ``layout``                 name, table  a name in LAYOUTS, or a table of one's own:
                                                 ``throws_deg`` (the throws β [deg]), ``banks_deg``
                                                 (per throw, the bank inclinations γ [deg]),
@@ -476,8 +490,8 @@ class Machine:
         ----------
         **changes
             New values of ``cylinders``, ``shaft_inertia``, ``strokes``, ``g``, ``name``,
-            ``rpm``, ``rpm_range`` or ``note`` (as for :class:`Machine`); ``rpm=None`` or
-            ``rpm_range=None`` removes them.
+            ``rpm``, ``rpm_range``, ``note`` or ``delta_target`` (as for :class:`Machine`);
+            ``rpm=None``, ``rpm_range=None`` or ``delta_target=None`` removes them.
 
         Returns
         -------
@@ -753,6 +767,17 @@ class Machine:
         """
         _, slope = self.reduced_inertia(phi, parallel_threshold=parallel_threshold)
         return _inertia_torque(slope, as_real_array(omega, "omega"))
+
+
+def _delta_target(value: Any) -> float:
+    """A target coefficient of speed fluctuation: a finite number > 0."""
+    delta = as_scalar(value, "delta_target")
+    if not (math.isfinite(delta) and delta > 0):
+        raise MechanismError(
+            f"delta_target = {delta} is out of range; allowed: delta_target > 0 (a coefficient of speed "
+            "fluctuation, e.g. 0.05 = 1/20 for a compressor)"
+        )
+    return delta
 
 
 def _layout_strokes(layout: Layout | None) -> int:

@@ -83,25 +83,39 @@ def gravity_map(settings: ReportSettings) -> pd.DataFrame:
     return frame
 
 
+def flywheel_target(settings: ReportSettings, own: float) -> tuple[float, str]:
+    """The δ the report sizes the flywheel for, and where it comes from: ``settings.delta``
+    (``--delta``), else the machine's ``delta_target`` (a machine file's ``delta_target`` or
+    ``class``), else a built-in machine's class limit, else ``own`` (the machine's δ without
+    gravity: the flywheel it has)."""
+    from ..presets import MACHINE_CLASSES, MACHINES, SPEED_FLUCTUATION
+
+    machine = settings.machine
+    if settings.delta is not None:
+        return settings.delta, "asked for (--delta)"
+    if machine.delta_target is not None:
+        return machine.delta_target, "the machine's delta_target (its file's delta_target or class)"
+    if machine.name in MACHINE_CLASSES and MACHINES[machine.name] == machine:
+        kind = MACHINE_CLASSES[machine.name]
+        return SPEED_FLUCTUATION[kind][1], f"the {kind} class's limit"
+    return own, (
+        "the machine's own δ without gravity: no target known, so this is the flywheel it has "
+        "(give delta_target or class in its machine file, or --delta)"
+    )
+
+
 def motion_results(settings: ReportSettings, speeds: int = 9) -> MotionResults:
     """Steady state at the machine's speed with and without gravity, over its speed range,
     the flywheel for the class's δ (or ``settings.delta``) and the torque orders."""
     from ..motion.flywheel import flywheel_inertia
     from ..motion.orders import torque_orders
     from ..motion.steady import StallError, steady_state
-    from ..presets import MACHINE_CLASSES, SPEED_FLUCTUATION
 
     machine = settings.machine
     rpm = running_speed(machine)
     state = steady_state(machine, rpm=rpm)
     without = steady_state(machine, rpm=rpm, gravity=False)
-    if settings.delta is not None:
-        target, source = settings.delta, "asked for (--delta)"
-    elif machine.name in MACHINE_CLASSES:
-        kind = MACHINE_CLASSES[machine.name]
-        target, source = SPEED_FLUCTUATION[kind][1], f"the {kind} class's limit"
-    else:
-        target, source = without.delta, "the machine's own δ without gravity (no class known)"
+    target, source = flywheel_target(settings, without.delta)
     try:
         flywheel, refusal = flywheel_inertia(machine, delta=target, rpm=rpm), ""
     except MechanismError as error:

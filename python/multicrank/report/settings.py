@@ -29,8 +29,8 @@ class ReportSettings:
     threshold: float = DEFAULT_THRESHOLD
     lambdas: int = 60
     machines: dict[str, Machine] = field(default_factory=lambda: dict(MACHINES))
-    #: The δ to size the flywheel for (default: the preset's class limit, or the machine's own
-    #: δ without gravity).
+    #: The δ to size the flywheel for (default: the machine's ``delta_target``, else a built-in
+    #: machine's class limit, else the machine's own δ without gravity).
     delta: float | None = None
     #: Points per axis of the "where gravity matters" map (speed × shaft inertia): the map
     #: solves this many squared steady states, a few ms each.
