@@ -25,11 +25,11 @@ import multicrank as mc
 from multicrank.pressure import (
     EXAMPLE_COMPRESSOR_CSV,
     INTERPOLATIONS,
+    PRESSURE_FLOOR,
     PRESSURE_UNITS,
     STANDARD_ATMOSPHERE,
     IndicatorDiagram,
 )
-from multicrank.pressure.diagram import PRESSURE_FLOOR
 
 TAU = 2 * math.pi
 REF = STANDARD_ATMOSPHERE
