@@ -29,6 +29,9 @@ extensions = [
     "sphinx.ext.autodoc",
     "sphinx.ext.autosummary",
     "sphinx.ext.mathjax",
+    # MathJax served from the site itself (_static/mathjax), so that the maths renders offline:
+    # the package (the docs extra) ships MathJax 3 and copies it into the build.
+    "sphinx-mathjax-offline",
     "numpydoc",
     "sphinx_click",
     "sphinx_gallery.gen_gallery",
@@ -42,6 +45,10 @@ root_doc = "index"
 # docs/machines is data the pages link to, not pages; the gallery's sources are rendered by
 # sphinx-gallery into auto_examples/.
 exclude_patterns = ["_build", "machines", "gallery", "**/README.md"]
+
+# -- maths: MathJax from the site's own _static (set by sphinx-mathjax-offline; said here, so
+# that no page ever names a CDN): tests/test_docs_pages.py checks the built site for it.
+mathjax_path = "mathjax/tex-chtml.js"
 
 # -- MyST: the pages are Markdown with $…$ / $$…$$ maths and anchors on headings -------------
 myst_enable_extensions = ["dollarmath", "amsmath", "colon_fence", "deflist"]

@@ -20,6 +20,7 @@ A page whose blocks need an optional package says so in a MyST comment line,
 from __future__ import annotations
 
 import importlib.util
+import os
 import re
 import shlex
 import shutil
@@ -27,6 +28,7 @@ import sys
 import textwrap
 import tomllib
 from dataclasses import dataclass
+from html.parser import HTMLParser
 from pathlib import Path
 
 import click
@@ -207,3 +209,71 @@ def test_figures_draw(page, monkeypatch):
             pytest.fail(f"{where} fails: {error!r}\n{code}")
         finally:
             plt.close("all")
+
+
+# -- the built site ----------------------------------------------------------------------------
+# scripts/test builds the site (scripts/docs) after its main test run, then runs these tests with
+# MULTICRANK_DOCS_SITE=docs/_build/html; without it they are skipped, so that a site left by an
+# older checkout is not what is tested.
+
+# A URL with a scheme or a protocol-relative one ("//cdn…"): anything not in the site itself.
+REMOTE = re.compile(r"^\s*(?:[a-z][a-z0-9+.-]*:)?//", re.I)
+
+
+def built_site() -> Path:
+    where = os.environ.get("MULTICRANK_DOCS_SITE")
+    if not where:
+        pytest.skip("the built site: scripts/test runs this after building it, with MULTICRANK_DOCS_SITE set")
+    site = ROOT / where  # an absolute path stays itself
+    assert (site / "index.html").is_file(), f"MULTICRANK_DOCS_SITE={where}: no built site there (run scripts/docs)"
+    return site
+
+
+class _Scripts(HTMLParser):
+    """The src of every <script> of a page."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.sources: list[str] = []
+
+    def handle_starttag(self, tag: str, attrs: list[tuple[str, str | None]]) -> None:
+        source = dict(attrs).get("src")
+        if tag == "script" and source:
+            self.sources.append(source)
+
+
+def scripts(html: str) -> list[str]:
+    parser = _Scripts()
+    parser.feed(html)
+    return parser.sources
+
+
+def test_built_site_loads_no_remote_script():
+    site = built_site()
+    pages = sorted(site.rglob("*.html"))
+    assert len(pages) > 20
+    for page in pages:
+        html = page.read_text(encoding="utf-8")
+        remote = [source for source in scripts(html) if REMOTE.match(source)]
+        assert not remote, f"{page.relative_to(site)} loads scripts from the network: {remote}"
+        assert "//cdn" not in html.lower(), f"{page.relative_to(site)} names a CDN"
+
+
+def test_built_site_serves_its_maths():
+    """Every page with maths loads MathJax from the site's own _static, which holds its fonts:
+    the theory page renders offline."""
+    site = built_site()
+    static = (site / "_static").resolve()
+    fonts = sorted((static / "mathjax" / "output" / "chtml" / "fonts" / "woff-v2").glob("*.woff"))
+    assert fonts, "MathJax's CHTML fonts are not in _static/mathjax"
+    with_maths = [page for page in sorted(site.rglob("*.html")) if 'class="math' in page.read_text(encoding="utf-8")]
+    assert site / "theory.html" in with_maths
+    for page in with_maths:
+        mathjax = [src for src in scripts(page.read_text(encoding="utf-8")) if "mathjax" in src.lower()]
+        assert mathjax, f"{page.relative_to(site)} shows maths but loads no MathJax"
+        for source in mathjax:
+            path = (page.parent / source.split("?")[0]).resolve()
+            assert path.is_relative_to(static) and path.is_file(), (
+                f"{page.relative_to(site)}: {source} is not in _static"
+            )
+            assert "MathJax" in path.read_text(encoding="utf-8")
