@@ -32,7 +32,8 @@ from ..gravity.harmonics import fourier_coefficients, harmonic_table, lambda_coe
 from ..gravity.layouts import LAYOUTS
 from ..gravity.mechanism import crank_phases
 from ..machine.machine import Machine
-from .plotting import pyplot
+from .plotting import plain_log_axis, pyplot
+from .prose import significance_sentence
 from .settings import ReportSettings, running_speed, speed_range
 
 if TYPE_CHECKING:
@@ -303,7 +304,12 @@ def machines_figure(settings: ReportSettings) -> tuple[Figure, pd.DataFrame]:
         low, high = speed_range(machine)
         rpm = np.geomspace(low, high, 40)
         delta = np.array([float(machine.engine(r).speed_fluctuation()) for r in rpm])
-        ax.loglog(rpm, np.maximum(delta, 1e-18), color=f"C{i}", label=f"{machine.name} ({len(machine)} cyl.)")
+        label = f"{machine.name} ({len(machine)} cyl.)"
+        if np.all(delta == 0):
+            # Gravity cancels exactly (horizontal opposed cylinders): no line at a made-up floor.
+            ax.plot([], [], color=f"C{i}", label=f"{label}: δ_g = 0, cancels exactly")
+        else:
+            ax.loglog(rpm, np.where(delta > 0, delta, np.nan), color=f"C{i}", label=label)
         records += [
             {"machine": machine.name, "cylinders": len(machine), "rpm": r, "delta_g": d}
             for r, d in zip(rpm, delta, strict=True)
@@ -315,6 +321,9 @@ def machines_figure(settings: ReportSettings) -> tuple[Figure, pd.DataFrame]:
         f"threshold {settings.threshold:.2g}: below, gravity may be neglected",
         fontsize=8,
     )
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    plain_log_axis(ax.xaxis)
     ax.set_xlabel("speed n [rpm]")
     ax.set_ylabel("δ_g")
     ax.set_title("Gravity's share of the coefficient of speed fluctuation over each machine's speed range")
@@ -396,6 +405,42 @@ def paper_table_frame(k_max: int) -> pd.DataFrame:
 
 
 # ----------------------------------------------------------------------------- html
+def _significance_text(settings: ReportSettings) -> str:
+    """The significance map's row at the machine's own λ, in words: for which k gravity is
+    above the threshold (:func:`~multicrank.report.prose.significance_sentence`)."""
+    unit = _unit_machine(settings.machine).design()
+    ks = list(range(1, settings.k_max + 1))
+    deltas = {
+        strokes: [
+            float(
+                speed_fluctuation(
+                    crank_ratio=unit["crank_ratio"],
+                    inclination=unit["inclination"],
+                    u1=unit["u1"],
+                    u2=unit["u2"],
+                    phases=crank_phases(k, strokes, "single"),
+                )
+            )
+            for k in ks
+        ]
+        for strokes in (2, 4)
+    }
+    return significance_sentence(unit["crank_ratio"], deltas, settings.threshold, ks)
+
+
+def _truncation_text(crank_ratio: float) -> str:
+    """How far the paper's Λ_12 and Λ_2 are off at λ = 0.4 (dotted) and at the machine's λ."""
+    parts = []
+    for lam, where in ((0.4, "at λ = 0.4 (dotted)"), (crank_ratio, f"at this machine's λ = {crank_ratio:.3g}")):
+        exact = lambda_coefficients(lam, 12)
+        paper = lambda_coefficients(lam, 12, method="paper")
+        error = [abs(float(paper[n] / exact[n]) - 1) for n in (2, 12)]
+        parts.append(
+            f"{where} its Λ<sub>12</sub> is {100 * error[1]:.2g} % off, its Λ<sub>2</sub> {100 * error[0]:.1e} %"
+        )
+    return "; ".join(parts) + "."
+
+
 def _bool_table(frame: pd.DataFrame, caption: str, highlight: pd.DataFrame | None = None) -> str:
     head = "".join(f"<th>{k}</th>" for k in frame.columns)
     body = []
@@ -489,7 +534,7 @@ machines (AC generators); pumps and compressors allow 1/20–1/50 and vehicle en
 Q<sub>u</sub>*), is to first order gravity's share of the coefficient of speed fluctuation. Gravity may be
 neglected where δ<sub>g</sub> &lt; {settings.threshold:.2g}. Below: the machine's crank unit on k cranks over λ
 (left two-stroke, right four-stroke), and every preset machine over its speed range (δ<sub>g</sub> ∝ 1/n²).
-Balanced crank sets (where only harmonics of order ≥ k survive) make gravity negligible by many orders of magnitude.</p>
+{_significance_text(settings)}</p>
 <img src="{figures["gravity_significance_k_lambda"]}" alt="δ_g over k and λ">
 <img src="{figures["gravity_significance_machines"]}" alt="δ_g per machine over its speed range">
 <p class="note">Data: gravity_significance_k_lambda.csv, gravity_significance_machines.csv</p>
@@ -530,8 +575,8 @@ their rotating parts. With unequal cylinders or phase errors cancelled harmonics
     sections.append(f"""
 <h2>Harmonic spectra of Q<sub>u</sub>*</h2>
 <p>Amplitudes √(a<sub>n</sub>² + b<sub>n</sub>²) of Q<sub>u</sub>* = Σ a<sub>n</sub> cos nφ + b<sub>n</sub> sin nφ
-with the exact Λ<sub>n</sub>, up to n = {settings.n_max}: only n = 1 and the harmonics whose phase sum survives
-appear.</p>
+with the exact Λ<sub>n</sub>, up to n = {settings.n_max}: only the harmonics whose phase sum over the cranks
+survives appear (Tables 1 and 2 below; n = 1 among them only where the cranks do not cancel it).</p>
 <img src="{figures["spectra_2stroke"]}" alt="spectra two-stroke">
 <img src="{figures["spectra_4stroke"]}" alt="spectra four-stroke">
 <p class="note">Data: spectra_2stroke.csv, spectra_4stroke.csv</p>
@@ -565,7 +610,7 @@ four_stroke_double.csv, paper_table1_printed.csv (1 = survives)</p>
     sections.append(f"""
 <h2>The paper's truncated series against the exact form</h2>
 <p>The paper expands Λ<sub>n</sub> in λ through λ¹¹ and keeps n ≤ 12. Left: the relative error of each Λ<sub>n</sub>;
-at λ = 0.4 (dotted) its Λ<sub>12</sub> is tens of percent off. Right: the error of the truncated f(ψ).</p>
+{_truncation_text(first.crank_ratio)} Right: the error of the truncated f(ψ).</p>
 <img src="{figures["paper_truncation_error"]}" alt="paper truncation error">
 <p class="note">Data: paper_truncation_error.csv</p>
 """)

@@ -15,7 +15,8 @@ from .._native import MechanismError
 from .._shaft import rpm_from_omega
 from .._validation import as_count
 from ..machine.machine import Machine
-from .plotting import pyplot
+from .plotting import plain_log_axis, pyplot, symmetric_limit
+from .prose import map_axes_sentence, neglected_region_sentence, speed_trend_sentence
 from .settings import ReportSettings, running_speed, speed_range
 
 if TYPE_CHECKING:
@@ -55,6 +56,9 @@ class MotionResults:
 #: The shaft inertias of the "where gravity matters" map, as multiples of the machine's own
 #: (log-spaced from the first to the second): a flywheel a quarter of it to four times it.
 GRAVITY_MAP_INERTIA = (0.25, 4.0)
+#: The least half-range of the map's colours [%]: a change of δ far below it (0.02 %) shows
+#: near-white, not as saturated as one of 30 %.
+MAP_FLOOR_PERCENT = 1.0
 #: What the map computes (mc.motion_sweep's outputs); ``stalled`` comes with them.
 GRAVITY_MAP_OUTPUTS = ("delta", "delta_without_gravity", "gravity_effect")
 
@@ -214,6 +218,7 @@ def speed_range_figure(results: MotionResults) -> tuple[Figure, pd.DataFrame]:
     ax.axhline(results.target, color="0.5", lw=0.8)
     ax.set_xscale("log")
     ax.set_yscale("log")
+    plain_log_axis(ax.xaxis)
     ax.set_xlabel("mean speed [rpm]")
     ax.set_ylabel("coefficient of speed fluctuation δ")
     ax.legend(loc="best", fontsize=8)
@@ -243,22 +248,28 @@ def gravity_map_figure(results: MotionResults, machine: Machine, threshold: floa
     from matplotlib import patheffects
     from matplotlib.colors import CenteredNorm
     from matplotlib.lines import Line2D
-    from matplotlib.ticker import LogLocator, MaxNLocator, NullFormatter, ScalarFormatter
+    from matplotlib.ticker import MaxNLocator
 
     frame = results.gravity_map
     effect = 100 * frame.pivot(index="shaft_inertia", columns="rpm", values="gravity_effect").to_numpy()
     delta_g = frame.pivot(index="shaft_inertia", columns="rpm", values="delta_g").to_numpy()
     speeds, inertias = np.unique(frame["rpm"]), np.unique(frame["shaft_inertia"])
+    # The colours cover the data (a round limit at or above its largest magnitude) and never
+    # less than ±MAP_FLOOR_PERCENT, so that a change of 0.02 % shows near-white, not saturated.
     largest = float(np.nanmax(np.abs(effect))) if np.isfinite(effect).any() else 0.0
-    largest = largest if largest > 0 else 1.0
+    limit = symmetric_limit(largest, MAP_FLOOR_PERCENT)
     fig, ax = plt.subplots(figsize=(8, 4.8))
-    filled = ax.contourf(speeds, inertias, effect, levels=np.linspace(-largest, largest, 41), cmap="RdBu_r",
-                         norm=CenteredNorm(vcenter=0.0, halfrange=largest))  # fmt: skip
+    filled = ax.contourf(speeds, inertias, effect, levels=np.linspace(-limit, limit, 41), cmap="RdBu_r",
+                         norm=CenteredNorm(vcenter=0.0, halfrange=limit))  # fmt: skip
     label = "gravity's effect on δ: δ / δ without gravity − 1 [%]"
-    fig.colorbar(filled, ax=ax, label=label, ticks=MaxNLocator(nbins=8, symmetric=True), format="%+g")
+    ticks = MaxNLocator(nbins=8, symmetric=True).tick_values(-limit, limit)
+    fig.colorbar(filled, ax=ax, label=label, ticks=ticks[np.abs(ticks) <= limit * (1 + 1e-9)], format="%+g")
     lines = ax.contour(speeds, inertias, effect, levels=6, colors="0.15", linewidths=0.6)
     halo = [patheffects.withStroke(linewidth=2.5, foreground="white")]
     for label in ax.clabel(lines, fmt="%+.3g %%", fontsize=8):
+        # Upright: a label along a line reads left to right, or bottom to top where the line is
+        # (nearly) vertical; matplotlib may turn one by −90° (top to bottom) or past 90°.
+        label.set_rotation((label.get_rotation() + 80) % 180 - 80)
         label.set_path_effects(halo)
     handles = ax.plot(results.rpm, machine.shaft_inertia, "*", ms=15, mfc="white", mec="black",
                       label=f"as built: {100 * results.state.gravity_effect:+.3g} %")  # fmt: skip
@@ -269,9 +280,7 @@ def gravity_map_figure(results: MotionResults, machine: Machine, threshold: floa
         handles.append(Line2D([], [], color="black", ls="--", label=f"δ_g = {threshold:.2g} (the report's threshold)"))
     ax.legend(handles=handles, loc="upper left", fontsize=8, framealpha=0.9)
     ax.set_yscale("log")
-    ax.yaxis.set_major_locator(LogLocator(subs=(1.0, 2.0, 5.0)))
-    ax.yaxis.set_major_formatter(ScalarFormatter())
-    ax.yaxis.set_minor_formatter(NullFormatter())
+    plain_log_axis(ax.yaxis)
     ax.grid(False)
     ax.set_xlabel("mean speed [rpm]")
     ax.set_ylabel("shaft inertia I_w [kg·m²]")
@@ -295,9 +304,9 @@ def _gravity_map_caption(results: MotionResults, machine: Machine, threshold: fl
     else:
         line = (
             f"The dashed line is δ<sub>g</sub> = {threshold:.2g}, the threshold of the gravity-significance map below: "
-            "towards higher speed and a heavier flywheel δ<sub>g</sub> is smaller and the first-order measure calls "
-            "gravity negligible."
+            "beyond it, towards higher speed and a heavier flywheel, the first-order measure calls gravity negligible."
         )
+    line += " " + neglected_region_sentence(frame, threshold)
     stalled = (
         f" Blank: the machine stalls ({int(frame['stalled'].sum())} of {len(frame)})." if frame["stalled"].any() else ""
     )
@@ -308,9 +317,8 @@ def _gravity_map_caption(results: MotionResults, machine: Machine, threshold: fl
         f"own, log-spaced): {points} × {points} exact steady states (<code>mc.motion_sweep</code>, the balance "
         f"load at each speed). Red: gravity makes δ larger; blue: smaller; white: no change. The star is the machine "
         f"as built ({100 * results.state.gravity_effect:+.3g} %); over the map gravity changes δ by "
-        f"{effect.min():+.3g} … {effect.max():+.3g} %. A flywheel divides δ with and without gravity nearly alike, so "
-        f"the relative change varies little along the inertia axis, while δ<sub>g</sub> = max U* − min U* falls as "
-        f"1/(I<sub>w</sub>n²). {line}{stalled}</p>"
+        f"{effect.min():+.3g} … {effect.max():+.3g} %. {map_axes_sentence(frame)} The paper's first-order measure "
+        f"δ<sub>g</sub> = max U* − min U* falls as 1/(I<sub>w</sub>n²) everywhere. {line}{stalled}</p>"
     )
 
 
@@ -365,8 +373,9 @@ with ω<sub>m</sub> the time mean.</p>
 <img src="{figures["motion_speed"]}" alt="speed over the cycle with and without gravity">
 <img src="{figures["motion_torques"]}" alt="torque components over the cycle">
 <h3>Over the speed range</h3>
-<p>Gravity's torque does not depend on the speed, the gas and inertia torques' effect on δ falls or grows with
-it: gravity matters most at low speed. The grey line is the target δ.</p>
+<p>Gravity's torque, like the gas torque of a given indicator diagram, does not depend on the speed, while the
+inertia torque grows as n²: so gravity's share of δ may grow or fall with the speed, and δ<sub>g</sub> (∝ 1/n²)
+does not tell which. Here: {speed_trend_sentence(results.speeds)} The grey line is the target δ.</p>
 <img src="{figures["motion_speed_range"]}" alt="δ over the speed range">
 <h3>Where gravity matters: speed × flywheel</h3>
 {_gravity_map_caption(results, machine, threshold)}
