@@ -90,3 +90,52 @@ def test_one_way_to_give_the_crank_and_the_librarys_checks():
         symbolic.gravity(cranks=2, strokes=3)
     with pytest.raises(mc.MechanismError, match="at least one"):
         symbolic.gravity([])
+
+
+@pytest.mark.parametrize(
+    ("phases", "named"),
+    [
+        ([math.nan], r"phases\[0\] = nan"),
+        ([0.0, math.inf], r"phases\[1\] = inf"),
+        ([0.0, -math.inf], r"phases\[1\] = -inf"),
+        (["a"], r"phases\[0\]"),
+        ("abc", "phases"),
+        ([[0.0, 1.0]], r"phases\[0\]"),
+        (np.zeros((2, 2)), "phases"),
+        (np.float64(0.5), "phases"),
+        ({0.0: 1.0}, "phases"),
+        ([1 + 2j], r"phases\[0\]"),
+        ([True], r"phases\[0\]"),
+        ([sympy.nan], r"phases\[0\]"),
+        ([sympy.zoo], r"phases\[0\]"),
+        ([sympy.I], r"phases\[0\]"),
+        ([0.0] * (symbolic.MAX_UNITS + 1), "phases"),
+    ],
+)
+def test_bad_phases_are_refused_by_name(phases, named):
+    """Issue 26, item 6: NaN, inf, strings and 2-D phases gave a raw AttributeError or TypeError."""
+    for function in (symbolic.gravity, symbolic.reduced_inertia):
+        with pytest.raises(mc.MechanismError, match=named):
+            function(phases)
+
+
+def test_phases_may_be_real_sympy_expressions_with_symbols():
+    alpha = sympy.Symbol("alpha", real=True)
+    found = symbolic.gravity([0.0, alpha, sympy.pi / 3])
+    assert found.phases == (0, alpha, sympy.pi / 3)
+
+
+@pytest.mark.parametrize("cranks", [symbolic.MAX_UNITS + 1, 10**7, 10**30])
+def test_more_cranks_than_the_documented_limit_are_refused(cranks):
+    """Issue 26, item 6: cranks=10**7 did not finish; beyond MAX_UNITS (64) it is refused at once."""
+    assert symbolic.MAX_UNITS == 64
+    refused = r"cranks = \d+ is out of range; allowed: an integer 1 <= cranks <= 64"
+    for function in (symbolic.gravity, symbolic.reduced_inertia):
+        with pytest.raises(mc.MechanismError, match=refused):
+            function(cranks=cranks)
+
+
+def test_a_layout_of_more_cylinders_than_the_limit_is_refused():
+    many = mc.Layout("many", "", tuple(range(0, 360, 5)), tuple((90.0,) for _ in range(0, 360, 5)))
+    with pytest.raises(mc.MechanismError, match="at most 64"):
+        symbolic.gravity(layout=many)

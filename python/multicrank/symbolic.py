@@ -9,19 +9,30 @@ regular set of ``cranks`` for a cycle, or a layout's cylinders — kept exact wh
 rational multiples of π. Each result's ``lambdify()`` gives numpy functions with the
 library's numbers (its tests compare them with the kernels to 1e-13).
 
+A crank of at most :data:`MAX_UNITS` (64) units is taken: SymPy's expressions grow with
+every unit (64 take seconds to build and to lambdify), and more would not finish.
+
 Needs the ``symbolic`` extra (SymPy), imported when a function is called.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+import math
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
+import numpy as np
+
 from ._native import MechanismError
 from ._optional import require
+from ._validation import as_count, as_scalar
 
-__all__ = ["SymbolicGravity", "SymbolicInertia", "gravity", "reduced_inertia"]
+__all__ = ["MAX_UNITS", "SymbolicGravity", "SymbolicInertia", "gravity", "reduced_inertia"]
+
+#: The most units (phases, ``cranks``, a layout's cylinders) a crank may have here: the
+#: expressions hold a term per unit, and SymPy's work grows faster than their number.
+MAX_UNITS = 64
 
 
 def _sympy() -> Any:
@@ -53,6 +64,11 @@ def _crank(
         from .gravity.layouts import as_layout
 
         chosen = as_layout(layout)
+        units = sum(len(bank) for bank in chosen.banks)
+        if units > MAX_UNITS:
+            raise MechanismError(
+                f"layout {chosen.name!r} has {units} cylinders; allowed: at most {MAX_UNITS} (MAX_UNITS)"
+            )
         alphas, gammas = [], []
         for beta, bank in zip(chosen.throws, chosen.banks, strict=True):
             for gamma in bank:
@@ -63,13 +79,38 @@ def _crank(
     if cranks is not None:
         from .gravity.mechanism import crank_phases
 
+        count = as_count(cranks, "cranks", minimum=1, maximum=MAX_UNITS)
         # The library's own phases (its checks and names), each a rational multiple of π.
-        return [_exact(alpha, sp) for alpha in crank_phases(cranks, strokes, acting)], None
+        return [_exact(alpha, sp) for alpha in crank_phases(count, strokes, acting)], None
     assert phases is not None
-    alphas = [_exact(angle, sp) for angle in phases]
-    if not alphas:
+    return [_exact(angle, sp) for angle in _phases(phases, sp)], None
+
+
+def _phases(phases: Any, sp: Any) -> list[Any]:
+    """The phases as given, checked: a 1-D sequence of 1 … :data:`MAX_UNITS` angles [rad],
+    each a finite real number or a real SymPy expression (one with symbols is taken as it is)."""
+    allowed = f"a 1-D sequence of 1 to {MAX_UNITS} finite real angles [rad] (numbers or SymPy expressions)"
+    if isinstance(phases, np.ndarray) and phases.ndim != 1:
+        raise MechanismError(f"phases must be {allowed}, got an array of shape {phases.shape}")
+    if isinstance(phases, (str, bytes, Mapping, sp.Basic)) or not isinstance(phases, (Sequence, np.ndarray)):
+        raise MechanismError(f"phases must be {allowed}, got {type(phases).__name__}")
+    items = list(phases)
+    if not items:
         raise MechanismError("phases must hold at least one phase [rad]")
-    return alphas, None
+    if len(items) > MAX_UNITS:
+        raise MechanismError(f"phases holds {len(items)} angles; allowed: {allowed}")
+    for j, angle in enumerate(items):
+        name = f"phases[{j}]"
+        if isinstance(angle, sp.Basic):
+            if angle.is_number and not (angle.is_real and angle.is_finite):
+                raise MechanismError(f"{name} = {angle} is out of range; allowed: {allowed}")
+            if not angle.is_number and angle.is_real is False:
+                raise MechanismError(f"{name} = {angle} is not real; allowed: {allowed}")
+            continue
+        value = as_scalar(angle, name)
+        if not math.isfinite(value):
+            raise MechanismError(f"{name} = {value} is out of range; allowed: {allowed}")
+    return items
 
 
 def _travel(psi: Any, lam: Any, sp: Any) -> Any:
@@ -141,8 +182,9 @@ def gravity(
     phases : sequence of float or sympy.Expr, optional
         α_j [rad], one per unit; numbers that are rational multiples of π are kept exact.
     cranks : int, optional
-        Instead: the regular phase set of this many cranks, α_j = j·T/k (single acting) or
-        j·T/(2k) (double acting), T = 2π or 4π as ``strokes``; exact.
+        Instead: the regular phase set of this many cranks, 1 ≤ k ≤ :data:`MAX_UNITS`,
+        α_j = j·T/k (single acting) or j·T/(2k) (double acting), T = 2π or 4π as
+        ``strokes``; exact.
     strokes : {2, 4}, default 2
         The working cycle of ``cranks`` (2π or 4π).
     acting : {"single", "double"}, default "single"
@@ -158,8 +200,10 @@ def gravity(
     Raises
     ------
     MechanismError
-        Unless exactly one of ``phases``, ``cranks`` and ``layout`` is given, or for a bad
-        ``cranks``, ``strokes`` or ``acting`` (named as :func:`~multicrank.crank_phases` names them).
+        Unless exactly one of ``phases``, ``cranks`` and ``layout`` is given; for phases that
+        are not a 1-D sequence of finite real angles (numbers or real SymPy expressions); for
+        more than :data:`MAX_UNITS` (64) units; or for a bad ``cranks``, ``strokes`` or
+        ``acting`` (named as :func:`~multicrank.crank_phases` names them).
     OptionalDependencyError
         Without SymPy (the ``symbolic`` extra).
 
