@@ -341,6 +341,8 @@ REGISTRY.update(
             },
         ),
         "Machine.engine": (MACHINE.engine, {"rpm": (None, "positive_or_none")}),
+        "Machine.replace": (MACHINE.replace, {"shaft_inertia": (0.6, "positive"), "name": ("y", "label")}),
+        "Cylinder.replace": (CYLINDER.replace, {"crank_radius": (0.04, "positive"), "bore": (0.1, "real")}),
         "Layout": (
             mc.Layout,
             {
@@ -675,3 +677,31 @@ def test_work_that_could_not_finish_is_refused_up_front(call, parameter):
     overflows at extreme speeds, ratios and targets; each is now refused by name, at once."""
     with pytest.raises(mc.MechanismError, match=parameter):
         call()
+
+
+@pytest.mark.parametrize(
+    "replace, keyword, named",
+    [
+        (
+            CYLINDER.replace,
+            "bore_mm",
+            r"unknown cylinder field\(s\) bore_mm \(did you mean 'bore'\?\); known: crank_radius",
+        ),
+        (
+            CYLINDER.replace,
+            "shaft_inertia",
+            r"unknown cylinder field\(s\) shaft_inertia.*known: crank_radius, rod_length",
+        ),
+        (MACHINE.replace, "shaft_inertai", r"unknown machine field\(s\) shaft_inertai \(did you mean 'shaft_inertia'"),
+        (
+            MACHINE.replace,
+            "bore",
+            r"unknown machine field\(s\) bore \(bore: a field of each cylinder.*known: cylinders",
+        ),
+    ],
+)
+def test_replace_refuses_an_unknown_field_by_name(replace, keyword, named):
+    """Issue 26, item 6: Cylinder.replace(bore_mm=...) raised TypeError where Machine.replace
+    gave a MechanismError; both name the field and list the fields there are."""
+    with pytest.raises(mc.MechanismError, match=named):
+        replace(**{keyword: 1.0})

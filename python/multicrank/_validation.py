@@ -8,6 +8,7 @@ other module can use it without an import circle.
 
 from __future__ import annotations
 
+import difflib
 import math
 import operator
 import os
@@ -41,6 +42,7 @@ __all__ = [
     "as_work_size",
     "broadcast_designs",
     "broadcast_shape",
+    "check_fields",
     "check_size",
     "contiguous",
     "design_keywords",
@@ -299,6 +301,24 @@ def as_speed_range(value: Any) -> tuple[float, float]:
             f"<= {SPEED_LIMITS[1]:g} [1/min]"
         )
     return low, high
+
+
+def check_fields(given: Any, known: tuple[str, ...], what: str, *, elsewhere: tuple[str, ...] = ()) -> None:
+    """Refuse keywords of ``replace`` that are no field of ``what`` ("cylinder", "machine"):
+    a :class:`MechanismError` naming them (and the nearest field, where one is close) and
+    listing the fields there are. ``elsewhere``: the fields of a machine's cylinders, which
+    a machine's ``replace`` changes through ``cylinders``."""
+    unknown = sorted(set(given) - set(known))
+    if not unknown:
+        return
+    close = difflib.get_close_matches(unknown[0], known, n=1)
+    hint = f" (did you mean {close[0]!r}?)" if close else ""
+    if set(unknown) <= set(elsewhere):
+        hint = (
+            f" ({', '.join(unknown)}: a field of each cylinder; change it through cylinders="
+            f"[c.replace({unknown[0]}=...) for c in machine.cylinders])"
+        )
+    raise MechanismError(f"unknown {what} field(s) {', '.join(unknown)}{hint}; known: {', '.join(known)}")
 
 
 def one_of(first: tuple[str, Any], second: tuple[str, Any]) -> tuple[str, Any]:

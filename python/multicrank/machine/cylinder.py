@@ -20,7 +20,7 @@ import numpy as np
 from .._native import MechanismError
 from .._native import machine_evaluate as _native_machine_evaluate
 from .._native import two_mass_rod_inertia as _native_two_mass_rod_inertia
-from .._validation import as_option, as_real_array, as_scalar, contiguous
+from .._validation import as_option, as_real_array, as_scalar, check_fields, contiguous
 from ..pressure.diagram import IndicatorDiagram
 
 __all__ = ["UNIT_FIELDS", "Cylinder", "Pressure", "diagram_strokes", "unit_columns"]
@@ -366,7 +366,14 @@ class Cylinder:
             ``rod_inertia`` is the two-mass value m_k z_k (l − z_k) (the default) and the
             change moves ``rod_mass``, ``rod_length`` or ``rod_cg`` but gives no
             ``rod_inertia``, the copy's is the two-mass value of its own rod.
+
+        Raises
+        ------
+        MechanismError
+            For a keyword that is no field (naming it and listing the fields), or a value the
+            new cylinder refuses.
         """
+        check_fields(changes, tuple(f.name for f in dataclasses.fields(self)), "cylinder")
         rod = {"rod_mass", "rod_length", "rod_cg"}
         if "rod_inertia" not in changes and rod & changes.keys() and self._two_mass_rod():
             changes["rod_inertia"] = None

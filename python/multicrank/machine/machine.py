@@ -9,6 +9,7 @@ Rust core; and the dimensionless :class:`~multicrank.Engine` of gravity at any s
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import os
 from collections.abc import Sequence
@@ -23,7 +24,7 @@ from .._native import machine_gas_torque as _native_machine_gas_torque
 from .._native import machine_inertia as _native_machine_inertia
 from .._shaft import inertia_torque as _inertia_torque
 from .._text import counted
-from .._validation import as_real_array, as_scalar, as_speed, as_strokes, as_threshold, contiguous
+from .._validation import as_real_array, as_scalar, as_speed, as_strokes, as_threshold, check_fields, contiguous
 from .._validation import as_speed_range as _speed_range
 from ..gravity.engines import Engine
 from ..gravity.grids import as_phi
@@ -498,6 +499,12 @@ class Machine:
         Machine
             The changed copy, checked as a new one is.
 
+        Raises
+        ------
+        MechanismError
+            For a keyword that is no field of a machine (naming it and listing the fields; a
+            cylinder's fields change through ``cylinders``), or a value the new machine refuses.
+
         Examples
         --------
         >>> import multicrank as mc
@@ -506,11 +513,8 @@ class Machine:
         >>> bigger.name, bigger.shaft_inertia, compressor.shaft_inertia
         ('bigger flywheel', 500.0, 350.0)
         """
-        unknown = set(changes) - set(_MACHINE_FIELDS)
-        if unknown:
-            raise MechanismError(
-                f"unknown machine field(s) {', '.join(sorted(unknown))}; known: {', '.join(_MACHINE_FIELDS)}"
-            )
+        cylinder_fields = tuple(field.name for field in dataclasses.fields(Cylinder))
+        check_fields(changes, _MACHINE_FIELDS, "machine", elsewhere=cylinder_fields)
         fields = {field: changes.get(field, getattr(self, field)) for field in _MACHINE_FIELDS}
         return Machine(fields.pop("cylinders"), **fields)
 
