@@ -705,3 +705,59 @@ def test_replace_refuses_an_unknown_field_by_name(replace, keyword, named):
     gave a MechanismError; both name the field and list the fields there are."""
     with pytest.raises(mc.MechanismError, match=named):
         replace(**{keyword: 1.0})
+
+
+GASSED = CYLINDER.replace(bore=0.1)
+PRESSURE_RETURNS = {
+    "wrong shape": (lambda theta: np.zeros(3), r"returned shape \(3,\)"),
+    "a scalar": (lambda theta: 1e5, r"returned shape \(\)"),
+    "a transposed array": (lambda theta: np.zeros((*theta.shape[::-1], 1)), "returned shape"),
+    "complex": (lambda theta: (1e5 + 1e3j) * np.ones_like(theta), "real pressure.*complex128"),
+    "text": (lambda theta: np.full(theta.shape, "1e5"), "real pressure"),
+    "objects": (lambda theta: np.full(theta.shape, None), "real pressure"),
+    "ragged": (lambda theta: [[1.0], [1.0, 2.0]], "real pressure"),
+    "inf": (lambda theta: np.full(theta.shape, np.inf), r"non-finite pressure \(inf\) \[Pa\]"),
+}
+
+
+@pytest.mark.parametrize("end", ["pressure", "pressure_crank_end"])
+@pytest.mark.parametrize("returns", sorted(PRESSURE_RETURNS))
+def test_a_pressure_callable_must_return_one_real_pressure_per_angle(end, returns):
+    """Issue 26, item 6: a pressure of the wrong shape gave numpy's broadcast error, a complex
+    one lost its imaginary part; the callable is named, with what it must return."""
+    function, message = PRESSURE_RETURNS[returns]
+    machine = mc.Machine([GASSED.replace(**{end: function})], shaft_inertia=0.5, rpm=600.0)
+    for call in (lambda: machine.gas_torque(np.linspace(0.0, 1.0, 5)), lambda: mc.steady_state(machine)):
+        with pytest.raises(mc.MechanismError, match=rf"^{end} .*{message}"):
+            call()
+
+
+TORQUE_RETURNS = {
+    "complex": (lambda phi, omega: (1.0 + 1.0j) * np.ones_like(phi), "real torque.*complex128"),
+    "a complex scalar": (lambda phi, omega: 1.0 + 0.5j, "real torque.*complex"),
+    "text": (lambda phi, omega: np.full(np.shape(phi), "1"), "real torque"),
+    "wrong shape": (lambda phi, omega: np.zeros(7), r"returned shape \(7,\)"),
+    "nan": (lambda phi, omega: np.full(np.shape(phi), np.nan), r"non-finite torque \(nan\)"),
+}
+
+
+@pytest.mark.parametrize("parameter", ["load", "drive"])
+@pytest.mark.parametrize("returns", sorted(TORQUE_RETURNS))
+def test_a_load_or_drive_callable_must_return_real_torques(parameter, returns):
+    """Issue 26, item 6: a drive returning complex numbers was accepted, its imaginary part dropped."""
+    function, message = TORQUE_RETURNS[returns]
+    given = {"load": 1.0, "drive": None, parameter: function}
+    for call in (
+        lambda: mc.steady_state(MACHINE, **given),
+        lambda: mc.simulate(MACHINE, [0.0, 0.01], rpm0=600.0, **given),
+    ):
+        with pytest.raises(mc.MechanismError, match=rf"^{parameter} .*{message}"):
+            call()
+
+
+def test_a_torque_callable_may_return_what_broadcasts():
+    """The documented contract of loads stays: a result that broadcasts to (phi, omega) is taken."""
+    machine = mc.Machine([CYLINDER], shaft_inertia=0.5, rpm=600.0)
+    constant = mc.simulate(machine, [0.0, 0.01], rpm0=600.0, load=0.5)
+    scalar = mc.simulate(machine, [0.0, 0.01], rpm0=600.0, load=lambda phi, omega: 0.5)
+    np.testing.assert_array_equal(scalar.omega, constant.omega)

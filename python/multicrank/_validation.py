@@ -34,6 +34,7 @@ __all__ = [
     "as_option",
     "as_phases",
     "as_real_array",
+    "as_returned",
     "as_scalar",
     "as_speed",
     "as_speed_range",
@@ -75,6 +76,39 @@ def as_real_array(value: Any, name: str) -> np.ndarray:
             f" ({type(value).__name__})"
         )
     return array.astype(np.float64, copy=False)
+
+
+def as_returned(
+    value: Any, name: str, quantity: str, unit: str, shape: tuple[int, ...], *, broadcast: bool = False
+) -> np.ndarray:
+    """What a user's callable ``name`` returned (a ``quantity`` in ``unit``: "pressure", "Pa"),
+    checked: real numbers — not complex (whose imaginary part would be dropped), bool, text
+    or objects —, finite, and of ``shape``, the shape of the arguments it was called with
+    (``broadcast``: or a shape that broadcasts to it). A float64 array of ``shape``."""
+    wanted = f"a real {quantity} [{unit}]"
+    try:
+        array = np.asarray(value)
+    except Exception as exc:  # ragged nested lists and the like
+        raise MechanismError(f"{name} must return {wanted} per point: {exc}") from None
+    if array.dtype.kind not in _NUMERIC_KINDS:
+        raise MechanismError(f"{name} must return {wanted} per point, got dtype {array.dtype} ({type(value).__name__})")
+    if array.shape != shape:
+        try:
+            fits = broadcast and np.broadcast_shapes(array.shape, shape) == shape
+        except ValueError:
+            fits = False
+        if not fits:
+            allowed = "an array that broadcasts to it" if broadcast else "an array of that shape, one per point"
+            raise MechanismError(
+                f"{name} returned shape {array.shape} when called with shape {shape}; it must return {wanted} "
+                f"as {allowed} (a vectorised callable)"
+            )
+        array = np.broadcast_to(array, shape)
+    values = array.astype(np.float64)
+    bad = np.flatnonzero(~np.isfinite(values))
+    if bad.size:
+        raise MechanismError(f"{name} returned a non-finite {quantity} ({values.flat[bad[0]]}) [{unit}]")
+    return values
 
 
 def allocatable_bytes() -> int:

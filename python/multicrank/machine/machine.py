@@ -24,7 +24,16 @@ from .._native import machine_gas_torque as _native_machine_gas_torque
 from .._native import machine_inertia as _native_machine_inertia
 from .._shaft import inertia_torque as _inertia_torque
 from .._text import counted
-from .._validation import as_real_array, as_scalar, as_speed, as_strokes, as_threshold, check_fields, contiguous
+from .._validation import (
+    as_real_array,
+    as_returned,
+    as_scalar,
+    as_speed,
+    as_strokes,
+    as_threshold,
+    check_fields,
+    contiguous,
+)
 from .._validation import as_speed_range as _speed_range
 from ..gravity.engines import Engine
 from ..gravity.grids import as_phi
@@ -790,14 +799,11 @@ def _layout_strokes(layout: Layout | None) -> int:
 
 
 def _pressure(function: Pressure, theta: np.ndarray, name: str) -> np.ndarray:
-    """A pressure callable's values at θ, checked: finite, the shape of θ."""
+    """A pressure callable's values at θ, checked: real, finite, the shape of θ."""
     try:
-        values = np.asarray(function(theta), dtype=float)
+        values = function(theta)
     except MechanismError:
         raise
     except Exception as error:
         raise MechanismError(f"{name} failed at the cycle angles given: {error}") from error
-    values = np.broadcast_to(values, theta.shape)
-    if not np.all(np.isfinite(values)):
-        raise MechanismError(f"{name} returned a non-finite pressure (NaN or inf) [Pa]")
-    return values
+    return as_returned(values, name, "pressure", "Pa", theta.shape)

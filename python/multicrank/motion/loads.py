@@ -28,7 +28,7 @@ import numpy as np
 
 from .._native import MechanismError
 from .._shaft import omega_from_rpm
-from .._validation import as_scalar, as_speed, one_of
+from .._validation import as_returned, as_scalar, as_speed, one_of
 
 __all__ = ["BALANCE", "AppliedTorques", "PowerLawLoad", "Torque", "as_torque", "balance_torque"]
 
@@ -153,8 +153,7 @@ class Torque:
         if self.kind == "power-law":
             return np.asarray(self.value(angles, speed), dtype=float)
         try:
-            values = np.asarray(self.value(angles, speed), dtype=float)
-            values = np.broadcast_to(values, shape).copy()
+            values = self.value(angles, speed)
         except MechanismError:
             raise
         except Exception as error:
@@ -162,9 +161,7 @@ class Torque:
                 f"{self.name} failed: {type(error).__name__}: {error}; it must be a vectorised callable "
                 f"f(phi [rad], omega [rad/s]) -> torque [N·m] returning an array that broadcasts to their shape"
             ) from error
-        if not np.all(np.isfinite(values)):
-            raise MechanismError(f"{self.name} returned a non-finite torque (NaN or inf) [N·m]")
-        return values
+        return as_returned(values, self.name, "torque", "N·m", shape, broadcast=True).copy()
 
     def __repr__(self) -> str:
         return f"Torque({self.name}: {self.kind} {self.value!r})"
