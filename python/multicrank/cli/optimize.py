@@ -98,7 +98,7 @@ def _degrees_text(phases: tuple[float, ...]) -> str:
 @click.option(
     "--max-candidates",
     type=click.IntRange(min=1),
-    default=100_000,
+    default=4096,  # multicrank.design.firing.DEFAULT_MAX_CANDIDATES
     show_default=True,
     metavar="COUNT",
     help="At most this many phase assignments are tried; the output says when the crank allows more.",

@@ -14,7 +14,9 @@ torque of a cylinder is a function of (φ + α_j) mod Φ alone, for cylinders wi
 pressure, bore and crank (its *gas kind*), so the gas torques agree exactly when the
 multisets of (gas kind, α_j mod Φ) do, up to the shift; J and the gravity torque are sums
 over cylinders in which opposed masses can cancel (a boxer's), so they are compared as
-functions, sampled, for each shift the gas allows.
+functions — their Fourier orders, in the frame of each shift the gas allows. Both go into
+one hashable signature per candidate (:class:`_Signatures`), so that telling tens of
+thousands of candidates apart is one set look-up each, not a comparison of every pair.
 """
 
 from __future__ import annotations
@@ -36,12 +38,20 @@ __all__ = ["firing_orders"]
 #: Angles are compared in ticks of a nanoradian: the layouts' phases are exact or within
 #: 1e-13 rad of it, and a shift is a difference of phases.
 _RESOLUTION = 1e-9
-#: J and the gravity torque are compared at this many angles of a revolution, off any
-#: symmetry of the crank (a prime count, started off zero).
-_SAMPLES = 97
-#: …and agree when they differ by less than this fraction of their swing (and of 1e-4 of
-#: their cylinders' own swings, where those cancel).
+#: J and the gravity torque are compared by their Fourier orders 1 … _HARMONICS (a crank's
+#: terms fall off as λⁿ: order 48 is far below the rounding below for any real crank) …
+_HARMONICS = 48
+#: … the frame of the least signature chosen by the first few where they decide …
+_FIRST_ORDERS = 4
+#: … found from this many samples of a revolution of each cylinder's own terms …
+_FFT_POINTS = 256
+#: … and agree when they round alike in steps of this fraction of the cylinders' own swings
+#: summed (the scale of what a cancelling sum — a boxer's gravity — leaves).
 _AGREE = 1e-8
+#: max_candidates by default: every four-stroke crank of up to 13 cylinders (2^(k−1)) and
+#: every two-stroke crank of up to 7 unlike, evenly spaced throws ((t − 1)!) in full; a
+#: longer crank's first 4096 arrangements in seconds (each distinct one is a steady state).
+DEFAULT_MAX_CANDIDATES = 4096
 
 
 def _gas_kinds(machine: Machine) -> list[int | None]:
@@ -141,108 +151,133 @@ def _candidates(machine: Machine, limit: int) -> tuple[np.ndarray, int]:
     # angle. Another set of angles is arranged every way.
     regular = bool(np.all(np.abs(spacing - 2 * math.pi / len(angles)) <= _RESOLUTION))
     total = _arrangement_count(throw_kinds, regular)
-    found = []
     # The crank as it is first (each throw at its own angle), then every other arrangement.
     own = tuple(throw_kinds)
     others = (order for order in _arrangements(throw_kinds, regular) if order != own)
-    for order in itertools.islice(itertools.chain([own], others), limit):
-        # The i-th angle to the first throw of kind order[i] not yet placed.
-        free = {kind: [t for t, its in enumerate(throw_kinds) if its == kind] for kind in set(throw_kinds)}
-        pin = np.empty(k)
-        for angle, kind in zip(angles, order, strict=True):
-            pin[list(members[free[kind].pop(0)])] = angle
-        found.append(np.mod(pin - inclinations, 2 * math.pi))
-    return np.array(found), total
+    labels = sorted(set(throw_kinds))
+    code = {kind: i for i, kind in enumerate(labels)}
+    orders = np.array(
+        [[code[kind] for kind in order] for order in itertools.islice(itertools.chain([own], others), limit)]
+    )
+    # The i-th angle goes to the first throw of kind orders[:, i] not yet placed: the
+    # (number of that kind before it)-th throw of that kind.
+    throw = np.empty_like(orders)
+    for label, kind in enumerate(labels):
+        mask = orders == label
+        of_kind = np.array([t for t, its in enumerate(throw_kinds) if its == kind])
+        throw[mask] = of_kind[(np.cumsum(mask, axis=1) - 1)[mask]]
+    pin = np.empty(orders.shape)
+    pin[np.arange(len(orders))[:, None], throw] = angles[None, :]
+    cylinder_throw = np.empty(k, dtype=np.int64)
+    for t, cylinders in enumerate(members):
+        cylinder_throw[list(cylinders)] = t
+    return np.mod(pin[:, cylinder_throw] - inclinations, 2 * math.pi), total
 
 
-class _Motions:
-    """Which candidates run alike: the gas compared exactly (multisets of phases relative to
-    one gassed cylinder, in ticks), J and the gravity torque as sampled functions for each
-    shift the gas allows."""
+class _Signatures:
+    """A hashable signature of each candidate's motion, equal for candidates that run alike
+    (the same motion, shifted in φ).
 
-    def __init__(self, machine: Machine, phases: np.ndarray) -> None:
+    The gas: each gassed cylinder's (gas kind, phase), the phases taken relative to one gassed
+    cylinder (the *anchor*), in ticks of :data:`_RESOLUTION` modulo the cycle, as a sorted
+    multiset; the anchors that give the least multiset are the shifts the gas allows. J(φ)
+    and the gravity torque: each is a sum over cylinders of the cylinder's own term at
+    φ + α_j (opposed masses may cancel in the sum: a boxer's gravity), so its Fourier
+    coefficients are the terms' coefficients moved by the shift theorem, c_n e^{inα_j},
+    summed; in an anchor's frame (φ from the anchor's phase) they are multiplied by
+    e^{−inα_anchor}. Orders 1 … :data:`_HARMONICS` of both, rounded to :data:`_AGREE` of the
+    cylinders' own swings, in the allowed anchor's frame that gives the least, are the rest
+    of the signature. Two candidates get one signature when some shift maps one's gas onto
+    the other's and their J and gravity agree after it, to that rounding. The work is linear
+    in the number of candidates (signed in blocks, then one set look-up each), not pairwise.
+    """
+
+    #: Candidates signed at once (a block's arrays are some tens of MB).
+    BLOCK = 1024
+
+    def __init__(self, machine: Machine) -> None:
         self.machine = machine
-        self.phases = np.mod(phases, machine.cycle)
-        self.kinds = _gas_kinds(machine)
-        self.gassed = [j for j, kind in enumerate(self.kinds) if kind is not None]
+        gas = _gas_kinds(machine)
+        self.gassed = np.array([j for j, kind in enumerate(gas) if kind is not None], dtype=np.int64)
+        self.gas_kind = np.array([-1 if kind is None else kind for kind in gas], dtype=np.int64)
         self.period = round(machine.cycle / _RESOLUTION)
-        self.phi = 2 * math.pi * (np.arange(_SAMPLES) + 0.37) / _SAMPLES
-        self._curves: dict[tuple[int, ...], np.ndarray] = {}
-        # The size of the cylinders' own terms, which opposed cylinders can cancel (a boxer's
-        # gravity sums to rounding): the scale of the comparison's rounding.
-        parts = [self._curves_of(machine.replace(cylinders=[c]), self.phi) for c in machine.cylinders]
-        self.parts = np.sum([np.ptp(p, axis=1) for p in parts], axis=0)[:, None]
-
-    def ticks(self, angles: np.ndarray, cycle: float) -> list[int]:
-        """Angles [rad] modulo ``cycle``, in ticks (each rounded once)."""
-        period = round(cycle / _RESOLUTION)
-        return [int(t) % period for t in np.round(np.mod(angles, cycle) / _RESOLUTION)]
-
-    def _gas(self, row: int, anchor: int) -> tuple[tuple[int | None, int], ...]:
-        """The (gas kind, phase) multiset of candidate ``row``, phases less cylinder
-        ``anchor``'s."""
-        relative = self.ticks(self.phases[row, self.gassed] - self.phases[row, anchor], self.machine.cycle)
-        return tuple(sorted(zip([self.kinds[j] for j in self.gassed], relative, strict=True)))
-
-    def form(self, row: int) -> tuple[tuple[int | None, int], ...]:
-        """The candidate's gas up to a shift: its least multiset relative to a gassed cylinder."""
-        return min((self._gas(row, j) for j in self.gassed), default=())
-
-    def _shifts(self, row: int, other: int) -> list[float]:
-        """The shifts s [rad] with the gas of ``row`` at φ − s that of ``other`` at φ."""
-        if not self.gassed:
-            return list({float(a - b) for a in self.phases[row] for b in self.phases[other]})
-        first = self.gassed[0]
-        target = self._gas(other, first)
-        return [
-            float(self.phases[row, j] - self.phases[other, first])
-            for j in self.gassed
-            if self.kinds[j] == self.kinds[first] and self._gas(row, j) == target
-        ]
-
-    def _inertial(self, row: int, shift: float) -> np.ndarray:
-        """J and the gravity torque of candidate ``row`` at φ − s, φ the sample angles (both
-        2π-periodic: kept by the phases and the shift modulo a revolution)."""
-        key = tuple(self.ticks(np.append(self.phases[row], shift), 2 * math.pi))
-        if key not in self._curves:
-            candidate = self.machine.replace(
-                cylinders=[
-                    c.replace(phase=float(a)) for c, a in zip(self.machine.cylinders, self.phases[row], strict=True)
-                ]
-            )
-            self._curves[key] = self._curves_of(candidate, self.phi - shift)
-        return self._curves[key]
+        self.order = np.arange(1, _HARMONICS + 1)
+        # Each cylinder's J and gravity torque alone at phase 0, over a revolution, and their
+        # Fourier coefficients c_n (f = Σ c_n e^{inφ}); alike cylinders share them.
+        phi = 2 * math.pi * np.arange(_FFT_POINTS) / _FFT_POINTS
+        terms: dict[Any, np.ndarray] = {}
+        coefficients, parts = [], np.zeros(2)
+        for cylinder in machine.cylinders:
+            template = cylinder.replace(phase=0.0)
+            if template not in terms:
+                alone = machine.replace(cylinders=[template])
+                terms[template] = np.stack([alone.reduced_inertia(phi)[0], alone.gravity_torque(phi)])
+            coefficients.append(np.fft.rfft(terms[template], axis=1)[:, 1 : _HARMONICS + 1] / _FFT_POINTS)
+            parts += np.ptp(terms[template], axis=1)
+        self.coefficients = np.array(coefficients)  # (cylinders, 2, harmonics)
+        # The rounding's scale: the cylinders' own swings, which a sum may cancel.
+        self.step = (_AGREE * np.where(parts > 0, parts, 1.0))[:, None]
 
     @staticmethod
-    def _curves_of(machine: Machine, phi: np.ndarray) -> np.ndarray:
-        return np.stack([machine.reduced_inertia(phi)[0], machine.gravity_torque(phi)])
+    def _least(values: np.ndarray, allowed: np.ndarray) -> np.ndarray:
+        """Of each row's anchors (axis 1) still ``allowed``, those whose vector (axis 2) is
+        lexicographically least."""
+        allowed = allowed.copy()
+        for column in range(values.shape[2]):
+            entry = values[:, :, column]
+            least = np.where(allowed, entry, np.iinfo(np.int64).max).min(axis=1, keepdims=True)
+            allowed &= entry == least
+        return allowed
 
-    def alike(self, row: int, other: int) -> bool:
-        """Whether candidates ``row`` and ``other`` run alike (``other`` is ``row`` shifted)."""
-        reference = self._inertial(other, 0.0)
-        tolerance = _AGREE * (np.ptp(reference, axis=1, keepdims=True) + 1e-4 * self.parts)
-        return any(
-            bool(np.all(np.abs(self._inertial(row, shift) - reference) <= tolerance))
-            for shift in self._shifts(row, other)
-        )
+    def __call__(self, phases: np.ndarray) -> list[bytes]:
+        """The signature of each row of ``phases`` [rad]."""
+        blocks = (self._block(phases[start : start + self.BLOCK]) for start in range(0, len(phases), self.BLOCK))
+        return [signature for block in blocks for signature in block]
+
+    def _rounded(self, total: np.ndarray, turn: np.ndarray) -> np.ndarray:
+        """Orders ``total`` (…, 2, h) moved into frames by the rotations ``turn`` (…, A, h),
+        e^{−inα_anchor}, rounded: (…, A, 4h), harmonic by harmonic (J, gravity; re, im)."""
+        framed = total[..., None, :, :] * turn[..., :, None, :] / self.step[:, : turn.shape[-1]]
+        parts = np.stack((framed.real, framed.imag), axis=-1)  # (…, A, 2, h, 2)
+        return np.rint(np.moveaxis(parts, -3, -2)).astype(np.int64).reshape(*turn.shape[:-1], -1)
+
+    def _block(self, phases: np.ndarray) -> list[bytes]:
+        n, k = phases.shape
+        anchors = self.gassed if self.gassed.size else np.arange(k)
+        # The gas relative to each anchor: (kind, phase) as one integer, sorted; each
+        # difference of phases rounded to ticks once (rounding the phases first would split
+        # a tick: 3π and 2π, π apart, round to ticks 1 apart from π's).
+        difference = np.mod(phases[:, None, self.gassed] - phases[:, anchors, None], self.machine.cycle)
+        relative = np.round(difference / _RESOLUTION).astype(np.int64) % self.period
+        gas = np.sort(self.gas_kind[self.gassed] * self.period + relative, axis=2)
+        allowed = self._least(gas, np.ones((n, anchors.size), dtype=bool))
+        # J's and gravity's orders Σ_j c_n e^{inα_j} (e^{inα} made once per angle that occurs).
+        angles, index = np.unique(np.mod(phases, 2 * math.pi), return_inverse=True)
+        rotation = np.exp(1j * angles[:, None] * self.order)
+        index = index.reshape(n, k)
+        total = np.einsum("jqh,njh->nqh", self.coefficients, rotation[index])
+        # The least frame among those the gas allows, by the first orders (each anchor's) …
+        back = np.conj(rotation[index[:, anchors]])  # (n, A, H)
+        first = _FIRST_ORDERS
+        allowed = self._least(self._rounded(total[:, :, :first], back[:, :, :first]), allowed)
+        # … and by all of them where a candidate's symmetry leaves a tie.
+        tied = np.flatnonzero(allowed.sum(axis=1) > 1)
+        if tied.size:
+            allowed[tied] = self._least(self._rounded(total[tied], back[tied]), allowed[tied])
+        chosen = allowed.argmax(axis=1)
+        rows = np.arange(n)
+        rounded = self._rounded(total, back[rows, chosen][:, None, :])[:, 0, :]
+        return [gas[i, a].tobytes() + rounded[i].tobytes() for i, a in enumerate(chosen)]
 
 
 def _distinct(machine: Machine, phases: np.ndarray) -> list[int]:
-    """The candidates (row indices, in order) that run unlike every earlier one."""
-    motions = _Motions(machine, phases)
-    kinds = _kinds(machine)
-    machines: set[tuple[tuple[int, int], ...]] = set()
-    buckets: dict[tuple[Any, ...], list[int]] = {}
+    """The candidates (row indices, in order) that run unlike every earlier one: a set
+    look-up of each one's :class:`_Signatures`."""
+    seen: set[bytes] = set()
     kept = []
-    for row in range(len(phases)):
-        # The same cylinders at the same phases, numbered otherwise: the same machine.
-        same = tuple(sorted(zip(kinds, motions.ticks(phases[row], machine.cycle), strict=True)))
-        if same in machines:
-            continue
-        machines.add(same)
-        same_gas = buckets.setdefault(motions.form(row), [])
-        if not any(motions.alike(row, other) for other in same_gas):
-            same_gas.append(row)
+    for row, signature in enumerate(_Signatures(machine)(phases)):
+        if signature not in seen:
+            seen.add(signature)
             kept.append(row)
     return kept
 
@@ -283,12 +318,25 @@ def _largest_orders(machine: Machine, phases: np.ndarray, rpm: float, highest: i
     return nu[largest], amplitude[np.arange(len(phases)), largest]
 
 
+def _candidate_machines(machine: Machine, phases: np.ndarray) -> list[Machine]:
+    """The machine with each row of ``phases`` [rad]; a cylinder at a phase is made once
+    (a crank's cylinders take few phases; Cylinder.replace validates, and costs)."""
+    made: dict[tuple[int, float], Any] = {}
+
+    def cylinder(j: int, phase: float) -> Any:
+        if (j, phase) not in made:
+            made[j, phase] = machine.cylinders[j].replace(phase=phase)
+        return made[j, phase]
+
+    return [machine.replace(cylinders=[cylinder(j, float(a)) for j, a in enumerate(row)]) for row in phases]
+
+
 def firing_orders(
     machine: Machine,
     *,
     rpm: Any = None,
     max_order: Any = 12,
-    max_candidates: Any = 100_000,
+    max_candidates: Any = DEFAULT_MAX_CANDIDATES,
     progress: Any = False,
 ) -> Any:
     """The distinct firing orders a machine's crank allows, ranked by δ with gravity.
@@ -306,9 +354,11 @@ def firing_orders(
         The mean speed n [1/min] of the steady states; default the machine's own ``rpm``.
     max_order : int, default 12
         The highest torque order ν (per revolution) that ``largest_order`` considers.
-    max_candidates : int, default 100000
+    max_candidates : int, default 4096
         At most this many candidates are made (in a fixed order, the machine's own first);
-        where the crank allows more, the table says so (``attrs["exhaustive"]`` False).
+        where the crank allows more, the table says so (``attrs["exhaustive"]`` False). Each
+        distinct one costs a steady state (a few ms); the default covers every four-stroke
+        crank of up to 13 cylinders and every two-stroke crank of up to 7 unlike throws.
     progress : bool, default False
         Show a progress bar of the steady states.
 
@@ -339,8 +389,11 @@ def firing_orders(
     by 2π is set aside. A two-stroke crank is its throws' angles: the (t − 1)! arrangements
     of a regular set of t throws (t! of another set). Two candidates run alike when their
     gas torques, J(φ) and gravity torques agree after a common shift of φ: the gas exactly,
-    by the multiset of each cylinder's phase over the cycle and its pressure, bore and
-    crank; J and gravity sampled at 97 angles, to 1e-8 of their swing.
+    by the multiset of each cylinder's phase over the cycle (to 1e-9 rad) and its pressure,
+    bore and crank; J and gravity by their Fourier orders 1 … 48, rounded in steps of 1e-8
+    of the cylinders' own swings. Each candidate gets one signature of both (its least over
+    the shifts the gas allows), and alike candidates are found by a set look-up: the work
+    grows as the number of candidates, not its square.
 
     Examples
     --------
@@ -386,12 +439,7 @@ def firing_orders(
             "stalled": solved["stalled"].to_numpy(),
             "largest_order": largest,
             "largest_order_amplitude": amplitude,
-            "machine": [
-                machine.replace(
-                    cylinders=[c.replace(phase=float(a)) for c, a in zip(machine.cylinders, p, strict=True)]
-                )
-                for p in phases
-            ],
+            "machine": _candidate_machines(machine, phases),
         }
     )
     table = table.sort_values("delta", na_position="last", kind="stable").reset_index(drop=True)
