@@ -262,7 +262,7 @@ def gravity_map_figure(results: MotionResults, machine: Machine, threshold: floa
     filled = ax.contourf(speeds, inertias, effect, levels=np.linspace(-limit, limit, 41), cmap="RdBu_r",
                          norm=CenteredNorm(vcenter=0.0, halfrange=limit))  # fmt: skip
     label = "gravity's effect on δ: δ / δ without gravity − 1 [%]"
-    ticks = MaxNLocator(nbins=8, symmetric=True).tick_values(-limit, limit)
+    ticks = np.asarray(MaxNLocator(nbins=8, symmetric=True).tick_values(-limit, limit))
     fig.colorbar(filled, ax=ax, label=label, ticks=ticks[np.abs(ticks) <= limit * (1 + 1e-9)], format="%+g")
     lines = ax.contour(speeds, inertias, effect, levels=6, colors="0.15", linewidths=0.6)
     halo = [patheffects.withStroke(linewidth=2.5, foreground="white")]

@@ -8,7 +8,7 @@ markup beyond ``<sub>``)."""
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 
 import numpy as np
 import pandas as pd
@@ -131,14 +131,14 @@ def neglected_region_sentence(frame: pd.DataFrame, threshold: float) -> str:
 
 
 def significance_sentence(
-    crank_ratio: float, deltas: dict[int, Sequence[float]], threshold: float, ks: Sequence[int]
+    crank_ratio: float, deltas: Mapping[int, Sequence[float]], threshold: float, ks: Sequence[int]
 ) -> str:
     """For the machine's crank unit at its λ on k = ``ks`` cranks, per cycle (``deltas`` maps
     the strokes to δ_g per k): for which k δ_g is above the threshold, and how far below it
     the others are."""
     sentences = []
-    for strokes, values in deltas.items():
-        values = np.asarray(values, dtype=float)
+    for strokes, given in deltas.items():
+        values = np.asarray(given, dtype=float)
         above = [k for k, d in zip(ks, values, strict=True) if d >= threshold]
         below = [k for k, d in zip(ks, values, strict=True) if d < threshold]
         name = f"{strokes}-stroke"
