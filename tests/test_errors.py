@@ -314,6 +314,7 @@ MACHINE_KINDS = {
     "g": (9.81, "real"),
     "rpm": (600.0, "positive_or_none"),
     "rpm_range": (None, "range_or_none"),
+    "delta_target": (None, "positive_or_none"),
 }
 REGISTRY.update(
     {
@@ -761,3 +762,30 @@ def test_a_torque_callable_may_return_what_broadcasts():
     constant = mc.simulate(machine, [0.0, 0.01], rpm0=600.0, load=0.5)
     scalar = mc.simulate(machine, [0.0, 0.01], rpm0=600.0, load=lambda phi, omega: 0.5)
     np.testing.assert_array_equal(scalar.omega, constant.omega)
+
+
+def _tampered(change: Callable[[pd.DataFrame], None]) -> pd.DataFrame:
+    orders = mc.torque_orders(MACHINE, 600.0, max_order=3)
+    change(orders)
+    return orders
+
+
+@pytest.mark.parametrize(
+    "orders, named",
+    [
+        (_tampered(lambda t: t.__setitem__("total_amplitude", np.nan)), r"total_amplitude = nan at order 0\.0"),
+        (_tampered(lambda t: t.loc.__setitem__((2.0, "total_amplitude"), -1.0)), r"total_amplitude = -1\.0 at order 2"),
+        (_tampered(lambda t: t.loc.__setitem__((3.0, "total_phase"), np.inf)), "total_phase = inf at order 3"),
+        (_tampered(lambda t: t.__setitem__("total_amplitude", "1")), "total_amplitude must hold real numbers"),
+        (_tampered(lambda t: t.attrs.__setitem__("omega", -62.8)), r"attrs\['omega'\] = -62\.8 is out of range"),
+        (_tampered(lambda t: t.attrs.__setitem__("omega", np.nan)), r"attrs\['omega'\] = nan is out of range"),
+        (_tampered(lambda t: t.attrs.__setitem__("omega", "fast")), r"attrs\['omega'\] = 'fast' is not a speed"),
+        (_tampered(lambda t: t.pop("total_phase")), "lacks the column"),
+        (_tampered(lambda t: setattr(t, "index", pd.Index([0.0, -1.0, 2.0, 3.0], name="order"))), "order = -1.0"),
+    ],
+)
+def test_to_opentorsion_refuses_a_tampered_table(orders, named):
+    """Issue 26, item 6: a table of torque_orders changed since (NaN amplitudes, a negative ω
+    in its attrs) was handed to openTorsion as it was."""
+    with pytest.raises(mc.MechanismError, match=rf"^orders .*{named}"):
+        mc.to_opentorsion(orders, dofs=2, node=0, mean=True)

@@ -33,7 +33,7 @@ import numpy as np
 from .._native import MechanismError
 from .._optional import require
 from .._shaft import omega_from_rpm
-from .._validation import as_count, as_flag, as_instance, as_option, as_speed
+from .._validation import SPEED_LIMITS, as_count, as_flag, as_instance, as_option, as_speed
 from ..machine.machine import Machine
 from ._quadrature import CycleQuadrature
 
@@ -211,7 +211,9 @@ def to_opentorsion(orders: Any, *, dofs: Any, node: Any, part: str = "total", me
     Raises
     ------
     MechanismError
-        For a table not made by :func:`torque_orders`, or a bad ``dofs``, ``node`` or ``part``.
+        For a table not made by :func:`torque_orders` or changed since (a missing column, a
+        non-finite or negative order or amplitude, a non-finite phase, ``attrs["omega"]`` not a
+        speed the package takes), or a bad ``dofs``, ``node`` or ``part``.
     OptionalDependencyError
         Without openTorsion.
 
@@ -233,11 +235,51 @@ def to_opentorsion(orders: Any, *, dofs: Any, node: Any, part: str = "total", me
     at = as_count(node, "node", minimum=0)
     if at >= count:
         raise MechanismError(f"node = {at} is out of range; allowed: 0 <= node < dofs = {count}")
-    keep = np.asarray(orders.index) > 0 if not as_flag(mean, "mean") else np.ones(len(orders), dtype=bool)
-    table = orders[keep]
+    with_mean = as_flag(mean, "mean")
+    omega, index, amplitude, phase = _checked_orders(orders, chosen)
+    keep = index > 0 if not with_mean else np.ones(len(orders), dtype=bool)
     opentorsion = require("opentorsion", "torsion")
-    frequencies = np.asarray(table.index, dtype=float) * float(orders.attrs["omega"])
+    frequencies = index[keep] * omega
     excitation = opentorsion.PeriodicExcitation(count, frequencies)
-    amplitude = table[f"{chosen}_amplitude"].to_numpy()
-    excitation.add_sines(at, frequencies, amplitude, -table[f"{chosen}_phase"].to_numpy())
+    excitation.add_sines(at, frequencies, amplitude[keep], -phase[keep])
     return excitation
+
+
+def _checked_orders(orders: Any, part: str) -> tuple[float, np.ndarray, np.ndarray, np.ndarray]:
+    """(ω_m [rad/s], the orders ν, A_ν [N·m], θ_ν [rad]) of ``part`` in a table of
+    :func:`torque_orders`, checked as that function makes them — so that a table changed
+    since (NaN amplitudes, a negative speed) is refused rather than handed on."""
+    where = "orders (a table of mc.torque_orders)"
+    columns = (f"{part}_amplitude", f"{part}_phase")
+    missing = [c for c in columns if c not in orders.columns]
+    if missing:
+        raise MechanismError(f"{where} lacks the column(s) {', '.join(missing)}")
+    try:
+        omega = float(orders.attrs["omega"])
+    except (TypeError, ValueError):
+        raise MechanismError(f"{where}: attrs['omega'] = {orders.attrs['omega']!r} is not a speed [rad/s]") from None
+    low, high = (omega_from_rpm(limit) for limit in SPEED_LIMITS)
+    if not (math.isfinite(omega) and low <= omega <= high):
+        raise MechanismError(
+            f"{where}: attrs['omega'] = {omega!r} is out of range; allowed: {low:g} <= omega <= {high:g} [rad/s]"
+        )
+    values = {"order": orders.index, **{c: orders[c] for c in columns}}
+    arrays: dict[str, np.ndarray] = {}
+    for name, column in values.items():
+        array = np.asarray(column)
+        if array.dtype.kind not in "iuf":
+            raise MechanismError(f"{where}: {name} must hold real numbers, got dtype {array.dtype}")
+        arrays[name] = array.astype(np.float64)
+    rules = {
+        "order": (lambda a: np.isfinite(a) & (a >= 0), "finite orders >= 0"),
+        columns[0]: (lambda a: np.isfinite(a) & (a >= 0), "finite amplitudes >= 0 [N·m]"),
+        columns[1]: (np.isfinite, "finite phases [rad]"),
+    }
+    for name, (rule, allowed) in rules.items():
+        bad = np.flatnonzero(~rule(arrays[name]))
+        if bad.size:
+            at = "" if name == "order" else f" at order {orders.index[bad[0]]}"
+            raise MechanismError(
+                f"{where}: {name} = {float(arrays[name][bad[0]])!r}{at} is out of range; allowed: {allowed}"
+            )
+    return omega, arrays["order"], arrays[columns[0]], arrays[columns[1]]
