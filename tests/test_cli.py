@@ -83,7 +83,7 @@ def test_engine_is_the_former_name_of_the_machine_option():
     result = subprocess.run(
         [str(SCRIPT), "eval", "--engine", "steam-hammer"], capture_output=True, text=True, timeout=60
     )
-    assert result.returncode == 2 and "--machine: " in result.stderr
+    assert result.returncode == 2 and "--engine: " in result.stderr  # the option typed
 
 
 def _run_failing(*args: str) -> subprocess.CompletedProcess:

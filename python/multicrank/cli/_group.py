@@ -3,7 +3,9 @@ line and exit status 2, and the ``--machine`` option that most commands share.""
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+import os
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import click
 
@@ -14,7 +16,7 @@ from ..presets import DEFAULT_MACHINE_NAME, MACHINES
 if TYPE_CHECKING:
     from ..machine.machine import Machine
 
-__all__ = ["MissingExtra", "UserError", "machine_option", "main"]
+__all__ = ["INTERRUPTED", "MissingExtra", "UserError", "machine_option", "main"]
 
 
 class MissingExtra(click.ClickException):
@@ -30,8 +32,14 @@ class UserError(click.ClickException):
     exit_code = 2
 
 
+#: The exit status of a command stopped by Ctrl-C: 128 + SIGINT, as a shell reports a
+#: process that the signal ended.
+INTERRUPTED = 130
+
+
 class _Commands(click.Group):
-    """The group: the library's errors become one line, never a traceback."""
+    """The group: the library's errors become one line, never a traceback; Ctrl-C, whenever it
+    comes, one line and exit status 130."""
 
     def invoke(self, ctx: click.Context) -> object:
         try:
@@ -42,6 +50,13 @@ class _Commands(click.Group):
             # Every check of the library names what is wrong with the input: that line is
             # the message, never a traceback.
             raise UserError(str(error)) from None
+        except KeyboardInterrupt as interruption:
+            # One rule for every command and every moment (reading the machine, computing,
+            # writing), not click's "Aborted!" and status 1. A command that keeps something
+            # says what in the interruption's message (raise KeyboardInterrupt("...")).
+            kept = str(interruption)
+            click.echo(f"\ninterrupted{': ' + kept if kept else ''}", err=True)
+            raise click.exceptions.Exit(INTERRUPTED) from None
 
 
 @click.group(cls=_Commands, context_settings={"help_option_names": ["-h", "--help"]})
@@ -55,21 +70,51 @@ def main() -> None:
     """
 
 
+#: Where --engine's value waits for --machine's callback (ctx.meta: shared by the contexts of
+#: one invocation).
+_ENGINE = "multicrank.engine"
+
+
+def _remember_engine(ctx: click.Context, param: click.Parameter, spec: str | None) -> None:
+    """--engine (eager, so before --machine): its value, for --machine's callback to load."""
+    if spec is not None:
+        ctx.meta[_ENGINE] = spec
+
+
 def _load_machine(ctx: click.Context, param: click.Parameter, spec: str) -> Machine:
-    """--machine: a built-in machine's name or a TOML machine file, as a multicrank.Machine."""
+    """--machine (or --engine): a built-in machine's name or a TOML machine file, as a
+    multicrank.Machine; a mistake is one line naming the option the user typed."""
     from ..presets import machine_by_name_or_file
 
+    option = "--machine"
+    engine = ctx.meta.pop(_ENGINE, None)
+    if engine is not None:
+        if ctx.get_parameter_source("machine") is click.core.ParameterSource.COMMANDLINE:
+            raise UserError("--machine and --engine are one option (--engine its former name): give it once")
+        spec, option = engine, "--engine"
+    if spec not in MACHINES and not os.path.exists(spec):
+        if os.sep in spec or "/" in spec or Path(spec).suffix:  # meant as a file
+            raise UserError(f"{option}: {spec}: no such file")
+        raise UserError(f"{option}: {spec!r} is neither a built-in machine ({', '.join(MACHINES)}) nor a machine file")
     try:
         return machine_by_name_or_file(spec)
     except MechanismError as error:
-        raise UserError(f"--machine: {error}") from None
+        raise UserError(f"{option}: {error}") from None
 
 
-# --engine is the option's name of 0.1, still accepted (a machine is what it always took).
-machine_option = click.option(
+class _MachineOption(click.Option):
+    """--machine, whose help line also names --engine (an option of its own, hidden, so that a
+    message can name the option the user typed)."""
+
+    def get_help_record(self, ctx: click.Context) -> tuple[str, str] | None:
+        record = super().get_help_record(ctx)
+        return None if record is None else (record[0].replace("--machine", "--machine, --engine", 1), record[1])
+
+
+_machine = click.option(
     "--machine",
-    "--engine",
     "machine",
+    cls=_MachineOption,
     default=DEFAULT_MACHINE_NAME,
     show_default=True,
     callback=_load_machine,
@@ -77,3 +122,13 @@ machine_option = click.option(
     help=f"A built-in machine ({', '.join(MACHINES)}) or a TOML machine file (docs/machine-files.md); "
     "--engine is its former name.",
 )
+# --engine is the option's name of 0.1, still accepted (a machine is what it always took).
+_engine = click.option(
+    "--engine", metavar="NAME|FILE", hidden=True, is_eager=True, expose_value=False, callback=_remember_engine
+)
+
+
+def machine_option(command: Any) -> Any:
+    """The --machine option (and its former name --engine) of a command: its argument
+    ``machine``, a multicrank.Machine."""
+    return _engine(_machine(command))

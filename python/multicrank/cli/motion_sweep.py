@@ -4,7 +4,6 @@ the gravity sweep's syntax, to Parquet or printed; every mistake one line naming
 
 from __future__ import annotations
 
-import sys
 from typing import TYPE_CHECKING, Any
 
 import click
@@ -178,10 +177,9 @@ def motion_sweep_command(
         )  # fmt: skip
     except OSError as error:  # a full disk, a directory that went away: the kept parts stay
         raise UserError(f"--out {out}: {error.strerror or error}; finished chunks are kept for --resume") from None
-    except KeyboardInterrupt:
+    except KeyboardInterrupt:  # the group says it and exits with status 130
         kept = f"finished chunks are kept; rerun with --resume to continue into {out}" if out else "nothing was written"
-        click.echo(f"\ninterrupted: {kept}", err=True)
-        sys.exit(130)
+        raise KeyboardInterrupt(kept) from None
     elapsed = time.perf_counter() - started
     rate = f"{len(grid) / elapsed:,.0f} designs/s" if elapsed > 0 else "instant"
     heading = f"{machine.name}: {counted(len(grid), 'design')} (load {load_text}) in {elapsed:.2f} s ({rate})"

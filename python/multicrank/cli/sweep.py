@@ -8,7 +8,6 @@ variants of a machine. The axis syntax and the checks of a ``--config`` file are
 from __future__ import annotations
 
 import math
-import sys
 from typing import Any
 
 import click
@@ -273,9 +272,8 @@ def sweep_command(
         raise click.UsageError(str(error)) from None
     except OSError as error:  # a full disk, a directory that went away: the kept parts stay
         raise UserError(f"--out {out}: {error.strerror or error}; finished chunks are kept for --resume") from None
-    except KeyboardInterrupt:
-        click.echo(f"\ninterrupted: finished chunks are kept; rerun with --resume to continue into {out}", err=True)
-        sys.exit(130)
+    except KeyboardInterrupt:  # the group says it and exits with status 130
+        raise KeyboardInterrupt(f"finished chunks are kept; rerun with --resume to continue into {out}") from None
     elapsed = time.perf_counter() - started
     pq = require("pyarrow.parquet", "parquet")
     result = pq.read_table(path, columns=list(chosen)).to_pandas()
