@@ -375,7 +375,7 @@ with ω<sub>m</sub> the time mean.</p>
 <h3>Over the speed range</h3>
 <p>Gravity's torque, like the gas torque of a given indicator diagram, does not depend on the speed, while the
 inertia torque grows as n²: so gravity's share of δ may grow or fall with the speed, and δ<sub>g</sub> (∝ 1/n²)
-does not tell which. Here: {speed_trend_sentence(results.speeds)} The grey line is the target δ.</p>
+does not tell which. {speed_trend_sentence(results.speeds)} The grey line is the target δ.</p>
 <img src="{figures["motion_speed_range"]}" alt="δ over the speed range">
 <h3>Where gravity matters: speed × flywheel</h3>
 {_gravity_map_caption(results, machine, threshold)}
@@ -388,3 +388,5 @@ torsional-vibration tools: gravity and inertia exact, gas from the cycle quadrat
 <p class="note">Data: motion_speed.csv, motion_torques.csv, motion_speed_range.csv, motion_gravity_map.csv,
 motion_orders.csv</p>
 """
+{_near_stall_html(results.speeds, "over the speed range")}
+{_near_stall_html(results.gravity_map, "on the map")}
