@@ -27,7 +27,8 @@ def run(*args: str, check: bool = True) -> subprocess.CompletedProcess:
 
 @pytest.fixture(scope="module")
 def report(tmp_path_factory) -> Path:
-    out = tmp_path_factory.mktemp("report")
+    out = tmp_path_factory.mktemp("report") / "report"
+    _former_report(out)  # which the report replaces whole
     result = run(
         "report",
         "--out",
@@ -296,3 +297,66 @@ def test_report_maps_where_gravity_matters(report):
     assert row.delta_g == pytest.approx(float(variant.engine(row.rpm).speed_fluctuation()), rel=1e-12)
     page = (report / "index.html").read_text(encoding="utf-8")
     assert "Where gravity matters" in page and f"{points} × {points} exact steady states" in page
+
+
+# The smallest report the command writes: what the interruption tests need, in seconds.
+SMALL = ["--machine", "slow-compressor", "--k-max", "2", "--n-max", "4", "--points", "16", "--no-progress"]
+
+
+def _former_report(folder: Path) -> dict[str, bytes]:
+    """A former report in ``folder``: its page, a figure the new one rewrites, a table it does not."""
+    files = {"index.html": b"<html>the former report</html>", "motion_speed.png": b"\x89PNG old", "old.csv": b"a\n1\n"}
+    folder.mkdir()
+    for name, data in files.items():
+        (folder / name).write_bytes(data)
+    return files
+
+
+def test_a_finished_report_replaces_the_former_one_whole(report):
+    names = {path.name for path in report.iterdir()}
+    assert "old.csv" not in names and "the former report" not in (report / "index.html").read_text(encoding="utf-8")
+    assert (report / "motion_speed.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert [path.name for path in report.parent.iterdir()] == ["report"]  # no temporary folder left
+
+
+def test_an_interrupted_report_leaves_the_former_one_whole(tmp_path, monkeypatch):
+    """Ctrl-C during `multicrank report` left the folder mixing the former report with new
+    files: the new one is written beside it and replaces it whole only once complete."""
+    from click.testing import CliRunner
+
+    import multicrank.report.html as report_html
+    from multicrank import cli
+
+    out = tmp_path / "report"
+    former = _former_report(out)
+    written: list[str] = []
+
+    def interrupted(*args, **kwargs):  # Ctrl-C at the spectra, after the motion and the curves are written
+        written.extend(path.name for path in tmp_path.rglob("*.png") if path.parent != out)
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(report_html, "spectra_figure", interrupted)
+    result = CliRunner().invoke(cli.main, ["report", "--out", str(out), *SMALL])
+    assert result.exit_code == 130 and "Traceback" not in result.output, result.output
+    assert "motion_speed.png" in written and "energy_2stroke.png" in written  # it had written files
+    assert {path.name: path.read_bytes() for path in out.iterdir()} == former
+    assert [path.name for path in tmp_path.iterdir()] == ["report"]  # no temporary folder left
+
+
+def test_a_folder_that_is_not_a_report_is_refused_before_any_work(tmp_path, monkeypatch):
+    """The report replaces its folder whole, so a folder holding other files (or the current
+    folder) is refused, one line naming it, and left as it was."""
+    from click.testing import CliRunner
+
+    from multicrank import cli
+
+    (tmp_path / "notes.txt").write_text("mine")
+    (tmp_path / "index.html").write_text("mine too")
+    for out, named in ((str(tmp_path), "notes.txt"), (".", "current folder")):
+        if out == ".":
+            monkeypatch.chdir(tmp_path)
+        result = CliRunner().invoke(cli.main, ["report", "--out", out, *SMALL])
+        assert result.exit_code == 2, result.output
+        (line,) = result.output.strip().splitlines()
+        assert line.startswith(f"Error: out = {out!r}") and named in line
+        assert sorted(path.name for path in tmp_path.iterdir()) == ["index.html", "notes.txt"]

@@ -2,7 +2,9 @@
 
 :func:`atomic_write` puts a file in place whole or not at all (a sweep's parts and manifest,
 the command line's ``--out`` files, the report's pages, figures and tables): a reader never
-sees half of it, and a failure or Ctrl-C leaves nothing new behind. :func:`read_toml` reads
+sees half of it, and a failure or Ctrl-C leaves nothing new behind. :func:`atomic_directory`
+does the same for a folder (the report's): filled under a temporary name beside it, it
+replaces the old folder only once it is whole. :func:`read_toml` reads
 a TOML file (a machine file, a sweep's ``--config``) with one message per way it can fail,
 naming the file.
 """
@@ -10,6 +12,7 @@ naming the file.
 from __future__ import annotations
 
 import os
+import shutil
 import uuid
 from collections.abc import Iterator
 from contextlib import contextmanager
@@ -18,7 +21,7 @@ from typing import IO, Any
 
 from ._native import MechanismError
 
-__all__ = ["TEMPORARY_SUFFIX", "atomic_write", "read_toml", "write_atomically"]
+__all__ = ["TEMPORARY_SUFFIX", "atomic_directory", "atomic_write", "read_toml", "write_atomically"]
 
 #: How a temporary file of :func:`atomic_write` ends: a file left by a killed process is
 #: recognisable (the sweep store removes such files on resume).
@@ -61,6 +64,54 @@ def atomic_write(path: str | os.PathLike[str]) -> Iterator[IO[bytes]]:
         os.replace(temporary, target)
     except BaseException:
         temporary.unlink(missing_ok=True)
+        raise
+
+
+@contextmanager
+def atomic_directory(path: str | os.PathLike[str]) -> Iterator[Path]:
+    """A folder to fill that appears at ``path`` only once it is whole, replacing the one there.
+
+    The block fills a new, hidden folder beside ``path`` (same parent, so that the renames
+    cannot cross file systems; its name ends in :data:`TEMPORARY_SUFFIX`). When the block
+    ends without an error, a folder already at ``path`` is renamed aside, the new one renamed
+    to ``path`` and the old one removed: the old folder stays as it was, whole, until the new
+    one is complete, and a reader sees one or the other, apart from the instant between the
+    two renames, when there is none. On any error or interruption (Ctrl-C) the new folder is
+    removed and ``path`` is left as it was. The parent folders are created if needed.
+
+    The whole folder is replaced: files in the old one that the block does not write are
+    gone afterwards. Deciding whether a folder may be replaced is the caller's.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The folder to write (a symbolic link to a folder: the folder it points to).
+
+    Yields
+    ------
+    pathlib.Path
+        The temporary folder, empty, to fill.
+    """
+    target = Path(path).resolve()
+    target.parent.mkdir(parents=True, exist_ok=True)
+    temporary = target.with_name(f".{target.name}.{uuid.uuid4().hex[:12]}{TEMPORARY_SUFFIX}")
+    temporary.mkdir()
+    try:
+        yield temporary
+        if not os.path.lexists(target):
+            os.replace(temporary, target)
+            return
+        aside = target.with_name(f".{target.name}.{uuid.uuid4().hex[:12]}.old{TEMPORARY_SUFFIX}")
+        os.replace(target, aside)
+        try:
+            os.replace(temporary, target)
+        except BaseException:
+            if not os.path.lexists(target):
+                os.replace(aside, target)  # the old folder back where it was
+            raise
+        shutil.rmtree(aside, ignore_errors=True)
+    except BaseException:
+        shutil.rmtree(temporary, ignore_errors=True)
         raise
 
 

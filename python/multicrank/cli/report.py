@@ -31,7 +31,9 @@ def _finite_option(value: float | None, option: str) -> float | None:
     default="multicrank-report",
     show_default=True,
     metavar="DIR",
-    help="The folder for index.html and its figures (PNG) and tables (CSV).",
+    help="The folder for index.html and its figures (PNG) and tables (CSV): a new or empty one, or a "
+    "former report's, which is replaced whole once the new report is complete (until then, and after "
+    "an interruption, it stays as it was).",
 )
 @machine_option
 @click.option(

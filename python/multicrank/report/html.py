@@ -13,7 +13,8 @@ from typing import TYPE_CHECKING
 
 import pandas as pd
 
-from .._files import write_atomically
+from .._files import TEMPORARY_SUFFIX, atomic_directory, write_atomically
+from .._native import MechanismError
 from .._optional import require
 from .design import counterweight_table, design_html, design_results, firing_table
 from .gravity import (
@@ -73,17 +74,76 @@ caption { caption-side: top; font-weight: bold; text-align: left; padding-bottom
 
 
 def write_report(out: str | Path, settings: ReportSettings | None = None, progress: bool = True) -> Path:
-    """Write the report into ``out`` (created if needed); returns the path of index.html."""
-    from tqdm.auto import tqdm
+    """Write the report into the folder ``out``; returns the path of its index.html.
 
+    The report is written into a new folder beside ``out`` and replaces ``out`` whole once
+    it is complete: a report interrupted (an error, Ctrl-C) leaves ``out`` as it was, and a
+    finished one leaves no file of the former report behind. The parent folders are created
+    if needed.
+
+    Parameters
+    ----------
+    out : str or pathlib.Path
+        The report's folder: a new one, an empty one or a former report's.
+    settings : ReportSettings, optional
+        What the report is about [default: ``ReportSettings()``].
+    progress : bool, default True
+        Show a progress bar (tqdm) over the report's parts.
+
+    Returns
+    -------
+    pathlib.Path
+        ``out``/index.html.
+
+    Raises
+    ------
+    MechanismError
+        Before anything is written: for a machine without a running speed or speed range,
+        and for an ``out`` that is not a folder this may replace (a file, the current folder
+        or one holding it, a folder with other files than a report's).
+    """
     settings = settings or ReportSettings()
     # The user's mistakes first, then the missing extra, both before anything is written.
     running_speed(settings.machine)
     for machine in settings.machines.values():
         speed_range(machine)
+    target = _replaceable_folder(out)
     require("matplotlib", "report")
-    out = Path(out)
-    out.mkdir(parents=True, exist_ok=True)
+    with atomic_directory(target) as folder:
+        _write_files(folder, settings, progress)
+    return target / "index.html"
+
+
+# What a report's folder holds: index.html, PNG figures and CSV tables (any version's names).
+_REPORT_SUFFIXES = (".html", ".png", ".csv")
+
+
+def _replaceable_folder(out: str | Path) -> Path:
+    """``out`` as an absolute path, checked to be a folder the report may replace whole."""
+    target = Path(out).resolve()
+    where = f"out = {str(out)!r}"
+    if target == Path.cwd() or target in Path.cwd().parents:
+        raise MechanismError(f"{where} is the current folder or holds it; the report replaces its folder whole")
+    if not target.exists():
+        return target
+    if not target.is_dir():
+        raise MechanismError(f"{where} is a file, not a folder")
+    # A temporary file that a killed run of an earlier version left inside it is a report's too.
+    entries = [e for e in target.iterdir() if not (e.name.startswith(".") and e.name.endswith(TEMPORARY_SUFFIX))]
+    others = [e.name for e in entries if not (e.is_file() and e.suffix.lower() in _REPORT_SUFFIXES)]
+    if others or (entries and not (target / "index.html").is_file()):
+        shown = ", ".join(sorted(others)[:3]) or "no index.html"
+        raise MechanismError(
+            f"{where} holds other files than a report's ({shown}); the report replaces its folder whole: "
+            "give a new or empty folder, or a former report's"
+        )
+    return target
+
+
+def _write_files(out: Path, settings: ReportSettings, progress: bool) -> Path:
+    """Write the report's files into the (empty) folder ``out``; returns its index.html."""
+    from tqdm.auto import tqdm
+
     machine = settings.machine
     sections: list[str] = []
     steps = [

@@ -388,5 +388,3 @@ torsional-vibration tools: gravity and inertia exact, gas from the cycle quadrat
 <p class="note">Data: motion_speed.csv, motion_torques.csv, motion_speed_range.csv, motion_gravity_map.csv,
 motion_orders.csv</p>
 """
-{_near_stall_html(results.speeds, "over the speed range")}
-{_near_stall_html(results.gravity_map, "on the map")}
