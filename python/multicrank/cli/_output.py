@@ -4,19 +4,48 @@ programs) to stdout or, with ``--out``, to a file written whole or not at all.""
 from __future__ import annotations
 
 import json
+import os
 import sys
+from collections.abc import Iterator
+from contextlib import contextmanager
 from typing import TYPE_CHECKING, Any
 
 import click
 
 from .._files import write_atomically
+from ._group import UserError
 
 if TYPE_CHECKING:
-    import os
-
     import pandas as pd
 
-__all__ = ["FORMATS", "format_option", "write_result"]
+__all__ = ["FORMATS", "format_option", "out_file", "write_result", "writing"]
+
+
+def out_file(ctx: click.Context, param: click.Parameter, path: str | None) -> str | None:
+    """The callback of an option naming a file to write (--out FILE, --cycle FILE): its
+    folder must exist and be writable, checked before any work; else one line naming the
+    option and the path (exit status 2)."""
+    if path is None or ctx.resilient_parsing:
+        return path
+    option = max(param.opts, key=len)
+    folder = os.path.dirname(path) or os.curdir
+    if not os.path.isdir(folder):
+        what = "is not a folder" if os.path.exists(folder) else "does not exist"
+        raise UserError(f"{option} {path}: {folder} {what}")
+    if not os.access(folder, os.W_OK | os.X_OK):
+        raise UserError(f"{option} {path}: the folder {folder} cannot be written")
+    return path
+
+
+@contextmanager
+def writing(option: str, path: str | os.PathLike[str]) -> Iterator[None]:
+    """A file written in the block that cannot be (a full disk, a folder gone or not writable)
+    is one line naming the option and the path, never a traceback."""
+    try:
+        yield
+    except OSError as error:
+        raise UserError(f"{option} {os.fspath(path)}: {error.strerror or error}") from None
+
 
 FORMATS = ("table", "csv", "json")
 
@@ -50,5 +79,6 @@ def write_result(
     if out_path is None:
         sys.stdout.write(text)
     else:
-        write_atomically(out_path, text)
+        with writing("--out", out_path):
+            write_atomically(out_path, text)
         click.echo(f"written: {out_path}", err=True)

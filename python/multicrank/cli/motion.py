@@ -15,7 +15,7 @@ from .._native import MechanismError
 from .._shaft import omega_from_rpm, rpm_from_omega
 from .._text import counted
 from ._group import UserError, machine_option
-from ._output import format_option, write_result
+from ._output import format_option, out_file, write_result, writing
 
 if TYPE_CHECKING:
     from ..machine.machine import Machine
@@ -101,6 +101,7 @@ drive_option = click.option(
     "--out",
     "out_path",
     type=click.Path(dir_okay=False, writable=True),
+    callback=out_file,
     metavar="FILE",
     help="Write to FILE, not stdout.",
 )
@@ -227,12 +228,18 @@ def _without_gas(machine: Machine) -> Machine:
     "--cycle",
     "cycle_path",
     type=click.Path(dir_okay=False),
+    callback=out_file,
     metavar="FILE",
     help="Write ω(φ) and the torques over one cycle, at the first speed that runs, to FILE (CSV).",
 )
 @format_option
 @click.option(
-    "--out", "out_path", type=click.Path(dir_okay=False), metavar="FILE", help="Write the table to FILE, not stdout."
+    "--out",
+    "out_path",
+    type=click.Path(dir_okay=False),
+    callback=out_file,
+    metavar="FILE",
+    help="Write the table to FILE, not stdout.",
 )
 @click.option("--progress/--no-progress", default=True, show_default=True, help="Show a progress bar over the speeds.")
 def motion_command(
@@ -316,7 +323,8 @@ def motion_command(
         cycle["omega_without_gravity"] = steady_state(
             machine, rpm=first.rpm if balance else None, load=load_rule, drive=drive_rule, gravity=False
         ).omega
-        write_atomically(cycle_path, cycle.to_csv(float_format="%.12g"))
+        with writing("--cycle", cycle_path):
+            write_atomically(cycle_path, cycle.to_csv(float_format="%.12g"))
     units = dict(
         rpm="1/min", load_torque="N·m", power_kw="kW", flywheel="kg·m²", flywheel_without_gravity="kg·m²",
         flywheel_textbook="kg·m²", rpm_min="1/min", rpm_max="1/min",

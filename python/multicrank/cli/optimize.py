@@ -13,7 +13,7 @@ import click
 from .._native import MechanismError
 from .._text import counted
 from ._group import UserError, machine_option
-from ._output import format_option, write_result
+from ._output import format_option, out_file, write_result
 from .motion import _speed
 
 if TYPE_CHECKING:
@@ -39,7 +39,12 @@ _rpm_option = click.option(
     help="The mean speed [1/min] of the steady states (balance load) [default: the machine's own].",
 )
 _out_option = click.option(
-    "--out", "out_path", type=click.Path(dir_okay=False), metavar="FILE", help="Write the table to FILE, not stdout."
+    "--out",
+    "out_path",
+    type=click.Path(dir_okay=False),
+    callback=out_file,
+    metavar="FILE",
+    help="Write the table to FILE, not stdout.",
 )
 _progress_option = click.option(
     "--progress/--no-progress", default=True, show_default=True, help="Show a progress bar."
