@@ -32,7 +32,7 @@ MOTION_AXES: dict[str, str] = {
     "rod_length": "rod length [m]",
     "piston_mass": "piston mass [kg]",
     "rod_mass": "rod mass [kg]",
-    "rod_cg": "rod centre of gravity from the crank pin [m]",
+    "rod_cg": "rod centre of gravity from the piston-pin axis [m]",
     "rod_inertia": "rod moment of inertia about its centre of gravity [kg·m²]",
     "crank_mass": "crank mass [kg]",
     "crank_cg_radius": "crank centre-of-gravity radius [m]",
@@ -54,13 +54,28 @@ def _axis_options(command: Any) -> Any:
 
 
 def _config_load(table: dict[str, Any], path: str | None) -> str | None:
-    """load in --config: a string as --load takes it, or a torque [N·m]."""
+    """load in --config: a string as --load takes it."""
     load = table.get("load")
     if load is None:
         return None
-    if isinstance(load, bool) or not isinstance(load, str | int | float):
-        raise MechanismError(f"--config {path}: load = {load!r}; it is a string as --load takes it, or a number [N·m]")
-    return str(load)
+    if not isinstance(load, str):
+        raise MechanismError(f"--config {path}: load = {load!r}; it is a string as --load takes it")
+    return load
+
+
+def _load_rule(text: str, where: str) -> Any:
+    """The load of --load (or load in --config, ``where``): balance or a power law. A constant
+    torque is refused here, before any work: a sweep has no drive, so with gas alone against
+    a constant load no machine runs steadily unless the load is the mean gas torque — which
+    is what balance is."""
+    rule = parse_torque(text, "load", balance=True)
+    if isinstance(rule, float):
+        raise MechanismError(
+            f"{where} = {text!r}: a constant torque is not a load a motion sweep takes (without a drive it "
+            "runs steadily only if it equals the mean gas torque: that is balance); give balance or "
+            "power:TORQUE:RPM[:EXPONENT]"
+        )
+    return rule
 
 
 def _config_delta(table: dict[str, Any], path: str | None) -> float | None:
@@ -90,8 +105,9 @@ def _config_delta(table: dict[str, Any], path: str | None) -> float | None:
     "--load",
     default=None,
     metavar="LOAD",
-    help="balance (the constant that takes the mean gas torque, at each design's rpm), a constant torque "
-    "[N·m], or power:TORQUE:RPM[:EXPONENT] (the speed follows from it; no --rpm axis) [default: balance].",
+    help="balance (the constant that takes the mean gas torque, at each design's rpm) or "
+    "power:TORQUE:RPM[:EXPONENT] (TORQUE [N·m] at RPM [1/min], growing as speed^EXPONENT, default 2; the "
+    "speed follows from it; no --rpm axis) [default: balance].",
 )
 @click.option(
     "--delta",
@@ -160,7 +176,7 @@ def motion_sweep_command(
     if not axes:
         raise MechanismError("no axes: give at least one, e.g. --rpm 60:300:9, as an option or in [axes] of --config")
     load_text = load if load is not None else _config_load(table, config) or BALANCE
-    load_rule = parse_torque(load_text, "load", balance=True)
+    load_rule = _load_rule(load_text, "--load" if load is not None else f"--config {config}: load")
     target = delta if delta is not None else _config_delta(table, config)
     chosen = output_names(outputs, "--outputs") if outputs else table.get("outputs")
     if out is None:
