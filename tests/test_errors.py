@@ -789,3 +789,49 @@ def test_to_opentorsion_refuses_a_tampered_table(orders, named):
     in its attrs) was handed to openTorsion as it was."""
     with pytest.raises(mc.MechanismError, match=rf"^orders .*{named}"):
         mc.to_opentorsion(orders, dofs=2, node=0, mean=True)
+
+
+SWEEP_TABLE = pd.DataFrame(
+    {"crank_ratio": [0.3, 0.3, 0.3], "inclination": [1.0, 1.0, 1.0], "u1": [0.5, 0.5, 0.5], "u2": [0.1, 0.1, 0.1]},
+    index=[10, 20, 30],
+)
+
+
+@pytest.mark.parametrize(
+    "column, value, named",
+    [
+        ("crank_ratio", math.nan, r"design 20 \(crank_ratio = nan\): crank_ratio = nan is out of range"),
+        ("u1", math.inf, r"design 20 \(u1 = inf\): u1 = inf is out of range"),
+        ("crank_ratio", 1.5, r"design 20 \(crank_ratio = 1\.5\): crank_ratio = 1\.5 is out of range"),
+        ("cranks", math.nan, r"design 20 \(cranks = nan\): designs column 'cranks' must hold integers"),
+        ("strokes", 3, r"design 20 \(strokes = 3\.?0?\): strokes = 3 is not allowed"),
+        ("acting", "both", r"design 20 \(acting = 'both'\): acting = 'both' is not allowed"),
+    ],
+)
+def test_a_bad_value_in_a_sweeps_table_is_named_with_its_row(column, value, named):
+    """Issue 26, item 6: a NaN in a design table is refused naming its row and column, as a
+    motion sweep names a row the machine refuses."""
+    designs = SWEEP_TABLE.copy()
+    if column not in designs:
+        designs[column] = {"cranks": 2, "strokes": 2, "acting": "single"}[column]
+    designs[column] = designs[column].astype(object if isinstance(value, str) else float)
+    designs.loc[20, column] = value
+    with pytest.raises(mc.MechanismError, match=f"^{named}"):
+        mc.sweep(designs, phi=8)
+
+
+@pytest.mark.parametrize(
+    "column, value, named",
+    [
+        ("shaft_inertia", math.nan, r"design 20 \(shaft_inertia = nan\): shaft_inertia = nan is out of range"),
+        ("piston_mass", -math.inf, r"design 20 \(piston_mass = -inf\): piston_mass = -inf is out of range"),
+        ("rpm", math.nan, r"design 20 \(rpm = nan\): rpm = nan is out of range; allowed: 1e-06 <= rpm"),
+        ("rpm", 0.0, r"design 20 \(rpm = 0\): rpm = 0\.0 is out of range; allowed: 1e-06 <= rpm"),
+        ("shaft_inertia", -1.0, r"design 20 \(shaft_inertia = -1\): shaft_inertia = -1\.0 is out of range"),
+    ],
+)
+def test_a_bad_value_in_a_motion_sweeps_table_is_named_with_its_row(column, value, named):
+    designs = pd.DataFrame({column: [600.0 if column == "rpm" else 0.6] * 3}, index=[10, 20, 30])
+    designs.loc[20, column] = value
+    with pytest.raises(mc.MechanismError, match=f"^{named}"):
+        mc.motion_sweep(MACHINE, designs, outputs=["delta"])

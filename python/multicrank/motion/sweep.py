@@ -213,7 +213,7 @@ def _check_table(machine: Machine, frame: pd.DataFrame) -> None:
     known = machine_columns(machine)
     names = [c for c in frame.columns if c in known]
     for name in names:
-        check_values(name, frame[name].to_numpy())
+        check_values(name, frame[name].to_numpy(), rows=frame.index)
     for position in {0, len(frame) - 1} if len(frame) else ():
         row = frame.iloc[position]
         row_variant(machine, {name: row[name] for name in names}, frame.index[position])

@@ -25,7 +25,7 @@ import numpy as np
 
 from .._native import MechanismError
 from .._text import counted
-from .._validation import as_instance, as_real_array, as_speed
+from .._validation import SPEED_LIMITS, as_instance, as_real_array, as_speed
 from ..machine.cylinder import UNIT_FIELDS, Cylinder, Pressure
 from ..machine.machine import Machine
 from ..pressure.diagram import IndicatorDiagram
@@ -167,18 +167,28 @@ def machine_variant(machine: Machine, design: Mapping[str, Any]) -> Machine:
     return machine.replace(**changes) if changes else machine
 
 
-def check_values(name: str, values: Any) -> np.ndarray:
+def check_values(name: str, values: Any, rows: Any = None) -> np.ndarray:
     """The values of design column ``name`` as float64, checked: finite reals (``rpm``: within
     the speeds the package takes). Ranges that depend on the machine (a rod longer than its
-    crank, a positive shaft inertia) are the machine's to check (:func:`machine_variant`)."""
+    crank, a positive shaft inertia) are the machine's to check (:func:`machine_variant`).
+    ``rows``: the labels of a table's rows (its index), for the refusal to name the first
+    bad value's row as :func:`row_variant` does."""
     array = as_real_array(values, name).astype(np.float64, copy=False)
     if name == "rpm":
-        for value in np.unique(array):
-            as_speed(value, "rpm")
-        return array
-    bad = np.flatnonzero(~np.isfinite(array))
+        low, high = SPEED_LIMITS
+        bad = np.flatnonzero(~((array >= low) & (array <= high)))  # NaN fails both
+    else:
+        bad = np.flatnonzero(~np.isfinite(array))
     if bad.size:
-        raise MechanismError(f"{name} = {array[bad[0]]} is out of range; allowed: a finite number")
+        value = array.flat[bad[0]]
+        try:
+            if name == "rpm":
+                as_speed(value, "rpm")  # raises, with the speeds' own range
+            raise MechanismError(f"{name} = {value} is out of range; allowed: a finite number")
+        except MechanismError as error:
+            if rows is None:
+                raise
+            raise MechanismError(f"design {rows[bad[0]]} ({name} = {value:g}): {error}") from None
     return array
 
 

@@ -200,14 +200,38 @@ def _column(name: str, values: Any) -> np.ndarray:
     return _double_acting(values)
 
 
+def _table_column(name: str, frame: pd.DataFrame) -> np.ndarray:
+    """:func:`_column` of a table's column; its refusal names the first row that fails (by the
+    frame's index, as a motion sweep names a row) and the value there."""
+    values = frame[name].to_numpy()
+    try:
+        return _column(name, values)
+    except MechanismError as error:
+        # A column passes exactly when each of its prefixes does: bisect for the first row
+        # that fails (a few passes over the column, and only when there is a fault to name).
+        good, bad = 0, len(values)
+        while bad - good > 1:
+            middle = (good + bad) // 2
+            try:
+                _column(name, values[:middle])
+            except MechanismError:
+                bad = middle
+            else:
+                good = middle
+        value = values[bad - 1]
+        shown = f"{value:g}" if isinstance(value, (float, np.floating)) else repr(value)
+        raise MechanismError(f"design {frame.index[bad - 1]} ({name} = {shown}): {error}") from None
+
+
 def machine_columns(frame: pd.DataFrame) -> dict[str, np.ndarray]:
-    """The validated design columns of a frame (optional columns filled with defaults)."""
+    """The validated design columns of a frame (optional columns filled with defaults); a
+    refused value is named with its row and column."""
     check_columns(frame.columns, passthrough=tuple(c for c in frame.columns if c not in KNOWN_COLUMNS))
     n = len(frame)
-    out = {name: _column(name, frame[name].to_numpy()) for name in DESIGN_COLUMNS}
-    out["cranks"] = _column("cranks", frame["cranks"].to_numpy() if "cranks" in frame else np.full(n, 1))
-    out["strokes"] = _column("strokes", frame["strokes"].to_numpy() if "strokes" in frame else np.full(n, 2))
-    out["double"] = _column("acting", frame["acting"].to_numpy()) if "acting" in frame else np.zeros(n, dtype=bool)
+    out = {name: _table_column(name, frame) for name in DESIGN_COLUMNS}
+    out["cranks"] = _table_column("cranks", frame) if "cranks" in frame else _column("cranks", np.full(n, 1))
+    out["strokes"] = _table_column("strokes", frame) if "strokes" in frame else _column("strokes", np.full(n, 2))
+    out["double"] = _table_column("acting", frame) if "acting" in frame else np.zeros(n, dtype=bool)
     return out
 
 
