@@ -352,7 +352,8 @@ def test_a_folder_that_is_not_a_report_is_refused_before_any_work(tmp_path, monk
 
     (tmp_path / "notes.txt").write_text("mine")
     (tmp_path / "index.html").write_text("mine too")
-    for out, named in ((str(tmp_path), "notes.txt"), (".", "current folder")):
+    cases = [(str(tmp_path), "notes.txt"), (str(tmp_path / "notes.txt" / "r"), "is a file"), (".", "current folder")]
+    for out, named in cases:
         if out == ".":
             monkeypatch.chdir(tmp_path)
         result = CliRunner().invoke(cli.main, ["report", "--out", out, *SMALL])

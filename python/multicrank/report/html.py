@@ -125,6 +125,9 @@ def _replaceable_folder(out: str | Path) -> Path:
     if target == Path.cwd() or target in Path.cwd().parents:
         raise MechanismError(f"{where} is the current folder or holds it; the report replaces its folder whole")
     if not target.exists():
+        above = next(folder for folder in target.parents if folder.exists())  # "/" at least
+        if not above.is_dir():
+            raise MechanismError(f"{where}: {above} is a file, not a folder")
         return target
     if not target.is_dir():
         raise MechanismError(f"{where} is a file, not a folder")
