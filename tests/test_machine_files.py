@@ -458,3 +458,26 @@ def _dumps(table: dict) -> str:
     head = [f"{k} = {value(v)}" for k, v in table.items() if k != "cylinder"]
     body = [f"{k} = {value(v)}" for k, v in table["cylinder"].items()]
     return "\n".join([*head, "[cylinder]", *body]) + "\n"
+
+
+@pytest.mark.parametrize(
+    ("pressures", "unit", "likely"),
+    [
+        ("suction_pressure = 1e5\ndischarge_pressure = 4e5\n", "bar", "Pa"),
+        ("suction_pressure = 1\ndischarge_pressure = 4\n", "Pa", "bar"),
+    ],
+)
+def test_pressures_absurd_for_the_files_unit_warn_naming_the_key(tmp_path, pressures, unit, likely):
+    """Issue 26, item 6: Pa read as bar (a suction pressure of 10⁵ bar) gave a machine that
+    silently stalls; the file says which key and what unit was likely meant."""
+    from multicrank.pressure import PressureUnitWarning
+
+    text = (
+        MINIMAL
+        + f'[cylinder.pressure]\ntype = "compressor"\npressure_unit = "{unit}"\nclearance_ratio = 0.1\n{pressures}'
+    )
+    path = write(tmp_path, text)
+    with pytest.warns(PressureUnitWarning, match=rf"machine\.toml: cylinder\.pressure: .*did you give {likely} where"):
+        mc.Machine.from_toml(path)
+    fixed = write(tmp_path, text.replace(f'pressure_unit = "{unit}"', f'pressure_unit = "{likely}"'))
+    mc.Machine.from_toml(fixed)  # no warning: an error under the test settings

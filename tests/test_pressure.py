@@ -718,3 +718,67 @@ def test_random_tables_interpolate_through_the_nodes_periodically(steps, values,
     between = 0.5 * (angle[:-1] + angle[1:])
     np.testing.assert_allclose(diagram(between + cycle), diagram(between), rtol=0, atol=1e-9 * scale)
     assert diagram(start) == pytest.approx(diagram(start + cycle), abs=1e-9 * scale)
+
+
+# -- absolute pressures below vacuum, and pressures in the wrong unit (issue 26, item 6) -----------
+
+
+def test_a_negative_absolute_pressure_in_a_csv_is_refused_by_line_and_column(tmp_path):
+    """A table of gauge pressures read with absolute=True (or a sign error) is refused, as
+    the synthetic cycles refuse a suction or intake pressure below vacuum."""
+    text = "angle,p\n0,3\n90,1.5\n180,-0.2\n270,-0.4\n360,3\n"
+    csv_error(
+        tmp_path,
+        text,
+        r"bad\.csv, line 4, column 1 \(pressure_column\): '-0\.2' is a negative absolute pressure",
+        pressure_unit="bar",
+        absolute=True,
+    )
+    # as gauge pressures the same table is fine, and an absolute 0 (vacuum) is a pressure
+    path = write(tmp_path / "gauge.csv", text)
+    assert IndicatorDiagram.from_csv(path, pressure_unit="bar").pressure[3] == -0.4e5
+    vacuum = write(tmp_path / "vacuum.csv", text.replace("-0.2", "0").replace("-0.4", "0.5"))
+    diagram = IndicatorDiagram.from_csv(vacuum, pressure_unit="bar", absolute=True, kind="linear")
+    assert diagram.pressure[2] == -STANDARD_ATMOSPHERE
+
+
+def _table_in(tmp_path, pressures_pa, factor):
+    """The smooth two-stroke table of pressures [Pa] written as numbers in a unit of ``factor`` Pa."""
+    angle = np.degrees(np.linspace(0.0, TAU, 37))
+    rows = "".join(f"{float(a)!r},{float(p / factor)!r}\n" for a, p in zip(angle, pressures_pa, strict=True))
+    return write(tmp_path / "table.csv", "angle,p\n" + rows)
+
+
+@pytest.mark.parametrize(
+    ("written_in", "read_as", "likely"),
+    [
+        ("Pa", "bar", "Pa"),  # the issue's case: 8·10⁵ "bar", a machine that silently stalls
+        ("Pa", "MPa", "Pa"),
+        ("bar", "Pa", "bar"),  # 8 "Pa": no gas at all
+        ("MPa", "Pa", "MPa"),  # 0.8 "Pa"
+    ],
+)
+def test_pressures_absurd_for_their_unit_warn_naming_the_likely_unit(tmp_path, written_in, read_as, likely):
+    from multicrank.pressure import PressureUnitWarning
+
+    assert issubclass(PressureUnitWarning, UserWarning)
+    absolute = 1e5 + 3.5e5 * (1 + np.cos(np.linspace(0.0, TAU, 37)))  # 1 … 8 bar absolute
+    path = _table_in(tmp_path, absolute, PRESSURE_UNITS[written_in])
+    with pytest.warns(PressureUnitWarning, match=rf"did you give {likely} where {read_as} is expected\?") as caught:
+        IndicatorDiagram.from_csv(path, pressure_unit=read_as, absolute=True)
+    assert "table.csv" in str(caught[0].message)
+    assert caught[0].filename == __file__  # it points at the caller's line
+    # read in the unit it was written in, it is a plausible table and says nothing
+    IndicatorDiagram.from_csv(path, pressure_unit=written_in, absolute=True)
+
+
+def test_the_packages_tables_and_machines_do_not_warn():
+    import warnings
+
+    from multicrank.pressure import PressureUnitWarning
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", PressureUnitWarning)
+        IndicatorDiagram.from_csv(EXAMPLE_COMPRESSOR_CSV, pressure_unit="bar", absolute=True)
+        for path in mc.presets.MACHINE_FILES.values():
+            mc.Machine.from_toml(path)

@@ -22,7 +22,7 @@ from typing import Any
 from .._files import read_toml
 from .._native import MechanismError
 from ..gravity.layouts import Layout, as_layout
-from ..pressure.diagram import PRESSURE_UNITS, IndicatorDiagram
+from ..pressure.diagram import PRESSURE_UNITS, IndicatorDiagram, check_pressure_unit
 
 __all__ = [
     "CYLINDER_KEYS",
@@ -418,8 +418,10 @@ def _pressure(file: MachineFile, key: str, data: dict[str, Any]) -> PressureSpec
         else:
             arguments[name] = value
     if kind == "table":
-        arguments["pressure_unit"] = unit
+        arguments["pressure_unit"] = unit  # from_csv checks the table's pressures against it
     else:
+        given = [table.get(name) * PRESSURE_UNITS[unit] for name in _PRESSURES if name in data]
+        check_pressure_unit(given, unit, f"{file.path}: {key}", stacklevel=5)  # from_toml's caller
         given = [name for name in _CLEARANCE[kind] if name in data]
         if len(given) != 1:
             raise file.error(

@@ -6,18 +6,22 @@ from .diagram import (
     ANGLE_UNITS,
     EXAMPLE_COMPRESSOR_CSV,
     INTERPOLATIONS,
+    PLAUSIBLE_PRESSURES,
     PRESSURE_FLOOR,
     PRESSURE_UNITS,
     STANDARD_ATMOSPHERE,
     IndicatorDiagram,
+    PressureUnitWarning,
 )
 
 __all__ = [
     "ANGLE_UNITS",
     "EXAMPLE_COMPRESSOR_CSV",
     "INTERPOLATIONS",
+    "PLAUSIBLE_PRESSURES",
     "PRESSURE_FLOOR",
     "PRESSURE_UNITS",
     "STANDARD_ATMOSPHERE",
     "IndicatorDiagram",
+    "PressureUnitWarning",
 ]

@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import math
 import os
+import warnings
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
@@ -53,10 +54,13 @@ __all__ = [
     "ANGLE_UNITS",
     "EXAMPLE_COMPRESSOR_CSV",
     "INTERPOLATIONS",
+    "PLAUSIBLE_PRESSURES",
     "PRESSURE_FLOOR",
     "PRESSURE_UNITS",
     "STANDARD_ATMOSPHERE",
     "IndicatorDiagram",
+    "PressureUnitWarning",
+    "check_pressure_unit",
 ]
 
 #: Pressure units of :meth:`IndicatorDiagram.from_csv`: Pa per unit (psi: lbf/in², exact).
@@ -75,6 +79,46 @@ PRESSURE_FLOOR = 1e-30
 # A table must span one cycle to this fraction of the cycle (6e-6 rad for 2π): loose
 # enough for angles printed with six digits, tight enough to catch a missing point.
 _SPAN_TOLERANCE = 1e-6
+
+
+#: The range [Pa] the largest pressure of a machine's gas lies in, 1 mbar … 5000 bar (the
+#: highest, in hyper-compressors, are about 3500 bar; a fired engine's peak is 50 … 300 bar):
+#: a table whose largest magnitude, in the unit it was given in, falls outside is most likely
+#: in another unit, and :class:`PressureUnitWarning` says so.
+PLAUSIBLE_PRESSURES = (1e2, 5e8)
+
+
+class PressureUnitWarning(UserWarning):
+    """Pressures given in a unit that makes them implausible for any machine — a peak of
+    8·10⁵ bar, or of 3 Pa — most likely in another unit than the one named (Pa where bar is
+    expected). The message names the file or key, the peak and the likely unit."""
+
+
+def check_pressure_unit(pressures: Any, unit: str, where: str, *, stacklevel: int = 2) -> None:
+    """Warn (:class:`PressureUnitWarning`) when the largest magnitude of ``pressures`` [Pa],
+    given in ``unit`` (a key of :data:`PRESSURE_UNITS`), is outside :data:`PLAUSIBLE_PRESSURES`
+    (all zero is no gas, and plausible). ``where``: the file or key, for the message;
+    ``stacklevel``: as :func:`warnings.warn` takes it, seen from the caller (2: its caller's line)."""
+    peak = float(np.max(np.abs(pressures), initial=0.0))
+    low, high = PLAUSIBLE_PRESSURES
+    if peak == 0.0 or low <= peak <= high:
+        return
+    written = peak / PRESSURE_UNITS[unit]  # the peak as the table has it
+    # The unit that puts the peak nearest 10 bar, among those that make it plausible.
+    fits = [u for u, factor in PRESSURE_UNITS.items() if u != unit and low <= written * factor <= high]
+    likely = min(fits, key=lambda u: abs(math.log10(written * PRESSURE_UNITS[u] / 1e6)), default=None)
+    side = (
+        f"above {high / 1e5:g} bar, more than any machine's gas"
+        if peak > high
+        else (f"below {low / 1e2:g} mbar, less than any machine's gas")
+    )
+    question = f"; did you give {likely} where {unit} is expected?" if likely else ""
+    warnings.warn(
+        f"{where}: the largest pressure is {written:g} {unit} = {peak / 1e5:.4g} bar, {side}{question} "
+        f"(pressure_unit = {unit!r})",
+        PressureUnitWarning,
+        stacklevel=stacklevel + 1,
+    )
 
 
 def _scipy_interpolate() -> Any:
@@ -432,8 +476,8 @@ class IndicatorDiagram:
         pressure_unit : {"Pa", "kPa", "bar", "MPa", "psi"}, default "Pa"
             The unit of the pressure column (psi = lbf/in² = 6894.757… Pa).
         absolute : bool, default False
-            True: the pressures are absolute, and ``reference_pressure`` is subtracted to make
-            them gauge. False: they are gauge already.
+            True: the pressures are absolute (none below 0, vacuum), and ``reference_pressure``
+            is subtracted to make them gauge. False: they are gauge already.
         reference_pressure : float, default 101325.0
             The crankcase (reference) pressure [Pa] for ``absolute=True``.
         cycle : float, optional
@@ -458,8 +502,16 @@ class IndicatorDiagram:
         ------
         MechanismError
             For a missing, unreadable or non-text file, a directory, a bad field (naming the
-            file, line and column), an unknown unit, or a table that is no indicator diagram
-            (the constructor's checks, prefixed with the file name).
+            file, line and column; with ``absolute=True`` also a negative pressure), an unknown
+            unit, or a table that is no indicator diagram (the constructor's checks, prefixed
+            with the file name).
+
+        Warns
+        -----
+        PressureUnitWarning
+            When the table's largest pressure, in ``pressure_unit``, is outside
+            :data:`PLAUSIBLE_PRESSURES` (1 mbar … 5000 bar): most likely the table is in
+            another unit (Pa read as bar), and the warning names the likely one.
 
         Examples
         --------
@@ -493,7 +545,7 @@ class IndicatorDiagram:
             name = os.fspath(path)
         except TypeError:
             raise MechanismError(f"path must be a file path (str or os.PathLike), got {type(path).__name__}") from None
-        angles, pressures = read_columns(name, delimiter, columns)
+        angles, pressures = read_columns(name, delimiter, columns, absolute=absolute)
         angles = angles * ANGLE_UNITS[angle_unit]
         pressures = pressures * PRESSURE_UNITS[pressure_unit]
         if absolute:
@@ -510,9 +562,12 @@ class IndicatorDiagram:
                     f"at the end (or pass cycle=)"
                 )
         try:
-            return cls(angles, pressures, cycle=cycle, kind=kind, closure_tolerance=closure_tolerance)
+            diagram = cls(angles, pressures, cycle=cycle, kind=kind, closure_tolerance=closure_tolerance)
         except MechanismError as error:
             raise MechanismError(f"{name}: {error}") from None
+        # After the table's own checks: a table refused for a fault of its own says that alone.
+        check_pressure_unit(pressures + (reference if absolute else 0.0), pressure_unit, name, stacklevel=2)
+        return diagram
 
     # -- synthetic cycles: written, with their documentation, in multicrank.pressure.synthetic --
 

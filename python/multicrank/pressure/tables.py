@@ -24,7 +24,9 @@ _KEYS = ("angle_column", "pressure_column")
 _DELIMITERS = (",", ";", "\t")
 
 
-def read_columns(name: str, delimiter: str | None, columns: dict[str, int | str]) -> tuple[np.ndarray, np.ndarray]:
+def read_columns(
+    name: str, delimiter: str | None, columns: dict[str, int | str], *, absolute: bool = False
+) -> tuple[np.ndarray, np.ndarray]:
     """The angle and pressure columns of a CSV file, as written (no units applied).
 
     Parameters
@@ -38,6 +40,8 @@ def read_columns(name: str, delimiter: str | None, columns: dict[str, int | str]
         of ``,``, ``;`` and tab found on the first data line, if any.
     columns : dict
         ``angle_column`` and ``pressure_column``: a column counted from 0, or a header name.
+    absolute : bool, default False
+        Whether the pressures are absolute: then none may be negative (below vacuum).
 
     Returns
     -------
@@ -48,7 +52,7 @@ def read_columns(name: str, delimiter: str | None, columns: dict[str, int | str]
     ------
     MechanismError
         Naming the file, and the line and column where a field is missing, not a number, not
-        finite or an angle that does not increase.
+        finite, an angle that does not increase, or (``absolute``) a negative pressure.
     """
     lines = [
         (number, line.strip())
@@ -87,6 +91,14 @@ def read_columns(name: str, delimiter: str | None, columns: dict[str, int | str]
         )
     if angles.size < 4:
         raise MechanismError(f"{name}: {angles.size} data row(s); an indicator diagram needs at least 4")
+    below = np.flatnonzero(pressures < 0) if absolute else ()
+    if len(below):
+        row = below[0]
+        raise MechanismError(
+            f"{name}, line {lines[row][0]}, column {index['pressure_column']} (pressure_column): "
+            f"{texts['pressure_column'].iloc[row]!r} is a negative absolute pressure (below vacuum); with "
+            "absolute=True every pressure must be >= 0 (gauge pressures are read with absolute=False)"
+        )
     return angles, pressures
 
 
