@@ -750,7 +750,7 @@ def test_concurrent_threads(threshold, restore_threshold):
 
     def work(i):
         phi, design, phases = jobs[i]
-        barrier.wait(timeout=30)
+        barrier.wait(timeout=600)
         results = []
         for _ in range(3):
             results.append(mc.generalized_force(phi, phases=phases, **design))
@@ -758,7 +758,7 @@ def test_concurrent_threads(threshold, restore_threshold):
 
     with concurrent.futures.ThreadPoolExecutor(max_workers=8) as pool:
         futures = [pool.submit(work, i) for i in range(8)]
-        outcomes = [f.result(timeout=120) for f in futures]
+        outcomes = [f.result(timeout=600) for f in futures]
     for i, results in enumerate(outcomes):
         assert expected[i].shape == (12, 4, 60_000)
         for result in results:
@@ -792,9 +792,9 @@ def test_fork_after_parallel_run(restore_threshold):
     context = multiprocessing.get_context("fork")
     pool = context.Pool(processes=1)
     try:
-        child, child_energy = pool.apply_async(_fork_child_compute, (FORK_PHI_SIZE,)).get(timeout=60)
+        child, child_energy = pool.apply_async(_fork_child_compute, (FORK_PHI_SIZE,)).get(timeout=600)
         # a second task in the same child still works
-        again, _ = pool.apply_async(_fork_child_compute, (1001,)).get(timeout=60)
+        again, _ = pool.apply_async(_fork_child_compute, (1001,)).get(timeout=600)
     finally:
         pool.terminate()
         pool.join()
@@ -825,9 +825,9 @@ def test_fork_process_queue_checksum(restore_threshold):
     process = context.Process(target=_fork_queue_child, args=(queue,))
     process.start()
     try:
-        child_checksum = queue.get(timeout=60)
+        child_checksum = queue.get(timeout=600)
     finally:
-        process.join(timeout=30)
+        process.join(timeout=600)
         if process.is_alive():
             process.kill()
             process.join()
@@ -848,7 +848,7 @@ def test_import_spawns_no_threads():
     # OpenBLAS (loaded by numpy) starts its own pool unless told not to: isolate multicrank.
     env = dict(os.environ, OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1", MKL_NUM_THREADS="1")
     completed = subprocess.run(
-        [sys.executable, "-c", _THREAD_PROBE], capture_output=True, text=True, timeout=60, env=env
+        [sys.executable, "-c", _THREAD_PROBE], capture_output=True, text=True, timeout=600, env=env
     )
     assert completed.returncode == 0, completed.stderr
     python_threads, os_threads = completed.stdout.split()
@@ -867,7 +867,7 @@ import multicrank
 multicrank.crank_phases(3)
 print(before, count())
 """
-    completed = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, timeout=60)
+    completed = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, timeout=600)
     assert completed.returncode == 0, completed.stderr
     before, after = completed.stdout.split()
     assert before == after

@@ -49,7 +49,7 @@ def test_every_example_loads_and_evaluates(path):
         [str(SCRIPT), "eval", "--machine", str(path), "--points", "8", "--format", "json"],
         capture_output=True,
         text=True,
-        timeout=120,
+        timeout=600,
     )
     assert result.returncode == 0, result.stderr
     data = json.loads(result.stdout)
