@@ -100,9 +100,9 @@ def test_motion_csv_is_the_api_steady_state_and_flywheel(tmp_path):
         row = frame.loc[rpm]
         assert row["delta"] == pytest.approx(state.delta, rel=1e-10)
         assert row["delta_without_gravity"] == pytest.approx(state.delta_without_gravity, rel=1e-10)
-        assert row["gravity_change_percent"] == pytest.approx(
-            100 * (state.delta / state.delta_without_gravity - 1), rel=1e-8
-        )
+        assert row["gravity_effect"] == pytest.approx(state.delta / state.delta_without_gravity - 1, rel=1e-8)
+        assert row["delta_coasting"] == pytest.approx(state.delta_coasting, rel=1e-10)
+        assert not row["near_stall"]
         sized = mc.flywheel_inertia(machine, delta=0.04, rpm=rpm)
         assert row["flywheel"] == pytest.approx(sized.shaft_inertia, rel=1e-8)
         assert row["flywheel_without_gravity"] == pytest.approx(sized.shaft_inertia_without_gravity, rel=1e-8)

@@ -57,7 +57,7 @@ def test_a_small_grid_printed_as_a_table_and_as_csv():
     assert "inline-4: 4 designs (load balance)" in table and "gravity_effect" in table
     assert len(table.strip().splitlines()) == 8  # two lines of summary, a blank one, the header, four rows
     frame = pd.read_csv(io.StringIO(run(*args, "--format", "csv", "--outputs", "delta,gravity_effect")), index_col=0)
-    assert list(frame.columns) == ["rpm", "g", "delta", "gravity_effect", "stalled"]
+    assert list(frame.columns) == ["rpm", "g", "delta", "gravity_effect", "stalled", "near_stall"]
     pd.testing.assert_series_equal(frame["delta"], expected["delta"], rtol=1e-11)
     data = json.loads(run(*args, "--format", "json", "--outputs", "delta"))
     assert data["machine"] == "inline-4" and [row["delta"] for row in data["rows"]] == pytest.approx(

@@ -22,7 +22,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.integrate import quad, solve_ivp
-from scipy.optimize import minimize_scalar
+from scipy.optimize import brentq, minimize_scalar
 
 import multicrank as mc
 
@@ -222,7 +222,7 @@ def test_textbook_flywheel_in_closed_form():
     half = mpmath.quad(lambda t: 1 / mpmath.sqrt(w0sq + 2 * K(t) / inertia), [0, mpmath.pi / 2, mpmath.pi])
     assert np.interp(math.pi, result.phi, result.time) == pytest.approx(float(half), rel=1e-12)
     assert result.time[-1] == pytest.approx(float(2 * mpmath.pi / omega_mean), rel=1e-14)
-    assert result.delta_gravity_only == 0.0 and result.delta_without_gravity == result.delta
+    assert result.delta_coasting == 0.0 and result.delta_without_gravity == result.delta
 
 
 # -- steady state against time integration ---------------------------------------------------------
@@ -303,10 +303,38 @@ def test_shooting_agrees_with_the_closed_form():
     np.testing.assert_allclose(shot.time, closed.time, rtol=1e-9, atol=1e-14)
 
 
-# -- gravity alone, and δ_g -------------------------------------------------------------------------
+# -- the machine coasting, and δ_g ------------------------------------------------------------------
 
 
-def test_gravity_alone_tends_to_delta_g_when_J_is_constant():
+@pytest.mark.parametrize("g", [mc.STANDARD_GRAVITY, 0.0])
+def test_delta_coasting_is_the_machine_coasting_in_time(g):
+    # δ_coasting is δ of the machine with gas, drive and load removed, at the same mean speed:
+    # J(φ)'s variation and gravity together, so with g = 0 it is not 0. The reference: the
+    # equation of motion of the machine without its pressures, integrated in time (DOP853),
+    # shooting on ω(0) until one cycle takes Φ/ω_m.
+    machine = SMOOTH_MACHINES["V twin"].replace(g=g)
+    state = mc.steady_state(machine, rpm=300)
+    coasting = machine.replace(cylinders=[c.replace(pressure=None) for c in machine.cylinders])
+    period = machine.cycle / state.omega_mean
+    start = brentq(
+        lambda w0: integrate_in_time(coasting, w0, rtol=1e-11)["period"] - period,
+        0.9 * state.omega_mean,
+        1.1 * state.omega_mean,
+        xtol=1e-13 * state.omega_mean,
+    )
+    reference = integrate_in_time(coasting, start, rtol=1e-11)
+    delta = (reference["omega_max"] - reference["omega_min"]) * reference["period"] / machine.cycle
+    assert state.delta_coasting == pytest.approx(delta, rel=1e-8)
+    assert state.delta_coasting > 0.01  # J(φ) alone shakes the shaft: not gravity's
+    # and it is the steady state of the machine without gas (the balance load then 0)
+    assert mc.steady_state(coasting, rpm=300).delta == pytest.approx(state.delta_coasting, rel=1e-10)
+    with pytest.warns(
+        DeprecationWarning, match="SteadyState.delta_gravity_only is deprecated .* use SteadyState.delta_coasting"
+    ):
+        assert state.delta_gravity_only == state.delta_coasting
+
+
+def test_coasting_tends_to_delta_g_when_J_is_constant():
     # Crank webs and counterweights only: gravity acts, J = I_w is constant, and with I_w large
     # the exact δ of the conservative machine tends to δ_g = max U* − min U* (docs/theory.md).
     unit = mc.Cylinder(
@@ -318,12 +346,12 @@ def test_gravity_alone_tends_to_delta_g_when_J_is_constant():
         sized = machine.replace(shaft_inertia=inertia)
         result = mc.steady_state(sized, rpm=200)
         delta_g = float(sized.engine(200).speed_fluctuation())
-        errors.append(abs(result.delta_gravity_only / delta_g - 1))
+        errors.append(abs(result.delta_coasting / delta_g - 1))
     assert errors == sorted(errors, reverse=True)  # it converges …
     assert errors[-1] < 1e-5 < errors[0]  # … as δ_g², the next order
 
 
-def test_gravity_alone_with_variable_J_is_the_range_of_the_pseudo_potential():
+def test_coasting_with_variable_J_is_the_range_of_the_pseudo_potential():
     # With reciprocating masses J varies, and for a heavy shaft ln ω = ½ ln 2(E − ΔU) − ½ ln J gives
     # δ → range[U + ½ ω_m² (J − I_w)]/(I_w ω_m²): the J-variation counts as much as gravity.
     machine = SMOOTH_MACHINES["V twin"]
@@ -334,7 +362,7 @@ def test_gravity_alone_with_variable_J_is_the_range_of_the_pseudo_potential():
         omega = 300 * math.pi / 30
         result = mc.steady_state(sized, rpm=300)
         pseudo = sized.potential_energy(phi) + 0.5 * omega**2 * (sized.reduced_inertia(phi)[0] - inertia)
-        ratios.append(result.delta_gravity_only / (np.ptp(pseudo) / (inertia * omega**2)))
+        ratios.append(result.delta_coasting / (np.ptp(pseudo) / (inertia * omega**2)))
     assert abs(ratios[1] - 1) < 1e-4 < abs(ratios[0] - 1)
 
 
@@ -570,7 +598,8 @@ def test_results_share_their_names_and_keep_the_old_ones():
     assert isinstance(state, mc.motion.MotionResult) and state.solved == "balance load (energy method)"
     for old, new in [("J", "reduced_inertia"), ("dJ_dphi", "reduced_inertia_slope"), ("torque_gas", "gas_torque"),
                      ("torque_gravity", "gravity_torque"), ("torque_inertia", "inertia_torque"),
-                     ("torque_drive", "drive_torque"), ("torque_load", "load_torque")]:  # fmt: skip
+                     ("torque_drive", "drive_torque"), ("torque_load", "load_torque"),
+                     ("delta_gravity_only", "delta_coasting")]:  # fmt: skip
         with pytest.warns(DeprecationWarning, match=f"SteadyState.{old} is deprecated .* use SteadyState.{new}"):
             assert getattr(state, old) is getattr(state, new)
     np.testing.assert_array_equal(state.inertia_torque, state.machine.inertia_torque(state.phi, state.omega))

@@ -32,16 +32,21 @@ def expected_row(machine: mc.Machine, design: dict, load="balance", delta=None) 
     try:
         state = mc.steady_state(variant, rpm=rpm, load=load)
     except mc.StallError:
-        row.update(dict.fromkeys(("delta", "delta_without_gravity", "rpm_min", "rpm_max"), math.nan), stalled=True)
+        row.update(
+            dict.fromkeys(("delta", "delta_without_gravity", "rpm_min", "rpm_max"), math.nan),
+            stalled=True,
+            near_stall=False,
+        )
     else:
         row.update(
             delta=state.delta,
             delta_without_gravity=state.delta_without_gravity,
-            delta_gravity_only=state.delta_gravity_only,
+            delta_coasting=state.delta_coasting,
             gravity_effect=state.delta / state.delta_without_gravity - 1,
             rpm_min=state.omega_min * 30 / math.pi,
             rpm_max=state.omega_max * 30 / math.pi,
             stalled=False,
+            near_stall=state.delta > 0.5,
         )
     if delta is not None:
         sized = mc.flywheel_inertia(variant, delta=delta, rpm=rpm, load=load)
@@ -59,8 +64,8 @@ def assert_rows_match(machine: mc.Machine, result: pd.DataFrame, load="balance",
         for name, value in expected.items():
             if name not in result.columns:
                 continue
-            if name == "stalled":
-                assert bool(row[name]) is value
+            if name in ("stalled", "near_stall"):
+                assert bool(row[name]) is value, name
             elif name == "gravity_effect":
                 # δ/δ₀ − 1 cancels where gravity changes little: δ/δ₀ itself to RTOL (a
                 # pressure_scale row's diagrams are the base's coefficients scaled, the
@@ -122,7 +127,7 @@ def designs(draw):
 def test_every_row_is_the_steady_state_of_its_machine(case):
     machine, table = case
     result = mc.motion_sweep(machine, table, chunk_size=1)
-    assert list(result.columns) == [*table.columns, *mc.MOTION_SWEEP_OUTPUTS[:7]]
+    assert list(result.columns) == [*table.columns, *mc.MOTION_SWEEP_OUTPUTS[:8]]
     pd.testing.assert_frame_equal(result[table.columns], table)
     assert_rows_match(machine, result)
 
@@ -190,7 +195,7 @@ def test_a_design_that_stalls_is_a_row_and_the_sweep_goes_on():
     grid = mc.MachineGrid(COMPRESSOR, rpm=[5.0, 120.0], shaft_inertia=[20.0, 350.0])
     result = mc.motion_sweep(COMPRESSOR, grid, chunk_size=3)
     assert result["stalled"].tolist() == [True, True, False, False]
-    for name in ("delta", "delta_without_gravity", "delta_gravity_only", "gravity_effect", "rpm_min", "rpm_max"):
+    for name in ("delta", "delta_without_gravity", "delta_coasting", "gravity_effect", "rpm_min", "rpm_max"):
         assert result[name].iloc[:2].isna().all(), name
         assert result[name].iloc[2:].notna().all(), name
     assert result["stalled"].dtype == bool
@@ -334,5 +339,5 @@ def test_to_xarray_labels_the_axes_of_a_grid():
     grid = mc.MachineGrid(COMPRESSOR, shaft_inertia=[250.0, 350.0], rpm=[5.0, 90.0, 120.0], g=0.0)
     data = mc.to_xarray(mc.motion_sweep(COMPRESSOR, grid, outputs=["delta", "rpm_min"]))
     assert dict(data.sizes) == {"shaft_inertia": 2, "rpm": 3}
-    assert sorted(data.data_vars) == ["delta", "rpm_min", "stalled"]
+    assert sorted(data.data_vars) == ["delta", "near_stall", "rpm_min", "stalled"]
     assert data["stalled"].sel(rpm=5.0).all() and not data["stalled"].sel(rpm=120.0).any()

@@ -44,7 +44,7 @@ def inline4(tmp_path_factory) -> Path:
 def read_csv(path: Path) -> pd.DataFrame:
     # Parsed by Python's float, exact on any pandas (before 3.0 its parser may be an ulp off).
     frame = pd.read_csv(path, dtype=str, keep_default_na=False)
-    numbers = [c for c in frame if c not in ("firing", "phases_deg", "cylinders", "as_given", "stalled")]
+    numbers = [c for c in frame if c not in ("firing", "phases_deg", "cylinders", "as_given", "stalled", "near_stall")]
     return frame.astype({c: float for c in numbers})
 
 
@@ -68,6 +68,7 @@ def check_firing(out: Path, machine: mc.Machine) -> tuple[pd.DataFrame, pd.DataF
         "delta_without_gravity",
         "gravity_effect",
         "stalled",
+        "near_stall",
         "largest_order",
         "largest_order_amplitude",
     ]

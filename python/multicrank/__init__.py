@@ -43,6 +43,7 @@ from .gravity import (
 )
 from .machine import Cylinder, Machine
 from .motion import (
+    NEAR_STALL_DELTA,
     FlywheelInertia,
     PowerLawLoad,
     StallError,
@@ -90,6 +91,7 @@ __all__ = [
     "FORCE_METHODS",
     "LAYOUTS",
     "MOTION_SWEEP_OUTPUTS",
+    "NEAR_STALL_DELTA",
     "STANDARD_GRAVITY",
     "SWEEP_OUTPUTS",
     "CounterweightOptimum",

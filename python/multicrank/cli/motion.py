@@ -257,15 +257,17 @@ def motion_command(
     """Steady running: the coefficient of speed fluctuation δ with and without gravity, and the flywheel.
 
     For each mean speed: the exact periodic steady state of J(φ)φ̈ + ½J'(φ)φ̇² = M_gas − dU/dφ +
-    M_drive − M_load, its δ = (ω_max − ω_min)/ω_mean with gravity, without (g = 0) and of gravity
-    alone, the load torque [N·m] and power [kW]; with a target δ, the shaft inertia [kg·m²] that
-    gives it with and without gravity and the textbook estimate ΔE/(δω²).
+    M_drive − M_load, its δ = (ω_max − ω_min)/ω_mean with gravity, without (g = 0) and coasting
+    (gas, drive and load removed: J(φ) and gravity together), gravity_effect = δ/δ without
+    gravity − 1 (a fraction), near_stall (δ > 0.5: the machine nearly stops each cycle), the
+    load torque [N·m] and power [kW]; with a target δ, the shaft inertia [kg·m²] that gives it
+    with and without gravity and the textbook estimate ΔE/(δω²).
     """
     import pandas as pd
     from tqdm.auto import tqdm
 
     from ..motion.flywheel import flywheel_inertia
-    from ..motion.steady import StallError, steady_state
+    from ..motion.steady import NEAR_STALL_DELTA, NEAR_STALL_NOTE, StallError, steady_state
     from ..presets import MACHINE_CLASSES, SPEED_FLUCTUATION
 
     load_rule = parse_torque(load, "load", balance=True)
@@ -289,7 +291,7 @@ def motion_command(
         try:
             state = steady_state(machine, rpm=rpm, load=load_rule, drive=drive_rule)
         except StallError as error:
-            row.update(stalled=True, min_rpm=error.min_rpm)
+            row.update(stalled=True, near_stall=False, min_rpm=error.min_rpm)
             rows.append(row)
             continue
         first = first or state
@@ -297,14 +299,15 @@ def motion_command(
             rpm=state.rpm if rpm is None else rpm,  # the speed asked for, or the one the load gives
             delta=state.delta,
             delta_without_gravity=state.delta_without_gravity,
-            gravity_change_percent=100 * state.gravity_effect,
-            delta_gravity_only=state.delta_gravity_only,
+            gravity_effect=state.gravity_effect,
+            delta_coasting=state.delta_coasting,
             delta_midrange=state.delta_midrange,
             rpm_min=rpm_from_omega(state.omega_min),
             rpm_max=rpm_from_omega(state.omega_max),
             load_torque=state.mean_load_torque,
             power_kw=state.mean_load_torque * state.omega_mean / 1000,
             stalled=False,
+            near_stall=state.near_stall,
         )
         if target is not None:
             sizing = flywheel_inertia(machine, delta=target, rpm=rpm, load=load_rule, drive=drive_rule)
@@ -332,11 +335,22 @@ def motion_command(
     summary = [
         f"{machine.name}: {counted(len(machine), 'cylinder')}, {machine.strokes}-stroke, shaft inertia "
         f"{machine.shaft_inertia:g} kg·m², load {load}, drive {drive or 'none'}",
-        "δ = (ω_max − ω_min)/ω_mean (time mean); gravity_change_percent = (δ − δ without gravity)/δ without gravity",
+        "δ = (ω_max − ω_min)/ω_mean (time mean); gravity_effect = δ/δ without gravity − 1 (a fraction); "
+        "delta_coasting: δ with gas, drive and load removed (J(φ) and gravity)",
     ]
+    near = frame.index[frame["near_stall"].astype(bool)]  # every row has it, False where stalled
+    if len(near):
+        speeds_text = ", ".join(f"{n:.6g}" for n in near)
+        note = f"note: near_stall at {speeds_text} rpm: {NEAR_STALL_NOTE}"
+        summary.append(note)
+        if fmt == "csv":
+            click.echo(note, err=True)
     if target is not None:
         summary.append(f"flywheel: the shaft inertia [kg·m²] for δ = {target:.4g} (1/{1 / target:.4g})")
-    meta = dict(machine=machine.name, load=load, drive=drive, target_delta=target, units=units)
+    meta = dict(
+        machine=machine.name, load=load, drive=drive, target_delta=target, near_stall_delta=NEAR_STALL_DELTA,
+        units=units,
+    )  # fmt: skip
     write_result(frame, fmt, out_path, summary=summary, json_meta=meta)
 
 

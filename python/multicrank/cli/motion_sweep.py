@@ -8,8 +8,8 @@ from typing import TYPE_CHECKING, Any
 
 import click
 
-from .._text import counted
 from .._native import MechanismError
+from .._text import counted
 from ._group import UserError, machine_option
 from ._output import format_option
 from .motion import parse_torque
@@ -97,8 +97,8 @@ def _config_delta(table: dict[str, Any], path: str | None) -> float | None:
 @click.option(
     "--outputs",
     metavar="NAMES",
-    help="Comma-separated outputs, of delta, delta_without_gravity, delta_gravity_only, gravity_effect, "
-    "rpm_min, rpm_max, stalled, flywheel_inertia, flywheel_inertia_without_gravity "
+    help="Comma-separated outputs, of delta, delta_without_gravity, delta_coasting, gravity_effect, "
+    "rpm_min, rpm_max, stalled, near_stall, flywheel_inertia, flywheel_inertia_without_gravity "
     "[default: the steady state's, and the flywheel's with --delta].",
 )
 @click.option(
@@ -157,10 +157,11 @@ def motion_sweep_command(
     this help (the first varies slowest). Without --rpm each design runs at the machine's own
     speed.
 
-    Outputs per design: δ with gravity, without (g = 0) and of gravity alone, gravity_effect
-    = δ/δ without gravity − 1, the speed extremes [1/min], stalled, and with --delta the
-    flywheel [kg·m²] with and without gravity. A design that stalls is a row with stalled
-    true and no δ.
+    Outputs per design: δ with gravity, without (g = 0) and coasting (delta_coasting: gas and
+    load removed, J(φ) and gravity together), gravity_effect = δ/δ without gravity − 1 (a
+    fraction), the speed extremes [1/min], stalled, near_stall (δ > 0.5: the design nearly
+    stops each cycle), and with --delta the flywheel [kg·m²] with and without gravity. A
+    design that stalls is a row with stalled true and no δ.
 
     Ctrl-C stops the sweep with exit status 130; with --out the finished chunks are kept, and
     the same command with --resume continues from them.
@@ -168,7 +169,7 @@ def motion_sweep_command(
     import time
 
     from ..motion.loads import BALANCE
-    from ..motion.sweep import motion_sweep
+    from ..motion.sweep import RENAMED_OUTPUTS, motion_sweep
     from ..motion.variants import MachineGrid
 
     table = read_config(config, _CONFIG_KEYS, _AXES)
@@ -179,6 +180,10 @@ def motion_sweep_command(
     load_rule = _load_rule(load_text, "--load" if load is not None else f"--config {config}: load")
     target = delta if delta is not None else _config_delta(table, config)
     chosen = output_names(outputs, "--outputs") if outputs else table.get("outputs")
+    if chosen:  # the names of 0.1 still work, said on stderr
+        for old in (name for name in chosen if name in RENAMED_OUTPUTS):
+            click.echo(f"note: the output {old} is now {RENAMED_OUTPUTS[old]} (the old name goes in 0.3)", err=True)
+        chosen = [RENAMED_OUTPUTS.get(name, name) for name in chosen]
     if out is None:
         if resume:
             raise MechanismError("--resume needs --out, the Parquet file of the interrupted sweep")
@@ -204,17 +209,34 @@ def motion_sweep_command(
 
         frame = require("pyarrow.parquet", "parquet").read_table(result).to_pandas()
         click.echo(f"{heading} → {result}")
-        numbers = frame.drop(columns=[*axes, "stalled"], errors="ignore")
+        numbers = frame.drop(columns=[*axes, "stalled", "near_stall"], errors="ignore")
         click.echo(numbers.describe().T[["min", "mean", "max"]].to_string(float_format=lambda v: f"{v:.6g}"))
+        note = _near_stall_note(frame)
+        if note:
+            click.echo(note)
         return
     units = {name: unit for name, unit in _UNITS.items() if name in result}
     meta = dict(machine=machine.name, load=load_text, target_delta=target, units=units)
     summary = [heading, "gravity_effect = δ/δ without gravity − 1; δ = (ω_max − ω_min)/ω_mean (time mean)"]
+    note = _near_stall_note(result)
+    if note:
+        summary.append(note)
+        if fmt == "csv":
+            click.echo(note, err=True)
     if target is not None:
         summary.append(f"flywheel_inertia: the shaft inertia [kg·m²] for δ = {target:.4g} (1/{1 / target:.4g})")
     from ._output import write_result
 
     write_result(result, fmt, None, summary=summary, json_meta=meta)
+
+
+def _near_stall_note(frame: Any) -> str:
+    """A note on the designs whose δ is above NEAR_STALL_DELTA, or "" where there are none."""
+    if "near_stall" not in frame or not frame["near_stall"].any():
+        return ""
+    from ..motion.steady import NEAR_STALL_NOTE
+
+    return f"note: {int(frame['near_stall'].sum()):,} of {len(frame):,} designs near_stall: {NEAR_STALL_NOTE}"
 
 
 _UNITS = {

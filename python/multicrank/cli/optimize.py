@@ -126,7 +126,8 @@ def firing_command(
     revolution it fires on); a two-stroke one is its throws' angles, in any arrangement.
     Candidates that run alike (the same motion, shifted) are counted once. Each is solved at
     --rpm with the balance load: δ with and without gravity, gravity_effect = δ/δ without
-    gravity − 1, stalled, and the torque order with the largest amplitude [N·m].
+    gravity − 1, stalled, near_stall (δ > 0.5: it nearly stops each cycle), and the torque
+    order with the largest amplitude [N·m].
 
     firing lists the cylinders (numbered from 1) in the order they fire, "+" joining those
     that fire together; the phases α_j [deg] are in the machine's cylinder order (csv: one
@@ -161,8 +162,13 @@ def firing_command(
         "δ = (ω_max − ω_min)/ω_mean; gravity_effect = δ/δ without gravity − 1; phases_deg: α_j [deg] in the "
         f"machine's cylinder order; largest_order: the torque order ν ≤ {max_order} of the largest amplitude [N·m]",
     ]
+    near = int(table["near_stall"].sum())
+    if near:
+        summary.append(f"note: {_count(near, 'firing order')} near_stall: {_near_stall_note()}")
     if fmt == "csv":
         click.echo(f"{machine.name}: {tried}", err=True)
+        if near:
+            click.echo(f"{machine.name}: {summary[-1]}", err=True)
     meta = dict(
         machine=machine.name,
         rpm=attrs["rpm"],
@@ -262,6 +268,10 @@ def counterweights_command(
     if found.objective_name != "delta":
         summary.append(f"δ with gravity: {found.delta_before:.6g} → {found.delta:.6g}")
     summary.append(f"{converged}: {found.message} ({found.nit} generations, {found.nfev} evaluations, seed {seed})")
+    from ..motion.steady import NEAR_STALL_DELTA
+
+    if max(found.delta_before, found.delta) > NEAR_STALL_DELTA:
+        summary.append(f"note: δ {found.delta_before:.4g} as given, {found.delta:.4g} optimum: {_near_stall_note()}")
     if fmt == "csv":
         for line in summary[1:]:
             click.echo(f"{machine.name}: {line}", err=True)
@@ -284,6 +294,12 @@ def counterweights_command(
         units=dict(angle_deg="deg", counterweight_before="kg·m", counterweight="kg·m", rpm="1/min"),
     )
     _write(frame, fmt, out_path, summary=summary, json_meta=meta)
+
+
+def _near_stall_note() -> str:
+    from ..motion.steady import NEAR_STALL_NOTE
+
+    return NEAR_STALL_NOTE
 
 
 def _percent(fraction: float) -> str:

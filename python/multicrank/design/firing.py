@@ -371,6 +371,7 @@ def firing_orders(
         machine given), ``phases`` (α_j [rad], a tuple in the machine's cylinder order),
         ``delta``, ``delta_without_gravity`` and
         ``gravity_effect`` (δ/δ₀ − 1) of the steady state [dimensionless], ``stalled``,
+        ``near_stall`` (δ > :data:`~multicrank.NEAR_STALL_DELTA`: it nearly stops each cycle),
         ``largest_order`` (the order 0 < ν ≤ max_order of the largest amplitude of the total
         torque — gas, inertia at the mean speed and gravity — on the shaft; half orders for
         four strokes) and ``largest_order_amplitude`` [N·m], and ``machine`` (the
@@ -437,6 +438,7 @@ def firing_orders(
             "delta_without_gravity": solved["delta_without_gravity"].to_numpy(),
             "gravity_effect": solved["gravity_effect"].to_numpy(),
             "stalled": solved["stalled"].to_numpy(),
+            "near_stall": solved["near_stall"].to_numpy(),
             "largest_order": largest,
             "largest_order_amplitude": amplitude,
             "machine": _candidate_machines(machine, phases),

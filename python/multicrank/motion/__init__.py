@@ -23,10 +23,11 @@ from ._result import MotionResult
 from .flywheel import FlywheelInertia, flywheel_inertia
 from .loads import PowerLawLoad
 from .orders import to_opentorsion, torque_orders
-from .steady import StallError, SteadyState, steady_state
+from .steady import NEAR_STALL_DELTA, StallError, SteadyState, steady_state
 from .transient import Transient, simulate
 
 __all__ = [
+    "NEAR_STALL_DELTA",
     "FlywheelInertia",
     "MotionResult",
     "PowerLawLoad",

@@ -62,7 +62,20 @@ from ._result import MotionResult
 from ._solvers import Balance, CycleTables, Periodic, Stall
 from .loads import BALANCE, PowerLawLoad, Torque
 
-__all__ = ["PowerLawLoad", "StallError", "SteadyState", "steady_state"]
+__all__ = ["NEAR_STALL_DELTA", "PowerLawLoad", "StallError", "SteadyState", "steady_state"]
+
+#: The coefficient of speed fluctuation δ above which a machine runs near a stall
+#: [dimensionless]: its speed swings by more than half the mean speed every cycle — ten times
+#: the roughest machine class (pumps and compressors, δ ≤ 1/20) — and as the mean speed falls
+#: towards the lowest that runs (``StallError.min_rpm``) ω_min goes to 0 and δ grows to 2 or
+#: more. :attr:`SteadyState.near_stall`, ``mc.motion_sweep``'s ``near_stall`` column, the
+#: command line and the report say so wherever such a δ is shown.
+NEAR_STALL_DELTA = 0.5
+#: What a δ above :data:`NEAR_STALL_DELTA` means, in words (the summaries' note).
+NEAR_STALL_NOTE = (
+    f"δ > {NEAR_STALL_DELTA:g}: near a stall — the speed swings by more than half its mean every cycle "
+    "(the roughest machine class allows 1/20); slower still it nearly stops each cycle, then stalls"
+)
 
 
 class StallError(MechanismError):
@@ -140,7 +153,7 @@ class SteadyState(MotionResult):
     :meth:`summary`; ``to_pandas()`` and ``to_xarray()`` convert it.
 
     It computes what is read: the numbers (δ, the speeds, the period, the load) come with it;
-    the arrays and ``delta_without_gravity`` and ``delta_gravity_only`` (two more solves) are
+    the arrays and ``delta_without_gravity`` and ``delta_coasting`` (two more solves) are
     computed when first read, then kept. A pickle holds them all.
 
     Attributes
@@ -180,10 +193,14 @@ class SteadyState(MotionResult):
     delta_without_gravity : float
         δ of the same machine and load rule with g = 0 (for "balance" at the same mean
         speed) [dimensionless]; NaN where that machine would stall.
-    delta_gravity_only : float
-        δ of the machine with gas, drive and load removed, at the same mean speed: gravity
-        (and the variation of J) alone — the exact counterpart of δ_g (docs/theory.md)
-        [dimensionless]; NaN where it would stall.
+    delta_coasting : float
+        δ of the machine coasting: gas, drive and load removed, ½J(φ)ω² + U(φ) constant, at
+        the same mean speed [dimensionless]; NaN where it would stall. Gravity and the
+        variation of J(φ) together (with g = 0 it is J's alone, not 0), the exact
+        counterpart of δ_g (docs/theory.md); formerly ``delta_gravity_only``. What gravity
+        does to δ is :attr:`gravity_effect`.
+    near_stall : bool
+        δ > :data:`NEAR_STALL_DELTA` (0.5): the machine nearly stops each cycle.
     method : str
         How it was solved: "energy", "closed form" or "shooting" (:attr:`solved` in words).
     load_rule : str
@@ -284,9 +301,17 @@ class SteadyState(MotionResult):
         return self._comparisons["delta_without_gravity"]
 
     @property
-    def delta_gravity_only(self) -> float:
-        """δ of gravity (and the variation of J) alone [dimensionless]; NaN where it stalls."""
-        return self._comparisons["delta_gravity_only"]
+    def delta_coasting(self) -> float:
+        """δ of the machine coasting — gas, drive and load removed, ½J(φ)ω² + U(φ) constant —
+        at the same mean speed [dimensionless]: gravity and the variation of J(φ) together
+        (with g = 0, J's alone); NaN where it stalls. Formerly ``delta_gravity_only``."""
+        return self._comparisons["delta_coasting"]
+
+    @property
+    def near_stall(self) -> bool:
+        """δ > :data:`NEAR_STALL_DELTA` (0.5): the speed swings by more than half its mean
+        every cycle — the machine runs near a stall (:meth:`summary` says so)."""
+        return bool(self.delta > NEAR_STALL_DELTA)
 
     def __getstate__(self) -> dict[str, Any]:
         # A pickle holds every number and array, computed now, and no way to compute more.
@@ -295,6 +320,9 @@ class SteadyState(MotionResult):
         return state
 
     def __setstate__(self, state: dict[str, Any]) -> None:
+        compared = state.get("_comparisons")
+        if isinstance(compared, dict) and "delta_gravity_only" in compared:  # a pickle of 0.1
+            state["_comparisons"] = {_RENAMED_COMPARISONS.get(k, k): v for k, v in compared.items()}
         self.__dict__.update(state)
 
     COLUMNS: ClassVar[dict[str, str]] = {
@@ -322,7 +350,8 @@ class SteadyState(MotionResult):
         "mean_load_torque": "N·m",
         "delta": "",
         "delta_without_gravity": "",
-        "delta_gravity_only": "",
+        "delta_coasting": "",
+        "near_stall": "",
         "gravity": "",
     }
     #: The array attributes, in column order (``rpm`` is ω in 1/min).
@@ -366,6 +395,8 @@ class SteadyState(MotionResult):
     torque_inertia: ClassVar[renamed] = renamed("inertia_torque")
     torque_drive: ClassVar[renamed] = renamed("drive_torque")
     torque_load: ClassVar[renamed] = renamed("load_torque")
+    #: It is not gravity's: δ of the machine coasting, J(φ)'s variation and gravity together.
+    delta_gravity_only: ClassVar[renamed] = renamed("delta_coasting")
 
     def _column(self, name: str) -> Any:
         if name == "rpm":
@@ -392,8 +423,10 @@ class SteadyState(MotionResult):
             f"  δ (time mean)    {self.delta:.6e}   (about the midrange: {self.delta_midrange:.6e})",
             f"  δ without gravity {self.delta_without_gravity:.6e}   "
             f"(gravity changes δ by {100 * self.gravity_effect:+.3g} %)",
-            f"  δ gravity alone  {self.delta_gravity_only:.6e}",
+            f"  δ coasting       {self.delta_coasting:.6e}   (gas, drive and load removed: J(φ) and gravity)",
         ]
+        if self.near_stall:
+            lines.append(f"  note: {NEAR_STALL_NOTE}")
         return "\n".join(lines)
 
     def __repr__(self) -> str:
@@ -479,8 +512,8 @@ def steady_state(
     Returns
     -------
     SteadyState
-        ω(φ), the torques and δ over one working cycle, with δ without gravity and of
-        gravity alone.
+        ω(φ), the torques and δ over one working cycle, with δ without gravity and of the
+        machine coasting (gas, drive and load removed).
 
     Raises
     ------
@@ -545,7 +578,17 @@ def steady_state(
 #: The numbers of a solution that :class:`SteadyState` holds from the start.
 _NUMBERS = ("omega_mean", "omega_max", "omega_min", "phi_max", "phi_min", "period", "mean_load_torque")
 #: Its comparison δ, computed when first read on the core's route.
-_COMPARISONS = ("delta_without_gravity", "delta_gravity_only")
+_COMPARISONS = ("delta_without_gravity", "delta_coasting")
+#: Their old names: in a pickle of 0.1, and in the native extension's results (which still
+#: say "delta_gravity_only" for δ of the machine coasting).
+_RENAMED_COMPARISONS = {"delta_gravity_only": "delta_coasting"}
+
+
+def _native_comparisons(found: dict[str, Any]) -> dict[str, float]:
+    """The comparison δ of a native result, by their names here."""
+    named = {_RENAMED_COMPARISONS.get(key, key): value for key, value in found.items()}
+    return {name: float(named[name]) for name in _COMPARISONS}
+
 
 _Solved = tuple[dict[str, Any], Callable[[str], dict[str, Any]]]
 
@@ -632,7 +675,7 @@ def _native_solution(
     def later(what: str) -> dict[str, Any]:
         if what == "comparisons":
             if not balance:  # the square law gave them with the rest
-                return {name: float(found[name]) for name in _COMPARISONS}
+                return _native_comparisons(found)
             assert rpm is not None
             compared = native.comparisons(rpm, float(found["delta"]), mean, ratio)
             return dict(zip(_COMPARISONS, compared, strict=True))
@@ -682,11 +725,12 @@ def _python_solution(
         delta_without = _delta_or_nan(cycle.without_gravity(), rules, omega_mean, ratio)
     else:
         delta_without = solution.delta
-    # Gravity alone: gas, drive and load gone; the conservative machine at the same mean speed.
+    # Coasting: gas, drive and load gone; the conservative machine (J(φ) and gravity) at the
+    # same mean speed.
     try:
-        delta_alone = Balance(cycle, None, 0.0, gas=False).solve(mean, ratio).delta
+        delta_coasting = Balance(cycle, None, 0.0, gas=False).solve(mean, ratio).delta
     except Stall:
-        delta_alone = math.nan
+        delta_coasting = math.nan
     J, _ = cycle.J_at(phi)
     extremes = solution.extremes
     numbers = dict(
@@ -700,7 +744,7 @@ def _python_solution(
     )
     curves = dict(omega=np.sqrt(2.0 * np.maximum(solution.energy_at(phi), 0.0) / J), time=solution.time_at(phi))
     arrays = _arrays(machine, rules, gravity, phi, curves, mean, solution.period, numbers["mean_load_torque"])
-    compared = dict(delta_without_gravity=delta_without, delta_gravity_only=delta_alone)
+    compared = dict(delta_without_gravity=delta_without, delta_coasting=delta_coasting)
     return dict(numbers, method=solution.method), lambda what: arrays if what == "arrays" else compared
 
 

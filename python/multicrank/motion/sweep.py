@@ -18,7 +18,7 @@ import math
 import os
 import pickle
 import uuid
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping
 from pathlib import Path
 from typing import Any
 
@@ -28,7 +28,7 @@ import pandas as pd
 from .._native import MOTION_SWEEP_OUTPUTS as _CORE_OUTPUTS
 from .._native import MechanismError
 from .._shaft import rpm_from_omega
-from .._validation import as_count, as_flag, as_instance, contiguous
+from .._validation import as_count, as_flag, as_instance, contiguous, warn_renamed
 from ..machine.machine import Machine
 from ..machine.native import motion_machine
 from ..sweeps.chunks import in_memory, is_dask, to_parquet
@@ -45,16 +45,24 @@ from ..sweeps.store import as_out, fingerprint
 from ._periodic import resolve_rules
 from .flywheel import _as_delta, flywheel_inertia
 from .loads import BALANCE
-from .steady import StallError, steady_state
+from .steady import NEAR_STALL_DELTA, StallError, steady_state
 from .variants import MachineGrid, check_values, machine_columns, row_variant
 
 __all__ = ["MOTION_SWEEP_OUTPUTS", "MachineGrid", "motion_sweep"]
 
-#: Every output a motion sweep can compute, in column order (the core's).
-MOTION_SWEEP_OUTPUTS: tuple[str, ...] = tuple(_CORE_OUTPUTS)
-# The outputs of the steady state, and of the flywheel (which needs delta=).
-_STEADY = MOTION_SWEEP_OUTPUTS[:7]
-_FLYWHEEL = MOTION_SWEEP_OUTPUTS[7:]
+#: Outputs of 0.1 under their new names: the old name is still accepted, with a
+#: DeprecationWarning, and gives the column under its new name.
+RENAMED_OUTPUTS = {"delta_gravity_only": "delta_coasting"}
+# The native extension's names of our outputs, where they differ (it still says
+# "delta_gravity_only" for δ of the machine coasting).
+_NATIVE_NAMES = {new: old for old, new in RENAMED_OUTPUTS.items() if old in _CORE_OUTPUTS}
+_FROM_NATIVE = {native: name for name, native in _NATIVE_NAMES.items()}
+# The flywheel's outputs (which need delta=), and the steady state's: the core's, and
+# near_stall (δ > NEAR_STALL_DELTA, from δ) after stalled.
+_FLYWHEEL = ("flywheel_inertia", "flywheel_inertia_without_gravity")
+_STEADY = (*(_FROM_NATIVE.get(o, o) for o in _CORE_OUTPUTS if o not in _FLYWHEEL), "near_stall")
+#: Every output a motion sweep can compute, in column order.
+MOTION_SWEEP_OUTPUTS: tuple[str, ...] = (*_STEADY, *_FLYWHEEL)
 # Designs per chunk: about a second of work — Ctrl-C keeps all but that, and a part of Parquet
 # is not too small to be worth a file. The core solves a design in ~0.05–0.2 ms; the Python
 # loop (callable pressures, other loads) in a few ms.
@@ -65,10 +73,19 @@ DEFAULT_PYTHON_CHUNK_SIZE = 256
 # ----------------------------------------------------------------------------- options
 def _as_outputs(outputs: Any, delta: float | None) -> tuple[str, ...]:
     """The outputs asked for, in column order; default the steady state's, and the flywheel's
-    with ``delta=``. ``stalled`` comes with any output of the steady state."""
+    with ``delta=``. ``stalled`` comes with any output of the steady state, ``near_stall``
+    with ``delta`` (and ``delta`` with ``near_stall``); a name of 0.1 gives its new one."""
     if outputs is None:
         asked: tuple[str, ...] = _STEADY + (_FLYWHEEL if delta is not None else ())
     else:
+        if isinstance(outputs, str):
+            outputs = (outputs,)
+        if isinstance(outputs, Iterable) and not isinstance(outputs, bytes | Mapping):
+            outputs = list(outputs)
+            for i, name in enumerate(outputs):
+                if isinstance(name, str) and name in RENAMED_OUTPUTS:
+                    outputs[i] = RENAMED_OUTPUTS[name]
+                    warn_renamed(f"the output {name!r}", repr(outputs[i]), stacklevel=4)
         asked = as_outputs(outputs, MOTION_SWEEP_OUTPUTS)
     flywheel = [o for o in asked if o in _FLYWHEEL]
     if flywheel and delta is None:
@@ -77,7 +94,16 @@ def _as_outputs(outputs: Any, delta: float | None) -> tuple[str, ...]:
         raise MechanismError("delta= is given but outputs name no flywheel_inertia: ask for it, or leave delta out")
     if any(o in _STEADY for o in asked):
         asked = (*asked, "stalled")
+    if "delta" in asked or "near_stall" in asked:
+        asked = (*asked, "delta", "near_stall")
     return tuple(o for o in MOTION_SWEEP_OUTPUTS if o in asked)
+
+
+def _near_stall(result: pd.DataFrame, outputs: tuple[str, ...]) -> pd.DataFrame:
+    """``result`` with its ``near_stall`` column (δ > NEAR_STALL_DELTA; False where stalled)."""
+    if "near_stall" in outputs:
+        result["near_stall"] = (result["delta"] > NEAR_STALL_DELTA).to_numpy(dtype=bool)
+    return result
 
 
 def _digest(value: Any, what: str, resume: bool) -> str:
@@ -119,16 +145,19 @@ def _solve_chunk(
         known = machine_columns(machine)
         names = [c for c in frame.columns if c in known]
         designs = {name: contiguous(frame[name].to_numpy(dtype=np.float64)) for name in names}
+        computed = [o for o in outputs if o != "near_stall"]
         try:
-            found = native.sweep(designs, list(outputs), rpm=machine.rpm, target_delta=delta)
+            found = native.sweep(
+                designs, [_NATIVE_NAMES.get(o, o) for o in computed], rpm=machine.rpm, target_delta=delta
+            )
         except MechanismError:
             found = None  # a design the machine refuses: the loop below names its row and values
         if found is not None:
             result = frame.copy()
-            for name in outputs:
-                result[name] = found[name]
-            return result
-    return _solve_rows(machine, frame, outputs, load, delta)
+            for name in outputs:  # near_stall in its place, from delta by _near_stall
+                result[name] = False if name == "near_stall" else found[_NATIVE_NAMES.get(name, name)]
+            return _near_stall(result, outputs)
+    return _near_stall(_solve_rows(machine, frame, outputs, load, delta), outputs)
 
 
 def _solve_rows(
@@ -136,7 +165,7 @@ def _solve_rows(
 ) -> pd.DataFrame:
     """:func:`_solve_chunk` by the Python implementation, row by row."""
     rows = len(frame)
-    columns = {name: np.full(rows, math.nan) for name in outputs if name != "stalled"}
+    columns = {name: np.full(rows, math.nan) for name in outputs if name not in ("stalled", "near_stall")}
     stalled = np.zeros(rows, dtype=bool)
     known = machine_columns(machine)
     names = [c for c in frame.columns if c in known]
@@ -158,10 +187,12 @@ def _solve_rows(
                     found = {
                         "delta": state.delta,
                         "delta_without_gravity": state.delta_without_gravity,
-                        "delta_gravity_only": state.delta_gravity_only,
+                        "delta_coasting": state.delta_coasting,
                         "gravity_effect": state.gravity_effect,
-                        "rpm_min": rpm_from_omega(state.omega_min),
-                        "rpm_max": rpm_from_omega(state.omega_max),
+                        # The row's mean speed is the rpm asked for (the solution's meets it to
+                        # rounding): the extremes keep it between them to the last ulp.
+                        "rpm_min": min(rpm_from_omega(state.omega_min), state.rpm if rpm is None else rpm),
+                        "rpm_max": max(rpm_from_omega(state.omega_max), state.rpm if rpm is None else rpm),
                     }
                     for name, value in found.items():
                         if name in columns:
@@ -179,8 +210,8 @@ def _solve_rows(
                 if name in columns:
                     columns[name][i] = value
     result = frame.copy()
-    for name in outputs:
-        result[name] = stalled if name == "stalled" else columns[name]
+    for name in outputs:  # near_stall in its place, from delta by _near_stall
+        result[name] = stalled if name == "stalled" else False if name == "near_stall" else columns[name]
     return result
 
 
@@ -227,7 +258,7 @@ def _check_names(machine: Machine, names: Any, passthrough: tuple[str, ...], out
 def _meta(designs: Any, outputs: tuple[str, ...]) -> pd.DataFrame:
     meta = designs._meta.copy()
     for name in outputs:
-        meta[name] = np.zeros(0, dtype=bool if name == "stalled" else np.float64)
+        meta[name] = np.zeros(0, dtype=bool if name in ("stalled", "near_stall") else np.float64)
     return meta
 
 
@@ -266,15 +297,18 @@ def motion_sweep(
         column is refused unless named in ``passthrough``.
     outputs : str or sequence of str, optional
         Names from :data:`MOTION_SWEEP_OUTPUTS`: ``delta``, ``delta_without_gravity``,
-        ``delta_gravity_only`` (δ of the steady state, of the machine with g = 0 and of
-        gravity alone, :class:`SteadyState`), ``gravity_effect`` = δ/δ_without_gravity − 1
-        (the relative change gravity makes, :attr:`SteadyState.gravity_effect`),
-        ``rpm_min``, ``rpm_max`` [1/min] (the speed extremes), ``stalled`` (added with any of
-        these), ``flywheel_inertia`` and
+        ``delta_coasting`` (δ of the steady state, of the machine with g = 0, and of the
+        machine coasting with gas and load removed — J(φ)'s variation and gravity together:
+        :class:`SteadyState`), ``gravity_effect`` = δ/δ_without_gravity − 1 (the relative
+        change gravity makes, :attr:`SteadyState.gravity_effect`), ``rpm_min``, ``rpm_max``
+        [1/min] (the speed extremes), ``stalled`` (added with any of these), ``near_stall``
+        (δ > :data:`~multicrank.NEAR_STALL_DELTA` = 0.5, a machine that nearly stops each
+        cycle; added with ``delta``, and adds it), ``flywheel_inertia`` and
         ``flywheel_inertia_without_gravity`` [kg·m²] (:class:`FlywheelInertia`'s
         ``shaft_inertia`` and ``shaft_inertia_without_gravity``; need ``delta``). Default:
         all of the steady state's, and the flywheel's with ``delta``. Only what is asked is
-        computed.
+        computed. The name of 0.1 ``delta_gravity_only`` is still accepted, with a
+        DeprecationWarning, and gives the column ``delta_coasting``.
     load : "balance", PowerLawLoad or callable, default "balance"
         The load, as for :func:`steady_state`; checked once, before any work. With
         "balance" each design runs at its ``rpm`` (default the machine's own ``rpm``; a
@@ -321,16 +355,16 @@ def motion_sweep(
     >>> grid = mc.MachineGrid(compressor, shaft_inertia=[250.0, 350.0, 450.0], rpm=[90.0, 120.0, 150.0])
     >>> result = mc.motion_sweep(compressor, grid, outputs=["delta", "gravity_effect"])
     >>> result.round(4)
-       shaft_inertia    rpm   delta  gravity_effect  stalled
-    0          250.0   90.0  0.0762          0.1706    False
-    1          250.0  120.0  0.0413          0.1814    False
-    2          250.0  150.0  0.0252          0.2004    False
-    3          350.0   90.0  0.0545          0.1690    False
-    4          350.0  120.0  0.0295          0.1804    False
-    5          350.0  150.0  0.0181          0.1996    False
-    6          450.0   90.0  0.0425          0.1681    False
-    7          450.0  120.0  0.0230          0.1798    False
-    8          450.0  150.0  0.0141          0.1992    False
+       shaft_inertia    rpm   delta  gravity_effect  stalled  near_stall
+    0          250.0   90.0  0.0762          0.1706    False       False
+    1          250.0  120.0  0.0413          0.1814    False       False
+    2          250.0  150.0  0.0252          0.2004    False       False
+    3          350.0   90.0  0.0545          0.1690    False       False
+    4          350.0  120.0  0.0295          0.1804    False       False
+    5          350.0  150.0  0.0181          0.1996    False       False
+    6          450.0   90.0  0.0425          0.1681    False       False
+    7          450.0  120.0  0.0230          0.1798    False       False
+    8          450.0  150.0  0.0141          0.1992    False       False
     >>> dict(mc.to_xarray(result)["delta"].sizes)
     {'shaft_inertia': 3, 'rpm': 3}
     """

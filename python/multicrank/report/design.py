@@ -105,6 +105,22 @@ def _percent(value: float) -> str:
     return "—" if not math.isfinite(value) else f"{100 * value:+.3g} %"
 
 
+def _near_stall_mark(delta: float) -> str:
+    """A mark for a δ above NEAR_STALL_DELTA (:func:`_near_stall_legend` says what it means)."""
+    from ..motion.steady import NEAR_STALL_DELTA
+
+    return " †" if delta > NEAR_STALL_DELTA else ""
+
+
+def _near_stall_legend(*deltas: float) -> str:
+    """What the mark means, where one of ``deltas`` has it; else ""."""
+    from ..motion.steady import NEAR_STALL_NOTE
+
+    if not any(_near_stall_mark(d) for d in deltas):
+        return ""
+    return f'<p class="note">† {html.escape(NEAR_STALL_NOTE)}.</p>'
+
+
 def _firing_html(results: DesignResults) -> str:
     firing, table = results.firing, firing_table(results)
     candidates, distinct = int(firing.attrs["candidates"]), int(firing.attrs["distinct"])
@@ -141,8 +157,9 @@ def _firing_html(results: DesignResults) -> str:
     records: Iterable[Any] = table.itertuples()  # the columns of firing_table
     body = "".join(
         f"<tr{marked if r.as_given else ''}><td>{r.rank}</td><td>{html.escape(str(r.firing))}"
-        f"{' (as given)' if r.as_given else ''}</td><td>{_delta(r.delta)}</td>"
-        f"<td>{_delta(r.delta_without_gravity)}</td><td>{_percent(r.gravity_effect)}</td>"
+        f"{' (as given)' if r.as_given else ''}</td><td>{_delta(r.delta)}{_near_stall_mark(r.delta)}</td>"
+        f"<td>{_delta(r.delta_without_gravity)}{_near_stall_mark(r.delta_without_gravity)}</td>"
+        f"<td>{_percent(r.gravity_effect)}</td>"
         f"<td>{r.largest_order:g}</td><td>{r.largest_order_amplitude:.4g}</td></tr>"
         for r in records
     )
@@ -153,7 +170,7 @@ def _firing_html(results: DesignResults) -> str:
 together.</p>
 <table><tr><th>rank</th><th>firing</th><th>δ with gravity</th><th>δ without gravity</th>
 <th>gravity changes δ by</th><th>largest torque order ν</th><th>its amplitude [N·m]</th></tr>{body}</table>
-"""
+{_near_stall_legend(*table["delta"], *table["delta_without_gravity"])}"""
 
 
 def _counterweight_html(results: DesignResults) -> str:
@@ -174,8 +191,8 @@ def _counterweight_html(results: DesignResults) -> str:
     )
     objective = "δ with gravity" if optimum.objective_name == "delta" else html.escape(optimum.objective_name)
     summary = [
-        ("δ with gravity, as given", f"{optimum.delta_before:.5g}"),
-        ("δ with gravity, optimum counterweights", f"{optimum.delta:.5g}"),
+        ("δ with gravity, as given", f"{optimum.delta_before:.5g}{_near_stall_mark(optimum.delta_before)}"),
+        ("δ with gravity, optimum counterweights", f"{optimum.delta:.5g}{_near_stall_mark(optimum.delta)}"),
         (f"{objective} smaller by", f"<b>{100 * optimum.improvement:.3g} %</b>"),
         ("converged", converged),
     ]
@@ -195,7 +212,7 @@ rotating masses: check the shaking forces and bearing loads before changing it f
 <table><tr><th>throw</th><th>cylinders</th><th>pin angle</th><th>as given [kg·m]</th><th>optimum [kg·m]</th>
 <th>change [kg·m]</th></tr>{body}</table>
 <table>{summary_body}</table>
-"""
+{_near_stall_legend(optimum.delta_before, optimum.delta)}"""
 
 
 def design_html(results: DesignResults) -> str:

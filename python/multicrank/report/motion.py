@@ -136,8 +136,9 @@ def motion_results(settings: ReportSettings, speeds: int = 9) -> MotionResults:
                     rpm=float(n),
                     delta=s.delta,
                     delta_without_gravity=s.delta_without_gravity,
-                    delta_gravity_only=s.delta_gravity_only,
+                    delta_coasting=s.delta_coasting,
                     delta_g=float(machine.engine(float(n)).speed_fluctuation()),
+                    near_stall=s.near_stall,
                 )
             )
         except StallError as error:
@@ -203,14 +204,15 @@ def torque_figure(results: MotionResults) -> tuple[Figure, pd.DataFrame]:
 
 
 def speed_range_figure(results: MotionResults) -> tuple[Figure, pd.DataFrame]:
-    """δ over the speed range: with and without gravity, gravity alone and the paper's δ_g."""
+    """δ over the speed range: with and without gravity, coasting (gas and load removed: J(φ)
+    and gravity together) and the paper's δ_g."""
     plt = pyplot()
     frame = results.speeds.dropna(subset=["delta"]) if "delta" in results.speeds else results.speeds.iloc[:0]
     fig, ax = plt.subplots(figsize=(8, 3.6))
     for column, label, style in (
         ("delta", "δ with gravity", "-o"),
         ("delta_without_gravity", "δ without gravity", "--s"),
-        ("delta_gravity_only", "δ without gas and load (gravity and J(φ) alone)", ":^"),
+        ("delta_coasting", "δ coasting: gas and load removed (J(φ) and gravity together)", ":^"),
         ("delta_g", "δ_g = max U* − min U* (first order)", "-."),
     ):
         if column in frame:
@@ -322,8 +324,25 @@ def _gravity_map_caption(results: MotionResults, machine: Machine, threshold: fl
     )
 
 
+def _near_stall_html(frame: pd.DataFrame, where: str) -> str:
+    """A note on the rows of ``frame`` (its ``near_stall`` column) whose δ is above
+    NEAR_STALL_DELTA, or "" where there are none."""
+    from ..motion.steady import NEAR_STALL_NOTE
+
+    near = frame["near_stall"].eq(True) if "near_stall" in frame else pd.Series(False, index=frame.index)
+    if not near.any():
+        return ""
+    speeds = frame.loc[near, "rpm"]
+    return (
+        f'<p class="note"><b>Near a stall</b> {where} at {int(near.sum())} of {len(frame)} points (mean speeds '
+        f"{speeds.min():.4g} … {speeds.max():.4g} rpm): {html.escape(NEAR_STALL_NOTE)}.</p>"
+    )
+
+
 def motion_html(results: MotionResults, machine: Machine, figures: dict[str, str], threshold: float) -> str:
     """The report's first section: what gravity does to this machine's speed fluctuation."""
+    from ..motion.steady import NEAR_STALL_NOTE
+
     state, without, flywheel = results.state, results.without, results.flywheel
     change = 100 * (state.delta / without.delta - 1)
     load = state.mean_load_torque
@@ -332,13 +351,15 @@ def motion_html(results: MotionResults, machine: Machine, figures: dict[str, str
         ("δ with gravity", f"{state.delta:.5g} (1/{1 / state.delta:.4g})"),
         ("δ without gravity (g = 0)", f"{without.delta:.5g} (1/{1 / without.delta:.4g})"),
         ("gravity changes δ by", f"<b>{change:+.3g} %</b>"),
-        ("δ without gas and load (gravity and J(φ) alone, exact)", f"{state.delta_gravity_only:.4g}"),
+        ("δ coasting: gas and load removed (J(φ) and gravity together, exact)", f"{state.delta_coasting:.4g}"),
         ("δ<sub>g</sub> = max U* − min U* (the paper's first-order measure)", f"{results.delta_g:.4g}"),
         ("δ about the midrange (textbook convention)", f"{state.delta_midrange:.5g}"),
         ("speed swing", f"{rpm_from_omega(state.omega_min):.6g} … {rpm_from_omega(state.omega_max):.6g} rpm"),
         ("load torque (balance)", f"{load:.6g} N·m ({load * state.omega_mean / 1e3:.4g} kW)"),
         ("shaft inertia I<sub>w</sub> (as built)", f"{machine.shaft_inertia:.6g} kg·m²"),
     ]
+    if state.near_stall:
+        rows.insert(2, ("<b>near a stall</b>", html.escape(NEAR_STALL_NOTE)))
     body = "".join(f"<tr><th>{k}</th><td>{v}</td></tr>" for k, v in rows)
     fly = [("target δ", f"{results.target:.4g} (1/{1 / results.target:.4g}): {html.escape(results.target_source)}")]
     if flywheel is None:
@@ -377,9 +398,11 @@ with ω<sub>m</sub> the time mean.</p>
 inertia torque grows as n²: so gravity's share of δ may grow or fall with the speed, and δ<sub>g</sub> (∝ 1/n²)
 does not tell which. {speed_trend_sentence(results.speeds)} The grey line is the target δ.</p>
 <img src="{figures["motion_speed_range"]}" alt="δ over the speed range">
+{_near_stall_html(results.speeds, "over the speed range")}
 <h3>Where gravity matters: speed × flywheel</h3>
 {_gravity_map_caption(results, machine, threshold)}
 <img src="{figures["motion_gravity_map"]}" alt="gravity's effect on δ over speed and shaft inertia">
+{_near_stall_html(results.gravity_map, "on the map")}
 <h3>Torque orders at {results.rpm:g} rpm</h3>
 <p>Fourier amplitudes per order (harmonics per revolution; half orders in a four-stroke cycle) in N·m, for
 torsional-vibration tools: gravity and inertia exact, gas from the cycle quadrature. The eight largest:</p>
