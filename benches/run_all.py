@@ -33,8 +33,8 @@ MACHINE_NOTE = (
 )
 MOTION_HEADING = "## Motion: steady running against time integration, one core"
 MOTION_NOTE = (
-    "`steady_state`: everything it returns (arrays at 361 points, δ, δ without gravity, δ of "
-    "gravity alone), repeated calls on one machine (a table's indicator work is integrated on the "
+    "`steady_state`: everything it returns (arrays at 361 points, δ, δ without gravity, δ of the "
+    "machine coasting), repeated calls on one machine (a table's indicator work is integrated on the "
     "first call and kept); `first call`: that work cleared before each call. `flywheel_inertia`: "
     "δ = 0.01, with and without gravity. Baseline (one run each): the equation of motion "
     "integrated in time with `solve_ivp` (DOP853) over one cycle, shooting on ω(0) with brentq "

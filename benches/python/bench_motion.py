@@ -7,7 +7,7 @@ PCHIP tables of 1441 points) and a four-cylinder two-stroke compressor
 (mc.IndicatorDiagram.compressor), both with gravity, rods with ΔI ≠ 0 and load="balance".
 
 - ``mc.steady_state`` (everything it returns: the cycle's arrays at 361 points, δ, δ without
-  gravity and δ of gravity alone), repeated on one machine and as a first call (the indicator
+  gravity and δ of the machine coasting), repeated on one machine and as a first call (the indicator
   works that steady_state keeps for a diagram cleared before each call), and
   ``mc.flywheel_inertia`` (δ = 0.01, with and without gravity), best of --repeat;
 - the baseline: what one would do without the library —

@@ -105,7 +105,9 @@ print(
 print(
     f"range of U(φ): {np.ptp(potential):.0f} J; swing of ½Jω²: {np.ptp(kinetic):.0f} J"
 )
-print(f"δ of gravity alone (no gas, no motor): {state.delta_gravity_only:.5f}")
+# δ of the machine coasting (no gas, no motor) is not gravity's share of δ: J(φ)'s
+# variation shakes the coasting shaft too (what gravity does to δ is gravity_effect).
+print(f"δ coasting (no gas, no motor; J(φ) and gravity): {state.delta_coasting:.5f}")
 for solved in (with_gravity, without_gravity):
     slowest, fastest = math.degrees(solved.phi_min), math.degrees(solved.phi_max)
     print(
