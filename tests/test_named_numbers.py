@@ -84,6 +84,17 @@ def test_the_old_output_name_warns_and_gives_delta_coasting():
         assert value == mc.steady_state(COMPRESSOR, rpm=rpm).delta_coasting
 
 
+def test_delta_coasting_is_delta_without_gas_in_a_sweep():
+    # pressure_scale 0 takes the gas away, and with it the balance load: δ of that design is
+    # δ_coasting of the machine as built, at the same speed — with g = 0 too (J(φ) alone).
+    for g in (mc.STANDARD_GRAVITY, 0.0):
+        grid = mc.MachineGrid(COMPRESSOR, pressure_scale=[0.0, 1.0], rpm=[60.0, 120.0], g=g)
+        result = mc.motion_sweep(COMPRESSOR, grid, outputs=["delta", "delta_coasting"])
+        without_gas, as_built = result.iloc[:2], result.iloc[2:]
+        np.testing.assert_allclose(without_gas["delta"], as_built["delta_coasting"], rtol=1e-9)
+        assert (as_built["delta_coasting"] > 1e-3).all()
+
+
 def test_the_square_law_route_names_delta_coasting():
     # The core returns the comparisons with the square law's solution (its own key): the
     # coasting machine is the one without gas and load, at the speed the load settles to.
