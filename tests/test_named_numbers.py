@@ -154,6 +154,8 @@ def test_the_design_aid_marks_near_stall(speeds):
         assert firing["near_stall"].tolist() == [flagged]
         page = _firing_html(DesignResults(machine=COMPRESSOR, rpm=rpm, firing=firing, own=0, optimum=None))
         assert (NOTE in page) == flagged and ("†" in page) == flagged
+        printed = run("optimize", "firing", "--machine", "slow-compressor", "--rpm", str(rpm), "--no-progress")
+        assert (NOTE in printed.stdout) == flagged and "near_stall" in printed.stdout
 
 
 def test_the_report_says_near_a_stall():
