@@ -248,3 +248,36 @@ def test_bad_input_names_the_parameter(arguments, message):
     arguments = {"machine": twin(), "rpm": RPM, **arguments}
     with pytest.raises(mc.MechanismError, match=message):
         mc.torque_orders(arguments.pop("machine"), arguments.pop("rpm"), **arguments)
+
+
+def test_a_thousand_orders_need_memory_in_proportion_to_the_work_and_are_the_fft():
+    """max_order=1000 formed an orders × nodes matrix (the nodes grow with the orders):
+    3.4 GB. Now its memory is that of the nodes. Its values against an FFT of the torques
+    sampled densely over the cycle (each part is analytic here, so the FFT is exact to
+    rounding), to 1e-12 of the largest amplitude."""
+    import tracemalloc
+
+    machine = twin()
+    tracemalloc.start()
+    try:
+        table = mc.torque_orders(machine, RPM, max_order=1000)
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert peak < 200e6, f"{peak / 1e6:.0f} MB"
+    samples = 8192
+    phi = np.arange(samples) * machine.cycle / samples
+    torques = {
+        "gas": machine.gas_torque(phi),
+        "inertia": machine.inertia_torque(phi, OMEGA),
+        "gravity": machine.gravity_torque(phi),
+    }
+    torques["total"] = torques["gas"] + torques["inertia"] + torques["gravity"]
+    harmonic = np.round(table.index.to_numpy() * machine.strokes / 2).astype(int)  # of the cycle
+    assert harmonic[-1] == 2000 and len(table) == 2001
+    largest = max(table[f"{part}_amplitude"].max() for part in ORDER_PARTS)
+    for part, torque in torques.items():
+        spectrum = np.fft.rfft(torque) * (2 / samples)
+        spectrum[0] /= 2  # the mean
+        np.testing.assert_allclose(table[f"{part}_cos"], spectrum.real[harmonic], rtol=0, atol=1e-12 * largest)
+        np.testing.assert_allclose(table[f"{part}_sin"], -spectrum.imag[harmonic], rtol=0, atol=1e-12 * largest)
