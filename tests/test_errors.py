@@ -18,6 +18,7 @@ import functools
 import inspect
 import math
 import pickle
+import re
 from collections.abc import Callable
 from typing import Any
 
@@ -835,3 +836,84 @@ def test_a_bad_value_in_a_motion_sweeps_table_is_named_with_its_row(column, valu
     designs.loc[20, column] = value
     with pytest.raises(mc.MechanismError, match=f"^{named}"):
         mc.motion_sweep(MACHINE, designs, outputs=["delta"])
+
+
+QUANTITIES = {
+    "crank_radius": "m",
+    "rod_length": "m",
+    "rod_cg": "m",
+    "crank_cg_radius": "m",
+    "counterweight_radius": "m",
+    "bore": "m",
+    "piston_rod_diameter": "m",
+    "piston_mass": "kg",
+    "rod_mass": "kg",
+    "crank_mass": "kg",
+    "counterweight_mass": "kg",
+    "rod_inertia": "kg·m²",
+}
+
+
+@pytest.mark.parametrize("value", [1e160, 1.5e30, -1e200])
+@pytest.mark.parametrize("field", sorted(QUANTITIES))
+def test_a_cylinder_quantity_beyond_the_documented_limit_is_refused_by_name(field, value):
+    """Issue 26, item 6: bore = 1e160 made the piston area overflow (OverflowError); every
+    length, mass and inertia of a cylinder is at most MAGNITUDE_LIMIT = 1e30 (SI units)."""
+    from multicrank._validation import MAGNITUDE_LIMIT
+
+    assert MAGNITUDE_LIMIT == 1e30
+    allowed = f"{field} = {value:g} is out of range; allowed: |{field}| <= 1e+30 [{QUANTITIES[field]}]"
+    with pytest.raises(mc.MechanismError, match=re.escape(allowed)):
+        CYLINDER.replace(**{field: value})
+
+
+def test_the_limit_itself_is_a_quantity():
+    heavy = CYLINDER.replace(piston_mass=1e30, rod_mass=1e30, crank_mass=1e30, bore=1e30)
+    assert heavy.piston_mass == 1e30 and math.isfinite(heavy.piston_area)
+
+
+@pytest.mark.parametrize(
+    "call, named",
+    [
+        (lambda: mc.Machine([CYLINDER], shaft_inertia=1e300), r"shaft_inertia = 1e\+300 is out of range"),
+        (lambda: mc.Machine([CYLINDER], shaft_inertia=1.0, g=1e100), r"g = 1e\+100 is out of range"),
+        (lambda: mc.PowerLawLoad(torque=1.0, speed=1e200), r"speed = 1e\+200 is out of range; allowed: 1\.0472e-07"),
+        (lambda: mc.PowerLawLoad(torque=1e31, rpm=600.0), r"torque = 1e\+31 is out of range"),
+        (lambda: mc.steady_state(MACHINE, load=1e300), r"load = 1e\+300 is out of range"),
+        (
+            lambda: mc.IndicatorDiagram([0.0, 2.0, 4.0, 2 * math.pi], [0.0, 1e300, 0.0, 0.0], cycle=2 * math.pi),
+            r"pressure\[1\] = 1e\+300 is out of range; allowed: \|pressure\| <= 1e\+30 \[Pa\]",
+        ),
+        (
+            lambda: mc.steady_state(
+                mc.Machine([GASSED.replace(pressure=lambda theta: np.full(theta.shape, 1e300))], shaft_inertia=1.0),
+                rpm=600.0,
+            ),
+            r"pressure returned a pressure of 1e\+300 \[Pa\], out of range",
+        ),
+        (
+            lambda: GASSED.compressor_diagram(
+                suction_pressure=1e5, discharge_pressure=1e7, polytropic_exponent=1e-3, clearance_ratio=0.1
+            ),
+            "the clearance is too large for this pressure ratio",
+        ),
+    ],
+)
+def test_huge_values_are_refused_by_name_not_overflowed(call, named):
+    """Issue 26, item 6: what overflowed (an OverflowError, or a solver that did not converge
+    on g = 1e100) is refused by name with its allowed range."""
+    with pytest.raises(mc.MechanismError, match=named):
+        call()
+
+
+def test_a_machine_file_with_a_huge_bore_names_the_key(tmp_path):
+    """Issue 26, item 6: a machine file with bore = 1e200 raised OverflowError."""
+    path = tmp_path / "huge.toml"
+    path.write_text(
+        "shaft_inertia = 1.0\n[cylinder]\ncrank_radius = 0.05\nrod_length = 0.2\npiston_mass = 1.0\n"
+        'rod_mass = 1.0\nrod_cg = 0.05\nbore = 1e200\n[cylinder.pressure]\ntype = "compressor"\n'
+        "suction_pressure = 1e5\ndischarge_pressure = 4e5\nclearance_ratio = 0.1\n",
+        encoding="utf-8",
+    )
+    with pytest.raises(mc.MechanismError, match=r"huge\.toml: cylinder: bore = 1e\+200 is out of range"):
+        mc.Machine.from_toml(path)

@@ -22,6 +22,7 @@ from ._native import MechanismError
 
 __all__ = [
     "INDEX_MAX",
+    "MAGNITUDE_LIMIT",
     "SPEED_LIMITS",
     "allocatable_bytes",
     "as_angles",
@@ -44,6 +45,7 @@ __all__ = [
     "broadcast_designs",
     "broadcast_shape",
     "check_fields",
+    "check_magnitude",
     "check_size",
     "contiguous",
     "design_keywords",
@@ -78,13 +80,34 @@ def as_real_array(value: Any, name: str) -> np.ndarray:
     return array.astype(np.float64, copy=False)
 
 
+#: The largest magnitude of a machine's physical quantities in SI units — lengths [m], masses
+#: [kg], inertias [kg·m²], g [m/s²], pressures [Pa], torques [N·m] — 10²⁴ times anything built,
+#: and far enough below a double's overflow (1.8·10³⁰⁸) that the products the motion forms of
+#: them (m r² ω², p·A·r, and the squares of energies and torques) stay finite. Larger values
+#: are refused by name; a bore of 10¹⁶⁰ m made the piston area overflow.
+MAGNITUDE_LIMIT = 1e30
+
+
+def check_magnitude(value: float, name: str, unit: str) -> float:
+    """``value`` unless it is finite and larger in magnitude than :data:`MAGNITUDE_LIMIT`:
+    then a :class:`MechanismError` naming ``name`` and the allowed range (NaN and inf are
+    left to the caller's own check, which words them)."""
+    if math.isfinite(value) and abs(value) > MAGNITUDE_LIMIT:
+        raise MechanismError(
+            f"{name} = {value:g} is out of range; allowed: |{name}| <= {MAGNITUDE_LIMIT:g} [{unit}] (beyond it, "
+            "products of the machine's quantities overflow)"
+        )
+    return value
+
+
 def as_returned(
     value: Any, name: str, quantity: str, unit: str, shape: tuple[int, ...], *, broadcast: bool = False
 ) -> np.ndarray:
     """What a user's callable ``name`` returned (a ``quantity`` in ``unit``: "pressure", "Pa"),
     checked: real numbers — not complex (whose imaginary part would be dropped), bool, text
-    or objects —, finite, and of ``shape``, the shape of the arguments it was called with
-    (``broadcast``: or a shape that broadcasts to it). A float64 array of ``shape``."""
+    or objects —, finite and at most :data:`MAGNITUDE_LIMIT` in magnitude, and of ``shape``,
+    the shape of the arguments it was called with (``broadcast``: or a shape that broadcasts
+    to it). A float64 array of ``shape``."""
     wanted = f"a real {quantity} [{unit}]"
     try:
         array = np.asarray(value)
@@ -108,6 +131,12 @@ def as_returned(
     bad = np.flatnonzero(~np.isfinite(values))
     if bad.size:
         raise MechanismError(f"{name} returned a non-finite {quantity} ({values.flat[bad[0]]}) [{unit}]")
+    huge = np.flatnonzero(np.abs(values) > MAGNITUDE_LIMIT)
+    if huge.size:
+        raise MechanismError(
+            f"{name} returned a {quantity} of {values.flat[huge[0]]:g} [{unit}], out of range; allowed: "
+            f"|{quantity}| <= {MAGNITUDE_LIMIT:g} [{unit}]"
+        )
     return values
 
 

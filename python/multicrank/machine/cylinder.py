@@ -20,7 +20,7 @@ import numpy as np
 from .._native import MechanismError
 from .._native import machine_evaluate as _native_machine_evaluate
 from .._native import two_mass_rod_inertia as _native_two_mass_rod_inertia
-from .._validation import as_option, as_real_array, as_scalar, check_fields, contiguous
+from .._validation import as_option, as_real_array, as_scalar, check_fields, check_magnitude, contiguous
 from ..pressure.diagram import IndicatorDiagram
 
 __all__ = ["UNIT_FIELDS", "Cylinder", "Pressure", "diagram_strokes", "unit_columns"]
@@ -40,6 +40,15 @@ UNIT_FIELDS = (
     "phase",
     "inclination",
 )
+
+#: The SI unit of each field of a cylinder that is a physical quantity (the angles aside): each
+#: is at most MAGNITUDE_LIMIT (10³⁰) in magnitude.
+_UNITS = {
+    **dict.fromkeys(("crank_radius", "rod_length", "rod_cg", "crank_cg_radius", "counterweight_radius", "bore"), "m"),
+    "piston_rod_diameter": "m",
+    **dict.fromkeys(("piston_mass", "rod_mass", "crank_mass", "counterweight_mass"), "kg"),
+    "rod_inertia": "kg·m²",
+}
 
 #: A gauge pressure p(θ) [Pa] as a vectorised function of the cycle angle θ [rad].
 Pressure = Callable[[np.ndarray], Any]
@@ -81,8 +90,8 @@ class Cylinder:
         γ [rad]: the cylinder axis to the horizontal, +π/2 upright (the default).
     pressure : callable or None
         Gauge pressure p(θ) [Pa] on the piston crown as a vectorised function of the cycle
-        angle θ [rad] (an :class:`~multicrank.pressure.IndicatorDiagram`, say). It pushes
-        the piston toward the shaft.
+        angle θ [rad] (an :class:`~multicrank.pressure.IndicatorDiagram`, say), returning
+        real pressures in an array of θ's shape. It pushes the piston toward the shaft.
     pressure_crank_end : callable or None
         Double-acting cylinders: the crank-end chamber's gauge pressure p_c(θ) [Pa], acting
         on the area π D²/4 − π d²/4 and pushing the piston away from the shaft.
@@ -92,7 +101,9 @@ class Cylinder:
     Raises
     ------
     MechanismError
-        For any field out of its range (naming it) or geometry the core refuses.
+        For any field out of its range (naming it) or geometry the core refuses. Every
+        length, mass and inertia is at most 10³⁰ in magnitude (SI units; ``MAGNITUDE_LIMIT``):
+        far beyond any machine, and where the products the motion forms of them stay finite.
 
     See Also
     --------
@@ -137,7 +148,10 @@ class Cylinder:
             value = getattr(self, field)
             if field == "rod_inertia" and value is None:
                 continue
-            object.__setattr__(self, field, as_scalar(value, field))
+            value = as_scalar(value, field)
+            if field in _UNITS:
+                check_magnitude(value, field, _UNITS[field])
+            object.__setattr__(self, field, value)
         if self.rod_inertia is None:
             object.__setattr__(self, "rod_inertia", self._two_mass_rod_inertia())
         if not (math.isfinite(self.bore) and self.bore >= 0):

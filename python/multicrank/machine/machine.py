@@ -32,6 +32,7 @@ from .._validation import (
     as_strokes,
     as_threshold,
     check_fields,
+    check_magnitude,
     contiguous,
 )
 from .._validation import as_speed_range as _speed_range
@@ -140,11 +141,11 @@ class Machine:
         if not all(isinstance(c, Cylinder) for c in cylinders):
             raise MechanismError("cylinders must all be multicrank.Cylinder")
         self.cylinders: tuple[Cylinder, ...] = cylinders
-        self.shaft_inertia = as_scalar(shaft_inertia, "shaft_inertia")
+        self.shaft_inertia = check_magnitude(as_scalar(shaft_inertia, "shaft_inertia"), "shaft_inertia", "kg·m²")
         if not (math.isfinite(self.shaft_inertia) and self.shaft_inertia > 0):
             raise MechanismError(f"shaft_inertia = {self.shaft_inertia} is out of range; allowed: shaft_inertia > 0")
         self.strokes = as_strokes(strokes)
-        self.g = as_scalar(g, "g")
+        self.g = check_magnitude(as_scalar(g, "g"), "g", "m/s²")
         if not math.isfinite(self.g):
             raise MechanismError(f"g = {self.g} is out of range; allowed: any finite real")
         if not isinstance(name, str):

@@ -28,7 +28,7 @@ import numpy as np
 
 from .._native import MechanismError
 from .._shaft import omega_from_rpm
-from .._validation import as_returned, as_scalar, as_speed, one_of
+from .._validation import MAGNITUDE_LIMIT, SPEED_LIMITS, as_returned, as_scalar, as_speed, one_of
 
 __all__ = ["BALANCE", "AppliedTorques", "PowerLawLoad", "Torque", "as_torque", "balance_torque"]
 
@@ -47,9 +47,10 @@ class PowerLawLoad:
     Parameters
     ----------
     torque : float
-        M_n [N·m], the torque at the nominal speed; finite, ≥ 0.
+        M_n [N·m], the torque at the nominal speed; 0 ≤ M_n ≤ 1e30.
     speed : float
-        ω_n [rad/s], the nominal speed, > 0. Give it or ``rpm``.
+        ω_n [rad/s], the nominal speed, within the speeds the package takes (1e-6 … 1e8
+        rpm, about 1.05e-7 … 1.05e7 rad/s). Give it or ``rpm``.
     exponent : float, default 2
         e ≥ 0 [dimensionless]: 2 for fans, centrifugal pumps and propellers (the square
         law), 1 for viscous friction, 0 for a constant (Coulomb) torque that changes sign
@@ -87,10 +88,14 @@ class PowerLawLoad:
         name, value = one_of(("speed", self.speed), ("rpm", rpm))
         speed = omega_from_rpm(as_speed(value, "rpm")) if name == "rpm" else as_scalar(value, "speed")
         exponent = as_scalar(self.exponent, "exponent")
-        if not (math.isfinite(torque) and torque >= 0):
-            raise MechanismError(f"torque = {torque} is out of range; allowed: torque >= 0 [N·m]")
-        if not (math.isfinite(speed) and speed > 0):
-            raise MechanismError(f"speed = {speed} is out of range; allowed: speed > 0 [rad/s]")
+        if not (math.isfinite(torque) and 0 <= torque <= MAGNITUDE_LIMIT):
+            raise MechanismError(
+                f"torque = {torque} is out of range; allowed: 0 <= torque <= {MAGNITUDE_LIMIT:g} [N·m]"
+            )
+        low, high = (omega_from_rpm(limit) for limit in SPEED_LIMITS)
+        if not (name == "rpm" or (math.isfinite(speed) and low <= speed <= high)):
+            # the speeds the package takes (a speed of 1e200 rad/s overflowed in the coefficient)
+            raise MechanismError(f"speed = {speed} is out of range; allowed: {low:g} <= speed <= {high:g} [rad/s]")
         if not (math.isfinite(exponent) and exponent >= 0):
             raise MechanismError(f"exponent = {exponent} is out of range; allowed: exponent >= 0")
         object.__setattr__(self, "torque", torque)
@@ -185,8 +190,10 @@ def as_torque(value: Any, name: str, *, balance: bool = False) -> Torque | str |
     if callable(value):
         return Torque("callable", value, name)
     number = as_scalar(value, name)
-    if not math.isfinite(number):
-        raise MechanismError(f"{name} = {number} is out of range; allowed: a finite torque [N·m]")
+    if not (math.isfinite(number) and abs(number) <= MAGNITUDE_LIMIT):
+        raise MechanismError(
+            f"{name} = {number} is out of range; allowed: a finite torque, |{name}| <= {MAGNITUDE_LIMIT:g} [N·m]"
+        )
     return Torque("constant", number, name)
 
 

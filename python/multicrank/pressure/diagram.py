@@ -34,7 +34,7 @@ from typing import Any
 import numpy as np
 
 from .._native import MechanismError
-from .._validation import as_angles, as_count, as_flag, as_option, as_real_array
+from .._validation import MAGNITUDE_LIMIT, as_angles, as_count, as_flag, as_option, as_real_array
 from ._cycle import (
     FOUR_STROKE,
     INTERPOLATIONS,
@@ -152,7 +152,8 @@ class IndicatorDiagram:
         at angle + cycle.
     pressure : array_like, shape (N,)
         Gauge pressure p [Pa] at those angles (absolute minus the crankcase pressure; the
-        crankcase side is 0). Finite. A magnitude below ``PRESSURE_FLOOR`` = 1e-30 Pa is taken
+        crankcase side is 0). Finite, at most 1e30 Pa in magnitude (``MAGNITUDE_LIMIT``, where
+        the torques' products would overflow). A magnitude below ``PRESSURE_FLOOR`` = 1e-30 Pa is taken
         as exactly 0 (physically it is; and a subnormal value such as 2.2e-309 would overflow
         the interpolation's slopes): ``diagram.pressure`` holds the table so flushed.
     cycle : float
@@ -226,6 +227,11 @@ class IndicatorDiagram:
                 raise MechanismError(
                     f"{name}[{bad[0]}] = {array[bad[0]]} is not finite; {name} must be finite [{unit}]"
                 )
+        huge = np.flatnonzero(np.abs(p) > MAGNITUDE_LIMIT)
+        if huge.size:
+            raise MechanismError(
+                f"pressure[{huge[0]}] = {p[huge[0]]:g} is out of range; allowed: |pressure| <= {MAGNITUDE_LIMIT:g} [Pa]"
+            )
         steps = np.diff(a)
         bad = np.flatnonzero(~(steps > 0))
         if bad.size:

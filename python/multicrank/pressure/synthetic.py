@@ -230,7 +230,10 @@ def compressor(
     kind = as_option(kind, "kind", INTERPOLATIONS)
     vol = Volume(volume, cycle, samples=max(points, 720))
     angles, volumes, minima = vol.dead_centres()
-    ratio = (p_d / p_s) ** (1.0 / n)
+    try:
+        ratio = (p_d / p_s) ** (1.0 / n)  # the polytropic volume ratio
+    except OverflowError:  # beyond 1.8e308: no clearance volume re-expands so far
+        ratio = math.inf
     ends = np.append(angles, angles[0] + cycle)
     events = []
     for j, start in enumerate(volumes):
