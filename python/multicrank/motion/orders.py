@@ -295,13 +295,14 @@ def _checked_orders(orders: Any, part: str) -> tuple[float, np.ndarray, np.ndarr
         if array.dtype.kind not in "iuf":
             raise MechanismError(f"{where}: {name} must hold real numbers, got dtype {array.dtype}")
         arrays[name] = array.astype(np.float64)
-    rules = {
-        "order": (lambda a: np.isfinite(a) & (a >= 0), "finite orders >= 0"),
-        columns[0]: (lambda a: np.isfinite(a) & (a >= 0), "finite amplitudes >= 0 [N·m]"),
-        columns[1]: (np.isfinite, "finite phases [rad]"),
+    rules: dict[str, tuple[bool, str]] = {  # (whether it is at least 0, what is allowed)
+        "order": (True, "finite orders >= 0"),
+        columns[0]: (True, "finite amplitudes >= 0 [N·m]"),
+        columns[1]: (False, "finite phases [rad]"),
     }
-    for name, (rule, allowed) in rules.items():
-        bad = np.flatnonzero(~rule(arrays[name]))
+    for name, (nonnegative, allowed) in rules.items():
+        array = arrays[name]
+        bad = np.flatnonzero(~(np.isfinite(array) & ((array >= 0) if nonnegative else True)))
         if bad.size:
             at = "" if name == "order" else f" at order {orders.index[bad[0]]}"
             raise MechanismError(

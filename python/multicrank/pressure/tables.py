@@ -91,9 +91,9 @@ def read_columns(
         )
     if angles.size < 4:
         raise MechanismError(f"{name}: {angles.size} data row(s); an indicator diagram needs at least 4")
-    below = np.flatnonzero(pressures < 0) if absolute else ()
-    if len(below):
-        row = below[0]
+    below = np.flatnonzero(pressures < 0) if absolute else np.zeros(0, dtype=np.intp)
+    if below.size:
+        row = int(below[0])
         raise MechanismError(
             f"{name}, line {lines[row][0]}, column {index['pressure_column']} (pressure_column): "
             f"{texts['pressure_column'].iloc[row]!r} is a negative absolute pressure (below vacuum); with "
