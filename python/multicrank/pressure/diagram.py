@@ -514,9 +514,9 @@ class IndicatorDiagram:
 
         Warns
         -----
-        PressureUnitWarning
+        multicrank.pressure.PressureUnitWarning
             When the table's largest pressure, in ``pressure_unit``, is outside
-            :data:`PLAUSIBLE_PRESSURES` (1 mbar … 5000 bar): most likely the table is in
+            :data:`~multicrank.pressure.PLAUSIBLE_PRESSURES` (1 mbar … 5000 bar): most likely the table is in
             another unit (Pa read as bar), and the warning names the likely one.
 
         Examples
