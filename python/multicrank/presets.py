@@ -31,6 +31,7 @@ from typing import Any
 from ._native import MechanismError
 from ._validation import warn_renamed
 from .gravity.layouts import LAYOUTS, Layout, layout_engine
+from .machine.classes import SPEED_FLUCTUATION
 from .machine.machine import Machine
 
 # DEFAULT_MACHINE (MACHINES[DEFAULT_MACHINE_NAME]) is a module attribute too, read on first use.
@@ -47,20 +48,6 @@ __all__ = [
     "load_machine",
     "machine_by_name_or_file",
 ]
-
-#: The usual coefficient of speed fluctuation δ = (ω_max − ω_min)/ω_mean of each class of
-#: machine, (lowest, highest). Compressors (and pumps) 1/20–1/50, vehicle engines 1/100–1/300
-#: and AC generator sets ≤ 1/300 are the classic handbook values (the same as the report's
-#: threshold note). Ship propulsion: a direct-driven propeller is a smooth, heavily damped
-#: load, like a pump's; we take the pump and compressor limit, δ ≤ 1/20, as its bound
-#: (reasoning, not a handbook figure). A lower bound of 0: the class asks no more than the
-#: upper one (a smoother machine is as good).
-SPEED_FLUCTUATION: dict[str, tuple[float, float]] = {
-    "compressor": (1 / 50, 1 / 20),
-    "vehicle engine": (1 / 300, 1 / 100),
-    "generator set": (0.0, 1 / 300),
-    "ship propulsion": (0.0, 1 / 20),
-}
 
 #: The class (a key of ``SPEED_FLUCTUATION``) of every built-in machine.
 MACHINE_CLASSES: dict[str, str] = {

@@ -23,6 +23,7 @@ from .._files import read_toml
 from .._native import MechanismError
 from ..gravity.layouts import Layout, as_layout
 from ..pressure.diagram import PRESSURE_UNITS, IndicatorDiagram, check_pressure_unit
+from .classes import SPEED_FLUCTUATION
 
 __all__ = [
     "CYLINDER_KEYS",
@@ -224,10 +225,8 @@ class MachineFile:
 
 
 def _class_limit(file: MachineFile, kind: str) -> float:
-    """The δ a class of machine allows at most (``presets.SPEED_FLUCTUATION``): a machine
-    file's ``class``, where it gives no ``delta_target``."""
-    from ..presets import SPEED_FLUCTUATION
-
+    """The δ a class of machine allows at most (``SPEED_FLUCTUATION``): a machine file's
+    ``class``, where it gives no ``delta_target``."""
     if kind not in SPEED_FLUCTUATION:
         allowed = ", ".join(repr(k) for k in SPEED_FLUCTUATION)
         raise file.error("class", f"class = {kind!r} is not a class of machine; allowed: {allowed}")
