@@ -120,6 +120,9 @@ class Machine:
     δ_g = 0.06003
     """
 
+    # A machine pickled before delta_target existed has none in its __dict__: it reads None.
+    delta_target: float | None = None
+
     def __init__(
         self,
         cylinders: Sequence[Cylinder],
