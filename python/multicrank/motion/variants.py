@@ -275,12 +275,18 @@ class MachineGrid(ProductGrid):
         check_values(name, values)
 
     def _checked_rows(self) -> list[int]:
-        """The first row, every row that differs from it in one axis, and the last."""
+        """The first row, the last, and for each axis the two rows that take it to its smallest
+        and its largest value, the other axes at their first. Each value alone was checked by
+        ``_check_values``; the rules between a machine's fields (λ = r/l < 1, the rod's centre
+        of gravity on the rod, a positive inertia beside the shaft) are monotonic in each field,
+        so an axis breaks one at an extreme if anywhere. (A machine built for every value of
+        every axis cost about half a millisecond a value: 13 s for an axis of 20 000 speeds.)"""
         rows = {0, len(self) - 1}
-        for axis, length in enumerate(self.shape):
-            along = np.zeros((len(self.shape), length), dtype=np.int64)
-            along[axis] = np.arange(length)
-            rows.update(int(row) for row in np.atleast_1d(np.ravel_multi_index(tuple(along), self.shape)))
+        for axis, values in enumerate(self.axes.values()):
+            for position in {int(np.argmin(values)), int(np.argmax(values))}:
+                index = [0] * len(self.shape)
+                index[axis] = position
+                rows.add(int(np.ravel_multi_index(tuple(index), self.shape)))
         return sorted(rows)
 
     def __eq__(self, other: object) -> bool:
