@@ -211,14 +211,15 @@ def _nothing_runs(machine: Machine, objective: str, rpm: float, limits: np.ndarr
     with the machine's own stall (where and from which speed it runs) where it has one."""
     from ..motion.steady import StallError, steady_state
 
-    if objective == "delta_over_speed_range":
-        where = f"over rpm_range = {machine.rpm_range}"
+    speed = rpm
+    if objective == "delta_over_speed_range" and machine.rpm_range is not None:
+        where, speed = f"over rpm_range = {machine.rpm_range}", machine.rpm_range[0]
     else:
         where = f"at rpm = {rpm:g}"
     pairs = ", ".join(f"({low:g}, {high:g})" for low, high in limits)
     message = f"no counterweights within bounds = [{pairs}] kg·m run {where}: every design tried stalls"
     try:
-        steady_state(machine, rpm=rpm if objective != "delta_over_speed_range" else machine.rpm_range[0])
+        steady_state(machine, rpm=speed)
     except StallError as error:
         if error.min_rpm is not None:
             message += f"; the machine as given runs from min_rpm = {error.min_rpm:g}"

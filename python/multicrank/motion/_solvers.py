@@ -14,7 +14,6 @@ t_Φ = ∫₀^Φ dφ/ω = ∫₀^Φ √(J/2E) dφ.
 from __future__ import annotations
 
 import copy
-import copyreg
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -43,6 +42,14 @@ def scipy_optimize() -> Any:
     return scipy.optimize
 
 
+def restored_error(cls: type[BaseException], args: tuple[Any, ...], state: dict[str, Any]) -> BaseException:
+    """An exception of ``cls`` with ``args`` and the attributes ``state``, made without its
+    ``__init__``: how an error whose ``__init__`` takes more than its message unpickles."""
+    error = cls.__new__(cls, *args)
+    error.__dict__.update(state)
+    return error
+
+
 class Stall(Exception):
     """Internal: the machine does not run at the state asked for (steady.py turns it into StallError)."""
 
@@ -52,7 +59,7 @@ class Stall(Exception):
 
     def __reduce__(self) -> tuple[Any, ...]:
         # args holds the message only: rebuild without __init__ and restore the angle.
-        return (copyreg.__newobj__, (type(self), *self.args), self.__dict__)
+        return (restored_error, (type(self), self.args, self.__dict__))
 
 
 class CycleTables:

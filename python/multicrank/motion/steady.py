@@ -31,7 +31,6 @@ SciPy is imported when a steady state is computed.
 
 from __future__ import annotations
 
-import copyreg
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -59,7 +58,7 @@ from ._periodic import (
     solve_periodic,
 )
 from ._result import MotionResult
-from ._solvers import Balance, CycleTables, Periodic, Stall
+from ._solvers import Balance, CycleTables, Periodic, Stall, restored_error
 from .loads import BALANCE, PowerLawLoad, Torque
 
 __all__ = ["NEAR_STALL_DELTA", "PowerLawLoad", "StallError", "SteadyState", "steady_state"]
@@ -123,7 +122,7 @@ class StallError(MechanismError):
         # An exception pickles as cls(*args), and angle is keyword-only: rebuild it without
         # __init__ and restore the attributes, so that the error crosses a pickle (a
         # multiprocessing worker's error sent back to its parent) whole.
-        return (copyreg.__newobj__, (type(self), *self.args), self.__dict__)
+        return (restored_error, (type(self), self.args, self.__dict__))
 
 
 # -- inputs ------------------------------------------------------------------------------------
