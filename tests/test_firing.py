@@ -297,3 +297,53 @@ def test_telling_candidates_apart_evaluates_each_cylinder_once(monkeypatch):
         assert len(_distinct(machine, phases)) == limit
         counts.append(len(calls))
     assert counts[0] == counts[1] <= len(machine)
+
+
+# -- firing orders as engine people write them (issue 26, item 3) ------------------------------
+
+
+def fired(order: str, cycle_deg: float = 720.0) -> list[float]:
+    """Hand-written: the phases α_j [rad] of a machine that fires ``order`` evenly, cylinder j
+    firing at t_j = (its place in the order)·cycle/k, so α_j = −t_j mod the cycle."""
+    sequence = [int(c) for c in order.split("-")]
+    k = len(sequence)
+    return [math.radians(-cycle_deg * sequence.index(j) / k % cycle_deg) for j in range(1, k + 1)]
+
+
+def test_the_textbook_in_line_cranks_print_their_textbook_orders():
+    # Cylinders numbered from the front along the shaft; the layouts are the textbook cranks.
+    for layout, order in [
+        ("inline-4-4t", "1-3-4-2"),
+        ("inline-5-4t", "1-2-4-5-3"),
+        ("inline-6-4t", "1-5-3-6-2-4"),
+        ("inline-8-4t", "1-6-2-5-8-3-7-4"),
+    ]:
+        machine = mc.Machine.from_layout(layout, CYLINDER, shaft_inertia=0.25, strokes=4, rpm=RPM)
+        np.testing.assert_allclose(np.sort([c.phase for c in machine.cylinders]), np.sort(fired(order)), atol=1e-12)
+        table = mc.firing_orders(machine, max_order=2)
+        assert table.loc[table["as_given"], "firing"].tolist() == [order]
+        assert table["firing"].iloc[0] == order  # even firing runs smoothest
+    # The built-in in-line four and six, as the issue found them (1-4-3-2, 1-6-5-4-3-2 before).
+    assert mc.firing_orders(mc.presets.MACHINES["inline-4"])["firing"].iloc[0] == "1-3-4-2"
+    assert mc.firing_orders(mc.presets.MACHINES["inline-6"], max_order=2)["firing"].iloc[0] == "1-5-3-6-2-4"
+
+
+@pytest.mark.parametrize(
+    ("order", "crank"),
+    [
+        # (the firing order, the crank's pin angles α mod 360° from cylinder 1, by hand)
+        ("1-3-4-2", [0, 180, 180, 0]),
+        ("1-2-4-3", [0, 180, 180, 0]),  # the same crank, the other camshaft
+        ("1-5-3-6-2-4", [0, 240, 120, 120, 240, 0]),
+        ("1-4-2-6-3-5", [0, 120, 240, 240, 120, 0]),  # the mirror-image crank
+    ],
+)
+def test_a_machine_built_to_a_textbook_order_prints_it(order, crank):
+    """Read in the direction of rotation from cylinder 1: the machine's own row names its
+    own order, and the crank is the one the textbooks draw for it."""
+    phases = fired(order)
+    np.testing.assert_allclose(np.degrees(np.mod(phases, 2 * math.pi)), crank, atol=1e-9)
+    machine = mc.Machine([CYLINDER.replace(phase=a) for a in phases], shaft_inertia=0.4, strokes=4, rpm=2000)
+    table = mc.firing_orders(machine, max_order=2)
+    assert table.loc[table["as_given"], "firing"].tolist() == [order]
+    assert table["firing"].iloc[0] == order

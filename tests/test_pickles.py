@@ -29,7 +29,12 @@ def built_now() -> dict[str, object]:
     compressor = MACHINES["slow-compressor"]
     return {
         "machine:slow-compressor": compressor,
-        "machine:inline-4": MACHINES["inline-4"],
+        # 0.1 numbered the in-line four's cylinders by their phases (0°, 180°, 360°, 540°); the
+        # layout is now the textbook crank numbered along the shaft (firing 1-3-4-2): the
+        # same cylinders, in 0.1's order.
+        "machine:inline-4": MACHINES["inline-4"].replace(
+            cylinders=sorted(MACHINES["inline-4"].cylinders, key=lambda cylinder: cylinder.phase)
+        ),
         "machine:boxer-compressor": MACHINES["boxer-compressor"],
         "cylinder": compressor.cylinders[0],
         "diagram": compressor.cylinders[0].pressure,
@@ -194,6 +199,12 @@ def _cli_error(name: str) -> Exception:
     return getattr(_group, name)("a machine file without rpm")
 
 
+def _pressure_unit_warning() -> Warning:
+    from multicrank.pressure.diagram import PressureUnitWarning
+
+    return PressureUnitWarning("a peak of 8e5 bar: most likely Pa")
+
+
 def _symbolic(which: str) -> object:
     pytest.importorskip("sympy")
     from multicrank import symbolic
@@ -219,6 +230,7 @@ INSTANCES = {
     "UserError": lambda: _cli_error("UserError"),
     "OptionalDependencyError": _missing_optional,
     "PowerLawLoad": lambda: NOW["load"],
+    "PressureUnitWarning": lambda: _pressure_unit_warning(),
     "ReportSettings": lambda: __import__("multicrank.report", fromlist=["ReportSettings"]).ReportSettings(),
     "Stall": _internal_stall,
     "StallError": _stall_error,

@@ -44,7 +44,8 @@ def inline4(tmp_path_factory) -> Path:
 def read_csv(path: Path) -> pd.DataFrame:
     # Parsed by Python's float, exact on any pandas (before 3.0 its parser may be an ulp off).
     frame = pd.read_csv(path, dtype=str, keep_default_na=False)
-    numbers = [c for c in frame if c not in ("firing", "phases_deg", "cylinders", "as_given", "stalled", "near_stall")]
+    text = ("firing", "phases_deg", "fires_at_deg", "cylinders", "as_given", "stalled", "near_stall")
+    numbers = [c for c in frame if c not in text]
     return frame.astype({c: float for c in numbers})
 
 
@@ -64,6 +65,7 @@ def check_firing(out: Path, machine: mc.Machine) -> tuple[pd.DataFrame, pd.DataF
         "firing",
         "as_given",
         "phases_deg",
+        "fires_at_deg",
         "delta",
         "delta_without_gravity",
         "gravity_effect",
@@ -127,12 +129,15 @@ def test_design_section_of_the_default_machine(compressor):
 
 
 def test_design_section_of_a_four_cylinder_machine(inline4):
-    """inline-4: 8 phase assignments, all tried; the machine's own (1-4-3-2) is the best."""
+    """inline-4: 8 phase assignments, all tried; the machine's own (1-3-4-2) is the best."""
     machine = MACHINES["inline-4"]
     table, expected, text = check_firing(inline4, machine)
     assert (expected.attrs["candidates"], expected.attrs["exhaustive"]) == (8, True)
     assert len(table) == 3 and table["as_given"].tolist() == ["True", "False", "False"]
-    assert table["firing"].iloc[0] == "1-4-3-2"
+    assert table["firing"].iloc[0] == "1-3-4-2"
+    # By hand: 1-3-4-2 evenly, so cylinders 1, 2, 3, 4 fire at 0°, 540°, 180°, 360°.
+    assert table["fires_at_deg"].iloc[0] == "0 540 180 360"
+    assert "<th>fires at [°], cylinder 1, 2, …</th>" in text and "<td>0 540 180 360</td>" in text
     assert "The crank allows 8 phase assignments" in text and f"{expected.attrs['distinct']} of them distinct" in text
     assert "every one of them was solved" in text and "rank 1 (marked)" in text
     weights, optimum, _ = check_counterweights(inline4, machine)
@@ -154,3 +159,23 @@ def test_the_machines_own_row_is_shown_below_the_best_where_it_ranks_lower():
     assert shown["as_given"].tolist() == [False, False, False, True]
     assert shown["firing"].tolist() == six["firing"].iloc[[0, 1, 2, last]].tolist()
     np.testing.assert_allclose(shown["delta"], six["delta"].iloc[[0, 1, 2, last]], rtol=0)
+
+
+def test_two_rows_of_one_name_differ_by_when_each_cylinder_fires():
+    """A four-stroke twin of two unlike cylinders on throws 180° apart: cylinder 2 fires 180°
+    or 540° after cylinder 1 (by hand), two motions both named "1-2"; the table tells them
+    apart."""
+    from multicrank.report.design import _firing_html
+
+    template = MACHINES["inline-4"].cylinders[0]
+    cylinders = [template.replace(phase=0.0), template.replace(phase=math.pi, bore=0.07)]
+    machine = mc.Machine(cylinders, shaft_inertia=0.2, strokes=4, rpm=3000)
+    firing = mc.firing_orders(machine)
+    assert firing["firing"].tolist() == ["1-2", "1-2"]
+    own = int(np.flatnonzero(firing["as_given"].to_numpy())[0])
+    results = DesignResults(machine=machine, rpm=3000.0, firing=firing, own=own, optimum=None)
+    table = firing_table(results)
+    assert sorted(table["fires_at_deg"]) == ["0 180", "0 540"]
+    assert table.loc[table["as_given"], "fires_at_deg"].tolist() == ["0 540"]  # α₂ = 180°: fires at −180° = 540°
+    page = _firing_html(results)
+    assert "<td>0 180</td>" in page and "<td>0 540</td>" in page

@@ -117,7 +117,7 @@ plt.show()
 
 # %%
 # **The firing order** decides the six's δ by a factor of eleven: the even firing it is
-# built with (1-6-5-4-3-2) runs smoothest, and every other order the crank allows fires
+# built with (1-5-3-6-2-4) runs smoothest, and every other order the crank allows fires
 # two cylinders together ("+") and leaves gaps in the cycle. Gravity has no say: the
 # red and blue bars are the same to 10⁻⁷. Every candidate of a four-stroke crank has the
 # same crank, hence the same gravity and inertia torques, and only the gas torque is

@@ -367,7 +367,7 @@ def firing_orders(
     pandas.DataFrame
         One row per distinct candidate, sorted by ``delta`` (stalled ones last): ``firing``
         (the cylinders, numbered from 1, in the order they fire from cylinder 1; "+" joins
-        those that fire together), ``as_given`` (True for the one row that runs as the
+        those that fire together; the convention in the notes), ``as_given`` (True for the one row that runs as the
         machine given), ``phases`` (α_j [rad], a tuple in the machine's cylinder order),
         ``delta``, ``delta_without_gravity`` and
         ``gravity_effect`` (δ/δ₀ − 1) of the steady state [dimensionless], ``stalled``,
@@ -396,6 +396,20 @@ def firing_orders(
     the shifts the gas allows), and alike candidates are found by a set look-up: the work
     grows as the number of candidates, not its square.
 
+    How a firing order is written: cylinders are numbered from 1 in the machine's order
+    (for the built-in layouts and machines, along the shaft from the front), and the
+    sequence starts at cylinder 1 and follows the order of firing, the direction of
+    rotation: cylinder j fires where its cycle angle θ = φ + α_j is 0, at φ = −α_j mod Φ.
+    The built-in four-stroke in-line fours, fives, sixes and eights are the textbook cranks,
+    so they read as engine people write them: 1-3-4-2, 1-2-4-5-3, 1-5-3-6-2-4,
+    1-6-2-5-8-3-7-4. Candidates that run alike are one row, named by the machine as given
+    (its ``as_given`` row) or else by the first candidate of its kind: the four's 1-2-4-3
+    (another camshaft on the same crank) runs as its 1-3-4-2 and is that row. The six's
+    other textbook order, 1-4-2-6-3-5, is that of the mirror-image crank (throws 2-5 and 3-4
+    exchanged; 1-5-3-6-2-4 read against the rotation): a machine built so prints it. A name
+    does not say when each cylinder fires (a twin's "1-2" may be 180° or 540° apart):
+    ``phases`` does.
+
     Examples
     --------
     >>> import multicrank as mc
@@ -405,9 +419,9 @@ def firing_orders(
     (8, 3)
     >>> table[["firing", "delta", "largest_order"]].round(4)  # the even firing runs smoothest
         firing   delta  largest_order
-    0  1-4-3-2  0.0075            2.0
-    1  1-2+4-3  0.0180            2.0
-    2  1+3-2+4  0.0250            2.0
+    0  1-3-4-2  0.0075            2.0
+    1  1-2+3-4  0.0180            2.0
+    2  1+4-2+3  0.0250            2.0
     """
     import pandas as pd
 

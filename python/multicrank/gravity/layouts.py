@@ -105,9 +105,25 @@ class Layout:
         return sum(len(b) for b in self.banks)
 
 
+#: The firing orders of the textbook four-stroke in-line cranks, cylinders numbered from the
+#: front along the shaft: the in-line layouts of these sizes are these cranks, so that
+#: :func:`~multicrank.firing_orders` names them as engine people do (1-3-4-2, not the
+#: 1-4-3-2 of the phases 0°, 180°, 360°, 540° in cylinder order, whose crank pairs 1 with 3).
+TEXTBOOK_FIRING: dict[int, tuple[int, ...]] = {
+    4: (1, 3, 4, 2),
+    5: (1, 2, 4, 5, 3),
+    6: (1, 5, 3, 6, 2, 4),
+    8: (1, 6, 2, 5, 8, 3, 7, 4),
+}
+
+
 def _inline(cranks: int, strokes: int) -> Layout:
     # Upright in-line: the pin of crank j is at φ + α_j + 90°.
     phases = np.degrees(crank_phases(cranks, strokes, "single"))
+    if strokes == 4 and cranks in TEXTBOOK_FIRING:
+        # The same phases (evenly over 720°), cylinder j the one that fires at t = −α_j.
+        order = TEXTBOOK_FIRING[cranks]
+        phases = np.array([(-720.0 * order.index(j + 1) / cranks) % 720.0 for j in range(cranks)])
     return Layout(
         f"inline-{cranks}-{strokes}t",
         f"in-line {cranks}, {strokes}-stroke, upright",

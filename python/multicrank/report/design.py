@@ -73,8 +73,10 @@ def firing_table(results: DesignResults) -> pd.DataFrame:
     """The section's firing-order table: the :data:`FIRING_ROWS` best of
     :func:`~multicrank.firing_orders` and, where it ranks lower, the machine's own; ``rank``
     (1 = smallest δ with gravity), ``as_given`` (the machine's own phases), ``phases_deg``
-    (α_j in degrees in the machine's cylinder order, space-separated) and the library's
-    columns but ``phases`` and ``machine``."""
+    (α_j in degrees in the machine's cylinder order, space-separated), ``fires_at_deg`` (the
+    crank angle φ at which each cylinder fires, (α_1 − α_j) mod the cycle in degrees from
+    cylinder 1's firing, in cylinder order: two rows of one name, a twin's "1-2" 180° or
+    540° apart, differ here) and the library's columns but ``phases`` and ``machine``."""
     firing = results.firing
     rows = list(range(min(FIRING_ROWS, len(firing))))
     if results.own is not None and results.own not in rows:
@@ -86,7 +88,16 @@ def firing_table(results: DesignResults) -> pd.DataFrame:
         "phases_deg",
         [" ".join(f"{math.degrees(a):.10g}" for a in firing["phases"].iloc[row]) for row in rows],
     )
+    table.insert(4, "fires_at_deg", [_fires_at(firing["phases"].iloc[row], results.machine.cycle) for row in rows])
     return table.reset_index(drop=True)
+
+
+def _fires_at(phases: Any, cycle: float) -> str:
+    """Each cylinder's firing angle φ [°] after cylinder 1's, in cylinder order: cylinder j
+    fires at φ = −α_j (mod the cycle), so (α_1 − α_j) mod the cycle; rounded to 1e-6°."""
+    alpha = np.asarray(phases, dtype=float)
+    degrees = np.round(np.degrees(np.mod(alpha[0] - alpha, cycle)), 6) % round(math.degrees(cycle))
+    return " ".join(f"{d:g}" for d in degrees)
 
 
 def counterweight_table(results: DesignResults) -> pd.DataFrame:
@@ -157,7 +168,8 @@ def _firing_html(results: DesignResults) -> str:
     records: Iterable[Any] = table.itertuples()  # the columns of firing_table
     body = "".join(
         f"<tr{marked if r.as_given else ''}><td>{r.rank}</td><td>{html.escape(str(r.firing))}"
-        f"{' (as given)' if r.as_given else ''}</td><td>{_delta(r.delta)}{_near_stall_mark(r.delta)}</td>"
+        f"{' (as given)' if r.as_given else ''}</td><td>{html.escape(str(r.fires_at_deg))}</td>"
+        f"<td>{_delta(r.delta)}{_near_stall_mark(r.delta)}</td>"
         f"<td>{_delta(r.delta_without_gravity)}{_near_stall_mark(r.delta_without_gravity)}</td>"
         f"<td>{_percent(r.gravity_effect)}</td>"
         f"<td>{r.largest_order:g}</td><td>{r.largest_order_amplitude:.4g}</td></tr>"
@@ -166,9 +178,11 @@ def _firing_html(results: DesignResults) -> str:
     return f"""
 <h3>Firing order</h3>
 <p>{count}{own} Each row is the exact steady state at {results.rpm:g} rpm with the balance load
-(<code>mc.firing_orders</code>), cylinders numbered from 1 in the order they fire, "+" for those firing
-together.</p>
-<table><tr><th>rank</th><th>firing</th><th>δ with gravity</th><th>δ without gravity</th>
+(<code>mc.firing_orders</code>): the cylinders, numbered from 1 in the machine's order, in the order
+they fire from cylinder 1 (the direction of rotation), "+" for those firing together; beside it the crank
+angle at which each cylinder fires, in cylinder order, from cylinder 1's firing.</p>
+<table><tr><th>rank</th><th>firing</th><th>fires at [°], cylinder 1, 2, …</th><th>δ with gravity</th>
+<th>δ without gravity</th>
 <th>gravity changes δ by</th><th>largest torque order ν</th><th>its amplitude [N·m]</th></tr>{body}</table>
 {_near_stall_legend(*table["delta"], *table["delta_without_gravity"])}"""
 
