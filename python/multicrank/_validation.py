@@ -80,6 +80,14 @@ def as_real_array(value: Any, name: str) -> np.ndarray:
     return array.astype(np.float64, copy=False)
 
 
+def as_array(values: Any, what: str) -> np.ndarray:
+    """np.asarray, with numpy's errors for ragged or odd input turned into ours."""
+    try:
+        return np.asarray(values)
+    except (ValueError, TypeError) as exc:
+        raise MechanismError(f"{what} must be a scalar or a 1-D sequence: {exc}") from None
+
+
 #: The largest magnitude of a machine's physical quantities in SI units — lengths [m], masses
 #: [kg], inertias [kg·m²], g [m/s²], pressures [Pa], torques [N·m] — 10²⁴ times anything built,
 #: and far enough below a double's overflow (1.8·10³⁰⁸) that the products the motion forms of

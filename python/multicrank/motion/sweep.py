@@ -34,14 +34,13 @@ from ..machine.native import motion_machine
 from ..sweeps.chunks import in_memory, is_dask, to_parquet
 from ..sweeps.designs import (
     as_frame,
-    as_outputs,
     as_passthrough,
     check_columns,
     design_rows,
-    designs_digest,
     grid_axes_of,
 )
-from ..sweeps.store import as_out, fingerprint
+from ..sweeps.outputs import as_outputs
+from ..sweeps.store import as_out, designs_digest, fingerprint
 from ._periodic import resolve_rules
 from .flywheel import _as_delta, flywheel_inertia
 from .loads import BALANCE

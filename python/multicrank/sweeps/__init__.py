@@ -1,7 +1,8 @@
-"""Design sweeps: `designs` (grids of designs, lazily, and `to_xarray`), `driver` (`sweep`:
-in memory, to Parquet, or on a dask DataFrame), `chunks` (how any sweep runs its chunks,
-shared with :func:`~multicrank.motion_sweep`) and `store` (the Parquet parts, their
-fingerprint and resume).
+"""Design sweeps: `designs` (the design columns and grids of designs, lazily), `outputs` (the
+outputs' names and `to_xarray`), `driver` (`sweep`: in memory, to Parquet, or on a dask
+DataFrame), `chunks` (how any sweep runs its chunks, shared with
+:func:`~multicrank.motion_sweep`) and `store` (the Parquet parts, their fingerprint — the
+designs' digest among it — and resume).
 
 Nothing is imported here: the sweep machinery pulls in pandas (and, where installed,
 pyarrow's thread pools), and `multicrank` loads it on first use.

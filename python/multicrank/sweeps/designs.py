@@ -7,13 +7,14 @@ the sweep is told to pass it through. Designs come as a pandas DataFrame, a mapp
 columns, or a lazy :class:`DesignGrid` (the Cartesian product of axes, generated chunk by
 chunk), and are validated before any work starts. The machines' crank phase sets are formed
 once per kind of machine (:func:`phase_table`), not once per design.
+
+What a sweep puts out (``SWEEP_OUTPUTS``, ``to_xarray``, re-exported here) lives in `outputs`;
+the digest of the designs that fingerprints a stored sweep, in `store`.
 """
 
 from __future__ import annotations
 
 import difflib
-import hashlib
-import json
 import math
 from collections.abc import Callable, Iterable, Mapping
 from typing import Any, ClassVar
@@ -21,11 +22,11 @@ from typing import Any, ClassVar
 import numpy as np
 import pandas as pd
 
-from .._native import SWEEP_OUTPUTS as _NATIVE_SWEEP_OUTPUTS
 from .._native import MechanismError
-from .._optional import require
 from .._validation import INDEX_MAX, as_design, check_size
+from .._validation import as_array as _as_array
 from ..gravity.mechanism import crank_phases
+from .outputs import SWEEP_OUTPUTS, to_xarray
 
 __all__ = [
     "DESIGN_COLUMNS",
@@ -38,8 +39,6 @@ __all__ = [
     "to_xarray",
 ]
 
-#: Every output a sweep can compute, in column order (the core's names).
-SWEEP_OUTPUTS: tuple[str, ...] = tuple(_NATIVE_SWEEP_OUTPUTS)
 DESIGN_COLUMNS = ("crank_ratio", "inclination", "u1", "u2")
 OPTIONAL_COLUMNS = {"cranks": 1, "strokes": 2, "acting": "single"}
 #: Every column a design may have; others only when a sweep passes them through.
@@ -69,14 +68,6 @@ def as_frame(designs: Any) -> pd.DataFrame:
         "designs must be a pandas DataFrame, a mapping of equal-length 1-D columns, a "
         f"DesignGrid or a dask DataFrame, got {type(designs).__name__}"
     )
-
-
-def _as_array(values: Any, what: str) -> np.ndarray:
-    """np.asarray, with numpy's errors for ragged or odd input turned into ours."""
-    try:
-        return np.asarray(values)
-    except (ValueError, TypeError) as exc:
-        raise MechanismError(f"{what} must be a scalar or a 1-D sequence: {exc}") from None
 
 
 def as_passthrough(passthrough: Any) -> tuple[str, ...]:
@@ -139,27 +130,6 @@ def check_columns(
             f"known: {', '.join(known)}. Carry other columns through the sweep with "
             f"passthrough=[{first!r}, ...]"
         )
-
-
-def as_outputs(outputs: Any, allowed: tuple[str, ...] = SWEEP_OUTPUTS) -> tuple[str, ...]:
-    """The outputs a sweep is asked for: one name or a sequence of them, from ``allowed``, each once."""
-    if isinstance(outputs, str):
-        outputs = (outputs,)
-    elif isinstance(outputs, (bytes, Mapping)) or not isinstance(outputs, Iterable):
-        raise MechanismError(
-            f"outputs must be an output name or a list of them, got {type(outputs).__name__}; "
-            f"allowed: {', '.join(allowed)}"
-        )
-    outputs = tuple(outputs)
-    unknown = [o for o in outputs if not isinstance(o, str) or o not in allowed]
-    if unknown:
-        raise MechanismError(f"outputs {unknown!r} are unknown; allowed: {', '.join(allowed)}")
-    if not outputs:
-        raise MechanismError(f"outputs must name at least one output; allowed: {', '.join(allowed)}")
-    repeated = sorted({o for o in outputs if outputs.count(o) > 1})
-    if repeated:
-        raise MechanismError(f"outputs names {', '.join(repeated)} more than once")
-    return outputs
 
 
 def _integer_column(values: Any, name: str, allowed: tuple[int, ...] | None, minimum: int) -> np.ndarray:
@@ -472,32 +442,6 @@ def grid_axes_of(designs: Any) -> dict[str, list] | None:
     return getattr(designs, "attrs", {}).get("grid_axes")
 
 
-def designs_digest(designs: Any) -> str:
-    """A SHA-256 of everything that makes the designs' rows: a grid's definition (axes and
-    constants, their names, order, dtypes and values), or a table's every column.
-
-    Values enter through pandas' per-element hash, which for numbers is a bijection of
-    their bits, so any changed value anywhere changes the digest. A table's index does not
-    enter: it is not written to Parquet.
-    """
-    digest = hashlib.sha256()
-
-    def update(kind: str, name: Any, values: pd.Series) -> None:
-        digest.update(json.dumps([kind, str(name), str(values.dtype), len(values)]).encode())
-        digest.update(pd.util.hash_pandas_object(values, index=False).to_numpy().tobytes())
-
-    if isinstance(designs, ProductGrid):
-        for name, array in designs.axes.items():
-            update("axis", name, pd.Series(array))
-        for name, value in designs.constants.items():
-            update("constant", name, pd.Series([value]))
-    else:
-        frame = as_frame(designs)
-        for name in frame.columns:
-            update("column", name, frame[name])
-    return digest.hexdigest()
-
-
 def validate_designs(designs: Any, passthrough: tuple[str, ...], outputs: tuple[str, ...]) -> None:
     """Check every design before a sweep starts: column names (against ``passthrough``) and,
     for a table, every value, chunk by chunk (a grid checked its axes when it was made)."""
@@ -508,81 +452,3 @@ def validate_designs(designs: Any, passthrough: tuple[str, ...], outputs: tuple[
     check_columns(frame.columns, passthrough, outputs)
     for start in range(0, len(frame), _VALIDATION_ROWS):
         machine_columns(frame.iloc[start : start + _VALIDATION_ROWS])
-
-
-def to_xarray(result: pd.DataFrame, axes: Mapping[str, Any] | None = None) -> Any:
-    """A grid sweep's result as an ``xarray.Dataset``: one dimension per grid axis, one
-    variable per output. Needs the ``xarray`` extra.
-
-    The result's rows must be the grid's, in its order (C order, the first axis slowest):
-    each axis's column is checked against it, so a filtered or re-sorted result is refused
-    rather than reshaped into the wrong cells.
-
-    Parameters
-    ----------
-    result : pandas.DataFrame
-        What :func:`sweep` returned for a :func:`design_grid` (or a :class:`DesignGrid`), or
-        :func:`motion_sweep` for a :class:`MachineGrid`.
-    axes : mapping of str to sequence, optional
-        The grid's axes, ``{name: values}`` in grid order; default the ``grid_axes`` the
-        grid left in ``result.attrs``.
-
-    Returns
-    -------
-    xarray.Dataset
-        One variable per output column of ``result``, on one dimension per axis, with the
-        axes' values as coordinates.
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> import multicrank as mc
-    >>> grid = mc.design_grid(crank_ratio=[0.2, 0.3], inclination=np.radians([0, 90]),
-    ...                       u1=1e-3, u2=0.0, cranks=[1, 2])
-    >>> data = mc.to_xarray(mc.sweep(grid, phi=360))
-    >>> dict(data["energy_range"].sizes)
-    {'crank_ratio': 2, 'inclination': 2, 'cranks': 2}
-    >>> data["energy_range"].sel(cranks=2).values.round(7)
-    array([[0.       , 0.000202 ],
-           [0.       , 0.0003071]])
-    """
-    xr = require("xarray", "xarray")
-
-    if not isinstance(result, pd.DataFrame):
-        raise MechanismError(f"result must be the pandas DataFrame of a grid sweep, got {type(result).__name__}")
-    if axes is None:
-        axes = result.attrs.get("grid_axes")
-        if not axes:
-            raise MechanismError("result does not come from a design grid: pass axes={name: values, ...}")
-    if not isinstance(axes, Mapping) or not axes:
-        raise MechanismError(f"axes must be a non-empty mapping {{name: values, ...}}, got {type(axes).__name__}")
-    arrays: dict[str, np.ndarray] = {}
-    for name, values in axes.items():
-        if not isinstance(name, str):
-            raise MechanismError(f"axes must be keyed by column names (strings), got {name!r}")
-        array = _as_array(values, f"axes[{name!r}]")
-        if array.ndim != 1 or array.size == 0:
-            raise MechanismError(f"axes[{name!r}] must be a non-empty 1-D sequence, got shape {array.shape}")
-        arrays[name] = array
-    shape = tuple(len(v) for v in arrays.values())
-    if math.prod(shape) != len(result):
-        raise MechanismError(f"result has {len(result)} rows, the axes make {math.prod(shape)}")
-    for i, (name, array) in enumerate(arrays.items()):
-        if name not in result.columns:
-            raise MechanismError(f"axes[{name!r}]: result has no column {name!r}")
-        along = [1] * len(shape)
-        along[i] = shape[i]
-        expected = np.broadcast_to(array.reshape(along), shape).reshape(-1)
-        if not np.array_equal(result[name].to_numpy(), expected):
-            raise MechanismError(
-                f"axes[{name!r}]: result's column {name!r} does not run over this axis in grid order (C order, "
-                "the first axis slowest); pass the rows of the whole grid, in its order"
-            )
-    # A motion sweep names its outputs in attrs; a gravity sweep's are SWEEP_OUTPUTS.
-    named = result.attrs.get("sweep_outputs", SWEEP_OUTPUTS)
-    outputs = [c for c in result.columns if c in named]
-    dims = list(arrays)
-    return xr.Dataset(
-        {name: (dims, result[name].to_numpy().reshape(shape)) for name in outputs},
-        coords=arrays,
-    )

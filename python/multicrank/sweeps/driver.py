@@ -26,25 +26,22 @@ from ..gravity.evaluation import generalized_force
 from .chunks import in_memory, is_dask, progress_bar, to_parquet
 from .designs import (
     DESIGN_COLUMNS,
-    SWEEP_OUTPUTS,
     DesignGrid,
     as_frame,
-    as_outputs,
     as_passthrough,
     check_columns,
     design_grid,
     design_rows,
-    designs_digest,
     grid_axes_of,
     machine_columns,
     phase_table,
-    to_xarray,
     validate_designs,
 )
-from .store import as_out, fingerprint
+from .outputs import SWEEP_OUTPUTS, as_outputs, to_xarray
+from .store import as_out, designs_digest, fingerprint
 
-# DesignGrid, design_grid and to_xarray live in designs; they are re-exported here, where
-# multicrank's lazy attributes and earlier code have always found them.
+# DesignGrid and design_grid live in designs, SWEEP_OUTPUTS and to_xarray in outputs; they are
+# re-exported here, where multicrank's lazy attributes and earlier code have always found them.
 __all__ = ["SWEEP_OUTPUTS", "DesignGrid", "design_grid", "sweep", "to_xarray"]
 
 _GROUPS = {

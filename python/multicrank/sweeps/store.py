@@ -5,7 +5,7 @@ written under a temporary name and renamed, so a part exists whole or not at all
 by the SHA-256 of its bytes, so a part damaged afterwards (a disk error, a stray edit) is
 recognised — recomputed on resume, never merged. Next to the parts, ``manifest.json``
 fingerprints the sweep: the whole definition of its designs (see
-:func:`multicrank.designs.designs_digest`), φ (of a gravity sweep), the machine, load and
+:func:`designs_digest`), φ (of a gravity sweep), the machine, load and
 flywheel target (of a motion sweep), the outputs, the chunking and the library's version; a
 resume proceeds only if it matches, and a refusal names what differs. When every part is there they are merged in
 order, one row group each, into a temporary file that is renamed to ``out``; the parts are
@@ -32,12 +32,39 @@ import pandas as pd
 from .._files import TEMPORARY_SUFFIX, atomic_write, write_atomically
 from .._native import MechanismError, __version__
 from .._optional import require
+from .designs import ProductGrid, as_frame
 
-__all__ = ["PartStore", "as_out", "fingerprint"]
+__all__ = ["PartStore", "as_out", "designs_digest", "fingerprint"]
 
 # The layout of parts and manifest; a store of another layout is never resumed.
 _FORMAT = 2
 _PART = re.compile(r"part-(\d{8,})-([0-9a-f]{64})\.parquet")
+
+
+def designs_digest(designs: Any) -> str:
+    """A SHA-256 of everything that makes the designs' rows: a grid's definition (axes and
+    constants, their names, order, dtypes and values), or a table's every column.
+
+    Values enter through pandas' per-element hash, which for numbers is a bijection of
+    their bits, so any changed value anywhere changes the digest. A table's index does not
+    enter: it is not written to Parquet.
+    """
+    digest = hashlib.sha256()
+
+    def update(kind: str, name: Any, values: pd.Series) -> None:
+        digest.update(json.dumps([kind, str(name), str(values.dtype), len(values)]).encode())
+        digest.update(pd.util.hash_pandas_object(values, index=False).to_numpy().tobytes())
+
+    if isinstance(designs, ProductGrid):
+        for name, array in designs.axes.items():
+            update("axis", name, pd.Series(array))
+        for name, value in designs.constants.items():
+            update("constant", name, pd.Series([value]))
+    else:
+        frame = as_frame(designs)
+        for name in frame.columns:
+            update("column", name, frame[name])
+    return digest.hexdigest()
 
 
 def fingerprint(
