@@ -332,11 +332,11 @@ def _near_stall_html(frame: pd.DataFrame, where: str) -> str:
     near = frame["near_stall"].eq(True) if "near_stall" in frame else pd.Series(False, index=frame.index)
     if not near.any():
         return ""
-    speeds = frame.loc[near, "rpm"]
-    return (
-        f'<p class="note"><b>Near a stall</b> {where} at {int(near.sum())} of {len(frame)} points (mean speeds '
-        f"{speeds.min():.4g} … {speeds.max():.4g} rpm): {html.escape(NEAR_STALL_NOTE)}.</p>"
-    )
+    low, high = frame.loc[near, "rpm"].agg(["min", "max"])
+    speeds = f"mean speed {low:.4g} rpm" if low == high else f"mean speeds {low:.4g} … {high:.4g} rpm"
+    count = int(near.sum())
+    points = f"{count} of {len(frame)} points" if count > 1 else f"1 point of {len(frame)}"
+    return f'<p class="note"><b>Near a stall</b> {where} at {points} ({speeds}): {html.escape(NEAR_STALL_NOTE)}.</p>'
 
 
 def motion_html(results: MotionResults, machine: Machine, figures: dict[str, str], threshold: float) -> str:
