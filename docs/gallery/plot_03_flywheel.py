@@ -39,7 +39,8 @@ print(f"target δ = 1/{1 / target:.1f}")
 # With the default load ``"balance"`` the motor's torque is the constant that holds the
 # mean speed (here 120 rpm). The result carries the exact inertia with gravity, the
 # exact inertia without it, and the textbook estimate ΔE/(δ ω_m²) − mean(J − I_w), where
-# ΔE is the largest swing of the work of all the torques at constant speed over a cycle.
+# ΔE is the largest swing of the work of all the torques at constant speed over a cycle,
+# the inertia torque −½J′ω_m² of the rods and pistons among them.
 flywheel = mc.flywheel_inertia(compressor, delta=target, rpm=120)
 print(f"I_w = {flywheel.shaft_inertia:.1f} kg·m² with gravity")
 print(f"I_w = {flywheel.shaft_inertia_without_gravity:.1f} kg·m² without gravity")
@@ -54,9 +55,9 @@ print(f"the machine as built has I_w = {compressor.shaft_inertia:g} kg·m²")
 # %%
 # The textbook estimate is a good start, but an estimate: it takes every torque at the
 # constant mean speed, while the speed, and with it the inertia torque, varies over the
-# cycle. Here it is high by the percentage printed above. Leaving gravity out errs the
-# other way, and by more: it misses the energy that the falling and rising piston, rod
-# and crank move each revolution.
+# cycle. It is right to first order, off by a fraction of the order of δ (the percentage
+# printed above). Leaving gravity out errs by far more: it misses the energy that the
+# falling and rising piston, rod and crank move each revolution.
 #
 # I_w over the target δ
 # ---------------------

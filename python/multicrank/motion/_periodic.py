@@ -17,7 +17,7 @@ from .._shaft import omega_from_rpm
 from .._validation import as_scalar, as_speed
 from ..machine.machine import Machine
 from ._quadrature import CycleQuadrature
-from ._solvers import Balance, CycleTables, Periodic, Shooting, SquareLaw, quasi_static_speed
+from ._solvers import Balance, CycleTables, Periodic, Shooting, SquareLaw, Stall, quasi_static_speed
 from .loads import BALANCE, AppliedTorques, Torque, balance_torque
 
 __all__ = [
@@ -149,6 +149,18 @@ def cycle_tables(machine: Machine, gravity: bool) -> CycleTables:
         width, work = width / 2, cycle.work
 
 
+def rest_angle(cycle: CycleTables, drive: float) -> float:
+    """Where a machine with no mean driving torque comes to rest [rad]: the sample where the
+    work of gas, drive and gravity from φ = 0, W + M_drive·φ − (U − U(0)), is largest — the
+    bottom of the well of their potential (for a machine without gas or drive, the lowest
+    potential energy)."""
+    rule = cycle.rule
+    angles = np.concatenate([rule.phi.ravel(), rule.edges])
+    work = np.concatenate([cycle.W.ravel(), cycle.W_edges]) + drive * angles
+    work -= np.concatenate([cycle.U.ravel(), cycle.U_edges])
+    return float(angles[int(np.argmax(work))] % rule.cycle)
+
+
 def balance_at(cycle: CycleTables, rules: Rules, omega_mean: float) -> Balance:
     """The energy method for "balance": the drive at the nodes and the balancing load
     (:func:`~multicrank.motion.loads.balance_torque`), a drive's speed dependence frozen at ω_m."""
@@ -167,9 +179,13 @@ def solve_periodic(cycle: CycleTables, rules: Rules, omega_mean: float | None, r
         # What a balancing load would take beside gas and drive (the drive is constant: any ω).
         mean = balance_torque(cycle.machine, rules.drive, 0.0, cycle.rule, work=cycle.work)
         if not mean > 0:
-            raise MechanismError(
-                f"drive: the cycle mean of gas and drive torque is {mean:.6g} N·m, not positive: "
-                "a square-law load cannot balance it at any positive speed"
+            # Nothing drives the machine on the cycle's mean (a design without gas, or a drive
+            # that takes what the gas gives): a square-law load brings it to rest, a stall like
+            # any other (a sweep's row, not an error in the input).
+            raise Stall(
+                rest_angle(cycle, rules.constant_drive),
+                f"the cycle mean of gas and drive torque is {mean:.6g} N·m, not positive: nothing drives it "
+                "against a square-law load, which brings it to rest",
             )
         return SquareLaw(cycle, rules.constant_drive, rules.load.value.coefficient).solve(ratio)
     applied = rules.torques.net

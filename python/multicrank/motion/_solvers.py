@@ -22,11 +22,12 @@ from typing import Any
 import numpy as np
 
 from .._native import MechanismError
+from .._shaft import omega_from_rpm, rpm_from_omega
 from ._quadrature import CycleQuadrature
 from ._work import GasWork
 from .loads import balance_torque
 
-__all__ = ["Balance", "CycleTables", "Extremes", "Periodic", "Shooting", "SquareLaw", "Stall"]
+__all__ = ["Balance", "CycleTables", "Extremes", "Periodic", "Shooting", "SquareLaw", "Stall", "running_speed"]
 
 # A graded panel may sit this close to a near-zero of E, in units of the distance d of the
 # zero from the real axis (E ≈ E_i + ½E''(φ − φ_i)² vanishes at φ_i ± i·d): then the nodes of
@@ -197,42 +198,88 @@ class Mesh:
     J_edges: np.ndarray
 
 
-def _near_zeros(
-    cycle: CycleTables, energy: np.ndarray, energy_edges: np.ndarray, curvature: np.ndarray
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """The local minima of E over the base rule: (angle [rad], E there, d = √(2E/E'') [rad],
-    the distance from the real axis of E's nearest complex zero) — where 1/√E is sharply peaked."""
-    rule = cycle.rule
-    order = rule.phi.shape[1]
+@dataclass
+class Dips:
+    """The local minima of E(φ) on the cycle, each located exactly (the root of E′ between
+    the samples beside the lowest one, E evaluated there): where 1/√E is sharply peaked.
+
+    ``angle`` [rad], ``value`` E there [J] and ``bend`` |E″| there [J/rad²], one entry per
+    minimum."""
+
+    angle: np.ndarray
+    value: np.ndarray
+    bend: np.ndarray
+
+    def lifted(self, by: float) -> Dips:
+        """The same minima of E + ``by``."""
+        return Dips(self.angle, self.value + by, self.bend)
+
+    @property
+    def reach(self) -> np.ndarray:
+        """d = √(2E/|E″|) [rad]: how far E's nearest complex zero is from the real axis."""
+        with np.errstate(divide="ignore"):
+            bend = np.where(self.bend > 0, self.bend, 1.0)
+            return np.where(self.bend > 0, np.sqrt(2.0 * np.maximum(self.value, 0.0) / bend), np.inf)
+
+
+def local_minima(
+    rule: CycleQuadrature,
+    energy: np.ndarray,
+    energy_edges: np.ndarray,
+    curvature: np.ndarray,
+    slope: Callable[[float], float],
+    value: Callable[[float], float],
+) -> Dips:
+    """Every local minimum of the samples of E (nodes and edges, in angle order) located
+    exactly: the root of the exact slope E′ (``slope``, any angle) between the samples
+    beside it, by Brent's method to rounding, and E there (``value``); the sample itself
+    where that is no lower (a minimum at a kink of E′).
+
+    Where the time mesh is graded (:func:`grading`) the centre must be the minimum itself
+    and d its own: graded towards a sample 6e-3 rad off a minimum of d = 3e-4 rad, the time
+    of a cycle near a stall was 0.5 % off."""
+    optimize = scipy_optimize()
+    cycle = rule.cycle
     # Samples in angle order: edge 0, the nodes of panel 0, edge 1, … (the last edge is edge 0).
     samples = np.concatenate([energy_edges[:-1, None], energy], axis=1).ravel()
+    angles = np.concatenate([rule.edges[:-1, None], rule.phi], axis=1).ravel()
     bend = np.concatenate([curvature[:, :1], curvature], axis=1).ravel()
     left, right = np.roll(samples, 1), np.roll(samples, -1)
     minima = np.flatnonzero((samples < left) & (samples <= right))
-    if minima.size == 0:
-        return np.zeros(0), np.zeros(0), np.zeros(0)
-    panel = minima // (order + 1)
-    values = np.maximum(samples[minima], 0.0)
-    # E'' from the neighbours too: a minimum on an edge has the curvature of both panels.
-    bend_here = np.maximum.reduce(
-        [np.abs(bend[minima]), np.abs(np.roll(bend, 1)[minima]), np.abs(np.roll(bend, -1)[minima])]
-    )
-    with np.errstate(divide="ignore"):
-        reach = np.where(bend_here > 0, np.sqrt(2.0 * values / np.where(bend_here > 0, bend_here, 1.0)), np.inf)
-    angles = np.where(minima % (order + 1) == 0, rule.edges[panel], rule.phi.ravel()[minima - panel - 1])
-    return angles, values, reach
+    found_angle, found_value, found_bend = [], [], []
+    for i in minima:
+        angle, lowest = float(angles[i]), float(samples[i])
+        before, after = float(angles[i - 1]), float(angles[(i + 1) % angles.size])
+        before = before - cycle if before > angle else before
+        after = after + cycle if after < angle else after
+        low, high = slope(before), slope(after)
+        if low < 0 < high:
+            # (A slope that jumps through zero at a kink brackets no root: Brent's method then
+            # ends beside the jump, which is the minimum too.)
+            root = float(
+                optimize.brentq(
+                    slope, before, after, xtol=1e-300, rtol=4 * np.finfo(float).eps, maxiter=400, disp=False
+                )
+            )
+            there = value(root)
+            if there < lowest:
+                angle, lowest = root % cycle, there
+        found_angle.append(angle)
+        found_value.append(lowest)
+        # E'' from the neighbours too: a minimum on an edge has the curvature of both panels.
+        found_bend.append(max(abs(bend[i]), abs(bend[i - 1]), abs(bend[(i + 1) % bend.size])))
+    return Dips(np.array(found_angle), np.array(found_value), np.array(found_bend))
 
 
-def grading(cycle: CycleTables, energy: np.ndarray, energy_edges: np.ndarray, curvature: np.ndarray) -> np.ndarray:
+def grading(rule: CycleQuadrature, dips: Dips) -> np.ndarray:
     """Panel edges to add so that ∫ √(J/2E) dφ stays spectrally accurate where E nearly
-    vanishes: geometric panels (ratio 4) towards every local minimum of E whose complex zeros
-    come closer to the real axis than 1.5 half-widths of the panel it is in. Empty when the
-    base rule is good as it is (a machine running with a small fluctuation)."""
-    rule = cycle.rule
-    angles, _, reach = _near_zeros(cycle, energy, energy_edges, curvature)
+    vanishes: geometric panels (ratio 4) centred on every local minimum of E (``dips``,
+    located exactly) whose complex zeros come closer to the real axis than 1.5 half-widths
+    of the widest panel. Empty when the base rule is good as it is (a machine running with a
+    small fluctuation)."""
     half = float(np.max(rule.half))
     edges: list[np.ndarray] = []
-    for angle, d in zip(angles, reach, strict=True):
+    for angle, d in zip(dips.angle, dips.reach, strict=True):
         if not d < _GRADE_REACH * half:
             continue
         # The innermost panel [φ_i − w, φ_i + w] holds the zero at ≥ 1.5 half-widths… by
@@ -264,6 +311,16 @@ class Extremes:
     omega_min: float
     phi_max: float
     phi_min: float
+
+    def around(self, omega_mean: float) -> Extremes:
+        """ω_min ≤ ω_m ≤ ω_max to the last ulp. The time mean Φ/∫dφ/ω lies between the
+        extreme speeds, but where ω hardly varies (δ at rounding level: a pure flywheel) the
+        three come from different sums and the mean may round an ulp outside: the nearer
+        extreme then takes the mean's value (never the other way), and where ω is the same
+        everywhere (ω_max = ω_min) both do, so that δ stays 0."""
+        if self.omega_max == self.omega_min:
+            return Extremes(omega_mean, omega_mean, self.phi_max, self.phi_min)
+        return Extremes(max(self.omega_max, omega_mean), min(self.omega_min, omega_mean), self.phi_max, self.phi_min)
 
 
 @dataclass
@@ -316,7 +373,7 @@ def _finish(
         J, _ = cycle.J_at(phi)
         return _omega(energy_at(phi), J)
 
-    extremes = _extremes(rule, omega, omega_edges, omega_at)
+    extremes = _extremes(rule, omega, omega_edges, omega_at).around(omega_mean)
     solution = Periodic(method, omega_mean, period, extremes, energy_at, time_at, omega_at, load_torque)
     if extremes.omega_min < ratio * omega_mean:
         raise Stall(extremes.phi_min, "its speed minimum falls below min_speed_ratio·ω_m")
@@ -386,21 +443,20 @@ class Balance:
         if gas:
             K, K_edges = K + cycle.W, K_edges + cycle.W_edges
             torque = torque + cycle.gas
-        self.drive = None
+        self.drive = self._drive_slope = None
         if drive is not None:
             at_nodes, at_edges, self.drive = rule.antiderivative(drive)
+            self._drive_slope = self.drive.derivative()
             K, K_edges, torque = K + at_nodes, K_edges + at_edges, torque + drive
         # min K over the samples; the exact minimum (between them) only where it matters,
         # when E nearly vanishes there (see mesh).
         lowest = int(np.argmin(K))
         self.K_min = float(K.flat[lowest])
         self.lowest = float(rule.phi.flat[lowest])
-        self.J_low = float(cycle.J.flat[lowest]) - cycle.inertia  # J − I_w there
         if float(np.min(K_edges)) < self.K_min:
             self.K_min = float(np.min(K_edges))
             self.lowest = float(rule.edges[int(np.argmin(K_edges))])
-            self.J_low = float(cycle.J_edges[int(np.argmin(K_edges))]) - cycle.inertia
-        self._exact = False
+        self._exact: Dips | None = None
         self.K, self.K_edges = K - self.K_min, K_edges - self.K_min
         self.swing = max(float(np.max(self.K)), float(np.max(self.K_edges)))  # ≈ max K − min K
         # K'' = (M + gravity)' at the nodes: where E = s + K̃ nearly vanishes, how sharply.
@@ -416,32 +472,50 @@ class Balance:
             K = K + self.drive(phi)
         return K
 
-    def _locate_minimum(self) -> None:
-        """min K exactly (between the samples): K̃ ≥ 0 also on graded nodes near it."""
-        if self._exact:
-            return
-        self._exact = True
-        rule = self.cycle.rule
-        lowest = rule.extremum(self.K, self.K_edges, largest=False)
-        dip = float(self.K_at(np.array([lowest]))[0])
-        if dip < 0:
-            self.K_min += dip
-            self.K, self.K_edges = self.K - dip, self.K_edges - dip
-            self.lowest = lowest
-            self.J_low = float(self.cycle.J_at(np.array([lowest]))[0][0]) - self.cycle.inertia
+    def K_slope(self, phi: float) -> float:
+        """K′ = M_gas + M_drive − M_load − U′ [N·m] at one angle (the drive as interpolated)."""
+        at = np.array([phi % self.cycle.rule.cycle])
+        torque = -self.load_torque
+        if self.cycle.gravity_on:
+            torque += float(self.cycle.machine.gravity_torque(at)[0])
+        if self.gas:
+            torque += float(self.cycle.machine.gas_torque(at)[0])
+        if self._drive_slope is not None:
+            torque += float(self._drive_slope(at)[0])
+        return torque
+
+    def _dips(self) -> Dips:
+        """The local minima of K̃ located exactly (once; they do not depend on s), and min K
+        with them: K̃ ≥ 0 also on graded nodes near it."""
+        if self._exact is None:
+            dips = local_minima(
+                self.cycle.rule,
+                self.K,
+                self.K_edges,
+                self.curvature,
+                self.K_slope,
+                lambda phi: float(self.K_at(np.array([phi % self.cycle.rule.cycle]))[0]),
+            )
+            deepest = int(np.argmin(dips.value))
+            dip = float(dips.value[deepest])
+            if dip < 0:
+                self.K_min += dip
+                self.K, self.K_edges = self.K - dip, self.K_edges - dip
+                self.lowest = float(dips.angle[deepest])
+                dips = dips.lifted(-dip)
+            self._exact = dips
+        return self._exact
 
     def mesh(self, s: float) -> Mesh:
-        """The time mesh fit for E = s + K̃ (E − s on it)."""
+        """The time mesh fit for E = s + K̃ (E − s on it), graded towards E's exact minima."""
         cycle = self.cycle
         half = float(np.max(cycle.rule.half))
         # The nearest complex zero of E is at least √(2s/max|K''|) from the real axis.
         if 2.0 * s >= self.sharpest * (_GRADE_REACH * half) ** 2:
             return Mesh(cycle.rule, self.K, self.K_edges, cycle.J, cycle.J_edges)
-        extra = grading(cycle, self.K + s, self.K_edges + s, self.curvature)
+        extra = grading(cycle.rule, self._dips().lifted(s))
         if extra.size == 0:
             return Mesh(cycle.rule, self.K, self.K_edges, cycle.J, cycle.J_edges)
-        self._locate_minimum()
-        extra = grading(cycle, self.K + s, self.K_edges + s, self.curvature)
         return graded_mesh(cycle, extra, self.K_at)
 
     def solve(self, omega_mean: float, ratio: float) -> Periodic:
@@ -451,9 +525,12 @@ class Balance:
         optimize = scipy_optimize()
         cycle = self.cycle
         target = cycle.rule.cycle / omega_mean
-        # At s_low the speed at the worst angle is at most ratio·ω_m: if the mean speed there
-        # is already above the one asked for, the solution has a smaller s, and stalls.
-        s_low = 0.5 * (cycle.inertia + self.J_low) * (ratio * omega_mean) ** 2
+        # At s_low the speed at the worst angle is at most ratio·ω_m (J there is at least the
+        # least J): if the mean speed there is already above the one asked for, the solution
+        # has a smaller s, and stalls. Only that: a solution above s_low is judged by its own
+        # ω_min (_finish), so that a speed just above the lowest that runs does run.
+        J_min = min(float(np.min(cycle.J)), float(np.min(cycle.J_edges)))
+        s_low = 0.5 * J_min * (ratio * omega_mean) ** 2
         # At s_high, ω² = 2(s + K̃)/J ≥ ω_m² everywhere: the mean speed is at least ω_m.
         J_max = max(float(np.max(cycle.J)), float(np.max(cycle.J_edges)))
         s_high = 0.5 * J_max * omega_mean**2 * 1.01
@@ -471,8 +548,11 @@ class Balance:
             while excess(high) < 0:
                 high *= 2.0
             s = optimize.brentq(excess, s_low, high, xtol=1e-300, rtol=1e-15)
+            K_min = self.K_min
             finer = self.mesh(s)
-            if finer.rule.phi.size <= mesh.rule.phi.size:
+            # Where the mesh located min K between the samples just now, K̃ moved under the s
+            # found: solve again on the mesh as it is now.
+            if finer.rule.phi.size <= mesh.rule.phi.size and self.K_min == K_min:
                 break
             mesh = finer
         lifted = Mesh(mesh.rule, mesh.energy + s, mesh.energy_edges + s, mesh.J, mesh.J_edges)
@@ -484,15 +564,30 @@ class Balance:
         other.cycle = self.cycle.with_inertia(inertia)
         return other
 
-    def energy_swing(self) -> float:
-        """max K − min K [J], both located on the panels and evaluated exactly: the ΔE of the
-        textbook flywheel estimate."""
-        rule = self.cycle.rule
-        where = np.array(
-            [rule.extremum(self.K, self.K_edges, largest=True), rule.extremum(self.K, self.K_edges, largest=False)]
-        )
-        top, bottom = self.K_at(where)
-        return max(float(top), self.swing) - min(float(bottom), 0.0)
+    def energy_swing(self, omega_mean: float) -> float:
+        """max − min [J] of the textbook turning-moment diagram's energy at the constant speed
+        ω_m = ``omega_mean`` [rad/s], ∫(M_gas + M_drive − M_load − U′ − ½J′ω_m²) dφ =
+        K − ½ω_m²(J − J(0)): the ΔE of the textbook flywheel estimate, both extremes located
+        on the panels and evaluated exactly. The inertia torque is part of it: without it the
+        estimate does not tend to the exact flywheel as δ → 0."""
+        cycle, rule = self.cycle, self.cycle.rule
+        half_square = 0.5 * omega_mean**2
+        diagram = self.K - half_square * (cycle.J - cycle.inertia)
+        diagram_edges = self.K_edges - half_square * (cycle.J_edges - cycle.inertia)
+
+        def value(phi: float) -> float:
+            at = np.array([phi % rule.cycle])
+            return float(self.K_at(at)[0] - half_square * (cycle.J_at(at)[0][0] - cycle.inertia))
+
+        def slope(phi: float) -> float:
+            return self.K_slope(phi) - half_square * float(cycle.J_at(np.array([phi % rule.cycle]))[1][0])
+
+        # Every local extremum located exactly (the root of the exact slope beside the samples):
+        # the largest and the smallest of them.
+        flat = np.zeros(rule.phi.shape)
+        lows = local_minima(rule, diagram, diagram_edges, flat, slope, value)
+        highs = local_minima(rule, -diagram, -diagram_edges, flat, lambda phi: -slope(phi), lambda phi: -value(phi))
+        return -float(np.min(highs.value)) - float(np.min(lows.value))
 
     def at_margin(self, s: float) -> Periodic:
         """The periodic solution with E = s + K̃ (its mean speed follows), no stall check."""
@@ -502,9 +597,13 @@ class Balance:
 
     def lowest_running_speed(self, ratio: float, above: float) -> float:
         """The lowest mean speed [rad/s] whose solution keeps ω_min ≥ ratio·ω_m (StallError's
-        min_rpm): the root in s of ω_min/ω_m = ratio, which grows with s. ``above`` is an s
-        known to stall."""
+        min_rpm): the root in s of ω_min/ω_m = ratio, which grows with s, rounded up to the
+        running side (within ~1e-11 of the threshold; :func:`running_speed` then makes sure).
+        ``above`` is an s known to stall."""
         optimize = scipy_optimize()
+        # min K located first: K̃, and with it the function whose root is taken, is then the
+        # same at every s.
+        self._dips()
 
         def shortfall(log_s: float) -> float:
             solution = self.at_margin(math.exp(log_s))
@@ -517,7 +616,24 @@ class Balance:
         while shortfall(low) > 0:
             low -= 2.0
         log_s = optimize.brentq(shortfall, low, high, xtol=1e-12)
+        # Brent's answer may lie either side of the root: step up to the running side.
+        step = 1e-12
+        while log_s < high and shortfall(log_s) < 0:
+            log_s, step = min(log_s + step, high), 2 * step
         return self.at_margin(math.exp(log_s)).omega_mean
+
+
+def running_speed(omega: float, runs: Callable[[float], bool]) -> float:
+    """``omega`` [rad/s], nudged up by a few ulps until the steady state asked for at its
+    rpm runs (``runs``: whether it does at a speed in rad/s, solved afresh as steady_state
+    solves it): the threshold's root, the round trip through rpm and the solve's own root in s
+    each round by ~1e-15, so that StallError's min_rpm is a speed that runs."""
+    step, asked = 4 * float(np.finfo(float).eps), omega
+    for _ in range(64):
+        if runs(omega_from_rpm(rpm_from_omega(asked))):
+            break
+        asked, step = omega * (1 + step), 2 * step
+    return asked
 
 
 # -- the square-law load: the closed form ---------------------------------------------------------
@@ -561,13 +677,31 @@ class SquareLaw:
     def energy_at(self, phi: np.ndarray) -> np.ndarray:
         return self.cycle.work(phi) + np.exp(-self.rate(phi)) * (self.E0 + self.forcing(phi))
 
+    def energy_slope(self, phi: float) -> float:
+        """E′ = M_gas + M_drive − U′ − (2c/J)E [N·m] at one angle, exactly."""
+        at = np.array([phi % self.cycle.rule.cycle])
+        machine = self.cycle.machine
+        torque = float(machine.gas_torque(at)[0]) + self.drive_torque
+        if self.cycle.gravity_on:
+            torque += float(machine.gravity_torque(at)[0])
+        J, _ = self.cycle.J_at(at)
+        return torque - 2.0 * self.coefficient * float(self.energy_at(at)[0]) / float(J[0])
+
     def solve(self, ratio: float) -> Periodic:
         cycle = self.cycle
         rule = cycle.rule
         if not (np.all(self.energy > 0) and np.all(self.energy_edges > 0)):
             where = rule.extremum(self.energy, self.energy_edges, largest=False)
             raise Stall(where, "the kinetic energy of the periodic solution would be negative")
-        extra = grading(cycle, self.energy, self.energy_edges, self.curvature)
+        dips = local_minima(
+            rule,
+            self.energy,
+            self.energy_edges,
+            self.curvature,
+            self.energy_slope,
+            lambda phi: float(self.energy_at(np.array([phi % rule.cycle]))[0]),
+        )
+        extra = grading(rule, dips)
         if extra.size:
             mesh = graded_mesh(cycle, extra, self.energy_at)
         else:
@@ -715,7 +849,7 @@ class Shooting:
         everywhere = np.concatenate([rule.phi.ravel(), rule.edges])
         omega = omega_at(everywhere)
         n = rule.phi.size
-        extremes = _extremes(rule, omega[:n].reshape(rule.phi.shape), omega[n:], omega_at)
+        extremes = _extremes(rule, omega[:n].reshape(rule.phi.shape), omega[n:], omega_at).around(omega_mean)
         # The load's own mean is the caller's to take: here drive and load are one torque.
         result = Periodic("shooting", omega_mean, period, extremes, energy_at, time_at, omega_at, math.nan)
         if extremes.omega_min < ratio * omega_mean:

@@ -51,9 +51,11 @@ class FlywheelInertia(MotionResult):
         The same for the machine with g = 0 (equal to shaft_inertia when solved without
         gravity); NaN where only gravity makes the machine fluctuate that much.
     textbook : float
-        The textbook estimate ΔE/(δ ω_m²) − mean(J − I_w) [kg·m²], ΔE = max − min of
-        ∫(M_gas + M_drive − M_load − U') dφ with every torque at the constant speed ω_m and the
-        load taken as the constant that balances the others over the cycle.
+        The textbook estimate ΔE/(δ ω_m²) − mean(J − I_w) [kg·m²], ΔE = max − min of the
+        turning-moment diagram's energy ∫(M_gas + M_drive − M_load − U′ − ½J′ω_m²) dφ with
+        every torque at the constant speed ω_m (the inertia torque −½J′ω_m² of the rods and
+        pistons included) and the load taken as the constant that balances the others over
+        the cycle. Exact to first order: its relative error is O(δ).
     textbook_error : float
         (textbook − shaft_inertia)/shaft_inertia.
     delta : float
@@ -62,7 +64,7 @@ class FlywheelInertia(MotionResult):
         The mean speed [1/min] (for loads that fix the speed: the one reached with
         ``shaft_inertia``).
     energy_swing : float
-        ΔE [J] of the textbook estimate.
+        ΔE [J] of the textbook estimate (inertia torque included).
     method : str
         How each trial steady state was solved: "energy", "closed form" or "shooting"
         (:attr:`solved` in words).
@@ -246,7 +248,7 @@ def flywheel_inertia(
     >>> print(f"I_w = {flywheel.shaft_inertia:.1f} kg·m² "
     ...       f"({flywheel.shaft_inertia_without_gravity:.1f} without gravity; "
     ...       f"textbook {flywheel.textbook:.1f})")
-    I_w = 413.8 kg·m² (350.3 without gravity; textbook 450.5)
+    I_w = 413.8 kg·m² (350.3 without gravity; textbook 413.2)
     """
     machine = as_instance(machine, Machine, "machine")
     target = _as_delta(delta)
@@ -283,7 +285,7 @@ def flywheel_inertia(
         constant that balances the others (a "balance" load: the drive alone)."""
         applied = rules.torques.net
         load = balance_torque(cycle.machine, applied, omega, cycle.rule, work=cycle.work)
-        swing = Balance(cycle, applied(cycle.rule.phi, omega), load).energy_swing()
+        swing = Balance(cycle, applied(cycle.rule.phi, omega), load).energy_swing(omega)
         return swing, swing / (target * omega**2) - cycle.mean_rest_inertia
 
     speed = omega_mean

@@ -58,7 +58,7 @@ from ._periodic import (
     solve_periodic,
 )
 from ._result import MotionResult
-from ._solvers import Balance, CycleTables, Periodic, Stall, restored_error
+from ._solvers import Balance, CycleTables, Periodic, Stall, restored_error, running_speed
 from .loads import BALANCE, PowerLawLoad, Torque
 
 __all__ = ["NEAR_STALL_DELTA", "PowerLawLoad", "StallError", "SteadyState", "steady_state"]
@@ -453,7 +453,15 @@ def _stall_error(error: Stall, cycle: CycleTables, rules: Rules, omega_mean: flo
     assert omega_mean is not None
     balance = balance_at(cycle, rules, omega_mean)
     lowest = balance.lowest_running_speed(ratio, above=1e-6 * balance.swing)
-    min_rpm = rpm_from_omega(lowest)
+
+    def runs(omega: float) -> bool:
+        try:
+            solve_periodic(cycle, rules, omega, ratio)
+        except Stall:
+            return False
+        return True
+
+    min_rpm = rpm_from_omega(running_speed(lowest, runs))
     return StallError(
         f"the machine stalls at rpm = {rpm_from_omega(omega_mean):.6g}: {error}; it would crawl over its dead point "
         f"at φ = {math.degrees(error.angle):.4g}° (ω_min < min_speed_ratio·ω_m with min_speed_ratio = {ratio:g}); "

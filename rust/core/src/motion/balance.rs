@@ -11,103 +11,8 @@ use std::sync::Arc;
 use crate::error::Result;
 
 use super::cycle::Cycle;
+use super::extrema::{brent, brent_from, grading, local_minima, refine_extremum, Dip, GRADE_REACH};
 use super::quadrature::Panels;
-
-/// Brent's method: a root of `f` in [a, b] where f(a) and f(b) differ in sign (or one is 0),
-/// to |error| ≤ xtol + rtol·|x| (rtol ≥ 4ε, else the bracket could stop shrinking). Inverse
-/// quadratic interpolation or the secant where they stay well inside the bracket, bisection
-/// otherwise: never slower than bisection by more than a small factor. `None` when the ends
-/// have the same sign or f is not finite.
-pub(crate) fn brent(
-    mut f: impl FnMut(f64) -> Result<f64>,
-    a: f64,
-    b: f64,
-    xtol: f64,
-    rtol: f64,
-) -> Result<Option<f64>> {
-    let (fa, fb) = (f(a)?, f(b)?);
-    brent_from(f, (a, fa), (b, fb), xtol, rtol)
-}
-
-/// [`brent`] from ends whose values are known, `(a, f(a))` and `(b, f(b))`.
-pub(crate) fn brent_from(
-    mut f: impl FnMut(f64) -> Result<f64>,
-    (a, fa): (f64, f64),
-    (b, fb): (f64, f64),
-    xtol: f64,
-    rtol: f64,
-) -> Result<Option<f64>> {
-    let rtol = rtol.max(4.0 * f64::EPSILON);
-    let (mut a, mut b) = (a, b);
-    let (mut fa, mut fb) = (fa, fb);
-    if !(fa.is_finite() && fb.is_finite()) || fa * fb > 0.0 {
-        return Ok(None);
-    }
-    if fa == 0.0 {
-        return Ok(Some(a));
-    }
-    let (mut c, mut fc) = (a, fa);
-    let mut d = b - a;
-    let mut e = d;
-    // Each step at least halves the bracket every few steps: 200 covers the doubles' range.
-    for _ in 0..200 {
-        if fb * fc > 0.0 {
-            c = a;
-            fc = fa;
-            d = b - a;
-            e = d;
-        }
-        if fc.abs() < fb.abs() {
-            a = b;
-            b = c;
-            c = a;
-            fa = fb;
-            fb = fc;
-            fc = fa;
-        }
-        let tol = 0.5 * (xtol + rtol * b.abs());
-        let m = 0.5 * (c - b);
-        if m.abs() <= tol || fb == 0.0 {
-            return Ok(Some(b));
-        }
-        if e.abs() >= tol && fa.abs() > fb.abs() {
-            let s = fb / fa;
-            let (mut p, mut q) = if a == c {
-                (2.0 * m * s, 1.0 - s)
-            } else {
-                let q = fa / fc;
-                let r = fb / fc;
-                (
-                    s * (2.0 * m * q * (q - r) - (b - a) * (r - 1.0)),
-                    (q - 1.0) * (r - 1.0) * (s - 1.0),
-                )
-            };
-            if p > 0.0 {
-                q = -q;
-            } else {
-                p = -p;
-            }
-            if 2.0 * p < (3.0 * m * q - (tol * q).abs()).min((e * q).abs()) {
-                e = d;
-                d = p / q;
-            } else {
-                d = m;
-                e = m;
-            }
-        } else {
-            d = m;
-            e = m;
-        }
-        a = b;
-        fa = fb;
-        b += if d.abs() > tol { d } else { tol.copysign(m) };
-        fb = f(b)?;
-        if !fb.is_finite() {
-            return Ok(None);
-        }
-    }
-    Ok(Some(b))
-}
 
 /// Why a solution was refused: the machine does not run at the state asked for.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -132,6 +37,26 @@ pub(crate) struct Periodic {
 }
 
 impl Periodic {
+    /// ω_min ≤ ω_m ≤ ω_max to the last ulp. The time mean Φ/∫dφ/ω lies between the extreme
+    /// speeds, but where ω hardly varies (δ at rounding level: a pure flywheel) the three are
+    /// computed by different sums and the mean may round an ulp outside: the nearer extreme
+    /// then takes the mean's value (never the other way), and where ω is the same everywhere
+    /// (ω_max = ω_min) both do, so that δ stays 0.
+    pub fn mean_inside(self) -> Self {
+        if self.omega_max == self.omega_min {
+            return Self {
+                omega_max: self.omega_mean,
+                omega_min: self.omega_mean,
+                ..self
+            };
+        }
+        Self {
+            omega_max: self.omega_max.max(self.omega_mean),
+            omega_min: self.omega_min.min(self.omega_mean),
+            ..self
+        }
+    }
+
     pub fn delta(&self) -> f64 {
         (self.omega_max - self.omega_min) / self.omega_mean
     }
@@ -148,16 +73,6 @@ pub(crate) struct Curves {
 
 /// A solution, or the stall that refused it.
 pub(crate) type Solved = std::result::Result<Periodic, Stall>;
-
-/// How close to the real axis E's nearest complex zero may come to a panel, in its half-
-/// widths: a zero at distance d leaves a 12-point Gauss rule a Bernstein ellipse of ρ ≥ 3
-/// (1/ω = √(J/2E) to ~1e-12) when d ≥ 1.5 half-widths (the Python implementation's
-/// `_GRADE_REACH`).
-const GRADE_REACH: f64 = 1.5;
-
-/// Geometric grading towards a near-zero of E: each panel this many times wider than the
-/// last (`_GRADE_RATIO`).
-const GRADE_RATIO: f64 = 4.0;
 
 /// Refinements of the time mesh before the answer is taken (the Python implementation's
 /// 16): each grades for the s found on the last.
@@ -200,13 +115,13 @@ pub(crate) struct Balance {
     curvature: Vec<f64>,
     /// max |K''| over the nodes (N·m/rad).
     sharpest: f64,
-    /// min K (J): over the samples, then (`locate_minimum`) between them.
+    /// min K (J): over the samples, then (`dips`) between them.
     k_min: f64,
-    /// Where (rad), and J − I_w there (kg·m²).
+    /// Where (rad).
     lowest: f64,
-    rest_low: f64,
-    /// Whether min K was located between the samples.
-    exact: bool,
+    /// The local minima of K̃ located between the samples (once, where first needed; they
+    /// do not depend on s): E = s + K̃ dips there.
+    dips: Option<Vec<Dip>>,
     /// K̃ = K − min K at the base nodes, then the edges (J).
     lifted: Vec<f64>,
 }
@@ -259,8 +174,7 @@ impl Balance {
             curvature,
             k_min,
             lowest: at(lowest),
-            rest_low: cycle.rest[lowest],
-            exact: false,
+            dips: None,
             lifted: k.iter().map(|k| k - k_min).collect(),
         })
     }
@@ -330,46 +244,54 @@ impl Balance {
         Ok(self.cycle.torque_at(&folded, self.gas)?[0] - self.load)
     }
 
-    /// min K between the samples: K̃ ≥ 0 also on graded nodes near it (the Python
-    /// implementation's `_locate_minimum`). Once.
-    fn locate_minimum(&mut self) -> Result<()> {
-        if self.exact {
-            return Ok(());
+    /// The local minima of K̃ located exactly, and min K with them: K̃ ≥ 0 also on graded
+    /// nodes near it (the Python implementation's `_dips`). Once.
+    fn dips(&mut self) -> Result<&[Dip]> {
+        if self.dips.is_none() {
+            let cycle = self.cycle.cycle();
+            let mut dips = local_minima(
+                &self.cycle.panels,
+                &self.lifted,
+                &self.curvature,
+                |phi| self.slope_at(phi),
+                |phi| Ok(self.lifted_at(&[phi.rem_euclid(cycle)])?[0]),
+            )?;
+            let deepest = dips
+                .iter()
+                .copied()
+                .fold(None, |a: Option<Dip>, d| match a {
+                    Some(a) if a.value <= d.value => Some(a),
+                    _ => Some(d),
+                });
+            if let Some(deepest) = deepest.filter(|d| d.value < 0.0) {
+                let dip = deepest.value;
+                self.k_min += dip;
+                self.lifted.iter_mut().for_each(|k| *k -= dip);
+                dips.iter_mut().for_each(|d| d.value -= dip);
+                self.lowest = deepest.angle;
+            }
+            self.dips = Some(dips);
         }
-        self.exact = true;
-        let (lowest, dip) = refine_extremum(
-            &self.cycle.panels,
-            &self.lifted,
-            false,
-            |phi| self.slope_at(phi),
-            |phi| Ok(self.lifted_at(&[phi.rem_euclid(self.cycle.cycle())])?[0]),
-        )?;
-        if dip < 0.0 {
-            let lowest = lowest.rem_euclid(self.cycle.cycle());
-            self.k_min += dip;
-            self.lifted.iter_mut().for_each(|k| *k -= dip);
-            self.lowest = lowest;
-            self.rest_low = self.cycle.rest_at(&[lowest])?[0];
-        }
-        Ok(())
-    }
-
-    /// The grading edges for E = s + K̃ (see [`grading`]).
-    fn grading(&self, s: f64) -> Vec<f64> {
-        let energy: Vec<f64> = self.lifted.iter().map(|k| s + k).collect();
-        grading(&self.cycle.panels, &energy, &self.curvature)
+        Ok(self.dips.as_deref().unwrap_or_default())
     }
 
     /// The time mesh fit for E = s + K̃: `None` for the base panels, where E's nearest
     /// complex zero, at least √(2s/max|K''|) from the real axis, is far enough from all of
-    /// them; else the base panels graded (min K first located exactly).
+    /// them; else the base panels graded towards E's minima, located exactly.
     fn mesh(&mut self, s: f64) -> Result<Option<Graded>> {
         let half = self.cycle.panels.widest_half();
-        if 2.0 * s >= self.sharpest * (GRADE_REACH * half).powi(2) || self.grading(s).is_empty() {
+        if 2.0 * s >= self.sharpest * (GRADE_REACH * half).powi(2) {
             return Ok(None);
         }
-        self.locate_minimum()?;
-        let extra = self.grading(s);
+        let lifted: Vec<Dip> = self
+            .dips()?
+            .iter()
+            .map(|d| Dip {
+                value: s + d.value,
+                ..*d
+            })
+            .collect();
+        let extra = grading(&self.cycle.panels, lifted);
         if extra.is_empty() {
             return Ok(None);
         }
@@ -467,9 +389,12 @@ impl Balance {
     fn solve_on_mesh(&mut self, omega_mean: f64, ratio: f64) -> Result<(Solved, Option<Graded>)> {
         let cycle = Arc::clone(&self.cycle);
         let target = cycle.cycle() / omega_mean;
-        // At s_low the speed at the worst angle is ratio·ω_m: if the mean speed there is
-        // already above the one asked for, the solution has a smaller s, and stalls.
-        let s_low = 0.5 * (self.inertia + self.rest_low) * (ratio * omega_mean).powi(2);
+        // At s_low the speed at the worst angle is at most ratio·ω_m (J there is at least the
+        // least J): if the mean speed there is already above the one asked for, the solution
+        // has a smaller s, and stalls. Only that: a solution above s_low is judged by its own
+        // ω_min (`finish`), so that a speed just above the lowest that runs does run.
+        let rest_min = cycle.rest.iter().fold(f64::INFINITY, |a, &r| a.min(r));
+        let s_low = 0.5 * (self.inertia + rest_min) * (ratio * omega_mean).powi(2);
         // At s_high, ω² = 2(s + K̃)/J ≥ ω_m² everywhere: the mean speed is at least ω_m.
         let j_max = cycle.rest.iter().fold(f64::NEG_INFINITY, |a, &r| a.max(r)) + self.inertia;
         let s_high = 0.5 * j_max * omega_mean * omega_mean * 1.01;
@@ -508,8 +433,11 @@ impl Balance {
                 return Ok((Err(Stall { angle: self.lowest }), graded));
             };
             s = root;
+            let k_min = self.k_min;
             let finer = self.mesh(s)?;
-            if self.view(&finer).nodes() <= size {
+            // Where the mesh located min K between the samples just now, K̃ moved under the
+            // s found: solve again on the mesh as it is now.
+            if self.view(&finer).nodes() <= size && self.k_min == k_min {
                 break;
             }
             graded = finer;
@@ -528,8 +456,13 @@ impl Balance {
     /// The lowest mean speed (rad/s) whose solution keeps ω_min ≥ `ratio`·ω_m (the stall
     /// error's min_rpm): the root in log s of ω_min/ω_m − ratio, which grows with s
     /// (Brent's method, to 1e-12 in log s as the Python implementation's
-    /// `lowest_running_speed`). `above`: an s (J) known to stall.
+    /// `lowest_running_speed`), rounded up: the mean speed of the nearest s above the root
+    /// whose ratio is not short (steps of 1e-12 in log s, doubling), a speed that runs and
+    /// within ~1e-11 of the threshold. `above`: an s (J) known to stall.
     pub fn lowest_running_speed(&mut self, ratio: f64, above: f64) -> Result<f64> {
+        // min K located first: K̃, and with it the function whose root is taken, is then the
+        // same at every s.
+        self.dips()?;
         let swing = self.swing();
         let mut shortfall = |log_s: f64| -> Result<f64> {
             Ok(match self.at_margin(log_s.exp())? {
@@ -553,23 +486,53 @@ impl Balance {
             low -= 2.0;
         }
         let found = brent(&mut shortfall, low, high, 1e-12, 4.0 * f64::EPSILON)?;
-        let Some(log_s) = found else {
+        let Some(mut log_s) = found else {
             return Ok(f64::NAN);
         };
+        // Brent's answer may lie either side of the root: step up to the running side (at
+        // most `high`, which runs).
+        let mut step = 1e-12;
+        while log_s < high && shortfall(log_s)? < 0.0 {
+            log_s = (log_s + step).min(high);
+            step *= 2.0;
+        }
         Ok(self
             .at_margin(log_s.exp())?
             .map_or(f64::NAN, |p| p.omega_mean))
     }
 
-    /// max K − min K (J), both located between the samples and evaluated exactly: the ΔE of
-    /// the textbook flywheel estimate (the Python implementation's `energy_swing`).
-    pub fn energy_swing(&self) -> Result<f64> {
-        let value = |phi: f64| Ok(self.lifted_at(&[phi.rem_euclid(self.cycle.cycle())])?[0]);
-        let slope = |phi: f64| self.slope_at(phi);
-        let panels = &self.cycle.panels;
-        let (_, top) = refine_extremum(panels, &self.lifted, true, slope, value)?;
-        let (_, bottom) = refine_extremum(panels, &self.lifted, false, slope, value)?;
-        Ok(top.max(self.swing()) - bottom.min(0.0))
+    /// max − min (J) of the textbook turning-moment diagram's energy at the constant speed
+    /// ω_m = `omega_mean` (rad/s): ∫(M_gas − U′ − M_load − ½J′ω_m²) dφ = K − ½ω_m²(J − J(0)),
+    /// both extremes located between the samples and evaluated exactly — the ΔE of the
+    /// textbook flywheel estimate (the Python implementation's `energy_swing`). The inertia
+    /// torque is part of it: without it the estimate does not tend to the exact flywheel as
+    /// δ → 0.
+    pub fn energy_swing(&self, omega_mean: f64) -> Result<f64> {
+        let half_square = 0.5 * omega_mean * omega_mean;
+        let cycle = &self.cycle;
+        let diagram: Vec<f64> = self
+            .lifted
+            .iter()
+            .zip(&cycle.rest)
+            .map(|(k, rest)| k - half_square * rest)
+            .collect();
+        let value = |phi: f64| -> Result<f64> {
+            let folded = [phi.rem_euclid(cycle.cycle())];
+            Ok(self.lifted_at(&folded)?[0] - half_square * cycle.rest_at(&folded)?[0])
+        };
+        let slope = |phi: f64| -> Result<f64> {
+            let folded = [phi.rem_euclid(cycle.cycle())];
+            Ok(self.slope_at(phi)? - half_square * cycle.inertia_at(&folded)?.1[0])
+        };
+        let panels = &cycle.panels;
+        let (_, top) = refine_extremum(panels, &diagram, true, slope, value)?;
+        let (_, bottom) = refine_extremum(panels, &diagram, false, slope, value)?;
+        let (most, least) = diagram
+            .iter()
+            .fold((f64::NEG_INFINITY, f64::INFINITY), |(a, b), &d| {
+                (a.max(d), b.min(d))
+            });
+        Ok(top.max(most) - bottom.min(least))
     }
 
     /// t_Φ, ω_m and the extremes of ω for E = s + K̃ on a mesh.
@@ -617,7 +580,8 @@ impl Balance {
             phi_min: phi_min.rem_euclid(cycle.cycle()),
             margin: s,
             energy_at_zero: s - self.k_min,
-        };
+        }
+        .mean_inside();
         if omega_min < ratio * omega_mean {
             return Ok(Err(Stall {
                 angle: solution.phi_min,
@@ -643,197 +607,3 @@ impl Balance {
 
 /// The running sums of the period's quadrature.
 const LANES: usize = 8;
-
-/// Edges to add to the base panels so that ∫√(J/2E) dφ stays spectrally accurate where
-/// E (`energy`, nodes then edges; E'' = `curvature` at the nodes) nearly vanishes:
-/// geometric panels (ratio 4) towards every local minimum of E whose complex zeros, at d = √(2E/|E''|) from the real axis, come closer than 1.5
-/// half-widths of the widest panel; the innermost panel [φ_i − d/3, φ_i + d/3] (the
-/// Python implementation's `grading` and `_near_zeros`). Empty where none does.
-pub(crate) fn grading(panels: &Panels, energy: &[f64], curvature: &[f64]) -> Vec<f64> {
-    let cycle = panels.cycle();
-    let half = panels.widest_half();
-    let samples = panels.in_angle_order(energy);
-    // The curvature of an edge is that of its panel's first node.
-    let mut bend = Vec::with_capacity(samples.len());
-    for panel in curvature.chunks_exact(panels.order) {
-        bend.push(panel[0]);
-        bend.extend_from_slice(panel);
-    }
-    let count = samples.len();
-    let mut extra = Vec::new();
-    for i in 0..count {
-        let (before, after) = ((i + count - 1) % count, (i + 1) % count);
-        let (angle, value) = samples[i];
-        if !(value < samples[before].1 && value <= samples[after].1) {
-            continue;
-        }
-        // E'' from the neighbours too: a minimum on an edge has both panels' curvature.
-        let bend_here = bend[i].abs().max(bend[before].abs()).max(bend[after].abs());
-        let reach = if bend_here > 0.0 {
-            (2.0 * value.max(0.0) / bend_here).sqrt()
-        } else {
-            f64::INFINITY
-        };
-        // reach is never NaN: value ≥ 0, bend_here > 0 (else ∞).
-        if reach >= GRADE_REACH * half {
-            continue;
-        }
-        let width = (reach / (2.0 * GRADE_REACH)).max(1e-12 * cycle);
-        let steps = ((2.0 * half / width).ln() / GRADE_RATIO.ln()).ceil() as i32;
-        for k in 0..=steps {
-            let step = width * GRADE_RATIO.powi(k);
-            extra.push((angle - step).rem_euclid(cycle));
-            extra.push((angle + step).rem_euclid(cycle));
-        }
-    }
-    extra
-}
-
-/// The angle and value of the largest (`largest`) or smallest of a function known at the
-/// nodes then edges of `panels` (`values`): the best sample, then the root of its slope
-/// (`slope`, any angle) between it and a neighbour sample (Brent's method, to rounding),
-/// where the function is evaluated exactly (`value`). Kept only where better than the
-/// sample (an extremum at a kink of the slope has no root there).
-pub(crate) fn refine_extremum(
-    panels: &Panels,
-    values: &[f64],
-    largest: bool,
-    mut slope: impl FnMut(f64) -> Result<f64>,
-    mut value: impl FnMut(f64) -> Result<f64>,
-) -> Result<(f64, f64)> {
-    let cycle = panels.cycle();
-    let samples = panels.in_angle_order(values);
-    let sign = if largest { 1.0 } else { -1.0 };
-    let mut best = 0;
-    for (i, sample) in samples.iter().enumerate() {
-        if sign * sample.1 > sign * samples[best].1 {
-            best = i;
-        }
-    }
-    let count = samples.len();
-    let (angle, at_best) = samples[best];
-    let before = samples[(best + count - 1) % count].0;
-    let before = if before > angle {
-        before - cycle
-    } else {
-        before
-    };
-    let after = samples[(best + 1) % count].0;
-    let after = if after < angle { after + cycle } else { after };
-    // The function rises (for a maximum) up to the root: its slope, times sign, goes from
-    // positive to negative.
-    let mut rate = |phi: f64| -> Result<f64> { Ok(sign * slope(phi)?) };
-    // Start at the vertex of the parabola through the best sample and its neighbours (a
-    // smooth extremum is there to a small fraction of the spacing) and bracket the root
-    // with a step of NARROW_BRACKET of the span the way the slope points: a root to rounding
-    // in a few steps. Where the step does not reach it (a kink, a sharp peak), the bracket
-    // runs on to the neighbour sample.
-    let (f_before, f_after) = (
-        samples[(best + count - 1) % count].1,
-        samples[(best + 1) % count].1,
-    );
-    let start =
-        parabola_vertex((before, f_before), (angle, at_best), (after, f_after)).unwrap_or(angle);
-    let at_start = rate(start)?;
-    let found = if at_start == 0.0 {
-        Some(start)
-    } else {
-        // The rate falls through the root: it lies ahead of a positive rate, behind a
-        // negative one.
-        let (ahead, end) = if at_start > 0.0 {
-            (1.0, after)
-        } else {
-            (-1.0, before)
-        };
-        let near = start + ahead * NARROW_BRACKET * (after - before);
-        let near = if ahead > 0.0 {
-            near.min(end)
-        } else {
-            near.max(end)
-        };
-        let at_near = rate(near)?;
-        let (from, to) = if at_near * at_start <= 0.0 {
-            ((start, at_start), (near, at_near))
-        } else {
-            ((near, at_near), (end, rate(end)?))
-        };
-        // Brent's method from the ends in ascending order.
-        let (low, high) = if from.0 < to.0 {
-            (from, to)
-        } else {
-            (to, from)
-        };
-        brent_from(&mut rate, low, high, 0.0, 4.0 * f64::EPSILON)?
-    };
-    if let Some(root) = found {
-        let found = value(root)?;
-        if sign * found > sign * at_best {
-            return Ok((root, found));
-        }
-    }
-    Ok((angle, at_best))
-}
-
-/// The half-width of the narrow bracket about a parabola's vertex, as a fraction of the
-/// span of the three samples.
-const NARROW_BRACKET: f64 = 1e-3;
-
-/// The abscissa of the vertex of the parabola through three points (x ascending); `None`
-/// where they are collinear or the vertex falls outside [x₀, x₂].
-fn parabola_vertex(
-    (x0, y0): (f64, f64),
-    (x1, y1): (f64, f64),
-    (x2, y2): (f64, f64),
-) -> Option<f64> {
-    let (d0, d2) = (x0 - x1, x2 - x1);
-    let (s0, s2) = ((y0 - y1) / d0, (y2 - y1) / d2);
-    let curvature = (s2 - s0) / (x2 - x0);
-    if !(curvature.is_finite() && curvature != 0.0) {
-        return None;
-    }
-    // Newton's form p = y1 + s0(x − x1) + c(x − x1)(x − x0): p′ = 0 at
-    // x1 − (s0 − c·d0)/(2c).
-    let b = s0 - curvature * d0;
-    let vertex = x1 - b / (2.0 * curvature);
-    (x0 < vertex && vertex < x2).then_some(vertex)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn brent_finds_roots_to_rounding_and_refuses_no_bracket() {
-        let root = brent(|x| Ok(x * x - 2.0), 0.0, 2.0, 0.0, 1e-15)
-            .unwrap()
-            .unwrap();
-        assert!((root - 2f64.sqrt()).abs() <= 4e-16 * 2f64.sqrt());
-        let root = brent(|x| Ok(x.cos() - x), 0.0, 1.0, 0.0, 4.0 * f64::EPSILON)
-            .unwrap()
-            .unwrap();
-        assert!((root - 0.739_085_133_215_160_6).abs() < 3e-16);
-        // A flat then steep function, and a root at an end.
-        let root = brent(|x| Ok((x - 1e-3).powi(9)), -1.0, 2.0, 0.0, 1e-15)
-            .unwrap()
-            .unwrap();
-        assert!((root - 1e-3).abs() < 1e-3);
-        assert_eq!(brent(Ok, 0.0, 1.0, 0.0, 1e-15).unwrap(), Some(0.0));
-        assert_eq!(
-            brent(|x| Ok(x * x + 1.0), -1.0, 1.0, 0.0, 1e-15).unwrap(),
-            None
-        );
-        let mut calls = 0;
-        brent(
-            |x| {
-                calls += 1;
-                Ok(x.powi(3) - x - 1.0)
-            },
-            1.0,
-            2.0,
-            0.0,
-            1e-15,
-        )
-        .unwrap();
-        assert!(calls < 15, "{calls} calls");
-    }
-}

@@ -6,8 +6,9 @@
 
 use crate::error::{check, MechanismError, Result};
 
-use super::balance::{brent, brent_from, Balance};
+use super::balance::Balance;
 use super::cycle::Cycle;
+use super::extrema::{brent, brent_from};
 
 /// The smallest δ a flywheel is sized for: below it δ is within the rounding of the speeds
 /// it is found from (the Python implementation's bound).
@@ -231,7 +232,8 @@ fn newton_bracket(
 const CERTIFY: f64 = 0.9e-12;
 
 /// The textbook I_w (kg·m²) for `delta` at ω_m = `omega_mean` (rad/s) from ΔE = `swing` (J,
-/// max K − min K with the balancing load): ΔE/(δω_m²) − mean(J − I_w).
+/// the swing of the turning-moment diagram's energy at ω_m, inertia torque included:
+/// [`Balance::energy_swing`]): ΔE/(δω_m²) − mean(J − I_w), exact to first order in δ.
 pub(crate) fn textbook(swing: f64, cycle: &Cycle, delta: f64, omega_mean: f64) -> f64 {
     swing / (delta * omega_mean * omega_mean) - cycle.mean_rest()
 }

@@ -10,6 +10,7 @@
 
 mod balance;
 mod cycle;
+mod extrema;
 mod flywheel;
 mod gas;
 mod quadrature;
@@ -116,22 +117,44 @@ pub struct SteadyTables {
     machine: Balance,
     without_gravity: Option<Balance>,
     gravity_only: Balance,
-    /// ΔE = max K − min K (J) of the machine, found on first use (it depends on neither
-    /// I_w nor the speed).
-    swing: OnceLock<f64>,
+    /// (ω_m, ΔE) of the textbook estimate at the first mean speed asked for (ΔE does not
+    /// depend on I_w; a sweep sizes many flywheels at one speed).
+    swing: OnceLock<(f64, f64)>,
 }
 
 /// The lowest mean speed that runs, searched from an s known to stall (the Python
 /// implementation's `_stall_error`).
 fn stall_error(balance: &Balance, stall: Stall, rpm: f64, ratio: f64) -> Result<MechanismError> {
-    let mut balance = balance.clone();
     let above = 1e-6 * balance.swing();
-    let lowest = balance.lowest_running_speed(ratio, above)?;
+    let lowest = balance.clone().lowest_running_speed(ratio, above)?;
+    let min_rpm = if lowest.is_finite() {
+        Some(running_rpm(balance, 30.0 * lowest / PI, ratio)?)
+    } else {
+        None
+    };
     Ok(MechanismError::Stall {
         angle: stall.angle.rem_euclid(balance.cycle()),
         rpm,
-        min_rpm: lowest.is_finite().then(|| 30.0 * lowest / PI),
+        min_rpm,
     })
+}
+
+/// `rpm` (1/min), nudged up until the steady state asked for at it runs: min_rpm is a
+/// speed that runs (the threshold's root, the round trip through rpm and the solve's own
+/// root in s each round by ~1e-15), within a few ulps of the threshold. Each trial solves
+/// on a fresh copy of `balance`, as [`SteadyTables::steady_state`] does (a copy that has
+/// located its minima already rounds differently).
+fn running_rpm(balance: &Balance, rpm: f64, ratio: f64) -> Result<f64> {
+    let mut found = rpm;
+    let mut step = 4.0 * f64::EPSILON;
+    for _ in 0..64 {
+        if balance.clone().solve(omega_from_rpm(found), ratio)?.is_ok() {
+            return Ok(found);
+        }
+        found = rpm * (1.0 + step);
+        step *= 2.0;
+    }
+    Ok(found)
 }
 
 impl SteadyTables {
@@ -172,14 +195,18 @@ impl SteadyTables {
         })
     }
 
-    /// ΔE = max K − min K (J) with the balancing load, both located exactly: the energy
-    /// swing of the textbook flywheel estimate.
-    fn energy_swing(&self) -> Result<f64> {
-        if let Some(&swing) = self.swing.get() {
-            return Ok(swing);
+    /// ΔE (J) of the textbook flywheel estimate at the mean speed `omega_mean` (rad/s): the
+    /// swing of ∫(M_gas − U′ − M_load − ½J′ω_m²) dφ, the load balancing the gas
+    /// ([`Balance::energy_swing`]).
+    fn energy_swing(&self, omega_mean: f64) -> Result<f64> {
+        if let Some(&(omega, swing)) = self.swing.get() {
+            if omega == omega_mean {
+                return Ok(swing);
+            }
         }
-        let swing = self.machine.energy_swing()?;
-        Ok(*self.swing.get_or_init(|| swing))
+        let swing = self.machine.energy_swing(omega_mean)?;
+        let _ = self.swing.set((omega_mean, swing));
+        Ok(swing)
     }
 
     /// Φ (rad).
@@ -343,7 +370,7 @@ impl SteadyTables {
         check_speed_ratio(min_speed_ratio)?;
         let omega_mean = omega_from_rpm(rpm);
         let balance = &self.machine;
-        let swing = self.energy_swing()?;
+        let swing = self.energy_swing(omega_mean)?;
         let textbook = flywheel::textbook(swing, &self.cycle, delta, omega_mean);
         let start = flywheel::start(swing, textbook, &self.cycle, delta, omega_mean, fallback);
         let inertia = flywheel::inertia_for(balance, omega_mean, min_speed_ratio, delta, start)?;
@@ -365,6 +392,22 @@ impl SteadyTables {
             rpm,
         })
     }
+}
+
+/// Where a machine with no mean driving torque comes to rest: the sample (node or edge)
+/// where the work of gas, drive and gravity from φ = 0, W + M_drive·φ − (U − U(0)), is
+/// largest — the bottom of the well of their potential (for a machine without gas or
+/// drive, the lowest potential energy). The Python implementation's `rest_angle`.
+fn rest_angle(cycle: &Cycle, drive: f64) -> f64 {
+    let angles = cycle.panels.phi.iter().chain(&cycle.panels.edges);
+    let mut best = (0.0, f64::NEG_INFINITY);
+    for ((phi, w), u) in angles.zip(&cycle.gas_work).zip(&cycle.potential) {
+        let work = w + drive * phi - u;
+        if work > best.1 {
+            best = (*phi, work);
+        }
+    }
+    best.0.rem_euclid(cycle.cycle())
 }
 
 /// A machine's arrays over its cycle ([`SteadyTables::arrays_at`]).
@@ -481,10 +524,13 @@ pub fn square_law_steady_state(
     let cycle = &tables.cycle;
     let mean = tables.load + drive;
     if mean.is_nan() || mean <= 0.0 {
-        return Err(MechanismError::OutOfRange {
-            parameter: "drive",
-            value: mean,
-            allowed: "a cycle mean of gas and drive torque > 0 (N·m) for a square-law load",
+        // Nothing drives the machine on the cycle's mean (a design without gas, or a drive
+        // that takes what the gas gives): a square-law load brings it to rest, a stall like
+        // any other (a sweep's row, not an error in the input).
+        return Err(MechanismError::Stall {
+            angle: rest_angle(cycle, drive),
+            rpm: f64::NAN,
+            min_rpm: None,
         });
     }
     let (solution, curves, mean_load) =
@@ -534,7 +580,8 @@ pub struct FlywheelInertia {
     pub textbook: f64,
     /// (textbook − shaft_inertia)/shaft_inertia.
     pub textbook_error: f64,
-    /// ΔE = max K − min K (J) of the textbook estimate, the load balancing the gas.
+    /// ΔE (J) of the textbook estimate: max − min of ∫(M_gas − U′ − M_load − ½J′ω_m²) dφ,
+    /// every torque at the mean speed, the load balancing the gas.
     pub energy_swing: f64,
     /// The δ asked for.
     pub delta: f64,

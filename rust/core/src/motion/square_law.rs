@@ -11,8 +11,9 @@
 
 use crate::error::{MechanismError, Result};
 
-use super::balance::{grading, refine_extremum, Curves, Periodic, Stall};
+use super::balance::{Curves, Periodic, Stall};
 use super::cycle::Cycle;
+use super::extrema::{grading, local_minima, refine_extremum};
 use super::quadrature::{Antiderivative, Panels};
 
 /// The closed form fails (e^{A(Φ)} overflows) beyond this many e-folds per cycle.
@@ -151,7 +152,24 @@ impl<'c> SquareLaw<'c> {
                 .fold(samples[0], |a, &b| if b.1 < a.1 { b } else { a });
             return Ok(Err(Stall { angle: worst.0 }));
         }
-        let extra = grading(base, &self.energy, &self.curvature);
+        // E′ = M − U′ − (2c/J)E exactly at any angle: the minima of E located between the
+        // samples, and the time mesh graded towards them.
+        let energy_slope = |p: f64| -> Result<f64> {
+            let folded = [p.rem_euclid(cycle.cycle())];
+            let energy = self.energy_at(&folded)?[0];
+            let j = cycle.inertia + cycle.rest_at(&folded)?[0];
+            let torque = cycle.torque_at(&folded, true)?[0] + self.drive;
+            Ok(torque - 2.0 * self.coefficient * energy / j)
+        };
+        let energy_value = |p: f64| Ok(self.energy_at(&[p.rem_euclid(cycle.cycle())])?[0]);
+        let dips = local_minima(
+            base,
+            &self.energy,
+            &self.curvature,
+            energy_slope,
+            energy_value,
+        )?;
+        let extra = grading(base, dips);
         let graded;
         let (panels, energy, rest): (&Panels, Vec<f64>, Vec<f64>) = if extra.is_empty() {
             (base, self.energy.clone(), cycle.rest.clone())
@@ -194,7 +212,8 @@ impl<'c> SquareLaw<'c> {
             phi_min: phi_min.rem_euclid(cycle.cycle()),
             margin: f64::NAN,
             energy_at_zero: self.energy_at_zero,
-        };
+        }
+        .mean_inside();
         if omega_min < ratio * omega_mean {
             return Ok(Err(Stall {
                 angle: solution.phi_min,

@@ -445,8 +445,10 @@ fn solve(
             Ok(solution) if solution.delta().is_finite() => {
                 let delta = solution.delta();
                 row.delta = delta;
-                row.rpm_min = solution.omega_min * 30.0 / PI;
-                row.rpm_max = solution.omega_max * 30.0 / PI;
+                // The row's mean speed is the rpm asked for, which the solution's ω_m
+                // meets to rounding: the extremes keep it between them to the last ulp.
+                row.rpm_min = (solution.omega_min * 30.0 / PI).min(variant.rpm);
+                row.rpm_max = (solution.omega_max * 30.0 / PI).max(variant.rpm);
                 if outputs.delta_without_gravity || outputs.gravity_effect {
                     let without = tables
                         .delta_without_gravity(inertia, omega_mean, ratio)?

@@ -245,7 +245,16 @@ def refined_min_rpm(machine, rpm: float, ratio: float = 1e-3) -> float:
     return balance.at_margin(math.exp(log_s)).omega_mean * 30 / math.pi
 
 
+def python_only() -> None:
+    """mc.steady_state and mc.flywheel_inertia by the Python implementation: the core's
+    MotionMachine is not offered to them (else the fixtures would be the core's own numbers)."""
+    from multicrank.motion import flywheel, steady
+
+    steady.motion_machine = flywheel.motion_machine = lambda machine, **options: None
+
+
 def main() -> None:
+    python_only()
     out = pathlib.Path(__file__).with_name("motion_fixtures.json")
     data = {"multicrank": mc.__version__, "machines": [fixture(name) for name in MACHINES]}
     out.write_text(json.dumps(data, separators=(",", ":")) + "\n")

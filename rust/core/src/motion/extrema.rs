@@ -1,0 +1,359 @@
+//! Roots and extrema on the cycle's panels, and where the time mesh is graded: Brent's
+//! method, the exact extremes of a function known at the panels' samples, and the local
+//! minima of the kinetic energy E towards which t = ∫√(J/2E) dφ needs finer panels
+//! (docs/theory.md, "How the integrals are taken").
+
+use crate::error::Result;
+
+use super::quadrature::Panels;
+
+/// Brent's method: a root of `f` in [a, b] where f(a) and f(b) differ in sign (or one is 0),
+/// to |error| ≤ xtol + rtol·|x| (rtol ≥ 4ε, else the bracket could stop shrinking). Inverse
+/// quadratic interpolation or the secant where they stay well inside the bracket, bisection
+/// otherwise: never slower than bisection by more than a small factor. `None` when the ends
+/// have the same sign or f is not finite.
+pub(crate) fn brent(
+    mut f: impl FnMut(f64) -> Result<f64>,
+    a: f64,
+    b: f64,
+    xtol: f64,
+    rtol: f64,
+) -> Result<Option<f64>> {
+    let (fa, fb) = (f(a)?, f(b)?);
+    brent_from(f, (a, fa), (b, fb), xtol, rtol)
+}
+
+/// [`brent`] from ends whose values are known, `(a, f(a))` and `(b, f(b))`.
+pub(crate) fn brent_from(
+    mut f: impl FnMut(f64) -> Result<f64>,
+    (a, fa): (f64, f64),
+    (b, fb): (f64, f64),
+    xtol: f64,
+    rtol: f64,
+) -> Result<Option<f64>> {
+    let rtol = rtol.max(4.0 * f64::EPSILON);
+    let (mut a, mut b) = (a, b);
+    let (mut fa, mut fb) = (fa, fb);
+    if !(fa.is_finite() && fb.is_finite()) || fa * fb > 0.0 {
+        return Ok(None);
+    }
+    if fa == 0.0 {
+        return Ok(Some(a));
+    }
+    let (mut c, mut fc) = (a, fa);
+    let mut d = b - a;
+    let mut e = d;
+    // Each step at least halves the bracket every few steps: 200 covers the doubles' range.
+    for _ in 0..200 {
+        if fb * fc > 0.0 {
+            c = a;
+            fc = fa;
+            d = b - a;
+            e = d;
+        }
+        if fc.abs() < fb.abs() {
+            a = b;
+            b = c;
+            c = a;
+            fa = fb;
+            fb = fc;
+            fc = fa;
+        }
+        let tol = 0.5 * (xtol + rtol * b.abs());
+        let m = 0.5 * (c - b);
+        if m.abs() <= tol || fb == 0.0 {
+            return Ok(Some(b));
+        }
+        if e.abs() >= tol && fa.abs() > fb.abs() {
+            let s = fb / fa;
+            let (mut p, mut q) = if a == c {
+                (2.0 * m * s, 1.0 - s)
+            } else {
+                let q = fa / fc;
+                let r = fb / fc;
+                (
+                    s * (2.0 * m * q * (q - r) - (b - a) * (r - 1.0)),
+                    (q - 1.0) * (r - 1.0) * (s - 1.0),
+                )
+            };
+            if p > 0.0 {
+                q = -q;
+            } else {
+                p = -p;
+            }
+            if 2.0 * p < (3.0 * m * q - (tol * q).abs()).min((e * q).abs()) {
+                e = d;
+                d = p / q;
+            } else {
+                d = m;
+                e = m;
+            }
+        } else {
+            d = m;
+            e = m;
+        }
+        a = b;
+        fa = fb;
+        b += if d.abs() > tol { d } else { tol.copysign(m) };
+        fb = f(b)?;
+        if !fb.is_finite() {
+            return Ok(None);
+        }
+    }
+    Ok(Some(b))
+}
+
+/// How close to the real axis E's nearest complex zero may come to a panel, in its half-
+/// widths: a zero at distance d leaves a 12-point Gauss rule a Bernstein ellipse of ρ ≥ 3
+/// (1/ω = √(J/2E) to ~1e-12) when d ≥ 1.5 half-widths (the Python implementation's
+/// `_GRADE_REACH`).
+pub(crate) const GRADE_REACH: f64 = 1.5;
+
+/// Geometric grading towards a near-zero of E: each panel this many times wider than the
+/// last (`_GRADE_RATIO`).
+const GRADE_RATIO: f64 = 4.0;
+
+/// A local minimum of E located exactly (the Python implementation's `Dips`, one entry).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Dip {
+    /// φ (rad).
+    pub angle: f64,
+    /// E there (J).
+    pub value: f64,
+    /// |E''| there (J/rad²), the larger of the samples' beside it.
+    pub bend: f64,
+}
+
+/// Every local minimum of the samples of E (`energy`, nodes then edges; E'' = `curvature`
+/// at the nodes) located exactly: the root of the exact slope E′ (`slope`, any angle)
+/// between the samples beside it, by Brent's method to rounding, and E there (`value`);
+/// the sample itself where that is no lower (a minimum at a kink of E′). The Python
+/// implementation's `local_minima`.
+///
+/// The grading must be centred on the minimum itself, with its own d: graded towards a
+/// sample 6e-3 rad off a minimum of d = 3e-4 rad, the time of a cycle near a stall was
+/// 0.5 % off.
+pub(crate) fn local_minima(
+    panels: &Panels,
+    energy: &[f64],
+    curvature: &[f64],
+    mut slope: impl FnMut(f64) -> Result<f64>,
+    mut value: impl FnMut(f64) -> Result<f64>,
+) -> Result<Vec<Dip>> {
+    let samples = panels.in_angle_order(energy);
+    // The curvature of an edge is that of its panel's first node.
+    let mut bend = Vec::with_capacity(samples.len());
+    for panel in curvature.chunks_exact(panels.order) {
+        bend.push(panel[0]);
+        bend.extend_from_slice(panel);
+    }
+    let count = samples.len();
+    let mut dips = Vec::new();
+    for i in 0..count {
+        let (before, after) = ((i + count - 1) % count, (i + 1) % count);
+        if !(samples[i].1 < samples[before].1 && samples[i].1 <= samples[after].1) {
+            continue;
+        }
+        let (angle, value) =
+            refine_sample(panels.cycle(), &samples, i, false, &mut slope, &mut value)?;
+        dips.push(Dip {
+            angle: angle.rem_euclid(panels.cycle()),
+            value,
+            // E'' from the neighbours too: a minimum on an edge has both panels' curvature.
+            bend: bend[i].abs().max(bend[before].abs()).max(bend[after].abs()),
+        });
+    }
+    Ok(dips)
+}
+
+/// Edges to add to the base panels so that ∫√(J/2E) dφ stays spectrally accurate where E
+/// nearly vanishes: geometric panels (ratio 4) centred on every local minimum of E (`dips`,
+/// located exactly) whose complex zeros, at d = √(2E/|E''|) from the real axis, come closer
+/// than 1.5 half-widths of the widest panel; the innermost panel [φ_i − d/3, φ_i + d/3]
+/// (the Python implementation's `grading`). Empty where none does.
+pub(crate) fn grading(panels: &Panels, dips: impl IntoIterator<Item = Dip>) -> Vec<f64> {
+    let cycle = panels.cycle();
+    let half = panels.widest_half();
+    let mut extra = Vec::new();
+    for dip in dips {
+        let reach = if dip.bend > 0.0 {
+            (2.0 * dip.value.max(0.0) / dip.bend).sqrt()
+        } else {
+            f64::INFINITY
+        };
+        // reach is never NaN: value ≥ 0, bend > 0 (else ∞).
+        if reach >= GRADE_REACH * half {
+            continue;
+        }
+        let width = (reach / (2.0 * GRADE_REACH)).max(1e-12 * cycle);
+        let steps = ((2.0 * half / width).ln() / GRADE_RATIO.ln()).ceil() as i32;
+        for k in 0..=steps {
+            let step = width * GRADE_RATIO.powi(k);
+            extra.push((dip.angle - step).rem_euclid(cycle));
+            extra.push((dip.angle + step).rem_euclid(cycle));
+        }
+    }
+    extra
+}
+
+/// The angle and value of the largest (`largest`) or smallest of a function known at the
+/// nodes then edges of `panels` (`values`): the best sample, then the root of its slope
+/// (`slope`, any angle) between it and a neighbour sample (Brent's method, to rounding),
+/// where the function is evaluated exactly (`value`). Kept only where better than the
+/// sample (an extremum at a kink of the slope has no root there).
+pub(crate) fn refine_extremum(
+    panels: &Panels,
+    values: &[f64],
+    largest: bool,
+    slope: impl FnMut(f64) -> Result<f64>,
+    value: impl FnMut(f64) -> Result<f64>,
+) -> Result<(f64, f64)> {
+    let samples = panels.in_angle_order(values);
+    let sign = if largest { 1.0 } else { -1.0 };
+    let mut best = 0;
+    for (i, sample) in samples.iter().enumerate() {
+        if sign * sample.1 > sign * samples[best].1 {
+            best = i;
+        }
+    }
+    refine_sample(panels.cycle(), &samples, best, largest, slope, value)
+}
+
+/// The extremum next to sample `best` of `samples` ((angle, value) in angle order over the
+/// cycle `cycle`, the last followed by the first), located as [`refine_extremum`] does.
+fn refine_sample(
+    cycle: f64,
+    samples: &[(f64, f64)],
+    best: usize,
+    largest: bool,
+    mut slope: impl FnMut(f64) -> Result<f64>,
+    mut value: impl FnMut(f64) -> Result<f64>,
+) -> Result<(f64, f64)> {
+    let sign = if largest { 1.0 } else { -1.0 };
+    let count = samples.len();
+    let (angle, at_best) = samples[best];
+    let before = samples[(best + count - 1) % count].0;
+    let before = if before > angle {
+        before - cycle
+    } else {
+        before
+    };
+    let after = samples[(best + 1) % count].0;
+    let after = if after < angle { after + cycle } else { after };
+    // The function rises (for a maximum) up to the root: its slope, times sign, goes from
+    // positive to negative.
+    let mut rate = |phi: f64| -> Result<f64> { Ok(sign * slope(phi)?) };
+    // Start at the vertex of the parabola through the best sample and its neighbours (a
+    // smooth extremum is there to a small fraction of the spacing) and bracket the root
+    // with a step of NARROW_BRACKET of the span the way the slope points: a root to rounding
+    // in a few steps. Where the step does not reach it (a kink, a sharp peak), the bracket
+    // runs on to the neighbour sample.
+    let (f_before, f_after) = (
+        samples[(best + count - 1) % count].1,
+        samples[(best + 1) % count].1,
+    );
+    let start =
+        parabola_vertex((before, f_before), (angle, at_best), (after, f_after)).unwrap_or(angle);
+    let at_start = rate(start)?;
+    let found = if at_start == 0.0 {
+        Some(start)
+    } else {
+        // The rate falls through the root: it lies ahead of a positive rate, behind a
+        // negative one.
+        let (ahead, end) = if at_start > 0.0 {
+            (1.0, after)
+        } else {
+            (-1.0, before)
+        };
+        let near = start + ahead * NARROW_BRACKET * (after - before);
+        let near = if ahead > 0.0 {
+            near.min(end)
+        } else {
+            near.max(end)
+        };
+        let at_near = rate(near)?;
+        let (from, to) = if at_near * at_start <= 0.0 {
+            ((start, at_start), (near, at_near))
+        } else {
+            ((near, at_near), (end, rate(end)?))
+        };
+        // Brent's method from the ends in ascending order.
+        let (low, high) = if from.0 < to.0 {
+            (from, to)
+        } else {
+            (to, from)
+        };
+        brent_from(&mut rate, low, high, 0.0, 4.0 * f64::EPSILON)?
+    };
+    if let Some(root) = found {
+        let found = value(root)?;
+        if sign * found > sign * at_best {
+            return Ok((root, found));
+        }
+    }
+    Ok((angle, at_best))
+}
+
+/// The half-width of the narrow bracket about a parabola's vertex, as a fraction of the
+/// span of the three samples.
+const NARROW_BRACKET: f64 = 1e-3;
+
+/// The abscissa of the vertex of the parabola through three points (x ascending); `None`
+/// where they are collinear or the vertex falls outside [x₀, x₂].
+fn parabola_vertex(
+    (x0, y0): (f64, f64),
+    (x1, y1): (f64, f64),
+    (x2, y2): (f64, f64),
+) -> Option<f64> {
+    let (d0, d2) = (x0 - x1, x2 - x1);
+    let (s0, s2) = ((y0 - y1) / d0, (y2 - y1) / d2);
+    let curvature = (s2 - s0) / (x2 - x0);
+    if !(curvature.is_finite() && curvature != 0.0) {
+        return None;
+    }
+    // Newton's form p = y1 + s0(x − x1) + c(x − x1)(x − x0): p′ = 0 at
+    // x1 − (s0 − c·d0)/(2c).
+    let b = s0 - curvature * d0;
+    let vertex = x1 - b / (2.0 * curvature);
+    (x0 < vertex && vertex < x2).then_some(vertex)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn brent_finds_roots_to_rounding_and_refuses_no_bracket() {
+        let root = brent(|x| Ok(x * x - 2.0), 0.0, 2.0, 0.0, 1e-15)
+            .unwrap()
+            .unwrap();
+        assert!((root - 2f64.sqrt()).abs() <= 4e-16 * 2f64.sqrt());
+        let root = brent(|x| Ok(x.cos() - x), 0.0, 1.0, 0.0, 4.0 * f64::EPSILON)
+            .unwrap()
+            .unwrap();
+        assert!((root - 0.739_085_133_215_160_6).abs() < 3e-16);
+        // A flat then steep function, and a root at an end.
+        let root = brent(|x| Ok((x - 1e-3).powi(9)), -1.0, 2.0, 0.0, 1e-15)
+            .unwrap()
+            .unwrap();
+        assert!((root - 1e-3).abs() < 1e-3);
+        assert_eq!(brent(Ok, 0.0, 1.0, 0.0, 1e-15).unwrap(), Some(0.0));
+        assert_eq!(
+            brent(|x| Ok(x * x + 1.0), -1.0, 1.0, 0.0, 1e-15).unwrap(),
+            None
+        );
+        let mut calls = 0;
+        brent(
+            |x| {
+                calls += 1;
+                Ok(x.powi(3) - x - 1.0)
+            },
+            1.0,
+            2.0,
+            0.0,
+            1e-15,
+        )
+        .unwrap();
+        assert!(calls < 15, "{calls} calls");
+    }
+}
