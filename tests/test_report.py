@@ -362,5 +362,5 @@ def test_a_folder_that_is_not_a_report_is_refused_before_any_work(tmp_path, monk
         result = CliRunner().invoke(cli.main, ["report", "--out", out, *SMALL])
         assert result.exit_code == 2, result.output
         (line,) = result.output.strip().splitlines()
-        assert line.startswith(f"Error: out = {out!r}") and named in line
+        assert line.startswith(f"Error: --out {out}") and named in line
         assert sorted(path.name for path in tmp_path.iterdir()) == ["index.html", "notes.txt"]

@@ -80,7 +80,7 @@ def report_command(
     (the best firing orders its crank allows and the counterweights that minimise δ), then
     the paper's analysis — curves, spectra, Tables 1–2, the truncation error, the gravity-significance map,
     conventions and errata — as index.html + PNG + CSV."""
-    from ..report.html import write_report
+    from ..report.html import replaceable_folder, write_report
     from ..report.settings import DEFAULT_THRESHOLD, ReportSettings
 
     settings = ReportSettings(
@@ -92,6 +92,7 @@ def report_command(
         delta=delta,
     )
     try:
+        replaceable_folder(out_dir, f"--out {out_dir}")  # refused in the option's words
         index = write_report(out_dir, settings, progress=progress)
     except OSError as error:
         raise UserError(f"--out {out_dir}: {error.strerror or error}") from None

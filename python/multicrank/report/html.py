@@ -107,7 +107,7 @@ def write_report(out: str | Path, settings: ReportSettings | None = None, progre
     running_speed(settings.machine)
     for machine in settings.machines.values():
         speed_range(machine)
-    target = _replaceable_folder(out)
+    target = replaceable_folder(out)
     require("matplotlib", "report")
     with atomic_directory(target) as folder:
         _write_files(folder, settings, progress)
@@ -118,10 +118,11 @@ def write_report(out: str | Path, settings: ReportSettings | None = None, progre
 _REPORT_SUFFIXES = (".html", ".png", ".csv")
 
 
-def _replaceable_folder(out: str | Path) -> Path:
-    """``out`` as an absolute path, checked to be a folder the report may replace whole."""
+def replaceable_folder(out: str | Path, where: str | None = None) -> Path:
+    """``out`` as an absolute path, checked to be a folder the report may replace whole; a
+    refusal starts with ``where`` (default ``out = '…'``; the command line names its option)."""
     target = Path(out).resolve()
-    where = f"out = {str(out)!r}"
+    where = where or f"out = {str(out)!r}"
     if target == Path.cwd() or target in Path.cwd().parents:
         raise MechanismError(f"{where} is the current folder or holds it; the report replaces its folder whole")
     if not target.exists():
