@@ -366,9 +366,9 @@ REGISTRY.update(
             mc.PowerLawLoad,
             {
                 "torque": (10.0, "real"),
-                "speed": (60.0, "positive"),
+                "speed": (None, "positive_or_none"),  # deprecated: ω_n [rad/s] instead of rpm
                 "exponent": (2.0, "positive"),
-                "rpm": (None, "positive_or_none"),
+                "rpm": (600.0, "positive"),
             },
         ),
         "steady_state": (
@@ -877,7 +877,7 @@ def test_the_limit_itself_is_a_quantity():
     [
         (lambda: mc.Machine([CYLINDER], shaft_inertia=1e300), r"shaft_inertia = 1e\+300 is out of range"),
         (lambda: mc.Machine([CYLINDER], shaft_inertia=1.0, g=1e100), r"g = 1e\+100 is out of range"),
-        (lambda: mc.PowerLawLoad(torque=1.0, speed=1e200), r"speed = 1e\+200 is out of range; allowed: 1\.0472e-07"),
+        (lambda: mc.PowerLawLoad(torque=1.0, rpm=1e200), r"rpm = 1e\+200 is out of range; allowed: 1e-06"),
         (lambda: mc.PowerLawLoad(torque=1e31, rpm=600.0), r"torque = 1e\+31 is out of range"),
         (lambda: mc.steady_state(MACHINE, load=1e300), r"load = 1e\+300 is out of range"),
         (

@@ -15,27 +15,39 @@ from multicrank.motion.loads import BALANCE, PowerLawLoad, as_torque, balance_to
 
 
 def test_power_law_load_is_the_law_with_the_sign_of_omega():
-    load = PowerLawLoad(torque=120.0, speed=50.0, exponent=2.0)
+    load = PowerLawLoad(torque=120.0, rpm=50.0 * 30 / math.pi, exponent=2.0)  # ω_n = 50 rad/s
     omega = np.array([-100.0, -50.0, 0.0, 25.0, 50.0])
     np.testing.assert_allclose(load(0.0, omega), [-480.0, -120.0, 0.0, 30.0, 120.0], rtol=1e-15)
     assert load.coefficient == pytest.approx(120.0 / 2500.0, rel=1e-15)
-    assert PowerLawLoad(7.0, 3.0, exponent=0)(np.zeros(2), np.array([2.0, -2.0])).tolist() == [7.0, -7.0]
+    coulomb = PowerLawLoad(7.0, rpm=3.0, exponent=0)
+    assert coulomb(np.zeros(2), np.array([2.0, -2.0])).tolist() == [7.0, -7.0]
 
 
-def test_power_law_load_takes_its_speed_in_rpm_too():
+def test_power_law_load_takes_its_nominal_speed_in_rpm():
     fan = PowerLawLoad(90.0, rpm=120.0)
-    assert fan.speed == 120.0 * math.pi / 30 and fan.coefficient == PowerLawLoad(90.0, fan.speed).coefficient
-    assert fan == PowerLawLoad(90.0, fan.speed)
-    for arguments, message in (({}, "neither"), ({"speed": 1.0, "rpm": 10.0}, "both"), ({"rpm": 0.0}, "rpm = 0.0")):
+    assert fan.rpm == 120.0 and fan.omega == pytest.approx(4 * math.pi, rel=1e-15)  # 2 rev/s
+    assert fan == PowerLawLoad(90.0, rpm=120.0) and fan != PowerLawLoad(90.0, rpm=121.0)
+    assert repr(fan) == "PowerLawLoad(torque=90.0, rpm=120.0, exponent=2.0)"
+    for arguments, message in (({}, "neither"), ({"rpm": 0.0}, "rpm = 0.0")):
         with pytest.raises(mc.MechanismError, match=message):
             PowerLawLoad(1.0, **arguments)
 
 
-@pytest.mark.parametrize(
-    ("field", "value"), [("torque", -1.0), ("speed", 0.0), ("speed", math.nan), ("exponent", -0.5)]
-)
+def test_power_law_load_speed_in_rad_s_is_deprecated_but_still_the_same_load():
+    """0.1's ``speed=`` [rad/s] (a name without its unit) still works for one release."""
+    with pytest.warns(DeprecationWarning, match=r"PowerLawLoad\(speed=.* use rpm="):
+        old = PowerLawLoad(90.0, 4 * math.pi)  # positional, as 0.1 took it: 4π rad/s = 120 rpm
+    assert old.omega == 4 * math.pi and old.rpm == pytest.approx(120.0, rel=1e-15)
+    np.testing.assert_allclose(old(0.0, [2 * math.pi]), [22.5], rtol=1e-15)  # half the speed, a quarter
+    with pytest.warns(DeprecationWarning, match=r"PowerLawLoad.speed is deprecated.* PowerLawLoad.omega"):
+        assert old.speed == 4 * math.pi
+    with pytest.raises(mc.MechanismError, match="both"):
+        PowerLawLoad(1.0, speed=1.0, rpm=10.0)
+
+
+@pytest.mark.parametrize(("field", "value"), [("torque", -1.0), ("rpm", 0.0), ("rpm", math.nan), ("exponent", -0.5)])
 def test_power_law_load_refuses_bad_numbers_naming_them(field, value):
-    arguments = {"torque": 1.0, "speed": 1.0, "exponent": 2.0, field: value}
+    arguments = {"torque": 1.0, "rpm": 1.0, "exponent": 2.0, field: value}
     with pytest.raises(mc.MechanismError, match=field):
         PowerLawLoad(**arguments)
 

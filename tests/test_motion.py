@@ -272,7 +272,7 @@ def test_power_law_closed_form_is_the_periodic_orbit_of_a_long_run():
         [cylinder(pressure=smooth_pressure), cylinder(phase=math.pi, inclination=0.3, pressure=smooth_pressure)],
         shaft_inertia=0.5,
     )
-    load = mc.PowerLawLoad(torque=300.0, speed=150.0)
+    load = mc.PowerLawLoad(torque=300.0, rpm=150.0 * 30 / math.pi)
     result = mc.steady_state(machine, load=load)
     assert result.method == "closed form"
     # Start 1e-4 off the orbit: after 40 cycles the disturbance has decayed by e^{−40·A(Φ)} ≈ 2e-5
@@ -291,7 +291,7 @@ def test_shooting_agrees_with_the_closed_form():
     # The same square law as a callable: the general route (solve_ivp shooting) must find the
     # orbit the closed form gives.
     machine = mc.Machine([cylinder(pressure=smooth_pressure, rod_inertia=0.01)], shaft_inertia=0.4)
-    law = mc.PowerLawLoad(torque=100.0, speed=100.0)
+    law = mc.PowerLawLoad(torque=100.0, rpm=100.0 * 30 / math.pi)
     closed = mc.steady_state(machine, load=law)
     shot = mc.steady_state(machine, load=lambda phi, omega: law.coefficient * omega * np.abs(omega))
     assert (closed.method, shot.method) == ("closed form", "shooting")
@@ -416,7 +416,7 @@ def test_a_heavy_machine_at_a_crawl_stalls_and_says_where_and_how_fast_it_runs()
 def test_a_load_too_strong_at_low_speed_stalls_the_machine(route):
     # 2 N·m of drive against c·ω² balance at 10 rad/s, where ½Jω² ≈ 13 J cannot lift the
     # heavy parts (ΔU ≈ 60 J) over the top: no periodic solution with a positive speed.
-    law = mc.PowerLawLoad(torque=0.5, speed=5.0)
+    law = mc.PowerLawLoad(torque=0.5, rpm=5.0 * 30 / math.pi)
     load = law if route == "closed form" else (lambda phi, omega: law.coefficient * omega * np.abs(omega))
     with pytest.raises(mc.StallError, match="stalls with this load") as caught:
         mc.steady_state(HEAVY, load=load, drive=2.0)
@@ -444,7 +444,7 @@ def test_flywheel_for_a_square_law_load_at_the_speed_it_settles_to():
         [cylinder(pressure=smooth_pressure), cylinder(phase=math.pi, inclination=0.3, pressure=smooth_pressure)],
         shaft_inertia=0.5,
     )
-    load = mc.PowerLawLoad(torque=300.0, speed=150.0)
+    load = mc.PowerLawLoad(torque=300.0, rpm=150.0 * 30 / math.pi)
     found = mc.flywheel_inertia(machine, delta=0.01, load=load)
     check = mc.steady_state(machine.replace(shaft_inertia=found.shaft_inertia), load=load)
     assert check.delta == pytest.approx(0.01, rel=1e-6) and found.rpm == pytest.approx(check.rpm, rel=1e-9)
@@ -557,11 +557,11 @@ def test_the_result_is_a_frozen_closed_cycle_with_consistent_torques():
         ({"rpm": 0.0}, "rpm = 0.0 is out of range"),
         ({"rpm": math.nan}, "rpm"),
         ({"rpm": -5}, "rpm"),
-        ({"rpm": 100, "load": mc.PowerLawLoad(10.0, 10.0)}, "rpm = 100 is not allowed"),
+        ({"rpm": 100, "load": mc.PowerLawLoad(10.0, rpm=10.0 * 30 / math.pi)}, "rpm = 100 is not allowed"),
         ({"load": 5.0}, "load = 5.0 is a constant torque"),
         ({"load": None, "drive": 3.0}, "load = None is a constant torque"),
-        ({"load": mc.PowerLawLoad(0.0, 10.0)}, "load"),
-        ({"load": mc.PowerLawLoad(10.0, 10.0), "drive": -1e4}, "drive"),
+        ({"load": mc.PowerLawLoad(0.0, rpm=10.0 * 30 / math.pi)}, "load"),
+        ({"load": mc.PowerLawLoad(10.0, rpm=10.0 * 30 / math.pi), "drive": -1e4}, "drive"),
         ({"rpm": 100, "load": "fast"}, "load = 'fast'"),
         ({"rpm": 100, "drive": "balance"}, "drive = 'balance'"),
         ({"rpm": 100, "min_speed_ratio": 0.0}, "min_speed_ratio"),

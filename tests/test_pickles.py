@@ -10,6 +10,7 @@ object built now.
 from __future__ import annotations
 
 import copy
+import math
 import pickle
 import subprocess
 import sys
@@ -40,7 +41,7 @@ def built_now() -> dict[str, object]:
         "diagram": compressor.cylinders[0].pressure,
         "layout": LAYOUTS["v8-cross"],
         "engine": mc.layout_engine("v8-cross", crank_ratio=0.3, u1=1e-3, u2=2e-4),
-        "load": mc.PowerLawLoad(100.0, 50.0, exponent=2),
+        "load": mc.PowerLawLoad(100.0, rpm=50.0 * 30 / math.pi, exponent=2),  # 0.1 held ω_n = 50 rad/s
         "design_grid": mc.DesignGrid(
             crank_ratio=[0.2, 0.3], inclination=[0.0, 1.0], u1=[1e-3], u2=0.0, cranks=[1, 2], strokes=[2]
         ),

@@ -135,8 +135,8 @@ def test_square_law_load_converges_to_the_closed_form_periodic_state():
     E = e^{−A}[E₀ + ∫₀^φ e^{A}(M − U')], A = ∫₀^φ 2c/J, E₀ = ∫₀^Φ e^{A}(M − U') / (e^{A(Φ)} − 1)."""
     machine = gassed_machine(g=20 * 9.80665)  # strong gravity, so that it matters
     drive = 30.0
-    load = mc.PowerLawLoad(torque=49.0, speed=40.0)
-    c = load.torque / load.speed**2
+    load = mc.PowerLawLoad(torque=49.0, rpm=40.0 * 30 / math.pi)
+    c = load.torque / load.omega**2
     grid = np.linspace(0.0, TWO_PI, 4001)
     inertia, _ = machine.reduced_inertia(grid)
     torque = machine.gas_torque(grid) + drive + machine.gravity_torque(grid)  # M − U'
@@ -208,7 +208,7 @@ def test_from_rest_a_drive_starts_it_and_a_load_does_not():
 
 def test_a_run_continued_from_its_last_sample_is_the_same_run():
     machine = gassed_machine()
-    load = mc.PowerLawLoad(torque=40.0, speed=40.0)
+    load = mc.PowerLawLoad(torque=40.0, rpm=40.0 * 30 / math.pi)
     whole = mc.simulate(machine, np.linspace(0.0, 1.0, 21), omega0=35.0, drive=25.0, load=load)
     first = mc.simulate(machine, np.linspace(0.0, 0.5, 11), omega0=35.0, drive=25.0, load=load)
     second = mc.simulate(
@@ -242,7 +242,7 @@ def test_balance_is_the_cycle_mean_and_the_speed_follows_the_energy_integral():
 
 def test_balance_freezes_a_speed_dependent_drive_at_the_start_or_at_balance_speed():
     machine = flywheel(1.0)
-    drive = mc.PowerLawLoad(torque=10.0, speed=10.0, exponent=1)  # 10 N·m at 10 rad/s
+    drive = mc.PowerLawLoad(torque=10.0, rpm=10.0 * 30 / math.pi, exponent=1)  # 10 N·m at 10 rad/s
     at_start = mc.simulate(machine, [0.0, 0.1], omega0=20.0, drive=drive, load="balance")
     np.testing.assert_allclose(at_start.load_torque, 20.0, rtol=1e-13)
     with pytest.warns(DeprecationWarning, match=r"balance_speed=.* use balance_rpm"):

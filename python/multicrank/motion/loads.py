@@ -7,7 +7,7 @@ A **load** resists rotation (positive opposes it), a **drive** accelerates the s
 
 - a number: a constant torque [N·m];
 - a :class:`PowerLawLoad`: M = M_n·sign(ω)·|ω/ω_n|^e (e = 2: fan, pump, propeller;
-  e = 1: viscous), its nominal speed given as ``speed=`` [rad/s] or ``rpm=`` [1/min];
+  e = 1: viscous), its nominal speed given as ``rpm=`` [1/min];
 - a vectorised callable ``f(phi, omega) -> N·m`` of the crank angle φ [rad] and the shaft
   speed ω [rad/s], returning an array that broadcasts to their common shape;
 - for a load only, ``"balance"``: the constant load that takes, over one working cycle, the
@@ -21,14 +21,23 @@ rule (:func:`balance_torque`) and of the net applied torque M_drive − M_load.
 from __future__ import annotations
 
 import math
-from dataclasses import KW_ONLY, InitVar, dataclass, replace
-from typing import Any
+from dataclasses import dataclass, field, replace
+from typing import Any, ClassVar
 
 import numpy as np
 
 from .._native import MechanismError
-from .._shaft import omega_from_rpm
-from .._validation import MAGNITUDE_LIMIT, SPEED_LIMITS, as_returned, as_scalar, as_speed, one_of
+from .._shaft import omega_from_rpm, rpm_from_omega
+from .._validation import (
+    MAGNITUDE_LIMIT,
+    SPEED_LIMITS,
+    as_returned,
+    as_scalar,
+    as_speed,
+    one_of,
+    renamed,
+    warn_renamed,
+)
 
 __all__ = ["BALANCE", "AppliedTorques", "PowerLawLoad", "Torque", "as_torque", "balance_torque"]
 
@@ -36,7 +45,7 @@ __all__ = ["BALANCE", "AppliedTorques", "PowerLawLoad", "Torque", "as_torque", "
 BALANCE = "balance"
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, init=False)
 class PowerLawLoad:
     r"""A torque that grows as a power of the speed, a load or a drive.
 
@@ -48,16 +57,26 @@ class PowerLawLoad:
     ----------
     torque : float
         M_n [N·m], the torque at the nominal speed; 0 ≤ M_n ≤ 1e30.
-    speed : float
-        ω_n [rad/s], the nominal speed, within the speeds the package takes (1e-6 … 1e8
-        rpm, about 1.05e-7 … 1.05e7 rad/s). Give it or ``rpm``.
+    speed : float, optional
+        Deprecated since 0.2 (goes in 0.3): the nominal speed ω_n [rad/s]; give ``rpm``.
     exponent : float, default 2
         e ≥ 0 [dimensionless]: 2 for fans, centrifugal pumps and propellers (the square
         law), 1 for viscous friction, 0 for a constant (Coulomb) torque that changes sign
         with ω.
-    rpm : float, optional
-        The nominal speed n_n [1/min] instead of ``speed`` (keyword only; stored as
-        ``speed`` = π n_n/30 [rad/s]).
+    rpm : float
+        n_n [1/min], the nominal speed (keyword only), within the speeds the package takes
+        (1e-6 … 1e8 rpm).
+
+    Attributes
+    ----------
+    torque : float
+        M_n [N·m].
+    rpm : float
+        n_n [1/min], the nominal speed.
+    omega : float
+        ω_n = π n_n/30 [rad/s], the nominal speed in rad/s.
+    exponent : float
+        e [dimensionless].
 
     See Also
     --------
@@ -70,42 +89,60 @@ class PowerLawLoad:
     >>> import math
     >>> import multicrank as mc
     >>> fan = mc.PowerLawLoad(torque=90.0, rpm=120)
-    >>> fan.speed == 120 * math.pi / 30  # rad/s
+    >>> fan.omega == 120 * math.pi / 30  # rad/s
     True
     >>> fan(0.0, [0.0, 2 * math.pi, 4 * math.pi])  # N·m at ω = 0, 2π and 4π rad/s: 0, 60 and 120 rpm
     array([ 0. , 22.5, 90. ])
     """
 
     torque: float
-    # None only until __post_init__ has taken it, or rpm, as ω_n [rad/s].
-    speed: float = None  # type: ignore[assignment]
+    rpm: float
     exponent: float = 2.0
-    _: KW_ONLY
-    rpm: InitVar[float | None] = None
+    # ω_n [rad/s]: exactly the ``speed`` given, where one was (the deprecated keyword).
+    omega: float = field(init=False, repr=False, compare=False, default=math.nan)
 
-    def __post_init__(self, rpm: float | None) -> None:
-        torque = as_scalar(self.torque, "torque")
-        name, value = one_of(("speed", self.speed), ("rpm", rpm))
-        speed = omega_from_rpm(as_speed(value, "rpm")) if name == "rpm" else as_scalar(value, "speed")
-        exponent = as_scalar(self.exponent, "exponent")
+    #: The name of 0.1 for :attr:`omega` [rad/s].
+    speed: ClassVar[renamed] = renamed("omega")
+
+    def __init__(self, torque: float, speed: float | None = None, exponent: float = 2.0, *, rpm: float | None = None):
+        torque = as_scalar(torque, "torque")
+        name, value = one_of(("rpm", rpm), ("speed", speed))
+        exponent = as_scalar(exponent, "exponent")
         if not (math.isfinite(torque) and 0 <= torque <= MAGNITUDE_LIMIT):
             raise MechanismError(
                 f"torque = {torque} is out of range; allowed: 0 <= torque <= {MAGNITUDE_LIMIT:g} [N·m]"
             )
-        low, high = (omega_from_rpm(limit) for limit in SPEED_LIMITS)
-        if not (name == "rpm" or (math.isfinite(speed) and low <= speed <= high)):
-            # the speeds the package takes (a speed of 1e200 rad/s overflowed in the coefficient)
-            raise MechanismError(f"speed = {speed} is out of range; allowed: {low:g} <= speed <= {high:g} [rad/s]")
+        if name == "rpm":
+            nominal = as_speed(value, "rpm")
+            omega = omega_from_rpm(nominal)
+        else:
+            omega = as_scalar(value, "speed")
+            low, high = (omega_from_rpm(limit) for limit in SPEED_LIMITS)
+            if not (math.isfinite(omega) and low <= omega <= high):
+                # the speeds the package takes (a speed of 1e200 rad/s overflowed in the coefficient)
+                raise MechanismError(f"speed = {omega} is out of range; allowed: {low:g} <= speed <= {high:g} [rad/s]")
+            nominal = rpm_from_omega(omega)
         if not (math.isfinite(exponent) and exponent >= 0):
             raise MechanismError(f"exponent = {exponent} is out of range; allowed: exponent >= 0")
         object.__setattr__(self, "torque", torque)
-        object.__setattr__(self, "speed", speed)
+        object.__setattr__(self, "rpm", nominal)
         object.__setattr__(self, "exponent", exponent)
+        object.__setattr__(self, "omega", omega)
+        if name == "speed":
+            warn_renamed("PowerLawLoad(speed=ω [rad/s])", "rpm=n [1/min]")
+
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        # A pickle of 0.1 holds the nominal speed as ``speed`` [rad/s].
+        if "speed" in state:
+            state = dict(state)
+            state["omega"] = state.pop("speed")
+            state["rpm"] = rpm_from_omega(state["omega"])
+        self.__dict__.update(state)
 
     @property
     def coefficient(self) -> float:
         """c = M_n/ω_n^e [N·m·(s/rad)^e]: M = c·sign(ω)|ω|^e."""
-        return self.torque / self.speed**self.exponent
+        return self.torque / self.omega**self.exponent
 
     def __call__(self, phi: Any, omega: Any) -> np.ndarray:
         """The torque at a speed.
@@ -123,7 +160,7 @@ class PowerLawLoad:
             M(ω) [N·m], the broadcast shape of ``phi`` and ``omega``.
         """
         speed = np.asarray(omega, dtype=float)
-        ratio = np.abs(speed) / self.speed
+        ratio = np.abs(speed) / self.omega
         # 0**0 is 1 in numpy, but a torque that does not depend on the speed still changes
         # sign with it and is zero at rest: sign(0) = 0 takes care of that.
         values = self.torque * np.sign(speed) * ratio**self.exponent
