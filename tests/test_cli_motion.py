@@ -36,8 +36,7 @@ def test_simulate_csv_is_the_api_run():
     out = run("simulate", "--duration", "0.5", "--samples", "51", "--format", "csv", "--no-progress")
     frame = pd.read_csv(io.StringIO(out), index_col="time")
     machine = DEFAULT_MACHINE
-    omega0 = machine.rpm * math.pi / 30
-    expected = mc.simulate(machine, np.linspace(0, 0.5, 51), omega0=omega0, load="balance")
+    expected = mc.simulate(machine, np.linspace(0, 0.5, 51), rpm0=machine.rpm, load="balance")
     np.testing.assert_allclose(frame["omega"], expected.omega, rtol=1e-10)
     np.testing.assert_allclose(frame["rpm"], expected.omega * 30 / math.pi, rtol=1e-10)
     np.testing.assert_allclose(frame["gas_torque"], expected.gas_torque, rtol=1e-9, atol=1e-6)

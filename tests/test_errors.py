@@ -400,7 +400,7 @@ REGISTRY.update(
             {
                 "machine": (MACHINE, "machine"),
                 "t_eval": (np.linspace(0.0, 0.01, 3), "times"),
-                "omega0": (60.0, "real"),
+                "rpm0": (600.0, "real"),
                 "phi0": (0.0, "real"),
                 "load": (None, "load"),
                 "drive": (None, "load"),
@@ -411,7 +411,7 @@ REGISTRY.update(
                 "max_step": (math.inf, "positive_or_inf"),
                 "balance_speed": (None, "positive_or_none"),
                 "progress": (False, "flag"),
-                "rpm0": (None, "positive_or_none"),  # one of omega0 and rpm0
+                "omega0": (None, "positive_or_none"),  # deprecated: rpm0 in rad/s
                 "balance_rpm": (None, "positive_or_none"),
             },
         ),
@@ -663,11 +663,11 @@ def test_flags_take_booleans_only():
 @pytest.mark.parametrize(
     "call, parameter",
     [
-        (lambda: mc.simulate(MACHINE, [0.0, 1.0], omega0=60.0, max_step=5e-324), "max_step"),
-        (lambda: mc.simulate(MACHINE, [0.0, 1.0], omega0=60.0, max_step=1e-9), "max_step"),
-        (lambda: mc.simulate(MACHINE, [0.0, 1e3], omega0=1e6), "omega0"),
+        (lambda: mc.simulate(MACHINE, [0.0, 1.0], rpm0=600.0, max_step=5e-324), "max_step"),
+        (lambda: mc.simulate(MACHINE, [0.0, 1.0], rpm0=600.0, max_step=1e-9), "max_step"),
+        (lambda: mc.simulate(MACHINE, [0.0, 1e3], rpm0=1e6), "rpm0"),
         (lambda: mc.simulate(MACHINE, [0.0, 1e3], rpm0=1e7), "rpm0"),
-        (lambda: mc.simulate(MACHINE, [0.0, 1.0], omega0=60.0, atol=3.7096188882506045e-181), "atol"),
+        (lambda: mc.simulate(MACHINE, [0.0, 1.0], rpm0=600.0, atol=3.7096188882506045e-181), "atol"),
         (lambda: mc.flywheel_inertia(MACHINE, delta=4e-26, rpm=600.0), "delta"),
         (lambda: mc.steady_state(MACHINE, rpm=1e-197), "rpm"),
         (lambda: mc.steady_state(MACHINE, rpm=600.0, min_speed_ratio=4e-230), "min_speed_ratio"),

@@ -75,7 +75,7 @@ def energy(machine, result):
 
 def test_conservative_run_keeps_kinetic_plus_potential_energy():
     machine = SWING.machine()
-    result = mc.simulate(machine, np.linspace(0.0, 2.0, 401), omega0=20.0)
+    result = mc.simulate(machine, np.linspace(0.0, 2.0, 401), rpm0=20.0 * 30 / math.pi)
     assert not result.stalled
     assert result.phi[-1] > 5 * TWO_PI  # several revolutions
     inertia = result.reduced_inertia
@@ -93,7 +93,7 @@ def test_conservative_run_keeps_kinetic_plus_potential_energy():
 def test_conservative_run_against_the_mass_points_in_mpmath():
     """T = ½(I_w + Σ m_t|Ṗ|² + m_k|Ṙ|² + I_k β̇²)ω² and U = g Σ m y of the oracle's mass points."""
     machine = SWING.machine()
-    result = mc.simulate(machine, np.linspace(0.0, 0.6, 13), omega0=20.0)
+    result = mc.simulate(machine, np.linspace(0.0, 0.6, 13), rpm0=20.0 * 30 / math.pi)
     values = []
     with mp.workdps(DPS):
         g = _x(SWING.g)
@@ -121,7 +121,7 @@ def test_a_machine_that_cannot_climb_its_top_dead_point_stops_where_its_energy_i
     omega0 = math.sqrt(climb / machine.reduced_inertia(bottom)[0])  # half the energy it needs
     start = 0.5 * machine.reduced_inertia(bottom)[0] * omega0**2 + machine.potential_energy(bottom)
     stop = brentq(lambda phi: machine.potential_energy(phi) - start, bottom, top, xtol=1e-15)
-    result = mc.simulate(machine, np.linspace(0.0, 5.0, 51), omega0=omega0, phi0=bottom)
+    result = mc.simulate(machine, np.linspace(0.0, 5.0, 51), rpm0=omega0 * 30 / math.pi, phi0=bottom)
     assert result.stalled
     assert result.phi[-1] == pytest.approx(stop, rel=1e-7)
     assert result.omega[-1] == 0.0 and result.time[-1] == result.stall_time
@@ -148,7 +148,7 @@ def test_square_law_load_converges_to_the_closed_form_periodic_state():
     delta = (omega.max() - omega.min()) / omega_mean
     periodic = CubicSpline(grid, omega, bc_type="periodic")
 
-    result = mc.simulate(machine, np.linspace(0.0, 4.0, 4001), omega0=30.0, drive=drive, load=load)
+    result = mc.simulate(machine, np.linspace(0.0, 4.0, 4001), rpm0=30.0 * 30 / math.pi, drive=drive, load=load)
     assert not result.stalled
     last = result.phi >= result.phi[-1] - TWO_PI
     assert result.phi[-1] > 20 * TWO_PI
@@ -174,7 +174,7 @@ def test_square_law_load_converges_to_the_closed_form_periodic_state():
 def test_flywheel_with_a_constant_drive_is_a_parabola_from_the_first_time():
     inertia, torque, phi0, omega0, t0 = 2.5, 40.0, -1.25, 3.0, 0.5
     times = np.linspace(t0, 3.0, 26)
-    result = mc.simulate(flywheel(inertia), times, omega0=omega0, phi0=phi0, drive=torque)
+    result = mc.simulate(flywheel(inertia), times, rpm0=omega0 * 30 / math.pi, phi0=phi0, drive=torque)
     dt = times - t0
     np.testing.assert_array_equal(result.time, times)
     np.testing.assert_allclose(result.phi, phi0 + omega0 * dt + 0.5 * torque / inertia * dt**2, rtol=1e-13)
@@ -187,7 +187,7 @@ def test_flywheel_with_a_constant_drive_is_a_parabola_from_the_first_time():
 def test_flywheel_against_a_constant_load_stalls_at_i_omega_over_m():
     inertia, torque, omega0 = 2.0, 12.0, 30.0
     times = np.linspace(0.0, 8.0, 71)  # none of them at the stall
-    result = mc.simulate(flywheel(inertia), times, omega0=omega0, load=torque, phi0=1.0)
+    result = mc.simulate(flywheel(inertia), times, rpm0=omega0 * 30 / math.pi, load=torque, phi0=1.0)
     stall = inertia * omega0 / torque  # 5 s
     assert result.stalled
     assert result.stall_time == pytest.approx(stall, rel=1e-12)
@@ -200,19 +200,24 @@ def test_flywheel_against_a_constant_load_stalls_at_i_omega_over_m():
 
 def test_from_rest_a_drive_starts_it_and_a_load_does_not():
     machine = flywheel(1.0)
-    moving = mc.simulate(machine, [0.0, 1.0], omega0=0.0, drive=2.0)
+    moving = mc.simulate(machine, [0.0, 1.0], rpm0=0.0, drive=2.0)
     assert not moving.stalled and moving.omega[-1] == pytest.approx(2.0, rel=1e-13)
-    stuck = mc.simulate(machine, [0.0, 1.0], omega0=0.0, load=2.0)
+    stuck = mc.simulate(machine, [0.0, 1.0], rpm0=0.0, load=2.0)
     assert stuck.stalled and stuck.stall_time == 0.0
 
 
 def test_a_run_continued_from_its_last_sample_is_the_same_run():
     machine = gassed_machine()
     load = mc.PowerLawLoad(torque=40.0, rpm=40.0 * 30 / math.pi)
-    whole = mc.simulate(machine, np.linspace(0.0, 1.0, 21), omega0=35.0, drive=25.0, load=load)
-    first = mc.simulate(machine, np.linspace(0.0, 0.5, 11), omega0=35.0, drive=25.0, load=load)
+    whole = mc.simulate(machine, np.linspace(0.0, 1.0, 21), rpm0=35.0 * 30 / math.pi, drive=25.0, load=load)
+    first = mc.simulate(machine, np.linspace(0.0, 0.5, 11), rpm0=35.0 * 30 / math.pi, drive=25.0, load=load)
     second = mc.simulate(
-        machine, np.linspace(0.5, 1.0, 11), omega0=first.omega[-1], phi0=first.phi[-1], drive=25.0, load=load
+        machine,
+        np.linspace(0.5, 1.0, 11),
+        rpm0=first.omega[-1] * 30 / math.pi,
+        phi0=first.phi[-1],
+        drive=25.0,
+        load=load,
     )
     np.testing.assert_allclose(second.phi[-1], whole.phi[-1], rtol=1e-9)
     np.testing.assert_allclose(second.omega[-1], whole.omega[-1], rtol=1e-8)
@@ -227,7 +232,7 @@ def test_balance_is_the_cycle_mean_and_the_speed_follows_the_energy_integral():
     breaks = sorted({*np.arange(5) * math.pi})
     mean_gas = sum(quad(machine.gas_torque, a, b, epsabs=0, epsrel=1e-13)[0] for a, b in itertools.pairwise(breaks))
     load = mean_gas / (4 * math.pi) + drive
-    result = mc.simulate(machine, np.linspace(0.0, 1.5, 301), omega0=40.0, drive=drive, load="balance")
+    result = mc.simulate(machine, np.linspace(0.0, 1.5, 301), rpm0=40.0 * 30 / math.pi, drive=drive, load="balance")
     np.testing.assert_allclose(result.load_torque, load, rtol=1e-12)
     # ½Jω² = ½J₀ω₀² + ∫_{φ₀}^{φ} (M_gas + M_drive − M_load) dφ − [U(φ) − U(φ₀)]
     grid = np.linspace(0.0, result.phi[-1], 20001)
@@ -243,21 +248,28 @@ def test_balance_is_the_cycle_mean_and_the_speed_follows_the_energy_integral():
 def test_balance_freezes_a_speed_dependent_drive_at_the_start_or_at_balance_speed():
     machine = flywheel(1.0)
     drive = mc.PowerLawLoad(torque=10.0, rpm=10.0 * 30 / math.pi, exponent=1)  # 10 N·m at 10 rad/s
-    at_start = mc.simulate(machine, [0.0, 0.1], omega0=20.0, drive=drive, load="balance")
+    at_start = mc.simulate(machine, [0.0, 0.1], rpm0=20.0 * 30 / math.pi, drive=drive, load="balance")
     np.testing.assert_allclose(at_start.load_torque, 20.0, rtol=1e-13)
     with pytest.warns(DeprecationWarning, match=r"balance_speed=.* use balance_rpm"):
-        frozen = mc.simulate(machine, [0.0, 0.1], omega0=20.0, drive=drive, load="balance", balance_speed=5.0)
+        frozen = mc.simulate(
+            machine, [0.0, 0.1], rpm0=20.0 * 30 / math.pi, drive=drive, load="balance", balance_speed=5.0
+        )
     np.testing.assert_allclose(frozen.load_torque, 5.0, rtol=1e-13)
     # balance_rpm: the same speed in 1/min (balance_speed, deprecated, is its rad/s alias)
-    in_rpm = mc.simulate(machine, [0.0, 0.1], omega0=20.0, drive=drive, load="balance", balance_rpm=150 / math.pi)
+    in_rpm = mc.simulate(
+        machine, [0.0, 0.1], rpm0=20.0 * 30 / math.pi, drive=drive, load="balance", balance_rpm=150 / math.pi
+    )
     np.testing.assert_allclose(in_rpm.load_torque, 5.0, rtol=1e-13)
 
 
-def test_the_start_speed_in_rpm_is_omega0_in_rad_per_s():
+def test_the_start_speed_in_rad_per_s_is_deprecated_and_the_same_run():
+    """0.1's ``omega0=`` [rad/s] still works for one release, as ``rpm0`` = 30 ω₀/π."""
     machine = SWING.machine()
-    in_rad = mc.simulate(machine, np.linspace(0.0, 0.2, 5), omega0=12.0)
     in_rpm = mc.simulate(machine, np.linspace(0.0, 0.2, 5), rpm0=12.0 * 30 / math.pi)
+    with pytest.warns(DeprecationWarning, match=r"simulate\(omega0=.* use rpm0="):
+        in_rad = mc.simulate(machine, np.linspace(0.0, 0.2, 5), omega0=12.0)
     np.testing.assert_allclose(in_rpm.omega, in_rad.omega, rtol=1e-12)
+    assert in_rpm.omega[0] == pytest.approx(12.0, rel=1e-15)
     assert in_rpm.solved == "time integration (DOP853)" and in_rpm.method == "DOP853"
     assert isinstance(in_rpm, mc.motion.MotionResult)
 
@@ -266,15 +278,15 @@ def test_tolerances_too_fine_to_compute_with_are_refused_up_front():
     """Hypothesis found atol = 3.7e-181 overflowing solve_ivp's error norm (a RuntimeWarning)."""
     machine = SWING.machine()
     with pytest.raises(mc.MechanismError, match=r"atol = 3.7\d*e-181 is out of range; allowed: atol >= 1e-100"):
-        mc.simulate(machine, [0.0, 0.01], omega0=60.0, atol=3.7096188882506045e-181)
+        mc.simulate(machine, [0.0, 0.01], rpm0=60.0 * 30 / math.pi, atol=3.7096188882506045e-181)
     with pytest.raises(mc.MechanismError, match=r"rtol = 1\.0 is out of range"):
-        mc.simulate(machine, [0.0, 0.01], omega0=60.0, rtol=1.0)
-    assert mc.simulate(machine, [0.0, 0.01], omega0=60.0, atol=1e-100).omega[-1] > 0
+        mc.simulate(machine, [0.0, 0.01], rpm0=60.0 * 30 / math.pi, rtol=1.0)
+    assert mc.simulate(machine, [0.0, 0.01], rpm0=60.0 * 30 / math.pi, atol=1e-100).omega[-1] > 0
 
 
 def test_gravity_false_leaves_gravity_out():
     machine = SWING.machine()
-    result = mc.simulate(machine, np.linspace(0.0, 0.5, 11), omega0=20.0, gravity=False)
+    result = mc.simulate(machine, np.linspace(0.0, 0.5, 11), rpm0=20.0 * 30 / math.pi, gravity=False)
     assert np.all(result.gravity_torque == 0.0) and np.all(result.potential_energy == 0.0)
     inertia, _ = machine.reduced_inertia(result.phi)
     kinetic = 0.5 * inertia * result.omega**2
@@ -284,12 +296,12 @@ def test_gravity_false_leaves_gravity_out():
 
 def test_equation_of_motion_holds_at_the_samples():
     machine = gassed_machine()
-    result = mc.simulate(machine, np.linspace(0.0, 0.3, 31), omega0=30.0, drive=10.0, load=5.0)
+    result = mc.simulate(machine, np.linspace(0.0, 0.3, 31), rpm0=30.0 * 30 / math.pi, drive=10.0, load=5.0)
     parts = result.gas_torque + result.gravity_torque + result.inertia_torque + result.drive_torque
     np.testing.assert_allclose(result.reduced_inertia * result.acceleration, parts - result.load_torque, atol=1e-9)
     # φ̈ also is the slope of ω (a fourth-order central difference, h = 1e-4 s)
     h = 1e-4
-    fine = mc.simulate(machine, [0.0, *(0.1 + h * np.arange(-2, 3))], omega0=30.0, drive=10.0, load=5.0)
+    fine = mc.simulate(machine, [0.0, *(0.1 + h * np.arange(-2, 3))], rpm0=30.0 * 30 / math.pi, drive=10.0, load=5.0)
     w = fine.omega[1:]
     slope = (w[0] - 8 * w[1] + 8 * w[3] - w[4]) / (12 * h)
     assert fine.acceleration[3] == pytest.approx(slope, rel=1e-6)
@@ -298,8 +310,8 @@ def test_equation_of_motion_holds_at_the_samples():
 def test_progress_bar_changes_nothing(capsys):
     machine = gassed_machine()
     times = np.linspace(0.0, 0.2, 5)
-    quiet = mc.simulate(machine, times, omega0=30.0, drive=10.0)
-    loud = mc.simulate(machine, times, omega0=30.0, drive=10.0, progress=True)
+    quiet = mc.simulate(machine, times, rpm0=30.0 * 30 / math.pi, drive=10.0)
+    loud = mc.simulate(machine, times, rpm0=30.0 * 30 / math.pi, drive=10.0, progress=True)
     np.testing.assert_array_equal(quiet.phi, loud.phi)
     np.testing.assert_array_equal(quiet.omega, loud.omega)
     assert "simulate" in capsys.readouterr().err
@@ -309,7 +321,7 @@ def test_progress_bar_changes_nothing(capsys):
 
 
 def test_result_is_frozen_and_converts_with_units():
-    result = mc.simulate(SWING.machine(), np.linspace(0.0, 0.2, 11), omega0=20.0, load=1.0)
+    result = mc.simulate(SWING.machine(), np.linspace(0.0, 0.2, 11), rpm0=20.0 * 30 / math.pi, load=1.0)
     with pytest.raises(AttributeError):
         result.stalled = True  # type: ignore[misc]
     with pytest.raises(ValueError, match="read-only"):
@@ -338,12 +350,12 @@ def test_to_xarray_names_the_extra_when_xarray_is_missing(monkeypatch):
         raise ImportError(name)
 
     monkeypatch.setattr(optional.importlib, "import_module", missing)
-    result = mc.simulate(flywheel(1.0), [0.0, 1.0], omega0=1.0)
+    result = mc.simulate(flywheel(1.0), [0.0, 1.0], rpm0=1.0 * 30 / math.pi)
     with pytest.raises(ImportError, match=r"multicrank\[xarray\]"):
         result.to_xarray()
 
 
-GOOD = {"omega0": 10.0}
+GOOD = {"rpm0": 100.0}
 BAD = [
     ({"t_eval": [[0.0, 1.0]]}, "t_eval must be a 1-D"),
     ({"t_eval": [0.0]}, "t_eval must hold at least 2"),
@@ -352,9 +364,9 @@ BAD = [
     ({"t_eval": [0.0, 0.0]}, "t_eval must increase strictly"),
     ({"t_eval": [-1.0, 1.0]}, r"t_eval\[0\] = -1.0 is out of range"),
     ({"t_eval": ["a", "b"]}, "t_eval"),
-    ({"omega0": -1.0}, "omega0 = -1.0 is out of range; allowed: omega0 >= 0"),
-    ({"omega0": math.inf}, "omega0"),
-    ({"omega0": [1.0, 2.0]}, "omega0 must be a single real number"),
+    ({"rpm0": -1.0}, r"rpm0 = -1.0 is out of range; allowed: rpm0 >= 0 \[1/min\]"),
+    ({"rpm0": math.inf}, "rpm0"),
+    ({"rpm0": [1.0, 2.0]}, "rpm0 must be a single real number"),
     ({"phi0": math.nan}, "phi0"),
     ({"rtol": 0.0}, "rtol"),
     ({"rtol": 1e-20}, "rtol = 1e-20 is out of range"),
@@ -368,12 +380,13 @@ BAD = [
     ({"load": "balance", "balance_speed": math.nan}, "balance_speed"),
     ({"balance_rpm": 3.0}, "balance_rpm applies to load='balance' only"),
     ({"load": "balance", "balance_rpm": 3.0, "balance_speed": 3.0}, "give exactly one of balance_rpm and"),
-    ({"rpm0": 10.0}, "give exactly one of omega0 and rpm0, got both"),
-    ({"omega0": None}, "give exactly one of omega0 and rpm0, got neither"),
-    ({"omega0": None, "rpm0": -1.0}, r"rpm0 = -1.0 is out of range; allowed: rpm0 >= 0 \[1/min\]"),
+    ({"omega0": 10.0}, "give exactly one of rpm0 and omega0, got both"),
+    ({"rpm0": None}, "give exactly one of rpm0 and omega0, got neither"),
+    # the deprecated omega0 [rad/s] is checked as before, in its own unit
+    ({"rpm0": None, "omega0": -1.0}, r"omega0 = -1.0 is out of range; allowed: omega0 >= 0 \[rad/s\]"),
     # hypothesis found 4.13e-159 rad/s: neither rest nor a speed the integrator can step at
-    ({"omega0": 4.13e-159}, r"omega0 = 4.13e-159 is out of range; allowed: omega0 = 0 \(from rest\) or "),
-    ({"omega0": None, "rpm0": 1e9}, r"rpm0 = 1000000000.0 is out of range; allowed: rpm0 = 0 \(from rest\) or 1e-06"),
+    ({"rpm0": None, "omega0": 4.13e-159}, r"omega0 = 4.13e-159 is out of range; allowed: omega0 = 0 \(from rest\) "),
+    ({"rpm0": 1e9}, r"rpm0 = 1000000000.0 is out of range; allowed: rpm0 = 0 \(from rest\) or 1e-06"),
     ({"gravity": "yes"}, "gravity must be True or False"),
     ({"progress": 1}, "progress must be True or False"),
     ({"machine": "engine"}, "machine must be a multicrank.Machine"),
@@ -393,4 +406,4 @@ def test_a_failing_load_callable_is_named():
         raise RuntimeError("no data")
 
     with pytest.raises(mc.MechanismError, match="load failed: RuntimeError: no data"):
-        mc.simulate(flywheel(1.0), [0.0, 1.0], omega0=1.0, load=broken)
+        mc.simulate(flywheel(1.0), [0.0, 1.0], rpm0=1.0 * 30 / math.pi, load=broken)

@@ -11,8 +11,8 @@ integrator). J, J', U, the gravity and the gas torques come from the Rust core t
 :class:`~multicrank.Machine`; here they are only put together.
 
 Speeds follow the house convention: a name carries its unit, ``omega…`` in rad/s
-(``omega0``, the result's ``omega``) and ``rpm…`` in 1/min (``rpm0``,
-``balance_rpm``, the result's ``rpm``).
+(the result's ``omega``) and ``rpm…`` in 1/min (``rpm0``, ``balance_rpm``, the result's
+``rpm_history``).
 
 SciPy is imported when a run starts, pandas and xarray when a result is converted.
 """
@@ -162,7 +162,7 @@ def simulate(
     machine: Machine,
     t_eval: Any,
     *,
-    omega0: float | None = None,
+    rpm0: float | None = None,
     phi0: float = 0.0,
     load: Any = None,
     drive: Any = None,
@@ -173,7 +173,7 @@ def simulate(
     max_step: float = math.inf,
     balance_speed: float | None = None,
     progress: bool = False,
-    rpm0: float | None = None,
+    omega0: float | None = None,
     balance_rpm: float | None = None,
 ) -> Transient:
     """Integrate the machine's motion in time: start-up, run-down, a load step.
@@ -188,15 +188,15 @@ def simulate(
         The machine.
     t_eval : array_like, 1-D
         The sample times [s]: finite, strictly increasing, at least two, the first ≥ 0.
-        **The run starts at t_eval[0]** (with φ = ``phi0``, ω = ``omega0``) and ends at
+        **The run starts at t_eval[0]** (with φ = ``phi0``, n = ``rpm0``) and ends at
         t_eval[-1] or at a stall. To continue a run (a load step, say), start the next one
-        at the last sample: ``simulate(machine, t_next, omega0=r.omega[-1],
+        at the last sample: ``simulate(machine, t_next, rpm0=r.rpm_history[-1],
         phi0=r.phi[-1], load=new_load)`` with ``t_next[0] = r.time[-1]``.
-    omega0 : float
-        ω at the start [rad/s], finite and ≥ 0 (or give ``rpm0``: exactly one of the two). Gas
-        pressure given as a function of the cycle angle assumes the machine turns forward
-        (docs/theory.md, "Transients"), so a negative start speed is refused; from ω₀ = 0 a
-        machine whose net torque at φ₀ is not positive stalls at once.
+    rpm0 : float
+        n₀, the speed at the start [1/min] (ω₀ = π n₀/30), finite and ≥ 0. Gas pressure given
+        as a function of the cycle angle assumes the machine turns forward (docs/theory.md,
+        "Transients"), so a negative start speed is refused; from n₀ = 0 a machine whose net
+        torque at φ₀ is not positive stalls at once.
     phi0 : float
         φ at the start [rad], any finite real.
     load, drive : optional
@@ -220,16 +220,16 @@ def simulate(
         The largest time step [s], > 0 (default: no limit). Set it below the duration of
         the shortest feature of the torques (a combustion spike, a valve event) when the run
         starts with a step that could jump over it. At least 1e-8 of the run's duration (at
-        most 10⁸ steps); a run is also refused beyond 10⁷ revolutions at ``omega0``, so that
+        most 10⁸ steps); a run is also refused beyond 10⁷ revolutions at ``rpm0``, so that
         no call runs for hours.
     balance_speed : float, optional
-        The same as ``balance_rpm``, in rad/s (the name of 0.2 and before).
+        Deprecated since 0.2 (goes in 0.3): ``balance_rpm`` in rad/s.
     progress : bool
         Show a tqdm progress bar of the simulated time, counted in the output times ``t``
         passed (it follows the integrator's farthest evaluation; the result does not depend
         on it).
-    rpm0 : float, optional
-        The start speed in 1/min instead of ``omega0`` (ω₀ = π n₀/30), finite and ≥ 0.
+    omega0 : float, optional
+        Deprecated since 0.2 (goes in 0.3): ``rpm0`` in rad/s.
     balance_rpm : float, optional
         The speed [1/min] at which a speed-dependent drive is frozen for ``load="balance"``;
         default the start speed. Refused with any other load.
@@ -283,7 +283,7 @@ def simulate(
     """
     machine = as_instance(machine, Machine, "machine")
     times = _as_times(t_eval)
-    start_name, omega_start = _start_speed(omega0, rpm0)
+    start_name, omega_start = _start_speed(rpm0, omega0)
     phi_start = _finite(phi0, "phi0")
     tolerances = _tolerances(rtol, atol)
     step_limit = as_scalar(max_step, "max_step")
@@ -505,10 +505,10 @@ def _finite(value: Any, name: str) -> float:
     return x
 
 
-def _start_speed(omega0: Any, rpm0: Any) -> tuple[str, float]:
-    """(the name given, ω₀ [rad/s]) from ``omega0`` [rad/s] or ``rpm0`` [1/min] (exactly one),
-    finite and ≥ 0."""
-    name, value = one_of(("omega0", omega0), ("rpm0", rpm0))
+def _start_speed(rpm0: Any, omega0: Any) -> tuple[str, float]:
+    """(the name given, ω₀ [rad/s]) from ``rpm0`` [1/min] or its deprecated alias ``omega0``
+    [rad/s] (exactly one), finite and ≥ 0."""
+    name, value = one_of(("rpm0", rpm0), ("omega0", omega0))
     speed = _finite(value, name)
     unit = "rad/s" if name == "omega0" else "1/min"
     if speed < 0:
@@ -525,6 +525,8 @@ def _start_speed(omega0: Any, rpm0: Any) -> tuple[str, float]:
             f"{name} = {speed} is out of range; allowed: {name} = 0 (from rest) or {low:g} <= {name} <= {high:g} "
             f"[{unit}]"
         )
+    if name == "omega0":
+        warn_renamed("simulate(omega0=ω [rad/s])", "rpm0=n [1/min]", stacklevel=4)
     return name, speed if name == "omega0" else float(omega_from_rpm(speed))
 
 
