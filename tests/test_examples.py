@@ -101,7 +101,7 @@ def test_startup_reaches_the_steady_state():
     space = run("plot_04_startup.py")
     result, steady = space["run"], space["steady"]
     assert not result.stalled
-    assert result.rpm[-1] > 2 * result.rpm[0]  # from 300 rpm, on its way to 1500
+    assert result.rpm_history[-1] > 2 * result.rpm_history[0]  # from 300 rpm, on its way to 1500
     assert result.energy_drift < 1e-5
     assert math.isclose(space["last_mean"] * 30 / math.pi, steady.rpm, rel_tol=0.01)
     assert math.isclose(space["last_delta"], steady.delta, rel_tol=0.05)

@@ -214,7 +214,7 @@ def test_a_run_continued_from_its_last_sample_is_the_same_run():
     second = mc.simulate(
         machine,
         np.linspace(0.5, 1.0, 11),
-        rpm0=first.omega[-1] * 30 / math.pi,
+        rpm0=first.rpm_history[-1],
         phi0=first.phi[-1],
         drive=25.0,
         load=load,
@@ -326,7 +326,10 @@ def test_result_is_frozen_and_converts_with_units():
         result.stalled = True  # type: ignore[misc]
     with pytest.raises(ValueError, match="read-only"):
         result.omega[0] = 0.0
-    np.testing.assert_allclose(result.rpm, result.omega * 30 / math.pi)
+    np.testing.assert_allclose(result.rpm_history, result.omega * 30 / math.pi, rtol=1e-15)
+    # 0.1's name of the array, a number (the mean speed) on the steady state: deprecated
+    with pytest.warns(DeprecationWarning, match=r"Transient.rpm is deprecated.* Transient.rpm_history"):
+        np.testing.assert_array_equal(result.rpm, result.rpm_history)
     frame = result.to_pandas()
     assert frame.shape == (11, 12) and frame.index.name == "time"
     np.testing.assert_array_equal(frame.index.to_numpy(), result.time)

@@ -81,7 +81,7 @@ run = mc.simulate(
     rtol=tolerance,
     atol=tolerance,
 )
-print(f"{len(run)} samples, {run.rpm[0]:.0f} → {run.rpm[-1]:.0f} rpm")
+print(f"{len(run)} samples, {run.rpm_history[0]:.0f} → {run.rpm_history[-1]:.0f} rpm")
 print(f"energy check: drift {run.energy_drift:.1e} of the largest kinetic energy")
 
 # %%
@@ -108,7 +108,7 @@ print(f"the run's last cycle: {last_rpm:.1f} rpm mean, δ = {last_delta:.3f}")
 figure = plt.figure(figsize=(8, 7), layout="constrained")
 grid = figure.add_gridspec(2, 2, height_ratios=[1.2, 1])
 speed = figure.add_subplot(grid[0, :])
-speed.plot(run.time, run.rpm, linewidth=0.8, label="simulated")
+speed.plot(run.time, run.rpm_history, linewidth=0.8, label="simulated")
 speed.axhline(
     steady.rpm,
     color="black",

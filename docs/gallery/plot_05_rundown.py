@@ -69,7 +69,7 @@ def friction(phi, omega):
 rtol = 1e-7 if FAST else 1e-9
 times = np.linspace(0.0, 30.0, 60001)
 run = mc.simulate(compressor, times, rpm0=600, load=friction, rtol=rtol, atol=rtol)
-print(f"{len(run)} samples, {run.rpm[0]:.0f} → {run.rpm[-1]:.0f} rpm")
+print(f"{len(run)} samples, {run.rpm_history[0]:.0f} → {run.rpm_history[-1]:.0f} rpm")
 turns = (run.phi[-1] - run.phi[0]) / (2 * math.pi)
 stop = math.degrees(run.phi[-1] % compressor.cycle)
 print(
@@ -92,7 +92,7 @@ print(f"energy check: drift {run.energy_drift:.1e} of the largest kinetic energy
 figure, (speed, torque) = plt.subplots(
     2, 1, figsize=(8, 6.5), sharex=True, layout="constrained"
 )
-speed.plot(run.time, run.rpm, linewidth=0.9)
+speed.plot(run.time, run.rpm_history, linewidth=0.9)
 speed.set_ylabel("speed n [rpm]")
 speed.set_title(
     f"Run-down of a compressor from 600 rpm: stall after {run.stall_time:.2f} s"

@@ -27,7 +27,17 @@ import numpy as np
 
 from .._native import MechanismError
 from .._shaft import inertia_torque, omega_from_rpm, rpm_from_omega
-from .._validation import SPEED_LIMITS, as_flag, as_instance, as_real_array, as_scalar, has_gas, one_of, warn_renamed
+from .._validation import (
+    SPEED_LIMITS,
+    as_flag,
+    as_instance,
+    as_real_array,
+    as_scalar,
+    has_gas,
+    one_of,
+    renamed,
+    warn_renamed,
+)
 from ..machine.machine import Machine
 from ._result import MotionResult
 from .loads import AppliedTorques, Torque
@@ -72,7 +82,8 @@ class Transient(MotionResult):
     and, when the machine stalled, the stall itself as the last sample. The arrays are
     read-only; their names are those of :class:`SteadyState` and of the
     :class:`~multicrank.Machine` methods that give them. Speeds: ``omega`` in rad/s,
-    :attr:`rpm` in 1/min.
+    :attr:`rpm_history` in 1/min (``rpm``, a number elsewhere, is the steady state's mean
+    speed; ``Transient.rpm`` is the deprecated name of 0.1 of this array).
 
     Attributes
     ----------
@@ -143,9 +154,12 @@ class Transient(MotionResult):
         return f"time integration ({self.method})"
 
     @property
-    def rpm(self) -> np.ndarray:
-        """The speed in revolutions per minute, 30 ω/π [1/min]."""
+    def rpm_history(self) -> np.ndarray:
+        """n = 30 ω/π [1/min], the speed at each sample in revolutions per minute."""
         return rpm_from_omega(self.omega)
+
+    #: The name of 0.1 for :attr:`rpm_history` (an array, where ``rpm`` is a number elsewhere).
+    rpm: ClassVar[renamed] = renamed("rpm_history")
 
     def __len__(self) -> int:
         return int(self.time.size)
