@@ -69,6 +69,22 @@ def test_shapes_grids_and_the_inertia_torque():
     assert j.min() >= 45.0 + big_ends - 1e-12
 
 
+def test_reduced_inertia_names_its_pair_as_the_motion_results_do():
+    """J and J′ come as a pair that also says which is which (issue 27, item 7): the names of
+    the steady state's and the transient's arrays, ``reduced_inertia`` and ``reduced_inertia_slope``."""
+    machine = inline_machine(cranks=2, strokes=2)
+    phi, h = np.linspace(0.0, 2 * np.pi, 7), 1e-5
+    pair = machine.reduced_inertia(phi)
+    inertia, slope = pair  # still unpacks as two arrays
+    assert pair._fields == ("reduced_inertia", "reduced_inertia_slope")
+    assert pair.reduced_inertia is inertia and pair.reduced_inertia_slope is slope
+    # the slope is dJ/dφ: a central difference of J (error ~h²·J‴ ≈ 1e-10 kg·m²/rad)
+    numeric = (machine.reduced_inertia(phi + h)[0] - machine.reduced_inertia(phi - h)[0]) / (2 * h)
+    np.testing.assert_allclose(slope, numeric, rtol=0, atol=1e-7)
+    # J ≥ the shaft's inertia plus both rods' big ends m_k z_k/l r²
+    assert np.all(inertia >= 45.0 + 2 * 60.0 * (0.4 / 0.6) * 0.15**2 - 1e-12)
+
+
 def test_threshold_per_call_changes_no_bit():
     machine = inline_machine(cranks=6, bore=0.2, pressure=lambda t: 1e5 * (1 + np.cos(t)))
     phi = np.linspace(0, 4 * np.pi, 50_001)

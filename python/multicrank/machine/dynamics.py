@@ -7,7 +7,7 @@ inherits them and holds the data. The gas forces are in `gas`.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 
@@ -17,7 +17,23 @@ from .._shaft import inertia_torque as _inertia_torque
 from .._validation import as_real_array, as_threshold
 from ..gravity.grids import as_phi
 
-__all__ = ["MachineDynamics"]
+__all__ = ["MachineDynamics", "ReducedInertia"]
+
+
+class ReducedInertia(NamedTuple):
+    """What :meth:`~multicrank.Machine.reduced_inertia` returns: J(φ) and J′(φ) under the
+    names the motion results give them, and still a pair, ``J, slope = machine.reduced_inertia(phi)``.
+
+    Attributes
+    ----------
+    reduced_inertia : ndarray
+        J(φ) [kg·m²], the reduced moment of inertia.
+    reduced_inertia_slope : ndarray
+        J′(φ) = dJ/dφ [kg·m²/rad].
+    """
+
+    reduced_inertia: np.ndarray
+    reduced_inertia_slope: np.ndarray
 
 
 class MachineDynamics:
@@ -31,8 +47,8 @@ class MachineDynamics:
 
         def __len__(self) -> int: ...
 
-    def reduced_inertia(self, phi: Any, *, parallel_threshold: Any = None) -> tuple[np.ndarray, np.ndarray]:
-        """(J, dJ/dφ): the reduced moment of inertia [kg·m²] and its slope [kg·m²/rad].
+    def reduced_inertia(self, phi: Any, *, parallel_threshold: Any = None) -> ReducedInertia:
+        """(J, J′): the reduced moment of inertia [kg·m²] and its slope dJ/dφ [kg·m²/rad].
 
         J(φ) = I_w + Σ_j [m_k3 r² + (m_t + m_k1) s'(ψ_j)² + ΔI β'(ψ_j)²], with the rod split
         exactly into m_k1 = m_k (l − z_k)/l at the piston pin, m_k3 = m_k z_k/l at the crank
@@ -48,14 +64,17 @@ class MachineDynamics:
 
         Returns
         -------
-        J : ndarray
-            The reduced moment of inertia [kg·m²], the shape of ``phi``.
-        dJ_dphi : ndarray
-            Its slope dJ/dφ [kg·m²/rad], the shape of ``phi``.
+        reduced_inertia : ndarray
+            J(φ), the reduced moment of inertia [kg·m²], the shape of ``phi``.
+        reduced_inertia_slope : ndarray
+            Its slope J′(φ) = dJ/dφ [kg·m²/rad], the shape of ``phi``.
+
+            The two come as a named tuple (``ReducedInertia``): it unpacks as a pair, and
+            its fields have the names of the motion results' arrays.
         """
         shape, angles = as_phi(phi)
         result = _native_machine_inertia(self._units, self.shaft_inertia, angles, as_threshold(parallel_threshold))
-        return result["J"].reshape(shape), result["dJ_dphi"].reshape(shape)
+        return ReducedInertia(result["J"].reshape(shape), result["dJ_dphi"].reshape(shape))
 
     def _evaluate(self, quantity: str, phi: Any, parallel_threshold: Any, per_unit: bool = False) -> np.ndarray:
         """One of the core's per-angle quantities, shaped as ``phi`` (with a leading unit axis
