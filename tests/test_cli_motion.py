@@ -103,8 +103,8 @@ def test_motion_csv_is_the_api_steady_state_and_flywheel(tmp_path):
         assert row["delta_coasting"] == pytest.approx(state.delta_coasting, rel=1e-10)
         assert not row["near_stall"]
         sized = mc.flywheel_inertia(machine, delta=0.04, rpm=rpm)
-        assert row["flywheel"] == pytest.approx(sized.shaft_inertia, rel=1e-8)
-        assert row["flywheel_without_gravity"] == pytest.approx(sized.shaft_inertia_without_gravity, rel=1e-8)
+        assert row["flywheel_inertia"] == pytest.approx(sized.shaft_inertia, rel=1e-8)
+        assert row["flywheel_inertia_without_gravity"] == pytest.approx(sized.shaft_inertia_without_gravity, rel=1e-8)
     written = pd.read_csv(cycle)
     state = mc.steady_state(machine, rpm=100.0)
     np.testing.assert_allclose(written["omega"], state.omega, rtol=1e-10)
@@ -119,7 +119,7 @@ def test_motion_over_the_speed_range_with_the_class_flywheel():
     speeds = [row["rpm"] for row in data["rows"]]
     assert machine.rpm in speeds and min(speeds) == machine.rpm_range[0] and max(speeds) == machine.rpm_range[1]
     assert data["target_delta"] == pytest.approx(1 / 20)  # the compressor class's limit
-    assert all(row["flywheel"] > 0 for row in data["rows"])
+    assert all(row["flywheel_inertia"] > 0 for row in data["rows"])
 
 
 @pytest.mark.parametrize(

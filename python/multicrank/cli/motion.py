@@ -312,9 +312,9 @@ def motion_command(
         if target is not None:
             sizing = flywheel_inertia(machine, delta=target, rpm=rpm, load=load_rule, drive=drive_rule)
             row.update(
-                flywheel=sizing.shaft_inertia,
-                flywheel_without_gravity=sizing.shaft_inertia_without_gravity,
-                flywheel_textbook=sizing.textbook,
+                flywheel_inertia=sizing.shaft_inertia,
+                flywheel_inertia_without_gravity=sizing.shaft_inertia_without_gravity,
+                flywheel_inertia_textbook=sizing.textbook,
             )
         rows.append(row)
     frame = pd.DataFrame(rows).set_index("rpm")
@@ -329,8 +329,9 @@ def motion_command(
         with writing("--cycle", cycle_path):
             write_atomically(cycle_path, cycle.to_csv(float_format="%.12g"))
     units = dict(
-        rpm="1/min", load_torque="N·m", power_kw="kW", flywheel="kg·m²", flywheel_without_gravity="kg·m²",
-        flywheel_textbook="kg·m²", rpm_min="1/min", rpm_max="1/min",
+        rpm="1/min", load_torque="N·m", power_kw="kW", flywheel_inertia="kg·m²",
+        flywheel_inertia_without_gravity="kg·m²", flywheel_inertia_textbook="kg·m²", rpm_min="1/min",
+        rpm_max="1/min",
     )  # fmt: skip
     summary = [
         f"{machine.name}: {counted(len(machine), 'cylinder')}, {machine.strokes}-stroke, shaft inertia "
@@ -346,7 +347,7 @@ def motion_command(
         if fmt == "csv":
             click.echo(note, err=True)
     if target is not None:
-        summary.append(f"flywheel: the shaft inertia [kg·m²] for δ = {target:.4g} (1/{1 / target:.4g})")
+        summary.append(f"flywheel_inertia: the shaft inertia [kg·m²] for δ = {target:.4g} (1/{1 / target:.4g})")
     meta = dict(
         machine=machine.name, load=load, drive=drive, target_delta=target, near_stall_delta=NEAR_STALL_DELTA,
         units=units,
