@@ -8,6 +8,7 @@ import re
 import subprocess
 import sys
 from pathlib import Path
+from typing import ClassVar
 
 import numpy as np
 import pytest
@@ -44,7 +45,7 @@ def test_one_cylinder_is_singular_wherever_a_machine_is_described():
 class Recording(tqdm.std.tqdm):
     """tqdm writing into a buffer that the test reads, keeping every bar it made."""
 
-    made: list[Recording] = []
+    made: ClassVar[list[Recording]] = []
     text = io.StringIO()
 
     def __init__(self, *args, **kwargs):
