@@ -45,7 +45,7 @@ def test_a_small_grid_to_parquet_is_the_api_sweep(tmp_path):
     )  # fmt: skip
     assert "6 designs" in text and str(out) in text and "gravity_effect" in text
     grid = mc.MachineGrid(COMPRESSOR, shaft_inertia=[250.0, 450.0], rpm=[90.0, 120.0, 150.0])
-    expected = mc.motion_sweep(COMPRESSOR, grid, delta=0.04)
+    expected = mc.motion_sweep(COMPRESSOR, grid, delta_target=0.04)
     pd.testing.assert_frame_equal(pd.read_parquet(out), expected, check_like=False, check_exact=True)
 
 

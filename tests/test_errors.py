@@ -456,12 +456,13 @@ REGISTRY.update(
                 "designs": (pd.DataFrame({"shaft_inertia": [0.6]}), "designs"),
                 "outputs": (["delta"], "outputs_or_none"),
                 "load": ("balance", "load"),
-                "delta": (None, "positive_or_none"),  # a float is refused by name: outputs ask no flywheel
+                "delta_target": (None, "positive_or_none"),  # a float is refused by name: outputs ask no flywheel
                 "out": (None, "path_or_none"),
                 "resume": (False, "flag"),
                 "chunk_size": (None, "count_or_none"),
                 "progress": (False, "flag"),
                 "passthrough": ((), "passthrough"),
+                "delta": (None, "positive_or_none"),  # deprecated: delta_target
             },
         ),
     }

@@ -172,12 +172,23 @@ def test_a_column_of_one_cylinder_sets_that_cylinder_alone():
 
 def test_a_grid_with_the_flywheel_matches_flywheel_inertia():
     grid = mc.MachineGrid(COMPRESSOR, rpm=[100.0, 140.0], counterweight_mass=[10.0, 50.0])
-    result = mc.motion_sweep(COMPRESSOR, grid, delta=1 / 40)
+    result = mc.motion_sweep(COMPRESSOR, grid, delta_target=1 / 40)
     assert list(result.columns) == ["rpm", "counterweight_mass", *mc.MOTION_SWEEP_OUTPUTS]
     assert_rows_match(COMPRESSOR, result, delta=1 / 40)
-    only = mc.motion_sweep(COMPRESSOR, grid, delta=1 / 40, outputs="flywheel_inertia")
+    only = mc.motion_sweep(COMPRESSOR, grid, delta_target=1 / 40, outputs="flywheel_inertia")
     assert list(only.columns) == ["rpm", "counterweight_mass", "flywheel_inertia"]  # no steady state asked
     np.testing.assert_array_equal(only["flywheel_inertia"], result["flywheel_inertia"])
+
+
+def test_the_target_delta_given_as_delta_is_deprecated_and_the_same_sweep():
+    """``delta=`` names the result column δ; the target is ``delta_target=`` (issue 27, item 7)."""
+    grid = mc.MachineGrid(COMPRESSOR, rpm=[100.0, 140.0])
+    new = mc.motion_sweep(COMPRESSOR, grid, delta_target=1 / 40, outputs="flywheel_inertia")
+    with pytest.warns(DeprecationWarning, match=r"motion_sweep\(delta=\) is deprecated.* use delta_target="):
+        old = mc.motion_sweep(COMPRESSOR, grid, delta=1 / 40, outputs="flywheel_inertia")
+    pd.testing.assert_frame_equal(old, new)
+    with pytest.raises(mc.MechanismError, match="give exactly one of delta_target and delta"):
+        mc.motion_sweep(COMPRESSOR, grid, delta_target=1 / 40, delta=1 / 40)
 
 
 def test_a_square_law_load_fixes_the_speed():
@@ -249,9 +260,9 @@ def test_bad_input_names_the_parameter():
     cases = [
         (dict(machine="slow-compressor"), "machine"),
         (dict(outputs=["delta", "speed"]), "outputs"),
-        (dict(outputs="flywheel_inertia"), "delta="),
-        (dict(delta=1 / 40, outputs="delta"), "delta="),
-        (dict(delta=-1.0), "delta"),
+        (dict(outputs="flywheel_inertia"), "need delta_target="),
+        (dict(delta_target=1 / 40, outputs="delta"), "delta_target= is given"),
+        (dict(delta_target=-1.0), "delta_target = -1.0 is out of range"),
         (dict(chunk_size=0), "chunk_size"),
         (dict(load=100.0), "load"),
         (dict(resume=True), "resume=True needs out="),
@@ -313,7 +324,7 @@ def test_parquet_streams_resumes_and_refuses_another_sweep(tmp_path, monkeypatch
         with pytest.raises(mc.MechanismError, match=r"cannot resume.*differ"):
             mc.motion_sweep(machine, designs, out=target, chunk_size=2, resume=True)
     with pytest.raises(mc.MechanismError, match="cannot resume"):
-        mc.motion_sweep(COMPRESSOR, grid, out=target, chunk_size=2, resume=True, delta=1 / 40)
+        mc.motion_sweep(COMPRESSOR, grid, out=target, chunk_size=2, resume=True, delta_target=1 / 40)
 
     mc.motion_sweep(COMPRESSOR, grid, out=target, chunk_size=2, resume=True)
     assert target.read_bytes() == whole.read_bytes()

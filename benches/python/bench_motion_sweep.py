@@ -111,11 +111,11 @@ def child() -> list[dict]:
         outputs = (
             ["flywheel_inertia", "flywheel_inertia_without_gravity"] if delta else ["delta", "delta_without_gravity"]
         )
-        mc.motion_sweep(machine, grid.frame(0, 8), outputs=outputs, delta=delta)  # tables of the preset made
+        mc.motion_sweep(machine, grid.frame(0, 8), outputs=outputs, delta_target=delta)  # tables of the preset made
         best = float("inf")
         for _ in range(3):
             start = time.perf_counter()
-            mc.motion_sweep(machine, grid, outputs=outputs, delta=delta)
+            mc.motion_sweep(machine, grid, outputs=outputs, delta_target=delta)
             best = min(best, time.perf_counter() - start)
         rate = len(grid) / best
         base = baseline_rate(machine, grid.frame(0, BASELINE_DESIGNS), delta)

@@ -5,8 +5,8 @@ Where gravity matters: a map over speed and flywheel
 How much does gravity change the slow compressor's speed fluctuation δ, and where can a
 designer leave it out? ``mc.MachineGrid`` spans the compressor's variants over speed and
 shaft inertia, ``mc.motion_sweep`` solves the steady state of each — with gravity and
-without — and ``mc.to_xarray`` lays the result out on the grid. With ``delta=`` the same
-sweep sizes the flywheel each speed needs.
+without — and ``mc.to_xarray`` lays the result out on the grid. With ``delta_target=``
+the same sweep sizes the flywheel each speed needs.
 """
 
 # %%
@@ -53,15 +53,15 @@ print(f"the largest effect is at {peak:.0f} rpm")
 # %%
 # The flywheel each speed needs for δ = 1/40
 # ------------------------------------------
-# A 1-D grid of speeds, with ``delta=``: the shaft inertia that gives exactly δ = 1/40
-# (the compressor class asks for 1/50 to 1/20), with gravity and without. The flywheel
-# does not enter the search as an axis: the sweep finds it.
+# A 1-D grid of speeds, with ``delta_target=``: the shaft inertia that gives exactly
+# δ = 1/40 (the compressor class asks for 1/50 to 1/20), with gravity and without. The
+# flywheel does not enter the search as an axis: the sweep finds it.
 TARGET = 1 / 40
 speeds = mc.MachineGrid(compressor, rpm=np.geomspace(30, 1200, 12 if FAST else 50))
 sized = mc.motion_sweep(
     compressor,
     speeds,
-    delta=TARGET,
+    delta_target=TARGET,
     outputs=["flywheel_inertia", "flywheel_inertia_without_gravity"],
 )
 extra = sized["flywheel_inertia"] / sized["flywheel_inertia_without_gravity"] - 1

@@ -193,7 +193,7 @@ def motion_sweep_command(
     started = time.perf_counter()
     try:
         result = motion_sweep(
-            machine, grid, outputs=chosen, load=load_rule, delta=target, out=out, resume=resume,
+            machine, grid, outputs=chosen, load=load_rule, delta_target=target, out=out, resume=resume,
             chunk_size=chunk_size, progress=progress,
         )  # fmt: skip
     except OSError as error:  # a full disk, a directory that went away: the kept parts stay

@@ -105,13 +105,14 @@ class FlywheelInertia(MotionResult):
         )
 
 
-def _as_delta(value: Any) -> float:
-    delta = as_scalar(value, "delta")
+def _as_delta(value: Any, name: str = "delta") -> float:
+    """A target δ [dimensionless], given as ``name`` (``delta_target`` in a motion sweep)."""
+    delta = as_scalar(value, name)
     # Below 1e-9 a δ is within the rounding of the speeds it is found from (the steady state
     # is solved to ~1e-10 of ω): no flywheel can be sized for it.
     if not (math.isfinite(delta) and delta >= 1e-9):
         raise MechanismError(
-            f"delta = {delta} is out of range; allowed: delta >= 1e-9 (the coefficient of speed fluctuation)"
+            f"{name} = {delta} is out of range; allowed: {name} >= 1e-9 (the coefficient of speed fluctuation)"
         )
     return delta
 

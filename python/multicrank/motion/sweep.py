@@ -28,7 +28,7 @@ import pandas as pd
 from .._native import MOTION_SWEEP_OUTPUTS as _CORE_OUTPUTS
 from .._native import MechanismError
 from .._shaft import rpm_from_omega
-from .._validation import as_count, as_flag, as_instance, contiguous, warn_renamed
+from .._validation import as_count, as_flag, as_instance, contiguous, one_of, warn_renamed
 from ..machine.machine import Machine
 from ..machine.native import motion_machine
 from ..sweeps.chunks import in_memory, is_dask, to_parquet
@@ -72,7 +72,7 @@ DEFAULT_PYTHON_CHUNK_SIZE = 256
 # ----------------------------------------------------------------------------- options
 def _as_outputs(outputs: Any, delta: float | None) -> tuple[str, ...]:
     """The outputs asked for, in column order; default the steady state's, and the flywheel's
-    with ``delta=``. ``stalled`` comes with any output of the steady state, ``near_stall``
+    with ``delta_target=``. ``stalled`` comes with any output of the steady state, ``near_stall``
     with ``delta`` (and ``delta`` with ``near_stall``); a name of 0.1 gives its new one."""
     if outputs is None:
         asked: tuple[str, ...] = _STEADY + (_FLYWHEEL if delta is not None else ())
@@ -88,9 +88,13 @@ def _as_outputs(outputs: Any, delta: float | None) -> tuple[str, ...]:
         asked = as_outputs(outputs, MOTION_SWEEP_OUTPUTS)
     flywheel = [o for o in asked if o in _FLYWHEEL]
     if flywheel and delta is None:
-        raise MechanismError(f"outputs {flywheel!r} need delta=, the coefficient of speed fluctuation to size for")
+        raise MechanismError(
+            f"outputs {flywheel!r} need delta_target=, the coefficient of speed fluctuation to size for"
+        )
     if delta is not None and not flywheel:
-        raise MechanismError("delta= is given but outputs name no flywheel_inertia: ask for it, or leave delta out")
+        raise MechanismError(
+            "delta_target= is given but outputs name no flywheel_inertia: ask for it, or leave delta_target out"
+        )
     if any(o in _STEADY for o in asked):
         asked = (*asked, "stalled")
     if "delta" in asked or "near_stall" in asked:
@@ -222,6 +226,15 @@ def _solve_partition(
 
 
 # ----------------------------------------------------------------------------- the sweep
+def _as_target(delta_target: Any, delta: Any) -> tuple[str, float | None]:
+    """(the name given, the δ to size the flywheel for) from ``delta_target`` or its deprecated
+    name ``delta`` (at most one); None: no flywheel."""
+    if delta_target is None and delta is None:
+        return "delta_target", None
+    name, value = one_of(("delta_target", delta_target), ("delta", delta))
+    return name, _as_delta(value, name)
+
+
 def _check_speed(names: Iterable[str], machine: Machine, route: str) -> None:
     """The speed of every design: an ``rpm`` column or the machine's own, with "balance";
     none with a load that fixes the speed."""
@@ -267,15 +280,16 @@ def motion_sweep(
     *,
     outputs: Any = None,
     load: Any = BALANCE,
-    delta: Any = None,
+    delta_target: Any = None,
     out: str | os.PathLike | None = None,
     resume: bool = False,
     chunk_size: int | None = None,
     progress: bool = False,
     passthrough: Any = (),
+    delta: Any = None,
 ) -> Any:
     """The steady running of many variants of one machine: δ with and without gravity, the
-    speed extremes and (with ``delta=``) the flywheel, one row per design.
+    speed extremes and (with ``delta_target=``) the flywheel, one row per design.
 
     Every row is what :func:`steady_state` (with gravity) and :func:`flywheel_inertia` give
     for that design's machine (:class:`MachineGrid` says how a design changes the machine).
@@ -304,8 +318,8 @@ def motion_sweep(
         (δ > :data:`~multicrank.NEAR_STALL_DELTA` = 0.5, a machine that nearly stops each
         cycle; added with ``delta``, and adds it), ``flywheel_inertia`` and
         ``flywheel_inertia_without_gravity`` [kg·m²] (:class:`FlywheelInertia`'s
-        ``shaft_inertia`` and ``shaft_inertia_without_gravity``; need ``delta``). Default:
-        all of the steady state's, and the flywheel's with ``delta``. Only what is asked is
+        ``shaft_inertia`` and ``shaft_inertia_without_gravity``; need ``delta_target``).
+        Default: all of the steady state's, and the flywheel's with ``delta_target``. Only what is asked is
         computed. The name of 0.1 ``delta_gravity_only`` is still accepted, with a
         DeprecationWarning, and gives the column ``delta_coasting``.
     load : "balance", PowerLawLoad or callable, default "balance"
@@ -313,14 +327,16 @@ def motion_sweep(
         "balance" each design runs at its ``rpm`` (default the machine's own ``rpm``; a
         sweep with neither is refused); other loads fix the speed, and an ``rpm`` column is
         refused.
-    delta : float, optional
-        The coefficient of speed fluctuation to size the flywheel for [dimensionless].
+    delta_target : float, optional
+        δ_target, the coefficient of speed fluctuation to size the flywheel for
+        [dimensionless], ≥ 1e-9 (as :attr:`Machine.delta_target`; the ``delta`` column is
+        the δ each design runs at).
     out : str or os.PathLike, optional
         Stream the result to this Parquet file, chunk by chunk, as :func:`sweep` does
         (atomic, checksummed parts in ``<out>.parts/``); returns the path.
     resume : bool, default False
         With ``out``: continue an interrupted sweep from its finished chunks. The machine,
-        the designs, the outputs, the load, ``delta`` and ``chunk_size`` must be the
+        the designs, the outputs, the load, ``delta_target`` and ``chunk_size`` must be the
         interrupted sweep's, or the resume is refused.
     chunk_size : int, optional
         Designs per chunk (and per Parquet row group), default 8192 where the Rust core solves
@@ -330,6 +346,9 @@ def motion_sweep(
         Show a progress bar (designs/s, ETA).
     passthrough : str or sequence of str, default ()
         Columns of a table that are carried through unchanged (labels, ids, …).
+    delta : float, optional
+        Deprecated since 0.2 (goes in 0.3): ``delta_target``, under the name of the result
+        column δ.
 
     Returns
     -------
@@ -368,8 +387,10 @@ def motion_sweep(
     {'shaft_inertia': 3, 'rpm': 3}
     """
     machine = as_instance(machine, Machine, "machine")
-    target = None if delta is None else _as_delta(delta)
+    given, target = _as_target(delta_target, delta)
     outputs = _as_outputs(outputs, target)
+    if given == "delta":
+        warn_renamed("motion_sweep(delta=)", "delta_target=")
     rules = resolve_rules(load, None)  # the load, checked once
     if chunk_size is None:
         native = isinstance(load, str) and load == BALANCE and motion_machine(machine) is not None
