@@ -353,3 +353,24 @@ def test_a_stall_in_a_process_pool_comes_back_to_the_parent():
     expected = _stall_error()
     assert caught.value.min_rpm == expected.min_rpm and caught.value.angle == expected.angle
     assert str(caught.value) == str(expected)
+
+
+def test_the_machines_firing_module_is_phases_and_its_old_path_warns():
+    """Two modules were named firing (issue 27, item 7): the machine's, which gives a layout's
+    cylinders their phases, is machine.phases; its old path is the same module, with a warning."""
+    code = (
+        "import warnings; warnings.simplefilter('error')\n"
+        "import multicrank.machine.phases as phases, multicrank.design.firing as design\n"
+        "assert design.firing_orders and phases.even_firing\n"
+        "try:\n"
+        "    import multicrank.machine.firing\n"
+        "except DeprecationWarning as warning:\n"
+        "    assert 'use multicrank.machine.phases' in str(warning), warning\n"
+        "else:\n"
+        "    raise AssertionError('no DeprecationWarning')\n"
+        "warnings.simplefilter('ignore')\n"
+        "import multicrank.machine.firing as old\n"
+        "assert old is phases and old.__spec__.name == 'multicrank.machine.phases'\n"
+    )
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert result.returncode == 0, result.stderr

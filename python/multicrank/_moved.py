@@ -10,6 +10,7 @@ import importlib
 import importlib.abc
 import importlib.machinery
 import sys
+import warnings
 from types import ModuleType
 
 #: old module path -> the module that holds its contents now
@@ -27,7 +28,12 @@ MOVED = {
     "multicrank.orders": "multicrank.motion.orders",
     "multicrank.designs": "multicrank.sweeps.designs",
     "multicrank.store": "multicrank.sweeps.store",
+    # 0.2: two modules were named firing; the machine's (the phases a layout's cylinders get)
+    # is phases now, and design.firing (mc.firing_orders) keeps the name.
+    "multicrank.machine.firing": "multicrank.machine.phases",
 }
+#: The moved paths of 0.2 (not 0.1's, which old pickles name): importing one warns, and it goes in 0.3.
+RENAMED_IN_0_2 = frozenset({"multicrank.machine.firing"})
 
 
 class _MovedModules(importlib.abc.MetaPathFinder, importlib.abc.Loader):
@@ -42,6 +48,13 @@ class _MovedModules(importlib.abc.MetaPathFinder, importlib.abc.Loader):
         return None
 
     def create_module(self, spec: importlib.machinery.ModuleSpec) -> ModuleType:
+        if spec.name in RENAMED_IN_0_2:
+            warnings.warn(
+                f"the module {spec.name} is deprecated since multicrank 0.2: use {MOVED[spec.name]} "
+                "(the old name goes in 0.3)",
+                DeprecationWarning,
+                stacklevel=2,
+            )
         module = importlib.import_module(MOVED[spec.name])
         # The import machinery sets the created module's __spec__ to this (old) spec; keep the
         # module's own, or its relative imports would resolve from the old path's package.

@@ -35,9 +35,9 @@ from ..gravity.mechanism import STANDARD_GRAVITY
 from .cylinder import Cylinder, diagram_strokes, unit_columns
 from .description import MachineDescription
 from .dynamics import MachineDynamics
-from .firing import chosen_firing, even_firing
 from .gas import MachineGas
 from .loading import from_toml as _from_toml
+from .phases import chosen_firing, even_firing
 
 __all__ = ["Machine"]
 

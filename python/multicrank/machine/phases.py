@@ -1,4 +1,4 @@
-"""The firing of a four-stroke machine of a layout: which of the two phases each cylinder's
+"""The phases of a four-stroke machine of a layout: which of the two phases each cylinder's
 crank allows (β − γ or β − γ + 2π) it gets, chosen for the most even firing
 (:meth:`~multicrank.Machine.from_layout` states the rule) or given by hand and checked.
 Angles in degrees inside, where the layouts' angles are exact; phases out in radians.
