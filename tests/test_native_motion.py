@@ -255,11 +255,24 @@ def test_bad_calls_name_the_parameter():
         native.sweep({"rpm": [1.0, 2.0]}, ["delta"])
 
 
-def test_only_tables_cross_to_rust():
+def test_a_callable_pressure_crosses_to_rust_sampled_once():
+    # A pressure callable is evaluated once, for every cylinder that shares it, on the grid of
+    # multicrank.machine.native.sampled, and the core takes the polynomials through those
+    # values: its gas torque is the callable's (evaluated by Python at any angle) to rounding.
     m = machine("marine-2t-twin")
-    diagram = m.cylinders[0].pressure
-    callable_pressure = m.replace(cylinders=[c.replace(pressure=lambda theta: diagram(theta)) for c in m.cylinders])
-    assert native_machine(callable_pressure) is None
+    calls = []
+
+    def pressure(theta):
+        calls.append(np.size(theta))
+        return 8e6 * np.exp(4 * (np.cos(theta - 0.35) - 1)) - 2e5
+
+    smooth = m.replace(cylinders=[c.replace(pressure=pressure) for c in m.cylinders])
+    native = native_machine(smooth)
+    assert len(calls) == 1
+    phi = np.linspace(0.0, smooth.cycle, 1001)
+    core = native.steady_state(smooth.rpm, phi=phi)["gas_torque"]
+    python = smooth.gas_torque(phi)
+    np.testing.assert_allclose(core, python, rtol=0, atol=1e-12 * np.abs(python).max())
 
 
 # -- the core's steady state against the Python implementation ------------------------------------
@@ -385,3 +398,52 @@ def test_threads_share_one_native_machine_and_agree():
     with ThreadPoolExecutor(4) as pool:
         found = list(pool.map(lambda rpm: mc.steady_state(machine, rpm=rpm).delta, speeds))
     assert found == [mc.steady_state(machine, rpm=rpm).delta for rpm in speeds]
+
+
+# -- the core answers, and its errors are worded from what it returns ----------------------------
+
+
+@pytest.mark.parametrize("drive", [500.0, mc.PowerLawLoad(torque=300.0, rpm=60.0)])
+def test_a_drive_that_does_not_depend_on_phi_leaves_the_balanced_motion_as_without_it(drive):
+    # Under "balance" a drive M_d(ω_m) that does not depend on φ adds M_d·φ to the work and as
+    # much to the balancing load: K(φ), and with it every speed, is that of no drive (the same
+    # doubles), and the load grows by M_d exactly.
+    compressor = mc.presets.MACHINES["slow-compressor"]
+    plain = mc.steady_state(compressor, rpm=120)
+    driven = mc.steady_state(compressor, rpm=120, drive=drive)
+    taken = drive if isinstance(drive, float) else float(drive(0.0, 4 * math.pi))
+    assert driven.method == "energy"
+    same = ("omega_mean", "omega_max", "omega_min", "phi_min", "period", "delta_without_gravity", "delta_coasting")
+    for name in same:
+        assert getattr(driven, name) == getattr(plain, name), name
+    assert driven.mean_load_torque == pytest.approx(plain.mean_load_torque + taken, rel=1e-15, abs=1e-12)
+    np.testing.assert_allclose(driven.drive_torque, taken, rtol=1e-14)  # held at ω_m (as found, to rounding)
+    flywheel = mc.flywheel_inertia(compressor, delta=1 / 40, rpm=120, drive=drive)
+    assert flywheel.shaft_inertia == mc.flywheel_inertia(compressor, delta=1 / 40, rpm=120).shaft_inertia
+
+
+def test_an_unreachable_flywheel_target_is_worded_from_the_cores_answer(monkeypatch):
+    # The core says why (reach) and how close the machine comes (closest): no Python solve.
+    from multicrank.motion import flywheel
+
+    def solved_again(*args, **kwargs):
+        raise AssertionError("solved again in Python")
+
+    monkeypatch.setattr(flywheel, "_inertia_for", solved_again)
+    heavy = mc.presets.MACHINES["slow-compressor"]
+    with pytest.raises(mc.MechanismError, match=r"delta = 50.0 is unreachable at this speed: .* about \d") as raised:
+        mc.flywheel_inertia(heavy, delta=50.0, rpm=120)
+    assert "solved again" not in str(raised.value)
+
+
+def test_a_design_the_core_refuses_is_named_without_solving_rows(monkeypatch):
+    from multicrank.motion import sweep
+
+    def solved_again(*args, **kwargs):
+        raise AssertionError("solved again in Python")
+
+    monkeypatch.setattr(sweep, "_solve_rows", solved_again)
+    compressor = mc.presets.MACHINES["slow-compressor"]
+    frame = pd.DataFrame({"rod_length": [0.6, 0.01]}, index=["good", "bad"])
+    with pytest.raises(mc.MechanismError, match=r"design bad \(rod_length = 0.01\): rod_length"):
+        mc.motion_sweep(compressor, frame)

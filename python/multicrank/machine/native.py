@@ -1,13 +1,24 @@
 """A :class:`~multicrank.Machine` as the Rust core's steady state takes it: :func:`native_machine`,
 the one place where a machine becomes a :class:`multicrank._native.MotionMachine` (its unit
-columns, its gas as the indicator diagrams' SciPy ``PPoly`` arrays, I_w, the strokes and g),
+columns, its gas as piecewise polynomials in SciPy's ``PPoly`` layout, I_w, the strokes and g),
 converted and checked once and reused by every call.
+
+An :class:`~multicrank.IndicatorDiagram` crosses as its own interpolant. Any other pressure
+callable p(θ) is evaluated once on a fixed grid of θ over the working cycle (:func:`sampled`:
+panels at most π/16 wide, cut at the dead centres, with 12 Gauss–Legendre nodes each) and
+crosses as the polynomial of degree 11 through its values on each panel: for a smooth
+pressure that interpolant is the pressure to rounding (the error of a degree-11 interpolant on
+a π/16 panel, ~(π/32)¹²/12! times the twelfth derivative), and the core integrates its work
+exactly. A pressure with a kink inside a panel is smoothed there, as any quadrature of it is.
 """
 
 from __future__ import annotations
 
+import math
 import threading
 import weakref
+from functools import cache
+from typing import Any
 
 import numpy as np
 
@@ -15,11 +26,53 @@ from .._native import MotionMachine
 from .._validation import contiguous
 from ..pressure.diagram import IndicatorDiagram
 from .cylinder import unit_columns
+from .gas import _pressure
 from .machine import Machine
 
-__all__ = ["motion_machine", "native_machine"]
+__all__ = ["SAMPLED_ORDER", "SAMPLED_WIDTH", "motion_machine", "native_machine", "sampled"]
 
 _Table = tuple[np.ndarray, np.ndarray] | None
+
+#: The grid a pressure callable is sampled on: Gauss–Legendre nodes per panel (the degree of
+#: its interpolant plus one) and the widest panel [rad].
+SAMPLED_ORDER, SAMPLED_WIDTH = 8, math.pi / 256
+
+
+@cache
+def _legendre_to_monomials(order: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The Gauss–Legendre nodes on [0, 1], the map from values there to the Legendre
+    coefficients of their interpolant (exact: Gauss quadrature of degree 2·order − 1), and the
+    monomial coefficients in t ∈ [0, 1] of the shifted Legendre polynomials P_n(2t − 1),
+    integers (−1)^(n+k) C(n, k) C(n+k, k), exact in doubles for these orders."""
+    x, w = np.polynomial.legendre.leggauss(order)
+    n = np.arange(order)
+    legendre = np.polynomial.legendre.legvander(x, order - 1)  # P_n(x_i), (nodes, n)
+    to_legendre = (legendre * w[:, None]).T * ((2 * n + 1) / 2)[:, None]  # (n, nodes)
+    shifted = np.zeros((order, order))  # (k, n)
+    for degree in range(order):
+        for k in range(degree + 1):
+            shifted[k, degree] = (-1) ** (degree + k) * math.comb(degree, k) * math.comb(degree + k, k)
+    return (x + 1) / 2, to_legendre, shifted
+
+
+def sampled(pressure: Any, cycle: float, name: str = "pressure") -> tuple[np.ndarray, np.ndarray]:
+    """A pressure callable p(θ) [Pa] as the (x, c) arrays of a ``PPoly`` over [0, Φ]
+    (``cycle``): its values at :data:`SAMPLED_ORDER` Gauss–Legendre nodes on every panel (at
+    most :data:`SAMPLED_WIDTH` wide, cut at multiples of π, the dead centres), one call for all
+    of them, and on each panel the polynomial through them. ``name`` names the pressure in
+    the error of a callable that fails or returns bad values."""
+    turns = round(cycle / math.pi)
+    per_turn = math.ceil(math.pi / SAMPLED_WIDTH - 1e-9)
+    x = np.linspace(0.0, cycle, turns * per_turn + 1)
+    x[::per_turn] = np.arange(turns + 1) * math.pi  # the dead centres exactly
+    nodes, to_legendre, shifted = _legendre_to_monomials(SAMPLED_ORDER)
+    width = np.diff(x)
+    theta = x[:-1, None] + width[:, None] * nodes[None, :]  # (panels, nodes)
+    values = _pressure(pressure, theta, name)
+    # Legendre coefficients first (stable), then monomials in t = (θ − x_i)/h, then in θ − x_i.
+    monomials = (values @ to_legendre.T) @ shifted.T  # (panels, k)
+    monomials /= width[:, None] ** np.arange(SAMPLED_ORDER)[None, :]
+    return contiguous(x), contiguous(monomials[:, ::-1].T)
 
 
 def _table(pressure: object) -> _Table:
@@ -30,7 +83,7 @@ def _table(pressure: object) -> _Table:
     return contiguous(poly.x), contiguous(c.reshape(c.shape[0], c.shape[1]))
 
 
-def native_machine(machine: Machine) -> MotionMachine | None:
+def native_machine(machine: Machine) -> MotionMachine:
     """``machine`` as the core's :class:`~multicrank._native.MotionMachine`.
 
     Parameters
@@ -40,10 +93,9 @@ def native_machine(machine: Machine) -> MotionMachine | None:
 
     Returns
     -------
-    MotionMachine or None
-        None where a cylinder's pressure (either end) is not an
-        :class:`~multicrank.IndicatorDiagram`: only tables cross to Rust, a Python callable
-        stays with the Python implementation.
+    MotionMachine
+        The core's machine; a pressure that is not an :class:`~multicrank.IndicatorDiagram`
+        crosses sampled (:func:`sampled`), each callable evaluated once.
 
     Raises
     ------
@@ -51,6 +103,7 @@ def native_machine(machine: Machine) -> MotionMachine | None:
         Where the core refuses the machine, naming the parameter.
     """
     ends: dict[str, list[_Table]] = {"pressure": [], "pressure_crank_end": []}
+    samples: dict[int, _Table] = {}  # by id of the callable: each sampled once
     for cylinder in machine.cylinders:
         for end, tables in ends.items():
             pressure = getattr(cylinder, end)
@@ -59,7 +112,9 @@ def native_machine(machine: Machine) -> MotionMachine | None:
             elif isinstance(pressure, IndicatorDiagram):
                 tables.append(_table(pressure))
             else:
-                return None
+                if id(pressure) not in samples:
+                    samples[id(pressure)] = sampled(pressure, machine.cycle, end)
+                tables.append(samples[id(pressure)])
     return MotionMachine(
         unit_columns(machine.cylinders),
         contiguous(np.array([c.bore for c in machine.cylinders], dtype=float)),
@@ -75,14 +130,14 @@ def native_machine(machine: Machine) -> MotionMachine | None:
 #: The native machines made so far, by (id of the Machine, gravity kept): each made once and
 #: kept while its Machine lives (a Machine is immutable), so that its cycle's tables, made by
 #: the first steady state, serve every later one.
-_MADE: dict[tuple[int, bool], MotionMachine | None] = {}
+_MADE: dict[tuple[int, bool], MotionMachine] = {}
 _MAKING = threading.Lock()
 
 
-def motion_machine(machine: Machine, *, gravity: bool = True) -> MotionMachine | None:
+def motion_machine(machine: Machine, *, gravity: bool = True) -> MotionMachine:
     """The :class:`~multicrank._native.MotionMachine` of ``machine`` (with g = 0 where
-    ``gravity`` is False), made on first use and kept while ``machine`` lives; None where a
-    pressure is a Python callable (see :func:`native_machine`)."""
+    ``gravity`` is False), made on first use and kept while ``machine`` lives (a pressure
+    callable is sampled then, once: see :func:`native_machine`)."""
     key = (id(machine), gravity or machine.g == 0)
     known = _MADE.get(key, _MAKING)  # a lookup needs no lock; _MAKING marks "not made yet"
     if known is not _MAKING:

@@ -101,8 +101,15 @@ class Rules:
 
     @property
     def plain_balance(self) -> bool:
-        """The "balance" load with no drive: the energy method the Rust core solves."""
-        return self.route == BALANCE and self.drive is None
+        """The "balance" load beside no drive or a drive that does not depend on φ (a
+        constant, a :class:`~multicrank.PowerLawLoad` held at ω_m): the energy method the
+        Rust core solves. Such a drive M_d adds M_d·φ to the work and as much to the balancing
+        load, so K(φ), and with it the motion, is that of no drive; only the load grows by M_d."""
+        return self.route == BALANCE and (self.drive is None or self.drive.kind != "callable")
+
+    def drive_at(self, omega_mean: float) -> float:
+        """The drive [N·m] of a :attr:`plain_balance` at the mean speed ω_m [rad/s] (0 without one)."""
+        return 0.0 if self.drive is None else float(self.drive(0.0, omega_mean))
 
     @property
     def constant_drive(self) -> float:

@@ -117,6 +117,23 @@ def _as_delta(value: Any, name: str = "delta") -> float:
     return delta
 
 
+def _unreachable(delta: float, reach: str, closest: float) -> MechanismError:
+    """The refusal of a target δ that no shaft inertia gives, worded from why (``reach``:
+    "never_falls", "massless" or "stalls", as the core's error carries it) and ``closest``,
+    the δ nearest to it that the machine reaches."""
+    if reach == "massless":
+        return MechanismError(
+            f"delta = {delta} is unreachable: even a massless shaft keeps δ below it (about "
+            f"{closest:.4g}: the rods' and pistons' own inertia limits the fluctuation)"
+        )
+    if reach == "stalls":
+        return MechanismError(
+            f"delta = {delta} is unreachable at this speed: the machine stalls (ω_min < min_speed_ratio·ω_m) "
+            f"before its fluctuation grows that large; the largest δ that runs is about {closest:.4g}"
+        )
+    return MechanismError(f"delta = {delta} is not reached by any shaft_inertia (δ never falls that low)")
+
+
 def _inertia_for(
     cycle: CycleTables, rules: Rules, omega_mean: float | None, ratio: float, delta: float, start: float
 ) -> float:
@@ -160,7 +177,7 @@ def _inertia_for(
             if excess(high) <= 0:
                 break
             if high - origin > 150:
-                raise MechanismError(f"delta = {delta} is not reached by any shaft_inertia (δ never falls that low)")
+                raise _unreachable(delta, "never_falls", math.nan)
     else:
         for step in steps:
             high, low = low, low - step
@@ -168,10 +185,7 @@ def _inertia_for(
                 break
             # δ(I_w) levels off as I_w → 0 (the rods' and pistons' inertia remains): unreachable.
             if low < origin - 60 or abs(excess(low) - excess(high)) < 1e-9:
-                raise MechanismError(
-                    f"delta = {delta} is unreachable: even a massless shaft keeps δ below it (about "
-                    f"{delta * math.exp(excess(low)):.4g}: the rods' and pistons' own inertia limits the fluctuation)"
-                )
+                raise _unreachable(delta, "massless", delta * math.exp(excess(low)))
     # A stall on the low side is +inf: brentq needs finite values, so the low end is moved to
     # the lightest shaft that still runs (bisection); a target beyond it is unreachable.
     if math.isinf(excess(low)):
@@ -183,11 +197,7 @@ def _inertia_for(
             else:
                 running = middle
         if excess(running) < 0:
-            raise MechanismError(
-                f"delta = {delta} is unreachable at this speed: the machine stalls (ω_min < min_speed_ratio·ω_m) "
-                f"before its fluctuation grows that large; the largest δ that runs is about "
-                f"{delta * math.exp(excess(running)):.4g}"
-            )
+            raise _unreachable(delta, "stalls", delta * math.exp(excess(running)))
         low = running
     log_inertia = optimize.brentq(excess, low, high, xtol=1e-12, rtol=1e-15)
     return math.exp(log_inertia)
@@ -259,16 +269,18 @@ def flywheel_inertia(
     gravity = as_flag(gravity, "gravity")
     ratio = as_min_speed_ratio(min_speed_ratio)
     native = motion_machine(machine, gravity=gravity) if rules.plain_balance else None
-    sized = None
     if native is not None:
+        # The core's route ("balance" beside a drive that does not depend on φ, which leaves
+        # the motion as without it: Rules.plain_balance); its refusal of a target no shaft
+        # inertia gives says why and how close the machine comes.
         assert rpm_value is not None
         try:
             sized = native.flywheel_inertia(target, rpm_value, ratio)
-        except MechanismError:
-            # An unreachable δ: the Python implementation below refuses it again, saying how
-            # close the machine comes (a rare path; a sweep takes the core's NaN).
-            sized = None
-    if sized is not None:
+        except MechanismError as error:
+            reach = getattr(error, "reach", None)
+            if reach is None:
+                raise
+            raise _unreachable(target, reach, error.closest) from None  # type: ignore[attr-defined]
         return FlywheelInertia(
             shaft_inertia=sized["shaft_inertia"],
             shaft_inertia_without_gravity=sized["shaft_inertia_without_gravity"],

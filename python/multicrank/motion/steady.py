@@ -650,10 +650,12 @@ def _arrays(
 def _native_solution(
     machine: Machine, rules: Rules, rpm: float | None, gravity: bool, ratio: float, points: int
 ) -> _Solved | None:
-    """The steady state by the Rust core, where it solves it: the "balance" load with no
-    drive (one solve now; the arrays and the two comparison solves when first read), or a
-    square law beside at most a constant drive (all at once), every pressure a table. None
-    elsewhere (a callable pressure, load or drive: the Python implementation's)."""
+    """The steady state by the Rust core, where it solves it: the "balance" load beside no
+    drive or one that does not depend on φ (one solve now; the arrays and the two comparison
+    solves when first read), or a square law beside at most a constant drive (all at once);
+    a pressure callable crosses sampled (:func:`~multicrank.machine.native.sampled`). None
+    elsewhere (a callable drive under "balance", a load solved by shooting: the Python
+    implementation's)."""
     balance = rules.plain_balance
     square_law = rules.route == "square-law"
     if not (balance or square_law):
@@ -675,8 +677,22 @@ def _native_solution(
         angle = getattr(error, "angle", None)
         if angle is None:
             raise
+        if square_law:
+            # Nothing may drive the machine on the cycle's mean at all: the core's mean gas
+            # torque says so (no solve).
+            mean = native.mean_gas_torque() + rules.constant_drive
+            if not mean > 0:
+                raise StallError(
+                    f"the machine stalls with this load: the cycle mean of gas and drive torque is {mean:.6g} "
+                    "N·m, not positive: nothing drives it against a square-law load, which brings it to rest, "
+                    f"near φ = {math.degrees(angle):.4g}°; it has no steady running (min_speed_ratio = {ratio:g})",
+                    angle=angle,
+                ) from None
         raise _native_stall(angle, rpm, getattr(error, "min_rpm", None), ratio) from None
     numbers = {name: float(found[name]) for name in _NUMBERS}
+    if balance and rules.drive is not None:  # the load takes the drive too (Rules.plain_balance)
+        assert rpm is not None
+        numbers["mean_load_torque"] += rules.drive_at(omega_from_rpm(rpm))
     mean, period, load = numbers["omega_mean"], numbers["period"], numbers["mean_load_torque"]
 
     def later(what: str) -> dict[str, Any]:

@@ -153,14 +153,32 @@ def _solve_chunk(
             found = native.sweep(
                 designs, [_NATIVE_NAMES.get(o, o) for o in computed], rpm=machine.rpm, target_delta=delta
             )
-        except MechanismError:
-            found = None  # a design the machine refuses: the loop below names its row and values
-        if found is not None:
-            result = frame.copy()
-            for name in outputs:  # near_stall in its place, from delta by _near_stall
-                result[name] = False if name == "near_stall" else found[_NATIVE_NAMES.get(name, name)]
-            return _near_stall(result, outputs)
+        except MechanismError as error:
+            raise _refused_design(machine, frame, names, error) from None
+        result = frame.copy()
+        for name in outputs:  # near_stall in its place, from delta by _near_stall
+            result[name] = False if name == "near_stall" else found[_NATIVE_NAMES.get(name, name)]
+        return _near_stall(result, outputs)
     return _near_stall(_solve_rows(machine, frame, outputs, load, delta), outputs)
+
+
+def _refused_design(machine: Machine, frame: pd.DataFrame, names: list[str], error: MechanismError) -> MechanismError:
+    """The core's refusal of a design (its index in the chunk as the error's ``row``) worded
+    as the row loop words it: the design's label and values, and what its machine refuses
+    (:func:`~multicrank.motion.variants.row_variant`, which builds that one machine and solves
+    nothing). An error of no row is the core's own."""
+    row = getattr(error, "row", None)
+    if row is None:
+        return error
+    label = frame.index[row]
+    design = {name: frame[name].iloc[row] for name in names}
+    try:
+        row_variant(machine, design, label)
+    except MechanismError as refused:
+        return refused
+    values = ", ".join(f"{k} = {v:g}" for k, v in design.items())
+    reason = str(error).removeprefix(f"design {row}: ")
+    return MechanismError(f"design {label} ({values}): {reason}")
 
 
 def _solve_rows(

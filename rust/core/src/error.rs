@@ -42,11 +42,44 @@ pub enum MechanismError {
         rpm: f64,
         min_rpm: Option<f64>,
     },
+    /// No shaft inertia gives the coefficient of speed fluctuation `delta` asked for:
+    /// `reach` says why, and `closest` is the δ nearest to it that the machine reaches (the
+    /// largest δ that runs, or δ of a massless shaft; NaN where none is known).
+    Unreachable {
+        delta: f64,
+        reach: Reach,
+        closest: f64,
+    },
     /// Design `row` of a batch has a bad value: `error` names the parameter.
     InRow {
         row: usize,
         error: Box<MechanismError>,
     },
+}
+
+/// Why no shaft inertia gives a coefficient of speed fluctuation
+/// ([`MechanismError::Unreachable`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Reach {
+    /// δ never falls that low, however heavy the shaft.
+    NeverFalls,
+    /// Even a massless shaft keeps δ below it: the rods' and pistons' own inertia limits
+    /// the fluctuation.
+    Massless,
+    /// The machine stalls (ω_min < min_speed_ratio·ω_m) before its fluctuation grows that
+    /// large.
+    Stalls,
+}
+
+impl Reach {
+    /// Its name, as the Python exception's `reach` attribute carries it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::NeverFalls => "never_falls",
+            Self::Massless => "massless",
+            Self::Stalls => "stalls",
+        }
+    }
 }
 
 impl fmt::Display for MechanismError {
@@ -106,6 +139,28 @@ impl fmt::Display for MechanismError {
                     None => Ok(()),
                 }
             }
+            Self::Unreachable {
+                delta,
+                reach,
+                closest,
+            } => match reach {
+                Reach::NeverFalls => write!(
+                    f,
+                    "delta = {delta} is not reached by any shaft_inertia (δ never falls that low)"
+                ),
+                Reach::Massless => write!(
+                    f,
+                    "delta = {delta} is unreachable: even a massless shaft keeps δ below it \
+                     (about {closest:.4e}: the rods' and pistons' own inertia limits the \
+                     fluctuation)"
+                ),
+                Reach::Stalls => write!(
+                    f,
+                    "delta = {delta} is unreachable at this speed: the machine stalls \
+                     (ω_min < min_speed_ratio·ω_m) before its fluctuation grows that large; the \
+                     largest δ that runs is about {closest:.4e}"
+                ),
+            },
             Self::InRow { row, error } => write!(f, "design {row}: {error}"),
         }
     }

@@ -39,7 +39,7 @@ mod trig;
 pub use angles::{Phi, UniformGrid};
 pub use dynamics::{two_mass_rod_inertia, Dynamics, Kinematics, PhysicalCylinder};
 pub use engine::{Cylinder, Engine};
-pub use error::{MechanismError, Result};
+pub use error::{MechanismError, Reach, Result};
 pub use exact::{evaluate, evaluate_one, Quantity};
 pub use extrema::{all_energy_extrema, energy_extrema, EnergyExtrema};
 pub use harmonics::{

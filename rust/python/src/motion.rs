@@ -13,10 +13,20 @@ use crate::conversion::{gas_tables, DiagramArg, MachineColumns, MotionDesigns};
 use crate::error::to_py_err;
 use crate::parallel::parallelism;
 
-/// The core's error as a `MechanismError`; a stall also carries `angle` (rad), `rpm` and
-/// `min_rpm` (1/min, None where no speed runs) as attributes of the exception.
+/// The core's error as a `MechanismError`, carrying what Python words it from as attributes
+/// of the exception: a stall its `angle` (rad), `rpm` and `min_rpm` (1/min, None where no
+/// speed runs); an unreachable flywheel target its `delta`, `reach` ("never_falls",
+/// "massless" or "stalls") and `closest` (the δ nearest to it that the machine reaches, NaN
+/// where none is known); a bad design its `row` (from 0), with the attributes of its own
+/// error beside.
 fn motion_err(py: Python<'_>, error: core::MechanismError) -> PyErr {
-    let stall = match error {
+    let mut row = None;
+    let mut inner = &error;
+    if let core::MechanismError::InRow { row: at, error } = &error {
+        row = Some(*at);
+        inner = error;
+    }
+    let stall = match *inner {
         core::MechanismError::Stall {
             angle,
             rpm,
@@ -24,18 +34,36 @@ fn motion_err(py: Python<'_>, error: core::MechanismError) -> PyErr {
         } => Some((angle, rpm, min_rpm)),
         _ => None,
     };
+    let unreachable = match *inner {
+        core::MechanismError::Unreachable {
+            delta,
+            reach,
+            closest,
+        } => Some((delta, reach.name(), closest)),
+        _ => None,
+    };
     let err = to_py_err(error);
+    let value = err.value(py);
+    let mut set = Ok(());
     if let Some((angle, rpm, min_rpm)) = stall {
-        let value = err.value(py);
-        let set = value
-            .setattr("angle", angle)
+        set = set
+            .and_then(|()| value.setattr("angle", angle))
             .and_then(|()| value.setattr("rpm", rpm))
             .and_then(|()| value.setattr("min_rpm", min_rpm));
-        if let Err(failed) = set {
-            return failed;
-        }
     }
-    err
+    if let Some((delta, reach, closest)) = unreachable {
+        set = set
+            .and_then(|()| value.setattr("delta", delta))
+            .and_then(|()| value.setattr("reach", reach))
+            .and_then(|()| value.setattr("closest", closest));
+    }
+    if let Some(row) = row {
+        set = set.and_then(|()| value.setattr("row", row));
+    }
+    match set {
+        Ok(()) => err,
+        Err(failed) => failed,
+    }
 }
 
 /// A machine as its steady state takes it, converted and checked once and reused by every
@@ -255,6 +283,14 @@ impl MotionMachine {
         .map_err(|error| motion_err(py, error))
     }
 
+    /// mean_gas_torque() -> float: the cycle mean of the gas torque (N·m), W(Φ)/Φ — the
+    /// "balance" load beside no drive, and what a square-law load needs positive (with the
+    /// drive) to run at all.
+    fn mean_gas_torque(&self, py: Python<'_>) -> PyResult<f64> {
+        py.detach(|| self.tables().map(core::SteadyTables::load))
+            .map_err(|error| motion_err(py, error))
+    }
+
     /// square_law(coefficient, drive=0.0, min_speed_ratio=1e-3, phi=None) -> dict: the
     /// periodic steady state under the load c·ω² (c = `coefficient`, N·m·s²/rad²) beside a
     /// constant `drive` (N·m), in closed form: the numbers of steady_state (the mean speed a
@@ -286,7 +322,10 @@ impl MotionMachine {
     /// flywheel_inertia(delta, rpm, min_speed_ratio=1e-3, without_gravity=True) -> dict of
     /// floats: the shaft inertia giving the coefficient of speed fluctuation `delta` at `rpm`
     /// (1/min) under the "balance" load: shaft_inertia, shaft_inertia_without_gravity (NaN
-    /// unless `without_gravity`), textbook, textbook_error, energy_swing, delta, rpm.
+    /// unless `without_gravity`), textbook, textbook_error, energy_swing, delta, rpm. A
+    /// target no shaft inertia gives is a MechanismError with attributes delta, reach
+    /// ("never_falls", "massless" or "stalls") and closest (the δ nearest to it that the
+    /// machine reaches; NaN where none is known).
     #[pyo3(signature = (delta, rpm, min_speed_ratio=1e-3, without_gravity=true))]
     fn flywheel_inertia<'py>(
         &self,
@@ -332,7 +371,7 @@ impl MotionMachine {
     /// MOTION_SWEEP_OUTPUTS), and `stalled` (bool) with any output of the steady state; a
     /// stalled design is NaN in its δ and speed columns, an unreachable target NaN in the
     /// flywheel columns. A bad value of a design is a MechanismError naming the design and
-    /// the parameter. Bit-identical for any thread count.
+    /// the parameter, with the design's index (from 0) as its attribute `row`. Bit-identical for any thread count.
     #[pyo3(signature = (
         designs, outputs, rpm=None, target_delta=None, min_speed_ratio=1e-3,
         parallel_threshold=None
@@ -364,7 +403,7 @@ impl MotionMachine {
                     parallelism,
                 )
             })
-            .map_err(to_py_err)?;
+            .map_err(|error| motion_err(py, error))?;
         let dict = PyDict::new(py);
         for name in core::MotionOutputs::NAMES {
             let column = match name {

@@ -4,7 +4,7 @@
 //! ΔE/(δω_m²) − mean(J − I_w) as the start. Trial inertias reuse the cycle's tables
 //! (`Balance::with_inertia`): J − I_w, U and W do not depend on I_w.
 
-use crate::error::{check, MechanismError, Result};
+use crate::error::{check, MechanismError, Reach, Result};
 
 use super::balance::Balance;
 use super::cycle::Cycle;
@@ -42,10 +42,11 @@ pub(crate) fn inertia_for(
     delta: f64,
     start: f64,
 ) -> Result<f64> {
-    let unreachable = |allowed: &'static str| MechanismError::OutOfRange {
-        parameter: "delta",
-        value: delta,
-        allowed,
+    // `excess` is log(δ/delta): the δ it was found for is delta·e^excess.
+    let unreachable = |reach: Reach, excess: f64| MechanismError::Unreachable {
+        delta,
+        reach,
+        closest: delta * excess.exp(),
     };
     let mut known: Vec<(f64, f64)> = Vec::new();
     // log(δ(I_w)/delta), +∞ where the machine stalls; each I_w solved once.
@@ -77,10 +78,7 @@ pub(crate) fn inertia_for(
     if excess(origin)? <= 0.0 && massless < origin {
         let at_floor = excess(massless)?;
         if at_floor.is_finite() && at_floor < 0.0 {
-            return Err(unreachable(
-                "a delta some shaft_inertia reaches (even a massless shaft keeps δ below it: \
-                 the rods' and pistons' own inertia limits the fluctuation)",
-            ));
+            return Err(unreachable(Reach::Massless, at_floor));
         }
     }
     let (mut low, mut high) = (origin, origin);
@@ -94,9 +92,7 @@ pub(crate) fn inertia_for(
             }
         }
         if !found {
-            return Err(unreachable(
-                "a delta some shaft_inertia reaches (δ never falls that low)",
-            ));
+            return Err(unreachable(Reach::NeverFalls, f64::NAN));
         }
     } else {
         let mut found = false;
@@ -112,10 +108,7 @@ pub(crate) fn inertia_for(
             }
         }
         if !found {
-            return Err(unreachable(
-                "a delta some shaft_inertia reaches (even a massless shaft keeps δ below it: \
-                 the rods' and pistons' own inertia limits the fluctuation)",
-            ));
+            return Err(unreachable(Reach::Massless, excess(low)?));
         }
     }
     // A stall on the low side is +∞: the low end moves to the lightest shaft that still
@@ -130,16 +123,15 @@ pub(crate) fn inertia_for(
                 running = middle;
             }
         }
-        if excess(running)? < 0.0 {
-            return Err(unreachable(
-                "a delta the machine reaches before it stalls (ω_min < min_speed_ratio·ω_m)",
-            ));
+        let at_running = excess(running)?;
+        if at_running < 0.0 {
+            return Err(unreachable(Reach::Stalls, at_running));
         }
         low = running;
     }
     match brent(&mut excess, low, high, 1e-12, 1e-15)? {
         Some(log_inertia) => Ok(log_inertia.exp()),
-        None => Err(unreachable("a delta some shaft_inertia reaches")),
+        None => Err(unreachable(Reach::NeverFalls, f64::NAN)),
     }
 }
 

@@ -472,9 +472,7 @@ fn solve(
                 row.flywheel_inertia_without_gravity = found.shaft_inertia_without_gravity;
             }
             // The target unreachable: NaN in the flywheel's columns only.
-            Err(MechanismError::OutOfRange {
-                parameter: "delta", ..
-            }) => {}
+            Err(MechanismError::Unreachable { .. }) => {}
             Err(error) => return Err(error),
         }
     }
