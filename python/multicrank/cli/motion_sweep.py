@@ -10,6 +10,7 @@ import click
 
 from .._native import MechanismError
 from .._text import counted
+from ..motion.columns import COLUMN_MEANINGS
 from ._group import UserError, machine_option
 from ._output import format_option
 from .motion import parse_torque
@@ -20,26 +21,11 @@ if TYPE_CHECKING:
 
 __all__ = ["MOTION_AXES", "motion_sweep_command"]
 
-#: The axes of a motion sweep, option name: what it is and its unit for --help. The names are
-#: multicrank.motion.variants.MACHINE_COLUMNS (a test keeps them equal; that module is not
-#: imported here, to keep ``multicrank --help`` quick).
-MOTION_AXES: dict[str, str] = {
-    "shaft_inertia": "shaft inertia I_w [kg·m²]",
-    "rpm": "mean speed [1/min] (default: the machine's own)",
-    "g": "gravitational acceleration [m/s²]",
-    "pressure_scale": "factor on every indicator diagram [dimensionless]",
-    "crank_radius": "crank radius [m]",
-    "rod_length": "rod length [m]",
-    "piston_mass": "piston mass [kg]",
-    "rod_mass": "rod mass [kg]",
-    "rod_cg": "rod centre of gravity from the piston-pin axis [m]",
-    "rod_inertia": "rod moment of inertia about its centre of gravity [kg·m²]",
-    "crank_mass": "crank mass [kg]",
-    "crank_cg_radius": "crank centre-of-gravity radius [m]",
-    "counterweight_mass": "counterweight mass [kg]",
-    "counterweight_radius": "counterweight radius [m]",
-    "bore": "cylinder bore [m]",
-}
+#: The axes of a motion sweep, option name: what it is and its unit for --help: the design
+#: columns of multicrank.motion.columns (light to import, unlike multicrank.motion.variants, to
+#: keep ``multicrank --help`` quick).
+MOTION_AXES: dict[str, str] = {name: f"{what} [{unit}]" for name, (what, unit) in COLUMN_MEANINGS.items()}
+MOTION_AXES["rpm"] += " (default: the machine's own)"
 _AXES = {name: (name, float) for name in MOTION_AXES}
 _CONFIG_KEYS = ("axes", "outputs", "load", "delta")
 

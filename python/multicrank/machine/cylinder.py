@@ -23,32 +23,36 @@ from .._native import two_mass_rod_inertia as _native_two_mass_rod_inertia
 from .._validation import as_option, as_real_array, as_scalar, check_fields, check_magnitude, contiguous
 from ..pressure.diagram import IndicatorDiagram
 
-__all__ = ["UNIT_FIELDS", "Cylinder", "Pressure", "diagram_strokes", "unit_columns"]
+__all__ = ["CYLINDER_FIELDS", "UNIT_FIELDS", "Cylinder", "Pressure", "diagram_strokes", "unit_columns"]
 
+#: Every number of a cylinder, with what it is and its SI unit: the fields that the core's
+#: kinematics and gravity take first, in its order (:data:`UNIT_FIELDS`), then those of its gas
+#: force. The one place of these names; the design columns of a motion sweep and the options of
+#: ``multicrank sweep motion`` are taken from it.
+CYLINDER_FIELDS: dict[str, tuple[str, str]] = {
+    "crank_radius": ("crank radius", "m"),
+    "rod_length": ("rod length", "m"),
+    "piston_mass": ("piston mass", "kg"),
+    "rod_mass": ("rod mass", "kg"),
+    "rod_cg": ("rod centre of gravity from the piston-pin axis", "m"),
+    "rod_inertia": ("rod moment of inertia about its centre of gravity", "kg·m²"),
+    "crank_mass": ("crank mass", "kg"),
+    "crank_cg_radius": ("crank centre-of-gravity radius", "m"),
+    "counterweight_mass": ("counterweight mass", "kg"),
+    "counterweight_radius": ("counterweight radius", "m"),
+    "phase": ("crank phase", "rad"),
+    "inclination": ("cylinder inclination to the horizontal", "rad"),
+    "bore": ("cylinder bore", "m"),
+    "piston_rod_diameter": ("piston-rod diameter", "m"),
+}
+#: The numbers of a cylinder that its gas force takes and the core's kinematics do not.
+_GAS_FIELDS = ("bore", "piston_rod_diameter")
 #: The fields of a cylinder that the core's kinematics and gravity take, in its order.
-UNIT_FIELDS = (
-    "crank_radius",
-    "rod_length",
-    "piston_mass",
-    "rod_mass",
-    "rod_cg",
-    "rod_inertia",
-    "crank_mass",
-    "crank_cg_radius",
-    "counterweight_mass",
-    "counterweight_radius",
-    "phase",
-    "inclination",
-)
+UNIT_FIELDS = tuple(field for field in CYLINDER_FIELDS if field not in _GAS_FIELDS)
 
 #: The SI unit of each field of a cylinder that is a physical quantity (the angles aside): each
 #: is at most MAGNITUDE_LIMIT (10³⁰) in magnitude.
-_UNITS = {
-    **dict.fromkeys(("crank_radius", "rod_length", "rod_cg", "crank_cg_radius", "counterweight_radius", "bore"), "m"),
-    "piston_rod_diameter": "m",
-    **dict.fromkeys(("piston_mass", "rod_mass", "crank_mass", "counterweight_mass"), "kg"),
-    "rod_inertia": "kg·m²",
-}
+_UNITS = {field: unit for field, (_, unit) in CYLINDER_FIELDS.items() if unit != "rad"}
 
 #: A gauge pressure p(θ) [Pa] as a vectorised function of the cycle angle θ [rad].
 Pressure = Callable[[np.ndarray], Any]
@@ -144,7 +148,7 @@ class Cylinder:
     piston_rod_diameter: float = 0.0
 
     def __post_init__(self) -> None:
-        for field in (*UNIT_FIELDS, "bore", "piston_rod_diameter"):
+        for field in CYLINDER_FIELDS:
             value = getattr(self, field)
             if field == "rod_inertia" and value is None:
                 continue

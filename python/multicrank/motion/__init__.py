@@ -7,6 +7,8 @@
 - `orders`: the torque orders of the cycle, and their hand-off to openTorsion;
 - `variants` and `sweep`: machines that differ in a few numbers (`MachineGrid`) and their
   steady states at sweep scale (`motion_sweep`); loaded on first use (they need pandas);
+- `columns`: the names of a motion sweep's design columns, their meanings and units (light: the
+  command line takes its options from it);
 - `_result`: what the results share (``solved``, ``to_pandas``, ``to_xarray``);
 - `_periodic`: the periodic solution by its route, which `steady` and `flywheel` share;
 - `_quadrature`, `_work`, `_solvers`: the cycle quadrature, the gas work and the steady-state

@@ -26,10 +26,11 @@ import numpy as np
 from .._native import MechanismError
 from .._text import counted
 from .._validation import SPEED_LIMITS, as_instance, as_real_array, as_speed
-from ..machine.cylinder import UNIT_FIELDS, Cylinder, Pressure
+from ..machine.cylinder import Cylinder, Pressure
 from ..machine.machine import Machine
 from ..pressure.diagram import IndicatorDiagram
 from ..sweeps.designs import ProductGrid
+from .columns import CYLINDER_COLUMNS, MACHINE_COLUMNS, UNIT_COLUMNS
 
 __all__ = [
     "CYLINDER_COLUMNS",
@@ -44,15 +45,6 @@ __all__ = [
     "scaled_pressure",
 ]
 
-#: The Cylinder fields a design may change, each set on every cylinder: its geometry and
-#: masses (not where it sits: phase and inclination) and its bore.
-CYLINDER_COLUMNS: tuple[str, ...] = (*(f for f in UNIT_FIELDS if f not in ("phase", "inclination")), "bore")
-#: Every column a motion sweep's design may have, in the order of the issue.
-MACHINE_COLUMNS: tuple[str, ...] = ("shaft_inertia", "rpm", "g", "pressure_scale", *CYLINDER_COLUMNS)
-#: The Cylinder fields a design may set on one cylinder alone, as the column ``"field[j]"``
-#: (j the cylinder's index in the machine, from 0): where it sits in the firing order, and
-#: its counterweight (only the first moment enters: gravity).
-UNIT_COLUMNS: tuple[str, ...] = ("phase", "counterweight_mass", "counterweight_radius")
 _UNIT_COLUMN = re.compile(r"(?P<field>[a-z_]+)\[(?P<index>[0-9]+)\]")
 
 
