@@ -268,12 +268,12 @@ def flywheel_inertia(
     omega_mean = None if rpm_value is None else omega_from_rpm(rpm_value)
     gravity = as_flag(gravity, "gravity")
     ratio = as_min_speed_ratio(min_speed_ratio)
-    native = motion_machine(machine, gravity=gravity) if rules.plain_balance else None
-    if native is not None:
+    if rules.plain_balance:
         # The core's route ("balance" beside a drive that does not depend on φ, which leaves
         # the motion as without it: Rules.plain_balance); its refusal of a target no shaft
         # inertia gives says why and how close the machine comes.
         assert rpm_value is not None
+        native = motion_machine(machine, gravity=gravity)
         try:
             sized = native.flywheel_inertia(target, rpm_value, ratio)
         except MechanismError as error:

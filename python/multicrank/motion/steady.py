@@ -661,8 +661,6 @@ def _native_solution(
     if not (balance or square_law):
         return None
     native = motion_machine(machine, gravity=gravity)
-    if native is None:
-        return None
     # The square law's curves come with its solution; "balance" makes its angles only when
     # its arrays are read.
     square_law_phi = None if balance else np.linspace(0.0, machine.cycle, points)

@@ -143,8 +143,8 @@ def _solve_chunk(
     gives (the target unreachable) is NaN. A design the machine refuses (a rod shorter than
     its crank) raises :class:`MechanismError` naming the row.
     """
-    native = motion_machine(machine) if isinstance(load, str) and load == BALANCE else None
-    if native is not None:
+    if isinstance(load, str) and load == BALANCE:
+        native = motion_machine(machine)
         known = machine_columns(machine)
         names = [c for c in frame.columns if c in known]
         designs = {name: contiguous(frame[name].to_numpy(dtype=np.float64)) for name in names}
@@ -411,7 +411,7 @@ def motion_sweep(
         warn_renamed("motion_sweep(delta=)", "delta_target=")
     rules = resolve_rules(load, None)  # the load, checked once
     if chunk_size is None:
-        native = isinstance(load, str) and load == BALANCE and motion_machine(machine) is not None
+        native = isinstance(load, str) and load == BALANCE
         size = DEFAULT_CHUNK_SIZE if native else DEFAULT_PYTHON_CHUNK_SIZE
     else:
         size = as_count(chunk_size, "chunk_size", minimum=1)
