@@ -329,6 +329,21 @@ def test_every_public_class_round_trips_a_pickle(name):
     same(copy.deepcopy(value), value, name)
 
 
+@pytest.mark.parametrize("old", ["multicrank.motion", "multicrank.motion.steady"])
+@pytest.mark.parametrize("name", ["SteadyState", "StallError"])
+def test_a_steady_state_pickled_under_an_older_module_path_loads(name, old):
+    """SteadyState and StallError live in motion/steady_result.py since steady.py was split
+    (issue 27, item 6); a pickle names a class by the module of its day (0.1:
+    multicrank.motion, 0.2 before the split: multicrank.motion.steady), which must still
+    answer with the same class."""
+    value = INSTANCES[name]()
+    # Protocol 2 names a class as GLOBAL "module\nname\n": rename the module there.
+    data = pickle.dumps(value, protocol=2)
+    where = f"c{type(value).__module__}\n{name}\n".encode()
+    assert where in data
+    same(pickle.loads(data.replace(where, f"c{old}\n{name}\n".encode())), value, name)
+
+
 def test_the_tables_of_the_design_aid_and_the_sweeps_round_trip_a_pickle():
     inline = MACHINES["inline-4"]
     tables = {

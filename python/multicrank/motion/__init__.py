@@ -1,7 +1,8 @@
 """The machine in motion: J(φ)φ̈ + ½J′(φ)φ̇² = M_gas − dU/dφ + M_drive − M_load.
 
 - `loads`: drive and load torques (numbers, "balance", `PowerLawLoad`, callables);
-- `steady`: the exact periodic steady state;
+- `steady`: the exact periodic steady state (`steady_state`), and `steady_result` its result
+  (`SteadyState`, `StallError`), which `steady` re-exports;
 - `flywheel`: the flywheel for a coefficient of speed fluctuation;
 - `transient`: the motion in time (SciPy's integrators, stall events);
 - `orders`: the torque orders of the cycle, and their hand-off to openTorsion;
