@@ -212,7 +212,7 @@ def test_sweep_motion_offers_no_constant_load_and_refuses_one_clearly(tmp_path):
     drive): it is no longer offered, and refused before any work with a line naming --load
     and what it takes."""
     text = _help("sweep", "motion")
-    load = text[text.index("--load LOAD") : text.index("--delta DELTA")]
+    load = text[text.index("--load LOAD") : text.index("--delta-target DELTA")]
     assert "balance" in load and "power:TORQUE:RPM[:EXPONENT]" in load and "constant torque" not in load
     sweep = ["sweep", "motion", "--rpm", "100", "--no-progress"]
     for torque in ("7", "-120.5"):

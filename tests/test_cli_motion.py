@@ -89,7 +89,7 @@ def test_a_bad_sweep_axis_value_is_one_line_not_a_traceback(tmp_path):
 def test_motion_csv_is_the_api_steady_state_and_flywheel(tmp_path):
     cycle = tmp_path / "cycle.csv"
     out = run(
-        "motion", "--rpm", "100", "--rpm", "150", "--delta", "0.04", "--cycle", str(cycle), "--format", "csv",
+        "motion", "--rpm", "100", "--rpm", "150", "--delta-target", "0.04", "--cycle", str(cycle), "--format", "csv",
         "--no-progress",
     )  # fmt: skip
     frame = pd.read_csv(io.StringIO(out), index_col="rpm")
@@ -118,15 +118,40 @@ def test_motion_over_the_speed_range_with_the_class_flywheel():
     machine = DEFAULT_MACHINE
     speeds = [row["rpm"] for row in data["rows"]]
     assert machine.rpm in speeds and min(speeds) == machine.rpm_range[0] and max(speeds) == machine.rpm_range[1]
-    assert data["target_delta"] == pytest.approx(1 / 20)  # the compressor class's limit
+    assert data["delta_target"] == pytest.approx(1 / 20)  # the compressor class's limit
+    assert data["target_delta"] == data["delta_target"]  # its former name, kept for one release
     assert all(row["flywheel_inertia"] > 0 for row in data["rows"])
+
+
+def test_delta_is_the_former_name_of_delta_target():
+    """--delta (0.1's name of the target δ) still sizes the flywheel, with one line on stderr
+    naming --delta-target; both given is one line and exit status 2."""
+    from click.testing import CliRunner
+
+    from multicrank import cli
+
+    args = ["motion", "--rpm", "120", "--format", "json", "--no-progress"]
+    old = CliRunner().invoke(cli.main, [*args, "--delta", "0.04"])
+    assert old.exit_code == 0, old.output
+    assert old.stderr.splitlines() == ["note: --delta is now --delta-target (the old name goes in 0.3)"]
+    data = json.loads(old.stdout)
+    assert data["delta_target"] == data["target_delta"] == 0.04
+    sized = mc.flywheel_inertia(DEFAULT_MACHINE, delta=0.04, rpm=120.0)
+    assert data["rows"][0]["flywheel_inertia"] == pytest.approx(sized.shaft_inertia, rel=1e-8)
+    new = CliRunner().invoke(cli.main, [*args, "--delta-target", "0.04"])
+    assert new.exit_code == 0 and new.stderr == "" and json.loads(new.stdout) == data
+    both = CliRunner().invoke(cli.main, [*args, "--delta", "0.04", "--delta-target", "0.05"])
+    assert both.exit_code == 2 and "Traceback" not in both.output
+    assert both.stderr.splitlines()[-1] == (
+        "Error: --delta-target and --delta are one option (--delta its former name): give it once"
+    )
 
 
 @pytest.mark.parametrize(
     ("args", "named"),
     [
         (["--rpm", "-5"], "--rpm"),
-        (["--delta", "2"], "--delta"),
+        (["--delta-target", "2"], "--delta-target"),
         (["--load", "power:100:600", "--rpm", "500"], "--rpm"),
         (["--load", "7"], "load"),
         (["--machine", "docs/no-such.toml"], "--machine"),

@@ -40,8 +40,8 @@ def refused(*args: str) -> str:
 def test_a_small_grid_to_parquet_is_the_api_sweep(tmp_path):
     out = tmp_path / "m.parquet"
     text = run(
-        "sweep", "motion", "--shaft-inertia", "250,450", "--rpm", "90:150:3", "--delta", "0.04", "--out", str(out),
-        "--no-progress",
+        "sweep", "motion", "--shaft-inertia", "250,450", "--rpm", "90:150:3", "--delta-target", "0.04",
+        "--out", str(out), "--no-progress",
     )  # fmt: skip
     assert "6 designs" in text and str(out) in text and "gravity_effect" in text
     grid = mc.MachineGrid(COMPRESSOR, shaft_inertia=[250.0, 450.0], rpm=[90.0, 120.0, 150.0])
@@ -82,6 +82,32 @@ def test_a_config_file_gives_axes_outputs_and_load(tmp_path):
     assert set(pd.read_csv(io.StringIO(override))["rpm"]) == {100.0}
 
 
+def test_delta_is_the_former_name_of_delta_target(tmp_path):
+    """--delta and delta in --config (0.1's names of the target δ) still size the flywheel,
+    each with one line on stderr naming the new name; both keys given is refused."""
+    args = ["sweep", "motion", "--rpm", "100,120", "--outputs", "flywheel_inertia", "--format", "csv", "--no-progress"]
+    new = CliRunner().invoke(cli.main, [*args, "--delta-target", "0.04"])
+    assert new.exit_code == 0 and new.stderr == "", new.output
+    grid = mc.MachineGrid(COMPRESSOR, rpm=[100.0, 120.0])
+    expected = mc.motion_sweep(COMPRESSOR, grid, outputs=["flywheel_inertia"], delta_target=0.04)
+    frame = pd.read_csv(io.StringIO(new.stdout), index_col=0)
+    pd.testing.assert_series_equal(frame["flywheel_inertia"], expected["flywheel_inertia"], rtol=1e-11)
+    old = CliRunner().invoke(cli.main, [*args, "--delta", "0.04"])
+    assert old.exit_code == 0 and old.stdout == new.stdout, old.output
+    assert old.stderr.splitlines() == ["note: --delta is now --delta-target (the old name goes in 0.3)"]
+    config = tmp_path / "motion.toml"
+    config.write_text("delta = 0.04\n")
+    key = CliRunner().invoke(cli.main, [*args, "--config", str(config)])
+    assert key.exit_code == 0 and key.stdout == new.stdout, key.output
+    assert key.stderr.splitlines() == ["note: delta in --config is now delta_target (the old name goes in 0.3)"]
+    config.write_text("delta_target = 0.04\n")
+    assert CliRunner().invoke(cli.main, [*args, "--config", str(config)]).stdout == new.stdout
+    config.write_text("delta = 0.04\ndelta_target = 0.04\n")
+    assert refused("--rpm", "100", "--config", str(config)).endswith(
+        "delta_target and delta are one key (delta its former name): give it once"
+    )
+
+
 @pytest.mark.parametrize(
     ("args", "named"),
     [
@@ -94,7 +120,7 @@ def test_a_config_file_gives_axes_outputs_and_load(tmp_path):
         (["--rpm", "100", "--outputs", "flywheel_inertia"], "delta"),
         (["--rpm", "100", "--load", "wat"], "--load"),
         (["--rpm", "100", "--load", "power:100:120"], "rpm"),
-        (["--rpm", "100", "--delta", "0"], "delta"),
+        (["--rpm", "100", "--delta-target", "0"], "delta"),
         (["--rpm", "100", "--resume"], "--resume"),
         (["--rpm", "100", "--out", "x.parquet", "--format", "csv"], "--format"),
         ([], "no axes"),
@@ -115,7 +141,7 @@ def test_mistakes_are_one_line(args, named):
         ('[axes]\nrpm = "1:2:0"\n', "[axes] rpm"),
         ("axes = 3\n", "axes"),
         ("outputs = 7\n[axes]\nrpm = 100\n", "outputs"),
-        ('delta = "x"\n[axes]\nrpm = 100\n', "delta"),
+        ('delta_target = "x"\n[axes]\nrpm = 100\n', "delta_target"),
         ("load = [1]\n[axes]\nrpm = 100\n", "load"),
         ("[axes\n", "not a valid TOML file"),
     ],

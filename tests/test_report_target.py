@@ -78,3 +78,27 @@ def test_a_preset_keeps_its_class_and_a_changed_one_does_not():
 
 
 FIGURES = ("motion_speed", "motion_torques", "motion_speed_range", "motion_gravity_map", "motion_orders")
+
+
+def test_the_reports_delta_is_the_former_name_of_delta_target(tmp_path, monkeypatch):
+    """multicrank report --delta-target sets the δ the flywheel is sized for; --delta, its
+    name of 0.1, still does, with one line on stderr naming the new name."""
+    from click.testing import CliRunner
+
+    import multicrank.report.html as report_html
+    from multicrank import cli
+
+    asked: list[float | None] = []
+
+    def write_report(out, settings, progress=True):  # the settings the command built, no report
+        asked.append(settings.delta)
+        return tmp_path / "index.html"
+
+    monkeypatch.setattr(report_html, "write_report", write_report)
+    args = ["report", "--out", str(tmp_path / "report"), "--machine", "slow-compressor", "--no-progress"]
+    new = CliRunner().invoke(cli.main, [*args, "--delta-target", "0.04"])
+    assert new.exit_code == 0 and new.stderr == "", new.output
+    old = CliRunner().invoke(cli.main, [*args, "--delta", "0.03"])
+    assert old.exit_code == 0, old.output
+    assert old.stderr.splitlines() == ["note: --delta is now --delta-target (the old name goes in 0.3)"]
+    assert asked == [0.04, 0.03]

@@ -16,7 +16,7 @@ from ..presets import DEFAULT_MACHINE_NAME, MACHINES
 if TYPE_CHECKING:
     from ..machine.machine import Machine
 
-__all__ = ["INTERRUPTED", "MissingExtra", "UserError", "machine_option", "main"]
+__all__ = ["INTERRUPTED", "MissingExtra", "UserError", "machine_option", "main", "renamed_option"]
 
 
 class MissingExtra(click.ClickException):
@@ -132,3 +132,28 @@ def machine_option(command: Any) -> Any:
     """The --machine option (and its former name --engine) of a command: its argument
     ``machine``, a multicrank.Machine."""
     return _engine(_machine(command))
+
+
+def renamed_option(name: str, former: str, parameter: str, **attrs: Any) -> Any:
+    """The option ``name`` of a command (its argument ``parameter``; ``attrs`` as
+    click.option takes them) and its former name ``former``, an option of its own, hidden: its
+    value goes to ``parameter`` with one line on stderr that names the new name; both given is
+    a mistake (exit status 2)."""
+    key = f"multicrank.renamed.{parameter}"
+
+    def remember(ctx: click.Context, param: click.Parameter, value: Any) -> None:
+        if value is not None:
+            click.echo(f"note: {former} is now {name} (the old name goes in 0.3)", err=True)
+            ctx.meta[key] = value
+
+    def take(ctx: click.Context, param: click.Parameter, value: Any) -> Any:
+        if key not in ctx.meta:
+            return value
+        if ctx.get_parameter_source(parameter) is click.core.ParameterSource.COMMANDLINE:
+            raise UserError(f"{name} and {former} are one option ({former} its former name): give it once")
+        return ctx.meta.pop(key)
+
+    old = {k: v for k, v in attrs.items() if k in ("type", "metavar")}
+    new = click.option(name, parameter, callback=take, **attrs)
+    hidden = click.option(former, hidden=True, is_eager=True, expose_value=False, callback=remember, **old)
+    return lambda command: hidden(new(command))

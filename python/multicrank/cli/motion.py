@@ -14,7 +14,7 @@ from .._files import write_atomically
 from .._native import MechanismError
 from .._shaft import omega_from_rpm, rpm_from_omega
 from .._text import counted
-from ._group import UserError, machine_option
+from ._group import UserError, machine_option, renamed_option
 from ._output import format_option, out_file, write_result, writing
 
 if TYPE_CHECKING:
@@ -215,14 +215,15 @@ def _without_gas(machine: Machine) -> Machine:
     "the speed follows from it).",
 )
 @drive_option
-@click.option(
+@renamed_option(
+    "--delta-target",
     "--delta",
     "target",
     type=float,
     default=None,
     metavar="DELTA",
     help="Size the flywheel for this coefficient of speed fluctuation δ, e.g. 0.025 for 1/40 "
-    "[default: the preset's class limit; none for a machine file].",
+    "[default: the preset's class limit; none for a machine file]. --delta is its former name.",
 )
 @click.option(
     "--cycle",
@@ -262,6 +263,9 @@ def motion_command(
     gravity − 1 (a fraction), near_stall (δ > 0.5: the machine nearly stops each cycle), the
     load torque [N·m] and power [kW]; with a target δ, the shaft inertia [kg·m²] that gives it
     with and without gravity and the textbook estimate ΔE/(δω²).
+
+    --format json gives the target δ as delta_target (and as target_delta, its former name,
+    deprecated: gone in 0.3).
     """
     import pandas as pd
     from tqdm.auto import tqdm
@@ -276,7 +280,7 @@ def motion_command(
     if target is None and machine.name in MACHINE_CLASSES:
         target = SPEED_FLUCTUATION[MACHINE_CLASSES[machine.name]][1]
     if target is not None and not (math.isfinite(target) and 1e-9 <= target < 1):
-        raise MechanismError(f"--delta = {target} is out of range; allowed: 1e-9 <= delta < 1")
+        raise MechanismError(f"--delta-target = {target} is out of range; allowed: 1e-9 <= delta_target < 1")
     wanted: list[float | None]
     if balance:
         wanted = [_speed(machine, rpm, "--rpm") for rpm in speeds] or list(_speed_set(machine, points))
@@ -349,8 +353,8 @@ def motion_command(
     if target is not None:
         summary.append(f"flywheel_inertia: the shaft inertia [kg·m²] for δ = {target:.4g} (1/{1 / target:.4g})")
     meta = dict(
-        machine=machine.name, load=load, drive=drive, target_delta=target, near_stall_delta=NEAR_STALL_DELTA,
-        units=units,
+        machine=machine.name, load=load, drive=drive, delta_target=target, target_delta=target,
+        near_stall_delta=NEAR_STALL_DELTA, units=units,
     )  # fmt: skip
     write_result(frame, fmt, out_path, summary=summary, json_meta=meta)
 

@@ -11,7 +11,7 @@ import click
 from .._native import MechanismError
 from .._text import counted
 from ..motion.columns import COLUMN_MEANINGS
-from ._group import UserError, machine_option
+from ._group import UserError, machine_option, renamed_option
 from ._output import format_option
 from .motion import parse_torque
 from .sweep import grid_axes, output_names, progress_option, read_config, resume_option
@@ -27,7 +27,7 @@ __all__ = ["MOTION_AXES", "motion_sweep_command"]
 MOTION_AXES: dict[str, str] = {name: f"{what} [{unit}]" for name, (what, unit) in COLUMN_MEANINGS.items()}
 MOTION_AXES["rpm"] += " (default: the machine's own)"
 _AXES = {name: (name, float) for name in MOTION_AXES}
-_CONFIG_KEYS = ("axes", "outputs", "load", "delta")
+_CONFIG_KEYS = ("axes", "outputs", "load", "delta_target", "delta")
 
 
 def _axis_options(command: Any) -> Any:
@@ -65,9 +65,18 @@ def _load_rule(text: str, where: str) -> Any:
 
 
 def _config_delta(table: dict[str, Any], path: str | None) -> float | None:
-    delta = table.get("delta")
+    """delta_target in --config (or delta, its former name, with a note on stderr): a number."""
+    key = "delta_target"
+    if "delta" in table:
+        if key in table:
+            raise MechanismError(
+                f"--config {path}: delta_target and delta are one key (delta its former name): give it once"
+            )
+        click.echo("note: delta in --config is now delta_target (the old name goes in 0.3)", err=True)
+        key = "delta"
+    delta = table.get(key)
     if delta is not None and (isinstance(delta, bool) or not isinstance(delta, int | float)):
-        raise MechanismError(f"--config {path}: delta = {delta!r}; it is a number (the target δ)")
+        raise MechanismError(f"--config {path}: {key} = {delta!r}; it is a number (the target δ)")
     return None if delta is None else float(delta)
 
 
@@ -78,14 +87,14 @@ def _config_delta(table: dict[str, Any], path: str | None) -> float | None:
     "--config",
     type=click.Path(exists=True, dir_okay=False),
     help="TOML file with an [axes] table (the axes' names with underscores: lists, numbers or range "
-    "strings) and optional outputs, load, delta; options given override it.",
+    "strings) and optional outputs, load, delta_target; options given override it.",
 )
 @click.option(
     "--outputs",
     metavar="NAMES",
     help="Comma-separated outputs, of delta, delta_without_gravity, delta_coasting, gravity_effect, "
     "rpm_min, rpm_max, stalled, near_stall, flywheel_inertia, flywheel_inertia_without_gravity "
-    "[default: the steady state's, and the flywheel's with --delta].",
+    "[default: the steady state's, and the flywheel's with --delta-target].",
 )
 @click.option(
     "--load",
@@ -95,13 +104,15 @@ def _config_delta(table: dict[str, Any], path: str | None) -> float | None:
     "power:TORQUE:RPM[:EXPONENT] (TORQUE [N·m] at RPM [1/min], growing as speed^EXPONENT, default 2; the "
     "speed follows from it; no --rpm axis) [default: balance].",
 )
-@click.option(
+@renamed_option(
+    "--delta-target",
     "--delta",
+    "delta_target",
     type=float,
     default=None,
     metavar="DELTA",
     help="Size the flywheel for this coefficient of speed fluctuation δ, e.g. 0.025 for 1/40 "
-    "(adds the flywheel_inertia outputs).",
+    "(adds the flywheel_inertia outputs). --delta is its former name.",
 )
 @click.option(
     "--out",
@@ -127,7 +138,7 @@ def motion_sweep_command(
     config: str | None,
     outputs: str | None,
     load: str | None,
-    delta: float | None,
+    delta_target: float | None,
     out: str | None,
     fmt: str,
     resume: bool,
@@ -146,8 +157,9 @@ def motion_sweep_command(
     Outputs per design: δ with gravity, without (g = 0) and coasting (delta_coasting: gas and
     load removed, J(φ) and gravity together), gravity_effect = δ/δ without gravity − 1 (a
     fraction), the speed extremes [1/min], stalled, near_stall (δ > 0.5: the design nearly
-    stops each cycle), and with --delta the flywheel [kg·m²] with and without gravity. A
-    design that stalls is a row with stalled true and no δ.
+    stops each cycle), and with --delta-target the flywheel [kg·m²] with and without gravity. A
+    design that stalls is a row with stalled true and no δ. A printed --format json gives the
+    target δ as delta_target (and as target_delta, its former name, deprecated: gone in 0.3).
 
     Ctrl-C stops the sweep with exit status 130; with --out the finished chunks are kept, and
     the same command with --resume continues from them.
@@ -164,7 +176,7 @@ def motion_sweep_command(
         raise MechanismError("no axes: give at least one, e.g. --rpm 60:300:9, as an option or in [axes] of --config")
     load_text = load if load is not None else _config_load(table, config) or BALANCE
     load_rule = _load_rule(load_text, "--load" if load is not None else f"--config {config}: load")
-    target = delta if delta is not None else _config_delta(table, config)
+    target = delta_target if delta_target is not None else _config_delta(table, config)
     chosen = output_names(outputs, "--outputs") if outputs else table.get("outputs")
     if chosen:  # the names of 0.1 still work, said on stderr
         for old in (name for name in chosen if name in RENAMED_OUTPUTS):
@@ -202,7 +214,7 @@ def motion_sweep_command(
             click.echo(note)
         return
     units = {name: unit for name, unit in _UNITS.items() if name in result}
-    meta = dict(machine=machine.name, load=load_text, target_delta=target, units=units)
+    meta = dict(machine=machine.name, load=load_text, delta_target=target, target_delta=target, units=units)
     summary = [heading, "gravity_effect = δ/δ without gravity − 1; δ = (ω_max − ω_min)/ω_mean (time mean)"]
     note = _near_stall_note(result)
     if note:

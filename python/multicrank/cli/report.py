@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING
 import click
 
 from .._native import MechanismError
-from ._group import UserError, machine_option
+from ._group import UserError, machine_option, renamed_option
 
 if TYPE_CHECKING:
     from ..machine.machine import Machine
@@ -58,11 +58,14 @@ def _finite_option(value: float | None, option: str) -> float | None:
     default=None,
     help="δ_g below which gravity may be neglected [default: 1/3000].",
 )
-@click.option(
+@renamed_option(
+    "--delta-target",
     "--delta",
+    "delta_target",
     type=click.FloatRange(min=0, max=1, min_open=True, max_open=True),
     default=None,
-    help="Size the flywheel for this δ [default: the preset's class limit, else the machine's δ without gravity].",
+    help="Size the flywheel for this δ [default: the preset's class limit, else the machine's δ without gravity]. "
+    "--delta is its former name.",
 )
 @click.option("--progress/--no-progress", default=True, show_default=True, help="Show a progress bar.")
 def report_command(
@@ -72,7 +75,7 @@ def report_command(
     n_max: int,
     points: int,
     threshold: float | None,
-    delta: float | None,
+    delta_target: float | None,
     progress: bool,
 ) -> None:
     """Write the report: first the machine's steady running with and without gravity (δ, the
@@ -89,7 +92,7 @@ def report_command(
         n_max=n_max,
         points=points,
         threshold=threshold or DEFAULT_THRESHOLD,
-        delta=delta,
+        delta=delta_target,
     )
     try:
         replaceable_folder(out_dir, f"--out {out_dir}")  # refused in the option's words
