@@ -4,7 +4,8 @@
 - `steady`: the exact periodic steady state (`steady_state`), and `steady_result` its result
   (`SteadyState`, `StallError`), which `steady` re-exports;
 - `flywheel`: the flywheel for a coefficient of speed fluctuation;
-- `transient`: the motion in time (SciPy's integrators, stall events);
+- `transient`: the motion in time (`simulate` and its result, `Transient`), `_integration` its
+  right-hand side and SciPy's integrators with the stall event;
 - `orders`: the torque orders of the cycle, and their hand-off to openTorsion;
 - `variants` and `sweep`: machines that differ in a few numbers (`MachineGrid`) and their
   steady states at sweep scale (`motion_sweep`); loaded on first use (they need pandas);
