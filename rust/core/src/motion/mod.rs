@@ -9,6 +9,7 @@
 //! one row each). J, J′, U and the torques are `Dynamics`'s.
 
 mod balance;
+mod columns;
 mod cycle;
 mod extrema;
 mod flywheel;
@@ -16,6 +17,7 @@ mod gas;
 mod quadrature;
 mod square_law;
 mod sweep;
+mod variant;
 
 use std::f64::consts::PI;
 use std::sync::{Arc, OnceLock};
@@ -28,8 +30,9 @@ use balance::{Balance, Periodic, Solved, Stall};
 use cycle::{Cycle, Gas};
 use square_law::SquareLaw;
 
+pub use columns::{DesignColumns, MotionColumns, MotionOutputs, UnitColumn, UnitField};
 pub use gas::{GasCylinder, PiecewisePolynomial};
-pub use sweep::{motion_sweep, DesignColumns, MotionColumns, MotionOutputs, UnitColumn, UnitField};
+pub use sweep::motion_sweep;
 
 /// A machine as the steady state takes it (SI units).
 #[derive(Debug, Clone, Copy)]
