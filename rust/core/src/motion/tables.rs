@@ -1,0 +1,353 @@
+//! The tables of a machine's working cycle for the "balance" load (`SteadyTables`), made once
+//! and shared by every steady state and flywheel of that machine whatever its shaft inertia and
+//! mean speed, and their solves: the steady state with its curves, the two comparison δ, the
+//! lowest mean speed that runs (a stall's `min_rpm`) and the flywheel for a δ.
+
+use std::f64::consts::PI;
+use std::sync::{Arc, OnceLock};
+
+use crate::dynamics::Dynamics;
+use crate::error::{check, MechanismError, Result};
+use crate::mechanism::{check_rpm, check_shaft_inertia, omega_from_rpm};
+
+use super::balance::{Balance, Periodic, Solved, Stall};
+use super::cycle::{Cycle, Gas};
+use super::{check_speed_ratio, flywheel, FlywheelInertia, Machine, SteadyCurves, SteadyState};
+
+/// The constant "balance" load (N·m): the cycle mean of the gas torque, W(Φ)/Φ.
+fn balance_load(cycle: &Cycle) -> f64 {
+    cycle.gas.work.per_cycle / cycle.cycle()
+}
+
+/// δ of a solution, NaN where it stalls.
+fn delta_or_nan(found: Solved) -> f64 {
+    found.map_or(f64::NAN, |p| p.delta())
+}
+
+/// A machine's working cycle tabulated once for every steady state of it under the
+/// "balance" load, whatever the shaft inertia I_w and the mean speed: J − I_w, U, the gas
+/// work W and the torques' slopes on the cycle's panels, and the energy method's set-up with
+/// gravity, with g = 0 and of gravity alone (none of them depends on I_w or the speed).
+/// What `MotionMachine` keeps in Python, and what a motion sweep shares between designs
+/// that differ only in I_w and speed. Immutable; every solve works on its own copy.
+#[derive(Debug, Clone)]
+pub struct SteadyTables {
+    pub(super) cycle: Arc<Cycle>,
+    /// The "balance" load (N·m).
+    pub(super) load: f64,
+    /// The machine as it is; with g = 0 (`None` when g = 0 already); gravity alone.
+    machine: Balance,
+    without_gravity: Option<Balance>,
+    gravity_only: Balance,
+    /// (ω_m, ΔE) of the textbook estimate at the first mean speed asked for (ΔE does not
+    /// depend on I_w; a sweep sizes many flywheels at one speed).
+    swing: OnceLock<(f64, f64)>,
+}
+
+/// The lowest mean speed that runs, searched from an s known to stall (the Python
+/// implementation's `_stall_error`).
+fn stall_error(balance: &Balance, stall: Stall, rpm: f64, ratio: f64) -> Result<MechanismError> {
+    let above = 1e-6 * balance.swing();
+    let lowest = balance.clone().lowest_running_speed(ratio, above)?;
+    let min_rpm = if lowest.is_finite() {
+        Some(running_rpm(balance, 30.0 * lowest / PI, ratio)?)
+    } else {
+        None
+    };
+    Ok(MechanismError::Stall {
+        angle: stall.angle.rem_euclid(balance.cycle()),
+        rpm,
+        min_rpm,
+    })
+}
+
+/// `rpm` (1/min), nudged up until the steady state asked for at it runs: min_rpm is a
+/// speed that runs (the threshold's root, the round trip through rpm and the solve's own
+/// root in s each round by ~1e-15), within a few ulps of the threshold. Each trial solves
+/// on a fresh copy of `balance`, as [`SteadyTables::steady_state`] does (a copy that has
+/// located its minima already rounds differently).
+fn running_rpm(balance: &Balance, rpm: f64, ratio: f64) -> Result<f64> {
+    let mut found = rpm;
+    let mut step = 4.0 * f64::EPSILON;
+    for _ in 0..64 {
+        if balance.clone().solve(omega_from_rpm(found), ratio)?.is_ok() {
+            return Ok(found);
+        }
+        found = rpm * (1.0 + step);
+        step *= 2.0;
+    }
+    Ok(found)
+}
+
+impl SteadyTables {
+    /// The tables of `machine` (its units, gas and g checked, naming the parameter).
+    pub fn new(machine: &Machine<'_>) -> Result<Self> {
+        Self::from_cycle(Cycle::new(
+            machine,
+            Dynamics::new(machine.units, machine.g)?,
+        )?)
+    }
+
+    /// The tables of `machine` whose gas is `gas` (a sweep's, shared by its designs that
+    /// differ only in masses, g, I_w or speed).
+    pub(crate) fn with_gas(machine: &Machine<'_>, gas: &Arc<Gas>) -> Result<Self> {
+        let dynamics = Dynamics::new(machine.units, machine.g)?;
+        Self::from_cycle(Cycle::with_gas(machine, dynamics, gas)?)
+    }
+
+    fn from_cycle(cycle: Cycle) -> Result<Self> {
+        let cycle = Arc::new(cycle);
+        let load = balance_load(&cycle);
+        let without_gravity = if cycle.gravity_on {
+            Some(Balance::new(
+                &Arc::new(cycle.without_gravity()),
+                load,
+                true,
+            )?)
+        } else {
+            None
+        };
+        Ok(Self {
+            machine: Balance::new(&cycle, load, true)?,
+            gravity_only: Balance::new(&cycle, 0.0, false)?,
+            without_gravity,
+            load,
+            cycle,
+            swing: OnceLock::new(),
+        })
+    }
+
+    /// ΔE (J) of the textbook flywheel estimate at the mean speed `omega_mean` (rad/s): the
+    /// swing of ∫(M_gas − U′ − M_load − ½J′ω_m²) dφ, the load balancing the gas
+    /// ([`Balance::energy_swing`]).
+    fn energy_swing(&self, omega_mean: f64) -> Result<f64> {
+        if let Some(&(omega, swing)) = self.swing.get() {
+            if omega == omega_mean {
+                return Ok(swing);
+            }
+        }
+        let swing = self.machine.energy_swing(omega_mean)?;
+        let _ = self.swing.set((omega_mean, swing));
+        Ok(swing)
+    }
+
+    /// Φ (rad).
+    pub fn cycle(&self) -> f64 {
+        self.cycle.cycle()
+    }
+
+    /// The "balance" load (N·m): the cycle mean of the gas torque.
+    pub fn load(&self) -> f64 {
+        self.load
+    }
+
+    /// The periodic steady state with I_w = `shaft_inertia` (kg·m²) at the mean speed `rpm`
+    /// (1/min), as [`steady_state_curves`] gives it, with ω and t at `phi` (rad, each in
+    /// [0, Φ]; none: no curves). `compare`: whether δ without gravity and of gravity alone
+    /// are solved too (else NaN, and two solves saved).
+    ///
+    /// Errors: bad input, naming the parameter; [`MechanismError::Stall`] with the lowest
+    /// mean speed that runs.
+    ///
+    /// [`steady_state_curves`]: super::steady_state_curves
+    pub fn steady_state(
+        &self,
+        shaft_inertia: f64,
+        rpm: f64,
+        min_speed_ratio: f64,
+        phi: &[f64],
+        compare: bool,
+    ) -> Result<SteadyCurves> {
+        check_shaft_inertia(shaft_inertia)?;
+        check_rpm(rpm)?;
+        check_speed_ratio(min_speed_ratio)?;
+        let cycle = self.cycle();
+        for &angle in phi {
+            check("phi", angle, "0 <= phi <= cycle angle", |a| {
+                (0.0..=cycle).contains(&a)
+            })?;
+        }
+        let omega_mean = omega_from_rpm(rpm);
+        let balance = self.machine.with_inertia(shaft_inertia);
+        let (solution, curves) =
+            match balance
+                .clone()
+                .solve_with_curves(omega_mean, min_speed_ratio, phi)?
+            {
+                Ok(found) => found,
+                Err(stall) => return Err(stall_error(&balance, stall, rpm, min_speed_ratio)?),
+            };
+        let mut state = state_of(&solution, self.load, f64::NAN, f64::NAN);
+        if compare {
+            (state.delta_without_gravity, state.delta_gravity_only) = self.comparisons(
+                shaft_inertia,
+                rpm,
+                state.delta,
+                state.omega_mean,
+                min_speed_ratio,
+            )?;
+        }
+        Ok(SteadyCurves {
+            state,
+            omega: curves.omega,
+            time: curves.time,
+        })
+    }
+
+    /// (δ without gravity, δ of gravity alone) of a steady state found by
+    /// [`SteadyTables::steady_state`] with I_w = `shaft_inertia` at `rpm` (its `delta` and
+    /// `omega_mean`, rad/s): the two comparison solves it skips without `compare` — δ₀ at the
+    /// speed asked for (δ itself without gravity), δ of gravity alone at the mean speed
+    /// found; each NaN where it stalls.
+    pub fn comparisons(
+        &self,
+        shaft_inertia: f64,
+        rpm: f64,
+        delta: f64,
+        omega_mean: f64,
+        min_speed_ratio: f64,
+    ) -> Result<(f64, f64)> {
+        check_shaft_inertia(shaft_inertia)?;
+        check_rpm(rpm)?;
+        check_speed_ratio(min_speed_ratio)?;
+        let without = self
+            .delta_without_gravity(shaft_inertia, omega_from_rpm(rpm), min_speed_ratio)?
+            .unwrap_or(delta);
+        let alone = self.delta_gravity_only(shaft_inertia, omega_mean, min_speed_ratio)?;
+        Ok((without, alone))
+    }
+
+    /// The machine's own arrays at `phi` (rad, any angles) with I_w = `shaft_inertia`
+    /// (kg·m²): J (kg·m²), J′ (kg·m²/rad), M_gas and the gravity torque −U′ (N·m), as the
+    /// tables take them.
+    pub fn arrays_at(&self, shaft_inertia: f64, phi: &[f64]) -> Result<CycleArrays> {
+        check_shaft_inertia(shaft_inertia)?;
+        let (mut reduced_inertia, slope) = self.cycle.inertia_at(phi)?;
+        reduced_inertia
+            .iter_mut()
+            .for_each(|rest| *rest += shaft_inertia);
+        Ok(CycleArrays {
+            reduced_inertia,
+            reduced_inertia_slope: slope,
+            gas_torque: self.cycle.gas_torque_at(phi)?,
+            gravity_torque: self.cycle.gravity_torque_at(phi)?,
+        })
+    }
+
+    /// δ alone (NaN where the machine stalls) with I_w = `shaft_inertia` at ω_m =
+    /// `omega_mean` (rad/s), and the solution: one solve, no curves.
+    pub(crate) fn solve(&self, shaft_inertia: f64, omega_mean: f64, ratio: f64) -> Result<Solved> {
+        self.machine
+            .with_inertia(shaft_inertia)
+            .solve(omega_mean, ratio)
+    }
+
+    /// δ of the machine with g = 0, the same load, at ω_m = `omega_mean` (rad/s), NaN where
+    /// it stalls; `None` where the machine has no gravity (δ₀ is then δ).
+    pub(crate) fn delta_without_gravity(
+        &self,
+        shaft_inertia: f64,
+        omega_mean: f64,
+        ratio: f64,
+    ) -> Result<Option<f64>> {
+        self.without_gravity
+            .as_ref()
+            .map(|balance| {
+                Ok(delta_or_nan(
+                    balance
+                        .with_inertia(shaft_inertia)
+                        .solve(omega_mean, ratio)?,
+                ))
+            })
+            .transpose()
+    }
+
+    /// δ of gravity (and the variation of J) alone, gas and load removed, at ω_m =
+    /// `omega_mean` (rad/s); NaN where it stalls.
+    pub(crate) fn delta_gravity_only(
+        &self,
+        shaft_inertia: f64,
+        omega_mean: f64,
+        ratio: f64,
+    ) -> Result<f64> {
+        Ok(delta_or_nan(
+            self.gravity_only
+                .with_inertia(shaft_inertia)
+                .solve(omega_mean, ratio)?,
+        ))
+    }
+
+    /// The shaft inertia for the coefficient of speed fluctuation `delta` at `rpm`, as
+    /// [`flywheel_inertia`] gives it; `fallback` (kg·m²): where the search starts when the
+    /// textbook estimate is not positive. `without`: whether the g = 0 machine's is sized
+    /// too (else NaN).
+    ///
+    /// [`flywheel_inertia`]: super::flywheel_inertia
+    pub fn flywheel_inertia(
+        &self,
+        delta: f64,
+        rpm: f64,
+        min_speed_ratio: f64,
+        fallback: f64,
+        without: bool,
+    ) -> Result<FlywheelInertia> {
+        flywheel::check_delta(delta)?;
+        check_rpm(rpm)?;
+        check_speed_ratio(min_speed_ratio)?;
+        let omega_mean = omega_from_rpm(rpm);
+        let balance = &self.machine;
+        let swing = self.energy_swing(omega_mean)?;
+        let textbook = flywheel::textbook(swing, &self.cycle, delta, omega_mean);
+        let start = flywheel::start(swing, textbook, &self.cycle, delta, omega_mean, fallback);
+        let inertia = flywheel::inertia_for(balance, omega_mean, min_speed_ratio, delta, start)?;
+        let without = match (&self.without_gravity, without) {
+            (_, false) => f64::NAN,
+            (None, true) => inertia,
+            (Some(balance), true) => {
+                flywheel::inertia_for(balance, omega_mean, min_speed_ratio, delta, inertia)
+                    .unwrap_or(f64::NAN)
+            }
+        };
+        Ok(FlywheelInertia {
+            shaft_inertia: inertia,
+            shaft_inertia_without_gravity: without,
+            textbook,
+            textbook_error: (textbook - inertia) / inertia,
+            energy_swing: swing,
+            delta,
+            rpm,
+        })
+    }
+}
+
+/// A machine's arrays over its cycle ([`SteadyTables::arrays_at`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct CycleArrays {
+    /// J (kg·m²).
+    pub reduced_inertia: Vec<f64>,
+    /// J′ (kg·m²/rad).
+    pub reduced_inertia_slope: Vec<f64>,
+    /// M_gas (N·m).
+    pub gas_torque: Vec<f64>,
+    /// −U′ (N·m), 0 without gravity.
+    pub gravity_torque: Vec<f64>,
+}
+
+/// A solution's numbers as a [`SteadyState`].
+pub(super) fn state_of(solution: &Periodic, load: f64, without: f64, alone: f64) -> SteadyState {
+    SteadyState {
+        omega_mean: solution.omega_mean,
+        period: solution.period,
+        omega_max: solution.omega_max,
+        omega_min: solution.omega_min,
+        phi_max: solution.phi_max,
+        phi_min: solution.phi_min,
+        energy_at_zero: solution.energy_at_zero,
+        mean_load_torque: load,
+        delta: solution.delta(),
+        delta_midrange: 2.0 * (solution.omega_max - solution.omega_min)
+            / (solution.omega_max + solution.omega_min),
+        delta_without_gravity: without,
+        delta_gravity_only: alone,
+    }
+}
