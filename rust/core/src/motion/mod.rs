@@ -4,9 +4,14 @@
 //!
 //! The rooms: `quadrature` (Gauss–Legendre panels over the cycle), `gas` (pressures as
 //! periodic piecewise polynomials and the exact gas work), `cycle` (the machine's J, U and W
-//! tabulated on the panels, and at any angle), `balance` (the energy method and Brent's
-//! method), `flywheel` (the shaft inertia for a δ) and `sweep` (many variants of one machine,
-//! one row each). J, J′, U and the torques are `Dynamics`'s.
+//! tabulated on the panels, and at any angle), `solution` (a periodic solution, or the stall
+//! that refused it), `extrema` (Brent's method, the extremes between samples and the graded
+//! mesh), `balance` (the energy method), `square_law` (the square-law load in closed form),
+//! `tables` (a machine's tables, shared by every steady state of it), `flywheel` (the shaft
+//! inertia for a δ), and the motion sweep: `columns` (its vocabulary), `variant` (a design's
+//! machine) and `sweep` (the driver, many variants of one machine, one row each). This file
+//! holds the four entries (`steady_state`, `steady_state_curves`, `square_law_steady_state`,
+//! `flywheel_inertia`) and their results. J, J′, U and the torques are `Dynamics`'s.
 
 mod balance;
 mod columns;
@@ -15,6 +20,7 @@ mod extrema;
 mod flywheel;
 mod gas;
 mod quadrature;
+mod solution;
 mod square_law;
 mod sweep;
 mod tables;

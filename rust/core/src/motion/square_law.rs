@@ -11,10 +11,10 @@
 
 use crate::error::{MechanismError, Result};
 
-use super::balance::{Curves, Periodic, Stall};
 use super::cycle::Cycle;
 use super::extrema::{grading, local_minima, refine_extremum};
 use super::quadrature::{Antiderivative, Panels};
+use super::solution::{Curves, Periodic, Stall};
 
 /// The closed form fails (e^{A(Φ)} overflows) beyond this many e-folds per cycle.
 const MOST_E_FOLDS: f64 = 700.0;

@@ -10,8 +10,9 @@ use crate::dynamics::Dynamics;
 use crate::error::{check, MechanismError, Result};
 use crate::mechanism::{check_rpm, check_shaft_inertia, omega_from_rpm};
 
-use super::balance::{Balance, Periodic, Solved, Stall};
+use super::balance::Balance;
 use super::cycle::{Cycle, Gas};
+use super::solution::{Periodic, Solved, Stall};
 use super::{check_speed_ratio, flywheel, FlywheelInertia, Machine, SteadyCurves, SteadyState};
 
 /// The constant "balance" load (N·m): the cycle mean of the gas torque, W(Φ)/Φ.
