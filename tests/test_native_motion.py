@@ -1,9 +1,16 @@
 """The native machine of the steady state (multicrank._native.MotionMachine, made by
-multicrank.machine.native.native_machine): the Rust core's energy method against the Python
-implementation (mc.steady_state, mc.flywheel_inertia), its sweep against its own steady state
-of each design's machine (motion.variants.machine_variant), bit for bit, on any thread count."""
+multicrank.machine.native.native_machine) and mc.steady_state / mc.flywheel_inertia through it:
+against an independent oracle (rust/core/tests/data/oracle.py: planar geometry, complex-step
+derivatives, SciPy interpolants and quadratures, brentq; it shares no code with multicrank),
+through the fixtures it wrote (rust/core/tests/data/motion_fixtures.json) and live; its sweep
+against its own steady state of each design's machine (motion.variants.machine_variant), bit
+for bit, on any thread count."""
 
+import importlib.util
+import json
 import math
+import pathlib
+import sys
 from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
@@ -15,26 +22,7 @@ from multicrank._native import MOTION_SWEEP_OUTPUTS, MotionMachine
 from multicrank.machine.cylinder import unit_columns
 from multicrank.machine.native import native_machine
 from multicrank.motion.variants import machine_variant
-from multicrank.presets import MACHINE_CLASSES, SPEED_FLUCTUATION
 
-PRESETS = ("slow-compressor", "marine-2t-twin", "inline-4", "boxer-compressor", "genset-v12")
-#: Relative agreement with Python where the core's fixtures (rust/core/tests/data/
-#: make_motion_fixtures.py, refined_extremes) found Python's own numbers the less accurate:
-#: Python locates the speed extremes on the panels' interpolants. Beside the boxer
-#: compressor's pressure-table kinks that puts its ω_min ~3e-9 and so its δ ~1.1e-7 off (the
-#: refined extremes agree with the core to ~1e-11); the flywheel found from those δ is off as
-#: much. Elsewhere 1e-10 holds (inline-4 and genset-v12 agree to ~1e-11, the others ~1e-13).
-LOOSER = {
-    "boxer-compressor": {
-        "delta": 3e-7,
-        "delta_midrange": 3e-7,
-        "delta_without_gravity": 3e-7,
-        "omega_min": 1e-8,
-        "ratio": 1e-8,
-        "shaft_inertia": 3e-7,
-        "shaft_inertia_without_gravity": 3e-7,
-    },
-}
 # The extension's key of δ of the machine coasting (SteadyState.delta_coasting), until the
 # extension takes the Python name.
 NATIVE_COASTING = "delta_gravity_only" if "delta_gravity_only" in MOTION_SWEEP_OUTPUTS else "delta_coasting"
@@ -49,55 +37,141 @@ STEADY = (
     "period",
     "mean_load_torque",
 )
-FLYWHEEL = ("shaft_inertia", "shaft_inertia_without_gravity", "textbook", "energy_swing")
+
+ORACLE_DIR = pathlib.Path(__file__).resolve().parents[1] / "rust" / "core" / "tests" / "data"
+#: What the oracle found (make_motion_fixtures.py): the machines' parameters and their motion.
+FIXTURES = json.loads((ORACLE_DIR / "motion_fixtures.json").read_text())["machines"]
+#: Relative tolerances against the oracle (good to ~1e-13 here, ~1e-9 near stall: its two
+#: runs' agreement is in the fixtures). The core's time quadrature puts its energy offset,
+#: and with it every ω, up to 3e-9 off at the machines' speeds (δ 3.5e-9, δ about the
+#: midrange 6e-9, the flywheel 7e-9), its lowest running speed 3e-8; the cycle integrals (ω_m
+#: asked for, the balancing load) are exact to rounding. A real error is far larger: a gas
+#: torque 1e-6 off moves δ by ~1e-6.
+TOLERANCE = {"integrals": 1e-12, "speeds": 1e-8, "deltas": 2e-8, "flywheel": 2e-8, "swing": 1e-12, "min_rpm": 2e-7}
 
 
 def machine(name):
     return mc.presets.MACHINES[name]
 
 
-def agrees(name, field, native, python):
-    tolerance = LOOSER.get(name, {}).get(field, 1e-10)
-    # δ of the machine coasting may be 0 (a balanced machine): then absolutely, at rounding of δ.
-    assert native == pytest.approx(python, rel=tolerance, abs=1e-15), (name, field, native, python)
+def oracle():
+    """rust/core/tests/data/oracle.py, imported from its file (once)."""
+    name = "multicrank_motion_oracle"
+    if name not in sys.modules:
+        spec = importlib.util.spec_from_file_location(name, ORACLE_DIR / "oracle.py")
+        module = importlib.util.module_from_spec(spec)
+        sys.modules[name] = module  # its dataclasses look their module up
+        spec.loader.exec_module(module)
+    return sys.modules[name]
 
 
-@pytest.mark.parametrize("name", PRESETS)
-def test_steady_state_agrees_with_python(name):
-    m = machine(name)
+def fixture_machine(record):
+    """The fixture's machine built from its parameters (its tables by their own kind)."""
+    cycle = math.pi * record["strokes"]
+    diagrams = [
+        mc.IndicatorDiagram(np.array(d["x"]), np.array(d["pressure"]), cycle=cycle, kind=d["kind"])
+        for d in record["diagrams"]
+    ]
+    fields = ("crank_radius", "rod_length", "piston_mass", "rod_mass", "rod_cg", "rod_inertia", "crank_mass")
+    fields += ("crank_cg_radius", "counterweight_mass", "counterweight_radius", "phase", "inclination", "bore")
+    cylinders = [
+        mc.Cylinder(
+            **{key: c[key] for key in fields},
+            piston_rod_diameter=c["piston_rod_diameter"],
+            pressure=None if c["head"] is None else diagrams[c["head"]],
+            pressure_crank_end=None if c["crank_end"] is None else diagrams[c["crank_end"]],
+        )
+        for c in record["cylinders"]
+    ]
+    return mc.Machine(cylinders, shaft_inertia=record["shaft_inertia"], strokes=record["strokes"], g=record["g"])
+
+
+def close(found, expected, kind, what):
+    assert found == pytest.approx(expected, rel=TOLERANCE[kind], abs=1e-15), (what, found, expected)
+
+
+@pytest.mark.parametrize("record", FIXTURES, ids=[r["name"] for r in FIXTURES])
+def test_the_steady_state_agrees_with_the_oracle(record):
+    m = fixture_machine(record)
+    expected = record["steady_state"]
+    state = mc.steady_state(m, rpm=record["rpm"])
     native = native_machine(m)
     assert isinstance(native, MotionMachine)
-    found = native.steady_state(m.rpm)
-    expected = mc.steady_state(m, rpm=m.rpm)
-    for field in STEADY:
-        python_name = "delta_coasting" if field == NATIVE_COASTING else field
-        agrees(name, field, found[field], float(getattr(expected, python_name)))
-    agrees(name, "ratio", found["omega_max"] / found["omega_min"], expected.omega_max / expected.omega_min)
+    found = native.steady_state(record["rpm"])
     assert found.keys() >= set(STEADY) | {"phi_max", "phi_min", "energy_at_zero"}
+    for key, kind in [("omega_mean", "integrals"), ("period", "integrals"), ("mean_load_torque", "integrals")]:
+        close(getattr(state, key), expected[key], kind, key)
+        close(found[key], expected[key], kind, key)
+    for key in ("omega_max", "omega_min"):
+        close(getattr(state, key), expected[key], "speeds", key)
+        close(found[key], expected[key], "speeds", key)
+    for key in ("delta", "delta_midrange", "delta_without_gravity", "delta_gravity_only"):
+        python_name = "delta_coasting" if key == "delta_gravity_only" else key
+        native_name = NATIVE_COASTING if key == "delta_gravity_only" else key
+        close(getattr(state, python_name), expected[key], "deltas", key)
+        close(found[native_name], expected[key], "deltas", key)
+    np.testing.assert_allclose(
+        mc.steady_state(m, rpm=record["rpm"], points=361).omega, record["curves"]["omega"], rtol=TOLERANCE["speeds"]
+    )
 
 
-@pytest.mark.parametrize("name", PRESETS)
-def test_flywheel_agrees_with_python(name):
-    m = machine(name)
+@pytest.mark.parametrize("record", FIXTURES, ids=[r["name"] for r in FIXTURES])
+def test_the_flywheel_agrees_with_the_oracle(record):
+    m = fixture_machine(record)
     native = native_machine(m)
-    for delta in (1 / 100, SPEED_FLUCTUATION[MACHINE_CLASSES[name]][1]):
-        found = native.flywheel_inertia(delta, m.rpm)
-        expected = mc.flywheel_inertia(m, delta=delta, rpm=m.rpm)
-        for field in FLYWHEEL:
-            agrees(name, field, found[field], float(getattr(expected, field)))
-        assert (found["delta"], found["rpm"]) == (delta, m.rpm)
+    for case in record["flywheels"]:
+        delta = case["delta"]
+        sized = mc.flywheel_inertia(m, delta=delta, rpm=record["rpm"])
+        found = native.flywheel_inertia(delta, record["rpm"])
+        assert (found["delta"], found["rpm"]) == (delta, record["rpm"])
+        for key, kind in [
+            ("shaft_inertia", "flywheel"),
+            ("shaft_inertia_without_gravity", "flywheel"),
+            ("textbook", "swing"),
+            ("energy_swing", "swing"),
+        ]:
+            close(float(getattr(sized, key)), case[key], kind, (delta, key))
+            close(found[key], case[key], kind, (delta, key))
 
 
-def test_a_stall_carries_the_angle_and_the_lowest_speed():
-    m = machine("slow-compressor")
+def test_a_stall_carries_the_angle_and_the_lowest_speed_the_oracle_finds():
+    (record,) = [r for r in FIXTURES if r["stalls"]]
+    (case,) = record["stalls"]
+    m = fixture_machine(record)
     with pytest.raises(mc.StallError) as python:
-        mc.steady_state(m, rpm=5.0)
+        mc.steady_state(m, rpm=case["rpm"])
     with pytest.raises(mc.MechanismError, match=r"stalls at rpm = 5.*min_rpm") as native:
-        native_machine(m).steady_state(5.0)
-    assert native.value.rpm == 5.0
-    assert native.value.angle == pytest.approx(python.value.angle, abs=1e-8)
-    # Python's min_rpm locates ω_min on interpolants, ~1e-6 high (the core's fixtures).
-    assert native.value.min_rpm == pytest.approx(python.value.min_rpm, rel=1e-5)
+        native_machine(m).steady_state(case["rpm"])
+    assert native.value.rpm == case["rpm"]
+    for raised in (python.value, native.value):
+        assert raised.angle == pytest.approx(case["angle"], abs=1e-3)
+        close(raised.min_rpm, case["min_rpm"], "min_rpm", "min_rpm")
+
+
+def test_a_machine_the_fixtures_lack_agrees_with_the_oracle_run_here():
+    # Six cylinders, four-stroke, at their own speed: the oracle from the preset's parameters
+    # alone (nothing computed by multicrank), with and without gravity (~3 s).
+    found = oracle()
+    m = machine("inline-6")
+    model = found.machine_of(m)
+    phi = np.linspace(0.0, m.cycle, 1001)
+    J, _ = m.reduced_inertia(phi)
+    np.testing.assert_allclose(J, model.shaft_inertia + model.engine_inertia(phi), rtol=1e-14)
+    gas = m.gas_torque(phi)
+    np.testing.assert_allclose(gas, model.gas_torque(phi), rtol=0, atol=1e-13 * np.abs(gas).max())
+    weight = m.gravity_torque(phi)
+    # (a balanced six: each crank's gravity torque is ~10 N·m, their sum ~1e-4)
+    np.testing.assert_allclose(weight, model.gravity_torque(phi), rtol=0, atol=1e-12)
+    cycle = found.Cycle(model)
+    omega_mean = math.pi * m.rpm / 30
+    expected = found.Balance(cycle).solve(omega_mean)
+    without = found.Balance(cycle, gravity=False).solve(omega_mean)
+    state = mc.steady_state(m, rpm=m.rpm)
+    close(state.mean_load_torque, expected.mean_load_torque, "integrals", "mean_load_torque")
+    for key in ("omega_max", "omega_min"):
+        close(getattr(state, key), getattr(expected, key), "speeds", key)
+    close(state.delta, expected.delta, "deltas", "delta")
+    close(state.delta_without_gravity, without.delta, "deltas", "delta_without_gravity")
 
 
 DESIGNS = {
@@ -275,44 +349,7 @@ def test_a_callable_pressure_crosses_to_rust_sampled_once():
     np.testing.assert_allclose(core, python, rtol=0, atol=1e-12 * np.abs(python).max())
 
 
-# -- the core's steady state against the Python implementation ------------------------------------
-
-
-@pytest.mark.parametrize("name", sorted(mc.presets.MACHINES))
-def test_the_core_and_the_python_implementation_agree_on_every_preset(name):
-    # Two implementations of the same method (the Rust fixtures pin the core to the Python
-    # one at 3e-13 on six machines); here through the public path: steady_state takes the core.
-    from multicrank.motion import steady
-    from multicrank.motion._periodic import resolve_rules
-
-    machine = mc.presets.MACHINES[name]
-    phi = np.linspace(0.0, machine.cycle, 91)
-    rules = resolve_rules("balance", None)
-    solved = steady._native_solution(machine, rules, machine.rpm, True, 1e-3, phi.size)
-    assert solved is not None
-    core = dict(solved[0], **solved[1]("comparisons"), **solved[1]("arrays"))
-    numbers, later = steady._python_solution(machine, rules, machine.rpm, True, 1e-3, phi.size)
-    python = dict(numbers, **later("comparisons"), **later("arrays"))
-    for key in ("omega_mean", "period", "mean_load_torque"):
-        assert core[key] == pytest.approx(python[key], rel=1e-12, abs=0), key
-    # The extremes are roots of the net torque, refined from the samples: the same to 1e-12
-    # but where an extreme sits at a kink of a table (the boxer compressor's ω_min: the core
-    # finds a lower minimum, 3e-9 below the Python implementation's).
-    for key in ("omega_max", "omega_min"):
-        assert core[key] == pytest.approx(python[key], rel=1e-8, abs=0), key
-    for key in ("delta_without_gravity", "delta_coasting"):  # (the boxer's: 1.1e-7, as above)
-        assert core[key] == pytest.approx(python[key], rel=2e-7), key
-    np.testing.assert_allclose(core["omega"], python["omega"], rtol=1e-12)
-    np.testing.assert_allclose(core["time"][1:], python["time"][1:], rtol=1e-11)
-    J, gas, weight = core["reduced_inertia"], core["gas_torque"], core["gravity_torque"]
-    np.testing.assert_allclose(J, machine.reduced_inertia(phi)[0], rtol=1e-14)
-    scale = np.abs(machine.gas_torque(phi)).max()
-    np.testing.assert_allclose(gas, machine.gas_torque(phi), rtol=0, atol=1e-12 * scale)
-    np.testing.assert_allclose(weight, machine.gravity_torque(phi), rtol=1e-13, atol=1e-12)
-    state = mc.steady_state(machine)
-    assert state.method == "energy" and state.delta == pytest.approx(
-        (python["omega_max"] - python["omega_min"]) / python["omega_mean"], rel=2e-7
-    )
+# -- the core's stalls, and the sweep's two routes ------------------------------------------------
 
 
 def test_a_stall_from_the_core_is_the_stall_error_with_the_lowest_speed():
