@@ -16,7 +16,7 @@ quadratures and ``scipy.optimize.brentq`` (its docstring says how). The diagrams
 as the oracle's own piecewise polynomials (SciPy ``PPoly`` coefficients ``c`` over the
 table's angles ``x``), which is what the core is given by the tests.
 
-Regenerate from the repository root (about a minute):
+Regenerate from the repository root (about two minutes):
 
     .venv/bin/python rust/core/tests/data/make_motion_fixtures.py
 
