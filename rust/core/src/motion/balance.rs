@@ -15,8 +15,8 @@ use super::extrema::{brent, brent_from, grading, local_minima, refine_extremum, 
 use super::quadrature::Panels;
 use super::solution::{Curves, Periodic, Solved, Stall};
 
-/// Refinements of the time mesh before the answer is taken (the Python implementation's
-/// 16): each grades for the s found on the last.
+/// Refinements of the time mesh before the answer is taken, at most: each grades for the s
+/// found on the last, until the mesh no longer grows.
 const MESH_ROUNDS: usize = 16;
 
 /// The rule on which t_Φ = ∫₀^Φ √(J/2E) dφ is taken: the base panels graded towards E's
@@ -121,7 +121,7 @@ impl Balance {
     }
 
     /// The same torques on a shaft of inertia I_w = `inertia` (kg·m²): no table is made
-    /// again (the Python implementation's `Balance.with_inertia`).
+    /// again (K and K̃ do not depend on I_w).
     pub fn with_inertia(&self, inertia: f64) -> Self {
         Self {
             inertia,
@@ -186,7 +186,7 @@ impl Balance {
     }
 
     /// The local minima of K̃ located exactly, and min K with them: K̃ ≥ 0 also on graded
-    /// nodes near it (the Python implementation's `_dips`). Once.
+    /// nodes near it. Once: they do not depend on s.
     fn dips(&mut self) -> Result<&[Dip]> {
         if self.dips.is_none() {
             let cycle = self.cycle.cycle();
@@ -280,8 +280,7 @@ impl Balance {
     }
 
     /// As [`Balance::solve`], with ω(φ) (rad/s) and t(φ) (s, from φ = 0) of the solution at
-    /// `phi` (rad, each in [0, Φ]) as the Python implementation's `Periodic.omega_at` and
-    /// `time_at` give them (see [`Balance::curves`]).
+    /// `phi` (rad, each in [0, Φ]), as [`Balance::curves`] gives them.
     pub fn solve_with_curves(
         &mut self,
         omega_mean: f64,
@@ -305,10 +304,10 @@ impl Balance {
         }
     }
 
-    /// ω(φ) = √(2E/J) with E = s + K̃(φ) evaluated exactly (the Python implementation's
-    /// `omega_at`), and t(φ) = ∫₀^φ dφ/ω with each panel's interpolant of 1/ω through the
-    /// mesh's nodes integrated exactly (its `time_at`: `antiderivative(1/ω)`), at `phi`
-    /// (rad, in [0, Φ]; an angle on an edge is taken on the panel that starts there).
+    /// ω(φ) = √(2E/J) with E = s + K̃(φ) evaluated exactly, and t(φ) = ∫₀^φ dφ/ω with each
+    /// panel's interpolant of 1/ω through the mesh's nodes integrated exactly
+    /// ([`Panels::running_at`]), at `phi` (rad, in [0, Φ]; an angle on an edge is taken on
+    /// the panel that starts there).
     fn curves(&self, mesh: Mesh<'_>, s: f64, phi: &[f64]) -> Result<Curves> {
         let lifted = self.lifted_at(phi)?;
         let rest = self.cycle.rest_at(phi)?;
@@ -387,8 +386,8 @@ impl Balance {
         Ok((solved, graded))
     }
 
-    /// The periodic solution with E = s + K̃ (its mean speed follows), no stall check (the
-    /// Python implementation's `at_margin`).
+    /// The periodic solution with E = s + K̃ (its mean speed follows), no stall check: the
+    /// search for the lowest running speed goes through stalls.
     fn at_margin(&mut self, s: f64) -> Result<Solved> {
         let graded = self.mesh(s)?;
         self.finish(self.view(&graded), s, 0.0)
@@ -396,10 +395,10 @@ impl Balance {
 
     /// The lowest mean speed (rad/s) whose solution keeps ω_min ≥ `ratio`·ω_m (the stall
     /// error's min_rpm): the root in log s of ω_min/ω_m − ratio, which grows with s
-    /// (Brent's method, to 1e-12 in log s as the Python implementation's
-    /// `lowest_running_speed`), rounded up: the mean speed of the nearest s above the root
-    /// whose ratio is not short (steps of 1e-12 in log s, doubling), a speed that runs and
-    /// within ~1e-11 of the threshold. `above`: an s (J) known to stall.
+    /// (Brent's method, to 1e-12 in log s; docs/theory.md, "Stall"), rounded up: the mean
+    /// speed of the nearest s above the root whose ratio is not short (steps of 1e-12 in
+    /// log s, doubling), a speed that runs and within ~1e-11 of the threshold. `above`: an
+    /// s (J) known to stall.
     pub fn lowest_running_speed(&mut self, ratio: f64, above: f64) -> Result<f64> {
         // min K located first: K̃, and with it the function whose root is taken, is then the
         // same at every s.
@@ -445,7 +444,7 @@ impl Balance {
     /// max − min (J) of the textbook turning-moment diagram's energy at the constant speed
     /// ω_m = `omega_mean` (rad/s): ∫(M_gas − U′ − M_load − ½J′ω_m²) dφ = K − ½ω_m²(J − J(0)),
     /// both extremes located between the samples and evaluated exactly — the ΔE of the
-    /// textbook flywheel estimate (the Python implementation's `energy_swing`). The inertia
+    /// textbook flywheel estimate (docs/theory.md, "The flywheel"). The inertia
     /// torque is part of it: without it the estimate does not tend to the exact flywheel as
     /// δ → 0.
     pub fn energy_swing(&self, omega_mean: f64) -> Result<f64> {

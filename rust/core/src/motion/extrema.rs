@@ -105,15 +105,15 @@ pub(crate) fn brent_from(
 
 /// How close to the real axis E's nearest complex zero may come to a panel, in its half-
 /// widths: a zero at distance d leaves a 12-point Gauss rule a Bernstein ellipse of ρ ≥ 3
-/// (1/ω = √(J/2E) to ~1e-12) when d ≥ 1.5 half-widths (the Python implementation's
-/// `_GRADE_REACH`).
+/// (1/ω = √(J/2E) to ~1e-12) when d ≥ 1.5 half-widths (docs/theory.md, "How the integrals
+/// are taken").
 pub(crate) const GRADE_REACH: f64 = 1.5;
 
 /// Geometric grading towards a near-zero of E: each panel this many times wider than the
-/// last (`_GRADE_RATIO`).
+/// last.
 const GRADE_RATIO: f64 = 4.0;
 
-/// A local minimum of E located exactly (the Python implementation's `Dips`, one entry).
+/// A local minimum of E located exactly: where E = s + K̃ dips between the samples.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct Dip {
     /// φ (rad).
@@ -127,8 +127,7 @@ pub(crate) struct Dip {
 /// Every local minimum of the samples of E (`energy`, nodes then edges; E'' = `curvature`
 /// at the nodes) located exactly: the root of the exact slope E′ (`slope`, any angle)
 /// between the samples beside it, by Brent's method to rounding, and E there (`value`);
-/// the sample itself where that is no lower (a minimum at a kink of E′). The Python
-/// implementation's `local_minima`.
+/// the sample itself where that is no lower (a minimum at a kink of E′).
 ///
 /// The grading must be centred on the minimum itself, with its own d: graded towards a
 /// sample 6e-3 rad off a minimum of d = 3e-4 rad, the time of a cycle near a stall was
@@ -170,7 +169,7 @@ pub(crate) fn local_minima(
 /// nearly vanishes: geometric panels (ratio 4) centred on every local minimum of E (`dips`,
 /// located exactly) whose complex zeros, at d = √(2E/|E''|) from the real axis, come closer
 /// than 1.5 half-widths of the widest panel; the innermost panel [φ_i − d/3, φ_i + d/3]
-/// (the Python implementation's `grading`). Empty where none does.
+/// (docs/theory.md, "How the integrals are taken"). Empty where none does.
 pub(crate) fn grading(panels: &Panels, dips: impl IntoIterator<Item = Dip>) -> Vec<f64> {
     let cycle = panels.cycle();
     let half = panels.widest_half();

@@ -11,7 +11,7 @@ use super::cycle::Cycle;
 use super::extrema::{brent, brent_from};
 
 /// The smallest δ a flywheel is sized for: below it δ is within the rounding of the speeds
-/// it is found from (the Python implementation's bound).
+/// it is found from.
 pub(crate) const SMALLEST_DELTA: f64 = 1e-9;
 
 /// A target δ, as every flywheel takes it: ≥ 1e-9.
@@ -21,7 +21,7 @@ pub(crate) fn check_delta(value: f64) -> Result<f64> {
 
 /// The steps (in log I_w) that widen the bracket from the estimate outwards: the estimate
 /// is near for a machine of small δ and ~10 % off for a compressor at δ ≈ 1/30; the first
-/// steps cover both, then ×4 each (Python's `_inertia_for`).
+/// steps cover both, then ×4 each.
 fn bracket_steps() -> impl Iterator<Item = f64> {
     [0.05, 0.2, 0.7]
         .into_iter()
@@ -30,7 +30,7 @@ fn bracket_steps() -> impl Iterator<Item = f64> {
 
 /// The I_w (kg·m²) with δ(I_w) = `delta` for the torques of `balance` at ω_m = `omega_mean`
 /// (rad/s): Brent's method on log(δ(I_w)/delta) in log I_w (to 1e-12 absolute and 1e-15
-/// relative, as the Python implementation's `_inertia_for`), δ falling as I_w grows; a
+/// relative; docs/theory.md, "The flywheel"), δ falling as I_w grows; a
 /// machine that stalls counts as δ = ∞. `start`: the estimate to bracket from.
 ///
 /// Errors: `delta` unreachable (the machine would stall before its fluctuation grows that

@@ -319,7 +319,7 @@ fn one_cylinder_forces(
 /// coefficients on the panel, 2n − 1 ≥ (K − 1) + 4 leaves s' to be approximated to degree
 /// 4 on a panel at most π/64 wide, whose error (≤ (π/128)⁵/5! relative) the Gauss rule's
 /// own error bound, (n!)⁴ h^(2n+1)/((2n+1)((2n)!)³)·max|f^(2n)|, shrinks to rounding.
-/// n ≥ 4 as in the Python implementation (`_work.py`).
+/// At least n = 4 points, whatever the pressure's degree.
 fn indicator_order(pressure_order: usize) -> usize {
     (pressure_order + 4).div_ceil(2).max(4)
 }

@@ -103,7 +103,7 @@ fn check_speed_ratio(value: f64) -> Result<f64> {
 /// Where a machine with no mean driving torque comes to rest: the sample (node or edge)
 /// where the work of gas, drive and gravity from φ = 0, W + M_drive·φ − (U − U(0)), is
 /// largest — the bottom of the well of their potential (for a machine without gas or
-/// drive, the lowest potential energy). The Python implementation's `rest_angle`.
+/// drive, the lowest potential energy): the angle a square-law stall reports.
 fn rest_angle(cycle: &Cycle, drive: f64) -> f64 {
     let angles = cycle.panels.phi.iter().chain(&cycle.panels.edges);
     let mut best = (0.0, f64::NEG_INFINITY);
@@ -121,9 +121,9 @@ fn rest_angle(cycle: &Cycle, drive: f64) -> f64 {
 /// running"). `min_speed_ratio`: the machine stalls when ω_min < min_speed_ratio·ω_m
 /// (1e-3 in the Python API).
 ///
-/// Near stall the time quadrature is graded geometrically towards the speed minimum (the
-/// Python implementation's `graded_mesh`), so that the answer holds down to the lowest speed
-/// that runs.
+/// Near stall the time quadrature is graded geometrically towards the speed minimum
+/// (docs/theory.md, "How the integrals are taken"), so that the answer holds down to the
+/// lowest speed that runs.
 ///
 /// Errors: bad input, naming the parameter; [`MechanismError::Stall`] when the machine
 /// cannot keep that mean speed, with the lowest mean speed that runs (`min_rpm`).
@@ -136,18 +136,17 @@ pub fn steady_state(machine: &Machine<'_>, rpm: f64, min_speed_ratio: f64) -> Re
 pub struct SteadyCurves {
     /// The numbers, as [`steady_state`] gives them.
     pub state: SteadyState,
-    /// ω(φ_i) (rad/s): √(2E/J) with E(φ) = E(0) + K(φ) evaluated exactly at φ_i (the
-    /// Python implementation's `Periodic.omega_at`).
+    /// ω(φ_i) (rad/s): √(2E/J) with E(φ) = E(0) + K(φ) evaluated exactly at φ_i.
     pub omega: Vec<f64>,
     /// t(φ_i) (s), the time from φ = 0: ∫₀^φ dφ/ω with each panel's interpolant of 1/ω
-    /// through the time mesh's nodes integrated exactly (its `Periodic.time_at`). t(0) = 0
-    /// and t(Φ) = `period` to rounding (`SteadyState` in Python sets both exactly).
+    /// through the time mesh's nodes integrated exactly. t(0) = 0 and t(Φ) = `period` to
+    /// rounding (the Python API's `SteadyState` sets both exactly).
     pub time: Vec<f64>,
 }
 
 /// [`steady_state`], with ω (rad/s) and t (s, from φ = 0) of the solution at the angles
-/// `phi` (rad, each in [0, Φ]): the arrays of the Python implementation's `SteadyState`
-/// (its `points` angles are `linspace(0, Φ, points)`).
+/// `phi` (rad, each in [0, Φ]): the arrays of the Python API's `SteadyState` (its `points`
+/// angles are `linspace(0, Φ, points)`).
 ///
 /// Errors: as [`steady_state`]; an angle outside [0, Φ] (or not finite), naming `phi`.
 pub fn steady_state_curves(
@@ -162,8 +161,8 @@ pub fn steady_state_curves(
 
 /// The periodic steady state of `machine` under a square-law load M = c·ω² (c =
 /// `coefficient`, N·m·s²/rad²: a PowerLawLoad of exponent 2, c = M_n/ω_n²) beside a constant
-/// `drive` (N·m), in closed form (docs/theory.md, "Steady running"; the Python
-/// implementation's `SquareLaw`): the mean speed is a result. With ω (rad/s) and t (s) at
+/// `drive` (N·m), in closed form (docs/theory.md, "Three ways to the periodic solution"):
+/// the mean speed is a result. With ω (rad/s) and t (s) at
 /// `phi` (rad, in [0, Φ]) as [`steady_state_curves`] gives them.
 ///
 /// In the [`SteadyState`]: `mean_load_torque` is the load's cycle mean (1/Φ)∫cω² dφ;
@@ -266,7 +265,7 @@ pub struct FlywheelInertia {
 /// The shaft inertia I_w (kg·m²) that gives `machine` (its own `shaft_inertia` replaced)
 /// the coefficient of speed fluctuation `delta` (≥ 1e-9) at the mean speed `rpm` (1/min),
 /// the "balance" load: Brent's method on log I_w over exact steady states, δ falling as I_w
-/// grows (the Python implementation's `flywheel_inertia`). `min_speed_ratio` as for
+/// grows (docs/theory.md, "The flywheel"). `min_speed_ratio` as for
 /// [`steady_state`]. The cycle's tables are made once: a trial I_w only changes J = I_w +
 /// (J − I_w).
 ///

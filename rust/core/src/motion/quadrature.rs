@@ -171,8 +171,7 @@ impl Panels {
     }
 
     /// The running integral of f, given at the nodes (`values`), everywhere: each panel's
-    /// interpolant (degree order − 1) integrated exactly (the Python implementation's
-    /// `CycleQuadrature.antiderivative`).
+    /// interpolant (degree order − 1) integrated exactly.
     ///
     /// The interpolant's Legendre coefficients come from the Gauss rule's discrete
     /// orthogonality, c_k = (2k + 1)/2 · Σ_i w_i f_i P_k(x_i) (exact: degree ≤ 2·order − 2).
@@ -212,8 +211,8 @@ impl Panels {
         }
     }
 
-    /// f′ at the nodes of the polynomial through f at each panel's nodes (the Python
-    /// implementation's `CycleQuadrature.slope`): Σ_k c_k P_k′(x_i)/half.
+    /// f′ at the nodes of the polynomial through f at each panel's nodes: Σ_k c_k
+    /// P_k′(x_i)/half.
     pub fn slope(&self, values: &[f64]) -> Vec<f64> {
         let n = self.order;
         let derivatives: Vec<Vec<f64>> = self

@@ -5,9 +5,9 @@
 //!   E(φ) = e^{−A(φ)} [E₀ + ∫₀^φ e^{A}(M − U′) dφ],  A(φ) = ∫₀^φ 2c/J dφ,
 //!   E₀ = ∫₀^Φ e^{A}(M − U′) dφ / (e^{A(Φ)} − 1)
 //!
-//! (the Python implementation's `SquareLaw`). Both running integrals are taken on the
-//! cycle's panels, each panel's interpolant integrated exactly, so E is known everywhere;
-//! the mean speed is a result.
+//! (docs/theory.md, "Three ways to the periodic solution"). Both running integrals are
+//! taken on the cycle's panels, each panel's interpolant integrated exactly, so E is known
+//! everywhere; the mean speed is a result.
 
 use crate::error::{MechanismError, Result};
 
@@ -75,8 +75,8 @@ impl<'c> SquareLaw<'c> {
                 .zip(&work[n..])
                 .map(|((a, f), w)| w + (-a).exp() * (e0 + f)),
         );
-        // E′ = M − U′ − (2c/J)E at the nodes (M_gas the slope of W's interpolant, as in
-        // Python: an estimate, only for where the time mesh is graded); E'' its slope.
+        // E′ = M − U′ − (2c/J)E at the nodes (M_gas the slope of W's interpolant: an
+        // estimate, only for where the time mesh is graded); E'' its slope.
         let gas = panels.slope(&work[..n]);
         let torque: Vec<f64> = (0..n)
             .map(|i| gas[i] + drive + gravity[i] - damping[i] * energy[i])
@@ -106,7 +106,7 @@ impl<'c> SquareLaw<'c> {
             .collect())
     }
 
-    /// ω(φ) = √(2E/J) (rad/s) at any angles in [0, Φ] (Python's `omega_at`).
+    /// ω(φ) = √(2E/J) (rad/s) at any angles in [0, Φ], E exact there.
     fn omega_at(&self, phi: &[f64]) -> Result<Vec<f64>> {
         let energy = self.energy_at(phi)?;
         let rest = self.cycle.rest_at(phi)?;
@@ -133,8 +133,8 @@ impl<'c> SquareLaw<'c> {
 
     /// The periodic solution (`Err(Stall)` inside `Ok` where E reaches zero or ω_min <
     /// `ratio`·ω_m), with ω and t at `phi` (rad, in [0, Φ]) as [`Balance::curves`] gives
-    /// them, and the load's cycle mean (1/Φ)∫cω² dφ (N·m), ω exact at the base nodes (the
-    /// Python implementation's `_load_mean`).
+    /// them, and the load's cycle mean (1/Φ)∫cω² dφ (N·m): the cycle quadrature of cω² with
+    /// ω exact at the base nodes.
     ///
     /// [`Balance::curves`]: super::balance::Balance
     pub fn solve(
@@ -145,7 +145,7 @@ impl<'c> SquareLaw<'c> {
         let cycle = self.cycle;
         let base = &cycle.panels;
         if self.energy.iter().any(|&e| e.is_nan() || e <= 0.0) {
-            // Where E is lowest: the worst sample (Python locates it on the interpolants).
+            // Where E is lowest: the worst sample (not located between the samples).
             let samples = base.in_angle_order(&self.energy);
             let worst = samples
                 .iter()

@@ -29,7 +29,7 @@ fn delta_or_nan(found: Solved) -> f64 {
 /// "balance" load, whatever the shaft inertia I_w and the mean speed: J − I_w, U, the gas
 /// work W and the torques' slopes on the cycle's panels, and the energy method's set-up with
 /// gravity, with g = 0 and of gravity alone (none of them depends on I_w or the speed).
-/// What `MotionMachine` keeps in Python, and what a motion sweep shares between designs
+/// What the Python API's `MotionMachine` keeps, and what a motion sweep shares between designs
 /// that differ only in I_w and speed. Immutable; every solve works on its own copy.
 #[derive(Debug, Clone)]
 pub struct SteadyTables {
@@ -45,8 +45,8 @@ pub struct SteadyTables {
     swing: OnceLock<(f64, f64)>,
 }
 
-/// The lowest mean speed that runs, searched from an s known to stall (the Python
-/// implementation's `_stall_error`).
+/// The stall at `rpm` as [`MechanismError::Stall`], with the lowest mean speed that runs
+/// (`min_rpm`), searched from an s known to stall (docs/theory.md, "Stall").
 fn stall_error(balance: &Balance, stall: Stall, rpm: f64, ratio: f64) -> Result<MechanismError> {
     let above = 1e-6 * balance.swing();
     let lowest = balance.clone().lowest_running_speed(ratio, above)?;
