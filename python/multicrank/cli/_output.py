@@ -18,7 +18,7 @@ from ._group import UserError
 if TYPE_CHECKING:
     import pandas as pd
 
-__all__ = ["FORMATS", "format_option", "out_file", "write_result", "writing"]
+__all__ = ["FORMATS", "format_option", "out_file", "out_option", "write_result", "writing"]
 
 
 def out_file(ctx: click.Context, param: click.Parameter, path: str | None) -> str | None:
@@ -57,6 +57,17 @@ format_option = click.option(
     show_default=True,
     metavar="FORMAT",
     help="table (to read), csv or json (for other programs).",
+)
+
+#: ``--out FILE``: the command's table (or run) to FILE instead of stdout, its folder checked
+#: before any work (:func:`out_file`).
+out_option = click.option(
+    "--out",
+    "out_path",
+    type=click.Path(dir_okay=False),
+    callback=out_file,
+    metavar="FILE",
+    help="Write to FILE, not stdout.",
 )
 
 

@@ -15,7 +15,7 @@ from .._native import MechanismError
 from .._shaft import omega_from_rpm, rpm_from_omega
 from .._text import counted
 from ._group import UserError, machine_option, renamed_option
-from ._output import format_option, out_file, write_result, writing
+from ._output import format_option, out_file, out_option, write_result, writing
 
 if TYPE_CHECKING:
     from ..machine.machine import Machine
@@ -97,14 +97,7 @@ drive_option = click.option(
 @click.option("--gas/--no-gas", default=True, show_default=True, help="With the cylinders' gas pressures.")
 @click.option("--gravity/--no-gravity", default=True, show_default=True, help="With gravity (--no-gravity: g = 0).")
 @format_option
-@click.option(
-    "--out",
-    "out_path",
-    type=click.Path(dir_okay=False, writable=True),
-    callback=out_file,
-    metavar="FILE",
-    help="Write to FILE, not stdout.",
-)
+@out_option
 @click.option("--progress/--no-progress", default=True, show_default=True, help="Show a progress bar.")
 def simulate_command(
     machine: Machine,
@@ -234,14 +227,7 @@ def _without_gas(machine: Machine) -> Machine:
     help="Write ω(φ) and the torques over one cycle, at the first speed that runs, to FILE (CSV).",
 )
 @format_option
-@click.option(
-    "--out",
-    "out_path",
-    type=click.Path(dir_okay=False),
-    callback=out_file,
-    metavar="FILE",
-    help="Write the table to FILE, not stdout.",
-)
+@out_option
 @click.option("--progress/--no-progress", default=True, show_default=True, help="Show a progress bar over the speeds.")
 def motion_command(
     machine: Machine,

@@ -13,7 +13,7 @@ import click
 from .._native import MechanismError
 from .._text import counted
 from ._group import UserError, machine_option
-from ._output import format_option, out_file, write_result
+from ._output import format_option, out_option, write_result
 from .motion import _speed
 
 if TYPE_CHECKING:
@@ -37,14 +37,6 @@ _rpm_option = click.option(
     default=None,
     metavar="RPM",
     help="The mean speed [1/min] of the steady states (balance load) [default: the machine's own].",
-)
-_out_option = click.option(
-    "--out",
-    "out_path",
-    type=click.Path(dir_okay=False),
-    callback=out_file,
-    metavar="FILE",
-    help="Write the table to FILE, not stdout.",
 )
 _progress_option = click.option(
     "--progress/--no-progress", default=True, show_default=True, help="Show a progress bar."
@@ -109,7 +101,7 @@ def _degrees_text(phases: tuple[float, ...]) -> str:
     help="At most this many phase assignments are tried; the output says when the crank allows more.",
 )
 @format_option
-@_out_option
+@out_option
 @_progress_option
 def firing_command(
     machine: Machine,
@@ -222,7 +214,7 @@ def _bounds(value: tuple[float, float] | None) -> tuple[float, float] | None:
     help="At most this many generations of the differential evolution.",
 )
 @format_option
-@_out_option
+@out_option
 @_progress_option
 def counterweights_command(
     machine: Machine,
