@@ -96,6 +96,10 @@ class Cylinder:
         Gauge pressure p(θ) [Pa] on the piston crown as a vectorised function of the cycle
         angle θ [rad] (an :class:`~multicrank.pressure.IndicatorDiagram`, say), returning
         real pressures in an array of θ's shape. It pushes the piston toward the shaft.
+        A function that is not a table is evaluated once per machine, on panels of at most
+        π/256 with eight Gauss–Legendre nodes each, and the steady state uses the polynomial
+        through those values: it must be a pure function of θ (not one whose answer changes
+        between calls), and a kink it has between nodes is rounded over one panel.
     pressure_crank_end : callable or None
         Double-acting cylinders: the crank-end chamber's gauge pressure p_c(θ) [Pa], acting
         on the area π D²/4 − π d²/4 and pushing the piston away from the shaft.
