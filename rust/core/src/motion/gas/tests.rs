@@ -1,0 +1,71 @@
+use super::*;
+
+#[test]
+fn a_piecewise_polynomial_wraps_and_takes_its_pieces() {
+    // p = 1 + θ on [0, 1), 2 − (θ − 1)·2 on [1, 2π): linear, PPoly order 2.
+    let x = vec![0.0, 1.0, 2.0 * PI];
+    let slope2 = -2.0 / (2.0 * PI - 1.0);
+    let p = PiecewisePolynomial::new(x, vec![1.0, slope2, 1.0, 2.0], 2.0 * PI).unwrap();
+    assert_eq!(p.value(0.5), 1.5);
+    assert_eq!(p.value(1.0), 2.0);
+    assert!((p.value(0.5 + 2.0 * PI) - 1.5).abs() < 1e-15);
+    assert!((p.value(-0.5) - (2.0 + slope2 * (2.0 * PI - 1.5))).abs() < 1e-14);
+    assert!(PiecewisePolynomial::new(vec![0.0, 1.0], vec![1.0], 2.0 * PI).is_err());
+    assert!(PiecewisePolynomial::new(vec![0.0, 7.0, 2.0 * PI], vec![1.0; 2], 2.0 * PI).is_err());
+    assert!(PiecewisePolynomial::new(vec![0.0, 2.0 * PI], vec![1.0; 3], 2.0 * PI).is_ok());
+    assert!(PiecewisePolynomial::new(vec![0.0, 2.0 * PI], vec![f64::NAN], 2.0 * PI).is_err());
+}
+
+#[test]
+fn the_fold_is_rem_euclid_to_the_last_bit() {
+    for period in [2.0 * PI, 4.0 * PI, 1.0, 3.0e-3] {
+        let mut angles = vec![0.0, -0.0, period, -period, 2.0 * period, -2.0 * period];
+        angles.extend([1e-300, -1e-300, -1e-17, f64::EPSILON, -f64::EPSILON]);
+        // A fine sweep over several periods either side, and just around the ends.
+        angles.extend((-4000..4000).map(|i| i as f64 * period / 997.0));
+        for k in -3..=3 {
+            let end = k as f64 * period;
+            let mut x = end;
+            for _ in 0..8 {
+                x = x.next_up();
+                angles.push(x);
+            }
+            let mut x = end;
+            for _ in 0..8 {
+                x = x.next_down();
+                angles.push(x);
+            }
+        }
+        for angle in angles {
+            let (found, expected) = (periodic(angle, period), angle.rem_euclid(period));
+            assert_eq!(
+                found.to_bits(),
+                expected.to_bits(),
+                "{angle:e} mod {period}"
+            );
+        }
+    }
+}
+
+#[test]
+fn the_guessed_piece_is_the_searched_one() {
+    // Uniform, nearly uniform and very uneven breakpoints over 4π.
+    let cycle = 4.0 * PI;
+    let uniform: Vec<f64> = (0..=720).map(|i| cycle * i as f64 / 720.0).collect();
+    let bunched: Vec<f64> = (0..=50)
+        .map(|i| cycle * (i as f64 / 50.0).powi(3))
+        .collect();
+    let shifted: Vec<f64> = (0..=90).map(|i| -1.0 + cycle * i as f64 / 90.0).collect();
+    for x in [uniform, bunched, shifted] {
+        let m = x.len() - 1;
+        let p = PiecewisePolynomial::new(x.clone(), vec![1.0; 2 * m], cycle).unwrap();
+        let mut probes: Vec<f64> = x.clone();
+        probes.extend(x.iter().map(|b| b.next_up()));
+        probes.extend(x.iter().map(|b| b.next_down()));
+        probes.extend((0..5000).map(|i| x[0] + cycle * i as f64 / 4999.0));
+        for t in probes.into_iter().filter(|t| (x[0]..=x[m]).contains(t)) {
+            let searched = x.partition_point(|&b| b <= t).saturating_sub(1).min(m - 1);
+            assert_eq!(p.piece(t), searched, "{t}");
+        }
+    }
+}
