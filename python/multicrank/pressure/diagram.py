@@ -24,9 +24,7 @@ SciPy (a dependency of the package) is imported only when a diagram is built.
 
 from __future__ import annotations
 
-import math
 import os
-import warnings
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
@@ -34,7 +32,7 @@ from typing import Any
 import numpy as np
 
 from .._native import MechanismError
-from .._validation import MAGNITUDE_LIMIT, as_angles, as_count, as_flag, as_option, as_real_array
+from .._validation import as_angles, as_count, as_flag, as_option
 from ._cycle import (
     FOUR_STROKE,
     INTERPOLATIONS,
@@ -45,10 +43,12 @@ from ._cycle import (
     cycle_name,
     gauss,
 )
+from ._interpolant import _SPAN_TOLERANCE, PRESSURE_FLOOR, _degrees, checked_table, interpolant
 from .synthetic import Volume
 from .synthetic import compressor as _compressor
 from .synthetic import engine as _engine
 from .tables import read_columns
+from .units import ANGLE_UNITS, PLAUSIBLE_PRESSURES, PRESSURE_UNITS, PressureUnitWarning, check_pressure_unit
 
 __all__ = [
     "ANGLE_UNITS",
@@ -63,75 +63,9 @@ __all__ = [
     "check_pressure_unit",
 ]
 
-#: Pressure units of :meth:`IndicatorDiagram.from_csv`: Pa per unit (psi: lbf/in², exact).
-PRESSURE_UNITS = {"Pa": 1.0, "kPa": 1e3, "bar": 1e5, "MPa": 1e6, "psi": 0.45359237 * 9.80665 / 0.0254**2}
-#: Angle units of :meth:`IndicatorDiagram.from_csv`: rad per unit.
-ANGLE_UNITS = {"deg": math.pi / 180.0, "rad": 1.0}
 #: A small **synthetic** example table (not measured), made by :meth:`IndicatorDiagram.compressor`;
 #: its header says how. Read it with ``from_csv(EXAMPLE_COMPRESSOR_CSV, pressure_unit="bar", absolute=True)``.
 EXAMPLE_COMPRESSOR_CSV = Path(__file__).resolve().parent.parent / "data" / "compressor_synthetic.csv"
-
-#: Pressures of smaller magnitude [Pa] are taken as exactly 0 by :class:`IndicatorDiagram`: a
-#: gauge pressure of 1e-30 Pa is zero for any machine, and values down in the subnormal range
-#: (below ~2.2e-308) would make the interpolation's slopes overflow (PCHIP divides by them).
-PRESSURE_FLOOR = 1e-30
-
-# A table must span one cycle to this fraction of the cycle (6e-6 rad for 2π): loose
-# enough for angles printed with six digits, tight enough to catch a missing point.
-_SPAN_TOLERANCE = 1e-6
-
-
-#: The range [Pa] the largest pressure of a machine's gas lies in, 1 mbar … 5000 bar (the
-#: highest, in hyper-compressors, are about 3500 bar; a fired engine's peak is 50 … 300 bar):
-#: a table whose largest magnitude, in the unit it was given in, falls outside is most likely
-#: in another unit, and :class:`PressureUnitWarning` says so.
-PLAUSIBLE_PRESSURES = (1e2, 5e8)
-
-
-class PressureUnitWarning(UserWarning):
-    """Pressures given in a unit that makes them implausible for any machine — a peak of
-    8·10⁵ bar, or of 3 Pa — most likely in another unit than the one named (Pa where bar is
-    expected). The message names the file or key, the peak and the likely unit."""
-
-
-def check_pressure_unit(pressures: Any, unit: str, where: str, *, stacklevel: int = 2) -> None:
-    """Warn (:class:`PressureUnitWarning`) when the largest magnitude of ``pressures`` [Pa],
-    given in ``unit`` (a key of :data:`PRESSURE_UNITS`), is outside :data:`PLAUSIBLE_PRESSURES`
-    (all zero is no gas, and plausible). ``where``: the file or key, for the message;
-    ``stacklevel``: as :func:`warnings.warn` takes it, seen from the caller (2: its caller's line)."""
-    peak = float(np.max(np.abs(pressures), initial=0.0))
-    low, high = PLAUSIBLE_PRESSURES
-    if peak == 0.0 or low <= peak <= high:
-        return
-    written = peak / PRESSURE_UNITS[unit]  # the peak as the table has it
-    # The unit that puts the peak nearest 10 bar, among those that make it plausible.
-    fits = [u for u, factor in PRESSURE_UNITS.items() if u != unit and low <= written * factor <= high]
-    likely = min(fits, key=lambda u: abs(math.log10(written * PRESSURE_UNITS[u] / 1e6)), default=None)
-    side = (
-        f"above {high / 1e5:g} bar, more than any machine's gas"
-        if peak > high
-        else (f"below {low / 1e2:g} mbar, less than any machine's gas")
-    )
-    question = f"; did you give {likely} where {unit} is expected?" if likely else ""
-    warnings.warn(
-        f"{where}: the largest pressure is {written:g} {unit} = {peak / 1e5:.4g} bar, {side}{question} "
-        f"(pressure_unit = {unit!r})",
-        PressureUnitWarning,
-        stacklevel=stacklevel + 1,
-    )
-
-
-def _scipy_interpolate() -> Any:
-    import scipy.interpolate  # type: ignore[import-untyped,unused-ignore]
-
-    return scipy.interpolate
-
-
-# -- messages ---------------------------------------------------------------------------------
-
-
-def _degrees(angle: float) -> str:
-    return f"{math.degrees(angle):.6g}°"
 
 
 # -- the diagram --------------------------------------------------------------------------------
@@ -212,61 +146,9 @@ class IndicatorDiagram:
         cycle = as_cycle(cycle)
         kind = as_option(kind, "kind", INTERPOLATIONS)
         tolerance = as_finite(closure_tolerance, "closure_tolerance", at_least=0.0)
-        a = as_real_array(angle, "angle")
-        p = as_real_array(pressure, "pressure")
-        for array, name in ((a, "angle"), (p, "pressure")):
-            if array.ndim != 1:
-                raise MechanismError(f"{name} must be a 1-D array, got shape {array.shape}")
-        if a.size != p.size:
-            raise MechanismError(f"angle and pressure must have the same length, got {a.size} and {p.size}")
-        if a.size < 4:
-            raise MechanismError(f"angle must hold at least 4 points (the first repeated at the end), got {a.size}")
-        for array, name, unit in ((a, "angle", "rad"), (p, "pressure", "Pa")):
-            bad = np.flatnonzero(~np.isfinite(array))
-            if bad.size:
-                raise MechanismError(
-                    f"{name}[{bad[0]}] = {array[bad[0]]} is not finite; {name} must be finite [{unit}]"
-                )
-        huge = np.flatnonzero(np.abs(p) > MAGNITUDE_LIMIT)
-        if huge.size:
-            raise MechanismError(
-                f"pressure[{huge[0]}] = {p[huge[0]]:g} is out of range; allowed: |pressure| <= {MAGNITUDE_LIMIT:g} [Pa]"
-            )
-        steps = np.diff(a)
-        bad = np.flatnonzero(~(steps > 0))
-        if bad.size:
-            i = bad[0]
-            raise MechanismError(
-                f"angle must increase strictly: angle[{i + 1}] = {a[i + 1]:.10g} follows angle[{i}] = {a[i]:.10g}"
-            )
-        span = a[-1] - a[0]
-        if abs(span - cycle) > _SPAN_TOLERANCE * cycle:
-            raise MechanismError(
-                f"angle must cover exactly one cycle: it spans {span:.10g} rad ({_degrees(span)}) from {a[0]:.10g}, "
-                f"but cycle = {cycle_name(cycle)} = {cycle:.10g} rad ({_degrees(cycle)}); the last angle must be the "
-                f"first plus the cycle, the first point repeated at the end"
-            )
-        a = a.copy()
-        a[-1] = a[0] + cycle
-        if not a[-1] > a[-2]:
-            raise MechanismError(
-                f"angle must increase strictly: angle[{a.size - 2}] = {a[-2]:.10g} is at the cycle's end"
-            )
-        p = np.where(np.abs(p) < PRESSURE_FLOOR, 0.0, p)
-        scale = float(np.max(np.abs(p)))
-        mismatch = abs(float(p[-1] - p[0]))
-        if mismatch > tolerance * scale:
-            raise MechanismError(
-                f"pressure does not close over the cycle: p = {p[0]:.10g} Pa at angle {a[0]:.10g} rad but "
-                f"{p[-1]:.10g} Pa at angle {a[-1]:.10g} rad (one cycle later), a mismatch of {mismatch:.6g} Pa = "
-                f"{mismatch / scale:.3g} of max|p|, above closure_tolerance = {tolerance}; the first and last "
-                f"points are the same state of the cycle (raise closure_tolerance to accept the data as it is)"
-            )
-        p[-1] = p[0]
-        a.flags.writeable = False
-        p.flags.writeable = False
+        a, p = checked_table(angle, pressure, cycle, tolerance)
         self._angle, self._pressure, self._cycle, self._kind = a, p, cycle, kind
-        self._poly = _interpolant(a, p, cycle, kind)
+        self._poly = interpolant(a, p, cycle, kind)
         self._derivative: Any = None
 
     # -- what it is ---------------------------------------------------------------------------
@@ -579,20 +461,3 @@ class IndicatorDiagram:
 
     compressor = classmethod(_compressor)
     engine = classmethod(_engine)
-
-
-def _interpolant(a: np.ndarray, p: np.ndarray, cycle: float, kind: str) -> Any:
-    """A scipy PPoly over [a[0], a[0] + Φ], periodic in value (and slope, but for "linear")."""
-    interpolate = _scipy_interpolate()
-    if kind == "periodic-cubic":
-        return interpolate.CubicSpline(a, p, bc_type="periodic")
-    if kind == "linear":
-        return interpolate.PPoly(np.vstack((np.diff(p) / np.diff(a), p[:-1])), a)
-    # PCHIP on the table extended by a period's worth of neighbours on both sides, cut back
-    # to the table: the slopes at its ends come from the same neighbours, so they agree.
-    n = a.size
-    k = min(3, n - 1)
-    extended_a = np.concatenate((a[n - 1 - k : n - 1] - cycle, a, a[1 : 1 + k] + cycle))
-    extended_p = np.concatenate((p[n - 1 - k : n - 1], p, p[1 : 1 + k]))
-    full = interpolate.PchipInterpolator(extended_a, extended_p)
-    return interpolate.PPoly(full.c[:, k : k + n - 1].copy(), a)
