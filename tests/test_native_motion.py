@@ -410,27 +410,98 @@ def test_a_pickled_steady_state_carries_everything():
     assert loaded._later is None and loaded.summary() == state.summary()
 
 
-def test_one_native_machine_per_machine_kept_while_it_lives():
+def _counting_builds(monkeypatch: pytest.MonkeyPatch) -> list[object]:
+    """The machines native.native_machine is asked to convert, from now on."""
+    from multicrank.machine import native
+
+    built: list[object] = []
+    convert = native.native_machine
+
+    def counted(machine: mc.Machine) -> MotionMachine:
+        built.append(machine)
+        return convert(machine)
+
+    monkeypatch.setattr(native, "native_machine", counted)
+    return built
+
+
+def test_the_machine_owns_one_native_machine_for_every_question(monkeypatch):
+    from multicrank.machine import native
+
+    built = _counting_builds(monkeypatch)
+    machine = mc.presets.MACHINES["inline-4"].replace(shaft_inertia=0.31)
+    first = native.motion_machine(machine)
+    assert native.motion_machine(machine) is first
+    # g = 0 is answered by the same native machine (its tables hold the g = 0 solver): the
+    # steady state, its comparisons and arrays, and the flywheel, with and without gravity.
+    with_g = mc.steady_state(machine, rpm=3000)
+    without = mc.steady_state(machine, rpm=3000, gravity=False)
+    assert without.omega.size and math.isfinite(without.delta_coasting)  # the lazy parts too
+    mc.flywheel_inertia(machine, delta=0.02, rpm=3000, gravity=False)
+    assert built == [machine]
+    # ... and they are the g = 0 machine's, which its own native machine gives.
+    flat = mc.steady_state(machine.replace(g=0.0), rpm=3000)
+    assert without.delta == pytest.approx(flat.delta, rel=1e-9)
+    assert without.delta_coasting == pytest.approx(flat.delta_coasting, rel=1e-9)
+    assert without.delta_without_gravity == without.delta != with_g.delta
+    np.testing.assert_allclose(without.omega, flat.omega, rtol=1e-12)
+    sized = mc.flywheel_inertia(machine, delta=0.02, rpm=3000, gravity=False).shaft_inertia
+    flat_sized = mc.flywheel_inertia(machine.replace(g=0.0), delta=0.02, rpm=3000).shaft_inertia
+    assert sized == pytest.approx(flat_sized, rel=1e-9)
+
+
+def test_a_copy_of_a_machine_makes_its_own_native_machine_and_none_outlives_it():
+    import copy
     import gc
+    import pickle
+    import weakref
 
     from multicrank.machine import native
 
     machine = mc.presets.MACHINES["inline-4"].replace(shaft_inertia=0.31)
     first = native.motion_machine(machine)
-    assert native.motion_machine(machine) is first
-    assert native.motion_machine(machine, gravity=False) is not first
     # An equal machine is another object: its own native machine, the same numbers.
-    twin = machine.replace()
-    assert native.motion_machine(twin) is not first
-    assert mc.steady_state(twin).delta == mc.steady_state(machine).delta
-    keys = [key for key in native._MADE if key[0] == id(machine)]
-    del machine, first
+    for twin in (machine.replace(), pickle.loads(pickle.dumps(machine)), copy.deepcopy(machine)):
+        assert twin == machine and "_native" not in twin.__dict__
+        assert native.motion_machine(twin) is not first
+        assert mc.steady_state(twin).delta == mc.steady_state(machine).delta
+    assert native.motion_machine(machine) is first
+    alive = weakref.ref(machine)
+    del machine, first, twin
     gc.collect()
-    assert not any(key in native._MADE for key in keys)
+    assert alive() is None
 
 
-def test_threads_share_one_native_machine_and_agree():
+def test_threads_share_one_native_machine_and_agree(monkeypatch):
+    from threading import Barrier, Event
+
+    from multicrank.machine import native
+
+    built = _counting_builds(monkeypatch)
+    convert = native.native_machine
+    second, entered = Event(), []
+
+    def slow(machine: mc.Machine) -> MotionMachine:
+        # The first build waits (GIL released) until another thread builds too, as one
+        # without the machine's lock would; with it, none does and the wait runs out.
+        entered.append(machine)
+        if len(entered) > 1:
+            second.set()
+        else:
+            second.wait(1.0)
+        return convert(machine)
+
+    monkeypatch.setattr(native, "native_machine", slow)
     machine = mc.presets.MACHINES["genset-v12"].replace(shaft_inertia=41.0)
+    together = Barrier(8)
+
+    def ask(_: int) -> MotionMachine:
+        together.wait()  # all eight ask at once
+        return native.motion_machine(machine)
+
+    with ThreadPoolExecutor(8) as pool:
+        made = list(pool.map(ask, range(8)))
+    assert built == [machine] and all(m is made[0] for m in made)
     speeds = np.linspace(900.0, 1800.0, 16)
     with ThreadPoolExecutor(4) as pool:
         found = list(pool.map(lambda rpm: mc.steady_state(machine, rpm=rpm).delta, speeds))

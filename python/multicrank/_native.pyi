@@ -88,6 +88,7 @@ class MotionMachine:
         phi: _Array | None = None,
         compare: bool = True,
         shaft_inertia: float | None = None,
+        gravity: bool = True,
     ) -> dict[str, Any]: ...
     def comparisons(
         self,
@@ -96,13 +97,24 @@ class MotionMachine:
         omega_mean: float,
         min_speed_ratio: float = 1e-3,
         shaft_inertia: float | None = None,
+        gravity: bool = True,
     ) -> tuple[float, float]: ...
     def mean_gas_torque(self) -> float: ...
     def square_law(
-        self, coefficient: float, drive: float = 0.0, min_speed_ratio: float = 1e-3, phi: _Array | None = None
+        self,
+        coefficient: float,
+        drive: float = 0.0,
+        min_speed_ratio: float = 1e-3,
+        phi: _Array | None = None,
+        gravity: bool = True,
     ) -> dict[str, Any]: ...
     def flywheel_inertia(
-        self, delta: float, rpm: float, min_speed_ratio: float = 1e-3, without_gravity: bool = True
+        self,
+        delta: float,
+        rpm: float,
+        min_speed_ratio: float = 1e-3,
+        without_gravity: bool = True,
+        gravity: bool = True,
     ) -> dict[str, float]: ...
     def sweep(
         self,

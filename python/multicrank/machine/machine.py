@@ -346,6 +346,11 @@ class Machine(MachineDescription, MachineDynamics, MachineGas):
     # Not hashable: the fields are attributes that may be set, and a hash must not change.
     __hash__ = None  # type: ignore[assignment]
 
+    def __getstate__(self) -> dict[str, Any]:
+        # The native machine (machine/native.motion_machine) and its lock stay behind: a copy
+        # or an unpickled machine makes its own on first use.
+        return {key: value for key, value in self.__dict__.items() if key not in ("_native", "_native_lock")}
+
     def replace(self, **changes: Any) -> Machine:
         """A copy with some of its fields changed.
 

@@ -16,7 +16,6 @@ from __future__ import annotations
 
 import math
 import threading
-import weakref
 from functools import cache
 from typing import Any
 
@@ -127,24 +126,19 @@ def native_machine(machine: Machine) -> MotionMachine:
     )
 
 
-#: The native machines made so far, by (id of the Machine, gravity kept): each made once and
-#: kept while its Machine lives (a Machine is immutable), so that its cycle's tables, made by
-#: the first steady state, serve every later one.
-_MADE: dict[tuple[int, bool], MotionMachine] = {}
-_MAKING = threading.Lock()
-
-
-def motion_machine(machine: Machine, *, gravity: bool = True) -> MotionMachine:
-    """The :class:`~multicrank._native.MotionMachine` of ``machine`` (with g = 0 where
-    ``gravity`` is False), made on first use and kept while ``machine`` lives (a pressure
-    callable is sampled then, once: see :func:`native_machine`)."""
-    key = (id(machine), gravity or machine.g == 0)
-    known = _MADE.get(key, _MAKING)  # a lookup needs no lock; _MAKING marks "not made yet"
-    if known is not _MAKING:
-        return known  # type: ignore[return-value]
-    made = native_machine(machine if key[1] else machine.replace(g=0.0))
-    with _MAKING:
-        if key not in _MADE:
-            _MADE[key] = made
-            weakref.finalize(machine, _MADE.pop, key, None)
-        return _MADE[key]
+def motion_machine(machine: Machine) -> MotionMachine:
+    """The :class:`~multicrank._native.MotionMachine` of ``machine``, owned by it: made on
+    first use (a pressure callable is sampled then, once: see :func:`native_machine`) and kept
+    on the machine (``Machine._native``, left out of its pickle, its equality and
+    :meth:`~multicrank.Machine.replace`), so that its cycle's tables, made by the first steady
+    state, serve every later question, with gravity or without (each method's ``gravity``
+    flag). Two threads asking at once get one native machine, made once."""
+    made = machine.__dict__.get("_native")
+    if made is not None:
+        return made
+    # dict.setdefault is atomic: every thread gets the one lock of this machine.
+    with machine.__dict__.setdefault("_native_lock", threading.Lock()):
+        made = machine.__dict__.get("_native")
+        if made is None:
+            made = machine.__dict__["_native"] = native_machine(machine)
+        return made

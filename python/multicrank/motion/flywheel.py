@@ -273,9 +273,9 @@ def flywheel_inertia(
         # the motion as without it: Rules.plain_balance); its refusal of a target no shaft
         # inertia gives says why and how close the machine comes.
         assert rpm_value is not None
-        native = motion_machine(machine, gravity=gravity)
+        native = motion_machine(machine)
         try:
-            sized = native.flywheel_inertia(target, rpm_value, ratio)
+            sized = native.flywheel_inertia(target, rpm_value, ratio, gravity=gravity)
         except MechanismError as error:
             reach = getattr(error, "reach", None)
             if reach is None:

@@ -300,17 +300,19 @@ def _native_solution(
     square_law = rules.route == "square-law"
     if not (balance or square_law):
         return None
-    native = motion_machine(machine, gravity=gravity)
+    native = motion_machine(machine)
     # The square law's curves come with its solution; "balance" makes its angles only when
     # its arrays are read.
     square_law_phi = None if balance else np.linspace(0.0, machine.cycle, points)
     try:
         if balance:
             assert rpm is not None
-            found = native.steady_state(rpm, ratio, None, False)
+            found = native.steady_state(rpm, ratio, None, False, gravity=gravity)
         else:
             assert isinstance(rules.load, Torque)
-            found = native.square_law(rules.load.value.coefficient, rules.constant_drive, ratio, square_law_phi)
+            found = native.square_law(
+                rules.load.value.coefficient, rules.constant_drive, ratio, square_law_phi, gravity=gravity
+            )
     except MechanismError as error:
         angle = getattr(error, "angle", None)
         if angle is None:
@@ -338,14 +340,13 @@ def _native_solution(
             if not balance:  # the square law gave them with the rest
                 return _native_comparisons(found)
             assert rpm is not None
-            compared = native.comparisons(rpm, float(found["delta"]), mean, ratio)
+            compared = native.comparisons(rpm, float(found["delta"]), mean, ratio, gravity=gravity)
             return dict(zip(_COMPARISONS, compared, strict=True))
         if balance:
             assert rpm is not None
             phi = np.linspace(0.0, machine.cycle, points)
-            return _arrays(
-                machine, rules, gravity, phi, native.steady_state(rpm, ratio, phi, False), mean, period, load
-            )
+            curves = native.steady_state(rpm, ratio, phi, False, gravity=gravity)
+            return _arrays(machine, rules, gravity, phi, curves, mean, period, load)
         assert square_law_phi is not None
         return _arrays(machine, rules, gravity, square_law_phi, found, mean, period, load)
 

@@ -88,6 +88,8 @@ pub(crate) struct MotionMachine {
     g: f64,
     /// The cycle's tables, made on first use.
     tables: OnceLock<core::SteadyTables>,
+    /// The same with g = 0, made from them on the first question asked with gravity=False.
+    tables_without_gravity: OnceLock<core::SteadyTables>,
 }
 
 impl MotionMachine {
@@ -101,15 +103,34 @@ impl MotionMachine {
         Ok(self.tables.get_or_init(|| made))
     }
 
+    /// The tables of the machine as it is (`gravity`), or with g = 0: the g = 0 solver
+    /// the first hold, made into tables of their own once (no second tabulation).
+    fn tables_for(&self, gravity: bool) -> core::Result<&core::SteadyTables> {
+        let tables = self.tables()?;
+        if gravity || self.g == 0.0 {
+            return Ok(tables);
+        }
+        if let Some(without) = self.tables_without_gravity.get() {
+            return Ok(without);
+        }
+        let made = tables.without_gravity()?;
+        Ok(self.tables_without_gravity.get_or_init(|| made))
+    }
+
     /// The core's view of it.
     fn machine(&self) -> core::Machine<'_> {
+        self.machine_with(true)
+    }
+
+    /// The core's view of it, with g = 0 unless `gravity`.
+    fn machine_with(&self, gravity: bool) -> core::Machine<'_> {
         core::Machine {
             units: &self.units,
             gas: &self.gas,
             diagrams: &self.diagrams,
             shaft_inertia: self.shaft_inertia,
             strokes: self.strokes,
-            g: self.g,
+            g: if gravity { self.g } else { 0.0 },
         }
     }
 }
@@ -196,6 +217,7 @@ impl MotionMachine {
             strokes,
             g,
             tables: OnceLock::new(),
+            tables_without_gravity: OnceLock::new(),
         };
         // The core's own checks of a machine (units, g, gas), by a sweep of no designs.
         core::motion_sweep(
@@ -211,16 +233,19 @@ impl MotionMachine {
         Ok(machine)
     }
 
-    /// steady_state(rpm, min_speed_ratio=1e-3, phi=None, compare=True, shaft_inertia=None)
-    /// -> dict: the periodic steady state under the "balance" load at the mean speed `rpm`
+    /// steady_state(rpm, min_speed_ratio=1e-3, phi=None, compare=True, shaft_inertia=None,
+    /// gravity=True) -> dict: the periodic steady state under the "balance" load at the mean speed `rpm`
     /// (1/min) with I_w = `shaft_inertia` (kg·m², default the machine's): omega_mean, period,
     /// omega_max, omega_min, phi_max, phi_min, energy_at_zero, mean_load_torque, delta,
     /// delta_midrange, delta_without_gravity, delta_gravity_only (SI units; the last two
     /// NaN unless `compare`), and with `phi` (rad, in [0, Φ]) the arrays omega (rad/s),
     /// time (s from φ = 0), reduced_inertia, reduced_inertia_slope, gas_torque and
     /// gravity_torque there. A stall is a MechanismError with attributes angle, rpm
-    /// and min_rpm.
-    #[pyo3(signature = (rpm, min_speed_ratio=1e-3, phi=None, compare=true, shaft_inertia=None))]
+    /// and min_rpm. `gravity=False`: the same machine with g = 0 (on this machine's tables).
+    #[pyo3(signature = (
+        rpm, min_speed_ratio=1e-3, phi=None, compare=true, shaft_inertia=None, gravity=true
+    ))]
+    #[allow(clippy::too_many_arguments)]
     fn steady_state<'py>(
         &self,
         py: Python<'py>,
@@ -229,12 +254,13 @@ impl MotionMachine {
         phi: Option<PyReadonlyArray1<'py, f64>>,
         compare: bool,
         shaft_inertia: Option<f64>,
+        gravity: bool,
     ) -> PyResult<Bound<'py, PyDict>> {
         let angles = phi.as_ref().map(|a| a.as_slice()).transpose()?;
         let inertia = shaft_inertia.unwrap_or(self.shaft_inertia);
         let (found, arrays) = py
             .detach(|| {
-                let tables = self.tables()?;
+                let tables = self.tables_for(gravity)?;
                 let found = tables.steady_state(
                     inertia,
                     rpm,
@@ -261,11 +287,15 @@ impl MotionMachine {
         Ok(dict)
     }
 
-    /// comparisons(rpm, delta, omega_mean, min_speed_ratio=1e-3, shaft_inertia=None) ->
+    /// comparisons(rpm, delta, omega_mean, min_speed_ratio=1e-3, shaft_inertia=None,
+    /// gravity=True) ->
     /// (delta_without_gravity, delta_gravity_only): the two comparison solves of the steady
     /// state at `rpm` that steady_state(compare=False) found (its `delta` and `omega_mean`,
     /// rad/s), each NaN where it stalls.
-    #[pyo3(signature = (rpm, delta, omega_mean, min_speed_ratio=1e-3, shaft_inertia=None))]
+    #[pyo3(signature = (
+        rpm, delta, omega_mean, min_speed_ratio=1e-3, shaft_inertia=None, gravity=true
+    ))]
+    #[allow(clippy::too_many_arguments)]
     fn comparisons(
         &self,
         py: Python<'_>,
@@ -274,10 +304,11 @@ impl MotionMachine {
         omega_mean: f64,
         min_speed_ratio: f64,
         shaft_inertia: Option<f64>,
+        gravity: bool,
     ) -> PyResult<(f64, f64)> {
         let inertia = shaft_inertia.unwrap_or(self.shaft_inertia);
         py.detach(|| {
-            self.tables()?
+            self.tables_for(gravity)?
                 .comparisons(inertia, rpm, delta, omega_mean, min_speed_ratio)
         })
         .map_err(|error| motion_err(py, error))
@@ -291,11 +322,12 @@ impl MotionMachine {
             .map_err(|error| motion_err(py, error))
     }
 
-    /// square_law(coefficient, drive=0.0, min_speed_ratio=1e-3, phi=None) -> dict: the
+    /// square_law(coefficient, drive=0.0, min_speed_ratio=1e-3, phi=None, gravity=True) -> dict: the
     /// periodic steady state under the load c·ω² (c = `coefficient`, N·m·s²/rad²) beside a
     /// constant `drive` (N·m), in closed form: the numbers of steady_state (the mean speed a
-    /// result, mean_load_torque the load's cycle mean), with `phi` omega and time there.
-    #[pyo3(signature = (coefficient, drive=0.0, min_speed_ratio=1e-3, phi=None))]
+    /// result, mean_load_torque the load's cycle mean), with `phi` omega and time there;
+    /// `gravity=False`: with g = 0.
+    #[pyo3(signature = (coefficient, drive=0.0, min_speed_ratio=1e-3, phi=None, gravity=true))]
     fn square_law<'py>(
         &self,
         py: Python<'py>,
@@ -303,12 +335,13 @@ impl MotionMachine {
         drive: f64,
         min_speed_ratio: f64,
         phi: Option<PyReadonlyArray1<'py, f64>>,
+        gravity: bool,
     ) -> PyResult<Bound<'py, PyDict>> {
         let angles = phi.as_ref().map(|a| a.as_slice()).transpose()?;
         let found = py
             .detach(|| {
                 core::square_law_steady_state(
-                    &self.machine(),
+                    &self.machine_with(gravity),
                     coefficient,
                     drive,
                     min_speed_ratio,
@@ -319,14 +352,15 @@ impl MotionMachine {
         steady_dict(py, found, angles.is_some())
     }
 
-    /// flywheel_inertia(delta, rpm, min_speed_ratio=1e-3, without_gravity=True) -> dict of
+    /// flywheel_inertia(delta, rpm, min_speed_ratio=1e-3, without_gravity=True, gravity=True)
+    /// -> dict of
     /// floats: the shaft inertia giving the coefficient of speed fluctuation `delta` at `rpm`
     /// (1/min) under the "balance" load: shaft_inertia, shaft_inertia_without_gravity (NaN
     /// unless `without_gravity`), textbook, textbook_error, energy_swing, delta, rpm. A
     /// target no shaft inertia gives is a MechanismError with attributes delta, reach
     /// ("never_falls", "massless" or "stalls") and closest (the δ nearest to it that the
-    /// machine reaches; NaN where none is known).
-    #[pyo3(signature = (delta, rpm, min_speed_ratio=1e-3, without_gravity=true))]
+    /// machine reaches; NaN where none is known). `gravity=False`: the machine with g = 0.
+    #[pyo3(signature = (delta, rpm, min_speed_ratio=1e-3, without_gravity=true, gravity=true))]
     fn flywheel_inertia<'py>(
         &self,
         py: Python<'py>,
@@ -334,10 +368,11 @@ impl MotionMachine {
         rpm: f64,
         min_speed_ratio: f64,
         without_gravity: bool,
+        gravity: bool,
     ) -> PyResult<Bound<'py, PyDict>> {
         let f = py
             .detach(|| {
-                self.tables()?.flywheel_inertia(
+                self.tables_for(gravity)?.flywheel_inertia(
                     delta,
                     rpm,
                     min_speed_ratio,

@@ -134,6 +134,11 @@ impl Balance {
         self.cycle.cycle()
     }
 
+    /// The tabulated cycle these torques are set up on.
+    pub(super) fn shared_cycle(&self) -> &Arc<Cycle> {
+        &self.cycle
+    }
+
     /// (1/Φ)∫(J − I_w) dφ (kg·m²).
     pub fn mean_rest(&self) -> f64 {
         self.cycle.mean_rest()

@@ -132,6 +132,24 @@ impl SteadyTables {
         Ok(swing)
     }
 
+    /// The same machine with g = 0, from these tables: the energy method's set-up with
+    /// g = 0 that they hold already becomes the machine's (nothing is tabulated again; only
+    /// the set-up of the variation of J alone at g = 0 is made). A clone where g = 0 already.
+    pub fn without_gravity(&self) -> Result<Self> {
+        let Some(balance) = &self.without_gravity else {
+            return Ok(self.clone());
+        };
+        let cycle = Arc::clone(balance.shared_cycle());
+        Ok(Self {
+            machine: balance.clone(),
+            without_gravity: None,
+            gravity_only: Balance::new(&cycle, 0.0, false)?,
+            load: self.load,
+            cycle,
+            swing: OnceLock::new(),
+        })
+    }
+
     /// Φ (rad).
     pub fn cycle(&self) -> f64 {
         self.cycle.cycle()
