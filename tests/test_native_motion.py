@@ -18,7 +18,7 @@ import pandas as pd
 import pytest
 
 import multicrank as mc
-from multicrank._native import MOTION_SWEEP_OUTPUTS, MotionMachine
+from multicrank._native import MOTION_SWEEP_OUTPUTS, FlywheelResult, MotionMachine, SteadyResult
 from multicrank.machine.cylinder import unit_columns
 from multicrank.machine.native import native_machine
 from multicrank.motion.variants import machine_variant
@@ -98,18 +98,18 @@ def test_the_steady_state_agrees_with_the_oracle(record):
     native = native_machine(m)
     assert isinstance(native, MotionMachine)
     found = native.steady_state(record["rpm"])
-    assert found.keys() >= set(STEADY) | {"phi_max", "phi_min", "energy_at_zero"}
+    assert isinstance(found, SteadyResult) and found.omega is None and found.gas_torque is None
     for key, kind in [("omega_mean", "integrals"), ("period", "integrals"), ("mean_load_torque", "integrals")]:
         close(getattr(state, key), expected[key], kind, key)
-        close(found[key], expected[key], kind, key)
+        close(getattr(found, key), expected[key], kind, key)
     for key in ("omega_max", "omega_min"):
         close(getattr(state, key), expected[key], "speeds", key)
-        close(found[key], expected[key], "speeds", key)
+        close(getattr(found, key), expected[key], "speeds", key)
     for key in ("delta", "delta_midrange", "delta_without_gravity", "delta_gravity_only"):
         python_name = "delta_coasting" if key == "delta_gravity_only" else key
         native_name = NATIVE_COASTING if key == "delta_gravity_only" else key
         close(getattr(state, python_name), expected[key], "deltas", key)
-        close(found[native_name], expected[key], "deltas", key)
+        close(getattr(found, native_name), expected[key], "deltas", key)
     np.testing.assert_allclose(
         mc.steady_state(m, rpm=record["rpm"], points=361).omega, record["curves"]["omega"], rtol=TOLERANCE["speeds"]
     )
@@ -123,7 +123,7 @@ def test_the_flywheel_agrees_with_the_oracle(record):
         delta = case["delta"]
         sized = mc.flywheel_inertia(m, delta=delta, rpm=record["rpm"])
         found = native.flywheel_inertia(delta, record["rpm"])
-        assert (found["delta"], found["rpm"]) == (delta, record["rpm"])
+        assert isinstance(found, FlywheelResult) and (found.delta, found.rpm) == (delta, record["rpm"])
         for key, kind in [
             ("shaft_inertia", "flywheel"),
             ("shaft_inertia_without_gravity", "flywheel"),
@@ -131,7 +131,7 @@ def test_the_flywheel_agrees_with_the_oracle(record):
             ("energy_swing", "swing"),
         ]:
             close(float(getattr(sized, key)), case[key], kind, (delta, key))
-            close(found[key], case[key], kind, (delta, key))
+            close(getattr(found, key), case[key], kind, (delta, key))
 
 
 def test_a_stall_carries_the_angle_and_the_lowest_speed_the_oracle_finds():
@@ -212,14 +212,14 @@ def test_sweep_rows_are_the_steady_states_of_their_machines(name):
         state = own.steady_state(design["rpm"])
         flywheel = own.flywheel_inertia(1 / 100, design["rpm"])
         expected = {
-            "delta": state["delta"],
-            "delta_without_gravity": state["delta_without_gravity"],
-            NATIVE_COASTING: state[NATIVE_COASTING],
-            "gravity_effect": state["delta"] / state["delta_without_gravity"] - 1,
-            "rpm_min": state["omega_min"] * 30 / math.pi,
-            "rpm_max": state["omega_max"] * 30 / math.pi,
-            "flywheel_inertia": flywheel["shaft_inertia"],
-            "flywheel_inertia_without_gravity": flywheel["shaft_inertia_without_gravity"],
+            "delta": state.delta,
+            "delta_without_gravity": state.delta_without_gravity,
+            NATIVE_COASTING: getattr(state, NATIVE_COASTING),
+            "gravity_effect": state.delta / state.delta_without_gravity - 1,
+            "rpm_min": state.omega_min * 30 / math.pi,
+            "rpm_max": state.omega_max * 30 / math.pi,
+            "flywheel_inertia": flywheel.shaft_inertia,
+            "flywheel_inertia_without_gravity": flywheel.shaft_inertia_without_gravity,
         }
         for output, value in expected.items():
             assert found[output][row] == value or (math.isnan(value) and math.isnan(found[output][row])), (
@@ -232,7 +232,7 @@ def test_a_pressure_scale_agrees_to_rounding():
     m = machine("marine-2t-twin")
     found = native_machine(m).sweep({"pressure_scale": np.array([1.1, 0.7])}, ["delta"], rpm=m.rpm)
     for row, scale in enumerate((1.1, 0.7)):
-        expected = native_machine(machine_variant(m, {"pressure_scale": scale})).steady_state(m.rpm)["delta"]
+        expected = native_machine(machine_variant(m, {"pressure_scale": scale})).steady_state(m.rpm).delta
         assert found["delta"][row] == pytest.approx(expected, rel=1e-12)
 
 
@@ -241,7 +241,7 @@ def test_a_stalled_row_is_a_row():
     found = native_machine(m).sweep({"rpm": np.array([5.0, 120.0])}, ["delta", "rpm_min"])
     assert found["stalled"].tolist() == [True, False]
     assert np.isnan(found["delta"][0]) and np.isnan(found["rpm_min"][0])
-    assert found["delta"][1] == native_machine(m).steady_state(120.0)["delta"]
+    assert found["delta"][1] == native_machine(m).steady_state(120.0).delta
 
 
 def test_only_what_is_asked_comes_back():
@@ -251,6 +251,21 @@ def test_only_what_is_asked_comes_back():
     fly = native.sweep({"rpm": np.array([3000.0])}, ["flywheel_inertia"], target_delta=1 / 100)
     assert set(fly) == {"flywheel_inertia"}
     assert set(native.sweep({}, ["rpm_max"], rpm=3000.0)) == {"rpm_max", "stalled"}
+
+
+def test_the_native_results_are_typed_and_frozen():
+    m = machine("marine-2t-twin")
+    native = native_machine(m)
+    phi = np.linspace(0.0, m.cycle, 5)
+    state = native.steady_state(m.rpm, phi=phi)
+    sized = native.flywheel_inertia(1 / 50, m.rpm)
+    assert isinstance(state, SteadyResult) and isinstance(sized, FlywheelResult)
+    assert state.omega.shape == state.gravity_torque.shape == (5,)
+    for result, name in [(state, "delta"), (state, "omega"), (sized, "shaft_inertia")]:
+        with pytest.raises(AttributeError):
+            setattr(result, name, 0.0)
+    assert state == native.steady_state(m.rpm, phi=phi) != native.steady_state(m.rpm)
+    assert sized == native.flywheel_inertia(1 / 50, m.rpm) != native.flywheel_inertia(1 / 40, m.rpm)
 
 
 def test_the_object_is_reused_and_thread_count_independent():
@@ -344,7 +359,7 @@ def test_a_callable_pressure_crosses_to_rust_sampled_once():
     native = native_machine(smooth)
     assert len(calls) == 1
     phi = np.linspace(0.0, smooth.cycle, 1001)
-    core = native.steady_state(smooth.rpm, phi=phi)["gas_torque"]
+    core = native.steady_state(smooth.rpm, phi=phi).gas_torque
     python = smooth.gas_torque(phi)
     np.testing.assert_allclose(core, python, rtol=0, atol=1e-12 * np.abs(python).max())
 

@@ -282,13 +282,13 @@ def flywheel_inertia(
                 raise
             raise _unreachable(target, reach, error.closest) from None  # type: ignore[attr-defined]
         return FlywheelInertia(
-            shaft_inertia=sized["shaft_inertia"],
-            shaft_inertia_without_gravity=sized["shaft_inertia_without_gravity"],
-            textbook=sized["textbook"],
-            textbook_error=sized["textbook_error"],
+            shaft_inertia=sized.shaft_inertia,
+            shaft_inertia_without_gravity=sized.shaft_inertia_without_gravity,
+            textbook=sized.textbook,
+            textbook_error=sized.textbook_error,
             delta=target,
-            rpm=sized["rpm"],
-            energy_swing=sized["energy_swing"],
+            rpm=sized.rpm,
+            energy_swing=sized.energy_swing,
             method=METHODS[rules.route],
         )
     cycle = cycle_tables(machine, gravity)

@@ -37,7 +37,7 @@ from typing import Any
 
 import numpy as np
 
-from .._native import MechanismError
+from .._native import MechanismError, SteadyResult
 from .._shaft import inertia_torque, omega_from_rpm, rpm_from_omega
 from .._validation import as_count, as_flag, as_instance
 from ..machine.machine import Machine
@@ -57,7 +57,7 @@ from ._solvers import Balance, CycleTables, Periodic, Stall, running_speed
 from .loads import BALANCE, PowerLawLoad, Torque
 
 # The result and the stall, defined in steady_result and importable from here as before.
-from .steady_result import _RENAMED_COMPARISONS, NEAR_STALL_DELTA, NEAR_STALL_NOTE, StallError, SteadyState
+from .steady_result import NEAR_STALL_DELTA, NEAR_STALL_NOTE, StallError, SteadyState
 
 __all__ = ["NEAR_STALL_DELTA", "NEAR_STALL_NOTE", "PowerLawLoad", "StallError", "SteadyState", "steady_state"]
 
@@ -231,10 +231,9 @@ _NUMBERS = ("omega_mean", "omega_max", "omega_min", "phi_max", "phi_min", "perio
 _COMPARISONS = ("delta_without_gravity", "delta_coasting")
 
 
-def _native_comparisons(found: dict[str, Any]) -> dict[str, float]:
+def _native_comparisons(found: SteadyResult) -> dict[str, float]:
     """The comparison δ of a native result, by their names here."""
-    named = {_RENAMED_COMPARISONS.get(key, key): value for key, value in found.items()}
-    return {name: float(named[name]) for name in _COMPARISONS}
+    return dict(delta_without_gravity=found.delta_without_gravity, delta_coasting=found.delta_gravity_only)
 
 
 _Solved = tuple[dict[str, Any], Callable[[str], dict[str, Any]]]
@@ -245,19 +244,26 @@ def _arrays(
     rules: Rules,
     gravity: bool,
     phi: np.ndarray,
-    curves: dict[str, Any],
+    curves: SteadyResult | dict[str, np.ndarray],
     omega_mean: float,
     period: float,
     mean_load: float,
 ) -> dict[str, np.ndarray]:
     """The arrays of :class:`SteadyState` (read-only) from ω and t at ``phi`` (``curves``),
-    with J, J′, M_gas and the gravity torque from ``curves`` where the core gave them."""
+    with J, J′, M_gas and the gravity torque from ``curves`` where the core gave them (a
+    :class:`~multicrank._native.SteadyResult` asked for its arrays)."""
     count = phi.size
-    omega, time = curves["omega"], curves["time"]
+    given = curves if isinstance(curves, SteadyResult) else None
+    if isinstance(curves, SteadyResult):
+        omega, time = curves.omega, curves.time
+    else:
+        omega, time = curves["omega"], curves["time"]
+    assert omega is not None and time is not None
     time[0], time[-1] = 0.0, period
-    if "gas_torque" in curves:
-        J, slope = curves["reduced_inertia"], curves["reduced_inertia_slope"]
-        gas, weight = curves["gas_torque"], curves["gravity_torque"]
+    if given is not None and given.gas_torque is not None:
+        J, slope = given.reduced_inertia, given.reduced_inertia_slope
+        gas, weight = given.gas_torque, given.gravity_torque
+        assert J is not None and slope is not None and weight is not None
     else:
         J, slope = machine.reduced_inertia(phi)
         gas = machine.gas_torque(phi)
@@ -329,7 +335,7 @@ def _native_solution(
                     angle=angle,
                 ) from None
         raise _native_stall(angle, rpm, getattr(error, "min_rpm", None), ratio) from None
-    numbers = {name: float(found[name]) for name in _NUMBERS}
+    numbers = {name: float(getattr(found, name)) for name in _NUMBERS}
     if balance and rules.drive is not None:  # the load takes the drive too (Rules.plain_balance)
         assert rpm is not None
         numbers["mean_load_torque"] += rules.drive_at(omega_from_rpm(rpm))
@@ -340,7 +346,7 @@ def _native_solution(
             if not balance:  # the square law gave them with the rest
                 return _native_comparisons(found)
             assert rpm is not None
-            compared = native.comparisons(rpm, float(found["delta"]), mean, ratio, gravity=gravity)
+            compared = native.comparisons(rpm, found.delta, mean, ratio, gravity=gravity)
             return dict(zip(_COMPARISONS, compared, strict=True))
         if balance:
             assert rpm is not None

@@ -52,7 +52,7 @@ mod _native {
         machine_engine, machine_evaluate, machine_gas_torque, machine_inertia, two_mass_rod_inertia,
     };
     #[pymodule_export]
-    use crate::motion::MotionMachine;
+    use crate::motion::{FlywheelResult, MotionMachine, SteadyResult};
     #[pymodule_export]
     use crate::parallel::{_after_fork_in_child, get_parallel_threshold, set_parallel_threshold};
     #[pymodule_export]

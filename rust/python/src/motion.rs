@@ -5,7 +5,7 @@
 use multicrank_core as core;
 use std::sync::OnceLock;
 
-use numpy::{IntoPyArray, PyReadonlyArray1};
+use numpy::{IntoPyArray, PyArray1, PyArrayMethods, PyReadonlyArray1};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -135,44 +135,169 @@ impl MotionMachine {
     }
 }
 
-/// A dict of named floats.
-fn fields<'py>(py: Python<'py>, values: &[(&str, f64)]) -> PyResult<Bound<'py, PyDict>> {
-    let dict = PyDict::new(py);
-    for (name, value) in values {
-        dict.set_item(name, value)?;
+type Array = Option<Py<PyArray1<f64>>>;
+
+/// Whether two optional arrays hold the same doubles (or both are absent).
+fn same_array(py: Python<'_>, a: &Array, b: &Array) -> PyResult<bool> {
+    match (a, b) {
+        (None, None) => Ok(true),
+        (Some(a), Some(b)) => {
+            Ok(a.bind(py).readonly().as_slice()? == b.bind(py).readonly().as_slice()?)
+        }
+        _ => Ok(false),
     }
-    Ok(dict)
 }
 
-/// A steady state's numbers, and its curves where asked.
-fn steady_dict(
+/// A steady state as the core found it (SI units, immutable): its numbers, and the curves
+/// and arrays at the angles asked for (None where none were asked). Equal to another with
+/// the same numbers and arrays.
+#[pyclass(frozen, get_all, name = "SteadyResult", module = "multicrank._native")]
+pub(crate) struct SteadyResult {
+    omega_mean: f64,
+    period: f64,
+    omega_max: f64,
+    omega_min: f64,
+    phi_max: f64,
+    phi_min: f64,
+    energy_at_zero: f64,
+    mean_load_torque: f64,
+    delta: f64,
+    delta_midrange: f64,
+    delta_without_gravity: f64,
+    delta_gravity_only: f64,
+    omega: Array,
+    time: Array,
+    reduced_inertia: Array,
+    reduced_inertia_slope: Array,
+    gas_torque: Array,
+    gravity_torque: Array,
+}
+
+impl SteadyResult {
+    fn numbers(&self) -> [f64; 12] {
+        [
+            self.omega_mean,
+            self.period,
+            self.omega_max,
+            self.omega_min,
+            self.phi_max,
+            self.phi_min,
+            self.energy_at_zero,
+            self.mean_load_torque,
+            self.delta,
+            self.delta_midrange,
+            self.delta_without_gravity,
+            self.delta_gravity_only,
+        ]
+    }
+
+    fn arrays(&self) -> [&Array; 6] {
+        [
+            &self.omega,
+            &self.time,
+            &self.reduced_inertia,
+            &self.reduced_inertia_slope,
+            &self.gas_torque,
+            &self.gravity_torque,
+        ]
+    }
+}
+
+#[pymethods]
+impl SteadyResult {
+    fn __eq__(&self, py: Python<'_>, other: PyRef<'_, Self>) -> PyResult<bool> {
+        if self.numbers() != other.numbers() {
+            return Ok(false);
+        }
+        for (a, b) in self.arrays().into_iter().zip(other.arrays()) {
+            if !same_array(py, a, b)? {
+                return Ok(false);
+            }
+        }
+        Ok(true)
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "SteadyResult(omega_mean={}, delta={}, delta_without_gravity={}, delta_gravity_only={})",
+            self.omega_mean, self.delta, self.delta_without_gravity, self.delta_gravity_only
+        )
+    }
+}
+
+/// The shaft inertia sized for a coefficient of speed fluctuation (SI units, immutable);
+/// equal to another with the same numbers.
+#[pyclass(
+    frozen,
+    eq,
+    get_all,
+    name = "FlywheelResult",
+    module = "multicrank._native"
+)]
+#[derive(PartialEq)]
+pub(crate) struct FlywheelResult {
+    shaft_inertia: f64,
+    shaft_inertia_without_gravity: f64,
+    textbook: f64,
+    textbook_error: f64,
+    energy_swing: f64,
+    delta: f64,
+    rpm: f64,
+}
+
+#[pymethods]
+impl FlywheelResult {
+    fn __repr__(&self) -> String {
+        format!(
+            "FlywheelResult(shaft_inertia={}, shaft_inertia_without_gravity={}, textbook={}, delta={}, rpm={})",
+            self.shaft_inertia, self.shaft_inertia_without_gravity, self.textbook, self.delta, self.rpm
+        )
+    }
+}
+
+/// The one conversion of the core's steady state (and its arrays, where asked) to Python.
+fn steady_result(
     py: Python<'_>,
     found: core::SteadyCurves,
     curves: bool,
-) -> PyResult<Bound<'_, PyDict>> {
+    arrays: Option<core::CycleArrays>,
+) -> SteadyResult {
     let s = found.state;
-    let dict = fields(
-        py,
-        &[
-            ("omega_mean", s.omega_mean),
-            ("period", s.period),
-            ("omega_max", s.omega_max),
-            ("omega_min", s.omega_min),
-            ("phi_max", s.phi_max),
-            ("phi_min", s.phi_min),
-            ("energy_at_zero", s.energy_at_zero),
-            ("mean_load_torque", s.mean_load_torque),
-            ("delta", s.delta),
-            ("delta_midrange", s.delta_midrange),
-            ("delta_without_gravity", s.delta_without_gravity),
-            ("delta_gravity_only", s.delta_gravity_only),
-        ],
-    )?;
-    if curves {
-        dict.set_item("omega", found.omega.into_pyarray(py))?;
-        dict.set_item("time", found.time.into_pyarray(py))?;
+    let array = |values: Vec<f64>| Some(values.into_pyarray(py).unbind());
+    let (omega, time) = if curves {
+        (array(found.omega), array(found.time))
+    } else {
+        (None, None)
+    };
+    let (reduced_inertia, reduced_inertia_slope, gas_torque, gravity_torque) = match arrays {
+        Some(a) => (
+            array(a.reduced_inertia),
+            array(a.reduced_inertia_slope),
+            array(a.gas_torque),
+            array(a.gravity_torque),
+        ),
+        None => (None, None, None, None),
+    };
+    SteadyResult {
+        omega_mean: s.omega_mean,
+        period: s.period,
+        omega_max: s.omega_max,
+        omega_min: s.omega_min,
+        phi_max: s.phi_max,
+        phi_min: s.phi_min,
+        energy_at_zero: s.energy_at_zero,
+        mean_load_torque: s.mean_load_torque,
+        delta: s.delta,
+        delta_midrange: s.delta_midrange,
+        delta_without_gravity: s.delta_without_gravity,
+        delta_gravity_only: s.delta_gravity_only,
+        omega,
+        time,
+        reduced_inertia,
+        reduced_inertia_slope,
+        gas_torque,
+        gravity_torque,
     }
-    Ok(dict)
 }
 
 #[pymethods]
@@ -234,7 +359,7 @@ impl MotionMachine {
     }
 
     /// steady_state(rpm, min_speed_ratio=1e-3, phi=None, compare=True, shaft_inertia=None,
-    /// gravity=True) -> dict: the periodic steady state under the "balance" load at the mean speed `rpm`
+    /// gravity=True) -> SteadyResult: the periodic steady state under the "balance" load at the mean speed `rpm`
     /// (1/min) with I_w = `shaft_inertia` (kg·m², default the machine's): omega_mean, period,
     /// omega_max, omega_min, phi_max, phi_min, energy_at_zero, mean_load_torque, delta,
     /// delta_midrange, delta_without_gravity, delta_gravity_only (SI units; the last two
@@ -255,7 +380,7 @@ impl MotionMachine {
         compare: bool,
         shaft_inertia: Option<f64>,
         gravity: bool,
-    ) -> PyResult<Bound<'py, PyDict>> {
+    ) -> PyResult<SteadyResult> {
         let angles = phi.as_ref().map(|a| a.as_slice()).transpose()?;
         let inertia = shaft_inertia.unwrap_or(self.shaft_inertia);
         let (found, arrays) = py
@@ -274,17 +399,7 @@ impl MotionMachine {
                 Ok((found, arrays))
             })
             .map_err(|error| motion_err(py, error))?;
-        let dict = steady_dict(py, found, angles.is_some())?;
-        if let Some(arrays) = arrays {
-            dict.set_item("reduced_inertia", arrays.reduced_inertia.into_pyarray(py))?;
-            dict.set_item(
-                "reduced_inertia_slope",
-                arrays.reduced_inertia_slope.into_pyarray(py),
-            )?;
-            dict.set_item("gas_torque", arrays.gas_torque.into_pyarray(py))?;
-            dict.set_item("gravity_torque", arrays.gravity_torque.into_pyarray(py))?;
-        }
-        Ok(dict)
+        Ok(steady_result(py, found, angles.is_some(), arrays))
     }
 
     /// comparisons(rpm, delta, omega_mean, min_speed_ratio=1e-3, shaft_inertia=None,
@@ -322,7 +437,8 @@ impl MotionMachine {
             .map_err(|error| motion_err(py, error))
     }
 
-    /// square_law(coefficient, drive=0.0, min_speed_ratio=1e-3, phi=None, gravity=True) -> dict: the
+    /// square_law(coefficient, drive=0.0, min_speed_ratio=1e-3, phi=None, gravity=True)
+    /// -> SteadyResult: the
     /// periodic steady state under the load c·ω² (c = `coefficient`, N·m·s²/rad²) beside a
     /// constant `drive` (N·m), in closed form: the numbers of steady_state (the mean speed a
     /// result, mean_load_torque the load's cycle mean), with `phi` omega and time there;
@@ -336,7 +452,7 @@ impl MotionMachine {
         min_speed_ratio: f64,
         phi: Option<PyReadonlyArray1<'py, f64>>,
         gravity: bool,
-    ) -> PyResult<Bound<'py, PyDict>> {
+    ) -> PyResult<SteadyResult> {
         let angles = phi.as_ref().map(|a| a.as_slice()).transpose()?;
         let found = py
             .detach(|| {
@@ -349,12 +465,11 @@ impl MotionMachine {
                 )
             })
             .map_err(|error| motion_err(py, error))?;
-        steady_dict(py, found, angles.is_some())
+        Ok(steady_result(py, found, angles.is_some(), None))
     }
 
     /// flywheel_inertia(delta, rpm, min_speed_ratio=1e-3, without_gravity=True, gravity=True)
-    /// -> dict of
-    /// floats: the shaft inertia giving the coefficient of speed fluctuation `delta` at `rpm`
+    /// -> FlywheelResult: the shaft inertia giving the coefficient of speed fluctuation `delta` at `rpm`
     /// (1/min) under the "balance" load: shaft_inertia, shaft_inertia_without_gravity (NaN
     /// unless `without_gravity`), textbook, textbook_error, energy_swing, delta, rpm. A
     /// target no shaft inertia gives is a MechanismError with attributes delta, reach
@@ -369,7 +484,7 @@ impl MotionMachine {
         min_speed_ratio: f64,
         without_gravity: bool,
         gravity: bool,
-    ) -> PyResult<Bound<'py, PyDict>> {
+    ) -> PyResult<FlywheelResult> {
         let f = py
             .detach(|| {
                 self.tables_for(gravity)?.flywheel_inertia(
@@ -381,21 +496,15 @@ impl MotionMachine {
                 )
             })
             .map_err(|error| motion_err(py, error))?;
-        fields(
-            py,
-            &[
-                ("shaft_inertia", f.shaft_inertia),
-                (
-                    "shaft_inertia_without_gravity",
-                    f.shaft_inertia_without_gravity,
-                ),
-                ("textbook", f.textbook),
-                ("textbook_error", f.textbook_error),
-                ("energy_swing", f.energy_swing),
-                ("delta", f.delta),
-                ("rpm", f.rpm),
-            ],
-        )
+        Ok(FlywheelResult {
+            shaft_inertia: f.shaft_inertia,
+            shaft_inertia_without_gravity: f.shaft_inertia_without_gravity,
+            textbook: f.textbook,
+            textbook_error: f.textbook_error,
+            energy_swing: f.energy_swing,
+            delta: f.delta,
+            rpm: f.rpm,
+        })
     }
 
     /// sweep(designs, outputs, rpm=None, target_delta=None, min_speed_ratio=1e-3,
