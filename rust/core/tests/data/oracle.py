@@ -39,9 +39,10 @@ kind), and everything is computed from them here, by other means than the librar
 
 Accuracy: every panel's rules are exact to rounding for the tables' piecewise cubics times
 smooth geometry on panels a few milliradians wide (checked by running everything with two rule
-orders: make_motion_fixtures.py records the two runs' agreement in the fixtures); ω_m, t_Φ, the load and ω(φ) are good to ~1e-13 relative, the
-extremes to ~1e-14, δ (a difference of nearly equal speeds) to ~1e-13/δ, and near stall ω_min
-to ~1e-9 (it rests on s ≪ E, where K − min K loses digits).
+orders: make_motion_fixtures.py records the two runs' agreement in the fixtures); ω_m, t_Φ,
+the load and ω(φ) are good to ~1e-13 relative, the extremes to ~1e-14, δ (a difference of
+nearly equal speeds) to ~1e-13/δ, and near stall ω_min to ~1e-9 (it rests on s ≪ E, where
+K − min K loses digits).
 
 Used by make_motion_fixtures.py (the Rust core's fixtures) and tests/test_native_motion.py.
 """
