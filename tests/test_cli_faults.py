@@ -146,10 +146,20 @@ def test_an_early_ctrl_c_exits_130_with_one_line(tmp_path, monkeypatch, command)
     assert not list(tmp_path.iterdir())  # nothing written
 
 
+def _sigint_as_ctrl_c() -> None:
+    """In the child before it starts: SIGINT back to its default, so that Python makes it a
+    KeyboardInterrupt. A test run started in the background of a script (CI, nohup, `&`)
+    inherits SIGINT ignored, and Python then leaves it ignored: the child would never see the
+    test's Ctrl-C."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 def _interrupted_once_started(args: list[str], sign: str, cwd: Path) -> subprocess.CompletedProcess:
     """Run the command, wait until ``sign`` is on its stderr (the work has started), send
     SIGINT and wait for it to end. The timeouts only guard against a hang."""
-    child = subprocess.Popen([str(SCRIPT), *args], stdout=subprocess.PIPE, stderr=subprocess.PIPE, cwd=cwd)
+    child = subprocess.Popen(
+        [str(SCRIPT), *args], stdout=subprocess.PIPE, stderr=subprocess.PIPE, cwd=cwd, preexec_fn=_sigint_as_ctrl_c
+    )
     assert child.stderr is not None
     seen = b""
     try:

@@ -236,10 +236,20 @@ def test_resume_after_a_kill_gives_the_same_file(tmp_path):
     assert target.read_bytes() == uninterrupted.read_bytes()
 
 
+def _sigint_as_ctrl_c() -> None:
+    """In the child before it starts: SIGINT back to its default, so that Python makes it a
+    KeyboardInterrupt. A test run started in the background of a script (CI, nohup, `&`)
+    inherits SIGINT ignored, and Python then leaves it ignored: the child would never see the
+    test's Ctrl-C."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 def _interrupt_when_a_part_appears(command: list[str], parts: Path, known: set[str]) -> tuple[int, str]:
     """Runs `command`, sends SIGINT once a part file not in `known` is on disk, and returns the
     exit status and stderr. The sweep is far too long to finish first: the signal always lands."""
-    child = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    child = subprocess.Popen(
+        command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, preexec_fn=_sigint_as_ctrl_c
+    )
     try:
         guard = time.monotonic() + 300  # a hang fails the test; the speed of the machine does not
         while child.poll() is None and time.monotonic() < guard:
