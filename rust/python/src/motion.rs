@@ -437,6 +437,52 @@ impl MotionMachine {
             .map_err(|error| motion_err(py, error))
     }
 
+    /// gas_and_gravity_work(phi, gravity=True) -> array: K₀(φ) = W(φ) − (U(φ) − U(0)) (J)
+    /// at `phi` (rad, each in [0, Φ]): the gas work from φ = 0, exact as the tables take it,
+    /// less the rise of gravity's potential (none with `gravity=False`) — the part of the
+    /// kinetic energy that depends on φ alone.
+    #[pyo3(signature = (phi, gravity=true))]
+    fn gas_and_gravity_work<'py>(
+        &self,
+        py: Python<'py>,
+        phi: PyReadonlyArray1<'py, f64>,
+        gravity: bool,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let angles = phi.as_slice()?;
+        let work = py
+            .detach(|| self.tables_for(gravity)?.work_at(angles))
+            .map_err(|error| motion_err(py, error))?;
+        Ok(work.into_pyarray(py))
+    }
+
+    /// textbook_flywheel(delta, omega_mean, drive=None, gravity=True) -> (energy_swing,
+    /// textbook): ΔE (J) and the textbook I_w = ΔE/(δω_m²) − mean(J − I_w) (kg·m²) for the
+    /// coefficient of speed fluctuation `delta` at the constant speed `omega_mean` (rad/s),
+    /// the load balancing the gas (and `drive`): what flywheel_inertia reports as
+    /// energy_swing and textbook, without its search.
+    #[pyo3(signature = (delta, omega_mean, drive=None, gravity=true))]
+    fn textbook_flywheel(
+        &self,
+        py: Python<'_>,
+        delta: f64,
+        omega_mean: f64,
+        drive: DiagramArg<'_>,
+        gravity: bool,
+    ) -> PyResult<(f64, f64)> {
+        if drive.is_some() {
+            return Err(to_py_err(core::MechanismError::OutOfRange {
+                parameter: "drive",
+                value: f64::NAN,
+                allowed: "None (a drive table is not taken yet)",
+            }));
+        }
+        py.detach(|| {
+            self.tables_for(gravity)?
+                .textbook_flywheel(delta, omega_mean)
+        })
+        .map_err(|error| motion_err(py, error))
+    }
+
     /// square_law(coefficient, drive=0.0, min_speed_ratio=1e-3, phi=None, gravity=True)
     /// -> SteadyResult: the
     /// periodic steady state under the load c·ω² (c = `coefficient`, N·m·s²/rad²) beside a

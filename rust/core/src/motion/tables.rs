@@ -236,6 +236,41 @@ impl SteadyTables {
         Ok((without, alone))
     }
 
+    /// K₀(φ) = W(φ) − (U(φ) − U(0)) (J) at `phi` (rad, each in [0, Φ]): the work of the
+    /// gas from φ = 0, exact as the tables take it, less the rise of gravity's potential
+    /// (0 without gravity) — the part of the kinetic energy that depends on φ alone.
+    ///
+    /// Errors: an angle outside [0, Φ] (or not finite), naming `phi`.
+    pub fn work_at(&self, phi: &[f64]) -> Result<Vec<f64>> {
+        let cycle = self.cycle();
+        for &angle in phi {
+            check("phi", angle, "0 <= phi <= cycle angle", |a| {
+                (0.0..=cycle).contains(&a)
+            })?;
+        }
+        let work = self.cycle.gas.work.at(phi)?;
+        let potential = self.cycle.potential_at(phi)?;
+        Ok(work.iter().zip(&potential).map(|(w, u)| w - u).collect())
+    }
+
+    /// (ΔE (J), the textbook I_w (kg·m²)) for the coefficient of speed fluctuation `delta`
+    /// at the constant speed ω_m = `omega_mean` (rad/s), the load balancing the gas: the
+    /// `energy_swing` and `textbook` of [`SteadyTables::flywheel_inertia`], without its
+    /// search.
+    ///
+    /// Errors: `delta` < 1e-9 or `omega_mean` not > 0, naming the parameter.
+    pub fn textbook_flywheel(&self, delta: f64, omega_mean: f64) -> Result<(f64, f64)> {
+        flywheel::check_delta(delta)?;
+        check("omega_mean", omega_mean, "omega_mean > 0 (rad/s)", |w| {
+            w > 0.0 && w.is_finite()
+        })?;
+        let swing = self.energy_swing(omega_mean)?;
+        Ok((
+            swing,
+            flywheel::textbook(swing, &self.cycle, delta, omega_mean),
+        ))
+    }
+
     /// The machine's own arrays at `phi` (rad, any angles) with I_w = `shaft_inertia`
     /// (kg·m²): J (kg·m²), J′ (kg·m²/rad), M_gas and the gravity torque −U′ (N·m), as the
     /// tables take them.
