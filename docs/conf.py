@@ -47,7 +47,7 @@ root_doc = "index"
 exclude_patterns = ["_build", "machines", "gallery", "**/README.md"]
 
 # -- maths: MathJax from the site's own _static (set by sphinx-mathjax-offline; said here, so
-# that no page ever names a CDN): tests/test_docs_pages.py checks the built site for it.
+# that no page ever names a CDN): tests/docs/test_pages.py checks the built site for it.
 mathjax_path = "mathjax/tex-chtml.js"
 
 # -- MyST: the pages are Markdown with $…$ / $$…$$ maths and anchors on headings -------------

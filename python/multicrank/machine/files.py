@@ -39,7 +39,7 @@ __all__ = [
 # "numbers" (an array of numbers), "column" (an integer or a string), "table", "tables"
 # (a table or an array of tables), "layout" (a string or a table), "banks" (an array of
 # arrays of numbers). Keys ending in _deg are angles in degrees. docs/machine-files.md
-# documents every one with its unit (tests/test_machine_files.py checks that it does).
+# documents every one with its unit (tests/machine/test_files.py checks that it does).
 
 #: The top level: the machine.
 MACHINE_KEYS = {

@@ -5,7 +5,7 @@ that runs), under a square-law load beside a constant drive, and the flywheels f
 δ = 1/40, 1/100 and the machine's class value.
 
 The Rust core (rust/core/src/motion/) is checked against these numbers by
-rust/core/tests/motion*.rs, and the Python package by tests/test_native_motion.py.
+rust/core/tests/motion*.rs, and the Python package by tests/machine/test_native.py.
 
 Why they test something: the oracle shares no code and no formula with multicrank. From the
 library only the machines' *parameters* are read here (masses, lengths, inertias, phases,

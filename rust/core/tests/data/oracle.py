@@ -44,7 +44,7 @@ the load and ω(φ) are good to ~1e-13 relative, the extremes to ~1e-14, δ (a d
 nearly equal speeds) to ~1e-13/δ, and near stall ω_min to ~1e-9 (it rests on s ≪ E, where
 K − min K loses digits).
 
-Used by make_motion_fixtures.py (the Rust core's fixtures) and tests/test_native_motion.py.
+Used by make_motion_fixtures.py (the Rust core's fixtures) and tests/machine/test_native.py.
 """
 
 from __future__ import annotations

@@ -1,7 +1,7 @@
 """mc.simulate (motion.md §4): the machine in time, against oracles that do not use its formulas.
 
 - conservation of ½Jω² + U, with J and U recomputed from the returned angles, and once from the
-  mass points of the mpmath oracle of tests/test_machine_oracle.py (Σ ½ m v² + ½ I_w ω²);
+  mass points of the mpmath oracle of tests/machine/test_machine_oracle.py (Σ ½ m v² + ½ I_w ω²);
 - the periodic steady state under a square-law load, from the closed form of the linear equation
   for E = ½Jω² (motion.md §3) written out here with cumulative Simpson quadrature;
 - a pure flywheel: φ(t) a parabola under a constant drive, and a stall at t = I ω₀ / M under a
@@ -21,7 +21,7 @@ from mpmath import mp, mpf
 from scipy.integrate import cumulative_simpson, quad, simpson
 from scipy.interpolate import CubicSpline
 from scipy.optimize import brentq
-from test_machine_oracle import DPS, Spec, Unit, _x, unit_kinetic, unit_potential
+from tests.machine.test_machine_oracle import DPS, Spec, Unit, _x, unit_kinetic, unit_potential
 
 import multicrank as mc
 

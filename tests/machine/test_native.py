@@ -38,7 +38,7 @@ STEADY = (
     "mean_load_torque",
 )
 
-ORACLE_DIR = pathlib.Path(__file__).resolve().parents[1] / "rust" / "core" / "tests" / "data"
+ORACLE_DIR = pathlib.Path(__file__).resolve().parents[2] / "rust" / "core" / "tests" / "data"
 #: What the oracle found (make_motion_fixtures.py): the machines' parameters and their motion.
 FIXTURES = json.loads((ORACLE_DIR / "motion_fixtures.json").read_text())["machines"]
 #: Relative tolerances against the oracle (good to ~1e-13 here, ~1e-9 near stall: its two

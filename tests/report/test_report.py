@@ -207,7 +207,7 @@ def test_report_layouts_table(report):
 def test_report_of_a_machine_that_is_not_in_line(tmp_path):
     """A V8 from a layout file: δ_g is the whole machine's; the k-crank sections say they use
     its first cylinder."""
-    example = Path(__file__).resolve().parents[1] / "docs" / "machines" / "v8-cross.toml"
+    example = Path(__file__).resolve().parents[2] / "docs" / "machines" / "v8-cross.toml"
     out = tmp_path / "v8"
     run(
         "report",

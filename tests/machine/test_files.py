@@ -17,7 +17,7 @@ import multicrank as mc
 from multicrank.machine.files import CYLINDER_KEYS, LAYOUT_KEYS, MACHINE_KEYS, PRESSURE_KEYS
 from multicrank.pressure import EXAMPLE_COMPRESSOR_CSV
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 PHI = np.linspace(0.0, 4 * np.pi, 721)
 
 CYLINDER = dict(

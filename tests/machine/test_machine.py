@@ -1,5 +1,5 @@
 """mc.Cylinder and mc.Machine: their relation to the dimensionless API, their errors, and
-the parallel threshold. (The first-principles mpmath oracle is tests/test_machine_oracle.py.)"""
+the parallel threshold. (The first-principles mpmath oracle is tests/machine/test_machine_oracle.py.)"""
 
 import math
 

@@ -15,7 +15,7 @@ import multicrank as mc
 from multicrank.presets import MACHINE_FILES, MACHINES
 from multicrank.pressure import EXAMPLE_COMPRESSOR_CSV
 
-EXAMPLES = Path(__file__).resolve().parents[1] / "docs" / "machines"
+EXAMPLES = Path(__file__).resolve().parents[2] / "docs" / "machines"
 PRESETS = Path(mc.__file__).resolve().parent / "data" / "machines"
 FILES = sorted(EXAMPLES.glob("*.toml")) + sorted(PRESETS.glob("*.toml"))
 SCRIPT = Path(sys.executable).with_name("multicrank")

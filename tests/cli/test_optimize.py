@@ -119,7 +119,7 @@ def test_a_machine_file_by_engine(tmp_path):
     copy of the marine twin's machine file."""
     from pathlib import Path
 
-    v8 = Path(__file__).resolve().parents[1] / "docs" / "machines" / "v8-cross.toml"
+    v8 = Path(__file__).resolve().parents[2] / "docs" / "machines" / "v8-cross.toml"
     found = json.loads(invoke("firing", "--engine", str(v8), "--format", "json").stdout)
     expected = mc.firing_orders(mc.Machine.from_toml(v8))
     assert found["distinct"] == expected.attrs["distinct"] and found["candidates"] == expected.attrs["candidates"]

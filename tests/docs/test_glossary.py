@@ -19,7 +19,7 @@ from multicrank.motion.variants import machine_columns
 from multicrank.sweeps.designs import KNOWN_COLUMNS
 from multicrank.sweeps.outputs import SWEEP_OUTPUTS
 
-GLOSSARY = Path(__file__).resolve().parent.parent / "docs" / "glossary.md"
+GLOSSARY = Path(__file__).resolve().parents[2] / "docs" / "glossary.md"
 RESULTS = (mc.SteadyState, mc.FlywheelInertia, mc.Transient, mc.CounterweightOptimum)
 # The section of names kept for one release, which need not be current names.
 DEPRECATED = "## Names of 0.1, deprecated"
