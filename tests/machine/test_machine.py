@@ -209,3 +209,25 @@ def test_a_two_mass_rod_stays_one_when_its_rod_changes():
     assert given.replace(rod_mass=6.0).rod_inertia == 0.01
     assert default.replace(rod_mass=6.0, rod_inertia=0.02).rod_inertia == 0.02
     assert default.replace(piston_mass=9.0).rod_inertia == default.rod_inertia
+
+
+def test_a_machine_is_immutable_so_its_native_machine_never_answers_for_an_old_one():
+    """A field set after a machine's first steady state would leave the native machine it owns
+    (with the tables of that steady state) answering for the old machine: a machine refuses
+    it, in the words of a frozen dataclass, and points to replace(); replace() gives a new
+    machine whose answer is its own (a heavier shaft: a smaller δ)."""
+    import dataclasses
+    import pickle
+
+    compressor = mc.presets.MACHINES["slow-compressor"]
+    machine = compressor.replace(name="mine")
+    before = mc.steady_state(machine, rpm=120).delta
+    with pytest.raises(dataclasses.FrozenInstanceError, match=r"shaft_inertia.*replace\(shaft_inertia="):
+        machine.shaft_inertia = 10 * machine.shaft_inertia
+    with pytest.raises(AttributeError, match="immutable"):
+        del machine.name
+    assert mc.steady_state(machine, rpm=120).delta == before
+    heavier = machine.replace(shaft_inertia=10 * machine.shaft_inertia)
+    assert mc.steady_state(heavier, rpm=120).delta < 0.2 * before
+    with pytest.raises(AttributeError, match="immutable"):
+        pickle.loads(pickle.dumps(machine)).g = 0.0

@@ -82,7 +82,8 @@ class Machine(MachineDescription, MachineDynamics, MachineGas):
         The cylinders, in the order given.
     shaft_inertia, strokes, g, name, rpm, rpm_range, note, delta_target
         The parameters as given (``rpm``, ``rpm_range`` and ``delta_target`` None where not
-        given). Read them; :meth:`replace` makes a changed copy.
+        given). A machine is immutable (setting a field raises ``FrozenInstanceError``, an
+        ``AttributeError``): :meth:`replace` makes a changed copy.
 
     Raises
     ------
@@ -172,6 +173,7 @@ class Machine(MachineDescription, MachineDynamics, MachineGas):
                     )
         self.delta_target: float | None = None if delta_target is None else _delta_target(delta_target)
         self._units = unit_columns(cylinders)
+        self._sealed = True
 
     # -- construction --------------------------------------------------------------------
     @classmethod
@@ -343,13 +345,33 @@ class Machine(MachineDescription, MachineDynamics, MachineGas):
             return NotImplemented
         return all(getattr(self, field) == getattr(other, field) for field in _MACHINE_FIELDS)
 
-    # Not hashable: the fields are attributes that may be set, and a hash must not change.
+    # Not hashable: a field may hold an unhashable pressure callable.
     __hash__ = None  # type: ignore[assignment]
+
+    def __setattr__(self, name: str, value: Any) -> None:
+        # A machine is immutable once made: its unit columns and the native machine it owns
+        # (machine/native.motion_machine, with the cycle tables of every steady state so far)
+        # were made from its fields, and a field set afterwards would leave them answering for
+        # the old machine. __init__ sets the fields before the machine is sealed.
+        if self.__dict__.get("_sealed", False):
+            raise dataclasses.FrozenInstanceError(
+                f"cannot assign to field {name!r}: a Machine is immutable; machine.replace({name}=...) makes a "
+                "changed copy"
+            )
+        super().__setattr__(name, value)
+
+    def __delattr__(self, name: str) -> None:
+        raise dataclasses.FrozenInstanceError(f"cannot delete field {name!r}: a Machine is immutable")
 
     def __getstate__(self) -> dict[str, Any]:
         # The native machine (machine/native.motion_machine) and its lock stay behind: a copy
         # or an unpickled machine makes its own on first use.
         return {key: value for key, value in self.__dict__.items() if key not in ("_native", "_native_lock")}
+
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        # A pickle, of this release or an older one (which knew no sealing), unpickles sealed.
+        self.__dict__.update(state)
+        self.__dict__["_sealed"] = True
 
     def replace(self, **changes: Any) -> Machine:
         """A copy with some of its fields changed.
