@@ -24,6 +24,7 @@ import numpy as np
 from .._native import MechanismError
 from .._shaft import omega_from_rpm, rpm_from_omega
 from ._quadrature import CycleQuadrature
+from ._shooting import Stall
 from ._work import GasWork
 from .loads import balance_torque
 
@@ -41,26 +42,6 @@ def scipy_optimize() -> Any:
     import scipy.optimize  # type: ignore[import-untyped,unused-ignore]
 
     return scipy.optimize
-
-
-def restored_error(cls: type[BaseException], args: tuple[Any, ...], state: dict[str, Any]) -> BaseException:
-    """An exception of ``cls`` with ``args`` and the attributes ``state``, made without its
-    ``__init__``: how an error whose ``__init__`` takes more than its message unpickles."""
-    error = cls.__new__(cls, *args)
-    error.__dict__.update(state)
-    return error
-
-
-class Stall(Exception):
-    """Internal: the machine does not run at the state asked for (steady.py turns it into StallError)."""
-
-    def __init__(self, angle: float, message: str) -> None:
-        super().__init__(message)
-        self.angle = angle
-
-    def __reduce__(self) -> tuple[Any, ...]:
-        # args holds the message only: rebuild without __init__ and restore the angle.
-        return (restored_error, (type(self), self.args, self.__dict__))
 
 
 class CycleTables:

@@ -29,7 +29,8 @@ from ._periodic import (
     solve_periodic,
 )
 from ._result import MotionResult
-from ._solvers import Balance, CycleTables, Stall, quasi_static_speed, scipy_optimize
+from ._shooting import flywheel_for, inertia_for, unreachable
+from ._solvers import Balance, CycleTables, Stall, quasi_static_speed
 from .loads import BALANCE, balance_torque
 
 __all__ = ["FlywheelInertia", "flywheel_inertia"]
@@ -117,90 +118,23 @@ def _as_delta(value: Any, name: str = "delta") -> float:
     return delta
 
 
-def _unreachable(delta: float, reach: str, closest: float) -> MechanismError:
-    """The refusal of a target δ that no shaft inertia gives, worded from why (``reach``:
-    "never_falls", "massless" or "stalls", as the core's error carries it) and ``closest``,
-    the δ nearest to it that the machine reaches."""
-    if reach == "massless":
-        return MechanismError(
-            f"delta = {delta} is unreachable: even a massless shaft keeps δ below it (about "
-            f"{closest:.4g}: the rods' and pistons' own inertia limits the fluctuation)"
-        )
-    if reach == "stalls":
-        return MechanismError(
-            f"delta = {delta} is unreachable at this speed: the machine stalls (ω_min < min_speed_ratio·ω_m) "
-            f"before its fluctuation grows that large; the largest δ that runs is about {closest:.4g}"
-        )
-    return MechanismError(f"delta = {delta} is not reached by any shaft_inertia (δ never falls that low)")
-
-
 def _inertia_for(
     cycle: CycleTables, rules: Rules, omega_mean: float | None, ratio: float, delta: float, start: float
 ) -> float:
-    """The I_w [kg·m²] with δ(I_w) = delta: Brent's method on log I_w, δ falling as I_w grows.
-
-    A machine that stalls counts as δ = ∞ (its fluctuation is above any target); a target that
-    only a stalling machine would reach is unreachable."""
-    optimize = scipy_optimize()
+    """The I_w [kg·m²] with δ(I_w) = delta over the steady states of ``rules``
+    (:func:`~multicrank.motion._shooting.inertia_for`)."""
     balance = None
     if rules.route == BALANCE:
         assert omega_mean is not None
         balance = balance_at(cycle, rules, omega_mean)
 
-    known: dict[float, float] = {}
+    def delta_at(inertia: float) -> float:
+        if balance is not None:
+            assert omega_mean is not None
+            return balance.with_inertia(inertia).solve(omega_mean, ratio).delta
+        return solve_periodic(cycle.with_inertia(inertia), rules, omega_mean, ratio).delta
 
-    def excess(log_inertia: float) -> float:
-        """log(δ(I_w)/delta), +inf where the machine stalls; each I_w solved once."""
-        if log_inertia not in known:
-            inertia = math.exp(log_inertia)
-            try:
-                if balance is not None:
-                    assert omega_mean is not None
-                    found = balance.with_inertia(inertia).solve(omega_mean, ratio).delta
-                else:
-                    found = solve_periodic(cycle.with_inertia(inertia), rules, omega_mean, ratio).delta
-                # a flywheel so heavy that δ rounds to 0 is beyond the target
-                known[log_inertia] = math.log(found / delta) if found > 0 else -math.inf
-            except Stall:
-                known[log_inertia] = math.inf
-        return known[log_inertia]
-
-    # The bracket: from the estimate outwards, in steps that grow (the textbook estimate is
-    # near for a machine of small δ, and ~10 % off for a compressor at δ ≈ 1/30: the first
-    # steps cover both).
-    origin = math.log(max(start, 1e-300))
-    steps = [0.05, 0.2, 0.7, *([math.log(4.0)] * 100)]
-    low = high = origin
-    if excess(origin) > 0:
-        for step in steps:
-            low, high = high, high + step
-            if excess(high) <= 0:
-                break
-            if high - origin > 150:
-                raise _unreachable(delta, "never_falls", math.nan)
-    else:
-        for step in steps:
-            high, low = low, low - step
-            if excess(low) > 0:
-                break
-            # δ(I_w) levels off as I_w → 0 (the rods' and pistons' inertia remains): unreachable.
-            if low < origin - 60 or abs(excess(low) - excess(high)) < 1e-9:
-                raise _unreachable(delta, "massless", delta * math.exp(excess(low)))
-    # A stall on the low side is +inf: brentq needs finite values, so the low end is moved to
-    # the lightest shaft that still runs (bisection); a target beyond it is unreachable.
-    if math.isinf(excess(low)):
-        running = high
-        for _ in range(40):
-            middle = 0.5 * (low + running)
-            if math.isinf(excess(middle)):
-                low = middle
-            else:
-                running = middle
-        if excess(running) < 0:
-            raise _unreachable(delta, "stalls", delta * math.exp(excess(running)))
-        low = running
-    log_inertia = optimize.brentq(excess, low, high, xtol=1e-12, rtol=1e-15)
-    return math.exp(log_inertia)
+    return inertia_for(delta_at, delta, start)
 
 
 def flywheel_inertia(
@@ -280,7 +214,7 @@ def flywheel_inertia(
             reach = getattr(error, "reach", None)
             if reach is None:
                 raise
-            raise _unreachable(target, reach, error.closest) from None  # type: ignore[attr-defined]
+            raise unreachable(target, reach, error.closest) from None  # type: ignore[attr-defined]
         return FlywheelInertia(
             shaft_inertia=sized.shaft_inertia,
             shaft_inertia_without_gravity=sized.shaft_inertia_without_gravity,
@@ -289,6 +223,18 @@ def flywheel_inertia(
             delta=target,
             rpm=sized.rpm,
             energy_swing=sized.energy_swing,
+            method=METHODS[rules.route],
+        )
+    if rules.route == "general":  # a load or drive that depends on the speed: shooting
+        shot = flywheel_for(machine, rules.torques.net, target, gravity, ratio)
+        return FlywheelInertia(
+            shaft_inertia=shot.shaft_inertia,
+            shaft_inertia_without_gravity=shot.shaft_inertia_without_gravity,
+            textbook=shot.textbook,
+            textbook_error=shot.textbook_error,
+            delta=target,
+            rpm=rpm_from_omega(shot.omega_mean),
+            energy_swing=shot.energy_swing,
             method=METHODS[rules.route],
         )
     cycle = cycle_tables(machine, gravity)

@@ -53,6 +53,7 @@ from ._periodic import (
     resolve_rules,
     solve_periodic,
 )
+from ._shooting import ShaftCycle, cycle_mean, shoot
 from ._solvers import Balance, CycleTables, Periodic, Stall, running_speed
 from .loads import BALANCE, PowerLawLoad, Torque
 
@@ -211,6 +212,8 @@ def steady_state(
     count = _as_points(points)
 
     solved = _native_solution(machine, rules, rpm_value, gravity, ratio, count)
+    if solved is None and rules.route == "general":
+        solved = _shooting_solution(machine, rules, gravity, ratio, count)
     if solved is None:
         solved = _python_solution(machine, rules, rpm_value, gravity, ratio, count)
     numbers, later = solved
@@ -374,6 +377,54 @@ def _native_stall(angle: float, rpm: float | None, min_rpm: float | None, ratio:
         angle=angle,
         min_rpm=min_rpm,
     )
+
+
+def _shooting_solution(machine: Machine, rules: Rules, gravity: bool, ratio: float, points: int) -> _Solved:
+    """The steady state under a load or drive that depends on the speed, by shooting
+    (:mod:`~multicrank.motion._shooting`), all at once; δ of the machine coasting is the core's."""
+    phi = np.linspace(0.0, machine.cycle, points)
+    shaft = ShaftCycle(machine, gravity)
+    applied = rules.torques.net
+    try:
+        solution = shoot(shaft, applied, ratio)
+    except Stall as error:
+        angle = error.angle % machine.cycle
+        raise StallError(
+            f"the machine stalls with this load: {error}, near φ = {math.degrees(angle):.4g}°; it has no "
+            f"steady running (min_speed_ratio = {ratio:g})",
+            angle=angle,
+        ) from None
+    mean = solution.omega_mean
+    delta_without = solution.delta
+    if shaft.gravity:
+        try:
+            delta_without = shoot(shaft.without_gravity(), applied, ratio).delta
+        except Stall:
+            delta_without = math.nan
+    # Coasting: gas, drive and load gone; the conservative machine (J(φ) and gravity) at the
+    # same mean speed (the core's energy method).
+    _, delta_coasting = motion_machine(machine).comparisons(
+        rpm_from_omega(mean), solution.delta, mean, ratio, gravity=gravity
+    )
+    load = rules.load
+    mean_load = 0.0
+    if isinstance(load, Torque):
+        taken = load
+        mean_load = cycle_mean(lambda at: taken(at, solution.omega_at(at)), machine.cycle)
+    extremes = solution.extremes
+    numbers = dict(
+        omega_mean=mean,
+        omega_max=extremes.omega_max,
+        omega_min=extremes.omega_min,
+        phi_max=extremes.phi_max,
+        phi_min=extremes.phi_min,
+        period=solution.period,
+        mean_load_torque=mean_load,
+    )
+    curves = dict(omega=solution.omega_at(phi), time=solution.time_at(phi))
+    arrays = _arrays(machine, rules, gravity, phi, curves, mean, solution.period, mean_load)
+    compared = dict(delta_without_gravity=delta_without, delta_coasting=delta_coasting)
+    return dict(numbers, method=solution.method), lambda what: arrays if what == "arrays" else compared
 
 
 def _python_solution(

@@ -26,7 +26,7 @@ from .._validation import renamed
 from ..machine.machine import Machine
 from ._periodic import SOLVED
 from ._result import MotionResult
-from ._solvers import restored_error
+from ._shooting import restored_error
 
 __all__ = ["NEAR_STALL_DELTA", "NEAR_STALL_NOTE", "StallError", "SteadyState"]
 
