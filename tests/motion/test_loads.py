@@ -11,7 +11,7 @@ from hypothesis import strategies as st
 
 import multicrank as mc
 from multicrank.motion._quadrature import CycleQuadrature, PanelSeries, cycle_breaks
-from multicrank.motion.loads import BALANCE, PowerLawLoad, as_torque, balance_torque
+from multicrank.motion.loads import BALANCE, AppliedTorques, PowerLawLoad, as_torque
 
 
 def test_power_law_load_is_the_law_with_the_sign_of_omega():
@@ -137,9 +137,13 @@ def test_balance_is_the_cycle_mean_of_gas_and_drive():
     machine = mc.Machine([cylinder, cylinder.replace(phase=1.3)], shaft_inertia=1.0, strokes=4)
     phi = np.linspace(0, 4 * math.pi, 400_001)
     dense = np.trapezoid(machine.gas_torque(phi), phi) / (4 * math.pi)
-    drive = as_torque(lambda phi, omega: 10.0 + 0 * phi + omega, "drive")
-    assert balance_torque(machine, None, 5.0) == pytest.approx(dense, rel=1e-8, abs=1e-9)
-    assert balance_torque(machine, drive, 5.0) == pytest.approx(dense + 15.0, rel=1e-8)
+    drive = lambda phi, omega: 10.0 + 0 * phi + omega  # noqa: E731
+
+    def balance(drive):
+        return AppliedTorques.of(BALANCE, drive).balanced(machine, 5.0).load.value
+
+    assert balance(None) == pytest.approx(dense, rel=1e-8, abs=1e-9)
+    assert balance(drive) == pytest.approx(dense + 15.0, rel=1e-8)
 
 
 @given(

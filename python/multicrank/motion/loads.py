@@ -15,7 +15,7 @@ A **load** resists rotation (positive opposes it), a **drive** accelerates the s
   runs periodically at any mean speed asked for.
 
 :class:`AppliedTorques` resolves the two of one call and is the one home of the "balance"
-rule (:func:`balance_torque`) and of the net applied torque M_drive − M_load.
+rule (:meth:`AppliedTorques.balanced`) and of the net applied torque M_drive − M_load.
 """
 
 from __future__ import annotations
@@ -280,12 +280,22 @@ class AppliedTorques:
         """Whether the load is "balance" (not yet fixed)."""
         return self.load == BALANCE
 
-    def balanced(self, machine: Any, omega: float, quadrature: Any = None, *, work: Any = None) -> AppliedTorques:
-        """The same torques with a "balance" load fixed by :func:`balance_torque` at ``omega`` [rad/s]."""
+    def balanced(self, machine: Any, omega: float) -> AppliedTorques:
+        """The same torques with a "balance" load fixed at ``omega`` [rad/s]: the constant
+        (1/Φ)∫₀^Φ [M_gas(φ) + M_drive(φ, ω)] dφ over one working cycle, a drive's speed
+        dependence frozen at ω (gravity's mean over a cycle is 0). The gas's mean is the core's
+        (the indicated work per cycle over Φ, exact also for tabulated pressures), the drive's
+        a Gauss–Legendre mean (:func:`~multicrank.motion._shooting.cycle_mean`)."""
         if not self.balance:
             return self
-        load = balance_torque(machine, self.drive, omega, quadrature, work=work)
-        return replace(self, load=Torque("constant", load, "load"))
+        from ..machine.native import motion_machine
+        from ._shooting import cycle_mean
+
+        load = motion_machine(machine).mean_gas_torque()
+        if self.drive is not None:
+            drive = self.drive
+            load += cycle_mean(lambda phi: drive(phi, omega), machine.cycle)
+        return replace(self, load=Torque("constant", float(load), "load"))
 
     def net(self, phi: Any, omega: Any) -> np.ndarray:
         """M_drive − M_load [N·m] at φ [rad] and ω [rad/s] (a "balance" load not yet fixed counts as none)."""
