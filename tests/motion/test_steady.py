@@ -456,6 +456,47 @@ def test_flywheel_for_a_square_law_load_at_the_speed_it_settles_to():
         mc.flywheel_inertia(machine, delta=0.01, load=load, rpm=700)
 
 
+def test_flywheel_for_a_load_solved_by_shooting_is_the_closed_forms():
+    # The square law as a callable takes the general route: a Brent search on log I_w over
+    # shot steady states (solve_ivp), the textbook estimate from the core with the load at the
+    # mean speed crossing as a table. The closed form answers the same question independently.
+    machine = mc.Machine(
+        [cylinder(pressure=smooth_pressure), cylinder(phase=math.pi, inclination=0.3, pressure=smooth_pressure)],
+        shaft_inertia=0.5,
+    )
+    law = mc.PowerLawLoad(torque=300.0, rpm=150.0 * 30 / math.pi)
+    closed = mc.flywheel_inertia(machine, delta=0.01, load=law)
+    shot = mc.flywheel_inertia(machine, delta=0.01, load=lambda phi, omega: law.coefficient * omega * np.abs(omega))
+    assert (closed.method, shot.method) == ("closed form", "shooting")
+    assert shot.shaft_inertia == pytest.approx(closed.shaft_inertia, rel=1e-8)
+    assert shot.shaft_inertia_without_gravity == pytest.approx(closed.shaft_inertia_without_gravity, rel=1e-8)
+    assert shot.rpm == pytest.approx(closed.rpm, rel=1e-9)
+    assert shot.textbook == pytest.approx(closed.textbook, rel=1e-8)
+    assert shot.energy_swing == pytest.approx(closed.energy_swing, rel=1e-8)
+
+
+def test_flywheel_for_a_drive_that_varies_over_the_cycle_by_shooting():
+    # A drive D + a·sin φ beside a square law: the general route. The flywheel gives the δ asked
+    # for, and its ΔE is the swing of the turning-moment diagram at the mean speed reached,
+    # ∫(M_gas + M_drive − M_load − ½J′ω_m² − mean) dφ, summed here on a dense grid.
+    machine = mc.Machine(
+        [cylinder(pressure=smooth_pressure), cylinder(phase=math.pi, inclination=0.3, pressure=smooth_pressure)],
+        shaft_inertia=0.5,
+    )
+    law = mc.PowerLawLoad(torque=300.0, rpm=150.0 * 30 / math.pi)
+    drive = lambda phi, omega: 100.0 + 150.0 * np.sin(phi)  # noqa: E731
+    found = mc.flywheel_inertia(machine, delta=0.02, load=law, drive=drive, gravity=False)
+    assert found.method == "shooting" and found.shaft_inertia_without_gravity == found.shaft_inertia
+    check = mc.steady_state(machine.replace(shaft_inertia=found.shaft_inertia), load=law, drive=drive, gravity=False)
+    assert check.delta == pytest.approx(0.02, rel=1e-6) and found.rpm == pytest.approx(check.rpm, rel=1e-9)
+    omega = found.rpm * math.pi / 30
+    phi = np.linspace(0.0, TWO_PI, 400_001)
+    torque = machine.gas_torque(phi) + drive(phi, omega) + machine.inertia_torque(phi, omega)
+    diagram = np.concatenate([[0.0], np.cumsum(0.5 * (torque[1:] + torque[:-1]) * np.diff(phi))])
+    diagram -= diagram[-1] * phi / TWO_PI  # less the constant load that balances the cycle
+    assert found.energy_swing == pytest.approx(np.ptp(diagram), rel=1e-7)
+
+
 def test_textbook_estimate_is_first_order_in_delta():
     # For a pure flywheel the textbook I = ΔE/(δ ω_m²) is exact to first order: its error is O(δ).
     machine = pure_flywheel(1.0)
