@@ -67,8 +67,8 @@ def test_the_report_sizes_the_flywheel_for_the_files_target(tmp_path):
     page = motion_html(results, stated, {name: "" for name in FIGURES}, 1 / 3000)
     assert f"{inertia:.6g} kg·m²" in page and "delta_target" in page
 
-    asked = motion_results(ReportSettings(machine=stated, delta=0.04, **settings), speeds=2)
-    assert asked.target == 0.04  # --delta first
+    asked = motion_results(ReportSettings(machine=stated, delta_target=0.04, **settings), speeds=2)
+    assert asked.target == 0.04  # --delta-target first
 
 
 def test_a_preset_keeps_its_class_and_a_changed_one_does_not():
@@ -91,7 +91,7 @@ def test_the_reports_delta_is_the_former_name_of_delta_target(tmp_path, monkeypa
     asked: list[float | None] = []
 
     def write_report(out, settings, progress=True):  # the settings the command built, no report
-        asked.append(settings.delta)
+        asked.append(settings.delta_target)
         return tmp_path / "index.html"
 
     monkeypatch.setattr(report_html, "write_report", write_report)

@@ -92,7 +92,7 @@ def report_command(
         n_max=n_max,
         points=points,
         threshold=threshold or DEFAULT_THRESHOLD,
-        delta=delta_target,
+        delta_target=delta_target,
     )
     try:
         replaceable_folder(out_dir, f"--out {out_dir}")  # refused in the option's words

@@ -88,15 +88,15 @@ def gravity_map(settings: ReportSettings) -> pd.DataFrame:
 
 
 def flywheel_target(settings: ReportSettings, own: float) -> tuple[float, str]:
-    """The δ the report sizes the flywheel for, and where it comes from: ``settings.delta``
-    (``--delta``), else the machine's ``delta_target`` (a machine file's ``delta_target`` or
+    """The δ the report sizes the flywheel for, and where it comes from: ``settings.delta_target``
+    (``--delta-target``), else the machine's ``delta_target`` (a machine file's ``delta_target`` or
     ``class``), else a built-in machine's class limit, else ``own`` (the machine's δ without
     gravity: the flywheel it has)."""
     from ..presets import MACHINE_CLASSES, MACHINES, SPEED_FLUCTUATION
 
     machine = settings.machine
-    if settings.delta is not None:
-        return settings.delta, "asked for (--delta)"
+    if settings.delta_target is not None:
+        return settings.delta_target, "asked for (--delta-target)"
     if machine.delta_target is not None:
         return machine.delta_target, "the machine's delta_target (its file's delta_target or class)"
     if machine.name in MACHINE_CLASSES and MACHINES[machine.name] == machine:
@@ -104,13 +104,13 @@ def flywheel_target(settings: ReportSettings, own: float) -> tuple[float, str]:
         return SPEED_FLUCTUATION[kind][1], f"the {kind} class's limit"
     return own, (
         "the machine's own δ without gravity: no target known, so this is the flywheel it has "
-        "(give delta_target or class in its machine file, or --delta)"
+        "(give delta_target or class in its machine file, or --delta-target)"
     )
 
 
 def motion_results(settings: ReportSettings, speeds: int = 9) -> MotionResults:
     """Steady state at the machine's speed with and without gravity, over its speed range,
-    the flywheel for the class's δ (or ``settings.delta``) and the torque orders."""
+    the flywheel for the class's δ (or ``settings.delta_target``) and the torque orders."""
     from ..motion.flywheel import flywheel_inertia
     from ..motion.orders import torque_orders
     from ..motion.steady import StallError, steady_state

@@ -3,9 +3,13 @@ needs: its running speed and its speed range."""
 
 from __future__ import annotations
 
+import dataclasses
+import functools
 from dataclasses import dataclass, field
+from typing import Any, ClassVar
 
 from .._native import MechanismError
+from .._validation import renamed, warn_renamed
 from ..machine.machine import Machine
 from ..presets import DEFAULT_MACHINE_NAME, MACHINES
 
@@ -17,10 +21,22 @@ __all__ = ["DEFAULT_THRESHOLD", "ReportSettings", "running_speed", "speed_range"
 DEFAULT_THRESHOLD = 1.0 / 3000.0
 
 
+class _renamed_setting(renamed):
+    """:class:`renamed` for a mutable dataclass: the old name is written through as well as
+    read, so that ``settings.delta = 0.02`` still sets :attr:`ReportSettings.delta_target`."""
+
+    def __set__(self, instance: Any, value: Any) -> None:
+        warn_renamed(self.old, f"{self.old.split('.')[0]}.{self.new}")
+        setattr(instance, self.new, value)
+
+
 @dataclass
 class ReportSettings:
     """What the report is about: ``machine`` (it needs a running speed, ``rpm``), and
-    ``machines``, the machines of the speed-range figure (by default every preset)."""
+    ``machines``, the machines of the speed-range figure (by default every preset).
+
+    ``delta`` (keyword and attribute) is the name of 0.1 for :attr:`delta_target`: it still
+    works, with a DeprecationWarning, and goes in 0.3."""
 
     machine: Machine = field(default_factory=lambda: MACHINES[DEFAULT_MACHINE_NAME])
     k_max: int = 12
@@ -29,12 +45,44 @@ class ReportSettings:
     threshold: float = DEFAULT_THRESHOLD
     lambdas: int = 60
     machines: dict[str, Machine] = field(default_factory=lambda: dict(MACHINES))
-    #: The δ to size the flywheel for (default: the machine's ``delta_target``, else a built-in
-    #: machine's class limit, else the machine's own δ without gravity).
-    delta: float | None = None
+    #: The δ to size the flywheel for, a target (default: the machine's ``delta_target``, else
+    #: a built-in machine's class limit, else the machine's own δ without gravity).
+    delta_target: float | None = None
     #: Points per axis of the "where gravity matters" map (speed × shaft inertia): the map
     #: solves this many squared steady states, a few ms each.
     gravity_map_points: int = 15
+
+    #: The name of 0.1 for :attr:`delta_target`.
+    delta: ClassVar[_renamed_setting] = _renamed_setting("delta_target")
+
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        # A pickle of 0.1 holds the target as ``delta``.
+        if "delta" in state:
+            state = dict(state)
+            state["delta_target"] = state.pop("delta")
+        self.__dict__.update(state)
+
+
+_FIELDS_INIT = ReportSettings.__init__
+_UNSET: Any = object()
+
+
+@functools.wraps(_FIELDS_INIT)
+def _init(self: ReportSettings, *args: Any, delta: Any = _UNSET, **kwargs: Any) -> None:
+    """The dataclass's ``__init__``, which also takes ``delta=``, the name of 0.1 for
+    ``delta_target=``, with a DeprecationWarning."""
+    if delta is not _UNSET:
+        position = [f.name for f in dataclasses.fields(ReportSettings)].index("delta_target")
+        given = kwargs.get("delta_target", args[position] if len(args) > position else None)
+        if delta is not None and given is not None:
+            raise MechanismError("give delta_target or delta (its name of 0.1), not both")
+        warn_renamed("ReportSettings(delta=)", "delta_target=")
+        if delta is not None:
+            kwargs["delta_target"] = delta
+    _FIELDS_INIT(self, *args, **kwargs)
+
+
+ReportSettings.__init__ = _init  # type: ignore[method-assign]
 
 
 def running_speed(machine: Machine) -> float:
