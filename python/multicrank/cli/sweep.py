@@ -19,6 +19,7 @@ from .._optional import require
 from ._group import UserError
 
 __all__ = [
+    "design_axes",
     "grid_axes",
     "output_names",
     "parse_axis",
@@ -28,16 +29,19 @@ __all__ = [
     "sweep_command",
 ]
 
-_AXES: dict[str, tuple[str, Any]] = {
-    # option name: (grid column, kind)
-    "crank_ratio": ("crank_ratio", float),
-    "inclination": ("inclination", "degrees"),
-    "u1": ("u1", float),
-    "u2": ("u2", float),
-    "cranks": ("cranks", int),
-    "strokes": ("strokes", int),
-    "acting": ("acting", str),
-}
+
+def design_axes() -> dict[str, tuple[str, Any]]:
+    """The gravity sweep's axes, option name: (grid column, kind): the columns of a
+    :class:`~multicrank.DesignGrid`, as ``multicrank.sweeps.designs`` defines them. A design
+    column is a real (the inclination given in degrees), an optional column of the kind of
+    its default (``cranks`` 1, ``acting`` "single"). Read at run time: the designs module
+    imports pandas, which would slow down ``multicrank --help``."""
+    from ..sweeps.designs import KNOWN_COLUMNS, OPTIONAL_COLUMNS
+
+    return {
+        name: (name, "degrees" if name == "inclination" else type(OPTIONAL_COLUMNS.get(name, 0.0)))
+        for name in KNOWN_COLUMNS
+    }
 
 
 def parse_axis(text: str, kind: Any, name: str = "axis") -> list[Any]:
@@ -145,7 +149,7 @@ def read_config(path: str | None, keys: tuple[str, ...], axes: Any) -> dict[str,
 
 def _sweep_config(path: str | None) -> dict[str, Any]:
     """The gravity sweep's --config: [axes], outputs, and phi a positive integer."""
-    table = read_config(path, ("axes", "phi", "outputs"), _AXES)
+    table = read_config(path, ("axes", "phi", "outputs"), design_axes())
     phi = table.get("phi")
     if phi is not None and (isinstance(phi, bool) or not isinstance(phi, int) or phi < 1):
         raise MechanismError(f"--config {path}: phi = {phi!r}; it is a positive integer (points per revolution)")
@@ -250,13 +254,13 @@ def sweep_command(
         return
     import time
 
-    from ..sweeps.designs import SWEEP_OUTPUTS, DesignGrid
+    from ..sweeps.designs import DESIGN_COLUMNS, SWEEP_OUTPUTS, DesignGrid
     from ..sweeps.driver import sweep
 
     table = _sweep_config(config)
-    axes = grid_axes(axis_options, table.get("axes", {}), _AXES)
+    axes = grid_axes(axis_options, table.get("axes", {}), design_axes())
     axes.setdefault("u2", 0.0)
-    missing = [name for name in ("crank_ratio", "inclination", "u1") if name not in axes]
+    missing = [name for name in DESIGN_COLUMNS if name not in axes]
     if missing:
         raise click.UsageError(f"missing axes: {', '.join(missing)} (give them as options or in --config)")
     phi = phi or int(table.get("phi", 720))
