@@ -30,19 +30,7 @@ from .._native import MechanismError
 from ..machine.machine import Machine
 from ..machine.native import motion_machine, sampled
 
-__all__ = [
-    "SHOOTING_RTOL",
-    "Periodic",
-    "ShaftCycle",
-    "Stall",
-    "cycle_mean",
-    "flywheel_for",
-    "inertia_for",
-    "quasi_static_speed",
-    "restored_error",
-    "shoot",
-    "unreachable",
-]
+__all__ = ["Periodic", "ShaftCycle", "Stall", "cycle_mean", "flywheel_for", "inertia_for", "shoot", "unreachable"]
 
 #: The shooting's relative tolerance (solve_ivp's rtol and the root's): ω_m to ~1e-10.
 SHOOTING_RTOL = 1e-11
@@ -457,7 +445,7 @@ def inertia_for(delta_at: Callable[[float], float], delta: float, start: float) 
 
 @dataclass(frozen=True)
 class Flywheel:
-    """The numbers of a flywheel sized over shot steady states (see FlywheelInertia)."""
+    """The numbers of a flywheel sized over shot steady states (FlywheelInertia's, ω_m in rad/s)."""
 
     shaft_inertia: float
     shaft_inertia_without_gravity: float
