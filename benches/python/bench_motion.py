@@ -7,8 +7,8 @@ PCHIP tables of 1441 points) and a four-cylinder two-stroke compressor
 (mc.IndicatorDiagram.compressor), both with gravity, rods with ΔI ≠ 0 and load="balance".
 
 - ``mc.steady_state`` (everything it returns: the cycle's arrays at 361 points, δ, δ without
-  gravity and δ of the machine coasting), repeated on one machine and as a first call (the indicator
-  works that steady_state keeps for a diagram cleared before each call), and
+  gravity and δ of the machine coasting), repeated on one machine and as a first call (on a copy
+  of the machine, whose native machine and cycle tables are made afresh), and
   ``mc.flywheel_inertia`` (δ = 0.01, with and without gravity), best of --repeat;
 - the baseline: what one would do without the library —
   the equation of motion J φ̈ + ½J'φ̇² = M_gas − U' − M_load integrated in time with SciPy's
@@ -138,11 +138,9 @@ def measure(repeat: int) -> list[dict]:
 
     if mc.build_profile != "release":
         sys.exit(f"refusing to benchmark a {mc.build_profile} build: pip install . (release) first")
-    from multicrank.motion import _work
-
     def first_call(machine, rpm):
-        _work._cache.clear()  # as if the machine's indicator diagrams were new
-        return mc.steady_state(machine, rpm=rpm)
+        # A copy: a new machine, whose native machine (and its cycle's tables) is made afresh.
+        return mc.steady_state(machine.replace(), rpm=rpm)
 
     rows = []
     for machine, rpm in machines():
