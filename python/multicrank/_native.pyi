@@ -152,6 +152,7 @@ class MotionMachine:
         compare: bool = True,
         shaft_inertia: float | None = None,
         gravity: bool = True,
+        drive: _Table = None,
     ) -> SteadyResult: ...
     def comparisons(
         self,
@@ -161,6 +162,7 @@ class MotionMachine:
         min_speed_ratio: float = 1e-3,
         shaft_inertia: float | None = None,
         gravity: bool = True,
+        drive: _Table = None,
     ) -> tuple[float, float]: ...
     def mean_gas_torque(self) -> float: ...
     def gas_and_gravity_work(self, phi: _Array, gravity: bool = True) -> _Array: ...
@@ -181,6 +183,15 @@ class MotionMachine:
         rpm: float,
         min_speed_ratio: float = 1e-3,
         without_gravity: bool = True,
+        gravity: bool = True,
+        drive: _Table = None,
+    ) -> FlywheelResult: ...
+    def square_law_flywheel_inertia(
+        self,
+        coefficient: float,
+        delta: float,
+        drive: float = 0.0,
+        min_speed_ratio: float = 1e-3,
         gravity: bool = True,
     ) -> FlywheelResult: ...
     def sweep(

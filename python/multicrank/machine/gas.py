@@ -7,6 +7,7 @@ the data.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -102,12 +103,15 @@ class MachineGas:
         return torque.reshape(angles.shape)
 
 
-def _pressure(function: Pressure, theta: np.ndarray, name: str) -> np.ndarray:
-    """A pressure callable's values at θ, checked: real, finite, the shape of θ."""
+def _pressure(
+    function: Callable[[np.ndarray], Any], theta: np.ndarray, name: str, quantity: str = "pressure", unit: str = "Pa"
+) -> np.ndarray:
+    """A callable's values at θ (a pressure [Pa] unless ``quantity`` and ``unit`` say
+    otherwise), checked: real, finite, the shape of θ."""
     try:
         values = function(theta)
     except MechanismError:
         raise
     except Exception as error:
         raise MechanismError(f"{name} failed at the cycle angles given: {error}") from error
-    return as_returned(values, name, "pressure", "Pa", theta.shape)
+    return as_returned(values, name, quantity, unit, theta.shape)

@@ -54,12 +54,15 @@ def _legendre_to_monomials(order: int) -> tuple[np.ndarray, np.ndarray, np.ndarr
     return (x + 1) / 2, to_legendre, shifted
 
 
-def sampled(pressure: Any, cycle: float, name: str = "pressure") -> tuple[np.ndarray, np.ndarray]:
-    """A pressure callable p(θ) [Pa] as the (x, c) arrays of a ``PPoly`` over [0, Φ]
+def sampled(
+    function: Any, cycle: float, name: str = "pressure", quantity: str = "pressure", unit: str = "Pa"
+) -> tuple[np.ndarray, np.ndarray]:
+    """A callable f(θ) of the crank angle — a pressure p(θ) [Pa], or any periodic ``quantity``
+    in ``unit`` (a driving torque [N·m]) — as the (x, c) arrays of a ``PPoly`` over [0, Φ]
     (``cycle``): its values at :data:`SAMPLED_ORDER` Gauss–Legendre nodes on every panel (at
     most :data:`SAMPLED_WIDTH` wide, cut at multiples of π, the dead centres), one call for all
-    of them, and on each panel the polynomial through them. ``name`` names the pressure in
-    the error of a callable that fails or returns bad values."""
+    of them, and on each panel the polynomial through them. ``name`` names the callable in
+    the error of one that fails or returns bad values (not real, not finite, a wrong shape)."""
     turns = round(cycle / math.pi)
     per_turn = math.ceil(math.pi / SAMPLED_WIDTH - 1e-9)
     x = np.linspace(0.0, cycle, turns * per_turn + 1)
@@ -67,7 +70,7 @@ def sampled(pressure: Any, cycle: float, name: str = "pressure") -> tuple[np.nda
     nodes, to_legendre, shifted = _legendre_to_monomials(SAMPLED_ORDER)
     width = np.diff(x)
     theta = x[:-1, None] + width[:, None] * nodes[None, :]  # (panels, nodes)
-    values = _pressure(pressure, theta, name)
+    values = _pressure(function, theta, name, quantity, unit)
     # Legendre coefficients first (stable), then monomials in t = (θ − x_i)/h, then in θ − x_i.
     monomials = (values @ to_legendre.T) @ shifted.T  # (panels, k)
     monomials /= width[:, None] ** np.arange(SAMPLED_ORDER)[None, :]

@@ -116,6 +116,20 @@ class Rules:
         return 0.0 if self.drive is None else float(self.drive.value)
 
 
+def drive_table(machine: Machine, rules: Rules, omega_mean: float) -> tuple[np.ndarray, np.ndarray] | None:
+    """The drive of a "balance" load as the core takes it: a callable f(φ, ω) held at ω_m =
+    ``omega_mean`` [rad/s] and sampled once over the working cycle
+    (:func:`~multicrank.machine.native.sampled`, checked as a torque [N·m] named ``drive``);
+    None for no drive or one that does not depend on φ (:attr:`Rules.plain_balance`: it only
+    adds to the load)."""
+    drive = rules.drive
+    if rules.plain_balance or drive is None:
+        return None
+    from ..machine.native import sampled
+
+    return sampled(lambda theta: drive(theta, omega_mean), machine.cycle, "drive", "torque", "N·m")
+
+
 def resolve_rules(load: Any, drive: Any) -> Rules:
     """``load=`` and ``drive=`` validated, and the route that solves them."""
     torques = AppliedTorques.of(load, drive)

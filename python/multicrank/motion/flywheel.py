@@ -20,18 +20,14 @@ from ._periodic import (
     DEFAULT_MIN_SPEED_RATIO,
     METHODS,
     SOLVED,
-    Rules,
     as_min_speed_ratio,
-    balance_at,
-    cycle_tables,
+    drive_table,
     mean_rpm,
     resolve_rules,
-    solve_periodic,
 )
 from ._result import MotionResult
-from ._shooting import flywheel_for, inertia_for, unreachable
-from ._solvers import Balance, CycleTables, Stall, quasi_static_speed
-from .loads import BALANCE, balance_torque
+from ._shooting import flywheel_for, unreachable
+from .loads import BALANCE, Torque
 
 __all__ = ["FlywheelInertia", "flywheel_inertia"]
 
@@ -118,25 +114,6 @@ def _as_delta(value: Any, name: str = "delta") -> float:
     return delta
 
 
-def _inertia_for(
-    cycle: CycleTables, rules: Rules, omega_mean: float | None, ratio: float, delta: float, start: float
-) -> float:
-    """The I_w [kg·m²] with δ(I_w) = delta over the steady states of ``rules``
-    (:func:`~multicrank.motion._shooting.inertia_for`)."""
-    balance = None
-    if rules.route == BALANCE:
-        assert omega_mean is not None
-        balance = balance_at(cycle, rules, omega_mean)
-
-    def delta_at(inertia: float) -> float:
-        if balance is not None:
-            assert omega_mean is not None
-            return balance.with_inertia(inertia).solve(omega_mean, ratio).delta
-        return solve_periodic(cycle.with_inertia(inertia), rules, omega_mean, ratio).delta
-
-    return inertia_for(delta_at, delta, start)
-
-
 def flywheel_inertia(
     machine: Machine,
     *,
@@ -202,29 +179,6 @@ def flywheel_inertia(
     omega_mean = None if rpm_value is None else omega_from_rpm(rpm_value)
     gravity = as_flag(gravity, "gravity")
     ratio = as_min_speed_ratio(min_speed_ratio)
-    if rules.plain_balance:
-        # The core's route ("balance" beside a drive that does not depend on φ, which leaves
-        # the motion as without it: Rules.plain_balance); its refusal of a target no shaft
-        # inertia gives says why and how close the machine comes.
-        assert rpm_value is not None
-        native = motion_machine(machine)
-        try:
-            sized = native.flywheel_inertia(target, rpm_value, ratio, gravity=gravity)
-        except MechanismError as error:
-            reach = getattr(error, "reach", None)
-            if reach is None:
-                raise
-            raise unreachable(target, reach, error.closest) from None  # type: ignore[attr-defined]
-        return FlywheelInertia(
-            shaft_inertia=sized.shaft_inertia,
-            shaft_inertia_without_gravity=sized.shaft_inertia_without_gravity,
-            textbook=sized.textbook,
-            textbook_error=sized.textbook_error,
-            delta=target,
-            rpm=sized.rpm,
-            energy_swing=sized.energy_swing,
-            method=METHODS[rules.route],
-        )
     if rules.route == "general":  # a load or drive that depends on the speed: shooting
         shot = flywheel_for(machine, rules.torques.net, target, gravity, ratio)
         return FlywheelInertia(
@@ -237,44 +191,34 @@ def flywheel_inertia(
             energy_swing=shot.energy_swing,
             method=METHODS[rules.route],
         )
-    cycle = cycle_tables(machine, gravity)
-
-    def estimate(cycle: CycleTables, omega: float) -> tuple[float, float]:
-        """(ΔE [J], the textbook I_w [kg·m²]) at the constant speed ω, the load taken as the
-        constant that balances the others (a "balance" load: the drive alone)."""
-        applied = rules.torques.net
-        load = balance_torque(cycle.machine, applied, omega, cycle.rule, work=cycle.work)
-        swing = Balance(cycle, applied(cycle.rule.phi, omega), load).energy_swing(omega)
-        return swing, swing / (target * omega**2) - cycle.mean_rest_inertia
-
-    speed = omega_mean
-    if speed is None:  # the load fixes the speed: near the machine's own, to start from
-        try:
-            speed = solve_periodic(cycle, rules, None, ratio).omega_mean
-        except Stall:
-            speed = quasi_static_speed(cycle, rules.torques.net, "load")
-    swing, textbook = estimate(cycle, speed)
-    start = textbook if textbook > 0 else swing / (target * speed**2)
-    if not start > 0:
-        start = max(cycle.mean_rest_inertia, machine.shaft_inertia)
-    inertia = _inertia_for(cycle, rules, omega_mean, ratio, target, start)
-    if omega_mean is None:  # the speed reached with that flywheel; the estimate there
-        speed = solve_periodic(cycle.with_inertia(inertia), rules, None, ratio).omega_mean
-        swing, textbook = estimate(cycle, speed)
-    if cycle.gravity_on:
-        try:
-            without = _inertia_for(cycle.without_gravity(), rules, omega_mean, ratio, target, inertia)
-        except MechanismError:  # only with gravity does the machine fluctuate that much
-            without = math.nan
-    else:
-        without = inertia
+    # The core: "balance" beside any drive (a callable held at ω_m and sampled, one that does
+    # not depend on φ leaving the motion as without it), or the square law beside a constant
+    # drive (the mean speed reached a result); its refusal of a target no shaft inertia gives
+    # says why and how close the machine comes.
+    native = motion_machine(machine)
+    try:
+        if rules.route == BALANCE:
+            assert rpm_value is not None and omega_mean is not None
+            table = drive_table(machine, rules, omega_mean)
+            sized = native.flywheel_inertia(target, rpm_value, ratio, gravity=gravity, drive=table)
+        else:
+            assert isinstance(rules.load, Torque)
+            coefficient = rules.load.value.coefficient
+            sized = native.square_law_flywheel_inertia(
+                coefficient, target, rules.constant_drive, ratio, gravity=gravity
+            )
+    except MechanismError as error:
+        reach = getattr(error, "reach", None)
+        if reach is None:
+            raise
+        raise unreachable(target, reach, error.closest) from None  # type: ignore[attr-defined]
     return FlywheelInertia(
-        shaft_inertia=inertia,
-        shaft_inertia_without_gravity=without,
-        textbook=textbook,
-        textbook_error=(textbook - inertia) / inertia,
+        shaft_inertia=sized.shaft_inertia,
+        shaft_inertia_without_gravity=sized.shaft_inertia_without_gravity,
+        textbook=sized.textbook,
+        textbook_error=sized.textbook_error,
         delta=target,
-        rpm=rpm_from_omega(speed),
-        energy_swing=swing,
+        rpm=sized.rpm,
+        energy_swing=sized.energy_swing,
         method=METHODS[rules.route],
     )

@@ -42,19 +42,9 @@ from .._shaft import inertia_torque, omega_from_rpm, rpm_from_omega
 from .._validation import as_count, as_flag, as_instance
 from ..machine.machine import Machine
 from ..machine.native import motion_machine
-from ._periodic import (
-    DEFAULT_MIN_SPEED_RATIO,
-    METHODS,
-    Rules,
-    as_min_speed_ratio,
-    balance_at,
-    cycle_tables,
-    mean_rpm,
-    resolve_rules,
-    solve_periodic,
-)
+from ._periodic import DEFAULT_MIN_SPEED_RATIO, METHODS, Rules, as_min_speed_ratio, drive_table, mean_rpm, resolve_rules
 from ._shooting import ShaftCycle, cycle_mean, shoot
-from ._solvers import Balance, CycleTables, Periodic, Stall, running_speed
+from ._solvers import Stall
 from .loads import BALANCE, PowerLawLoad, Torque
 
 # The result and the stall, defined in steady_result and importable from here as before.
@@ -77,49 +67,6 @@ def _as_points(value: Any) -> int:
 
 
 # -- the solvers ---------------------------------------------------------------------------------
-
-
-def _load_mean(cycle: CycleTables, rules: Rules, solution: Periodic) -> float:
-    if rules.route == BALANCE or not isinstance(rules.load, Torque):
-        return solution.load_torque if rules.route == BALANCE else 0.0
-    phi = cycle.rule.phi
-    return cycle.rule.mean(rules.load(phi, solution.omega_at(phi)))
-
-
-def _stall_error(error: Stall, cycle: CycleTables, rules: Rules, omega_mean: float | None, ratio: float) -> StallError:
-    error.angle %= cycle.rule.cycle
-    if rules.route != BALANCE:
-        return StallError(
-            f"the machine stalls with this load: {error}, near φ = {math.degrees(error.angle):.4g}°; it has no "
-            f"steady running (min_speed_ratio = {ratio:g})",
-            angle=error.angle,
-        )
-    assert omega_mean is not None
-    balance = balance_at(cycle, rules, omega_mean)
-    lowest = balance.lowest_running_speed(ratio, above=1e-6 * balance.swing)
-
-    def runs(omega: float) -> bool:
-        try:
-            solve_periodic(cycle, rules, omega, ratio)
-        except Stall:
-            return False
-        return True
-
-    min_rpm = rpm_from_omega(running_speed(lowest, runs))
-    return StallError(
-        f"the machine stalls at rpm = {rpm_from_omega(omega_mean):.6g}: {error}; it would crawl over its dead point "
-        f"at φ = {math.degrees(error.angle):.4g}° (ω_min < min_speed_ratio·ω_m with min_speed_ratio = {ratio:g}); "
-        f"the lowest mean speed that runs is min_rpm = {min_rpm:.6g}",
-        angle=error.angle,
-        min_rpm=min_rpm,
-    )
-
-
-def _delta_or_nan(cycle: CycleTables, rules: Rules, omega_mean: float | None, ratio: float) -> float:
-    try:
-        return solve_periodic(cycle, rules, omega_mean, ratio).delta
-    except Stall:
-        return math.nan
 
 
 def steady_state(
@@ -211,12 +158,10 @@ def steady_state(
     ratio = as_min_speed_ratio(min_speed_ratio)
     count = _as_points(points)
 
-    solved = _native_solution(machine, rules, rpm_value, gravity, ratio, count)
-    if solved is None and rules.route == "general":
-        solved = _shooting_solution(machine, rules, gravity, ratio, count)
-    if solved is None:
-        solved = _python_solution(machine, rules, rpm_value, gravity, ratio, count)
-    numbers, later = solved
+    if rules.route == "general":
+        numbers, later = _shooting_solution(machine, rules, gravity, ratio, count)
+    else:
+        numbers, later = _native_solution(machine, rules, rpm_value, gravity, ratio, count)
     return SteadyState(
         machine=machine,
         load_rule=_describe(load, rules),
@@ -298,25 +243,23 @@ def _arrays(
 
 def _native_solution(
     machine: Machine, rules: Rules, rpm: float | None, gravity: bool, ratio: float, points: int
-) -> _Solved | None:
-    """The steady state by the Rust core, where it solves it: the "balance" load beside no
-    drive or one that does not depend on φ (one solve now; the arrays and the two comparison
-    solves when first read), or a square law beside at most a constant drive (all at once);
-    a pressure callable crosses sampled (:func:`~multicrank.machine.native.sampled`). None
-    elsewhere (a callable drive under "balance", a load solved by shooting: the Python
-    implementation's)."""
-    balance = rules.plain_balance
-    square_law = rules.route == "square-law"
-    if not (balance or square_law):
-        return None
+) -> _Solved:
+    """The steady state by the Rust core: the "balance" load beside any drive (one solve
+    now; the arrays and the two comparison solves when first read), or a square law beside
+    at most a constant drive (all at once). A pressure callable crosses sampled, and so does
+    a callable drive under "balance", held at ω_m (:func:`~multicrank.motion._periodic.drive_table`);
+    a drive that does not depend on φ only adds to the load (:attr:`Rules.plain_balance`)."""
+    balance = rules.route == BALANCE
+    square_law = not balance
     native = motion_machine(machine)
+    table = drive_table(machine, rules, omega_from_rpm(rpm)) if balance and rpm is not None else None
     # The square law's curves come with its solution; "balance" makes its angles only when
     # its arrays are read.
     square_law_phi = None if balance else np.linspace(0.0, machine.cycle, points)
     try:
         if balance:
             assert rpm is not None
-            found = native.steady_state(rpm, ratio, None, False, gravity=gravity)
+            found = native.steady_state(rpm, ratio, None, False, gravity=gravity, drive=table)
         else:
             assert isinstance(rules.load, Torque)
             found = native.square_law(
@@ -339,7 +282,7 @@ def _native_solution(
                 ) from None
         raise _native_stall(angle, rpm, getattr(error, "min_rpm", None), ratio) from None
     numbers = {name: float(getattr(found, name)) for name in _NUMBERS}
-    if balance and rules.drive is not None:  # the load takes the drive too (Rules.plain_balance)
+    if balance and rules.drive is not None and table is None:  # the load takes it (Rules.plain_balance)
         assert rpm is not None
         numbers["mean_load_torque"] += rules.drive_at(omega_from_rpm(rpm))
     mean, period, load = numbers["omega_mean"], numbers["period"], numbers["mean_load_torque"]
@@ -349,12 +292,12 @@ def _native_solution(
             if not balance:  # the square law gave them with the rest
                 return _native_comparisons(found)
             assert rpm is not None
-            compared = native.comparisons(rpm, found.delta, mean, ratio, gravity=gravity)
+            compared = native.comparisons(rpm, found.delta, mean, ratio, gravity=gravity, drive=table)
             return dict(zip(_COMPARISONS, compared, strict=True))
         if balance:
             assert rpm is not None
             phi = np.linspace(0.0, machine.cycle, points)
-            curves = native.steady_state(rpm, ratio, phi, False, gravity=gravity)
+            curves = native.steady_state(rpm, ratio, phi, False, gravity=gravity, drive=table)
             return _arrays(machine, rules, gravity, phi, curves, mean, period, load)
         assert square_law_phi is not None
         return _arrays(machine, rules, gravity, square_law_phi, found, mean, period, load)
@@ -363,7 +306,8 @@ def _native_solution(
 
 
 def _native_stall(angle: float, rpm: float | None, min_rpm: float | None, ratio: float) -> StallError:
-    """The core's stall as :func:`_stall_error` words it."""
+    """The core's stall (its typed attributes: the angle, the speed asked for and the lowest
+    that runs) in words."""
     if rpm is None or min_rpm is None:
         return StallError(
             f"the machine stalls with this load: its speed would fall below min_speed_ratio·ω_m near φ = "
@@ -423,46 +367,6 @@ def _shooting_solution(machine: Machine, rules: Rules, gravity: bool, ratio: flo
     )
     curves = dict(omega=solution.omega_at(phi), time=solution.time_at(phi))
     arrays = _arrays(machine, rules, gravity, phi, curves, mean, solution.period, mean_load)
-    compared = dict(delta_without_gravity=delta_without, delta_coasting=delta_coasting)
-    return dict(numbers, method=solution.method), lambda what: arrays if what == "arrays" else compared
-
-
-def _python_solution(
-    machine: Machine, rules: Rules, rpm: float | None, gravity: bool, ratio: float, points: int
-) -> _Solved:
-    """The steady state by the Python implementation (any load, drive and pressure), all at
-    once."""
-    phi = np.linspace(0.0, machine.cycle, points)
-    omega_mean = None if rpm is None else omega_from_rpm(rpm)
-    cycle = cycle_tables(machine, gravity)
-    try:
-        solution = solve_periodic(cycle, rules, omega_mean, ratio)
-    except Stall as error:
-        raise _stall_error(error, cycle, rules, omega_mean, ratio) from None
-    mean = solution.omega_mean
-    if cycle.gravity_on:
-        delta_without = _delta_or_nan(cycle.without_gravity(), rules, omega_mean, ratio)
-    else:
-        delta_without = solution.delta
-    # Coasting: gas, drive and load gone; the conservative machine (J(φ) and gravity) at the
-    # same mean speed.
-    try:
-        delta_coasting = Balance(cycle, None, 0.0, gas=False).solve(mean, ratio).delta
-    except Stall:
-        delta_coasting = math.nan
-    J, _ = cycle.J_at(phi)
-    extremes = solution.extremes
-    numbers = dict(
-        omega_mean=mean,
-        omega_max=extremes.omega_max,
-        omega_min=extremes.omega_min,
-        phi_max=extremes.phi_max,
-        phi_min=extremes.phi_min,
-        period=solution.period,
-        mean_load_torque=_load_mean(cycle, rules, solution),
-    )
-    curves = dict(omega=np.sqrt(2.0 * np.maximum(solution.energy_at(phi), 0.0) / J), time=solution.time_at(phi))
-    arrays = _arrays(machine, rules, gravity, phi, curves, mean, solution.period, numbers["mean_load_torque"])
     compared = dict(delta_without_gravity=delta_without, delta_coasting=delta_coasting)
     return dict(numbers, method=solution.method), lambda what: arrays if what == "arrays" else compared
 

@@ -51,10 +51,10 @@ pub use mechanism::{
     Strokes, STANDARD_GRAVITY,
 };
 pub use motion::{
-    flywheel_inertia, motion_sweep, square_law_steady_state, steady_state, steady_state_curves,
-    CycleArrays, DesignColumns, FlywheelInertia, GasCylinder, Machine, MotionColumns,
-    MotionOutputs, PiecewisePolynomial, SteadyCurves, SteadyState, SteadyTables, UnitColumn,
-    UnitField,
+    flywheel_inertia, motion_sweep, square_law_flywheel_inertia, square_law_steady_state,
+    steady_state, steady_state_curves, CycleArrays, DesignColumns, FlywheelInertia, GasCylinder,
+    Machine, MotionColumns, MotionOutputs, PiecewisePolynomial, SteadyCurves, SteadyState,
+    SteadyTables, UnitColumn, UnitField,
 };
 pub use parallel::Parallelism;
 pub use series::{build_series, fourier_table, FourierSeries, SeriesKind};

@@ -12,6 +12,11 @@ pub fn omega_from_rpm(rpm: f64) -> f64 {
     PI * rpm / 30.0
 }
 
+/// n = 30ω/π [1/min] of a speed ω [rad/s]: the inverse of [`omega_from_rpm`].
+pub fn rpm_from_omega(omega: f64) -> f64 {
+    30.0 * omega / PI
+}
+
 /// A shaft's moment of inertia I_w [kg·m²]: > 0, as every use of one requires.
 pub(crate) fn check_shaft_inertia(value: f64) -> Result<f64> {
     check("shaft_inertia", value, "shaft_inertia > 0", |i| i > 0.0)

@@ -215,6 +215,46 @@ impl MachineColumns<'_> {
 /// coefficients c (K × m); None where that end has no gas.
 pub(crate) type DiagramArg<'py> = Option<(PyReadonlyArray1<'py, f64>, PyReadonlyArray2<'py, f64>)>;
 
+/// A `PPoly`'s arrays (x, c) over one working cycle (`cycle`, rad) as the core's
+/// piecewise polynomial, checked.
+fn polynomial(
+    x: &PyReadonlyArray1<'_, f64>,
+    c: &PyReadonlyArray2<'_, f64>,
+    cycle: f64,
+) -> Result<core::PiecewisePolynomial, core::MechanismError> {
+    let (x, c) = (x.as_array(), c.as_array());
+    let pieces = x.len().saturating_sub(1);
+    if c.ncols() != pieces {
+        return Err(core::MechanismError::LengthMismatch {
+            parameter: "coefficients (columns: one per piece)",
+            expected: pieces,
+            found: c.ncols(),
+        });
+    }
+    // c_ki at k·m + i: the rows of c one after another, whatever its strides.
+    core::PiecewisePolynomial::new(
+        x.iter().copied().collect(),
+        c.iter().copied().collect(),
+        cycle,
+    )
+}
+
+/// A driving torque's `PPoly` arrays (x, c) (N·m over one working cycle of `cycle` rad) as
+/// the core's piecewise polynomial; None stays None. A bad table is a MechanismError
+/// naming `drive`.
+pub(crate) fn drive_table(
+    table: &DiagramArg<'_>,
+    cycle: f64,
+) -> PyResult<Option<core::PiecewisePolynomial>> {
+    table
+        .as_ref()
+        .map(|(x, c)| {
+            polynomial(x, c, cycle)
+                .map_err(|error| MechanismError::new_err(format!("drive: {error}")))
+        })
+        .transpose()
+}
+
 /// A `LengthMismatch` naming `parameter` unless `found == expected`.
 fn check_length(parameter: &'static str, expected: usize, found: usize) -> PyResult<()> {
     if found == expected {
@@ -255,22 +295,7 @@ pub(crate) fn gas_tables(
             let named = |error: core::MechanismError| {
                 MechanismError::new_err(format!("{end} of cylinder {j}: {error}"))
             };
-            let (x, c) = (x.as_array(), c.as_array());
-            let pieces = x.len().saturating_sub(1);
-            if c.ncols() != pieces {
-                return Err(named(core::MechanismError::LengthMismatch {
-                    parameter: "coefficients (columns: one per piece)",
-                    expected: pieces,
-                    found: c.ncols(),
-                }));
-            }
-            // c_ki at k·m + i: the rows of c one after another, whatever its strides.
-            let diagram = core::PiecewisePolynomial::new(
-                x.iter().copied().collect(),
-                c.iter().copied().collect(),
-                cycle,
-            )
-            .map_err(named)?;
+            let diagram = polynomial(x, c, cycle).map_err(named)?;
             Ok(Some(match diagrams.iter().position(|d| *d == diagram) {
                 Some(i) => i,
                 None => {

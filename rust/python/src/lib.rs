@@ -22,6 +22,7 @@ mod extrema;
 mod harmonics;
 mod machine;
 mod motion;
+mod motion_results;
 mod parallel;
 mod sweep;
 
@@ -52,7 +53,9 @@ mod _native {
         machine_engine, machine_evaluate, machine_gas_torque, machine_inertia, two_mass_rod_inertia,
     };
     #[pymodule_export]
-    use crate::motion::{FlywheelResult, MotionMachine, SteadyResult};
+    use crate::motion::MotionMachine;
+    #[pymodule_export]
+    use crate::motion_results::{FlywheelResult, SteadyResult};
     #[pymodule_export]
     use crate::parallel::{_after_fork_in_child, get_parallel_threshold, set_parallel_threshold};
     #[pymodule_export]

@@ -3,14 +3,16 @@
 //! released around the core.
 
 use multicrank_core as core;
+use std::borrow::Cow;
 use std::sync::OnceLock;
 
-use numpy::{IntoPyArray, PyArray1, PyArrayMethods, PyReadonlyArray1};
+use numpy::{IntoPyArray, PyArray1, PyReadonlyArray1};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::conversion::{gas_tables, DiagramArg, MachineColumns, MotionDesigns};
+use crate::conversion::{drive_table, gas_tables, DiagramArg, MachineColumns, MotionDesigns};
 use crate::error::to_py_err;
+use crate::motion_results::{steady_result, FlywheelResult, SteadyResult};
 use crate::parallel::parallelism;
 
 /// The core's error as a `MechanismError`, carrying what Python words it from as attributes
@@ -117,6 +119,20 @@ impl MotionMachine {
         Ok(self.tables_without_gravity.get_or_init(|| made))
     }
 
+    /// The tables of [`MotionMachine::tables_for`], with the driving torque `drive` beside
+    /// the gas where one is given (that call's own tables, made from the kept ones).
+    fn tables_with(
+        &self,
+        gravity: bool,
+        drive: Option<&core::PiecewisePolynomial>,
+    ) -> core::Result<Cow<'_, core::SteadyTables>> {
+        let tables = self.tables_for(gravity)?;
+        Ok(match drive {
+            None => Cow::Borrowed(tables),
+            Some(drive) => Cow::Owned(tables.with_drive(drive)?),
+        })
+    }
+
     /// The core's view of it.
     fn machine(&self) -> core::Machine<'_> {
         self.machine_with(true)
@@ -132,171 +148,6 @@ impl MotionMachine {
             strokes: self.strokes,
             g: if gravity { self.g } else { 0.0 },
         }
-    }
-}
-
-type Array = Option<Py<PyArray1<f64>>>;
-
-/// Whether two optional arrays hold the same doubles (or both are absent).
-fn same_array(py: Python<'_>, a: &Array, b: &Array) -> PyResult<bool> {
-    match (a, b) {
-        (None, None) => Ok(true),
-        (Some(a), Some(b)) => {
-            Ok(a.bind(py).readonly().as_slice()? == b.bind(py).readonly().as_slice()?)
-        }
-        _ => Ok(false),
-    }
-}
-
-/// A steady state as the core found it (SI units, immutable): its numbers, and the curves
-/// and arrays at the angles asked for (None where none were asked). Equal to another with
-/// the same numbers and arrays.
-#[pyclass(frozen, get_all, name = "SteadyResult", module = "multicrank._native")]
-pub(crate) struct SteadyResult {
-    omega_mean: f64,
-    period: f64,
-    omega_max: f64,
-    omega_min: f64,
-    phi_max: f64,
-    phi_min: f64,
-    energy_at_zero: f64,
-    mean_load_torque: f64,
-    delta: f64,
-    delta_midrange: f64,
-    delta_without_gravity: f64,
-    delta_gravity_only: f64,
-    omega: Array,
-    time: Array,
-    reduced_inertia: Array,
-    reduced_inertia_slope: Array,
-    gas_torque: Array,
-    gravity_torque: Array,
-}
-
-impl SteadyResult {
-    fn numbers(&self) -> [f64; 12] {
-        [
-            self.omega_mean,
-            self.period,
-            self.omega_max,
-            self.omega_min,
-            self.phi_max,
-            self.phi_min,
-            self.energy_at_zero,
-            self.mean_load_torque,
-            self.delta,
-            self.delta_midrange,
-            self.delta_without_gravity,
-            self.delta_gravity_only,
-        ]
-    }
-
-    fn arrays(&self) -> [&Array; 6] {
-        [
-            &self.omega,
-            &self.time,
-            &self.reduced_inertia,
-            &self.reduced_inertia_slope,
-            &self.gas_torque,
-            &self.gravity_torque,
-        ]
-    }
-}
-
-#[pymethods]
-impl SteadyResult {
-    fn __eq__(&self, py: Python<'_>, other: PyRef<'_, Self>) -> PyResult<bool> {
-        if self.numbers() != other.numbers() {
-            return Ok(false);
-        }
-        for (a, b) in self.arrays().into_iter().zip(other.arrays()) {
-            if !same_array(py, a, b)? {
-                return Ok(false);
-            }
-        }
-        Ok(true)
-    }
-
-    fn __repr__(&self) -> String {
-        format!(
-            "SteadyResult(omega_mean={}, delta={}, delta_without_gravity={}, delta_gravity_only={})",
-            self.omega_mean, self.delta, self.delta_without_gravity, self.delta_gravity_only
-        )
-    }
-}
-
-/// The shaft inertia sized for a coefficient of speed fluctuation (SI units, immutable);
-/// equal to another with the same numbers.
-#[pyclass(
-    frozen,
-    eq,
-    get_all,
-    name = "FlywheelResult",
-    module = "multicrank._native"
-)]
-#[derive(PartialEq)]
-pub(crate) struct FlywheelResult {
-    shaft_inertia: f64,
-    shaft_inertia_without_gravity: f64,
-    textbook: f64,
-    textbook_error: f64,
-    energy_swing: f64,
-    delta: f64,
-    rpm: f64,
-}
-
-#[pymethods]
-impl FlywheelResult {
-    fn __repr__(&self) -> String {
-        format!(
-            "FlywheelResult(shaft_inertia={}, shaft_inertia_without_gravity={}, textbook={}, delta={}, rpm={})",
-            self.shaft_inertia, self.shaft_inertia_without_gravity, self.textbook, self.delta, self.rpm
-        )
-    }
-}
-
-/// The one conversion of the core's steady state (and its arrays, where asked) to Python.
-fn steady_result(
-    py: Python<'_>,
-    found: core::SteadyCurves,
-    curves: bool,
-    arrays: Option<core::CycleArrays>,
-) -> SteadyResult {
-    let s = found.state;
-    let array = |values: Vec<f64>| Some(values.into_pyarray(py).unbind());
-    let (omega, time) = if curves {
-        (array(found.omega), array(found.time))
-    } else {
-        (None, None)
-    };
-    let (reduced_inertia, reduced_inertia_slope, gas_torque, gravity_torque) = match arrays {
-        Some(a) => (
-            array(a.reduced_inertia),
-            array(a.reduced_inertia_slope),
-            array(a.gas_torque),
-            array(a.gravity_torque),
-        ),
-        None => (None, None, None, None),
-    };
-    SteadyResult {
-        omega_mean: s.omega_mean,
-        period: s.period,
-        omega_max: s.omega_max,
-        omega_min: s.omega_min,
-        phi_max: s.phi_max,
-        phi_min: s.phi_min,
-        energy_at_zero: s.energy_at_zero,
-        mean_load_torque: s.mean_load_torque,
-        delta: s.delta,
-        delta_midrange: s.delta_midrange,
-        delta_without_gravity: s.delta_without_gravity,
-        delta_gravity_only: s.delta_gravity_only,
-        omega,
-        time,
-        reduced_inertia,
-        reduced_inertia_slope,
-        gas_torque,
-        gravity_torque,
     }
 }
 
@@ -367,8 +218,11 @@ impl MotionMachine {
     /// time (s from φ = 0), reduced_inertia, reduced_inertia_slope, gas_torque and
     /// gravity_torque there. A stall is a MechanismError with attributes angle, rpm
     /// and min_rpm. `gravity=False`: the same machine with g = 0 (on this machine's tables).
+    /// `drive`: None, or the PPoly arrays (x, c) of a driving torque M_d(φ) (N·m, x spanning
+    /// one working cycle) beside the gas, the load balancing both (its cycle mean).
     #[pyo3(signature = (
-        rpm, min_speed_ratio=1e-3, phi=None, compare=true, shaft_inertia=None, gravity=true
+        rpm, min_speed_ratio=1e-3, phi=None, compare=true, shaft_inertia=None, gravity=true,
+        drive=None
     ))]
     #[allow(clippy::too_many_arguments)]
     fn steady_state<'py>(
@@ -380,12 +234,14 @@ impl MotionMachine {
         compare: bool,
         shaft_inertia: Option<f64>,
         gravity: bool,
+        drive: DiagramArg<'py>,
     ) -> PyResult<SteadyResult> {
         let angles = phi.as_ref().map(|a| a.as_slice()).transpose()?;
         let inertia = shaft_inertia.unwrap_or(self.shaft_inertia);
+        let drive = drive_table(&drive, self.strokes.cycle_angle())?;
         let (found, arrays) = py
             .detach(|| {
-                let tables = self.tables_for(gravity)?;
+                let tables = self.tables_with(gravity, drive.as_ref())?;
                 let found = tables.steady_state(
                     inertia,
                     rpm,
@@ -406,9 +262,10 @@ impl MotionMachine {
     /// gravity=True) ->
     /// (delta_without_gravity, delta_gravity_only): the two comparison solves of the steady
     /// state at `rpm` that steady_state(compare=False) found (its `delta` and `omega_mean`,
-    /// rad/s), each NaN where it stalls.
+    /// rad/s), each NaN where it stalls; `drive` as steady_state takes it.
     #[pyo3(signature = (
-        rpm, delta, omega_mean, min_speed_ratio=1e-3, shaft_inertia=None, gravity=true
+        rpm, delta, omega_mean, min_speed_ratio=1e-3, shaft_inertia=None, gravity=true,
+        drive=None
     ))]
     #[allow(clippy::too_many_arguments)]
     fn comparisons(
@@ -420,11 +277,18 @@ impl MotionMachine {
         min_speed_ratio: f64,
         shaft_inertia: Option<f64>,
         gravity: bool,
+        drive: DiagramArg<'_>,
     ) -> PyResult<(f64, f64)> {
         let inertia = shaft_inertia.unwrap_or(self.shaft_inertia);
+        let drive = drive_table(&drive, self.strokes.cycle_angle())?;
         py.detach(|| {
-            self.tables_for(gravity)?
-                .comparisons(inertia, rpm, delta, omega_mean, min_speed_ratio)
+            self.tables_with(gravity, drive.as_ref())?.comparisons(
+                inertia,
+                rpm,
+                delta,
+                omega_mean,
+                min_speed_ratio,
+            )
         })
         .map_err(|error| motion_err(py, error))
     }
@@ -469,15 +333,9 @@ impl MotionMachine {
         drive: DiagramArg<'_>,
         gravity: bool,
     ) -> PyResult<(f64, f64)> {
-        if drive.is_some() {
-            return Err(to_py_err(core::MechanismError::OutOfRange {
-                parameter: "drive",
-                value: f64::NAN,
-                allowed: "None (a drive table is not taken yet)",
-            }));
-        }
+        let drive = drive_table(&drive, self.strokes.cycle_angle())?;
         py.detach(|| {
-            self.tables_for(gravity)?
+            self.tables_with(gravity, drive.as_ref())?
                 .textbook_flywheel(delta, omega_mean)
         })
         .map_err(|error| motion_err(py, error))
@@ -520,8 +378,12 @@ impl MotionMachine {
     /// unless `without_gravity`), textbook, textbook_error, energy_swing, delta, rpm. A
     /// target no shaft inertia gives is a MechanismError with attributes delta, reach
     /// ("never_falls", "massless" or "stalls") and closest (the δ nearest to it that the
-    /// machine reaches; NaN where none is known). `gravity=False`: the machine with g = 0.
-    #[pyo3(signature = (delta, rpm, min_speed_ratio=1e-3, without_gravity=true, gravity=true))]
+    /// machine reaches; NaN where none is known). `gravity=False`: the machine with g = 0;
+    /// `drive` as steady_state takes it.
+    #[pyo3(signature = (
+        delta, rpm, min_speed_ratio=1e-3, without_gravity=true, gravity=true, drive=None
+    ))]
+    #[allow(clippy::too_many_arguments)]
     fn flywheel_inertia<'py>(
         &self,
         py: Python<'py>,
@@ -530,10 +392,12 @@ impl MotionMachine {
         min_speed_ratio: f64,
         without_gravity: bool,
         gravity: bool,
+        drive: DiagramArg<'py>,
     ) -> PyResult<FlywheelResult> {
+        let drive = drive_table(&drive, self.strokes.cycle_angle())?;
         let f = py
             .detach(|| {
-                self.tables_for(gravity)?.flywheel_inertia(
+                self.tables_with(gravity, drive.as_ref())?.flywheel_inertia(
                     delta,
                     rpm,
                     min_speed_ratio,
@@ -542,15 +406,37 @@ impl MotionMachine {
                 )
             })
             .map_err(|error| motion_err(py, error))?;
-        Ok(FlywheelResult {
-            shaft_inertia: f.shaft_inertia,
-            shaft_inertia_without_gravity: f.shaft_inertia_without_gravity,
-            textbook: f.textbook,
-            textbook_error: f.textbook_error,
-            energy_swing: f.energy_swing,
-            delta: f.delta,
-            rpm: f.rpm,
-        })
+        Ok(FlywheelResult::from(f))
+    }
+
+    /// square_law_flywheel_inertia(coefficient, delta, drive=0.0, min_speed_ratio=1e-3,
+    /// gravity=True) -> FlywheelResult: the shaft inertia giving the coefficient of speed
+    /// fluctuation `delta` under the load c·ω² (c = `coefficient`, N·m·s²/rad²) beside a
+    /// constant `drive` (N·m), the mean speed a result (`rpm`: the one reached with the
+    /// shaft found, the textbook estimate taken there); the rest as flywheel_inertia gives it
+    /// (shaft_inertia_without_gravity always sized).
+    #[pyo3(signature = (coefficient, delta, drive=0.0, min_speed_ratio=1e-3, gravity=true))]
+    fn square_law_flywheel_inertia(
+        &self,
+        py: Python<'_>,
+        coefficient: f64,
+        delta: f64,
+        drive: f64,
+        min_speed_ratio: f64,
+        gravity: bool,
+    ) -> PyResult<FlywheelResult> {
+        let f = py
+            .detach(|| {
+                self.tables_for(gravity)?.square_law_flywheel_inertia(
+                    coefficient,
+                    drive,
+                    delta,
+                    min_speed_ratio,
+                    self.shaft_inertia,
+                )
+            })
+            .map_err(|error| motion_err(py, error))?;
+        Ok(FlywheelResult::from(f))
     }
 
     /// sweep(designs, outputs, rpm=None, target_delta=None, min_speed_ratio=1e-3,

@@ -75,7 +75,7 @@ impl Balance {
         let angles = cycle.panels.phi.iter().chain(&cycle.panels.edges);
         let k: Vec<f64> = angles
             .zip(&cycle.potential)
-            .zip(&cycle.gas_work)
+            .zip(&cycle.work)
             .map(|((phi, u), w)| {
                 let k = -u - load * phi;
                 if gas {
@@ -139,11 +139,6 @@ impl Balance {
         &self.cycle
     }
 
-    /// (1/Φ)∫(J − I_w) dφ (kg·m²).
-    pub fn mean_rest(&self) -> f64 {
-        self.cycle.mean_rest()
-    }
-
     /// max K̃ over the samples (J): about max K − min K.
     pub fn swing(&self) -> f64 {
         self.lifted.iter().fold(f64::NEG_INFINITY, |m, &k| m.max(k))
@@ -172,7 +167,7 @@ impl Balance {
     fn lifted_at(&self, phi: &[f64]) -> Result<Vec<f64>> {
         let u = self.cycle.potential_at(phi)?;
         let w = if self.gas {
-            self.cycle.gas.work.at(phi)?
+            self.cycle.work_at(phi)?
         } else {
             vec![0.0; phi.len()]
         };

@@ -11,6 +11,7 @@ use crate::dynamics::Dynamics;
 use crate::error::Result;
 use crate::parallel::Parallelism;
 
+use super::drive::Drive;
 use super::gas::{Forces, GasWork, PiecewisePolynomial};
 use super::quadrature::{breaks, Panels};
 use super::Machine;
@@ -131,13 +132,18 @@ pub(crate) struct Cycle {
     pub gravity_on: bool,
     /// U(0) (J).
     u0: f64,
-    /// Nodes, then edges: J − I_w (kg·m²), U − U(0) (J), W (J).
+    /// A driving torque M_d(φ) beside the gas (`with_drive`), `None` for none: it enters
+    /// W, the torque and the curvature wherever the gas does.
+    drive: Option<Arc<Drive>>,
+    /// Nodes, then edges: J − I_w (kg·m²), U − U(0) (J), W = W_gas + W_d (J), the work of
+    /// gas and drive from φ = 0.
     pub rest: Vec<f64>,
     pub potential: Vec<f64>,
-    pub gas_work: Vec<f64>,
-    /// M_gas′ and the gravity torque's slope −U″ (N·m/rad) at the nodes, by central
-    /// differences of the exact torques: how sharply the kinetic energy may dip.
-    pub gas_curvature: Vec<f64>,
+    pub work: Vec<f64>,
+    /// (M_gas + M_d)′ and the gravity torque's slope −U″ (N·m/rad) at the nodes (the gas's
+    /// by central differences of the exact torque, the drive's exact): how sharply the
+    /// kinetic energy may dip.
+    pub work_curvature: Vec<f64>,
     pub gravity_curvature: Vec<f64>,
 }
 
@@ -158,7 +164,7 @@ impl Cycle {
             if width < NARROWEST || tables.resolved() {
                 // W only on the panels kept (J and U decide them).
                 let on = gas.on(&tables.panels, width)?;
-                tables.gas_work = on.work.clone();
+                tables.work = on.work.clone();
                 tables.curvatures(&on)?;
                 return Ok(tables);
             }
@@ -166,7 +172,7 @@ impl Cycle {
         }
     }
 
-    /// `gas_curvature` (once per gas and width) and `gravity_curvature` on the panels found.
+    /// `work_curvature` (once per gas and width) and `gravity_curvature` on the panels found.
     fn curvatures(&mut self, on: &OnPanels) -> Result<()> {
         let phi = &self.panels.phi;
         let shifted = |h: f64| phi.iter().map(|p| p + h).collect::<Vec<f64>>();
@@ -177,7 +183,7 @@ impl Cycle {
                 .map(|(a, b)| (a - b) / (2.0 * SLOPE_STEP))
                 .collect()
         };
-        self.gas_curvature = match on.slope.get() {
+        self.work_curvature = match on.slope.get() {
             Some(slope) => slope.clone(),
             None => {
                 let slope = difference(self.gas_torque_at(&ahead)?, self.gas_torque_at(&behind)?);
@@ -211,8 +217,9 @@ impl Cycle {
             u0: 0.0,
             rest: Vec::new(),
             potential: Vec::new(),
-            gas_work: Vec::new(),
-            gas_curvature: Vec::new(),
+            drive: None,
+            work: Vec::new(),
+            work_curvature: Vec::new(),
             gravity_curvature: Vec::new(),
         };
         tables.rest = tables.rest_at(&everywhere)?;
@@ -235,6 +242,53 @@ impl Cycle {
     /// Φ (rad).
     pub fn cycle(&self) -> f64 {
         self.panels.cycle()
+    }
+
+    /// The same machine with the driving torque `drive` beside its gas (which has none yet):
+    /// its work and slope added to the tables (the panels, J and U kept).
+    pub fn with_drive(&self, drive: Drive) -> Self {
+        debug_assert!(self.drive.is_none());
+        let mut other = self.clone();
+        let everywhere: Vec<f64> = self
+            .panels
+            .phi
+            .iter()
+            .chain(&self.panels.edges)
+            .copied()
+            .collect();
+        other
+            .work
+            .iter_mut()
+            .zip(drive.work_at(&everywhere))
+            .for_each(|(w, d)| *w += d);
+        other
+            .work_curvature
+            .iter_mut()
+            .zip(drive.slope_at(&self.panels.phi))
+            .for_each(|(c, d)| *c += d);
+        other.drive = Some(Arc::new(drive));
+        other
+    }
+
+    /// W(φ) = W_gas + W_d (J), the work of gas and drive from φ = 0, at any angles: exact.
+    pub fn work_at(&self, phi: &[f64]) -> Result<Vec<f64>> {
+        let mut work = self.gas.work.at(phi)?;
+        if let Some(drive) = &self.drive {
+            work.iter_mut()
+                .zip(drive.work_at(phi))
+                .for_each(|(w, d)| *w += d);
+        }
+        Ok(work)
+    }
+
+    /// Whether a drive is taken beside the gas.
+    pub fn has_drive(&self) -> bool {
+        self.drive.is_some()
+    }
+
+    /// W(Φ) (J): the work of gas and drive over one cycle.
+    pub fn work_per_cycle(&self) -> f64 {
+        self.gas.work.per_cycle + self.drive.as_ref().map_or(0.0, |d| d.per_cycle)
     }
 
     /// The same machine with g = 0 (the panels, J and W kept).
@@ -317,7 +371,8 @@ impl Cycle {
         Ok(weight)
     }
 
-    /// M_gas + the gravity torque −U′ (N·m) at any angles (`gas`: whether M_gas is taken).
+    /// M_gas + M_d + the gravity torque −U′ (N·m) at any angles (`gas`: whether M_gas and
+    /// the drive are taken).
     pub fn torque_at(&self, phi: &[f64], gas: bool) -> Result<Vec<f64>> {
         let mut torque = self.gravity_torque_at(phi)?;
         if gas {
@@ -325,14 +380,21 @@ impl Cycle {
                 .iter_mut()
                 .zip(self.gas_torque_at(phi)?)
                 .for_each(|(m, g)| *m += g);
+            if let Some(drive) = &self.drive {
+                torque
+                    .iter_mut()
+                    .zip(drive.torque_at(phi))
+                    .for_each(|(m, d)| *m += d);
+            }
         }
         Ok(torque)
     }
 
-    /// K'' = (M_gas − U′)′ at the base nodes (N·m/rad) (`gas`: whether M_gas is taken).
+    /// K'' = (M_gas + M_d − U′)′ at the base nodes (N·m/rad) (`gas`: whether M_gas and the
+    /// drive are taken).
     pub fn curvature(&self, gas: bool) -> Vec<f64> {
         if gas {
-            self.gas_curvature
+            self.work_curvature
                 .iter()
                 .zip(&self.gravity_curvature)
                 .map(|(g, w)| g + w)

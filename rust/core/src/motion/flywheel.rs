@@ -5,10 +5,99 @@
 //! (`Balance::with_inertia`): J − I_w, U and W do not depend on I_w.
 
 use crate::error::{check, MechanismError, Reach, Result};
+use crate::mechanism::{check_shaft_inertia, rpm_from_omega};
 
 use super::balance::Balance;
 use super::cycle::Cycle;
 use super::extrema::{brent, brent_from};
+use super::square_law::SquareLaw;
+use super::tables::SteadyTables;
+use super::{check_speed_ratio, FlywheelInertia};
+
+/// The shaft inertia that gives a machine the coefficient of speed fluctuation `delta`
+/// under a square-law load c·ω² (c = `coefficient`, N·m·s²/rad²) beside a constant `drive`
+/// (N·m), on `tables` (the machine's, its own I_w `fallback`): the mean speed is a result,
+/// so each trial I_w's δ comes from its own closed-form steady state; [`inertia_for`] finds
+/// the root (docs/theory.md, "The flywheel"). The textbook estimate is taken at the mean
+/// speed reached (its `rpm`), where the constant drive and the load at that speed leave the
+/// turning-moment diagram of "balance".
+///
+/// Errors: bad input, naming the parameter; `delta` unreachable (the machine stalls at any
+/// shaft inertia, or before its fluctuation grows that large, or the rods' own inertia
+/// keeps δ below it).
+pub(crate) fn square_law_inertia(
+    tables: &SteadyTables,
+    coefficient: f64,
+    drive: f64,
+    delta: f64,
+    ratio: f64,
+    fallback: f64,
+) -> Result<FlywheelInertia> {
+    check_delta(delta)?;
+    check("load", coefficient, "a square-law coefficient > 0", |c| {
+        c > 0.0
+    })?;
+    check("drive", drive, "a finite constant drive", |_| true)?;
+    check_speed_ratio(ratio)?;
+    check_shaft_inertia(fallback)?;
+    let mean = tables.load + drive;
+    if mean.is_nan() || mean <= 0.0 {
+        // Nothing drives the machine on the cycle's mean: it stalls at any shaft inertia.
+        return Err(MechanismError::Unreachable {
+            delta,
+            reach: Reach::Stalls,
+            closest: f64::NAN,
+        });
+    }
+    let cycle = &tables.cycle;
+    // The mean speed with the machine's own shaft, or where the mean torques balance.
+    let speed = |cycle: &Cycle, inertia: f64| -> Result<Option<(f64, f64)>> {
+        let mut trial = cycle.clone();
+        trial.inertia = inertia;
+        Ok(match SquareLaw::new(&trial, coefficient, drive) {
+            // More than 700 e-folds of E damped per cycle: a shaft so light stops at once.
+            Err(MechanismError::OutOfRange { .. }) => None,
+            Err(error) => return Err(error),
+            Ok(law) => law
+                .solve(ratio, &[])?
+                .ok()
+                .map(|(p, _, _)| (p.omega_mean, p.delta())),
+        })
+    };
+    let first = speed(cycle, fallback)?.map_or((mean / coefficient).sqrt(), |found| found.0);
+    let (swing, textbook) = tables.textbook_flywheel(delta, first)?;
+    let start = self::start(swing, textbook, cycle, delta, first, fallback);
+    let rest = cycle.mean_rest();
+    let inertia = inertia_for(
+        |inertia| Ok(speed(cycle, inertia)?.map(|s| s.1)),
+        rest,
+        delta,
+        start,
+    )?;
+    let reached = speed(cycle, inertia)?.map_or(first, |found| found.0);
+    let (swing, textbook) = tables.textbook_flywheel(delta, reached)?;
+    let without = if cycle.gravity_on {
+        let without = cycle.without_gravity();
+        inertia_for(
+            |inertia| Ok(speed(&without, inertia)?.map(|s| s.1)),
+            rest,
+            delta,
+            inertia,
+        )
+        .unwrap_or(f64::NAN)
+    } else {
+        inertia
+    };
+    Ok(FlywheelInertia {
+        shaft_inertia: inertia,
+        shaft_inertia_without_gravity: without,
+        textbook,
+        textbook_error: (textbook - inertia) / inertia,
+        energy_swing: swing,
+        delta,
+        rpm: rpm_from_omega(reached),
+    })
+}
 
 /// The smallest δ a flywheel is sized for: below it δ is within the rounding of the speeds
 /// it is found from.
@@ -28,17 +117,34 @@ fn bracket_steps() -> impl Iterator<Item = f64> {
         .chain(std::iter::repeat_n(4f64.ln(), 100))
 }
 
-/// The I_w (kg·m²) with δ(I_w) = `delta` for the torques of `balance` at ω_m = `omega_mean`
-/// (rad/s): Brent's method on log(δ(I_w)/delta) in log I_w (to 1e-12 absolute and 1e-15
-/// relative; docs/theory.md, "The flywheel"), δ falling as I_w grows; a
-/// machine that stalls counts as δ = ∞. `start`: the estimate to bracket from.
-///
-/// Errors: `delta` unreachable (the machine would stall before its fluctuation grows that
-/// large, or its rods' own inertia keeps δ below it).
-pub(crate) fn inertia_for(
+/// δ(I_w) of the steady states under the "balance" load of `balance` at ω_m = `omega_mean`
+/// (rad/s), `None` where the machine stalls: what [`inertia_for`] searches for that load.
+pub(crate) fn balance_delta(
     balance: &Balance,
     omega_mean: f64,
     ratio: f64,
+) -> impl FnMut(f64) -> Result<Option<f64>> + '_ {
+    move |inertia| {
+        Ok(balance
+            .with_inertia(inertia)
+            .solve(omega_mean, ratio)?
+            .ok()
+            .map(|p| p.delta()))
+    }
+}
+
+/// The I_w (kg·m²) with δ(I_w) = `delta`, δ(I_w) given by `delta_at` (the steady state's δ
+/// with that shaft inertia, `None` where the machine stalls; the same closure for every
+/// load): Brent's method on log(δ(I_w)/delta) in log I_w (to 1e-12 absolute and 1e-15
+/// relative; docs/theory.md, "The flywheel"), δ falling as I_w grows; a machine that stalls
+/// counts as δ = ∞. `rest`: mean(J − I_w) (kg·m²), which shapes the first steps; `start`:
+/// the estimate to bracket from.
+///
+/// Errors: `delta` unreachable (the machine would stall before its fluctuation grows that
+/// large, or its rods' own inertia keeps δ below it); those of `delta_at`.
+pub(crate) fn inertia_for(
+    mut delta_at: impl FnMut(f64) -> Result<Option<f64>>,
+    rest: f64,
     delta: f64,
     start: f64,
 ) -> Result<f64> {
@@ -54,20 +160,16 @@ pub(crate) fn inertia_for(
         if let Some(&(_, value)) = known.iter().find(|(x, _)| *x == log_inertia) {
             return Ok(value);
         }
-        let value = match balance
-            .with_inertia(log_inertia.exp())
-            .solve(omega_mean, ratio)?
-        {
-            Ok(p) if p.delta() > 0.0 => (p.delta() / delta).ln(),
+        let value = match delta_at(log_inertia.exp())? {
+            Some(found) if found > 0.0 => (found / delta).ln(),
             // A flywheel so heavy that δ rounds to 0 is beyond the target.
-            Ok(_) => f64::NEG_INFINITY,
-            Err(_) => f64::INFINITY,
+            Some(_) => f64::NEG_INFINITY,
+            None => f64::INFINITY,
         };
         known.push((log_inertia, value));
         Ok(value)
     };
     let origin = start.max(1e-300).ln();
-    let rest = balance.mean_rest();
     if let Some(root) = newton_bracket(&mut excess, origin, rest)? {
         return Ok(root.exp());
     }

@@ -103,11 +103,11 @@ impl PiecewisePolynomial {
         self.order
     }
 
-    fn pieces(&self) -> usize {
+    pub(crate) fn pieces(&self) -> usize {
         self.breakpoints.len() - 1
     }
 
-    fn cycle(&self) -> f64 {
+    pub(crate) fn cycle(&self) -> f64 {
         self.breakpoints[self.pieces()] - self.breakpoints[0]
     }
 
@@ -124,6 +124,20 @@ impl PiecewisePolynomial {
             p = p * dx + self.coefficients[k * m + i];
         }
         p
+    }
+
+    /// θ taken modulo the cycle as [`PiecewisePolynomial::value`] takes it: the piece i that
+    /// holds it, and θ − x_i there.
+    pub(crate) fn locate(&self, theta: f64) -> (usize, f64) {
+        let x0 = self.breakpoints[0];
+        let t = x0 + periodic(theta - x0, self.cycle());
+        let i = self.piece(t);
+        (i, t - self.breakpoints[i])
+    }
+
+    /// c_ki (k from the highest power, K − 1 − k the power of θ − x_i).
+    pub(crate) fn coefficient(&self, k: usize, i: usize) -> f64 {
+        self.coefficients[k * self.pieces() + i]
     }
 
     /// The piece holding t: the last i with x_i ≤ t, kept in 0..m (NumPy's

@@ -3,19 +3,21 @@
 //! fluctuation δ, and what gravity does to it.
 //!
 //! The rooms: `quadrature` (Gauss–Legendre panels over the cycle), `gas` (pressures as
-//! periodic piecewise polynomials and the exact gas work), `cycle` (the machine's J, U and W
+//! periodic piecewise polynomials and the exact gas work), `drive` (a driving torque of φ
+//! and its exact work), `cycle` (the machine's J, U and W
 //! tabulated on the panels, and at any angle), `solution` (a periodic solution, or the stall
 //! that refused it), `extrema` (Brent's method, the extremes between samples and the graded
 //! mesh), `balance` (the energy method), `square_law` (the square-law load in closed form),
 //! `tables` (a machine's tables, shared by every steady state of it), `flywheel` (the shaft
 //! inertia for a δ), and the motion sweep: `columns` (its vocabulary), `variant` (a design's
 //! machine) and `sweep` (the driver, many variants of one machine, one row each). This file
-//! holds the four entries (`steady_state`, `steady_state_curves`, `square_law_steady_state`,
-//! `flywheel_inertia`) and their results. J, J′, U and the torques are `Dynamics`'s.
+//! holds the five entries (`steady_state`, `steady_state_curves`, `square_law_steady_state`,
+//! `flywheel_inertia`, `square_law_flywheel_inertia`) and their results. J, J′, U and the torques are `Dynamics`'s.
 
 mod balance;
 mod columns;
 mod cycle;
+mod drive;
 mod extrema;
 mod flywheel;
 mod gas;
@@ -107,7 +109,7 @@ fn check_speed_ratio(value: f64) -> Result<f64> {
 fn rest_angle(cycle: &Cycle, drive: f64) -> f64 {
     let angles = cycle.panels.phi.iter().chain(&cycle.panels.edges);
     let mut best = (0.0, f64::NEG_INFINITY);
-    for ((phi, w), u) in angles.zip(&cycle.gas_work).zip(&cycle.potential) {
+    for ((phi, w), u) in angles.zip(&cycle.work).zip(&cycle.potential) {
         let work = w + drive * phi - u;
         if work > best.1 {
             best = (*phi, work);
@@ -287,5 +289,33 @@ pub fn flywheel_inertia(
         min_speed_ratio,
         machine.shaft_inertia,
         true,
+    )
+}
+
+/// The shaft inertia I_w (kg·m²) that gives `machine` (its own `shaft_inertia` replaced)
+/// the coefficient of speed fluctuation `delta` (≥ 1e-9) under a square-law load M = c·ω²
+/// (c = `coefficient`, N·m·s²/rad²) beside a constant `drive` (N·m): the mean speed is a
+/// result of each trial shaft (the closed form of [`square_law_steady_state`]), and the
+/// one search of [`flywheel_inertia`] finds the root. `rpm` is the mean speed reached with
+/// the shaft found, the textbook estimate taken there. `min_speed_ratio` as for
+/// [`steady_state`].
+///
+/// Errors: bad input, naming the parameter; `delta` unreachable (the machine stalls at any
+/// shaft, or before its fluctuation grows that large, or the rods' own inertia keeps it
+/// below).
+pub fn square_law_flywheel_inertia(
+    machine: &Machine<'_>,
+    coefficient: f64,
+    drive: f64,
+    delta: f64,
+    min_speed_ratio: f64,
+) -> Result<FlywheelInertia> {
+    check_shaft_inertia(machine.shaft_inertia)?;
+    SteadyTables::new(machine)?.square_law_flywheel_inertia(
+        coefficient,
+        drive,
+        delta,
+        min_speed_ratio,
+        machine.shaft_inertia,
     )
 }

@@ -56,7 +56,7 @@ impl<'c> SquareLaw<'c> {
         // ∫₀^φ e^{A} M_gas dφ by parts, = e^{A}W − ∫₀^φ A′ e^{A} W dφ: W, the gas work, is
         // exact and smooth (the kinks of tabulated pressures are in M_gas, not in W).
         let gravity = cycle.torque_at(&panels.phi, false)?;
-        let work = &cycle.gas_work;
+        let work = &cycle.work;
         let forcing_nodes: Vec<f64> = (0..n)
             .map(|i| rate_nodes[i].exp() * (drive + gravity[i] - damping[i] * work[i]))
             .collect();
@@ -96,7 +96,7 @@ impl<'c> SquareLaw<'c> {
 
     /// E(φ) (J) at any angles in [0, Φ]: W + e^{−A}(E₀ + ∫₀^φ e^{A}(…) dφ).
     fn energy_at(&self, phi: &[f64]) -> Result<Vec<f64>> {
-        let work = self.cycle.gas.work.at(phi)?;
+        let work = self.cycle.work_at(phi)?;
         Ok(phi
             .iter()
             .zip(&work)

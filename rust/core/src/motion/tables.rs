@@ -3,21 +3,22 @@
 //! mean speed, and their solves: the steady state with its curves, the two comparison δ, the
 //! lowest mean speed that runs (a stall's `min_rpm`) and the flywheel for a δ.
 
-use std::f64::consts::PI;
 use std::sync::{Arc, OnceLock};
 
 use crate::dynamics::Dynamics;
 use crate::error::{check, MechanismError, Result};
-use crate::mechanism::{check_rpm, check_shaft_inertia, omega_from_rpm};
+use crate::mechanism::{check_rpm, check_shaft_inertia, omega_from_rpm, rpm_from_omega};
 
 use super::balance::Balance;
 use super::cycle::{Cycle, Gas};
+use super::drive::Drive;
+use super::gas::PiecewisePolynomial;
 use super::solution::{Periodic, Solved, Stall};
 use super::{check_speed_ratio, flywheel, FlywheelInertia, Machine, SteadyCurves, SteadyState};
 
 /// The constant "balance" load (N·m): the cycle mean of the gas torque, W(Φ)/Φ.
 fn balance_load(cycle: &Cycle) -> f64 {
-    cycle.gas.work.per_cycle / cycle.cycle()
+    cycle.work_per_cycle() / cycle.cycle()
 }
 
 /// δ of a solution, NaN where it stalls.
@@ -51,7 +52,7 @@ fn stall_error(balance: &Balance, stall: Stall, rpm: f64, ratio: f64) -> Result<
     let above = 1e-6 * balance.swing();
     let lowest = balance.clone().lowest_running_speed(ratio, above)?;
     let min_rpm = if lowest.is_finite() {
-        Some(running_rpm(balance, 30.0 * lowest / PI, ratio)?)
+        Some(running_rpm(balance, rpm_from_omega(lowest), ratio)?)
     } else {
         None
     };
@@ -150,6 +151,26 @@ impl SteadyTables {
         })
     }
 
+    /// The same machine with a driving torque M_d(φ) = `drive` (N·m, periodic over the
+    /// working cycle, its breakpoints spanning it) beside the gas, from these tables (J, U
+    /// and the gas work kept; the drive's work, exact piece by piece, and its slope added):
+    /// the "balance" load becomes the cycle mean of gas and drive, and every solve, K₀
+    /// ([`SteadyTables::work_at`]) and the textbook flywheel take the drive with the gas.
+    ///
+    /// Errors: a drive whose breakpoints do not span one cycle, naming `drive`; tables that
+    /// have a drive already.
+    pub fn with_drive(&self, drive: &PiecewisePolynomial) -> Result<Self> {
+        if self.cycle.has_drive() {
+            return Err(MechanismError::OutOfRange {
+                parameter: "drive",
+                value: f64::NAN,
+                allowed: "one drive (these tables have one already)",
+            });
+        }
+        let drive = Drive::new(drive.clone(), self.cycle())?;
+        Self::from_cycle(self.cycle.with_drive(drive))
+    }
+
     /// Φ (rad).
     pub fn cycle(&self) -> f64 {
         self.cycle.cycle()
@@ -237,7 +258,8 @@ impl SteadyTables {
     }
 
     /// K₀(φ) = W(φ) − (U(φ) − U(0)) (J) at `phi` (rad, each in [0, Φ]): the work of the
-    /// gas from φ = 0, exact as the tables take it, less the rise of gravity's potential
+    /// gas (and of the drive, where the tables have one) from φ = 0, exact as the tables
+    /// take it, less the rise of gravity's potential
     /// (0 without gravity) — the part of the kinetic energy that depends on φ alone.
     ///
     /// Errors: an angle outside [0, Φ] (or not finite), naming `phi`.
@@ -248,7 +270,7 @@ impl SteadyTables {
                 (0.0..=cycle).contains(&a)
             })?;
         }
-        let work = self.cycle.gas.work.at(phi)?;
+        let work = self.cycle.work_at(phi)?;
         let potential = self.cycle.potential_at(phi)?;
         Ok(work.iter().zip(&potential).map(|(w, u)| w - u).collect())
     }
@@ -353,14 +375,23 @@ impl SteadyTables {
         let swing = self.energy_swing(omega_mean)?;
         let textbook = flywheel::textbook(swing, &self.cycle, delta, omega_mean);
         let start = flywheel::start(swing, textbook, &self.cycle, delta, omega_mean, fallback);
-        let inertia = flywheel::inertia_for(balance, omega_mean, min_speed_ratio, delta, start)?;
+        let rest = self.cycle.mean_rest();
+        let inertia = flywheel::inertia_for(
+            flywheel::balance_delta(balance, omega_mean, min_speed_ratio),
+            rest,
+            delta,
+            start,
+        )?;
         let without = match (&self.without_gravity, without) {
             (_, false) => f64::NAN,
             (None, true) => inertia,
-            (Some(balance), true) => {
-                flywheel::inertia_for(balance, omega_mean, min_speed_ratio, delta, inertia)
-                    .unwrap_or(f64::NAN)
-            }
+            (Some(balance), true) => flywheel::inertia_for(
+                flywheel::balance_delta(balance, omega_mean, min_speed_ratio),
+                rest,
+                delta,
+                inertia,
+            )
+            .unwrap_or(f64::NAN),
         };
         Ok(FlywheelInertia {
             shaft_inertia: inertia,
@@ -371,6 +402,24 @@ impl SteadyTables {
             delta,
             rpm,
         })
+    }
+}
+
+impl SteadyTables {
+    /// The shaft inertia for the coefficient of speed fluctuation `delta` under a square-law
+    /// load, as [`square_law_flywheel_inertia`] gives it; `fallback` (kg·m²): the shaft the
+    /// first mean speed is found with (the machine's own).
+    ///
+    /// [`square_law_flywheel_inertia`]: super::square_law_flywheel_inertia
+    pub fn square_law_flywheel_inertia(
+        &self,
+        coefficient: f64,
+        drive: f64,
+        delta: f64,
+        min_speed_ratio: f64,
+        fallback: f64,
+    ) -> Result<FlywheelInertia> {
+        flywheel::square_law_inertia(self, coefficient, drive, delta, min_speed_ratio, fallback)
     }
 }
 

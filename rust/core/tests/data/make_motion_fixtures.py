@@ -1,8 +1,10 @@
 """Write motion_fixtures.json: built-in machines' parameters and what an independent oracle
 (oracle.py, beside this file) says of their steady running — at each machine's own speed
 (load "balance"), with g = 0 and gravity alone, near stall and below it (the lowest speed
-that runs), under a square-law load beside a constant drive, and the flywheels for
-δ = 1/40, 1/100 and the machine's class value.
+that runs), under a square-law load beside a constant drive, the flywheels for
+δ = 1/40, 1/100 and the machine's class value, and the steady state and flywheel (δ = 1/40)
+beside a driving torque that depends on φ (:func:`drive_of`, given to both as the same
+``PPoly``).
 
 The Rust core (rust/core/src/motion/) is checked against these numbers by
 rust/core/tests/motion*.rs, and the Python package by tests/machine/test_native.py.
@@ -36,6 +38,7 @@ import pathlib
 import sys
 
 import numpy as np
+from scipy import interpolate
 
 sys.path.insert(0, str(pathlib.Path(__file__).parent))
 import oracle
@@ -168,6 +171,44 @@ def fixture(name: str) -> dict:
         "near_stall": near,
         "stalls": stalls,
         "flywheels": flywheels,
+        "drive": driven(model, machine.rpm, steady["mean_load_torque"]),
+    }
+
+
+def drive_of(cycle: float, size: float):
+    """A driving torque of φ alone: M_d = T·(0.5 + 0.3 sin(2πφ/Φ) + 0.2 cos(6πφ/Φ)) with T =
+    ``size`` [N·m], as the periodic cubic spline (SciPy) through 49 points over [0, Φ]: a
+    ``PPoly`` the oracle integrates by its own rules and the core by its antiderivative."""
+    x = np.linspace(0.0, cycle, 49)
+    turn = 2 * np.pi * x / cycle
+    y = size * (0.5 + 0.3 * np.sin(turn) + 0.2 * np.cos(3 * turn))
+    y[-1] = y[0]
+    return interpolate.CubicSpline(x, y, bc_type="periodic")
+
+
+def driven(model: oracle.Machine, rpm: float, balance_load: float) -> dict:
+    """The "balance" load beside :func:`drive_of` (T = the balance load without it): the
+    steady state at the machine's speed (with g = 0 and gravity alone beside) and the
+    flywheel for δ = 1/40."""
+    drive = drive_of(model.cycle, abs(balance_load))
+    cycle = oracle.Cycle(model, drive=drive)
+    omega_mean = math.pi * rpm / 30
+    balance = oracle.Balance(cycle)
+    state = balance.solve(omega_mean, ratio=RATIO)
+    without = oracle.Balance(cycle, gravity=False).solve(omega_mean, ratio=RATIO)
+    alone = oracle.Balance(cycle, gas=False).solve(omega_mean, ratio=RATIO)
+    delta = 1 / 40
+    swing = balance.energy_swing(omega_mean)
+    return {
+        "x": drive.x.tolist(),
+        "c": drive.c.tolist(),
+        "steady_state": steady_record(state, without, alone),
+        "flywheel": {
+            "delta": delta,
+            "shaft_inertia": balance.flywheel(delta, omega_mean),
+            "textbook": swing / (delta * omega_mean**2) - balance.mean_engine_inertia(),
+            "energy_swing": swing,
+        },
     }
 
 
@@ -210,6 +251,7 @@ def agreement(first: list, second: list) -> dict:
             pairs = []
             if kind in ("speeds", "deltas"):
                 pairs += [(a["steady_state"], b["steady_state"])]
+                pairs += [(a["drive"]["steady_state"], b["drive"]["steady_state"])]
                 pairs += list(zip(a["square_law"], b["square_law"], strict=True))
             elif kind == "near_stall_speeds":
                 pairs += [
@@ -218,6 +260,7 @@ def agreement(first: list, second: list) -> dict:
                 ]
             elif kind == "flywheels":
                 pairs += list(zip(a["flywheels"], b["flywheels"], strict=True))
+                pairs += [(a["drive"]["flywheel"], b["drive"]["flywheel"])]
             else:
                 pairs += list(zip(a["stalls"], b["stalls"], strict=True))
             for x, y in pairs:

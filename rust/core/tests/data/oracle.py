@@ -227,14 +227,20 @@ class Machine:
 
 class Cycle:
     """The angle-domain tables of a machine over one cycle: panels between every kink and
-    every angle asked for, Gauss–Legendre rules on them, the gas work W(φ) = ∫₀^φ M_gas,
-    U(φ) − U(0) and J(φ) − I_w at any angle."""
+    every angle asked for, Gauss–Legendre rules on them, the work W(φ) = ∫₀^φ (M_gas + M_d)
+    of gas and drive, U(φ) − U(0) and J(φ) − I_w at any angle.
 
-    def __init__(self, machine: Machine, angles=(), points: int | None = None) -> None:
+    ``drive``: None, or a driving torque M_d(φ) [N·m] as a SciPy ``PPoly`` over [0, Φ] (its
+    breakpoints are kinks: the rule integrates it on panels between them, by Gauss–Legendre
+    like the gas — not by its antiderivative)."""
+
+    def __init__(self, machine: Machine, angles=(), points: int | None = None, drive=None) -> None:
         self.machine = machine
+        self.drive = drive
         points = GL_POINTS if points is None else points
         cycle = machine.cycle
-        edges = np.unique(np.concatenate((machine.kinks(), np.asarray(angles, float), [0.0, cycle])))
+        kinks = machine.kinks() if drive is None else np.concatenate((machine.kinks(), drive.x))
+        edges = np.unique(np.concatenate((kinks, np.asarray(angles, float), [0.0, cycle])))
         edges = edges[(edges >= 0) & (edges <= cycle)]
         keep = np.concatenate(([True], np.diff(edges) > 1e-12 * cycle))
         edges = edges[keep]
@@ -242,7 +248,7 @@ class Cycle:
         self.edges = edges
         self.x, self.w = special.roots_legendre(points)
         lo, hi = edges[:-1], edges[1:]
-        work = self._rule(machine.gas_torque, lo, hi)
+        work = self._rule(self.driving_torque, lo, hi)
         self.work_start = np.concatenate(([0.0], np.cumsum(work)))
         self.u0 = float(machine.potential(0.0))
 
@@ -256,18 +262,24 @@ class Cycle:
         nodes = (lo + hi)[..., None] / 2 + half[..., None] * self.x
         return half * (f(nodes.ravel()).reshape(nodes.shape) @ self.w)
 
+    def driving_torque(self, phi) -> np.ndarray:
+        """M_gas + M_d [N·m] at φ in [0, Φ]."""
+        torque = self.machine.gas_torque(phi)
+        return torque if self.drive is None else torque + self.drive(phi)
+
     def panel(self, phi) -> np.ndarray:
         return np.clip(np.searchsorted(self.edges, phi, side="right") - 1, 0, self.edges.size - 2)
 
     def work(self, phi) -> np.ndarray:
-        """W(φ) = ∫₀^φ M_gas dφ [J] at φ in [0, Φ]."""
+        """W(φ) = ∫₀^φ (M_gas + M_d) dφ [J] at φ in [0, Φ]."""
         phi = np.asarray(phi, dtype=float)
         i = self.panel(phi)
         start = self.edges[i]
-        return self.work_start[i] + self._rule(self.machine.gas_torque, start, phi)
+        return self.work_start[i] + self._rule(self.driving_torque, start, phi)
 
     @property
     def mean_gas_torque(self) -> float:
+        """(1/Φ)∫(M_gas + M_d) dφ [N·m]: the "balance" load."""
         return float(self.work_start[-1] / self.cycle)
 
     def values(self, phi, *, gas: bool, gravity: bool, load: float):

@@ -1,0 +1,186 @@
+//! The results of the native steady state and flywheel as Python sees them: typed, frozen,
+//! SI units, built in one conversion place (`steady_result`, `FlywheelResult::from`).
+
+use multicrank_core as core;
+
+use numpy::{IntoPyArray, PyArray1, PyArrayMethods};
+use pyo3::prelude::*;
+
+type Array = Option<Py<PyArray1<f64>>>;
+
+/// Whether two optional arrays hold the same doubles (or both are absent).
+fn same_array(py: Python<'_>, a: &Array, b: &Array) -> PyResult<bool> {
+    match (a, b) {
+        (None, None) => Ok(true),
+        (Some(a), Some(b)) => {
+            Ok(a.bind(py).readonly().as_slice()? == b.bind(py).readonly().as_slice()?)
+        }
+        _ => Ok(false),
+    }
+}
+
+/// A steady state as the core found it (SI units, immutable): its numbers, and the curves
+/// and arrays at the angles asked for (None where none were asked). Equal to another with
+/// the same numbers and arrays.
+#[pyclass(frozen, get_all, name = "SteadyResult", module = "multicrank._native")]
+pub(crate) struct SteadyResult {
+    omega_mean: f64,
+    period: f64,
+    omega_max: f64,
+    omega_min: f64,
+    phi_max: f64,
+    phi_min: f64,
+    energy_at_zero: f64,
+    mean_load_torque: f64,
+    delta: f64,
+    delta_midrange: f64,
+    delta_without_gravity: f64,
+    delta_gravity_only: f64,
+    omega: Array,
+    time: Array,
+    reduced_inertia: Array,
+    reduced_inertia_slope: Array,
+    gas_torque: Array,
+    gravity_torque: Array,
+}
+
+impl SteadyResult {
+    fn numbers(&self) -> [f64; 12] {
+        [
+            self.omega_mean,
+            self.period,
+            self.omega_max,
+            self.omega_min,
+            self.phi_max,
+            self.phi_min,
+            self.energy_at_zero,
+            self.mean_load_torque,
+            self.delta,
+            self.delta_midrange,
+            self.delta_without_gravity,
+            self.delta_gravity_only,
+        ]
+    }
+
+    fn arrays(&self) -> [&Array; 6] {
+        [
+            &self.omega,
+            &self.time,
+            &self.reduced_inertia,
+            &self.reduced_inertia_slope,
+            &self.gas_torque,
+            &self.gravity_torque,
+        ]
+    }
+}
+
+#[pymethods]
+impl SteadyResult {
+    fn __eq__(&self, py: Python<'_>, other: PyRef<'_, Self>) -> PyResult<bool> {
+        if self.numbers() != other.numbers() {
+            return Ok(false);
+        }
+        for (a, b) in self.arrays().into_iter().zip(other.arrays()) {
+            if !same_array(py, a, b)? {
+                return Ok(false);
+            }
+        }
+        Ok(true)
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "SteadyResult(omega_mean={}, delta={}, delta_without_gravity={}, delta_gravity_only={})",
+            self.omega_mean, self.delta, self.delta_without_gravity, self.delta_gravity_only
+        )
+    }
+}
+
+/// The shaft inertia sized for a coefficient of speed fluctuation (SI units, immutable);
+/// equal to another with the same numbers.
+#[pyclass(
+    frozen,
+    eq,
+    get_all,
+    name = "FlywheelResult",
+    module = "multicrank._native"
+)]
+#[derive(PartialEq)]
+pub(crate) struct FlywheelResult {
+    shaft_inertia: f64,
+    shaft_inertia_without_gravity: f64,
+    textbook: f64,
+    textbook_error: f64,
+    energy_swing: f64,
+    delta: f64,
+    rpm: f64,
+}
+
+#[pymethods]
+impl FlywheelResult {
+    fn __repr__(&self) -> String {
+        format!(
+            "FlywheelResult(shaft_inertia={}, shaft_inertia_without_gravity={}, textbook={}, delta={}, rpm={})",
+            self.shaft_inertia, self.shaft_inertia_without_gravity, self.textbook, self.delta, self.rpm
+        )
+    }
+}
+
+/// The one conversion of the core's steady state (and its arrays, where asked) to Python.
+pub(crate) fn steady_result(
+    py: Python<'_>,
+    found: core::SteadyCurves,
+    curves: bool,
+    arrays: Option<core::CycleArrays>,
+) -> SteadyResult {
+    let s = found.state;
+    let array = |values: Vec<f64>| Some(values.into_pyarray(py).unbind());
+    let (omega, time) = if curves {
+        (array(found.omega), array(found.time))
+    } else {
+        (None, None)
+    };
+    let (reduced_inertia, reduced_inertia_slope, gas_torque, gravity_torque) = match arrays {
+        Some(a) => (
+            array(a.reduced_inertia),
+            array(a.reduced_inertia_slope),
+            array(a.gas_torque),
+            array(a.gravity_torque),
+        ),
+        None => (None, None, None, None),
+    };
+    SteadyResult {
+        omega_mean: s.omega_mean,
+        period: s.period,
+        omega_max: s.omega_max,
+        omega_min: s.omega_min,
+        phi_max: s.phi_max,
+        phi_min: s.phi_min,
+        energy_at_zero: s.energy_at_zero,
+        mean_load_torque: s.mean_load_torque,
+        delta: s.delta,
+        delta_midrange: s.delta_midrange,
+        delta_without_gravity: s.delta_without_gravity,
+        delta_gravity_only: s.delta_gravity_only,
+        omega,
+        time,
+        reduced_inertia,
+        reduced_inertia_slope,
+        gas_torque,
+        gravity_torque,
+    }
+}
+
+impl From<core::FlywheelInertia> for FlywheelResult {
+    fn from(f: core::FlywheelInertia) -> Self {
+        Self {
+            shaft_inertia: f.shaft_inertia,
+            shaft_inertia_without_gravity: f.shaft_inertia_without_gravity,
+            textbook: f.textbook,
+            textbook_error: f.textbook_error,
+            energy_swing: f.energy_swing,
+            delta: f.delta,
+            rpm: f.rpm,
+        }
+    }
+}
