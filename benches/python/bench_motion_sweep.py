@@ -14,9 +14,10 @@ gravity). Three sweeps of it with ``mc.motion_sweep``:
 - the flywheel for δ = 0.01 (with and without gravity) over rpm × rod length (256 designs);
 
 each with one rayon thread and with all cores (a child process per thread count: rayon fixes
-its pool at first use). The baseline, measured in the same child: what the library did per
-machine before the core's motion (issue 20) — the variant built with ``Machine.replace``, then
-the Python implementation of the steady state (or the flywheel), on the first 48 designs.
+its pool at first use). The baseline, measured in the same child: one machine at a time — the
+variant built with ``Machine.replace``, then its own steady state with its arrays (or its
+flywheel), on the first 48 designs. (Before issue 27 the baseline was the Python
+implementation of the steady state, which is gone: the core is the only solver.)
 
 --million: one 10⁶-design speed × flywheel sweep streamed to Parquet with progress, reporting
 the wall time and the peak resident memory (bounded: one chunk at a time).
@@ -76,30 +77,23 @@ def grids():
 
 
 def baseline_rate(machine, frame, delta) -> float:
-    """Designs/s of the per-machine Python path (replace, then the Python implementation)."""
-    from multicrank.motion import flywheel as flywheel_module
-    from multicrank.motion import steady
-    from multicrank.motion._periodic import resolve_rules
+    """Designs/s of the per-machine path (replace, then the machine's own steady state with
+    its arrays, or its flywheel)."""
+    import multicrank as mc
     from multicrank.motion.variants import MACHINE_COLUMNS, machine_variant
 
     names = [c for c in frame.columns if c in MACHINE_COLUMNS]
     rows = frame.head(BASELINE_DESIGNS)
-    rules = resolve_rules("balance", None)
-    original = flywheel_module.motion_machine
-    flywheel_module.motion_machine = lambda *args, **kwargs: None  # the Python implementation
-    try:
-        start = time.perf_counter()
-        for values in rows[names].itertuples(index=False, name=None):
-            design = dict(zip(names, values, strict=True))
-            variant = machine_variant(machine, design)
-            rpm = design.get("rpm", machine.rpm)
-            if delta is None:
-                steady._python_solution(variant, rules, rpm, True, 1e-3, 361)[1]("arrays")
-            else:
-                flywheel_module.flywheel_inertia(variant, delta=delta, rpm=rpm)
-        return len(rows) / (time.perf_counter() - start)
-    finally:
-        flywheel_module.motion_machine = original
+    start = time.perf_counter()
+    for values in rows[names].itertuples(index=False, name=None):
+        design = dict(zip(names, values, strict=True))
+        variant = machine_variant(machine, design)
+        rpm = design.get("rpm", machine.rpm)
+        if delta is None:
+            mc.steady_state(variant, rpm=rpm).omega  # noqa: B018 (the arrays, computed when read)
+        else:
+            mc.flywheel_inertia(variant, delta=delta, rpm=rpm)
+    return len(rows) / (time.perf_counter() - start)
 
 
 def child() -> list[dict]:
@@ -187,7 +181,7 @@ def main() -> None:
         ),
         "?",
     )
-    print(f"CPU: {cpu}; inline-4 preset; baseline: replace + the Python steady state/flywheel, same child")
+    print(f"CPU: {cpu}; inline-4 preset; baseline: replace + each machine's own steady state/flywheel, same child")
     head = "| sweep | designs | threads | designs/s | per-machine path (designs/s) | ratio |"
     print(head if args.markdown else head.replace("|", " "))
     if args.markdown:

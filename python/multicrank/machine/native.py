@@ -10,6 +10,8 @@ crosses as the polynomial of degree 11 through its values on each panel: for a s
 pressure that interpolant is the pressure to rounding (the error of a degree-11 interpolant on
 a π/16 panel, ~(π/32)¹²/12! times the twelfth derivative), and the core integrates its work
 exactly. A pressure with a kink inside a panel is smoothed there, as any quadrature of it is.
+A callable drive under the "balance" load, held at the mean speed, crosses the same way
+(checked as a torque [N·m] named ``drive``), for the call that gives it.
 """
 
 from __future__ import annotations

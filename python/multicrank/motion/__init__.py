@@ -12,9 +12,11 @@
 - `columns`: the names of a motion sweep's design columns, their meanings and units (light: the
   command line takes its options from it);
 - `_result`: what the results share (``solved``, ``to_pandas``, ``to_xarray``);
-- `_periodic`: the periodic solution by its route, which `steady` and `flywheel` share;
-- `_quadrature`, `_work`, `_solvers`: the cycle quadrature, the gas work and the steady-state
-  solvers behind them.
+- `_periodic`: the rules of a periodic solution and its route, which `steady` and `flywheel`
+  share: "balance" (beside any drive) and the square law are the Rust core's alone, a load or
+  drive that depends on the speed is shot in Python;
+- `_quadrature`, `_work`, `_solvers`: the cycle quadrature, the gas work and the shooting
+  behind that last route.
 
 Units and names: a speed's name carries its unit — ``rpm…`` in 1/min, ``omega…`` in rad/s
 (ω = πn/30); the torques on the shaft are ``gas_torque``, ``gravity_torque``,

@@ -1,12 +1,12 @@
-"""The periodic solution by its route, shared by :mod:`~multicrank.motion.steady` and
+"""The rules of a periodic solution, shared by :mod:`~multicrank.motion.steady` and
 :mod:`~multicrank.motion.flywheel`: the inputs they share validated (load and drive, the mean
-speed, the stall criterion), the route the load asks for chosen, and solved on the machine's
-cycle tables by the numerics of :mod:`~multicrank.motion._solvers`.
+speed, the stall criterion), the route the load asks for chosen ("balance" and the square law:
+the Rust core; any other: shooting), and a callable drive under "balance" as the core takes it
+(:func:`drive_table`).
 """
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 from typing import Any
 
@@ -16,9 +16,7 @@ from .._native import MechanismError
 from .._shaft import omega_from_rpm
 from .._validation import as_scalar, as_speed
 from ..machine.machine import Machine
-from ._quadrature import CycleQuadrature
-from ._solvers import Balance, CycleTables, Periodic, Shooting, SquareLaw, Stall, quasi_static_speed
-from .loads import BALANCE, AppliedTorques, Torque, balance_torque
+from .loads import BALANCE, AppliedTorques, Torque
 
 __all__ = [
     "DEFAULT_MIN_SPEED_RATIO",
@@ -26,17 +24,13 @@ __all__ = [
     "SOLVED",
     "Rules",
     "as_min_speed_ratio",
-    "balance_at",
-    "cycle_tables",
+    "drive_table",
     "mean_speed",
     "resolve_rules",
-    "solve_periodic",
 ]
 
 #: ω_min/ω_m below which a machine is said to stall.
 DEFAULT_MIN_SPEED_RATIO = 1e-3
-# The shooting's relative tolerance (solve_ivp's rtol and the root's): ω_m to ~1e-10.
-_SHOOTING_RTOL = 1e-11
 
 
 def as_min_speed_ratio(value: Any) -> float:
@@ -152,65 +146,3 @@ def resolve_rules(load: Any, drive: Any) -> Rules:
             "or give a load that grows with speed (mc.PowerLawLoad, or a callable f(phi, omega))"
         )
     return Rules("general", torques)
-
-
-def cycle_tables(machine: Machine, gravity: bool) -> CycleTables:
-    """The machine over its cycle (g = 0 without gravity). Its panels are cut at the gassed
-    units' dead centres only — the gas torque enters through its exact work
-    (:class:`~multicrank._work.GasWork`), which takes the pressure tables' breakpoints — and
-    are π/8 wide or, where the machine's J and U have harmonics too high for that (a large
-    crank ratio, many cylinders), halved until their interpolants converge."""
-    width = math.pi / 8
-    work = None
-    while True:
-        rule = CycleQuadrature.of(machine, tables=False, max_width=width)
-        cycle = CycleTables(machine, rule, gravity=gravity, work=work)
-        if width < math.pi / 60 or cycle.resolved():
-            return cycle
-        width, work = width / 2, cycle.work
-
-
-def rest_angle(cycle: CycleTables, drive: float) -> float:
-    """Where a machine with no mean driving torque comes to rest [rad]: the sample where the
-    work of gas, drive and gravity from φ = 0, W + M_drive·φ − (U − U(0)), is largest — the
-    bottom of the well of their potential (for a machine without gas or drive, the lowest
-    potential energy)."""
-    rule = cycle.rule
-    angles = np.concatenate([rule.phi.ravel(), rule.edges])
-    work = np.concatenate([cycle.W.ravel(), cycle.W_edges]) + drive * angles
-    work -= np.concatenate([cycle.U.ravel(), cycle.U_edges])
-    return float(angles[int(np.argmax(work))] % rule.cycle)
-
-
-def balance_at(cycle: CycleTables, rules: Rules, omega_mean: float) -> Balance:
-    """The energy method for "balance": the drive at the nodes and the balancing load
-    (:func:`~multicrank.motion.loads.balance_torque`), a drive's speed dependence frozen at ω_m."""
-    drive = None if rules.drive is None else rules.drive(cycle.rule.phi, omega_mean)
-    load = balance_torque(cycle.machine, rules.drive, omega_mean, cycle.rule, work=cycle.work)
-    return Balance(cycle, drive, load)
-
-
-def solve_periodic(cycle: CycleTables, rules: Rules, omega_mean: float | None, ratio: float) -> Periodic:
-    """One periodic solution by the route of ``rules``; raises _solvers.Stall."""
-    if rules.route == BALANCE:
-        assert omega_mean is not None
-        return balance_at(cycle, rules, omega_mean).solve(omega_mean, ratio)
-    if rules.route == "square-law":
-        assert isinstance(rules.load, Torque)
-        # What a balancing load would take beside gas and drive (the drive is constant: any ω).
-        mean = balance_torque(cycle.machine, rules.drive, 0.0, cycle.rule, work=cycle.work)
-        if not mean > 0:
-            # Nothing drives the machine on the cycle's mean (a design without gas, or a drive
-            # that takes what the gas gives): a square-law load brings it to rest, a stall like
-            # any other (a sweep's row, not an error in the input).
-            raise Stall(
-                rest_angle(cycle, rules.constant_drive),
-                f"the cycle mean of gas and drive torque is {mean:.6g} N·m, not positive: nothing drives it "
-                "against a square-law load, which brings it to rest",
-            )
-        return SquareLaw(cycle, rules.constant_drive, rules.load.value.coefficient).solve(ratio)
-    applied = rules.torques.net
-    guess = quasi_static_speed(cycle, applied, "load")
-    # Runs stop where ω falls to half of min_speed_ratio times the speed the torques balance at.
-    floor = 0.5 * float(np.min(cycle.J)) * (0.5 * ratio * guess) ** 2
-    return Shooting(cycle, applied, _SHOOTING_RTOL, floor).solve(guess, ratio)

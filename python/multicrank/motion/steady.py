@@ -21,10 +21,13 @@ Three routes, chosen by the load:
   drive. Every torque then depends on φ alone and the energy integral gives the motion in
   closed form, ω²(φ) = 2[E₀ + K(φ)]/J(φ), K = ∫₀^φ(M_gas + M_drive − M_load) dφ − ΔU; E₀ is
   the one number that gives the mean speed asked for (``rpm``, default the machine's own).
+  The Rust core solves it beside any drive: a callable f(φ, ω) is held at ω_m and crosses
+  sampled once over the cycle; a drive that does not depend on φ only adds to the load.
 - a :class:`~multicrank.loads.PowerLawLoad` of exponent 2 (fan, pump, propeller) with no drive
   or a constant one: the energy E = ½Jω² obeys a *linear* equation whose periodic solution is
-  an explicit double integral. The load fixes the mean speed.
-- any other load or drive: shooting for E(0) = E(Φ) with SciPy's ``solve_ivp``.
+  an explicit double integral (the Rust core's). The load fixes the mean speed.
+- any other load or drive (one that depends on the speed): shooting for E(0) = E(Φ) with
+  SciPy's ``solve_ivp``, in Python.
 
 SciPy is imported when a steady state is computed.
 """
