@@ -181,7 +181,7 @@ def _stall_error() -> mc.StallError:
 
 
 def _internal_stall() -> Exception:
-    from multicrank.motion._solvers import Stall
+    from multicrank.motion._shooting import Stall
 
     return Stall(1.25, "stops at φ = 1.25 rad")
 

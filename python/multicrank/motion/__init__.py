@@ -15,8 +15,9 @@
 - `_periodic`: the rules of a periodic solution and its route, which `steady` and `flywheel`
   share: "balance" (beside any drive) and the square law are the Rust core's alone, a load or
   drive that depends on the speed is shot in Python;
-- `_quadrature`, `_work`, `_solvers`: the cycle quadrature, the gas work and the shooting
-  behind that last route.
+- `_shooting`: that last route (SciPy's solve_ivp on the core's K₀ and J), and the flywheel
+  for it;
+- `_quadrature`: the Gauss–Legendre panels of the torque orders, cut at the torques' kinks.
 
 Units and names: a speed's name carries its unit — ``rpm…`` in 1/min, ``omega…`` in rad/s
 (ω = πn/30); the torques on the shaft are ``gas_torque``, ``gravity_torque``,

@@ -466,7 +466,7 @@ def flywheel_for(
     def estimate(omega: float) -> tuple[float, float, float]:
         """(ΔE [J], the textbook I_w, mean(J − I_w) [kg·m²]) at the constant speed ω [rad/s]: the
         core's, with the net applied torque at ω crossing as a table of φ."""
-        table = sampled(lambda phi: applied(phi, omega), machine.cycle, "load")
+        table = sampled(lambda phi: applied(phi, omega), machine.cycle, "load", "torque", "N·m")
         swing, textbook = shaft.native.textbook_flywheel(delta, omega, drive=table, gravity=shaft.gravity)
         return swing, textbook, swing / (delta * omega**2) - textbook
 

@@ -39,7 +39,7 @@ from .._validation import (
     warn_renamed,
 )
 
-__all__ = ["BALANCE", "AppliedTorques", "PowerLawLoad", "Torque", "as_torque", "balance_torque"]
+__all__ = ["BALANCE", "AppliedTorques", "PowerLawLoad", "Torque", "as_torque"]
 
 #: The load that balances the cycle-mean of the gas and drive torques.
 BALANCE = "balance"
@@ -232,24 +232,6 @@ def as_torque(value: Any, name: str, *, balance: bool = False) -> Torque | str |
             f"{name} = {number} is out of range; allowed: a finite torque, |{name}| <= {MAGNITUDE_LIMIT:g} [N·m]"
         )
     return Torque("constant", number, name)
-
-
-def balance_torque(machine: Any, drive: Any, omega: float, quadrature: Any = None, *, work: Any = None) -> float:
-    """The "balance" load [N·m]: (1/Φ)∫₀^Φ [M_gas(φ) + M_drive(φ, ω)] dφ over one working cycle,
-    a drive's speed dependence frozen at ``omega`` [rad/s]. Gravity's mean over a cycle is 0.
-
-    The one home of the rule. The gas part is the indicated work per cycle over Φ, exact also
-    for tabulated pressures (:class:`~multicrank._work.GasWork`; ``work``: the machine's, when
-    already made); the drive — any callable f(φ, ω) [N·m] — is averaged on ``quadrature``
-    (default: the machine's cycle rule)."""
-    from ._quadrature import CycleQuadrature
-    from ._work import GasWork
-
-    mean = (GasWork(machine) if work is None else work).per_cycle / machine.cycle
-    if drive is not None:
-        rule = CycleQuadrature.of(machine, tables=False) if quadrature is None else quadrature
-        mean += rule.mean(drive(rule.phi, omega))
-    return float(mean)
 
 
 @dataclass(frozen=True)

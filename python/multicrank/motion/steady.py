@@ -46,8 +46,7 @@ from .._validation import as_count, as_flag, as_instance
 from ..machine.machine import Machine
 from ..machine.native import motion_machine
 from ._periodic import DEFAULT_MIN_SPEED_RATIO, METHODS, Rules, as_min_speed_ratio, drive_table, mean_rpm, resolve_rules
-from ._shooting import ShaftCycle, cycle_mean, shoot
-from ._solvers import Stall
+from ._shooting import ShaftCycle, Stall, cycle_mean, shoot
 from .loads import BALANCE, PowerLawLoad, Torque
 
 # The result and the stall, defined in steady_result and importable from here as before.
