@@ -21,9 +21,9 @@ from mpmath import mp, mpf
 from scipy.integrate import cumulative_simpson, quad, simpson
 from scipy.interpolate import CubicSpline
 from scipy.optimize import brentq
-from tests.machine.test_machine_oracle import DPS, Spec, Unit, _x, unit_kinetic, unit_potential
 
 import multicrank as mc
+from tests.machine.test_machine_oracle import DPS, Spec, Unit, _x, unit_kinetic, unit_potential
 
 TWO_PI = 2 * math.pi
 
