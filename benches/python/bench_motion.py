@@ -138,6 +138,7 @@ def measure(repeat: int) -> list[dict]:
 
     if mc.build_profile != "release":
         sys.exit(f"refusing to benchmark a {mc.build_profile} build: pip install . (release) first")
+
     def first_call(machine, rpm):
         # A copy: a new machine, whose native machine (and its cycle's tables) is made afresh.
         return mc.steady_state(machine.replace(), rpm=rpm)

@@ -129,7 +129,8 @@ def steady_state(
     Accuracy (measured in tests/motion/test_steady.py against independent time integrations): for
     smooth torques δ to 1e-7 relative and ω_m to 1e-9; with tabulated pressures (kinks
     between the nodes the integration cannot see) δ to 1e-3 and ω_m to 1e-7. The extremes are
-    located on the quadrature panels' interpolants and evaluated exactly there.
+    located on the quadrature panels' interpolants and evaluated exactly there (by shooting:
+    located on the integration's dense output and refined by SciPy's bounded Brent).
 
     Examples
     --------
