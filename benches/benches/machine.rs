@@ -115,7 +115,7 @@ fn designs_per_second(c: &mut Criterion) {
     group.finish();
 }
 
-/// Motion designs: I_w × rpm, 16 × 8.
+/// Motion designs: I_w × ω_m, 16 × 8.
 const MOTION_DESIGNS: usize = 128;
 
 /// A four-stroke cylinder pressure (Pa), piecewise linear over 4π from outer dead centre of
@@ -149,12 +149,16 @@ fn motion(c: &mut Criterion) {
         strokes: Strokes::Four,
         g: 9.81,
     };
-    let (inertia, rpm): (Vec<f64>, Vec<f64>) = (0..MOTION_DESIGNS)
-        .map(|i| (0.1 + 0.02 * (i / 8) as f64, 1500.0 + 500.0 * (i % 8) as f64))
+    // ω_m from 50π rad/s (1500 rpm) in steps of 50π/3 rad/s (500 rpm).
+    let (inertia, omega): (Vec<f64>, Vec<f64>) = (0..MOTION_DESIGNS)
+        .map(|i| {
+            let step = (i % 8) as f64;
+            (0.1 + 0.02 * (i / 8) as f64, 50.0 * PI * (1.0 + step / 3.0))
+        })
         .unzip();
     let designs = DesignColumns {
         shaft_inertia: Some(&inertia),
-        rpm: Some(&rpm),
+        omega: Some(&omega),
         ..DesignColumns::new(MOTION_DESIGNS)
     };
     let outputs = MotionOutputs {
@@ -182,7 +186,7 @@ fn motion(c: &mut Criterion) {
     group.throughput(Throughput::Elements(1));
     group.sample_size(10);
     group.bench_function("steady_state", |b| {
-        b.iter(|| steady_state(&machine, 3000.0, 1e-3).expect("runs"))
+        b.iter(|| steady_state(&machine, 100.0 * PI, 1e-3).expect("runs"))
     });
     group.finish();
 }

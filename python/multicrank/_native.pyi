@@ -15,6 +15,7 @@ import numpy.typing as npt
 __all__ = [
     "EXTREMA_FIELDS",
     "MOTION_SWEEP_OUTPUTS",
+    "SPEED_LIMITS",
     "STANDARD_GRAVITY",
     "SWEEP_OUTPUTS",
     "FlywheelResult",
@@ -54,6 +55,7 @@ _Phi = _Array | tuple[float, float, int]
 
 __version__: str
 build_profile: str
+SPEED_LIMITS: tuple[float, float]
 STANDARD_GRAVITY: float
 SWEEP_OUTPUTS: list[str]
 EXTREMA_FIELDS: list[str]
@@ -122,7 +124,7 @@ class FlywheelResult:
     @property
     def delta(self) -> float: ...
     @property
-    def rpm(self) -> float: ...
+    def omega_mean(self) -> float: ...
 
 @final
 class MotionMachine:
@@ -130,7 +132,8 @@ class MotionMachine:
 
     ``pressure`` and ``pressure_crank_end``: per unit None or the gauge pressure's SciPy
     ``PPoly`` arrays (x, c), c of shape (K, len(x) - 1). A stall is a MechanismError with
-    attributes ``angle`` [rad], ``rpm`` and ``min_rpm`` [1/min, or None].
+    attributes ``angle`` [rad], ``omega_mean`` and ``min_omega`` [rad/s, or None]. Every
+    speed is ω [rad/s], within ``SPEED_LIMITS``.
     """
 
     def __new__(
@@ -146,7 +149,7 @@ class MotionMachine:
     ) -> MotionMachine: ...
     def steady_state(
         self,
-        rpm: float,
+        omega_mean: float,
         min_speed_ratio: float = 1e-3,
         phi: _Array | None = None,
         compare: bool = True,
@@ -156,7 +159,7 @@ class MotionMachine:
     ) -> SteadyResult: ...
     def comparisons(
         self,
-        rpm: float,
+        omega: float,
         delta: float,
         omega_mean: float,
         min_speed_ratio: float = 1e-3,
@@ -180,7 +183,7 @@ class MotionMachine:
     def flywheel_inertia(
         self,
         delta: float,
-        rpm: float,
+        omega_mean: float,
         min_speed_ratio: float = 1e-3,
         without_gravity: bool = True,
         gravity: bool = True,
@@ -198,7 +201,7 @@ class MotionMachine:
         self,
         designs: dict[str, _Array],
         outputs: Sequence[str],
-        rpm: float | None = None,
+        omega: float | None = None,
         target_delta: float | None = None,
         min_speed_ratio: float = 1e-3,
         parallel_threshold: int | None = None,
@@ -243,7 +246,7 @@ def machine_inertia(
     units: _Columns, shaft_inertia: float, phi: _Phi, parallel_threshold: int | None = None
 ) -> dict[str, _Array]: ...
 def machine_gas_torque(units: _Columns, phi: _Phi, forces: _Array, parallel_threshold: int | None = None) -> _Array: ...
-def machine_engine(units: _Columns, g: float, shaft_inertia: float, rpm: float) -> dict[str, _Array]: ...
+def machine_engine(units: _Columns, g: float, shaft_inertia: float, omega: float) -> dict[str, _Array]: ...
 def two_mass_rod_inertia(rod_mass: float, rod_length: float, rod_cg: float) -> float: ...
 def get_parallel_threshold() -> int: ...
 def set_parallel_threshold(threshold: int) -> None: ...

@@ -2,7 +2,8 @@
 
 The few formulas that the machine (:mod:`multicrank.machine`), its motion
 (:mod:`multicrank.motion`), the CLI and the report all use, in one place. Like
-:mod:`multicrank._validation` it imports nothing of the package, so any module may use it.
+:mod:`multicrank._validation` (where the speed conversions live, beside the check of a speed) it
+imports nothing else of the package, so any module may use it.
 
 The house convention for speeds: a name carries its unit — ``rpm…`` in revolutions per
 minute [1/min], ``omega…`` in radians per second [rad/s]; ω = π n/30.
@@ -10,25 +11,12 @@ minute [1/min], ``omega…`` in radians per second [rad/s]; ω = π n/30.
 
 from __future__ import annotations
 
-import math
-from typing import TypeVar
-
 import numpy as np
 
+# The one conversion lives where a user's speed is checked (re-exported for the old imports).
+from ._validation import omega_from_rpm, rpm_from_omega
+
 __all__ = ["inertia_torque", "omega_from_rpm", "rpm_from_omega"]
-
-#: A float, or an array of them (the conversions keep the type they are given).
-Speed = TypeVar("Speed", float, np.ndarray)
-
-
-def omega_from_rpm(rpm: Speed) -> Speed:
-    """ω = π n/30 [rad/s] of a speed n [1/min] (a number or an array)."""
-    return rpm * math.pi / 30.0  # one revolution (2π rad) per minute (60 s)
-
-
-def rpm_from_omega(omega: Speed) -> Speed:
-    """n = 30 ω/π [1/min] of a speed ω [rad/s] (a number or an array)."""
-    return omega * 30.0 / math.pi
 
 
 def inertia_torque(slope: np.ndarray, omega: np.ndarray | float) -> np.ndarray:

@@ -18,11 +18,13 @@ from typing import Any, TypeVar
 
 import numpy as np
 
+from ._native import SPEED_LIMITS as _CORE_SPEED_LIMITS
 from ._native import MechanismError
 
 __all__ = [
     "INDEX_MAX",
     "MAGNITUDE_LIMIT",
+    "RPM_LIMITS",
     "SPEED_LIMITS",
     "allocatable_bytes",
     "as_angles",
@@ -32,6 +34,8 @@ __all__ = [
     "as_instance",
     "as_label",
     "as_nonnegative",
+    "as_omega",
+    "as_omega_array",
     "as_option",
     "as_phases",
     "as_real_array",
@@ -51,8 +55,10 @@ __all__ = [
     "design_keywords",
     "finish",
     "has_gas",
+    "omega_from_rpm",
     "one_of",
     "renamed",
+    "rpm_from_omega",
     "warn_renamed",
 ]
 
@@ -346,17 +352,62 @@ def design_keywords(crank_ratio: Any, inclination: Any, u1: Any, u2: Any) -> dic
     }
 
 
-#: The speeds [1/min] a machine may be asked to run at. Far outside them ω² and the cycle's
-#: time scales over- or underflow a double on the way to δ; no machine comes near either end.
-SPEED_LIMITS = (1e-6, 1e8)
+#: A float, or an array of them (the speed conversions keep the type they are given).
+Speed = TypeVar("Speed", float, np.ndarray)
+
+
+def omega_from_rpm(rpm: Speed) -> Speed:
+    """ω = π n/30 [rad/s] of a speed n [1/min] (a number or an array): the package's one
+    conversion of a user's speed to the core's unit."""
+    return rpm * math.pi / 30.0  # one revolution (2π rad) per minute (60 s)
+
+
+def rpm_from_omega(omega: Speed) -> Speed:
+    """n = 30 ω/π [1/min] of a speed ω [rad/s] (a number or an array): every ``rpm…`` a
+    result shows is derived from its ω by this function."""
+    return omega * 30.0 / math.pi
+
+
+#: The speeds ω [rad/s] a machine may run at: the core's one rule for a speed (its
+#: ``SPEED_LIMITS``, which every entry of the core checks), (π/30)·10⁻⁶ to (π/30)·10⁸. Far
+#: outside them ω² and the cycle's time scales over- or underflow a double on the way to δ;
+#: no machine comes near either end.
+SPEED_LIMITS: tuple[float, float] = (float(_CORE_SPEED_LIMITS[0]), float(_CORE_SPEED_LIMITS[1]))
+
+#: :data:`SPEED_LIMITS` in the user's unit [1/min] (10⁻⁶ to 10⁸), for messages.
+RPM_LIMITS: tuple[float, float] = (rpm_from_omega(SPEED_LIMITS[0]), rpm_from_omega(SPEED_LIMITS[1]))
+
+
+def _within_limits(omega: float) -> bool:
+    return math.isfinite(omega) and SPEED_LIMITS[0] <= omega <= SPEED_LIMITS[1]
+
+
+def as_omega(value: Any, name: str = "rpm") -> float:
+    """ω [rad/s] of a user's speed ``value`` [1/min] named ``name``: one finite number whose
+    ω lies within :data:`SPEED_LIMITS` (the core's rule), converted here, once; the message
+    of a bad one names ``name`` and the range in 1/min."""
+    speed = as_scalar(value, name)
+    omega = omega_from_rpm(speed)
+    if not _within_limits(omega):
+        low, high = RPM_LIMITS
+        raise MechanismError(f"{name} = {speed} is out of range; allowed: {low:g} <= {name} <= {high:g} [1/min]")
+    return omega
+
+
+def as_omega_array(values: np.ndarray, name: str = "rpm") -> np.ndarray:
+    """ω [rad/s] of an array of a user's speeds [1/min] named ``name``, every value checked as
+    :func:`as_omega` checks one (the first bad one named in its message)."""
+    omega = omega_from_rpm(np.asarray(values, dtype=np.float64))
+    bad = np.flatnonzero(~((omega >= SPEED_LIMITS[0]) & (omega <= SPEED_LIMITS[1])))  # NaN fails both
+    if bad.size:
+        as_omega(float(np.asarray(values).flat[bad[0]]), name)  # raises, naming the range in 1/min
+    return omega
 
 
 def as_speed(value: Any, name: str = "rpm") -> float:
-    """A speed [1/min]: one finite number within :data:`SPEED_LIMITS`."""
+    """A speed [1/min] as the user gave it, checked by :func:`as_omega` (the core's rule)."""
     speed = as_scalar(value, name)
-    low, high = SPEED_LIMITS
-    if not (math.isfinite(speed) and low <= speed <= high):
-        raise MechanismError(f"{name} = {speed} is out of range; allowed: {low:g} <= {name} <= {high:g} [1/min]")
+    as_omega(speed, name)
     return speed
 
 
@@ -366,10 +417,10 @@ def as_speed_range(value: Any) -> tuple[float, float]:
     if bounds.shape != (2,):
         raise MechanismError(f"rpm_range must be two speeds (low, high) [1/min], got shape {bounds.shape}")
     low, high = (float(b) for b in bounds)
-    if not (SPEED_LIMITS[0] <= low < high <= SPEED_LIMITS[1]):
+    if not (low < high and _within_limits(omega_from_rpm(low)) and _within_limits(omega_from_rpm(high))):
         raise MechanismError(
-            f"rpm_range = ({low:g}, {high:g}) is out of range; allowed: {SPEED_LIMITS[0]:g} <= low < high "
-            f"<= {SPEED_LIMITS[1]:g} [1/min]"
+            f"rpm_range = ({low:g}, {high:g}) is out of range; allowed: {RPM_LIMITS[0]:g} <= low < high "
+            f"<= {RPM_LIMITS[1]:g} [1/min]"
         )
     return low, high
 

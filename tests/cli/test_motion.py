@@ -113,6 +113,18 @@ def test_motion_csv_is_the_api_steady_state_and_flywheel(tmp_path):
     np.testing.assert_allclose(written["omega_without_gravity"], without.omega, rtol=1e-10)
 
 
+def test_motion_runs_at_the_speed_asked_and_its_rpm_columns_round_trip():
+    # --rpm 120 is ω_m = 120π/30 rad/s (power = load torque · ω_m); the speed extremes in 1/min
+    # are 30ω/π of the API's ω_min and ω_max.
+    frame = pd.read_csv(io.StringIO(run("motion", "--rpm", "120", "--format", "csv", "--no-progress")), index_col="rpm")
+    row = frame.loc[120.0]
+    assert 1000 * row["power_kw"] / row["load_torque"] == pytest.approx(math.pi * 120 / 30, rel=1e-10)
+    state = mc.steady_state(DEFAULT_MACHINE, rpm=120)
+    assert row["rpm_min"] == pytest.approx(30 * state.omega_min / math.pi, rel=1e-11)
+    assert row["rpm_max"] == pytest.approx(30 * state.omega_max / math.pi, rel=1e-11)
+    assert row["rpm_min"] < 120 < row["rpm_max"]
+
+
 def test_motion_over_the_speed_range_with_the_class_flywheel():
     data = json.loads(run("motion", "--points", "3", "--format", "json", "--no-progress"))
     machine = DEFAULT_MACHINE

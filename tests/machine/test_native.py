@@ -90,6 +90,11 @@ def close(found, expected, kind, what):
     assert found == pytest.approx(expected, rel=TOLERANCE[kind], abs=1e-15), (what, found, expected)
 
 
+def omega(rpm):
+    """ω = πn/30 [rad/s] of n [1/min]: the core takes and gives speeds in rad/s."""
+    return math.pi * rpm / 30
+
+
 @pytest.mark.parametrize("record", FIXTURES, ids=[r["name"] for r in FIXTURES])
 def test_the_steady_state_agrees_with_the_oracle(record):
     m = fixture_machine(record)
@@ -97,7 +102,7 @@ def test_the_steady_state_agrees_with_the_oracle(record):
     state = mc.steady_state(m, rpm=record["rpm"])
     native = native_machine(m)
     assert isinstance(native, MotionMachine)
-    found = native.steady_state(record["rpm"])
+    found = native.steady_state(omega(record["rpm"]))
     assert isinstance(found, SteadyResult) and found.omega is None and found.gas_torque is None
     for key, kind in [("omega_mean", "integrals"), ("period", "integrals"), ("mean_load_torque", "integrals")]:
         close(getattr(state, key), expected[key], kind, key)
@@ -122,8 +127,8 @@ def test_the_flywheel_agrees_with_the_oracle(record):
     for case in record["flywheels"]:
         delta = case["delta"]
         sized = mc.flywheel_inertia(m, delta=delta, rpm=record["rpm"])
-        found = native.flywheel_inertia(delta, record["rpm"])
-        assert isinstance(found, FlywheelResult) and (found.delta, found.rpm) == (delta, record["rpm"])
+        found = native.flywheel_inertia(delta, omega(record["rpm"]))
+        assert isinstance(found, FlywheelResult) and (found.delta, found.omega_mean) == (delta, omega(record["rpm"]))
         for key, kind in [
             ("shaft_inertia", "flywheel"),
             ("shaft_inertia_without_gravity", "flywheel"),
@@ -140,12 +145,13 @@ def test_a_stall_carries_the_angle_and_the_lowest_speed_the_oracle_finds():
     m = fixture_machine(record)
     with pytest.raises(mc.StallError) as python:
         mc.steady_state(m, rpm=case["rpm"])
-    with pytest.raises(mc.MechanismError, match=r"stalls at rpm = 5.*min_rpm") as native:
-        native_machine(m).steady_state(case["rpm"])
-    assert native.value.rpm == case["rpm"]
+    with pytest.raises(mc.MechanismError, match=r"stalls at omega_mean = .*min_omega") as native:
+        native_machine(m).steady_state(omega(case["rpm"]))
+    assert native.value.omega_mean == omega(case["rpm"])
     for raised in (python.value, native.value):
         assert raised.angle == pytest.approx(case["angle"], abs=1e-3)
-        close(raised.min_rpm, case["min_rpm"], "min_rpm", "min_rpm")
+    close(python.value.min_rpm, case["min_rpm"], "min_rpm", "min_rpm")
+    close(native.value.min_omega, omega(case["min_rpm"]), "min_rpm", "min_omega")
 
 
 def test_a_machine_the_fixtures_lack_agrees_with_the_oracle_run_here():
@@ -202,22 +208,23 @@ DESIGNS = {
 def test_sweep_rows_are_the_steady_states_of_their_machines(name):
     m = machine(name)
     columns = {k: np.array(v) for k, v in DESIGNS[name].items()}
+    core = {"omega" if k == "rpm" else k: omega(v) if k == "rpm" else v for k, v in columns.items()}
     native = native_machine(m)
-    found = native.sweep(columns, list(MOTION_SWEEP_OUTPUTS), rpm=m.rpm, target_delta=1 / 100)
+    found = native.sweep(core, list(MOTION_SWEEP_OUTPUTS), omega=omega(m.rpm), target_delta=1 / 100)
     assert set(found) == set(MOTION_SWEEP_OUTPUTS)
     assert found["stalled"].dtype == np.bool_ and not found["stalled"].any()
     for row in range(len(columns["rpm"])):
         design = {k: float(v[row]) for k, v in columns.items()}
         own = native_machine(machine_variant(m, design))
-        state = own.steady_state(design["rpm"])
-        flywheel = own.flywheel_inertia(1 / 100, design["rpm"])
+        state = own.steady_state(omega(design["rpm"]))
+        flywheel = own.flywheel_inertia(1 / 100, omega(design["rpm"]))
         expected = {
             "delta": state.delta,
             "delta_without_gravity": state.delta_without_gravity,
             NATIVE_COASTING: getattr(state, NATIVE_COASTING),
             "gravity_effect": state.delta / state.delta_without_gravity - 1,
-            "rpm_min": state.omega_min * 30 / math.pi,
-            "rpm_max": state.omega_max * 30 / math.pi,
+            "omega_min": state.omega_min,
+            "omega_max": state.omega_max,
             "flywheel_inertia": flywheel.shaft_inertia,
             "flywheel_inertia_without_gravity": flywheel.shaft_inertia_without_gravity,
         }
@@ -230,59 +237,59 @@ def test_sweep_rows_are_the_steady_states_of_their_machines(name):
 
 def test_a_pressure_scale_agrees_to_rounding():
     m = machine("marine-2t-twin")
-    found = native_machine(m).sweep({"pressure_scale": np.array([1.1, 0.7])}, ["delta"], rpm=m.rpm)
+    found = native_machine(m).sweep({"pressure_scale": np.array([1.1, 0.7])}, ["delta"], omega=omega(m.rpm))
     for row, scale in enumerate((1.1, 0.7)):
-        expected = native_machine(machine_variant(m, {"pressure_scale": scale})).steady_state(m.rpm).delta
+        expected = native_machine(machine_variant(m, {"pressure_scale": scale})).steady_state(omega(m.rpm)).delta
         assert found["delta"][row] == pytest.approx(expected, rel=1e-12)
 
 
 def test_a_stalled_row_is_a_row():
     m = machine("slow-compressor")
-    found = native_machine(m).sweep({"rpm": np.array([5.0, 120.0])}, ["delta", "rpm_min"])
+    found = native_machine(m).sweep({"omega": omega(np.array([5.0, 120.0]))}, ["delta", "omega_min"])
     assert found["stalled"].tolist() == [True, False]
-    assert np.isnan(found["delta"][0]) and np.isnan(found["rpm_min"][0])
-    assert found["delta"][1] == native_machine(m).steady_state(120.0).delta
+    assert np.isnan(found["delta"][0]) and np.isnan(found["omega_min"][0])
+    assert found["delta"][1] == native_machine(m).steady_state(omega(120.0)).delta
 
 
 def test_only_what_is_asked_comes_back():
     m = machine("inline-4")
     native = native_machine(m)
-    assert set(native.sweep({"rpm": np.array([3000.0])}, ["delta"])) == {"delta", "stalled"}
-    fly = native.sweep({"rpm": np.array([3000.0])}, ["flywheel_inertia"], target_delta=1 / 100)
+    assert set(native.sweep({"omega": omega(np.array([3000.0]))}, ["delta"])) == {"delta", "stalled"}
+    fly = native.sweep({"omega": omega(np.array([3000.0]))}, ["flywheel_inertia"], target_delta=1 / 100)
     assert set(fly) == {"flywheel_inertia"}
-    assert set(native.sweep({}, ["rpm_max"], rpm=3000.0)) == {"rpm_max", "stalled"}
+    assert set(native.sweep({}, ["omega_max"], omega=omega(3000.0))) == {"omega_max", "stalled"}
 
 
 def test_the_native_results_are_typed_and_frozen():
     m = machine("marine-2t-twin")
     native = native_machine(m)
     phi = np.linspace(0.0, m.cycle, 5)
-    state = native.steady_state(m.rpm, phi=phi)
-    sized = native.flywheel_inertia(1 / 50, m.rpm)
+    state = native.steady_state(omega(m.rpm), phi=phi)
+    sized = native.flywheel_inertia(1 / 50, omega(m.rpm))
     assert isinstance(state, SteadyResult) and isinstance(sized, FlywheelResult)
     assert state.omega.shape == state.gravity_torque.shape == (5,)
     for result, name in [(state, "delta"), (state, "omega"), (sized, "shaft_inertia")]:
         with pytest.raises(AttributeError):
             setattr(result, name, 0.0)
-    assert state == native.steady_state(m.rpm, phi=phi) != native.steady_state(m.rpm)
-    assert sized == native.flywheel_inertia(1 / 50, m.rpm) != native.flywheel_inertia(1 / 40, m.rpm)
+    assert state == native.steady_state(omega(m.rpm), phi=phi) != native.steady_state(omega(m.rpm))
+    assert sized == native.flywheel_inertia(1 / 50, omega(m.rpm)) != native.flywheel_inertia(1 / 40, omega(m.rpm))
 
 
 def test_the_object_is_reused_and_thread_count_independent():
     m = machine("marine-2t-twin")
     native = native_machine(m)
-    first = native.steady_state(m.rpm)
-    assert [native.steady_state(m.rpm) for _ in range(3)] == [first] * 3
+    first = native.steady_state(omega(m.rpm))
+    assert [native.steady_state(omega(m.rpm)) for _ in range(3)] == [first] * 3
     with ThreadPoolExecutor(4) as pool:
-        assert list(pool.map(lambda _: native.steady_state(m.rpm), range(8))) == [first] * 8
-    designs = {"shaft_inertia": np.linspace(100.0, 400.0, 12), "rpm": np.linspace(60.0, 140.0, 12)}
-    outputs = ["delta", "delta_without_gravity", NATIVE_COASTING, "rpm_max", "flywheel_inertia"]
+        assert list(pool.map(lambda _: native.steady_state(omega(m.rpm)), range(8))) == [first] * 8
+    designs = {"shaft_inertia": np.linspace(100.0, 400.0, 12), "omega": omega(np.linspace(60.0, 140.0, 12))}
+    outputs = ["delta", "delta_without_gravity", NATIVE_COASTING, "omega_max", "flywheel_inertia"]
     parallel = native.sweep(designs, outputs, target_delta=1 / 50, parallel_threshold=0)
     serial = native.sweep(designs, outputs, target_delta=1 / 50, parallel_threshold=2**62)
     assert parallel.keys() == serial.keys()
     for name in parallel:
         assert parallel[name].tobytes() == serial[name].tobytes(), name
-    assert native.steady_state(m.rpm) == first
+    assert native.steady_state(omega(m.rpm)) == first
 
 
 def columns_of(m):
@@ -324,24 +331,24 @@ def test_a_bad_machine_names_the_parameter(change, named):
 def test_bad_calls_name_the_parameter():
     m = machine("marine-2t-twin")
     native = native_machine(m)
-    with pytest.raises(mc.MechanismError, match="rpm"):
+    with pytest.raises(mc.MechanismError, match="omega_mean"):
         native.steady_state(-1.0)
     with pytest.raises(mc.MechanismError, match="min_speed_ratio"):
-        native.steady_state(m.rpm, min_speed_ratio=1.5)
+        native.steady_state(omega(m.rpm), min_speed_ratio=1.5)
     with pytest.raises(mc.MechanismError, match="delta"):
-        native.flywheel_inertia(0.0, m.rpm)
+        native.flywheel_inertia(0.0, omega(m.rpm))
     with pytest.raises(mc.MechanismError, match='designs = "speed" is not allowed'):
         native.sweep({"speed": np.ones(2)}, ["delta"])
     with pytest.raises(mc.MechanismError, match="outputs"):
-        native.sweep({"rpm": np.ones(2)}, ["speed"])
+        native.sweep({"omega": np.ones(2)}, ["speed"])
     with pytest.raises(mc.MechanismError, match="shaft_inertia"):
-        native.sweep({"rpm": np.ones(2), "shaft_inertia": np.ones(3)}, ["delta"])
+        native.sweep({"omega": np.ones(2), "shaft_inertia": np.ones(3)}, ["delta"])
     with pytest.raises(mc.MechanismError, match="design 1: shaft_inertia"):
-        native.sweep({"shaft_inertia": np.array([1.0, -1.0])}, ["delta"], rpm=m.rpm)
+        native.sweep({"shaft_inertia": np.array([1.0, -1.0])}, ["delta"], omega=omega(m.rpm))
     with pytest.raises(mc.MechanismError, match="delta"):
-        native.sweep({"rpm": np.ones(2)}, ["flywheel_inertia"])
-    with pytest.raises(TypeError, match=r'designs\["rpm"\] must be a 1-D float64 array'):
-        native.sweep({"rpm": [1.0, 2.0]}, ["delta"])
+        native.sweep({"omega": np.ones(2)}, ["flywheel_inertia"])
+    with pytest.raises(TypeError, match=r'designs\["omega"\] must be a 1-D float64 array'):
+        native.sweep({"omega": [1.0, 2.0]}, ["delta"])
 
 
 def test_a_callable_pressure_crosses_to_rust_sampled_once():

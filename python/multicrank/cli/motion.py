@@ -12,8 +12,8 @@ import numpy as np
 
 from .._files import write_atomically
 from .._native import MechanismError
-from .._shaft import omega_from_rpm, rpm_from_omega
 from .._text import counted
+from .._validation import as_speed, omega_from_rpm, rpm_from_omega
 from ._group import UserError, machine_option, renamed_option
 from ._output import format_option, out_file, out_option, write_result, writing
 
@@ -166,13 +166,11 @@ def simulate_command(
 
 
 def _speed(machine: Machine, rpm: float | None, option: str) -> float:
-    """The speed [1/min] asked for, or the machine's own; checked."""
+    """The speed [1/min] asked for, or the machine's own; checked by the core's rule."""
     speed = machine.rpm if rpm is None else rpm
     if speed is None:
         raise MechanismError(f"machine {machine.name!r} has no running speed: give {option}")
-    if not (math.isfinite(speed) and speed > 0):
-        raise MechanismError(f"{option} = {speed} is out of range; allowed: > 0 [1/min]")
-    return float(speed)
+    return as_speed(speed, option)  # the core's rule for a speed
 
 
 def _without_gas(machine: Machine) -> Machine:

@@ -10,7 +10,16 @@ import numpy as np
 from .._native import STANDARD_GRAVITY as _NATIVE_STANDARD_GRAVITY
 from .._native import crank_phases as _native_crank_phases
 from .._native import dimensionless_moments as _native_dimensionless_moments
-from .._validation import as_count, as_option, as_real_array, as_strokes, broadcast_designs, check_size, finish
+from .._validation import (
+    as_count,
+    as_omega_array,
+    as_option,
+    as_real_array,
+    as_strokes,
+    broadcast_designs,
+    check_size,
+    finish,
+)
 
 __all__ = ["STANDARD_GRAVITY", "crank_phases", "dimensionless_moments"]
 
@@ -175,5 +184,6 @@ def dimensionless_moments(
     )
     arrays = {name: as_real_array(value, name) for name, value in values.items()}
     shape, flat = broadcast_designs("physical parameters", **arrays)
+    flat["omega"] = as_omega_array(flat.pop("rpm"), "rpm")  # the core's speed is ω [rad/s]
     moments = _native_dimensionless_moments(flat)
     return finish(moments["u1"], shape), finish(moments["u2"], shape)

@@ -13,7 +13,7 @@ import numpy as np
 from .._native import MechanismError
 from .._native import machine_engine as _native_machine_engine
 from .._text import counted
-from .._validation import as_speed
+from .._validation import as_omega, as_scalar
 from ..gravity.engines import Engine
 
 __all__ = ["MachineDescription"]
@@ -66,8 +66,8 @@ class MachineDescription:
             if self.rpm is None:
                 raise MechanismError(f"rpm is required: machine {self.name!r} has no running speed (rpm) of its own")
             rpm = self.rpm
-        speed = as_speed(rpm, "rpm")
-        columns = _native_machine_engine(self._units, self.g, self.shaft_inertia, speed)
+        speed = as_scalar(rpm, "rpm")
+        columns = _native_machine_engine(self._units, self.g, self.shaft_inertia, as_omega(speed, "rpm"))
         return Engine(**columns, name=f"{self.name} at {speed:g} rpm")
 
     def design(self, rpm: float | None = None) -> dict[str, Any]:

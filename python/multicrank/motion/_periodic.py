@@ -13,8 +13,7 @@ from typing import Any
 import numpy as np
 
 from .._native import MechanismError
-from .._shaft import omega_from_rpm
-from .._validation import as_scalar, as_speed
+from .._validation import as_omega, as_scalar
 from ..machine.machine import Machine
 from .loads import BALANCE, AppliedTorques, Torque
 
@@ -42,10 +41,11 @@ def as_min_speed_ratio(value: Any) -> float:
     return ratio
 
 
-def mean_rpm(value: Any, route: str, machine: Machine) -> float | None:
-    """The mean speed n [1/min] asked for, ``rpm`` = ``value``, default the machine's own
-    ``rpm`` (as :meth:`~multicrank.Machine.engine` takes it), checked; None where the load
-    fixes the speed."""
+def mean_speed(value: Any, route: str, machine: Machine) -> float | None:
+    """ω_m [rad/s] of the mean speed asked for, ``rpm`` = ``value`` [1/min], default the
+    machine's own ``rpm`` (as :meth:`~multicrank.Machine.engine` takes it), checked and
+    converted once (:func:`~multicrank._validation.as_omega`); None where the load fixes the
+    speed."""
     if route != BALANCE:
         if value is not None:
             raise MechanismError(
@@ -60,13 +60,7 @@ def mean_rpm(value: Any, route: str, machine: Machine) -> float | None:
                 "has no rpm of its own)"
             )
         value = machine.rpm
-    return as_speed(value, "rpm")
-
-
-def mean_speed(value: Any, route: str, machine: Machine) -> float | None:
-    """ω_m [rad/s] of :func:`mean_rpm`; None where the load fixes the speed."""
-    rpm = mean_rpm(value, route, machine)
-    return None if rpm is None else omega_from_rpm(rpm)
+    return as_omega(value, "rpm")
 
 
 #: How each route is solved (:attr:`SteadyState.method`), and what that is in words.

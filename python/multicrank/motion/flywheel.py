@@ -12,8 +12,7 @@ from dataclasses import dataclass
 from typing import Any, ClassVar
 
 from .._native import MechanismError
-from .._shaft import omega_from_rpm, rpm_from_omega
-from .._validation import as_flag, as_instance, as_scalar
+from .._validation import as_flag, as_instance, as_scalar, rpm_from_omega
 from ..machine.machine import Machine
 from ..machine.native import motion_machine
 from ._periodic import (
@@ -22,7 +21,7 @@ from ._periodic import (
     SOLVED,
     as_min_speed_ratio,
     drive_table,
-    mean_rpm,
+    mean_speed,
     resolve_rules,
 )
 from ._result import MotionResult
@@ -175,22 +174,11 @@ def flywheel_inertia(
     machine = as_instance(machine, Machine, "machine")
     target = _as_delta(delta)
     rules = resolve_rules(load, drive)
-    rpm_value = mean_rpm(rpm, rules.route, machine)
-    omega_mean = None if rpm_value is None else omega_from_rpm(rpm_value)
+    omega_mean = mean_speed(rpm, rules.route, machine)
     gravity = as_flag(gravity, "gravity")
     ratio = as_min_speed_ratio(min_speed_ratio)
     if rules.route == "general":  # a load or drive that depends on the speed: shooting
-        shot = flywheel_for(machine, rules.torques.net, target, gravity, ratio)
-        return FlywheelInertia(
-            shaft_inertia=shot.shaft_inertia,
-            shaft_inertia_without_gravity=shot.shaft_inertia_without_gravity,
-            textbook=shot.textbook,
-            textbook_error=shot.textbook_error,
-            delta=target,
-            rpm=rpm_from_omega(shot.omega_mean),
-            energy_swing=shot.energy_swing,
-            method=METHODS[rules.route],
-        )
+        return _inertia(flywheel_for(machine, rules.torques.net, target, gravity, ratio), target, rules.route)
     # The core: "balance" beside any drive (a callable held at ω_m and sampled, one that does
     # not depend on φ leaving the motion as without it), or the square law beside a constant
     # drive (the mean speed reached a result); its refusal of a target no shaft inertia gives
@@ -198,9 +186,9 @@ def flywheel_inertia(
     native = motion_machine(machine)
     try:
         if rules.route == BALANCE:
-            assert rpm_value is not None and omega_mean is not None
+            assert omega_mean is not None
             table = drive_table(machine, rules, omega_mean)
-            sized = native.flywheel_inertia(target, rpm_value, ratio, gravity=gravity, drive=table)
+            sized = native.flywheel_inertia(target, omega_mean, ratio, gravity=gravity, drive=table)
         else:
             assert isinstance(rules.load, Torque)
             coefficient = rules.load.value.coefficient
@@ -212,13 +200,19 @@ def flywheel_inertia(
         if reach is None:
             raise
         raise unreachable(target, reach, error.closest) from None  # type: ignore[attr-defined]
+    return _inertia(sized, target, rules.route)
+
+
+def _inertia(sized: Any, target: float, route: str) -> FlywheelInertia:
+    """The result of a flywheel found by the core or by shooting (its numbers, the mean speed
+    ``omega_mean`` [rad/s]), its ``rpm`` derived from that ω here."""
     return FlywheelInertia(
         shaft_inertia=sized.shaft_inertia,
         shaft_inertia_without_gravity=sized.shaft_inertia_without_gravity,
         textbook=sized.textbook,
         textbook_error=sized.textbook_error,
         delta=target,
-        rpm=sized.rpm,
+        rpm=rpm_from_omega(sized.omega_mean),
         energy_swing=sized.energy_swing,
-        method=METHODS[rules.route],
+        method=METHODS[route],
     )

@@ -27,15 +27,15 @@ from typing import Any, ClassVar
 import numpy as np
 
 from .._native import MechanismError
-from .._shaft import omega_from_rpm, rpm_from_omega
 from .._validation import (
     MAGNITUDE_LIMIT,
     SPEED_LIMITS,
+    as_omega,
     as_returned,
     as_scalar,
-    as_speed,
     one_of,
     renamed,
+    rpm_from_omega,
     warn_renamed,
 )
 
@@ -113,11 +113,11 @@ class PowerLawLoad:
                 f"torque = {torque} is out of range; allowed: 0 <= torque <= {MAGNITUDE_LIMIT:g} [N·m]"
             )
         if name == "rpm":
-            nominal = as_speed(value, "rpm")
-            omega = omega_from_rpm(nominal)
+            nominal = as_scalar(value, "rpm")
+            omega = as_omega(nominal, "rpm")
         else:
             omega = as_scalar(value, "speed")
-            low, high = (omega_from_rpm(limit) for limit in SPEED_LIMITS)
+            low, high = SPEED_LIMITS
             if not (math.isfinite(omega) and low <= omega <= high):
                 # the speeds the package takes (a speed of 1e200 rad/s overflowed in the coefficient)
                 raise MechanismError(f"speed = {omega} is out of range; allowed: {low:g} <= speed <= {high:g} [rad/s]")

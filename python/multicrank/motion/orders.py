@@ -283,7 +283,7 @@ def _checked_orders(orders: Any, part: str) -> tuple[float, np.ndarray, np.ndarr
         omega = float(orders.attrs["omega"])
     except (TypeError, ValueError):
         raise MechanismError(f"{where}: attrs['omega'] = {orders.attrs['omega']!r} is not a speed [rad/s]") from None
-    low, high = (omega_from_rpm(limit) for limit in SPEED_LIMITS)
+    low, high = SPEED_LIMITS
     if not (math.isfinite(omega) and low <= omega <= high):
         raise MechanismError(
             f"{where}: attrs['omega'] = {omega!r} is out of range; allowed: {low:g} <= omega <= {high:g} [rad/s]"

@@ -41,11 +41,19 @@ from typing import Any
 import numpy as np
 
 from .._native import MechanismError, SteadyResult
-from .._shaft import inertia_torque, omega_from_rpm, rpm_from_omega
-from .._validation import as_count, as_flag, as_instance
+from .._shaft import inertia_torque
+from .._validation import as_count, as_flag, as_instance, rpm_from_omega
 from ..machine.machine import Machine
 from ..machine.native import motion_machine
-from ._periodic import DEFAULT_MIN_SPEED_RATIO, METHODS, Rules, as_min_speed_ratio, drive_table, mean_rpm, resolve_rules
+from ._periodic import (
+    DEFAULT_MIN_SPEED_RATIO,
+    METHODS,
+    Rules,
+    as_min_speed_ratio,
+    drive_table,
+    mean_speed,
+    resolve_rules,
+)
 from ._shooting import ShaftCycle, Stall, cycle_mean, shoot
 from .loads import BALANCE, PowerLawLoad, Torque
 
@@ -156,7 +164,7 @@ def steady_state(
     """
     machine = as_instance(machine, Machine, "machine")
     rules = resolve_rules(load, drive)
-    rpm_value = mean_rpm(rpm, rules.route, machine)
+    omega = mean_speed(rpm, rules.route, machine)
     gravity = as_flag(gravity, "gravity")
     ratio = as_min_speed_ratio(min_speed_ratio)
     count = _as_points(points)
@@ -164,7 +172,7 @@ def steady_state(
     if rules.route == "general":
         numbers, later = _shooting_solution(machine, rules, gravity, ratio, count)
     else:
-        numbers, later = _native_solution(machine, rules, rpm_value, gravity, ratio, count)
+        numbers, later = _native_solution(machine, rules, omega, gravity, ratio, count)
     return SteadyState(
         machine=machine,
         load_rule=_describe(load, rules),
@@ -245,7 +253,7 @@ def _arrays(
 
 
 def _native_solution(
-    machine: Machine, rules: Rules, rpm: float | None, gravity: bool, ratio: float, points: int
+    machine: Machine, rules: Rules, omega: float | None, gravity: bool, ratio: float, points: int
 ) -> _Solved:
     """The steady state by the Rust core: the "balance" load beside any drive (one solve
     now; the arrays and the two comparison solves when first read), or a square law beside
@@ -255,14 +263,14 @@ def _native_solution(
     balance = rules.route == BALANCE
     square_law = not balance
     native = motion_machine(machine)
-    table = drive_table(machine, rules, omega_from_rpm(rpm)) if balance and rpm is not None else None
+    table = drive_table(machine, rules, omega) if balance and omega is not None else None
     # The square law's curves come with its solution; "balance" makes its angles only when
     # its arrays are read.
     square_law_phi = None if balance else np.linspace(0.0, machine.cycle, points)
     try:
         if balance:
-            assert rpm is not None
-            found = native.steady_state(rpm, ratio, None, False, gravity=gravity, drive=table)
+            assert omega is not None
+            found = native.steady_state(omega, ratio, None, False, gravity=gravity, drive=table)
         else:
             assert isinstance(rules.load, Torque)
             found = native.square_law(
@@ -283,24 +291,24 @@ def _native_solution(
                     f"near φ = {math.degrees(angle):.4g}°; it has no steady running (min_speed_ratio = {ratio:g})",
                     angle=angle,
                 ) from None
-        raise _native_stall(angle, rpm, getattr(error, "min_rpm", None), ratio) from None
+        raise _native_stall(angle, omega, getattr(error, "min_omega", None), ratio) from None
     numbers = {name: float(getattr(found, name)) for name in _NUMBERS}
     if balance and rules.drive is not None and table is None:  # the load takes it (Rules.plain_balance)
-        assert rpm is not None
-        numbers["mean_load_torque"] += rules.drive_at(omega_from_rpm(rpm))
+        assert omega is not None
+        numbers["mean_load_torque"] += rules.drive_at(omega)
     mean, period, load = numbers["omega_mean"], numbers["period"], numbers["mean_load_torque"]
 
     def later(what: str) -> dict[str, Any]:
         if what == "comparisons":
             if not balance:  # the square law gave them with the rest
                 return _native_comparisons(found)
-            assert rpm is not None
-            compared = native.comparisons(rpm, found.delta, mean, ratio, gravity=gravity, drive=table)
+            assert omega is not None
+            compared = native.comparisons(omega, found.delta, mean, ratio, gravity=gravity, drive=table)
             return dict(zip(_COMPARISONS, compared, strict=True))
         if balance:
-            assert rpm is not None
+            assert omega is not None
             phi = np.linspace(0.0, machine.cycle, points)
-            curves = native.steady_state(rpm, ratio, phi, False, gravity=gravity, drive=table)
+            curves = native.steady_state(omega, ratio, phi, False, gravity=gravity, drive=table)
             return _arrays(machine, rules, gravity, phi, curves, mean, period, load)
         assert square_law_phi is not None
         return _arrays(machine, rules, gravity, square_law_phi, found, mean, period, load)
@@ -308,15 +316,16 @@ def _native_solution(
     return dict(numbers, method=METHODS[rules.route]), later
 
 
-def _native_stall(angle: float, rpm: float | None, min_rpm: float | None, ratio: float) -> StallError:
+def _native_stall(angle: float, omega: float | None, min_omega: float | None, ratio: float) -> StallError:
     """The core's stall (its typed attributes: the angle, the speed asked for and the lowest
-    that runs) in words."""
-    if rpm is None or min_rpm is None:
+    that runs, rad/s) in words, its speeds in 1/min (the one place they are derived)."""
+    if omega is None or min_omega is None:
         return StallError(
             f"the machine stalls with this load: its speed would fall below min_speed_ratio·ω_m near φ = "
             f"{math.degrees(angle):.4g}°; it has no steady running (min_speed_ratio = {ratio:g})",
             angle=angle,
         )
+    rpm, min_rpm = rpm_from_omega(omega), rpm_from_omega(min_omega)
     return StallError(
         f"the machine stalls at rpm = {rpm:.6g}: it would crawl over its dead point at φ = {math.degrees(angle):.4g}° "
         f"(ω_min < min_speed_ratio·ω_m with min_speed_ratio = {ratio:g}); the lowest mean speed that runs is "
@@ -350,9 +359,7 @@ def _shooting_solution(machine: Machine, rules: Rules, gravity: bool, ratio: flo
             delta_without = math.nan
     # Coasting: gas, drive and load gone; the conservative machine (J(φ) and gravity) at the
     # same mean speed (the core's energy method).
-    _, delta_coasting = motion_machine(machine).comparisons(
-        rpm_from_omega(mean), solution.delta, mean, ratio, gravity=gravity
-    )
+    _, delta_coasting = motion_machine(machine).comparisons(mean, solution.delta, mean, ratio, gravity=gravity)
     load = rules.load
     mean_load = 0.0
     if isinstance(load, Torque):

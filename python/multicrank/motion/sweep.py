@@ -27,8 +27,16 @@ import pandas as pd
 
 from .._native import MOTION_SWEEP_OUTPUTS as _CORE_OUTPUTS
 from .._native import MechanismError
-from .._shaft import rpm_from_omega
-from .._validation import as_count, as_flag, as_instance, contiguous, one_of, warn_renamed
+from .._validation import (
+    as_count,
+    as_flag,
+    as_instance,
+    contiguous,
+    omega_from_rpm,
+    one_of,
+    rpm_from_omega,
+    warn_renamed,
+)
 from ..machine.machine import Machine
 from ..machine.native import motion_machine
 from ..sweeps.chunks import in_memory, is_dask, to_parquet
@@ -53,8 +61,9 @@ __all__ = ["MOTION_SWEEP_OUTPUTS", "MachineGrid", "motion_sweep"]
 #: DeprecationWarning, and gives the column under its new name.
 RENAMED_OUTPUTS = {"delta_gravity_only": "delta_coasting"}
 # The native extension's names of our outputs, where they differ (it still says
-# "delta_gravity_only" for δ of the machine coasting).
-_NATIVE_NAMES = {new: old for old, new in RENAMED_OUTPUTS.items() if old in _CORE_OUTPUTS}
+# "delta_gravity_only" for δ of the machine coasting, and gives the speed extremes in rad/s).
+_SPEED_OUTPUTS = {"rpm_min": "omega_min", "rpm_max": "omega_max"}
+_NATIVE_NAMES = {new: old for old, new in RENAMED_OUTPUTS.items() if old in _CORE_OUTPUTS} | _SPEED_OUTPUTS
 _FROM_NATIVE = {native: name for name, native in _NATIVE_NAMES.items()}
 # The flywheel's outputs (which need delta=), and the steady state's: the core's, and
 # near_stall (δ > NEAR_STALL_DELTA, from δ) after stalled.
@@ -147,17 +156,23 @@ def _solve_chunk(
         native = motion_machine(machine)
         known = machine_columns(machine)
         names = [c for c in frame.columns if c in known]
+        # The core's speeds are ω [rad/s]: the rpm column [1/min] (checked by check_values) and
+        # the machine's rpm converted here, once; the speed extremes back to 1/min below.
         designs = {name: contiguous(frame[name].to_numpy(dtype=np.float64)) for name in names}
+        if "rpm" in designs:
+            designs["omega"] = contiguous(omega_from_rpm(designs.pop("rpm")))
         computed = [o for o in outputs if o != "near_stall"]
+        omega = None if machine.rpm is None else omega_from_rpm(machine.rpm)
         try:
-            found = native.sweep(
-                designs, [_NATIVE_NAMES.get(o, o) for o in computed], rpm=machine.rpm, target_delta=delta
-            )
+            found = native.sweep(designs, [_NATIVE_NAMES.get(o, o) for o in computed], omega=omega, target_delta=delta)
         except MechanismError as error:
             raise _refused_design(machine, frame, names, error) from None
         result = frame.copy()
         for name in outputs:  # near_stall in its place, from delta by _near_stall
-            result[name] = False if name == "near_stall" else found[_NATIVE_NAMES.get(name, name)]
+            if name in _SPEED_OUTPUTS:
+                result[name] = rpm_from_omega(found[_SPEED_OUTPUTS[name]])
+            else:
+                result[name] = False if name == "near_stall" else found[_NATIVE_NAMES.get(name, name)]
         return _near_stall(result, outputs)
     return _near_stall(_solve_rows(machine, frame, outputs, load, delta), outputs)
 

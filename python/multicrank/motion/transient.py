@@ -27,15 +27,18 @@ from typing import Any, ClassVar
 import numpy as np
 
 from .._native import MechanismError
-from .._shaft import inertia_torque, omega_from_rpm, rpm_from_omega
+from .._shaft import inertia_torque
 from .._validation import (
+    RPM_LIMITS,
     SPEED_LIMITS,
     as_flag,
     as_instance,
     as_real_array,
     as_scalar,
+    omega_from_rpm,
     one_of,
     renamed,
+    rpm_from_omega,
     warn_renamed,
 )
 from ..machine.machine import Machine
@@ -403,18 +406,19 @@ def _start_speed(rpm0: Any, omega0: Any) -> tuple[str, float]:
             f"{name} = {speed} is out of range; allowed: {name} >= 0 [{unit}] (gas pressure per cycle angle "
             "assumes forward rotation)"
         )
-    # From rest, or at a speed within the machines' limits (SPEED_LIMITS, in 1/min): a start
-    # speed of 1e-159 rad/s is no rest and no speed, and the integrator's step control
+    # From rest, or at a speed within the machines' limits (the core's SPEED_LIMITS, in rad/s):
+    # a start speed of 1e-159 rad/s is no rest and no speed, and the integrator's step control
     # divides by it (hypothesis found the overflow).
-    low, high = SPEED_LIMITS if name == "rpm0" else (float(omega_from_rpm(s)) for s in SPEED_LIMITS)
-    if speed != 0 and not low <= speed <= high:
+    omega = speed if name == "omega0" else float(omega_from_rpm(speed))
+    low, high = RPM_LIMITS if name == "rpm0" else SPEED_LIMITS
+    if omega != 0 and not SPEED_LIMITS[0] <= omega <= SPEED_LIMITS[1]:
         raise MechanismError(
             f"{name} = {speed} is out of range; allowed: {name} = 0 (from rest) or {low:g} <= {name} <= {high:g} "
             f"[{unit}]"
         )
     if name == "omega0":
         warn_renamed("simulate(omega0=ω [rad/s])", "rpm0=n [1/min]", stacklevel=4)
-    return name, speed if name == "omega0" else float(omega_from_rpm(speed))
+    return name, omega
 
 
 def _balance_speed(balance_rpm: Any, balance_speed: Any, balance: bool) -> float | None:

@@ -25,7 +25,7 @@ import numpy as np
 
 from .._native import MechanismError
 from .._text import counted
-from .._validation import SPEED_LIMITS, as_instance, as_real_array, as_speed
+from .._validation import SPEED_LIMITS, as_instance, as_real_array, as_speed, omega_from_rpm
 from ..machine.cylinder import Cylinder, Pressure
 from ..machine.machine import Machine
 from ..pressure.diagram import IndicatorDiagram
@@ -167,8 +167,9 @@ def check_values(name: str, values: Any, rows: Any = None) -> np.ndarray:
     bad value's row as :func:`row_variant` does."""
     array = as_real_array(values, name).astype(np.float64, copy=False)
     if name == "rpm":
-        low, high = SPEED_LIMITS
-        bad = np.flatnonzero(~((array >= low) & (array <= high)))  # NaN fails both
+        low, high = SPEED_LIMITS  # the core's rule, on ω [rad/s]
+        omega = omega_from_rpm(array)
+        bad = np.flatnonzero(~((omega >= low) & (omega <= high)))  # NaN fails both
     else:
         bad = np.flatnonzero(~np.isfinite(array))
     if bad.size:

@@ -20,7 +20,7 @@ use crate::angles::{Phi, PreparedPhi};
 use crate::engine::{Cylinder, Engine};
 use crate::error::{check, check_length, check_rows_length, MechanismError, Result};
 use crate::exact::{crank_run, CrankTerm, Quantity};
-use crate::mechanism::{check_rpm, check_shaft_inertia, omega_from_rpm, Phases, PhysicalUnit};
+use crate::mechanism::{check_shaft_inertia, check_speed, Phases, PhysicalUnit};
 use crate::parallel::{for_each_row_segment, Parallelism};
 use crate::trig::MulAdd;
 
@@ -98,7 +98,7 @@ impl PhysicalCylinder {
             // Neither used by the rules nor by the moment arms: energies here are in
             // joules, not ÷ I_w ω².
             shaft_inertia: 1.0,
-            rpm: 1.0,
+            omega: 1.0,
             g,
         }
     }
@@ -272,12 +272,11 @@ impl Dynamics {
         Ok(())
     }
 
-    /// The dimensionless engine of these units at `rpm` with shaft inertia I_w:
-    /// U1, U2 divided by I_w ω², ω = π·rpm/30.
-    pub fn dimensionless(&self, shaft_inertia: f64, rpm: f64) -> Result<Engine> {
+    /// The dimensionless engine of these units at the speed `omega` ω [rad/s] with shaft
+    /// inertia I_w: U1, U2 divided by I_w ω².
+    pub fn dimensionless(&self, shaft_inertia: f64, omega: f64) -> Result<Engine> {
         check_shaft_inertia(shaft_inertia)?;
-        check_rpm(rpm)?;
-        let omega = omega_from_rpm(rpm);
+        check_speed("omega", omega)?;
         let scale = shaft_inertia * omega * omega;
         Engine::new(
             self.gravity

@@ -34,13 +34,13 @@ pub enum MechanismError {
         elements: u128,
         item_bytes: usize,
     },
-    /// The machine cannot keep the mean speed `rpm` asked for: its speed would fall below
-    /// the stall limit (or to zero) near the crank angle `angle` (rad); `min_rpm`, where
-    /// found, is the lowest mean speed (1/min) that runs.
+    /// The machine cannot keep the mean speed `omega_mean` (rad/s) asked for: its speed
+    /// would fall below the stall limit (or to zero) near the crank angle `angle` (rad);
+    /// `min_omega`, where found, is the lowest mean speed (rad/s) that runs.
     Stall {
         angle: f64,
-        rpm: f64,
-        min_rpm: Option<f64>,
+        omega_mean: f64,
+        min_omega: Option<f64>,
     },
     /// No shaft inertia gives the coefficient of speed fluctuation `delta` asked for:
     /// `reach` says why, and `closest` is the δ nearest to it that the machine reaches (the
@@ -120,20 +120,20 @@ impl fmt::Display for MechanismError {
             ),
             Self::Stall {
                 angle,
-                rpm,
-                min_rpm,
+                omega_mean,
+                min_omega,
             } => {
                 write!(
                     f,
-                    "the machine stalls at rpm = {rpm}: it would crawl over its dead point \
-                     near phi = {angle} rad ({:.4} deg)",
+                    "the machine stalls at omega_mean = {omega_mean} rad/s: it would crawl over \
+                     its dead point near phi = {angle} rad ({:.4} deg)",
                     angle.to_degrees()
                 )?;
-                match min_rpm {
-                    Some(min_rpm) => {
+                match min_omega {
+                    Some(min_omega) => {
                         write!(
                             f,
-                            "; the lowest mean speed that runs is min_rpm = {min_rpm}"
+                            "; the lowest mean speed that runs is min_omega = {min_omega} rad/s"
                         )
                     }
                     None => Ok(()),

@@ -47,8 +47,8 @@ pub use harmonics::{
     surviving_harmonics, PhaseSums, PAPER_MAX_J,
 };
 pub use mechanism::{
-    crank_phases, dimensionless_moments, Acting, Design, Phases, PhysicalColumns, PhysicalUnit,
-    Strokes, STANDARD_GRAVITY,
+    check_speed, crank_phases, dimensionless_moments, Acting, Design, Phases, PhysicalColumns,
+    PhysicalUnit, Strokes, SPEED_LIMITS, STANDARD_GRAVITY,
 };
 pub use motion::{
     flywheel_inertia, motion_sweep, square_law_flywheel_inertia, square_law_steady_state,

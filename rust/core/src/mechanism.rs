@@ -3,28 +3,36 @@
 //! from physical masses and lengths to the dimensionless gravity moments U1, U2.
 
 use std::f64::consts::{PI, TAU};
+use std::sync::LazyLock;
 
 use crate::error::{check, check_length, try_with_capacity, MechanismError, Result};
 
-/// ω = π n/30 [rad/s] of a speed n [1/min] (2π rad a revolution, 60 s a minute): the core's
-/// one conversion.
-pub fn omega_from_rpm(rpm: f64) -> f64 {
-    PI * rpm / 30.0
-}
+/// The speeds a machine may run at, ω [rad/s]: (π/30)·10⁻⁶ ≤ ω ≤ (π/30)·10⁸, i.e. 10⁻⁶ to
+/// 10⁸ revolutions per minute (2π rad a revolution, 60 s a minute). The one rule for a speed:
+/// every entry of the core checks a speed with [`check_speed`], and Python's
+/// `multicrank._validation` reads these limits through the binding (`SPEED_LIMITS`).
+pub const SPEED_LIMITS: (f64, f64) = (1e-6 * PI / 30.0, 1e8 * PI / 30.0);
 
-/// n = 30ω/π [1/min] of a speed ω [rad/s]: the inverse of [`omega_from_rpm`].
-pub fn rpm_from_omega(omega: f64) -> f64 {
-    30.0 * omega / PI
+/// The allowed range of a speed in words, from [`SPEED_LIMITS`].
+static SPEED_ALLOWED: LazyLock<String> = LazyLock::new(|| {
+    format!(
+        "{:e} <= omega <= {:e} [rad/s]",
+        SPEED_LIMITS.0, SPEED_LIMITS.1
+    )
+});
+
+/// A speed ω [rad/s] named `name`: finite and within [`SPEED_LIMITS`], the one rule for a
+/// speed.
+pub fn check_speed(name: &'static str, omega: f64) -> Result<f64> {
+    let allowed: &'static str = SPEED_ALLOWED.as_str();
+    check(name, omega, allowed, |w| {
+        (SPEED_LIMITS.0..=SPEED_LIMITS.1).contains(&w)
+    })
 }
 
 /// A shaft's moment of inertia I_w [kg·m²]: > 0, as every use of one requires.
 pub(crate) fn check_shaft_inertia(value: f64) -> Result<f64> {
     check("shaft_inertia", value, "shaft_inertia > 0", |i| i > 0.0)
-}
-
-/// A speed n [1/min]: > 0, as every use of one requires.
-pub(crate) fn check_rpm(value: f64) -> Result<f64> {
-    check("rpm", value, "rpm > 0", |n| n > 0.0)
 }
 
 /// Two- or four-stroke working cycle: one cycle spans T = 2π or 4π of crank angle.
@@ -221,7 +229,7 @@ impl Phases {
 pub const STANDARD_GRAVITY: f64 = 9.80665;
 
 /// One slider-crank unit in SI units (eq. 1–7). Lengths in m, masses in kg,
-/// `shaft_inertia` I_w in kg·m², `rpm` in revolutions per minute, `g` in m/s².
+/// `shaft_inertia` I_w in kg·m², `omega` ω in rad/s, `g` in m/s².
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PhysicalUnit {
     pub crank_radius: f64,
@@ -235,7 +243,8 @@ pub struct PhysicalUnit {
     pub counterweight_mass: f64,
     pub counterweight_radius: f64,
     pub shaft_inertia: f64,
-    pub rpm: f64,
+    /// The shaft's speed ω [rad/s].
+    pub omega: f64,
     pub g: f64,
 }
 
@@ -302,7 +311,7 @@ impl PhysicalUnit {
             "shaft_inertia > 0",
             positive,
         )?;
-        check("rpm", self.rpm, "rpm > 0", positive)?;
+        check_speed("omega", self.omega)?;
         check("g", self.g, "any finite real", |_| true)?;
         Ok(())
     }
@@ -310,14 +319,13 @@ impl PhysicalUnit {
     /// The dimensionless gravity moments (U1, U2) of the corrected eq. 5–7:
     ///
     /// U1 = r·g·[m_t + (l − z_k)/l · m_k] / (I_w ω²),
-    /// U2 = g·[r_s·m_s − r_p·m_p + r·(z_k/l)·m_k] / (I_w ω²),  ω = π·n/30.
+    /// U2 = g·[r_s·m_s − r_p·m_p + r·(z_k/l)·m_k] / (I_w ω²).
     ///
     /// The rod's share that translates with the piston is (l − z_k)/l; the paper's
     /// printed eq. 5–6 swap the two shares (erratum 3).
     pub fn dimensionless_moments(&self) -> Result<(f64, f64)> {
         self.validate()?;
-        let omega = omega_from_rpm(self.rpm);
-        let scale = self.g / (self.shaft_inertia * omega * omega);
+        let scale = self.g / (self.shaft_inertia * self.omega * self.omega);
         let (reciprocating, rotating) = self.moment_arms();
         Ok((scale * reciprocating, scale * rotating))
     }
@@ -349,7 +357,7 @@ pub struct PhysicalColumns<'a> {
     pub counterweight_mass: &'a [f64],
     pub counterweight_radius: &'a [f64],
     pub shaft_inertia: &'a [f64],
-    pub rpm: &'a [f64],
+    pub omega: &'a [f64],
     pub g: &'a [f64],
 }
 
@@ -367,7 +375,7 @@ pub fn dimensionless_moments(columns: &PhysicalColumns) -> Result<(Vec<f64>, Vec
         c.counterweight_mass,
         c.counterweight_radius,
         c.shaft_inertia,
-        c.rpm,
+        c.omega,
         c.g,
     ] {
         check_length("physical parameter arrays", n, column.len())?;
@@ -385,7 +393,7 @@ pub fn dimensionless_moments(columns: &PhysicalColumns) -> Result<(Vec<f64>, Vec
                 counterweight_mass: c.counterweight_mass[i],
                 counterweight_radius: c.counterweight_radius[i],
                 shaft_inertia: c.shaft_inertia[i],
-                rpm: c.rpm[i],
+                omega: c.omega[i],
                 g: c.g[i],
             }
             .dimensionless_moments()

@@ -17,7 +17,9 @@
 
 mod common;
 
-use common::{array, fixtures, machine_of, number, relative, solve};
+use common::{
+    array, fixtures, machine_of, number, omega as omega_of, relative, rpm as rpm_of, solve,
+};
 use multicrank_core::{
     flywheel_inertia, square_law_steady_state, steady_state, steady_state_curves, Machine,
     MechanismError, SteadyCurves, SteadyState,
@@ -81,7 +83,8 @@ fn curves_differ(found: &SteadyCurves, expected: &Value) -> (f64, f64) {
 fn omega_and_time_at_angles_agree_with_the_oracle() {
     for f in fixtures() {
         let phi = array(&f.curves, "phi");
-        let found = steady_state_curves(&machine_of(&f), f.rpm, 1e-3, &phi).expect("runs");
+        let found =
+            steady_state_curves(&machine_of(&f), omega_of(f.rpm), 1e-3, &phi).expect("runs");
         assert_eq!(found.state, solve(&f, f.rpm));
         assert_eq!(found.time[0], 0.0);
         assert!(relative(found.time[phi.len() - 1], found.state.period) < 1e-14);
@@ -91,7 +94,8 @@ fn omega_and_time_at_angles_agree_with_the_oracle() {
         for case in &f.near_stall {
             let rpm = number(case, "rpm");
             let phi = array(&case["curves"], "phi");
-            let found = steady_state_curves(&machine_of(&f), rpm, 1e-3, &phi).expect("runs");
+            let found =
+                steady_state_curves(&machine_of(&f), omega_of(rpm), 1e-3, &phi).expect("runs");
             let (omega, time) = curves_differ(&found, &case["curves"]);
             println!(
                 "{:24} at {rpm} rpm omega {omega:.2e} time {time:.2e}",
@@ -101,7 +105,7 @@ fn omega_and_time_at_angles_agree_with_the_oracle() {
         }
     }
     let f = &fixtures()[0];
-    let outside = steady_state_curves(&machine_of(f), f.rpm, 1e-3, &[0.0, -1e-9]);
+    let outside = steady_state_curves(&machine_of(f), omega_of(f.rpm), 1e-3, &[0.0, -1e-9]);
     assert!(matches!(
         outside,
         Err(MechanismError::OutOfRange {
@@ -170,10 +174,12 @@ fn the_square_law_closed_form_agrees_with_the_oracle() {
     match square_law_steady_state(&machine_of(f), 1.0, 0.0, 1e-3, &[]) {
         Err(MechanismError::Stall {
             angle,
-            rpm,
-            min_rpm,
+            omega_mean,
+            min_omega,
         }) => {
-            assert!((0.0..=2.0 * PI).contains(&angle) && rpm.is_nan() && min_rpm.is_none());
+            assert!(
+                (0.0..=2.0 * PI).contains(&angle) && omega_mean.is_nan() && min_omega.is_none()
+            );
         }
         other => panic!("{other:?}"),
     }
@@ -222,30 +228,30 @@ fn a_stall_names_the_lowest_speed_that_runs() {
     for f in fixtures() {
         for case in &f.stalls {
             let rpm = number(case, "rpm");
-            match steady_state(&machine_of(&f), rpm, 1e-3) {
+            match steady_state(&machine_of(&f), omega_of(rpm), 1e-3) {
                 Err(MechanismError::Stall {
                     angle,
-                    rpm: at,
-                    min_rpm,
+                    omega_mean: at,
+                    min_omega,
                 }) => {
-                    let min_rpm = min_rpm.expect("min_rpm found");
+                    let min_rpm = rpm_of(min_omega.expect("min_omega found"));
                     let error = relative(min_rpm, number(case, "min_rpm"));
                     println!(
                         "{} at {rpm} rpm: min_rpm {min_rpm:.17e} ({error:.2e}), angle {angle} vs {}",
                         f.name,
                         number(case, "angle")
                     );
-                    assert_eq!(at, rpm);
+                    assert_eq!(at, omega_of(rpm));
                     assert!(error <= 2e-7, "{}: min_rpm {min_rpm}", f.name);
                     assert!(
                         (angle - number(case, "angle")).abs() < 1e-3,
                         "{}: angle {angle}",
                         f.name
                     );
-                    let message = steady_state(&machine_of(&f), rpm, 1e-3)
+                    let message = steady_state(&machine_of(&f), omega_of(rpm), 1e-3)
                         .unwrap_err()
                         .to_string();
-                    assert!(message.contains("min_rpm"), "{message}");
+                    assert!(message.contains("min_omega"), "{message}");
                 }
                 other => panic!("{} at {rpm} rpm: expected a stall, got {other:?}", f.name),
             }
@@ -264,7 +270,8 @@ fn the_flywheel_agrees_with_the_oracle() {
         let machine = machine_of(&f);
         for case in &f.flywheels {
             let delta = number(case, "delta");
-            let found = flywheel_inertia(&machine, delta, f.rpm, 1e-3).expect("a flywheel");
+            let found =
+                flywheel_inertia(&machine, delta, omega_of(f.rpm), 1e-3).expect("a flywheel");
             for (key, value, tolerance) in [
                 ("shaft_inertia", found.shaft_inertia, 2e-8),
                 (
@@ -292,7 +299,7 @@ fn the_flywheel_agrees_with_the_oracle() {
                 shaft_inertia: found.shaft_inertia,
                 ..machine
             };
-            let state = steady_state(&sized, f.rpm, 1e-3).expect("runs");
+            let state = steady_state(&sized, omega_of(f.rpm), 1e-3).expect("runs");
             assert!(relative(state.delta, delta) < 1e-11, "{}", state.delta);
         }
     }

@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{fixtures, relative};
+use common::{fixtures, omega, relative};
 use multicrank_core::{
     steady_state, GasCylinder, Machine, MechanismError, PhysicalCylinder, PiecewisePolynomial,
     Strokes,
@@ -59,7 +59,7 @@ fn gravity_alone_on_a_constant_inertia_is_the_energy_integral() {
         strokes: Strokes::Two,
         g,
     };
-    let state = steady_state(&machine, rpm, 1e-3).unwrap();
+    let state = steady_state(&machine, omega(rpm), 1e-3).unwrap();
     let amplitude = g * 20.0 * 0.08;
     let energy = |phi: f64| amplitude * ((phi + phase + FRAC_PI_2).sin() - FRAC_PI_2.sin());
     let omega_mean = PI * rpm / 30.0;
@@ -113,7 +113,7 @@ fn gravity_alone_on_a_constant_inertia_is_the_energy_integral() {
         "{}",
         state.delta_without_gravity
     );
-    let still = steady_state(&Machine { g: 0.0, ..machine }, rpm, 1e-3).unwrap();
+    let still = steady_state(&Machine { g: 0.0, ..machine }, omega(rpm), 1e-3).unwrap();
     assert!(still.delta.abs() < 1e-15 && still.delta_gravity_only.abs() < 1e-15);
     assert!(relative(still.omega_max, omega_mean) < 1e-15);
 }
@@ -145,7 +145,7 @@ fn a_constant_pressure_stroke_on_a_constant_inertia_is_the_textbook_machine() {
         strokes: Strokes::Two,
         g: 9.81,
     };
-    let state = steady_state(&machine, rpm, 1e-3).unwrap();
+    let state = steady_state(&machine, omega(rpm), 1e-3).unwrap();
     let (r, l) = (0.05, 0.2);
     let lambda = r / l;
     let force = pressure * PI * bore * bore / 4.0;
@@ -232,7 +232,7 @@ fn a_stall_and_bad_input_are_errors() {
     };
     // Below its lowest running speed (8.4 rpm, the oracle's min_rpm in the fixtures): a stall.
     assert!(matches!(
-        steady_state(&machine, 5.0, 1e-3),
+        steady_state(&machine, omega(5.0), 1e-3),
         Err(MechanismError::Stall { .. })
     ));
     // A stall the base panels decide: gravity alone turning a light shaft slowly, with the
@@ -248,27 +248,31 @@ fn a_stall_and_bad_input_are_errors() {
     };
     let top = (0.5 * std::f64::consts::PI - 0.3 - std::f64::consts::FRAC_PI_2)
         .rem_euclid(std::f64::consts::TAU);
-    match steady_state(&heavy, 20.0, 0.5) {
-        Err(MechanismError::Stall { angle, rpm, .. }) => {
+    match steady_state(&heavy, omega(20.0), 0.5) {
+        Err(MechanismError::Stall {
+            angle, omega_mean, ..
+        }) => {
             assert!((angle - top).abs() < 0.1, "{angle} vs {top}");
-            assert_eq!(rpm, 20.0);
+            assert_eq!(omega_mean, omega(20.0));
             let message = MechanismError::Stall {
                 angle,
-                rpm,
-                min_rpm: None,
+                omega_mean,
+                min_omega: None,
             }
             .to_string();
             assert!(message.contains("stalls"), "{message}");
         }
         other => panic!("expected a stall, got {other:?}"),
     }
-    assert!(steady_state(&machine, 9.0, 1e-3).is_ok());
+    assert!(steady_state(&machine, omega(9.0), 1e-3).is_ok());
     for (rpm, ratio, name) in [
-        (-1.0, 1e-3, "rpm"),
-        (f64::NAN, 1e-3, "rpm"),
+        (-1.0, 1e-3, "omega_mean"),
+        (f64::NAN, 1e-3, "omega_mean"),
         (100.0, 1.0, "min_speed_ratio"),
     ] {
-        let message = steady_state(&machine, rpm, ratio).unwrap_err().to_string();
+        let message = steady_state(&machine, omega(rpm), ratio)
+            .unwrap_err()
+            .to_string();
         assert!(message.contains(name), "{message}");
     }
     let gas = [GasCylinder {
@@ -280,7 +284,7 @@ fn a_stall_and_bad_input_are_errors() {
             gas: &gas,
             ..machine
         },
-        100.0,
+        omega(100.0),
         1e-3,
     )
     .unwrap_err()

@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{diagram, fixture_named, fixtures, machine_json, machine_of, number, Fixture};
+use common::{diagram, fixture_named, fixtures, machine_json, machine_of, number, omega, Fixture};
 use multicrank_core::{
     flywheel_inertia, motion_sweep, steady_state, steady_state_curves, two_mass_rod_inertia,
     DesignColumns, GasCylinder, Machine, MechanismError, MotionColumns, MotionOutputs, Parallelism,
@@ -11,7 +11,8 @@ use multicrank_core::{
 };
 use std::f64::consts::PI;
 
-/// One design's overrides, as the test applies them by hand.
+/// One design's overrides, as the test applies them by hand (`rpm` in 1/min, the core's
+/// column `omega` in rad/s).
 #[derive(Clone, Copy, Default)]
 struct Design {
     shaft_inertia: Option<f64>,
@@ -103,7 +104,7 @@ fn columns(f: &Fixture, designs: &[Design]) -> Columns {
     let base = f.units[0];
     let fields: [(&'static str, Field, f64); 11] = [
         ("shaft_inertia", |d| d.shaft_inertia, f.shaft_inertia),
-        ("rpm", |d| d.rpm, f.rpm),
+        ("omega", |d| d.rpm.map(omega), omega(f.rpm)),
         ("g", |d| d.g, f.g),
         ("pressure_scale", |d| d.pressure_scale, 1.0),
         ("crank_radius", |d| d.crank_radius, base.crank_radius),
@@ -141,7 +142,7 @@ impl Columns {
             let column = Some(&values[..]);
             match *name {
                 "shaft_inertia" => view.shaft_inertia = column,
-                "rpm" => view.rpm = column,
+                "omega" => view.omega = column,
                 "g" => view.g = column,
                 "pressure_scale" => view.pressure_scale = column,
                 "crank_radius" => view.crank_radius = column,
@@ -186,7 +187,8 @@ fn check_rows(f: &Fixture, designs: &[Design], found: &MotionColumns, target: Op
     }
 }
 
-/// Row `i` of a sweep against steady_state and flywheel_inertia of `machine` at `rpm`.
+/// Row `i` of a sweep against steady_state and flywheel_inertia of `machine` at `rpm`
+/// (1/min).
 fn check_row(
     name: &str,
     i: usize,
@@ -197,7 +199,7 @@ fn check_row(
 ) {
     {
         let what = |key: &str| format!("{name} row {i} {key}");
-        match steady_state(machine, rpm, 1e-3) {
+        match steady_state(machine, omega(rpm), 1e-3) {
             Ok(state) => {
                 assert!(!found.stalled[i], "{}", what("stalled"));
                 same(found.delta[i], state.delta, &what("delta"));
@@ -216,16 +218,8 @@ fn check_row(
                     state.delta / state.delta_without_gravity - 1.0,
                     &what("gravity_effect"),
                 );
-                same(
-                    found.rpm_min[i],
-                    state.omega_min * 30.0 / std::f64::consts::PI,
-                    &what("rpm_min"),
-                );
-                same(
-                    found.rpm_max[i],
-                    state.omega_max * 30.0 / std::f64::consts::PI,
-                    &what("rpm_max"),
-                );
+                same(found.omega_min[i], state.omega_min, &what("omega_min"));
+                same(found.omega_max[i], state.omega_max, &what("omega_max"));
             }
             Err(MechanismError::Stall { .. }) => {
                 assert!(found.stalled[i], "{}", what("stalled"));
@@ -234,8 +228,8 @@ fn check_row(
                     &found.delta_without_gravity,
                     &found.delta_gravity_only,
                     &found.gravity_effect,
-                    &found.rpm_min,
-                    &found.rpm_max,
+                    &found.omega_min,
+                    &found.omega_max,
                 ] {
                     assert!(column[i].is_nan(), "{}", what("NaN where stalled"));
                 }
@@ -243,7 +237,7 @@ fn check_row(
             Err(other) => panic!("{}: {other}", what("steady_state")),
         }
         if let Some(delta) = target {
-            match flywheel_inertia(machine, delta, rpm, 1e-3) {
+            match flywheel_inertia(machine, delta, omega(rpm), 1e-3) {
                 Ok(sized) => {
                     same(
                         found.flywheel_inertia[i],
@@ -299,7 +293,7 @@ fn every_sweep_row_is_the_steady_state_of_its_machine() {
         let target = 1.0 / 60.0;
         let found = motion_sweep(
             &machine_of(&f),
-            Some(f.rpm),
+            Some(omega(f.rpm)),
             &owned.view(),
             all_outputs(),
             Some(target),
@@ -359,7 +353,7 @@ fn a_unit_column_sets_that_unit_alone() {
         let target = 1.0 / 60.0;
         let found = motion_sweep(
             &machine_of(&f),
-            Some(f.rpm),
+            Some(omega(f.rpm)),
             &view,
             all_outputs(),
             Some(target),
@@ -396,7 +390,7 @@ fn a_unit_column_sets_that_unit_alone() {
         };
         let error = motion_sweep(
             &machine_of(&f),
-            Some(f.rpm),
+            Some(omega(f.rpm)),
             &view,
             all_outputs(),
             Some(target),
@@ -435,7 +429,7 @@ fn a_stalled_design_is_a_row_not_an_error() {
     )
     .expect("a sweep");
     assert_eq!(found.stalled, [false, true, false]);
-    assert!(found.delta[1].is_nan() && found.rpm_min[1].is_nan());
+    assert!(found.delta[1].is_nan() && found.omega_min[1].is_nan());
     check_rows(&f, &designs, &found, Some(0.05));
 }
 
@@ -467,7 +461,7 @@ fn a_nan_rod_inertia_is_the_two_mass_rod_of_the_design() {
     let run = |base: &Machine<'_>, view: &DesignColumns<'_>| {
         motion_sweep(
             base,
-            Some(f.rpm),
+            Some(omega(f.rpm)),
             view,
             steady,
             None,
@@ -487,7 +481,7 @@ fn a_nan_rod_inertia_is_the_two_mass_rod_of_the_design() {
     let view = DesignColumns {
         rod_length: Some(&rod_length),
         rod_inertia: Some(&given),
-        rpm: owned.view().rpm,
+        omega: owned.view().omega,
         ..DesignColumns::new(2)
     };
     assert_eq!(run(&machine_of(&f), &view).delta, found);
@@ -528,7 +522,7 @@ fn a_bad_design_is_an_error_naming_its_row_and_parameter() {
     };
     let error = motion_sweep(
         &machine_of(&f),
-        Some(f.rpm),
+        Some(omega(f.rpm)),
         &view,
         all_outputs(),
         Some(0.02),
@@ -554,7 +548,7 @@ fn a_bad_design_is_an_error_naming_its_row_and_parameter() {
     };
     let error = motion_sweep(
         &machine_of(&f),
-        Some(f.rpm),
+        Some(omega(f.rpm)),
         &view,
         all_outputs(),
         Some(0.02),
@@ -579,7 +573,7 @@ fn a_bad_design_is_an_error_naming_its_row_and_parameter() {
     assert!(matches!(
         motion_sweep(
             &machine_of(&f),
-            Some(f.rpm),
+            Some(omega(f.rpm)),
             &view,
             delta,
             None,
@@ -595,7 +589,7 @@ fn a_bad_design_is_an_error_naming_its_row_and_parameter() {
     assert!(matches!(
         motion_sweep(
             &machine_of(&f),
-            Some(f.rpm),
+            Some(omega(f.rpm)),
             &DesignColumns::new(1),
             flywheel,
             None,
@@ -649,8 +643,8 @@ fn a_parallel_sweep_is_bit_identical_to_a_serial_one() {
             &c.delta_without_gravity,
             &c.delta_gravity_only,
             &c.gravity_effect,
-            &c.rpm_min,
-            &c.rpm_max,
+            &c.omega_min,
+            &c.omega_max,
             &c.flywheel_inertia,
             &c.flywheel_inertia_without_gravity,
         ]
@@ -682,7 +676,7 @@ fn only_the_outputs_asked_are_computed() {
         let start = std::time::Instant::now();
         let found = motion_sweep(
             &machine_of(&f),
-            Some(f.rpm),
+            Some(omega(f.rpm)),
             &owned.view(),
             outputs,
             target,
@@ -719,7 +713,7 @@ fn tables_made_once_give_every_inertia_and_speed_exactly() {
         let phi = [0.0, 0.5, tables.cycle()];
         for (factor, speed) in [(1.0, 1.0), (0.7, 1.2), (2.5, 0.9)] {
             let inertia = factor * f.shaft_inertia;
-            let rpm = speed * f.rpm;
+            let rpm = omega(speed * f.rpm);
             let machine = Machine {
                 shaft_inertia: inertia,
                 ..base

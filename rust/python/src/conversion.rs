@@ -120,7 +120,7 @@ pub(crate) struct PhysicalArrays<'py> {
     counterweight_mass: PyReadonlyArray1<'py, f64>,
     counterweight_radius: PyReadonlyArray1<'py, f64>,
     shaft_inertia: PyReadonlyArray1<'py, f64>,
-    rpm: PyReadonlyArray1<'py, f64>,
+    omega: PyReadonlyArray1<'py, f64>,
     g: PyReadonlyArray1<'py, f64>,
 }
 
@@ -137,7 +137,7 @@ impl PhysicalArrays<'_> {
             counterweight_mass: self.counterweight_mass.as_slice()?,
             counterweight_radius: self.counterweight_radius.as_slice()?,
             shaft_inertia: self.shaft_inertia.as_slice()?,
-            rpm: self.rpm.as_slice()?,
+            omega: self.omega.as_slice()?,
             g: self.g.as_slice()?,
         })
     }
@@ -355,7 +355,7 @@ impl<'py> MotionDesigns<'py> {
             let values = values.as_slice()?;
             let field = match name.as_str() {
                 "shaft_inertia" => &mut designs.shaft_inertia,
-                "rpm" => &mut designs.rpm,
+                "omega" => &mut designs.omega,
                 "g" => &mut designs.g,
                 "pressure_scale" => &mut designs.pressure_scale,
                 "crank_radius" => &mut designs.crank_radius,
@@ -382,7 +382,7 @@ impl<'py> MotionDesigns<'py> {
                         return Err(to_py_err(core::MechanismError::InvalidChoice {
                             parameter: "designs",
                             value: format!("{other:?}"),
-                            allowed: "shaft_inertia, rpm, g, pressure_scale, crank_radius, \
+                            allowed: "shaft_inertia, omega, g, pressure_scale, crank_radius, \
                                       rod_length, piston_mass, rod_mass, rod_cg, rod_inertia, \
                                       crank_mass, crank_cg_radius, counterweight_mass, \
                                       counterweight_radius, bore, and phase[j], \

@@ -74,6 +74,8 @@ mod _native {
             },
         )?;
         m.add("STANDARD_GRAVITY", core::STANDARD_GRAVITY)?;
+        // (low, high) [rad/s]: the one rule for a speed, which the Python API checks with.
+        m.add("SPEED_LIMITS", core::SPEED_LIMITS)?;
         m.add("SWEEP_OUTPUTS", core::SweepRow::NAMES.to_vec())?;
         m.add("EXTREMA_FIELDS", core::EnergyExtrema::NAMES.to_vec())?;
         m.add("MOTION_SWEEP_OUTPUTS", core::MotionOutputs::NAMES.to_vec())?;

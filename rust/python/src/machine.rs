@@ -91,19 +91,19 @@ pub(crate) fn machine_gas_torque<'py>(
     })
 }
 
-/// machine_engine(units, g, shaft_inertia, rpm) -> the dimensionless engine's columns
-/// {"phase", "inclination", "crank_ratio", "u1", "u2"} at that speed.
+/// machine_engine(units, g, shaft_inertia, omega) -> the dimensionless engine's columns
+/// {"phase", "inclination", "crank_ratio", "u1", "u2"} at the speed `omega` (rad/s).
 #[pyfunction]
 pub(crate) fn machine_engine<'py>(
     py: Python<'py>,
     units: MachineColumns<'py>,
     g: f64,
     shaft_inertia: f64,
-    rpm: f64,
+    omega: f64,
 ) -> PyResult<Bound<'py, PyDict>> {
     let engine = units
         .dynamics(g)?
-        .dimensionless(shaft_inertia, rpm)
+        .dimensionless(shaft_inertia, omega)
         .map_err(to_py_err)?;
     let column = |f: fn(&core::Cylinder) -> f64| engine.cylinders().iter().map(f).collect();
     named(

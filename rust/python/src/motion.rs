@@ -16,8 +16,8 @@ use crate::motion_results::{steady_result, FlywheelResult, SteadyResult};
 use crate::parallel::parallelism;
 
 /// The core's error as a `MechanismError`, carrying what Python words it from as attributes
-/// of the exception: a stall its `angle` (rad), `rpm` and `min_rpm` (1/min, None where no
-/// speed runs); an unreachable flywheel target its `delta`, `reach` ("never_falls",
+/// of the exception: a stall its `angle` (rad), `omega_mean` and `min_omega` (rad/s, None
+/// where no speed runs); an unreachable flywheel target its `delta`, `reach` ("never_falls",
 /// "massless" or "stalls") and `closest` (the δ nearest to it that the machine reaches, NaN
 /// where none is known); a bad design its `row` (from 0), with the attributes of its own
 /// error beside.
@@ -31,9 +31,9 @@ fn motion_err(py: Python<'_>, error: core::MechanismError) -> PyErr {
     let stall = match *inner {
         core::MechanismError::Stall {
             angle,
-            rpm,
-            min_rpm,
-        } => Some((angle, rpm, min_rpm)),
+            omega_mean,
+            min_omega,
+        } => Some((angle, omega_mean, min_omega)),
         _ => None,
     };
     let unreachable = match *inner {
@@ -47,11 +47,11 @@ fn motion_err(py: Python<'_>, error: core::MechanismError) -> PyErr {
     let err = to_py_err(error);
     let value = err.value(py);
     let mut set = Ok(());
-    if let Some((angle, rpm, min_rpm)) = stall {
+    if let Some((angle, omega_mean, min_omega)) = stall {
         set = set
             .and_then(|()| value.setattr("angle", angle))
-            .and_then(|()| value.setattr("rpm", rpm))
-            .and_then(|()| value.setattr("min_rpm", min_rpm));
+            .and_then(|()| value.setattr("omega_mean", omega_mean))
+            .and_then(|()| value.setattr("min_omega", min_omega));
     }
     if let Some((delta, reach, closest)) = unreachable {
         set = set
@@ -134,7 +134,7 @@ impl MotionMachine {
     }
 
     /// The core's view of it.
-    fn machine(&self) -> core::Machine<'_> {
+    pub(crate) fn machine(&self) -> core::Machine<'_> {
         self.machine_with(true)
     }
 
@@ -209,26 +209,26 @@ impl MotionMachine {
         Ok(machine)
     }
 
-    /// steady_state(rpm, min_speed_ratio=1e-3, phi=None, compare=True, shaft_inertia=None,
-    /// gravity=True) -> SteadyResult: the periodic steady state under the "balance" load at the mean speed `rpm`
-    /// (1/min) with I_w = `shaft_inertia` (kg·m², default the machine's): omega_mean, period,
+    /// steady_state(omega_mean, min_speed_ratio=1e-3, phi=None, compare=True,
+    /// shaft_inertia=None, gravity=True) -> SteadyResult: the periodic steady state under the
+    /// "balance" load at the mean speed `omega_mean` (rad/s, within SPEED_LIMITS) with I_w = `shaft_inertia` (kg·m², default the machine's): omega_mean, period,
     /// omega_max, omega_min, phi_max, phi_min, energy_at_zero, mean_load_torque, delta,
     /// delta_midrange, delta_without_gravity, delta_gravity_only (SI units; the last two
     /// NaN unless `compare`), and with `phi` (rad, in [0, Φ]) the arrays omega (rad/s),
     /// time (s from φ = 0), reduced_inertia, reduced_inertia_slope, gas_torque and
-    /// gravity_torque there. A stall is a MechanismError with attributes angle, rpm
-    /// and min_rpm. `gravity=False`: the same machine with g = 0 (on this machine's tables).
+    /// gravity_torque there. A stall is a MechanismError with attributes angle, omega_mean
+    /// and min_omega (rad/s). `gravity=False`: the same machine with g = 0 (on this machine's tables).
     /// `drive`: None, or the PPoly arrays (x, c) of a driving torque M_d(φ) (N·m, x spanning
     /// one working cycle) beside the gas, the load balancing both (its cycle mean).
     #[pyo3(signature = (
-        rpm, min_speed_ratio=1e-3, phi=None, compare=true, shaft_inertia=None, gravity=true,
-        drive=None
+        omega_mean, min_speed_ratio=1e-3, phi=None, compare=true, shaft_inertia=None,
+        gravity=true, drive=None
     ))]
     #[allow(clippy::too_many_arguments)]
     fn steady_state<'py>(
         &self,
         py: Python<'py>,
-        rpm: f64,
+        omega_mean: f64,
         min_speed_ratio: f64,
         phi: Option<PyReadonlyArray1<'py, f64>>,
         compare: bool,
@@ -244,7 +244,7 @@ impl MotionMachine {
                 let tables = self.tables_with(gravity, drive.as_ref())?;
                 let found = tables.steady_state(
                     inertia,
-                    rpm,
+                    omega_mean,
                     min_speed_ratio,
                     angles.unwrap_or(&[]),
                     compare,
@@ -258,20 +258,21 @@ impl MotionMachine {
         Ok(steady_result(py, found, angles.is_some(), arrays))
     }
 
-    /// comparisons(rpm, delta, omega_mean, min_speed_ratio=1e-3, shaft_inertia=None,
+    /// comparisons(omega, delta, omega_mean, min_speed_ratio=1e-3, shaft_inertia=None,
     /// gravity=True) ->
     /// (delta_without_gravity, delta_gravity_only): the two comparison solves of the steady
-    /// state at `rpm` that steady_state(compare=False) found (its `delta` and `omega_mean`,
-    /// rad/s), each NaN where it stalls; `drive` as steady_state takes it.
+    /// state at the mean speed `omega` asked for (rad/s) that steady_state(compare=False)
+    /// found (its `delta` and `omega_mean`, the mean speed found, rad/s), each NaN where it
+    /// stalls; `drive` as steady_state takes it.
     #[pyo3(signature = (
-        rpm, delta, omega_mean, min_speed_ratio=1e-3, shaft_inertia=None, gravity=true,
+        omega, delta, omega_mean, min_speed_ratio=1e-3, shaft_inertia=None, gravity=true,
         drive=None
     ))]
     #[allow(clippy::too_many_arguments)]
     fn comparisons(
         &self,
         py: Python<'_>,
-        rpm: f64,
+        omega: f64,
         delta: f64,
         omega_mean: f64,
         min_speed_ratio: f64,
@@ -284,7 +285,7 @@ impl MotionMachine {
         py.detach(|| {
             self.tables_with(gravity, drive.as_ref())?.comparisons(
                 inertia,
-                rpm,
+                omega,
                 delta,
                 omega_mean,
                 min_speed_ratio,
@@ -372,23 +373,25 @@ impl MotionMachine {
         Ok(steady_result(py, found, angles.is_some(), None))
     }
 
-    /// flywheel_inertia(delta, rpm, min_speed_ratio=1e-3, without_gravity=True, gravity=True)
-    /// -> FlywheelResult: the shaft inertia giving the coefficient of speed fluctuation `delta` at `rpm`
-    /// (1/min) under the "balance" load: shaft_inertia, shaft_inertia_without_gravity (NaN
-    /// unless `without_gravity`), textbook, textbook_error, energy_swing, delta, rpm. A
+    /// flywheel_inertia(delta, omega_mean, min_speed_ratio=1e-3, without_gravity=True,
+    /// gravity=True) -> FlywheelResult: the shaft inertia giving the coefficient of speed
+    /// fluctuation `delta` at the mean speed `omega_mean` (rad/s) under the "balance" load:
+    /// shaft_inertia, shaft_inertia_without_gravity (NaN unless `without_gravity`), textbook,
+    /// textbook_error, energy_swing, delta, omega_mean. A
     /// target no shaft inertia gives is a MechanismError with attributes delta, reach
     /// ("never_falls", "massless" or "stalls") and closest (the δ nearest to it that the
     /// machine reaches; NaN where none is known). `gravity=False`: the machine with g = 0;
     /// `drive` as steady_state takes it.
     #[pyo3(signature = (
-        delta, rpm, min_speed_ratio=1e-3, without_gravity=true, gravity=true, drive=None
+        delta, omega_mean, min_speed_ratio=1e-3, without_gravity=true, gravity=true,
+        drive=None
     ))]
     #[allow(clippy::too_many_arguments)]
     fn flywheel_inertia<'py>(
         &self,
         py: Python<'py>,
         delta: f64,
-        rpm: f64,
+        omega_mean: f64,
         min_speed_ratio: f64,
         without_gravity: bool,
         gravity: bool,
@@ -399,7 +402,7 @@ impl MotionMachine {
             .detach(|| {
                 self.tables_with(gravity, drive.as_ref())?.flywheel_inertia(
                     delta,
-                    rpm,
+                    omega_mean,
                     min_speed_ratio,
                     self.shaft_inertia,
                     without_gravity,
@@ -412,7 +415,7 @@ impl MotionMachine {
     /// square_law_flywheel_inertia(coefficient, delta, drive=0.0, min_speed_ratio=1e-3,
     /// gravity=True) -> FlywheelResult: the shaft inertia giving the coefficient of speed
     /// fluctuation `delta` under the load c·ω² (c = `coefficient`, N·m·s²/rad²) beside a
-    /// constant `drive` (N·m), the mean speed a result (`rpm`: the one reached with the
+    /// constant `drive` (N·m), the mean speed a result (`omega_mean`, rad/s: the one reached with the
     /// shaft found, the textbook estimate taken there); the rest as flywheel_inertia gives it
     /// (shaft_inertia_without_gravity always sized).
     #[pyo3(signature = (coefficient, delta, drive=0.0, min_speed_ratio=1e-3, gravity=true))]
@@ -439,17 +442,18 @@ impl MotionMachine {
         Ok(FlywheelResult::from(f))
     }
 
-    /// sweep(designs, outputs, rpm=None, target_delta=None, min_speed_ratio=1e-3,
+    /// sweep(designs, outputs, omega=None, target_delta=None, min_speed_ratio=1e-3,
     /// parallel_threshold=None) -> {output: array}: the steady state (and the flywheel for
     /// `target_delta`) of every design, this machine with the design's columns applied
     /// (`designs`: column name → float64 array, one value per design; no columns: one
-    /// design, this machine), at its `rpm` column or at `rpm`. The outputs asked (names from
+    /// design, this machine), at its `omega` column or at `omega` (the mean speed, rad/s).
+    /// The outputs asked (names from
     /// MOTION_SWEEP_OUTPUTS), and `stalled` (bool) with any output of the steady state; a
     /// stalled design is NaN in its δ and speed columns, an unreachable target NaN in the
     /// flywheel columns. A bad value of a design is a MechanismError naming the design and
     /// the parameter, with the design's index (from 0) as its attribute `row`. Bit-identical for any thread count.
     #[pyo3(signature = (
-        designs, outputs, rpm=None, target_delta=None, min_speed_ratio=1e-3,
+        designs, outputs, omega=None, target_delta=None, min_speed_ratio=1e-3,
         parallel_threshold=None
     ))]
     #[allow(clippy::too_many_arguments)]
@@ -458,7 +462,7 @@ impl MotionMachine {
         py: Python<'py>,
         designs: &Bound<'py, PyDict>,
         outputs: Vec<String>,
-        rpm: Option<f64>,
+        omega: Option<f64>,
         target_delta: Option<f64>,
         min_speed_ratio: f64,
         parallel_threshold: Option<usize>,
@@ -471,7 +475,7 @@ impl MotionMachine {
             .detach(|| {
                 core::motion_sweep(
                     &self.machine(),
-                    rpm,
+                    omega,
                     &columns,
                     asked,
                     target_delta,
@@ -493,8 +497,8 @@ impl MotionMachine {
                 "delta_without_gravity" => &mut found.delta_without_gravity,
                 "delta_gravity_only" => &mut found.delta_gravity_only,
                 "gravity_effect" => &mut found.gravity_effect,
-                "rpm_min" => &mut found.rpm_min,
-                "rpm_max" => &mut found.rpm_max,
+                "omega_min" => &mut found.omega_min,
+                "omega_max" => &mut found.omega_max,
                 "flywheel_inertia" => &mut found.flywheel_inertia,
                 "flywheel_inertia_without_gravity" => &mut found.flywheel_inertia_without_gravity,
                 _ => continue,

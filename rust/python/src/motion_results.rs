@@ -113,15 +113,16 @@ pub(crate) struct FlywheelResult {
     textbook_error: f64,
     energy_swing: f64,
     delta: f64,
-    rpm: f64,
+    /// The mean speed ω_m (rad/s).
+    omega_mean: f64,
 }
 
 #[pymethods]
 impl FlywheelResult {
     fn __repr__(&self) -> String {
         format!(
-            "FlywheelResult(shaft_inertia={}, shaft_inertia_without_gravity={}, textbook={}, delta={}, rpm={})",
-            self.shaft_inertia, self.shaft_inertia_without_gravity, self.textbook, self.delta, self.rpm
+            "FlywheelResult(shaft_inertia={}, shaft_inertia_without_gravity={}, textbook={}, delta={}, omega_mean={})",
+            self.shaft_inertia, self.shaft_inertia_without_gravity, self.textbook, self.delta, self.omega_mean
         )
     }
 }
@@ -180,7 +181,7 @@ impl From<core::FlywheelInertia> for FlywheelResult {
             textbook_error: f.textbook_error,
             energy_swing: f.energy_swing,
             delta: f.delta,
-            rpm: f.rpm,
+            omega_mean: f.omega_mean,
         }
     }
 }

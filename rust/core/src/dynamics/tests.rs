@@ -174,8 +174,8 @@ fn potential_energy_is_the_weight_and_its_torque_the_slope() {
         );
     }
     // The dimensionless engine at a speed is the same energy over I_w ω².
-    let engine = machine.dimensionless(2.0, 300.0).unwrap();
-    let omega = crate::mechanism::omega_from_rpm(300.0);
+    let omega = 10.0 * std::f64::consts::PI; // 300 rpm
+    let engine = machine.dimensionless(2.0, omega).unwrap();
     let mut star = vec![0.0; phi.len()];
     engine
         .evaluate(

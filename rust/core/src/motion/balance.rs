@@ -394,7 +394,7 @@ impl Balance {
     }
 
     /// The lowest mean speed (rad/s) whose solution keeps ω_min ≥ `ratio`·ω_m (the stall
-    /// error's min_rpm): the root in log s of ω_min/ω_m − ratio, which grows with s
+    /// error's min_omega): the root in log s of ω_min/ω_m − ratio, which grows with s
     /// (Brent's method, to 1e-12 in log s; docs/theory.md, "Stall"), rounded up: the mean
     /// speed of the nearest s above the root whose ratio is not short (steps of 1e-12 in
     /// log s, doubling), a speed that runs and within ~1e-11 of the threshold. `above`: an

@@ -24,8 +24,9 @@ pub struct DesignColumns<'a> {
     pub designs: usize,
     /// I_w (kg·m²).
     pub shaft_inertia: Option<&'a [f64]>,
-    /// The mean speed (1/min); without it every design runs at the sweep's base `rpm`.
-    pub rpm: Option<&'a [f64]>,
+    /// The mean speed ω_m (rad/s); without it every design runs at the sweep's base
+    /// `omega`.
+    pub omega: Option<&'a [f64]>,
     /// g (m/s²).
     pub g: Option<&'a [f64]>,
     /// Multiplies every diagram's pressure.
@@ -120,7 +121,7 @@ impl<'a> DesignColumns<'a> {
     pub(super) fn named(&self) -> [(&'static str, Option<&'a [f64]>); 15] {
         [
             ("shaft_inertia", self.shaft_inertia),
-            ("rpm", self.rpm),
+            ("omega", self.omega),
             ("g", self.g),
             ("pressure_scale", self.pressure_scale),
             ("crank_radius", self.crank_radius),
@@ -150,9 +151,9 @@ pub struct MotionOutputs {
     pub delta_gravity_only: bool,
     /// δ/δ₀ − 1, δ₀ = `delta_without_gravity`.
     pub gravity_effect: bool,
-    /// The speed extremes (1/min).
-    pub rpm_min: bool,
-    pub rpm_max: bool,
+    /// The speed extremes (rad/s).
+    pub omega_min: bool,
+    pub omega_max: bool,
     /// I_w (kg·m²) for the target δ (`flywheel_inertia`), and the same with g = 0.
     pub flywheel_inertia: bool,
     pub flywheel_inertia_without_gravity: bool,
@@ -167,8 +168,8 @@ impl MotionOutputs {
         "delta_without_gravity",
         "delta_gravity_only",
         "gravity_effect",
-        "rpm_min",
-        "rpm_max",
+        "omega_min",
+        "omega_max",
         "stalled",
         "flywheel_inertia",
         "flywheel_inertia_without_gravity",
@@ -184,8 +185,8 @@ impl MotionOutputs {
                 "delta_without_gravity" => outputs.delta_without_gravity = true,
                 "delta_gravity_only" => outputs.delta_gravity_only = true,
                 "gravity_effect" => outputs.gravity_effect = true,
-                "rpm_min" => outputs.rpm_min = true,
-                "rpm_max" => outputs.rpm_max = true,
+                "omega_min" => outputs.omega_min = true,
+                "omega_max" => outputs.omega_max = true,
                 "flywheel_inertia" => outputs.flywheel_inertia = true,
                 "flywheel_inertia_without_gravity" => {
                     outputs.flywheel_inertia_without_gravity = true
@@ -195,7 +196,7 @@ impl MotionOutputs {
                         parameter: "outputs",
                         value: format!("{other:?}"),
                         allowed: "delta, delta_without_gravity, delta_gravity_only, \
-                                  gravity_effect, rpm_min, rpm_max, stalled, flywheel_inertia, \
+                                  gravity_effect, omega_min, omega_max, stalled, flywheel_inertia, \
                                   flywheel_inertia_without_gravity",
                     })
                 }
@@ -211,8 +212,8 @@ impl MotionOutputs {
             || self.delta_without_gravity
             || self.delta_gravity_only
             || self.gravity_effect
-            || self.rpm_min
-            || self.rpm_max
+            || self.omega_min
+            || self.omega_max
     }
 
     /// Whether the flywheel is sized.
@@ -232,9 +233,10 @@ pub struct MotionColumns {
     pub delta_gravity_only: Vec<f64>,
     /// δ/δ₀ − 1: NaN where δ₀ is; +∞ where δ₀ = 0 < δ; NaN where both are 0.
     pub gravity_effect: Vec<f64>,
-    /// 30 ω_min/π, 30 ω_max/π (1/min) (NaN where stalled).
-    pub rpm_min: Vec<f64>,
-    pub rpm_max: Vec<f64>,
+    /// ω_min, ω_max (rad/s), each widened to hold the mean speed asked for (NaN where
+    /// stalled).
+    pub omega_min: Vec<f64>,
+    pub omega_max: Vec<f64>,
     /// Whether the design cannot keep its mean speed (ω_min < min_speed_ratio·ω_m):
     /// filled with any output of the steady state.
     pub stalled: Vec<bool>,

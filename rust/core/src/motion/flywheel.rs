@@ -5,7 +5,7 @@
 //! (`Balance::with_inertia`): J − I_w, U and W do not depend on I_w.
 
 use crate::error::{check, MechanismError, Reach, Result};
-use crate::mechanism::{check_shaft_inertia, rpm_from_omega};
+use crate::mechanism::check_shaft_inertia;
 
 use super::balance::Balance;
 use super::cycle::Cycle;
@@ -19,7 +19,7 @@ use super::{check_speed_ratio, FlywheelInertia};
 /// (N·m), on `tables` (the machine's, its own I_w `fallback`): the mean speed is a result,
 /// so each trial I_w's δ comes from its own closed-form steady state; [`inertia_for`] finds
 /// the root (docs/theory.md, "The flywheel"). The textbook estimate is taken at the mean
-/// speed reached (its `rpm`), where the constant drive and the load at that speed leave the
+/// speed reached (its `omega_mean`), where the constant drive and the load at that speed leave the
 /// turning-moment diagram of "balance".
 ///
 /// Errors: bad input, naming the parameter; `delta` unreachable (the machine stalls at any
@@ -95,7 +95,7 @@ pub(crate) fn square_law_inertia(
         textbook_error: (textbook - inertia) / inertia,
         energy_swing: swing,
         delta,
-        rpm: rpm_from_omega(reached),
+        omega_mean: reached,
     })
 }
 

@@ -30,7 +30,7 @@ mod variant;
 
 use crate::dynamics::PhysicalCylinder;
 use crate::error::{check, MechanismError, Result};
-use crate::mechanism::{check_rpm, check_shaft_inertia, Strokes};
+use crate::mechanism::{check_shaft_inertia, check_speed, Strokes};
 
 use cycle::Cycle;
 use square_law::SquareLaw;
@@ -118,8 +118,8 @@ fn rest_angle(cycle: &Cycle, drive: f64) -> f64 {
     best.0.rem_euclid(cycle.cycle())
 }
 
-/// The periodic steady state of `machine` under the "balance" load at the mean speed `rpm`
-/// (1/min) (time mean, ω_m = π·rpm/30), by the energy method (docs/theory.md, "Steady
+/// The periodic steady state of `machine` under the "balance" load at the mean speed
+/// `omega_mean` ω_m (rad/s, a time mean; within [`SPEED_LIMITS`]), by the energy method (docs/theory.md, "Steady
 /// running"). `min_speed_ratio`: the machine stalls when ω_min < min_speed_ratio·ω_m
 /// (1e-3 in the Python API).
 ///
@@ -128,9 +128,15 @@ fn rest_angle(cycle: &Cycle, drive: f64) -> f64 {
 /// lowest speed that runs.
 ///
 /// Errors: bad input, naming the parameter; [`MechanismError::Stall`] when the machine
-/// cannot keep that mean speed, with the lowest mean speed that runs (`min_rpm`).
-pub fn steady_state(machine: &Machine<'_>, rpm: f64, min_speed_ratio: f64) -> Result<SteadyState> {
-    Ok(steady_state_curves(machine, rpm, min_speed_ratio, &[])?.state)
+/// cannot keep that mean speed, with the lowest mean speed that runs (`min_omega`).
+///
+/// [`SPEED_LIMITS`]: crate::mechanism::SPEED_LIMITS
+pub fn steady_state(
+    machine: &Machine<'_>,
+    omega_mean: f64,
+    min_speed_ratio: f64,
+) -> Result<SteadyState> {
+    Ok(steady_state_curves(machine, omega_mean, min_speed_ratio, &[])?.state)
 }
 
 /// A steady state with its speed and time at requested angles.
@@ -153,12 +159,19 @@ pub struct SteadyCurves {
 /// Errors: as [`steady_state`]; an angle outside [0, Φ] (or not finite), naming `phi`.
 pub fn steady_state_curves(
     machine: &Machine<'_>,
-    rpm: f64,
+    omega_mean: f64,
     min_speed_ratio: f64,
     phi: &[f64],
 ) -> Result<SteadyCurves> {
     check_shaft_inertia(machine.shaft_inertia)?;
-    SteadyTables::new(machine)?.steady_state(machine.shaft_inertia, rpm, min_speed_ratio, phi, true)
+    check_speed("omega_mean", omega_mean)?;
+    SteadyTables::new(machine)?.steady_state(
+        machine.shaft_inertia,
+        omega_mean,
+        min_speed_ratio,
+        phi,
+        true,
+    )
 }
 
 /// The periodic steady state of `machine` under a square-law load M = c·ω² (c =
@@ -174,8 +187,8 @@ pub fn steady_state_curves(
 ///
 /// Errors: bad input, naming the parameter; a drive whose cycle mean with the gas torque is
 /// not positive (`drive`: nothing to balance); a load damping more than 700 e-folds of E per
-/// cycle (`load`); [`MechanismError::Stall`] (its `rpm` NaN: none was asked for, `min_rpm`
-/// none) where E would reach zero or ω_min < `min_speed_ratio`·ω_m.
+/// cycle (`load`); [`MechanismError::Stall`] (its `omega_mean` NaN: none was asked for,
+/// `min_omega` none) where E would reach zero or ω_min < `min_speed_ratio`·ω_m.
 pub fn square_law_steady_state(
     machine: &Machine<'_>,
     coefficient: f64,
@@ -204,8 +217,8 @@ pub fn square_law_steady_state(
         // any other (a sweep's row, not an error in the input).
         return Err(MechanismError::Stall {
             angle: rest_angle(cycle, drive),
-            rpm: f64::NAN,
-            min_rpm: None,
+            omega_mean: f64::NAN,
+            min_omega: None,
         });
     }
     let (solution, curves, mean_load) =
@@ -214,8 +227,8 @@ pub fn square_law_steady_state(
             Err(stall) => {
                 return Err(MechanismError::Stall {
                     angle: stall.angle.rem_euclid(cycle.cycle()),
-                    rpm: f64::NAN,
-                    min_rpm: None,
+                    omega_mean: f64::NAN,
+                    min_omega: None,
                 })
             }
         };
@@ -260,12 +273,12 @@ pub struct FlywheelInertia {
     pub energy_swing: f64,
     /// The δ asked for.
     pub delta: f64,
-    /// The mean speed (1/min).
-    pub rpm: f64,
+    /// The mean speed ω_m (rad/s).
+    pub omega_mean: f64,
 }
 
 /// The shaft inertia I_w (kg·m²) that gives `machine` (its own `shaft_inertia` replaced)
-/// the coefficient of speed fluctuation `delta` (≥ 1e-9) at the mean speed `rpm` (1/min),
+/// the coefficient of speed fluctuation `delta` (≥ 1e-9) at the mean speed `omega_mean` (rad/s),
 /// the "balance" load: Brent's method on log I_w over exact steady states, δ falling as I_w
 /// grows (docs/theory.md, "The flywheel"). `min_speed_ratio` as for
 /// [`steady_state`]. The cycle's tables are made once: a trial I_w only changes J = I_w +
@@ -276,16 +289,16 @@ pub struct FlywheelInertia {
 pub fn flywheel_inertia(
     machine: &Machine<'_>,
     delta: f64,
-    rpm: f64,
+    omega_mean: f64,
     min_speed_ratio: f64,
 ) -> Result<FlywheelInertia> {
     flywheel::check_delta(delta)?;
     check_shaft_inertia(machine.shaft_inertia)?;
-    check_rpm(rpm)?;
+    check_speed("omega_mean", omega_mean)?;
     check_speed_ratio(min_speed_ratio)?;
     SteadyTables::new(machine)?.flywheel_inertia(
         delta,
-        rpm,
+        omega_mean,
         min_speed_ratio,
         machine.shaft_inertia,
         true,
@@ -296,7 +309,7 @@ pub fn flywheel_inertia(
 /// the coefficient of speed fluctuation `delta` (≥ 1e-9) under a square-law load M = c·ω²
 /// (c = `coefficient`, N·m·s²/rad²) beside a constant `drive` (N·m): the mean speed is a
 /// result of each trial shaft (the closed form of [`square_law_steady_state`]), and the
-/// one search of [`flywheel_inertia`] finds the root. `rpm` is the mean speed reached with
+/// one search of [`flywheel_inertia`] finds the root. `omega_mean` is the mean speed (rad/s) reached with
 /// the shaft found, the textbook estimate taken there. `min_speed_ratio` as for
 /// [`steady_state`].
 ///

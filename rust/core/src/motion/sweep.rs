@@ -7,12 +7,10 @@
 //! is solved on its own, so the columns are bit-identical for any thread count.
 
 use std::collections::HashMap;
-use std::f64::consts::PI;
 use std::sync::Arc;
 
 use crate::dynamics::Dynamics;
 use crate::error::{check, check_length, MechanismError, Result};
-use crate::mechanism::omega_from_rpm;
 use crate::parallel::{map_indices, Parallelism};
 
 use super::columns::{DesignColumns, MotionColumns, MotionOutputs};
@@ -27,8 +25,8 @@ struct Row {
     delta_without_gravity: f64,
     delta_gravity_only: f64,
     gravity_effect: f64,
-    rpm_min: f64,
-    rpm_max: f64,
+    omega_min: f64,
+    omega_max: f64,
     stalled: bool,
     flywheel_inertia: f64,
     flywheel_inertia_without_gravity: f64,
@@ -40,8 +38,8 @@ impl Row {
         delta_without_gravity: f64::NAN,
         delta_gravity_only: f64::NAN,
         gravity_effect: f64::NAN,
-        rpm_min: f64::NAN,
-        rpm_max: f64::NAN,
+        omega_min: f64::NAN,
+        omega_max: f64::NAN,
         stalled: false,
         flywheel_inertia: f64::NAN,
         flywheel_inertia_without_gravity: f64::NAN,
@@ -75,17 +73,17 @@ fn solve(
     ratio: f64,
 ) -> Result<Row> {
     let inertia = variant.shaft_inertia;
-    let omega_mean = omega_from_rpm(variant.rpm);
+    let omega_mean = variant.omega;
     let mut row = Row::NONE;
     if outputs.steady() {
         match tables.solve(inertia, omega_mean, ratio)? {
             Ok(solution) if solution.delta().is_finite() => {
                 let delta = solution.delta();
                 row.delta = delta;
-                // The row's mean speed is the rpm asked for, which the solution's ω_m
+                // The row's mean speed is the ω_m asked for, which the solution's ω_m
                 // meets to rounding: the extremes keep it between them to the last ulp.
-                row.rpm_min = (solution.omega_min * 30.0 / PI).min(variant.rpm);
-                row.rpm_max = (solution.omega_max * 30.0 / PI).max(variant.rpm);
+                row.omega_min = solution.omega_min.min(omega_mean);
+                row.omega_max = solution.omega_max.max(omega_mean);
                 if outputs.delta_without_gravity || outputs.gravity_effect {
                     let without = tables
                         .delta_without_gravity(inertia, omega_mean, ratio)?
@@ -103,7 +101,7 @@ fn solve(
     }
     if let (true, Some(delta)) = (outputs.flywheel(), target) {
         let without = outputs.flywheel_inertia_without_gravity;
-        match tables.flywheel_inertia(delta, variant.rpm, ratio, inertia, without) {
+        match tables.flywheel_inertia(delta, omega_mean, ratio, inertia, without) {
             Ok(found) => {
                 row.flywheel_inertia = found.shaft_inertia;
                 row.flywheel_inertia_without_gravity = found.shaft_inertia_without_gravity;
@@ -126,7 +124,7 @@ const BLOCK: usize = 512;
 const GAS_COLUMNS: [&str; 4] = ["pressure_scale", "crank_radius", "rod_length", "bore"];
 
 /// What of design `row` changes its machine's tables (every column but `shaft_inertia` and
-/// `rpm`; `gas`: only the gas's columns, and the units' phases), bit for bit.
+/// `omega`; `gas`: only the gas's columns, and the units' phases), bit for bit.
 fn row_key(designs: &DesignColumns<'_>, row: usize, gas: bool) -> Vec<u64> {
     let shared = designs
         .named()
@@ -135,7 +133,7 @@ fn row_key(designs: &DesignColumns<'_>, row: usize, gas: bool) -> Vec<u64> {
             if gas {
                 GAS_COLUMNS.contains(name)
             } else {
-                !matches!(*name, "shaft_inertia" | "rpm")
+                !matches!(*name, "shaft_inertia" | "omega")
             }
         })
         .filter_map(|(_, column)| column.map(|c| c[row].to_bits()));
@@ -167,8 +165,8 @@ fn distinct(
 }
 
 /// The steady state under the "balance" load (and, with `target_delta`, the flywheel for
-/// that δ) of every design: `base` with the design's columns applied, at the design's `rpm`
-/// (1/min), or at `rpm` where there is no rpm column. Each row equals [`steady_state`] and
+/// that δ) of every design: `base` with the design's columns applied, at the design's mean
+/// speed `omega` (rad/s), or at `omega` where there is no omega column. Each row equals [`steady_state`] and
 /// [`flywheel_inertia`] of that design's machine (same `min_speed_ratio`); only `outputs`
 /// are computed (δ alone solves one steady state per design). In parallel over designs
 /// when `parallelism` says so, the columns bit-identical for any thread count.
@@ -184,7 +182,7 @@ fn distinct(
 /// [`flywheel_inertia`]: super::flywheel_inertia
 pub fn motion_sweep(
     base: &Machine<'_>,
-    rpm: Option<f64>,
+    omega: Option<f64>,
     designs: &DesignColumns<'_>,
     outputs: MotionOutputs,
     target_delta: Option<f64>,
@@ -223,7 +221,7 @@ pub fn motion_sweep(
     }
     let n = designs.designs;
     for row in 0..n {
-        variant(base, rpm, designs, row).map_err(|error| MechanismError::InRow {
+        variant(base, omega, designs, row).map_err(|error| MechanismError::InRow {
             row,
             error: Box::new(error),
         })?;
@@ -248,7 +246,7 @@ pub fn motion_sweep(
         };
         let gases = map_indices(gas_firsts.len(), work(gas_firsts.len()), parallelism, |g| {
             let row = gas_firsts[g];
-            variant(base, rpm, designs, row)
+            variant(base, omega, designs, row)
                 .and_then(|v| gas(base, &shared, &v))
                 .map(Arc::new)
                 .map_err(in_row(row))
@@ -256,7 +254,7 @@ pub fn motion_sweep(
         let gases = gases.into_iter().collect::<Result<Vec<_>>>()?;
         let made = map_indices(firsts.len(), work(firsts.len()), parallelism, |m| {
             let row = firsts[m];
-            variant(base, rpm, designs, row)
+            variant(base, omega, designs, row)
                 .and_then(|v| {
                     SteadyTables::with_gas(&v.machine(base), &gases[gas_of[row - block.start]])
                 })
@@ -265,7 +263,7 @@ pub fn motion_sweep(
         let made = made.into_iter().collect::<Result<Vec<_>>>()?;
         let solved = map_indices(block.len(), work(block.len()), parallelism, |i| {
             let row = block.start + i;
-            variant(base, rpm, designs, row)
+            variant(base, omega, designs, row)
                 .and_then(|v| {
                     solve(
                         &made[machine_of[i]],
@@ -293,8 +291,8 @@ pub fn motion_sweep(
         delta_without_gravity: column(outputs.delta_without_gravity, |r| r.delta_without_gravity),
         delta_gravity_only: column(outputs.delta_gravity_only, |r| r.delta_gravity_only),
         gravity_effect: column(outputs.gravity_effect, |r| r.gravity_effect),
-        rpm_min: column(outputs.rpm_min, |r| r.rpm_min),
-        rpm_max: column(outputs.rpm_max, |r| r.rpm_max),
+        omega_min: column(outputs.omega_min, |r| r.omega_min),
+        omega_max: column(outputs.omega_max, |r| r.omega_max),
         stalled: if outputs.steady() {
             rows.iter().map(|r| r.stalled).collect()
         } else {

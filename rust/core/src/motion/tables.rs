@@ -1,13 +1,13 @@
 //! The tables of a machine's working cycle for the "balance" load (`SteadyTables`), made once
 //! and shared by every steady state and flywheel of that machine whatever its shaft inertia and
 //! mean speed, and their solves: the steady state with its curves, the two comparison δ, the
-//! lowest mean speed that runs (a stall's `min_rpm`) and the flywheel for a δ.
+//! lowest mean speed that runs (a stall's `min_omega`) and the flywheel for a δ.
 
 use std::sync::{Arc, OnceLock};
 
 use crate::dynamics::Dynamics;
 use crate::error::{check, MechanismError, Result};
-use crate::mechanism::{check_rpm, check_shaft_inertia, omega_from_rpm, rpm_from_omega};
+use crate::mechanism::{check_shaft_inertia, check_speed};
 
 use super::balance::Balance;
 use super::cycle::{Cycle, Gas};
@@ -46,36 +46,42 @@ pub struct SteadyTables {
     swing: OnceLock<(f64, f64)>,
 }
 
-/// The stall at `rpm` as [`MechanismError::Stall`], with the lowest mean speed that runs
-/// (`min_rpm`), searched from an s known to stall (docs/theory.md, "Stall").
-fn stall_error(balance: &Balance, stall: Stall, rpm: f64, ratio: f64) -> Result<MechanismError> {
+/// The stall at `omega_mean` (rad/s) as [`MechanismError::Stall`], with the lowest mean
+/// speed that runs (`min_omega`), searched from an s known to stall (docs/theory.md, "Stall").
+fn stall_error(
+    balance: &Balance,
+    stall: Stall,
+    omega_mean: f64,
+    ratio: f64,
+) -> Result<MechanismError> {
     let above = 1e-6 * balance.swing();
     let lowest = balance.clone().lowest_running_speed(ratio, above)?;
-    let min_rpm = if lowest.is_finite() {
-        Some(running_rpm(balance, rpm_from_omega(lowest), ratio)?)
+    let min_omega = if lowest.is_finite() {
+        Some(running_speed(balance, lowest, ratio)?)
     } else {
         None
     };
     Ok(MechanismError::Stall {
         angle: stall.angle.rem_euclid(balance.cycle()),
-        rpm,
-        min_rpm,
+        omega_mean,
+        min_omega,
     })
 }
 
-/// `rpm` (1/min), nudged up until the steady state asked for at it runs: min_rpm is a
-/// speed that runs (the threshold's root, the round trip through rpm and the solve's own
-/// root in s each round by ~1e-15), within a few ulps of the threshold. Each trial solves
-/// on a fresh copy of `balance`, as [`SteadyTables::steady_state`] does (a copy that has
-/// located its minima already rounds differently).
-fn running_rpm(balance: &Balance, rpm: f64, ratio: f64) -> Result<f64> {
-    let mut found = rpm;
+/// `omega` (rad/s), nudged up until the steady state asked for at it runs: min_omega is a
+/// speed that runs (the threshold's root and the solve's own root in s each round by
+/// ~1e-15; a caller's round trip through 1/min by as much again), within a few ulps of the
+/// threshold. Each trial solves on a fresh copy of `balance`, as
+/// [`SteadyTables::steady_state`] does (a copy that has located its minima already rounds
+/// differently).
+fn running_speed(balance: &Balance, omega: f64, ratio: f64) -> Result<f64> {
+    let mut found = omega;
     let mut step = 4.0 * f64::EPSILON;
     for _ in 0..64 {
-        if balance.clone().solve(omega_from_rpm(found), ratio)?.is_ok() {
+        if balance.clone().solve(found, ratio)?.is_ok() {
             return Ok(found);
         }
-        found = rpm * (1.0 + step);
+        found = omega * (1.0 + step);
         step *= 2.0;
     }
     Ok(found)
@@ -181,8 +187,8 @@ impl SteadyTables {
         self.load
     }
 
-    /// The periodic steady state with I_w = `shaft_inertia` (kg·m²) at the mean speed `rpm`
-    /// (1/min), as [`steady_state_curves`] gives it, with ω and t at `phi` (rad, each in
+    /// The periodic steady state with I_w = `shaft_inertia` (kg·m²) at the mean speed
+    /// `omega_mean` (rad/s), as [`steady_state_curves`] gives it, with ω and t at `phi` (rad, each in
     /// [0, Φ]; none: no curves). `compare`: whether δ without gravity and of gravity alone
     /// are solved too (else NaN, and two solves saved).
     ///
@@ -193,13 +199,13 @@ impl SteadyTables {
     pub fn steady_state(
         &self,
         shaft_inertia: f64,
-        rpm: f64,
+        omega_mean: f64,
         min_speed_ratio: f64,
         phi: &[f64],
         compare: bool,
     ) -> Result<SteadyCurves> {
         check_shaft_inertia(shaft_inertia)?;
-        check_rpm(rpm)?;
+        check_speed("omega_mean", omega_mean)?;
         check_speed_ratio(min_speed_ratio)?;
         let cycle = self.cycle();
         for &angle in phi {
@@ -207,7 +213,6 @@ impl SteadyTables {
                 (0.0..=cycle).contains(&a)
             })?;
         }
-        let omega_mean = omega_from_rpm(rpm);
         let balance = self.machine.with_inertia(shaft_inertia);
         let (solution, curves) =
             match balance
@@ -215,13 +220,15 @@ impl SteadyTables {
                 .solve_with_curves(omega_mean, min_speed_ratio, phi)?
             {
                 Ok(found) => found,
-                Err(stall) => return Err(stall_error(&balance, stall, rpm, min_speed_ratio)?),
+                Err(stall) => {
+                    return Err(stall_error(&balance, stall, omega_mean, min_speed_ratio)?)
+                }
             };
         let mut state = state_of(&solution, self.load, f64::NAN, f64::NAN);
         if compare {
             (state.delta_without_gravity, state.delta_gravity_only) = self.comparisons(
                 shaft_inertia,
-                rpm,
+                omega_mean,
                 state.delta,
                 state.omega_mean,
                 min_speed_ratio,
@@ -235,23 +242,24 @@ impl SteadyTables {
     }
 
     /// (δ without gravity, δ of gravity alone) of a steady state found by
-    /// [`SteadyTables::steady_state`] with I_w = `shaft_inertia` at `rpm` (its `delta` and
-    /// `omega_mean`, rad/s): the two comparison solves it skips without `compare` — δ₀ at the
-    /// speed asked for (δ itself without gravity), δ of gravity alone at the mean speed
-    /// found; each NaN where it stalls.
+    /// [`SteadyTables::steady_state`] with I_w = `shaft_inertia` at the mean speed `omega`
+    /// asked for (rad/s) (its `delta` and `omega_mean`, the mean speed found, rad/s): the two
+    /// comparison solves it skips without `compare` — δ₀ at the speed asked for (δ itself
+    /// without gravity), δ of gravity alone at the mean speed found; each NaN where it stalls.
     pub fn comparisons(
         &self,
         shaft_inertia: f64,
-        rpm: f64,
+        omega: f64,
         delta: f64,
         omega_mean: f64,
         min_speed_ratio: f64,
     ) -> Result<(f64, f64)> {
         check_shaft_inertia(shaft_inertia)?;
-        check_rpm(rpm)?;
+        check_speed("omega", omega)?;
+        check_speed("omega_mean", omega_mean)?;
         check_speed_ratio(min_speed_ratio)?;
         let without = self
-            .delta_without_gravity(shaft_inertia, omega_from_rpm(rpm), min_speed_ratio)?
+            .delta_without_gravity(shaft_inertia, omega, min_speed_ratio)?
             .unwrap_or(delta);
         let alone = self.delta_gravity_only(shaft_inertia, omega_mean, min_speed_ratio)?;
         Ok((without, alone))
@@ -280,12 +288,12 @@ impl SteadyTables {
     /// `energy_swing` and `textbook` of [`SteadyTables::flywheel_inertia`], without its
     /// search.
     ///
-    /// Errors: `delta` < 1e-9 or `omega_mean` not > 0, naming the parameter.
+    /// Errors: `delta` < 1e-9 or `omega_mean` outside [`SPEED_LIMITS`], naming the parameter.
+    ///
+    /// [`SPEED_LIMITS`]: crate::mechanism::SPEED_LIMITS
     pub fn textbook_flywheel(&self, delta: f64, omega_mean: f64) -> Result<(f64, f64)> {
         flywheel::check_delta(delta)?;
-        check("omega_mean", omega_mean, "omega_mean > 0 (rad/s)", |w| {
-            w > 0.0 && w.is_finite()
-        })?;
+        check_speed("omega_mean", omega_mean)?;
         let swing = self.energy_swing(omega_mean)?;
         Ok((
             swing,
@@ -353,7 +361,8 @@ impl SteadyTables {
         ))
     }
 
-    /// The shaft inertia for the coefficient of speed fluctuation `delta` at `rpm`, as
+    /// The shaft inertia for the coefficient of speed fluctuation `delta` at the mean speed
+    /// `omega_mean` (rad/s), as
     /// [`flywheel_inertia`] gives it; `fallback` (kg·m²): where the search starts when the
     /// textbook estimate is not positive. `without`: whether the g = 0 machine's is sized
     /// too (else NaN).
@@ -362,15 +371,14 @@ impl SteadyTables {
     pub fn flywheel_inertia(
         &self,
         delta: f64,
-        rpm: f64,
+        omega_mean: f64,
         min_speed_ratio: f64,
         fallback: f64,
         without: bool,
     ) -> Result<FlywheelInertia> {
         flywheel::check_delta(delta)?;
-        check_rpm(rpm)?;
+        check_speed("omega_mean", omega_mean)?;
         check_speed_ratio(min_speed_ratio)?;
-        let omega_mean = omega_from_rpm(rpm);
         let balance = &self.machine;
         let swing = self.energy_swing(omega_mean)?;
         let textbook = flywheel::textbook(swing, &self.cycle, delta, omega_mean);
@@ -400,7 +408,7 @@ impl SteadyTables {
             textbook_error: (textbook - inertia) / inertia,
             energy_swing: swing,
             delta,
-            rpm,
+            omega_mean,
         })
     }
 }

@@ -6,7 +6,7 @@ use std::sync::Arc;
 
 use crate::dynamics::{two_mass_rod_inertia, PhysicalCylinder};
 use crate::error::{check, MechanismError, Result};
-use crate::mechanism::{check_rpm, check_shaft_inertia};
+use crate::mechanism::{check_shaft_inertia, check_speed};
 
 use super::columns::DesignColumns;
 use super::cycle::Gas;
@@ -19,29 +19,31 @@ pub(super) struct Variant {
     units: Vec<PhysicalCylinder>,
     gas: Vec<GasCylinder>,
     pub(super) shaft_inertia: f64,
-    pub(super) rpm: f64,
+    /// The mean speed ω_m (rad/s).
+    pub(super) omega: f64,
     g: f64,
     pressure_scale: Option<f64>,
 }
 
-/// Design `row` of `designs` applied to `base` (speed `rpm` where there is no rpm column),
+/// Design `row` of `designs` applied to `base` (mean speed `omega`, rad/s, where there is
+/// no omega column),
 /// checked: every value, every unit and its gas.
 pub(super) fn variant(
     base: &Machine<'_>,
-    rpm: Option<f64>,
+    omega: Option<f64>,
     designs: &DesignColumns<'_>,
     row: usize,
 ) -> Result<Variant> {
     let value = |column: Option<&[f64]>| column.map(|c| c[row]);
     let shaft_inertia =
         check_shaft_inertia(value(designs.shaft_inertia).unwrap_or(base.shaft_inertia))?;
-    let rpm = match value(designs.rpm).or(rpm) {
-        Some(rpm) => check_rpm(rpm)?,
+    let omega = match value(designs.omega).or(omega) {
+        Some(omega) => check_speed("omega", omega)?,
         None => {
             return Err(MechanismError::OutOfRange {
-                parameter: "rpm",
+                parameter: "omega",
                 value: f64::NAN,
-                allowed: "rpm > 0: an rpm column, or the sweep's base rpm",
+                allowed: "a mean speed (rad/s): an omega column, or the sweep's base omega",
             })
         }
     };
@@ -110,7 +112,7 @@ pub(super) fn variant(
         units,
         gas,
         shaft_inertia,
-        rpm,
+        omega,
         g,
         pressure_scale,
     })

@@ -26,6 +26,17 @@ pub fn array(value: &Value, key: &str) -> Vec<f64> {
         .collect()
 }
 
+/// ω = πn/30 (rad/s) of a speed n (1/min): the fixtures' speeds are in 1/min, the core's
+/// in rad/s (2π rad a revolution, 60 s a minute).
+pub fn omega(rpm: f64) -> f64 {
+    rpm * std::f64::consts::PI / 30.0
+}
+
+/// n = 30ω/π (1/min) of a speed ω (rad/s): the inverse of [`omega`].
+pub fn rpm(omega: f64) -> f64 {
+    omega * 30.0 / std::f64::consts::PI
+}
+
 pub fn relative(found: f64, expected: f64) -> f64 {
     (found - expected).abs() / expected.abs()
 }
@@ -161,6 +172,7 @@ pub fn machine_of(f: &Fixture) -> Machine<'_> {
     }
 }
 
+/// The steady state of fixture `f` at `rpm` (1/min).
 pub fn solve(f: &Fixture, rpm: f64) -> SteadyState {
-    steady_state(&machine_of(f), rpm, 1e-3).expect("runs")
+    steady_state(&machine_of(f), omega(rpm), 1e-3).expect("runs")
 }

@@ -1,0 +1,50 @@
+"""One unit at the core's boundary, one rule for a speed: the Python API checks a user's speed
+[1/min] by the core's limits on ω [rad/s] (read from the binding) and converts it once; what it
+shows in 1/min is derived back from the ω the core gives. Oracles: ω = πn/30 written out here."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+import multicrank as mc
+from multicrank import _native, _validation
+from multicrank.machine.native import native_machine
+
+
+def test_the_python_speed_limits_are_the_cores():
+    # The core's rule, read from the binding: 1e-6 to 1e8 revolutions per minute in rad/s.
+    assert _validation.SPEED_LIMITS == tuple(_native.SPEED_LIMITS)
+    assert _native.SPEED_LIMITS == pytest.approx((math.pi / 30 * 1e-6, math.pi / 30 * 1e8), rel=1e-15)
+    assert _validation.RPM_LIMITS == pytest.approx((1e-6, 1e8), rel=1e-15)
+    # The message stays in the user's unit, its numbers from the core's limits.
+    with pytest.raises(
+        mc.MechanismError, match=r"rpm = 200000000.0 is out of range; allowed: 1e-06 <= rpm <= 1e\+08 \[1/min\]"
+    ):
+        _validation.as_speed(2e8, "rpm")
+    # Both ends are the core's: what Python takes, the core takes, and the next speed out is
+    # refused by both.
+    machine = mc.presets.DEFAULT_MACHINE
+    native = native_machine(machine)
+    for rpm in (1e-6, 1e8):
+        omega = _validation.as_omega(rpm, "rpm")
+        assert omega == pytest.approx(math.pi * rpm / 30, rel=1e-15)
+        low, high = _native.SPEED_LIMITS
+        assert low <= omega <= high
+    for omega in (math.nextafter(_native.SPEED_LIMITS[0], 0), math.nextafter(_native.SPEED_LIMITS[1], math.inf)):
+        with pytest.raises(mc.MechanismError, match="omega_mean"):
+            native.steady_state(omega)
+        with pytest.raises(mc.MechanismError, match=r"rpm = .* is out of range; allowed: 1e-06 <= rpm <= 1e\+08"):
+            _validation.as_omega(30 * omega / math.pi, "rpm")
+
+
+@pytest.mark.parametrize("rpm", [100.0, 120.0, 157.3])
+def test_the_steady_state_runs_at_the_speed_asked(rpm):
+    machine = mc.presets.DEFAULT_MACHINE
+    state = mc.steady_state(machine, rpm=rpm)
+    assert state.omega_mean == pytest.approx(math.pi * rpm / 30, rel=1e-14)  # t_Φ = Φ/ω_m to rounding
+    assert state.rpm == pytest.approx(rpm, rel=1e-14)  # and back to 1/min
+    assert state.rpm == pytest.approx(30 * state.omega_mean / math.pi, rel=1e-15)
+    sized = mc.flywheel_inertia(machine, delta=1 / 50, rpm=rpm)
+    assert sized.rpm == pytest.approx(rpm, rel=1e-15)
