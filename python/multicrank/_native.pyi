@@ -41,6 +41,7 @@ __all__ = [
     "machine_evaluate",
     "machine_gas_torque",
     "machine_inertia",
+    "machine_torque_orders",
     "paper_coefficient",
     "set_parallel_threshold",
     "surviving_harmonics",
@@ -251,3 +252,6 @@ def two_mass_rod_inertia(rod_mass: float, rod_length: float, rod_cg: float) -> f
 def get_parallel_threshold() -> int: ...
 def set_parallel_threshold(threshold: int) -> None: ...
 def _after_fork_in_child() -> None: ...
+def machine_torque_orders(
+    machine: MotionMachine, omega: float, max_order: int, gravity: bool = True
+) -> dict[str, _Array | float]: ...

@@ -281,3 +281,11 @@ def test_a_thousand_orders_need_memory_in_proportion_to_the_work_and_are_the_fft
         spectrum[0] /= 2  # the mean
         np.testing.assert_allclose(table[f"{part}_cos"], spectrum.real[harmonic], rtol=0, atol=1e-12 * largest)
         np.testing.assert_allclose(table[f"{part}_sin"], -spectrum.imag[harmonic], rtol=0, atol=1e-12 * largest)
+
+
+@pytest.mark.parametrize("max_order", [2**50, 2**62, 2**64 - 1])
+def test_more_orders_than_memory_holds_are_refused_by_name(max_order):
+    """A max_order whose quadrature nodes cannot be allocated is refused before any work
+    (numpy's MemoryError or an overflow once; an abort in the core, unchecked)."""
+    with pytest.raises(mc.MechanismError, match=r"^max_order = \d+ asks for"):
+        mc.torque_orders(twin(), RPM, max_order=max_order)

@@ -16,8 +16,7 @@
   share: "balance" (beside any drive) and the square law are the Rust core's alone, a load or
   drive that depends on the speed is shot in Python;
 - `_shooting`: that last route (SciPy's solve_ivp on the core's K₀ and J), and the flywheel
-  for it;
-- `_quadrature`: the Gauss–Legendre panels of the torque orders, cut at the torques' kinks.
+  for it.
 
 Units and names: a speed's name carries its unit — ``rpm…`` in 1/min, ``omega…`` in rad/s
 (ω = πn/30); the torques on the shaft are ``gas_torque``, ``gravity_torque``,

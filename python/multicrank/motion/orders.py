@@ -19,8 +19,15 @@ for the gas torque, the inertia torque −½ J'(φ) ω² at the mean speed, the 
   :class:`~multicrank.IndicatorDiagram` the coefficients of the interpolated diagram's
   torque are exact to rounding as well. The torque itself has kinks there, so its series
   converges only algebraically ("spectral for tabulated gas": the coefficients are right,
-  a truncated sum is not the torque). A callable pressure with kinks the library cannot
-  see (no ``breakpoints``) is integrated to the accuracy of the panels alone.
+  a truncated sum is not the torque). A pressure callable crosses to the core as its
+  interpolant on a fine grid (degree 7 on panels at most π/256 wide, cut at the dead
+  centres, as ``machine.native.sampled`` makes it), whose coefficients are found the
+  same way: for a smooth pressure they are its own to rounding; a kink inside one of those
+  panels is smoothed there.
+
+The Rust core computes the coefficients (``_native.machine_torque_orders`` on the machine's
+native ``MotionMachine``); here they are checked, rounded
+(:data:`RESOLUTION`) and laid out.
 """
 
 from __future__ import annotations
@@ -30,12 +37,11 @@ from typing import Any
 
 import numpy as np
 
-from .._native import MechanismError
+from .._native import MechanismError, machine_torque_orders
 from .._optional import require
-from .._shaft import omega_from_rpm
-from .._validation import SPEED_LIMITS, as_count, as_flag, as_instance, as_option, as_speed
+from .._validation import SPEED_LIMITS, as_count, as_flag, as_instance, as_omega, as_option, rpm_from_omega
 from ..machine.machine import Machine
-from ._quadrature import CycleQuadrature
+from ..machine.native import motion_machine
 
 __all__ = ["ORDER_PARTS", "to_opentorsion", "torque_orders"]
 
@@ -49,11 +55,6 @@ ORDER_PARTS = ("gas", "inertia", "gravity", "total")
 #: orders above the first, inertia's mean) comes out of the quadrature at ≈ 1e-16 … 2e-15 of
 #: that scale (the presets up to order 100); 1e-13 is fifty times above that rounding.
 RESOLUTION = 1e-13
-
-#: The widest quadrature panel [rad], and at most this fraction of the shortest period
-#: (2π/ν_max) per panel: with 12 nodes a panel then integrates cos νφ to rounding.
-_MAX_WIDTH = math.pi / 16
-_PERIOD_FRACTION = 0.25
 
 
 def torque_orders(machine: Machine, rpm: float, *, max_order: int = 12, gravity: bool = True) -> Any:
@@ -110,29 +111,12 @@ def torque_orders(machine: Machine, rpm: float, *, max_order: int = 12, gravity:
     import pandas as pd
 
     machine = as_instance(machine, Machine, "machine")
-    speed = as_speed(rpm, "rpm")
+    omega = as_omega(rpm, "rpm")
     highest = as_count(max_order, "max_order", minimum=1)
     gravity = as_flag(gravity, "gravity")
-    omega = omega_from_rpm(speed)
-    per_cycle = machine.strokes // 2  # harmonics of the cycle per order
-    orders = np.arange(highest * per_cycle + 1) / per_cycle
-    width = min(_MAX_WIDTH, _PERIOD_FRACTION * 2 * math.pi / highest)
-
-    parts: dict[str, tuple[np.ndarray, np.ndarray]] = {}
-    gas = CycleQuadrature.of(machine, max_width=width)
-    parts["gas"] = _coefficients(gas, machine.gas_torque(gas.phi), orders)
-
-    revolution = CycleQuadrature(np.array([0.0, 2 * math.pi]), max_width=width)
-    integer = orders == np.round(orders)
-    inertia = np.zeros((2, orders.size))
-    inertia[:, integer] = _coefficients(revolution, machine.inertia_torque(revolution.phi, omega), orders[integer])
-    parts["inertia"] = (inertia[0], inertia[1])
-
-    weight = np.zeros((2, orders.size))
-    if gravity and machine.g != 0.0:
-        weight[:, integer] = _coefficients(revolution, machine.gravity_torque(revolution.phi), orders[integer])
-        weight[0, 0] = 0.0  # −U′ of a periodic U has no mean: exactly, not to rounding
-    parts["gravity"] = (weight[0], weight[1])
+    found = machine_torque_orders(motion_machine(machine), omega, highest, gravity)
+    orders = np.asarray(found["order"])
+    parts = {name: (np.asarray(found[f"{name}_cos"]), np.asarray(found[f"{name}_sin"])) for name in ORDER_PARTS[:3]}
     parts["total"] = (
         parts["gas"][0] + parts["inertia"][0] + parts["gravity"][0],
         parts["gas"][1] + parts["inertia"][1] + parts["gravity"][1],
@@ -140,9 +124,8 @@ def torque_orders(machine: Machine, rpm: float, *, max_order: int = 12, gravity:
 
     # What cancelled to below the quadrature's rounding is 0, not 1e-15 N·m of noise.
     scale = {name: float(np.max(np.hypot(*parts[name]))) for name in ORDER_PARTS}
-    inertia_scale, gravity_scale = _uncancelled(machine, revolution.phi, omega)
-    scale["inertia"] = max(scale["inertia"], inertia_scale)
-    scale["gravity"] = max(scale["gravity"], gravity_scale if gravity else 0.0)
+    scale["inertia"] = max(scale["inertia"], float(found["inertia_scale"]))
+    scale["gravity"] = max(scale["gravity"], float(found["gravity_scale"]))
     scale["total"] = max(scale.values())
     columns: dict[str, np.ndarray] = {}
     units: dict[str, str] = {}
@@ -155,53 +138,8 @@ def torque_orders(machine: Machine, rpm: float, *, max_order: int = 12, gravity:
         columns[f"{name}_phase"] = np.arctan2(sin, cos)
         units.update({f"{name}_cos": "N·m", f"{name}_sin": "N·m", f"{name}_amplitude": "N·m", f"{name}_phase": "rad"})
     frame = pd.DataFrame(columns, index=pd.Index(orders, name="order"))
-    frame.attrs.update({"rpm": speed, "omega": omega, "strokes": machine.strokes, "units": units})
+    frame.attrs.update({"rpm": rpm_from_omega(omega), "omega": omega, "strokes": machine.strokes, "units": units})
     return frame
-
-
-def _uncancelled(machine: Machine, phi: np.ndarray, omega: float) -> tuple[float, float]:
-    """Σ_j max_φ |M_j(φ)| of each unit's inertia and gravity torque alone [N·m]: the size of
-    what the machine's sum over its units cancels, and so the scale of its rounding."""
-    inertia = gravity = 0.0
-    for cylinder in machine.cylinders:
-        alone = machine.replace(cylinders=[cylinder])
-        inertia += float(np.max(np.abs(alone.inertia_torque(phi, omega))))
-        gravity += float(np.max(np.abs(alone.gravity_torque(phi))))
-    return inertia, gravity
-
-
-#: Orders between the exact restarts of the recurrence in :func:`_coefficients` (each step
-#: adds a rounding of ~1e-16 to e^{iνφ}; 32 of them stay far below RESOLUTION).
-_RESTART = 32
-
-
-def _coefficients(rule: CycleQuadrature, values: np.ndarray, orders: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(a_ν, b_ν) of f over the rule's period T = rule.cycle: a_ν = (2/T)∫ f cos νφ dφ
-    (a_0 the mean), b_ν = (2/T)∫ f sin νφ dφ.
-
-    One order at a time, a_ν + i b_ν = (2/T) Σ w f e^{iνφ} over the nodes: the memory is that
-    of the nodes, not of an orders × nodes matrix (the nodes grow with the highest order, so
-    that matrix grew as its square: 3.4 GB at order 1000). Evenly spaced orders (all of
-    :func:`torque_orders`) step e^{iνφ} by the rotation e^{iΔνφ}, from an exact e^{iνφ} every
-    :data:`_RESTART` orders; any other orders are evaluated each."""
-    phi = rule.phi.reshape(-1)
-    weighted = (rule.weights * values).reshape(-1)
-    factor = np.where(orders == 0, 1.0, 2.0) / rule.cycle
-    steps = np.diff(orders)
-    rotation = np.exp(1j * steps[0] * phi) if steps.size and np.all(steps == steps[0]) else None
-    found = np.empty((orders.size, 2))
-    wave = np.empty(phi.size, dtype=complex)
-    pairs = wave.view(float).reshape(-1, 2)  # (cos νφ, sin νφ) per node, the same memory
-    for k, order in enumerate(orders):
-        if rotation is None or k % _RESTART == 0:
-            angle = order * phi
-            wave.real, wave.imag = np.cos(angle), np.sin(angle)  # (faster than a complex exp)
-        else:
-            wave *= rotation
-        # One matrix-vector product for both sums (numpy's complex @ real, or a dot of
-        # the strided real part, is many times slower).
-        found[k] = weighted @ pairs
-    return factor * found[:, 0], factor * found[:, 1]
 
 
 def to_opentorsion(orders: Any, *, dofs: Any, node: Any, part: str = "total", mean: Any = False) -> Any:

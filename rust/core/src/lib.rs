@@ -56,6 +56,7 @@ pub use motion::{
     Machine, MotionColumns, MotionOutputs, PiecewisePolynomial, SteadyCurves, SteadyState,
     SteadyTables, UnitColumn, UnitField,
 };
+pub use motion::{torque_orders, TorqueOrders};
 pub use parallel::Parallelism;
 pub use series::{build_series, fourier_table, FourierSeries, SeriesKind};
 pub use series_kernels::{evaluate_series, evaluate_series_or_exact};

@@ -23,6 +23,7 @@ mod harmonics;
 mod machine;
 mod motion;
 mod motion_results;
+mod orders;
 mod parallel;
 mod sweep;
 
@@ -56,6 +57,8 @@ mod _native {
     use crate::motion::MotionMachine;
     #[pymodule_export]
     use crate::motion_results::{FlywheelResult, SteadyResult};
+    #[pymodule_export]
+    use crate::orders::machine_torque_orders;
     #[pymodule_export]
     use crate::parallel::{_after_fork_in_child, get_parallel_threshold, set_parallel_threshold};
     #[pymodule_export]

@@ -66,20 +66,11 @@ impl Gas {
         let cycle = machine.strokes.cycle_angle();
         let forces = Forces::new(machine.units, machine.gas, diagrams.clone(), cycle)?;
         let work = GasWork::new(machine.units, machine.gas, diagrams, cycle)?;
-        // The dead centres ψ = φ + α ≡ 0 mod π of every gassed unit: where a pressure given
-        // by branches may switch (the tables' own breakpoints enter through W, exactly).
-        let mut angles = Vec::new();
-        for (unit, gas) in machine.units.iter().zip(machine.gas) {
-            if gas.has_gas() {
-                let centres = (cycle / PI).round() as usize;
-                angles
-                    .extend((0..=centres).map(|k| (k as f64 * PI - unit.phase).rem_euclid(cycle)));
-            }
-        }
+        // The tables' own breakpoints enter through W, exactly.
         Ok(Self {
             forces,
             work,
-            cuts: breaks(angles, cycle),
+            cuts: breaks(dead_centres(machine), cycle),
             on_panels: Mutex::new(Vec::new()),
         })
     }
@@ -116,6 +107,20 @@ impl Gas {
         all.push((key, Arc::clone(&made)));
         Ok(made)
     }
+}
+
+/// The dead centres ψ = φ + α ≡ 0 mod π of every gassed unit, φ in [0, Φ]: where a pressure
+/// given by branches (expansion, compression) may switch.
+pub(super) fn dead_centres(machine: &Machine<'_>) -> Vec<f64> {
+    let cycle = machine.strokes.cycle_angle();
+    let centres = (cycle / PI).round() as usize;
+    let mut angles = Vec::new();
+    for (unit, gas) in machine.units.iter().zip(machine.gas) {
+        if gas.has_gas() {
+            angles.extend((0..=centres).map(|k| (k as f64 * PI - unit.phase).rem_euclid(cycle)));
+        }
+    }
+    angles
 }
 
 /// The machine's quantities over its cycle. Nothing in them depends on I_w or on the

@@ -21,6 +21,7 @@ mod drive;
 mod extrema;
 mod flywheel;
 mod gas;
+mod orders;
 mod quadrature;
 mod solution;
 mod square_law;
@@ -38,6 +39,7 @@ use tables::state_of;
 
 pub use columns::{DesignColumns, MotionColumns, MotionOutputs, UnitColumn, UnitField};
 pub use gas::{GasCylinder, PiecewisePolynomial};
+pub use orders::{torque_orders, TorqueOrders};
 pub use sweep::motion_sweep;
 pub use tables::{CycleArrays, SteadyTables};
 
