@@ -1,9 +1,10 @@
-"""The shaft's speed in its two units, and the inertia torque of its variable reduced inertia.
+"""The inertia torque of the shaft's variable reduced inertia.
 
-The few formulas that the machine (:mod:`multicrank.machine`), its motion
-(:mod:`multicrank.motion`), the CLI and the report all use, in one place. Like
-:mod:`multicrank._validation` (where the speed conversions live, beside the check of a speed) it
-imports nothing else of the package, so any module may use it.
+The formula that the machine (:mod:`multicrank.machine`) and its motion
+(:mod:`multicrank.motion`) use, in one place. Like :mod:`multicrank._validation` it imports
+nothing of the package, so any module may use it. The speed's two units are converted by
+:func:`multicrank._validation.omega_from_rpm` and :func:`~multicrank._validation.rpm_from_omega`
+alone, where a user's speed is checked.
 
 The house convention for speeds: a name carries its unit — ``rpm…`` in revolutions per
 minute [1/min], ``omega…`` in radians per second [rad/s]; ω = π n/30.
@@ -13,10 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
-# The one conversion lives where a user's speed is checked (re-exported for the old imports).
-from ._validation import omega_from_rpm, rpm_from_omega
-
-__all__ = ["inertia_torque", "omega_from_rpm", "rpm_from_omega"]
+__all__ = ["inertia_torque"]
 
 
 def inertia_torque(slope: np.ndarray, omega: np.ndarray | float) -> np.ndarray:

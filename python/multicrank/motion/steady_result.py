@@ -20,9 +20,8 @@ from typing import Any, ClassVar
 import numpy as np
 
 from .._native import MechanismError
-from .._shaft import rpm_from_omega
 from .._text import counted
-from .._validation import renamed
+from .._validation import renamed, rpm_from_omega
 from ..machine.machine import Machine
 from ._periodic import SOLVED
 from ._result import MotionResult

@@ -12,8 +12,7 @@ import numpy as np
 import pandas as pd
 
 from .._native import MechanismError
-from .._shaft import rpm_from_omega
-from .._validation import as_count
+from .._validation import as_count, rpm_from_omega
 from ..machine.machine import Machine
 from .plotting import plain_log_axis, pyplot, symmetric_limit
 from .prose import map_axes_sentence, neglected_region_sentence, speed_trend_sentence
