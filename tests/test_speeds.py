@@ -48,3 +48,19 @@ def test_the_steady_state_runs_at_the_speed_asked(rpm):
     assert state.rpm == pytest.approx(30 * state.omega_mean / math.pi, rel=1e-15)
     sized = mc.flywheel_inertia(machine, delta=1 / 50, rpm=rpm)
     assert sized.rpm == pytest.approx(rpm, rel=1e-15)
+
+
+def test_every_speed_of_a_user_is_checked_by_the_one_rule():
+    # A speed the core would refuse is refused where the user gives it, in 1/min, by name.
+    machine = mc.presets.DEFAULT_MACHINE
+    allowed = r"allowed: 1e-06 <= {0} <= 1e\+08 \[1/min\]"
+    with pytest.raises(mc.MechanismError, match=r"balance_rpm = 200000000.0 .*" + allowed.format("balance_rpm")):
+        mc.simulate(machine, [0.0, 0.1], rpm0=120, load="balance", drive=lambda phi, omega: 0 * phi, balance_rpm=2e8)
+    with pytest.raises(mc.MechanismError, match=allowed.format("rpm")):
+        mc.dimensionless_moments(
+            crank_radius=0.1, rod_length=0.4, rod_cg=0.1, piston_mass=1.0, rod_mass=1.0, crank_mass=0.5,
+            crank_cg_radius=0.05, counterweight_mass=0.5, counterweight_radius=0.05, shaft_inertia=1.0,
+            rpm=[100.0, 1e-9], g=9.81,
+        )  # fmt: skip
+    with pytest.raises(mc.MechanismError, match=allowed.format("rpm")):
+        machine.engine(rpm=1e9)

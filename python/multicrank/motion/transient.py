@@ -33,6 +33,7 @@ from .._validation import (
     SPEED_LIMITS,
     as_flag,
     as_instance,
+    as_omega,
     as_real_array,
     as_scalar,
     omega_from_rpm,
@@ -432,4 +433,5 @@ def _balance_speed(balance_rpm: Any, balance_speed: Any, balance: bool) -> float
     speed = _finite(value, name)
     if name == "balance_speed":
         warn_renamed("simulate(balance_speed=ω [rad/s])", "balance_rpm=n [1/min]", stacklevel=4)
-    return speed if name == "balance_speed" else float(omega_from_rpm(speed))
+        return speed
+    return as_omega(speed, name)  # a speed [1/min] by the core's rule, converted once
