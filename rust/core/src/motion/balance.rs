@@ -6,6 +6,7 @@
 //! written E = s + K̃ with K̃ = K − min K ≥ 0 and s > 0 the kinetic energy left at the worst
 //! angle; s is the root of (Φ/(t_Φ(s)·ω_m))² − 1, increasing and nearly linear in s.
 
+use std::cell::Cell;
 use std::sync::Arc;
 
 use crate::error::Result;
@@ -13,7 +14,7 @@ use crate::error::Result;
 use super::cycle::Cycle;
 use super::extrema::{brent, brent_from, grading, local_minima, refine_extremum, Dip, GRADE_REACH};
 use super::quadrature::Panels;
-use super::solution::{Curves, Periodic, Solved, Stall};
+use super::solution::{message, Curves, Periodic, PeriodicSolver, Solution};
 
 /// Refinements of the time mesh before the answer is taken, at most: each grades for the s
 /// found on the last, until the mesh no longer grows.
@@ -127,6 +128,11 @@ impl Balance {
             inertia,
             ..self.clone()
         }
+    }
+
+    /// I_w (kg·m²).
+    pub fn inertia(&self) -> f64 {
+        self.inertia
     }
 
     /// Φ (rad).
@@ -272,36 +278,32 @@ impl Balance {
         lanes.iter().sum::<f64>() + tail
     }
 
-    /// The periodic solution of mean speed `omega_mean` (rad/s); `Err(Stall)` inside `Ok`
-    /// when it needs ω_min < `ratio`·ω_m. s by Brent's method on (ω_m(s)/ω_m)² − 1, nearly
-    /// linear in s, on a mesh graded for that s (again until the mesh no longer grows).
-    pub fn solve(&mut self, omega_mean: f64, ratio: f64) -> Result<Solved> {
-        Ok(self.solve_on_mesh(omega_mean, ratio)?.0)
+    /// The energy method at the mean speed `omega_mean` (rad/s): a [`PeriodicSolver`].
+    pub fn at_speed(&self, omega_mean: f64) -> AtSpeed<'_> {
+        AtSpeed {
+            balance: self,
+            omega_mean,
+        }
     }
 
-    /// As [`Balance::solve`], with ω(φ) (rad/s) and t(φ) (s, from φ = 0) of the solution at
-    /// `phi` (rad, each in [0, Φ]), as [`Balance::curves`] gives them.
-    pub fn solve_with_curves(
-        &mut self,
-        omega_mean: f64,
-        ratio: f64,
-        phi: &[f64],
-    ) -> Result<std::result::Result<(Periodic, Curves), Stall>> {
-        let (solved, graded) = self.solve_on_mesh(omega_mean, ratio)?;
-        match solved {
-            Ok(solution) => {
-                let curves = if phi.is_empty() {
-                    Curves {
-                        omega: Vec::new(),
-                        time: Vec::new(),
-                    }
-                } else {
-                    self.curves(self.view(&graded), solution.margin, phi)?
-                };
-                Ok(Ok((solution, curves)))
-            }
-            Err(stall) => Ok(Err(stall)),
+    /// The periodic solution of mean speed `omega_mean` (rad/s), stalled where it needs
+    /// ω_min < `ratio`·ω_m, with ω(φ) (rad/s) and t(φ) (s, from φ = 0) at `phi` (rad, each
+    /// in [0, Φ]) where given, as [`Balance::curves`] gives them. s by Brent's method on
+    /// (ω_m(s)/ω_m)² − 1, nearly linear in s, on a mesh graded for that s (again until the
+    /// mesh no longer grows).
+    fn solve_at(&mut self, omega_mean: f64, ratio: f64, phi: Option<&[f64]>) -> Result<Solution> {
+        let (mut solution, graded) = self.solve_on_mesh(omega_mean, ratio)?;
+        if let (Some(phi), Some(periodic)) = (phi, solution.periodic) {
+            solution.curves = Some(if phi.is_empty() {
+                Curves {
+                    omega: Vec::new(),
+                    time: Vec::new(),
+                }
+            } else {
+                self.curves(self.view(&graded), periodic.margin, phi)?
+            });
         }
+        Ok(solution)
     }
 
     /// ω(φ) = √(2E/J) with E = s + K̃(φ) evaluated exactly, and t(φ) = ∫₀^φ dφ/ω with each
@@ -325,8 +327,9 @@ impl Balance {
         Ok(Curves { omega, time })
     }
 
-    /// `solve`, and the graded mesh the answer was taken on (`None`: the base panels).
-    fn solve_on_mesh(&mut self, omega_mean: f64, ratio: f64) -> Result<(Solved, Option<Graded>)> {
+    /// `solve_at` without curves, and the graded mesh the answer was taken on (`None`: the
+    /// base panels); the counts are those of the excess (ω_m(s)/ω_m)² − 1 over every round.
+    fn solve_on_mesh(&mut self, omega_mean: f64, ratio: f64) -> Result<(Solution, Option<Graded>)> {
         let cycle = Arc::clone(&self.cycle);
         let target = cycle.cycle() / omega_mean;
         // At s_low the speed at the worst angle is at most ratio·ω_m (J there is at least the
@@ -342,10 +345,14 @@ impl Balance {
         let mut s = s_high;
         let period =
             |this: &Self, graded: &Option<Graded>, s: f64| this.period(this.view(graded), s);
+        // Evaluations of the excess, and of them Brent's.
+        let (nfev, nit) = (Cell::new(0), Cell::new(0));
         for _ in 0..MESH_ROUNDS {
             let size = self.view(&graded).nodes();
-            let excess =
-                |s: f64| -> Result<f64> { Ok((target / period(self, &graded, s)).powi(2) - 1.0) };
+            let excess = |s: f64| -> Result<f64> {
+                nfev.set(nfev.get() + 1);
+                Ok((target / period(self, &graded, s)).powi(2) - 1.0)
+            };
             let at_low = excess(s_low)?;
             if at_low > 0.0 {
                 let finer = self.mesh(s_low)?;
@@ -354,7 +361,8 @@ impl Balance {
                     graded = finer;
                     continue;
                 }
-                return Ok((Err(Stall { angle: self.lowest }), graded));
+                let stall = Solution::stalled(self.lowest, message::CRAWLS);
+                return Ok((stall.counted(nfev.get(), nit.get()), graded));
             }
             let mut high = s_high;
             let mut at_high = excess(high)?;
@@ -368,9 +376,14 @@ impl Balance {
                 at_high = excess(high)?;
             }
             // rtol 1e-15: s to rounding (the excess is nearly linear in s).
-            let found = brent_from(excess, (s_low, at_low), (high, at_high), 0.0, 1e-15)?;
+            let counted = |s: f64| {
+                nit.set(nit.get() + 1);
+                excess(s)
+            };
+            let found = brent_from(counted, (s_low, at_low), (high, at_high), 0.0, 1e-15)?;
             let Some(root) = found else {
-                return Ok((Err(Stall { angle: self.lowest }), graded));
+                let stall = Solution::stalled(self.lowest, message::NO_ROOT);
+                return Ok((stall.counted(nfev.get(), nit.get()), graded));
             };
             s = root;
             let k_min = self.k_min;
@@ -383,12 +396,12 @@ impl Balance {
             graded = finer;
         }
         let solved = self.finish(self.view(&graded), s, ratio)?;
-        Ok((solved, graded))
+        Ok((solved.counted(nfev.get(), nit.get()), graded))
     }
 
     /// The periodic solution with E = s + K̃ (its mean speed follows), no stall check: the
     /// search for the lowest running speed goes through stalls.
-    fn at_margin(&mut self, s: f64) -> Result<Solved> {
+    fn at_margin(&mut self, s: f64) -> Result<Solution> {
         let graded = self.mesh(s)?;
         self.finish(self.view(&graded), s, 0.0)
     }
@@ -405,9 +418,9 @@ impl Balance {
         self.dips()?;
         let swing = self.swing();
         let mut shortfall = |log_s: f64| -> Result<f64> {
-            Ok(match self.at_margin(log_s.exp())? {
-                Ok(p) => p.omega_min / p.omega_mean - ratio,
-                Err(_) => -ratio,
+            Ok(match self.at_margin(log_s.exp())?.periodic {
+                Some(p) => p.omega_min / p.omega_mean - ratio,
+                None => -ratio,
             })
         };
         let mut low = above.max(1e-300).ln();
@@ -438,6 +451,7 @@ impl Balance {
         }
         Ok(self
             .at_margin(log_s.exp())?
+            .periodic
             .map_or(f64::NAN, |p| p.omega_mean))
     }
 
@@ -476,7 +490,7 @@ impl Balance {
     }
 
     /// t_Φ, ω_m and the extremes of ω for E = s + K̃ on a mesh.
-    fn finish(&self, mesh: Mesh<'_>, s: f64, ratio: f64) -> Result<Solved> {
+    fn finish(&self, mesh: Mesh<'_>, s: f64, ratio: f64) -> Result<Solution> {
         let cycle = &self.cycle;
         let panels = mesh.panels;
         let n = mesh.nodes();
@@ -492,7 +506,7 @@ impl Balance {
             } else {
                 panels.edges[i - n]
             };
-            return Ok(Err(Stall { angle }));
+            return Ok(Solution::stalled(angle, message::STOPS));
         }
         let period = panels.integral(&omega[..n].iter().map(|w| 1.0 / w).collect::<Vec<_>>());
         let omega_mean = cycle.cycle() / period;
@@ -523,11 +537,12 @@ impl Balance {
         }
         .mean_inside();
         if omega_min < ratio * omega_mean {
-            return Ok(Err(Stall {
-                angle: solution.phi_min,
-            }));
+            return Ok(Solution::stalled(solution.phi_min, message::CRAWLS));
         }
-        Ok(Ok(solution))
+        Ok(Solution {
+            mean_load: self.load,
+            ..Solution::converged(solution, message::ROOT_FOUND)
+        })
     }
 
     /// ω(φ) exactly and the net torque J φ̈ = M_gas − U′ − M_load − ½J′ω², whose sign is
@@ -547,3 +562,20 @@ impl Balance {
 
 /// The running sums of the period's quadrature.
 const LANES: usize = 8;
+
+/// The energy method of a [`Balance`] at a mean speed ω_m (rad/s): the steady state of any
+/// shaft inertia there ([`Balance::at_speed`]). Each solve works on a fresh copy of the
+/// set-up with that inertia ([`Balance::with_inertia`]): a copy that has located its minima
+/// already rounds differently.
+pub(crate) struct AtSpeed<'b> {
+    balance: &'b Balance,
+    omega_mean: f64,
+}
+
+impl PeriodicSolver for AtSpeed<'_> {
+    fn solve(&self, shaft_inertia: f64, ratio: f64, phi: Option<&[f64]>) -> Result<Solution> {
+        self.balance
+            .with_inertia(shaft_inertia)
+            .solve_at(self.omega_mean, ratio, phi)
+    }
+}

@@ -7,9 +7,9 @@
 use crate::error::{check, MechanismError, Reach, Result};
 use crate::mechanism::check_shaft_inertia;
 
-use super::balance::Balance;
 use super::cycle::Cycle;
 use super::extrema::{brent, brent_from};
+use super::solution::PeriodicSolver;
 use super::square_law::SquareLaw;
 use super::tables::SteadyTables;
 use super::{check_speed_ratio, FlywheelInertia};
@@ -50,41 +50,28 @@ pub(crate) fn square_law_inertia(
         });
     }
     let cycle = &tables.cycle;
-    // The mean speed with the machine's own shaft, or where the mean torques balance.
-    let speed = |cycle: &Cycle, inertia: f64| -> Result<Option<(f64, f64)>> {
-        let mut trial = cycle.clone();
-        trial.inertia = inertia;
-        Ok(match SquareLaw::new(&trial, coefficient, drive) {
-            // More than 700 e-folds of E damped per cycle: a shaft so light stops at once.
+    let law = SquareLaw::new(cycle, coefficient, drive);
+    // The mean speed with a shaft (`None`: it stalls, or so light that more than 700 e-folds
+    // of E are damped per cycle and it stops at once).
+    let speed = |inertia: f64| -> Result<Option<f64>> {
+        Ok(match law.solve(inertia, ratio, None) {
             Err(MechanismError::OutOfRange { .. }) => None,
             Err(error) => return Err(error),
-            Ok(law) => law
-                .solve(ratio, &[])?
-                .ok()
-                .map(|(p, _, _)| (p.omega_mean, p.delta())),
+            Ok(found) => found.periodic.map(|p| p.omega_mean),
         })
     };
-    let first = speed(cycle, fallback)?.map_or((mean / coefficient).sqrt(), |found| found.0);
+    // The mean speed with the machine's own shaft, or where the mean torques balance.
+    let first = speed(fallback)?.unwrap_or((mean / coefficient).sqrt());
     let (swing, textbook) = tables.textbook_flywheel(delta, first)?;
     let start = self::start(swing, textbook, cycle, delta, first, fallback);
     let rest = cycle.mean_rest();
-    let inertia = inertia_for(
-        |inertia| Ok(speed(cycle, inertia)?.map(|s| s.1)),
-        rest,
-        delta,
-        start,
-    )?;
-    let reached = speed(cycle, inertia)?.map_or(first, |found| found.0);
+    let inertia = inertia_for(&law, ratio, rest, delta, start)?;
+    let reached = speed(inertia)?.unwrap_or(first);
     let (swing, textbook) = tables.textbook_flywheel(delta, reached)?;
     let without = if cycle.gravity_on {
         let without = cycle.without_gravity();
-        inertia_for(
-            |inertia| Ok(speed(&without, inertia)?.map(|s| s.1)),
-            rest,
-            delta,
-            inertia,
-        )
-        .unwrap_or(f64::NAN)
+        let law = SquareLaw::new(&without, coefficient, drive);
+        inertia_for(&law, ratio, rest, delta, inertia).unwrap_or(f64::NAN)
     } else {
         inertia
     };
@@ -117,33 +104,18 @@ fn bracket_steps() -> impl Iterator<Item = f64> {
         .chain(std::iter::repeat_n(4f64.ln(), 100))
 }
 
-/// δ(I_w) of the steady states under the "balance" load of `balance` at ω_m = `omega_mean`
-/// (rad/s), `None` where the machine stalls: what [`inertia_for`] searches for that load.
-pub(crate) fn balance_delta(
-    balance: &Balance,
-    omega_mean: f64,
-    ratio: f64,
-) -> impl FnMut(f64) -> Result<Option<f64>> + '_ {
-    move |inertia| {
-        Ok(balance
-            .with_inertia(inertia)
-            .solve(omega_mean, ratio)?
-            .ok()
-            .map(|p| p.delta()))
-    }
-}
-
-/// The I_w (kg·m²) with δ(I_w) = `delta`, δ(I_w) given by `delta_at` (the steady state's δ
-/// with that shaft inertia, `None` where the machine stalls; the same closure for every
-/// load): Brent's method on log(δ(I_w)/delta) in log I_w (to 1e-12 absolute and 1e-15
+/// The I_w (kg·m²) with δ(I_w) = `delta`, δ(I_w) the δ of `solver`'s steady state with
+/// that shaft inertia and the stall ratio `ratio` ([`PeriodicSolver::delta_at`]; the same
+/// search for every load): Brent's method on log(δ(I_w)/delta) in log I_w (to 1e-12 absolute and 1e-15
 /// relative; docs/theory.md, "The flywheel"), δ falling as I_w grows; a machine that stalls
 /// counts as δ = ∞. `rest`: mean(J − I_w) (kg·m²), which shapes the first steps; `start`:
 /// the estimate to bracket from.
 ///
 /// Errors: `delta` unreachable (the machine would stall before its fluctuation grows that
-/// large, or its rods' own inertia keeps δ below it); those of `delta_at`.
+/// large, or its rods' own inertia keeps δ below it); those of the solver.
 pub(crate) fn inertia_for(
-    mut delta_at: impl FnMut(f64) -> Result<Option<f64>>,
+    solver: &impl PeriodicSolver,
+    ratio: f64,
     rest: f64,
     delta: f64,
     start: f64,
@@ -160,7 +132,7 @@ pub(crate) fn inertia_for(
         if let Some(&(_, value)) = known.iter().find(|(x, _)| *x == log_inertia) {
             return Ok(value);
         }
-        let value = match delta_at(log_inertia.exp())? {
+        let value = match solver.delta_at(log_inertia.exp(), ratio)? {
             Some(found) if found > 0.0 => (found / delta).ln(),
             // A flywheel so heavy that δ rounds to 0 is beyond the target.
             Some(_) => f64::NEG_INFINITY,

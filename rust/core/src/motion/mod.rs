@@ -5,8 +5,9 @@
 //! The rooms: `quadrature` (Gauss–Legendre panels over the cycle), `gas` (pressures as
 //! periodic piecewise polynomials and the exact gas work), `drive` (a driving torque of φ
 //! and its exact work), `cycle` (the machine's J, U and W
-//! tabulated on the panels, and at any angle), `solution` (a periodic solution, or the stall
-//! that refused it), `extrema` (Brent's method, the extremes between samples and the graded
+//! tabulated on the panels, and at any angle), `solution` (the one solver pattern: the
+//! `PeriodicSolver` trait, which `balance` at a mean speed and `square_law` implement, and
+//! the `Solution` every solve answers with — its status, message and evaluation counts), `extrema` (Brent's method, the extremes between samples and the graded
 //! mesh), `balance` (the energy method), `square_law` (the square-law load in closed form),
 //! `tables` (a machine's tables, shared by every steady state of it), `flywheel` (the shaft
 //! inertia for a δ), and the motion sweep: `columns` (its vocabulary), `variant` (a design's
@@ -34,6 +35,7 @@ use crate::error::{check, MechanismError, Result};
 use crate::mechanism::{check_shaft_inertia, check_speed, Strokes};
 
 use cycle::Cycle;
+use solution::PeriodicSolver;
 use square_law::SquareLaw;
 use tables::state_of;
 
@@ -152,6 +154,17 @@ pub struct SteadyCurves {
     /// through the time mesh's nodes integrated exactly. t(0) = 0 and t(Φ) = `period` to
     /// rounding (the Python API's `SteadyState` sets both exactly).
     pub time: Vec<f64>,
+    /// How the solve ended, SciPy's convention: 0 converged (a stall is an error, never a
+    /// result).
+    pub status: i32,
+    /// What happened, in words.
+    pub message: &'static str,
+    /// Evaluations of the function whose root is found (the energy method: the mean speed
+    /// as a function of the margin s, each a quadrature of the period); 0 for the closed
+    /// form of the square law, which finds no root.
+    pub nfev: usize,
+    /// Of those, the root finder's (Brent's method's) own.
+    pub nit: usize,
 }
 
 /// [`steady_state`], with ω (rad/s) and t (s, from φ = 0) of the solution at the angles
@@ -223,22 +236,24 @@ pub fn square_law_steady_state(
             min_omega: None,
         });
     }
-    let (solution, curves, mean_load) =
-        match SquareLaw::new(cycle, coefficient, drive)?.solve(min_speed_ratio, phi)? {
-            Ok(found) => found,
-            Err(stall) => {
-                return Err(MechanismError::Stall {
-                    angle: stall.angle.rem_euclid(cycle.cycle()),
-                    omega_mean: f64::NAN,
-                    min_omega: None,
-                })
-            }
-        };
+    let inertia = machine.shaft_inertia;
+    let found =
+        SquareLaw::new(cycle, coefficient, drive).solve(inertia, min_speed_ratio, Some(phi))?;
+    let (Some(solution), Some(curves)) = (found.periodic, found.curves) else {
+        return Err(MechanismError::Stall {
+            angle: found
+                .stall_angle
+                .unwrap_or(f64::NAN)
+                .rem_euclid(cycle.cycle()),
+            omega_mean: f64::NAN,
+            min_omega: None,
+        });
+    };
     let delta_without_gravity = if cycle.gravity_on {
         let without = cycle.without_gravity();
-        SquareLaw::new(&without, coefficient, drive)?
-            .solve(min_speed_ratio, &[])?
-            .map_or(f64::NAN, |found| found.0.delta())
+        SquareLaw::new(&without, coefficient, drive)
+            .solve(inertia, min_speed_ratio, None)?
+            .delta_or_nan()
     } else {
         solution.delta()
     };
@@ -247,12 +262,16 @@ pub fn square_law_steady_state(
     Ok(SteadyCurves {
         state: state_of(
             &solution,
-            mean_load,
+            found.mean_load,
             delta_without_gravity,
             delta_gravity_only,
         ),
         omega: curves.omega,
         time: curves.time,
+        status: found.status.code(),
+        message: found.message,
+        nfev: found.nfev,
+        nit: found.nit,
     })
 }
 

@@ -14,13 +14,56 @@ use crate::error::{MechanismError, Result};
 use super::cycle::Cycle;
 use super::extrema::{grading, local_minima, refine_extremum};
 use super::quadrature::{Antiderivative, Panels};
-use super::solution::{Curves, Periodic, Stall};
+use super::solution::{message, Curves, Periodic, PeriodicSolver, Solution};
 
 /// The closed form fails (e^{A(Φ)} overflows) beyond this many e-folds per cycle.
 const MOST_E_FOLDS: f64 = 700.0;
 
-/// E(φ) of the periodic solution under a load c·ω² and a constant drive.
+/// The square-law load c·ω² beside a constant drive on a machine's cycle: a
+/// [`PeriodicSolver`], the closed form set up for each shaft inertia asked for.
 pub(crate) struct SquareLaw<'c> {
+    cycle: &'c Cycle,
+    coefficient: f64,
+    drive: f64,
+}
+
+impl<'c> SquareLaw<'c> {
+    /// The load c = `coefficient` (N·m·s²/rad²) and the constant `drive` (N·m) on `cycle`.
+    pub fn new(cycle: &'c Cycle, coefficient: f64, drive: f64) -> Self {
+        Self {
+            cycle,
+            coefficient,
+            drive,
+        }
+    }
+}
+
+impl PeriodicSolver for SquareLaw<'_> {
+    /// The closed form with I_w = `shaft_inertia` (the cycle's tables kept: J − I_w does
+    /// not depend on it). Errors: more than 700 e-folds of E damped per cycle, naming `load`.
+    fn solve(&self, shaft_inertia: f64, ratio: f64, phi: Option<&[f64]>) -> Result<Solution> {
+        if shaft_inertia == self.cycle.inertia {
+            return ClosedForm::new(self.cycle, self.coefficient, self.drive)?.solve(ratio, phi);
+        }
+        let mut trial = self.cycle.clone();
+        trial.inertia = shaft_inertia;
+        ClosedForm::new(&trial, self.coefficient, self.drive)?.solve(ratio, phi)
+    }
+
+    /// As the trait's, and a shaft so light that more than 700 e-folds of E are damped per
+    /// cycle stops at once: `None`, a stall.
+    fn delta_at(&self, shaft_inertia: f64, ratio: f64) -> Result<Option<f64>> {
+        match self.solve(shaft_inertia, ratio, None) {
+            Ok(found) => Ok(found.delta()),
+            Err(MechanismError::OutOfRange { .. }) => Ok(None),
+            Err(error) => Err(error),
+        }
+    }
+}
+
+/// E(φ) of the periodic solution under a load c·ω² and a constant drive, for one shaft
+/// inertia.
+struct ClosedForm<'c> {
     cycle: &'c Cycle,
     coefficient: f64,
     drive: f64,
@@ -34,7 +77,7 @@ pub(crate) struct SquareLaw<'c> {
     curvature: Vec<f64>,
 }
 
-impl<'c> SquareLaw<'c> {
+impl<'c> ClosedForm<'c> {
     /// The closed form for the load c = `coefficient` (N·m·s²/rad²) and the constant
     /// `drive` (N·m). Errors: more than 700 e-folds of E damped per cycle (the load
     /// names the parameter).
@@ -131,17 +174,11 @@ impl<'c> SquareLaw<'c> {
         ))
     }
 
-    /// The periodic solution (`Err(Stall)` inside `Ok` where E reaches zero or ω_min <
-    /// `ratio`·ω_m), with ω and t at `phi` (rad, in [0, Φ]) as [`Balance::curves`] gives
-    /// them, and the load's cycle mean (1/Φ)∫cω² dφ (N·m): the cycle quadrature of cω² with
-    /// ω exact at the base nodes.
-    ///
-    /// [`Balance::curves`]: super::balance::Balance
-    pub fn solve(
-        &self,
-        ratio: f64,
-        phi: &[f64],
-    ) -> Result<std::result::Result<(Periodic, Curves, f64), Stall>> {
+    /// The periodic solution (stalled where E reaches zero or ω_min < `ratio`·ω_m), with ω
+    /// and t at `phi` (rad, in [0, Φ]) where given, as the energy method gives them, and
+    /// the load's cycle mean (1/Φ)∫cω² dφ (N·m): the cycle quadrature of cω² with ω exact
+    /// at the base nodes.
+    fn solve(&self, ratio: f64, phi: Option<&[f64]>) -> Result<Solution> {
         let cycle = self.cycle;
         let base = &cycle.panels;
         if self.energy.iter().any(|&e| e.is_nan() || e <= 0.0) {
@@ -150,7 +187,7 @@ impl<'c> SquareLaw<'c> {
             let worst = samples
                 .iter()
                 .fold(samples[0], |a, &b| if b.1 < a.1 { b } else { a });
-            return Ok(Err(Stall { angle: worst.0 }));
+            return Ok(Solution::stalled(worst.0, message::STOPS));
         }
         // E′ = M − U′ − (2c/J)E exactly at any angle: the minima of E located between the
         // samples, and the time mesh graded towards them.
@@ -189,7 +226,7 @@ impl<'c> SquareLaw<'c> {
             } else {
                 panels.edges[i - n]
             };
-            return Ok(Err(Stall { angle }));
+            return Ok(Solution::stalled(angle, message::STOPS));
         }
         let omega: Vec<f64> = energy
             .iter()
@@ -215,17 +252,23 @@ impl<'c> SquareLaw<'c> {
         }
         .mean_inside();
         if omega_min < ratio * omega_mean {
-            return Ok(Err(Stall {
-                angle: solution.phi_min,
-            }));
+            return Ok(Solution::stalled(solution.phi_min, message::CRAWLS));
         }
         let at_nodes = self.omega_at(&base.phi)?;
         let load: Vec<f64> = at_nodes.iter().map(|w| self.coefficient * w * w).collect();
         let mean_load = base.integral(&load) / cycle.cycle();
-        let curves = Curves {
-            omega: self.omega_at(phi)?,
-            time: panels.running_at(&inverse, phi),
-        };
-        Ok(Ok((solution, curves, mean_load)))
+        let curves = phi
+            .map(|phi| -> Result<Curves> {
+                Ok(Curves {
+                    omega: self.omega_at(phi)?,
+                    time: panels.running_at(&inverse, phi),
+                })
+            })
+            .transpose()?;
+        Ok(Solution {
+            curves,
+            mean_load,
+            ..Solution::converged(solution, message::CLOSED_FORM)
+        })
     }
 }

@@ -76,8 +76,8 @@ fn solve(
     let omega_mean = variant.omega;
     let mut row = Row::NONE;
     if outputs.steady() {
-        match tables.solve(inertia, omega_mean, ratio)? {
-            Ok(solution) if solution.delta().is_finite() => {
+        match tables.solve(inertia, omega_mean, ratio)?.periodic {
+            Some(solution) if solution.delta().is_finite() => {
                 let delta = solution.delta();
                 row.delta = delta;
                 // The row's mean speed is the ω_m asked for, which the solution's ω_m

@@ -13,17 +13,12 @@ use super::balance::Balance;
 use super::cycle::{Cycle, Gas};
 use super::drive::Drive;
 use super::gas::PiecewisePolynomial;
-use super::solution::{Periodic, Solved, Stall};
+use super::solution::{Periodic, PeriodicSolver, Solution};
 use super::{check_speed_ratio, flywheel, FlywheelInertia, Machine, SteadyCurves, SteadyState};
 
 /// The constant "balance" load (N·m): the cycle mean of the gas torque, W(Φ)/Φ.
 fn balance_load(cycle: &Cycle) -> f64 {
     cycle.work_per_cycle() / cycle.cycle()
-}
-
-/// δ of a solution, NaN where it stalls.
-fn delta_or_nan(found: Solved) -> f64 {
-    found.map_or(f64::NAN, |p| p.delta())
 }
 
 /// A machine's working cycle tabulated once for every steady state of it under the
@@ -46,11 +41,12 @@ pub struct SteadyTables {
     swing: OnceLock<(f64, f64)>,
 }
 
-/// The stall at `omega_mean` (rad/s) as [`MechanismError::Stall`], with the lowest mean
-/// speed that runs (`min_omega`), searched from an s known to stall (docs/theory.md, "Stall").
+/// The stall at `omega_mean` (rad/s) at φ = `angle` (rad) as [`MechanismError::Stall`],
+/// with the lowest mean speed that runs (`min_omega`), searched from an s known to stall
+/// (docs/theory.md, "Stall").
 fn stall_error(
     balance: &Balance,
-    stall: Stall,
+    angle: f64,
     omega_mean: f64,
     ratio: f64,
 ) -> Result<MechanismError> {
@@ -62,7 +58,7 @@ fn stall_error(
         None
     };
     Ok(MechanismError::Stall {
-        angle: stall.angle.rem_euclid(balance.cycle()),
+        angle: angle.rem_euclid(balance.cycle()),
         omega_mean,
         min_omega,
     })
@@ -78,7 +74,10 @@ fn running_speed(balance: &Balance, omega: f64, ratio: f64) -> Result<f64> {
     let mut found = omega;
     let mut step = 4.0 * f64::EPSILON;
     for _ in 0..64 {
-        if balance.clone().solve(found, ratio)?.is_ok() {
+        let solved = balance
+            .at_speed(found)
+            .solve(balance.inertia(), ratio, None)?;
+        if solved.periodic.is_some() {
             return Ok(found);
         }
         found = omega * (1.0 + step);
@@ -213,17 +212,15 @@ impl SteadyTables {
                 (0.0..=cycle).contains(&a)
             })?;
         }
-        let balance = self.machine.with_inertia(shaft_inertia);
-        let (solution, curves) =
-            match balance
-                .clone()
-                .solve_with_curves(omega_mean, min_speed_ratio, phi)?
-            {
-                Ok(found) => found,
-                Err(stall) => {
-                    return Err(stall_error(&balance, stall, omega_mean, min_speed_ratio)?)
-                }
-            };
+        let found =
+            self.machine
+                .at_speed(omega_mean)
+                .solve(shaft_inertia, min_speed_ratio, Some(phi))?;
+        let (Some(solution), Some(curves)) = (found.periodic, found.curves) else {
+            let balance = self.machine.with_inertia(shaft_inertia);
+            let angle = found.stall_angle.unwrap_or(f64::NAN);
+            return Err(stall_error(&balance, angle, omega_mean, min_speed_ratio)?);
+        };
         let mut state = state_of(&solution, self.load, f64::NAN, f64::NAN);
         if compare {
             (state.delta_without_gravity, state.delta_gravity_only) = self.comparisons(
@@ -238,6 +235,10 @@ impl SteadyTables {
             state,
             omega: curves.omega,
             time: curves.time,
+            status: found.status.code(),
+            message: found.message,
+            nfev: found.nfev,
+            nit: found.nit,
         })
     }
 
@@ -318,12 +319,17 @@ impl SteadyTables {
         })
     }
 
-    /// δ alone (NaN where the machine stalls) with I_w = `shaft_inertia` at ω_m =
-    /// `omega_mean` (rad/s), and the solution: one solve, no curves.
-    pub(crate) fn solve(&self, shaft_inertia: f64, omega_mean: f64, ratio: f64) -> Result<Solved> {
+    /// The solution with I_w = `shaft_inertia` at ω_m = `omega_mean` (rad/s): one solve,
+    /// no curves.
+    pub(crate) fn solve(
+        &self,
+        shaft_inertia: f64,
+        omega_mean: f64,
+        ratio: f64,
+    ) -> Result<Solution> {
         self.machine
-            .with_inertia(shaft_inertia)
-            .solve(omega_mean, ratio)
+            .at_speed(omega_mean)
+            .solve(shaft_inertia, ratio, None)
     }
 
     /// δ of the machine with g = 0, the same load, at ω_m = `omega_mean` (rad/s), NaN where
@@ -337,11 +343,10 @@ impl SteadyTables {
         self.without_gravity
             .as_ref()
             .map(|balance| {
-                Ok(delta_or_nan(
-                    balance
-                        .with_inertia(shaft_inertia)
-                        .solve(omega_mean, ratio)?,
-                ))
+                Ok(balance
+                    .at_speed(omega_mean)
+                    .solve(shaft_inertia, ratio, None)?
+                    .delta_or_nan())
             })
             .transpose()
     }
@@ -354,11 +359,11 @@ impl SteadyTables {
         omega_mean: f64,
         ratio: f64,
     ) -> Result<f64> {
-        Ok(delta_or_nan(
-            self.gravity_only
-                .with_inertia(shaft_inertia)
-                .solve(omega_mean, ratio)?,
-        ))
+        Ok(self
+            .gravity_only
+            .at_speed(omega_mean)
+            .solve(shaft_inertia, ratio, None)?
+            .delta_or_nan())
     }
 
     /// The shaft inertia for the coefficient of speed fluctuation `delta` at the mean speed
@@ -385,7 +390,8 @@ impl SteadyTables {
         let start = flywheel::start(swing, textbook, &self.cycle, delta, omega_mean, fallback);
         let rest = self.cycle.mean_rest();
         let inertia = flywheel::inertia_for(
-            flywheel::balance_delta(balance, omega_mean, min_speed_ratio),
+            &balance.at_speed(omega_mean),
+            min_speed_ratio,
             rest,
             delta,
             start,
@@ -394,7 +400,8 @@ impl SteadyTables {
             (_, false) => f64::NAN,
             (None, true) => inertia,
             (Some(balance), true) => flywheel::inertia_for(
-                flywheel::balance_delta(balance, omega_mean, min_speed_ratio),
+                &balance.at_speed(omega_mean),
+                min_speed_ratio,
                 rest,
                 delta,
                 inertia,
