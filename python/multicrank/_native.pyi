@@ -69,7 +69,8 @@ _Table = tuple[_Array, _Array] | None
 @final
 class SteadyResult:
     """A steady state as the core found it (SI units, immutable): its numbers, and the curves
-    and arrays at the angles asked for (None where none were asked)."""
+    and arrays at the angles asked for (None where none were asked), how the solve ended
+    (``status``, ``message``) and its evaluation counts (``nfev``, ``nit``)."""
 
     @property
     def omega_mean(self) -> float: ...
@@ -95,6 +96,18 @@ class SteadyResult:
     def delta_without_gravity(self) -> float: ...
     @property
     def delta_gravity_only(self) -> float: ...
+    @property
+    def status(self) -> int:
+        """0: converged (SciPy's success); a stall is an error, never a result."""
+    @property
+    def message(self) -> str:
+        """How the solve ended, in words."""
+    @property
+    def nfev(self) -> int:
+        """Evaluations of the function whose root is found (0 for the closed form) [count]."""
+    @property
+    def nit(self) -> int:
+        """Of those, Brent's method's own [count]."""
     @property
     def omega(self) -> _Array | None: ...
     @property

@@ -211,6 +211,8 @@ class Periodic:
     time_at: Callable[[np.ndarray], np.ndarray]  # t(φ) [s]
     omega_at: Callable[[np.ndarray], np.ndarray]  # ω(φ) [rad/s]
     method: str = "shooting"
+    nfev: int = 0  # the right-hand sides of every run of the search for E(0) (their nfev, summed)
+    message: str = "E(0) = E(Φ) found by Brent's method over DOP853 runs; the machine runs"
 
     @property
     def delta(self) -> float:
@@ -258,12 +260,13 @@ class Shooting:
 
     ``floor`` [J]: a run whose E falls below it has stalled; stopping it there spares
     solve_ivp the crawl over the dead point (tiny steps), whose answer would be refused anyway.
-    """
+    ``nfev``: the right-hand sides of every run so far (solve_ivp's ``nfev``, summed)."""
 
     def __init__(
         self, shaft: ShaftCycle, applied: Callable[[np.ndarray, np.ndarray], np.ndarray], rtol: float, floor: float
     ) -> None:
         self.shaft, self.applied, self.rtol, self.floor = shaft, applied, rtol, floor
+        self.nfev = 0
 
     def _run(self, E0: float, dense: bool = False) -> Any:
         from scipy.integrate import solve_ivp  # type: ignore[import-untyped,unused-ignore]
@@ -283,7 +286,7 @@ class Shooting:
 
         stopped.terminal = True  # type: ignore[attr-defined]
         stopped.direction = -1  # type: ignore[attr-defined]
-        return solve_ivp(
+        run = solve_ivp(
             rates,
             (0.0, shaft.cycle),
             [E0, 0.0],
@@ -294,6 +297,8 @@ class Shooting:
             events=stopped,
             dense_output=dense,
         )
+        self.nfev += int(run.nfev)
+        return run
 
     def residual(self, E0: float) -> float:
         """(E(Φ) − E(0))/E(0): positive when the cycle gains energy (E(0) too low)."""
@@ -349,7 +354,7 @@ class Shooting:
         period = float(run.y[1, -1])
         omega_mean = shaft.cycle / period
         extremes = _extremes(omega_at, shaft.cycle).around(omega_mean)
-        result = Periodic(omega_mean, period, extremes, energy_at, time_at, omega_at)
+        result = Periodic(omega_mean, period, extremes, energy_at, time_at, omega_at, nfev=self.nfev)
         if extremes.omega_min < ratio * omega_mean:
             raise Stall(extremes.phi_min, "its speed minimum falls below min_speed_ratio·ω_m")
         return result

@@ -292,7 +292,8 @@ def _native_solution(
                     angle=angle,
                 ) from None
         raise _native_stall(angle, omega, getattr(error, "min_omega", None), ratio) from None
-    numbers = {name: float(getattr(found, name)) for name in _NUMBERS}
+    numbers: dict[str, Any] = {name: float(getattr(found, name)) for name in _NUMBERS}
+    numbers.update(status=int(found.status), message=str(found.message), nfev=int(found.nfev))
     if balance and rules.drive is not None and table is None:  # the load takes it (Rules.plain_balance)
         assert omega is not None
         numbers["mean_load_torque"] += rules.drive_at(omega)
@@ -374,6 +375,9 @@ def _shooting_solution(machine: Machine, rules: Rules, gravity: bool, ratio: flo
         phi_min=extremes.phi_min,
         period=solution.period,
         mean_load_torque=mean_load,
+        status=0,
+        message=solution.message,
+        nfev=solution.nfev,
     )
     curves = dict(omega=solution.omega_at(phi), time=solution.time_at(phi))
     arrays = _arrays(machine, rules, gravity, phi, curves, mean, solution.period, mean_load)

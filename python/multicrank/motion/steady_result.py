@@ -156,6 +156,19 @@ class SteadyState(MotionResult):
         δ > :data:`NEAR_STALL_DELTA` (0.5): the machine nearly stops each cycle.
     method : str
         How it was solved: "energy", "closed form" or "shooting" (:attr:`solved` in words).
+    status : int
+        How the solve ended, SciPy's convention (``solve_ivp``'s ``status``): 0, converged —
+        the only value a result has, since a machine that stalls raises :class:`StallError`
+        instead (a stall is status 1 in the solver's own terms).
+    message : str
+        How the solve ended, in words (the solver's).
+    nfev : int
+        Evaluations of the function whose root the solver finds [count]: by the energy method
+        ("balance") the mean speed as a function of the kinetic energy left at the worst
+        angle, each a quadrature of the period over the cycle (a handful: Brent's method on a
+        nearly linear function); 0 for the closed form (square law), which finds no root; by
+        shooting the right-hand sides of every ``solve_ivp`` run of the search for E(0) (its
+        bracket, Brent's method and the final run), the sum of their ``nfev``.
     load_rule : str
         The load as given, in words.
     gravity : bool
@@ -179,6 +192,9 @@ class SteadyState(MotionResult):
     phi_min: float
     period: float
     mean_load_torque: float
+    status: int
+    message: str
+    nfev: int
     #: What is computed on first use: ``later("arrays")`` the arrays by name,
     #: ``later("comparisons")`` the two comparison δ by name (each once, then kept).
     _later: Callable[[str], dict[str, Any]] = field(repr=False, compare=False)
@@ -273,6 +289,10 @@ class SteadyState(MotionResult):
         return state
 
     def __setstate__(self, state: dict[str, Any]) -> None:
+        # A pickle of 0.1 has no word on how the solve ended: it converged (or it would not
+        # exist); its count is unknown (-1).
+        for name, value in (("status", 0), ("message", "converged (pickled by multicrank 0.1)"), ("nfev", -1)):
+            state.setdefault(name, value)
         compared = state.get("_comparisons")
         if isinstance(compared, dict) and "delta_gravity_only" in compared:  # a pickle of 0.1
             state["_comparisons"] = {_RENAMED_COMPARISONS.get(k, k): v for k, v in compared.items()}
@@ -306,6 +326,9 @@ class SteadyState(MotionResult):
         "delta_coasting": "",
         "near_stall": "",
         "gravity": "",
+        "status": "",
+        "message": "",
+        "nfev": "count",
     }
     #: The array attributes, in column order (``rpm`` is ω in 1/min).
     ARRAYS: ClassVar[tuple[str, ...]] = tuple(COLUMNS)

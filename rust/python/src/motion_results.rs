@@ -20,8 +20,11 @@ fn same_array(py: Python<'_>, a: &Array, b: &Array) -> PyResult<bool> {
 }
 
 /// A steady state as the core found it (SI units, immutable): its numbers, and the curves
-/// and arrays at the angles asked for (None where none were asked). Equal to another with
-/// the same numbers and arrays.
+/// and arrays at the angles asked for (None where none were asked); how the solve ended
+/// (`status`: 0 converged, SciPy's success — a stall is an error, never a result), in words
+/// (`message`), and its evaluation counts (`nfev`: of the function whose root is found, the
+/// mean speed as a function of the energy margin; 0 for the square law's closed form; `nit`:
+/// of those, Brent's method's). Equal to another with the same numbers and arrays.
 #[pyclass(frozen, get_all, name = "SteadyResult", module = "multicrank._native")]
 pub(crate) struct SteadyResult {
     omega_mean: f64,
@@ -36,6 +39,10 @@ pub(crate) struct SteadyResult {
     delta_midrange: f64,
     delta_without_gravity: f64,
     delta_gravity_only: f64,
+    status: i32,
+    message: &'static str,
+    nfev: usize,
+    nit: usize,
     omega: Array,
     time: Array,
     reduced_inertia: Array,
@@ -163,6 +170,10 @@ pub(crate) fn steady_result(
         delta_midrange: s.delta_midrange,
         delta_without_gravity: s.delta_without_gravity,
         delta_gravity_only: s.delta_gravity_only,
+        status: found.status,
+        message: found.message,
+        nfev: found.nfev,
+        nit: found.nit,
         omega,
         time,
         reduced_inertia,

@@ -1,0 +1,77 @@
+"""How a steady state was solved, as SciPy's solvers say it (issue 27, item 5): ``status`` (0,
+converged), ``message`` and ``nfev``, the evaluations of the function whose root the solver
+finds. Oracles: SciPy's own counts (every ``solve_ivp`` run of the shooting, counted by a
+wrapper around SciPy), and bisection's count for the energy method's root."""
+
+from __future__ import annotations
+
+import math
+import pickle
+
+import numpy as np
+import scipy.integrate
+
+import multicrank as mc
+from multicrank.presets import MACHINES
+
+COMPRESSOR = MACHINES["slow-compressor"]
+
+
+def test_the_energy_method_converges_in_fewer_evaluations_than_bisection():
+    state = mc.steady_state(COMPRESSOR, rpm=120)
+    assert (state.status, state.method) == (0, "energy")
+    assert "runs" in state.message
+    # Bisection from the bracket [s_low, s_high] (s_high/s_low ≥ 1/ratio² = 1e6) to rtol
+    # 1e-15 would take log2(1e6/1e-15) ≈ 70 evaluations; Brent's method on the nearly linear
+    # excess a handful.
+    assert 0 < state.nfev < math.log2(1e6 / 1e-15) / 2
+
+
+def test_the_closed_form_counts_no_evaluation():
+    fan = mc.PowerLawLoad(torque=90.0, rpm=120)
+    state = mc.steady_state(COMPRESSOR, load=fan, drive=1000.0)
+    assert (state.status, state.nfev, state.method) == (0, 0, "closed form")
+    assert "closed form" in state.message
+
+
+def test_shooting_counts_every_right_hand_side_of_its_runs(monkeypatch):
+    """nfev is the sum of solve_ivp's nfev over the runs of the search for E(0): SciPy's own
+    count of every run, taken here by a wrapper (g = 0: no second search for δ₀)."""
+    counted: list[int] = []
+    original = scipy.integrate.solve_ivp
+
+    def solve_ivp(*args, **kwargs):
+        run = original(*args, **kwargs)
+        counted.append(run.nfev)
+        return run
+
+    monkeypatch.setattr(scipy.integrate, "solve_ivp", solve_ivp)
+    law = mc.PowerLawLoad(torque=90.0, rpm=120)
+    state = mc.steady_state(
+        COMPRESSOR, load=lambda phi, omega: law.coefficient * omega * np.abs(omega), drive=1000.0, gravity=False
+    )
+    assert (state.status, state.method) == (0, "shooting")
+    assert "Brent" in state.message
+    assert len(counted) > 3
+    assert state.nfev == sum(counted)
+
+
+def test_the_table_and_a_pickle_keep_them():
+    state = mc.steady_state(COMPRESSOR, rpm=120, points=9)
+    attrs = state.to_pandas().attrs
+    assert (attrs["status"], attrs["message"], attrs["nfev"]) == (state.status, state.message, state.nfev)
+    again = pickle.loads(pickle.dumps(state))
+    assert (again.status, again.message, again.nfev) == (state.status, state.message, state.nfev)
+
+
+def test_a_pickle_of_0_1_reads_them():
+    """A steady state pickled before they existed converged (or it would not exist); its count
+    is unknown (-1)."""
+    state = mc.steady_state(COMPRESSOR, rpm=120, points=9)
+    old = state.__getstate__()
+    for key in ("status", "message", "nfev"):
+        del old[key]
+    restored = object.__new__(mc.SteadyState)
+    restored.__setstate__(old)
+    assert (restored.status, restored.nfev) == (0, -1)
+    assert "0.1" in restored.message
