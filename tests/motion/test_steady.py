@@ -225,6 +225,27 @@ def test_textbook_flywheel_in_closed_form():
     assert result.delta_coasting == 0.0 and result.delta_without_gravity == result.delta
 
 
+def test_a_callable_drive_under_balance_is_called_once_per_question():
+    """The "balance" load beside a drive f(φ, ω) is the core's question: the callable is sampled once,
+    held at ω_m (one call with every node at once, each ω the mean speed), for the solve and its
+    two comparisons alike; only the arrays (the drive torque at their angles) call it again."""
+    calls = []
+
+    def counted(phi, omega):
+        calls.append((np.size(phi), np.unique(omega)))
+        return textbook_drive(phi, omega)
+
+    rpm = 250
+    result = mc.steady_state(pure_flywheel(64), rpm=rpm, drive=counted)
+    assert result.method == "energy"
+    assert len(calls) == 1 and calls[0][0] > 1000
+    np.testing.assert_allclose(calls[0][1], [rpm * math.pi / 30], rtol=1e-15)
+    result.delta_without_gravity, result.delta_coasting  # noqa: B018 (read: solved now)
+    assert len(calls) == 1
+    result.drive_torque  # noqa: B018
+    assert len(calls) == 2 and calls[1][0] == result.phi.size
+
+
 # -- steady state against time integration ---------------------------------------------------------
 
 
