@@ -63,12 +63,16 @@ def sampled(
     in ``unit`` (a driving torque [N·m]) — as the (x, c) arrays of a ``PPoly`` over [0, Φ]
     (``cycle``): its values at :data:`SAMPLED_ORDER` Gauss–Legendre nodes on every panel (at
     most :data:`SAMPLED_WIDTH` wide, cut at multiples of π, the dead centres), one call for all
-    of them, and on each panel the polynomial through them. ``name`` names the callable in
-    the error of one that fails or returns bad values (not real, not finite, a wrong shape)."""
+    of them, and on each panel the polynomial through them. A callable that names the angles of
+    its kinks (a ``breakpoints`` attribute [rad], over its own ``cycle`` where it has one, as a
+    wrapped :class:`~multicrank.IndicatorDiagram` does) is cut there too, so that each panel
+    holds one smooth piece. ``name`` names the callable in the error of one that fails or
+    returns bad values (not real, not finite, a wrong shape)."""
     turns = round(cycle / math.pi)
     per_turn = math.ceil(math.pi / SAMPLED_WIDTH - 1e-9)
     x = np.linspace(0.0, cycle, turns * per_turn + 1)
     x[::per_turn] = np.arange(turns + 1) * math.pi  # the dead centres exactly
+    x = _cut_at_kinks(x, function, cycle)
     nodes, to_legendre, shifted = _legendre_to_monomials(SAMPLED_ORDER)
     width = np.diff(x)
     theta = x[:-1, None] + width[:, None] * nodes[None, :]  # (panels, nodes)
@@ -77,6 +81,23 @@ def sampled(
     monomials = (values @ to_legendre.T) @ shifted.T  # (panels, k)
     monomials /= width[:, None] ** np.arange(SAMPLED_ORDER)[None, :]
     return contiguous(x), contiguous(monomials[:, ::-1].T)
+
+
+def _cut_at_kinks(x: np.ndarray, function: Any, cycle: float) -> np.ndarray:
+    """The panel edges ``x`` with the callable's ``breakpoints`` (repeated over [0, Φ] by its
+    own ``cycle``, where shorter) added; a kink closer than 1e-9 rad to an edge moves nothing
+    (a sliver panel would only cost nodes). The edges already there, the dead centres among
+    them, are kept exactly."""
+    kinks = getattr(function, "breakpoints", None)
+    if kinks is None:
+        return x
+    kinks = np.asarray(kinks, dtype=float).ravel()
+    period = getattr(function, "cycle", None)
+    period = cycle if not isinstance(period, float) or not 0 < period <= cycle else period
+    repeats = np.arange(round(cycle / period))[:, None] * period
+    kinks = np.unique(np.mod(kinks[None, :] + repeats, cycle))
+    near = np.abs(kinks[:, None] - x[None, :]).min(axis=1) < 1e-9
+    return np.union1d(x, kinks[~near])
 
 
 def _table(pressure: object) -> _Table:
