@@ -35,16 +35,15 @@ SciPy is imported when a steady state is computed.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
 from typing import Any
 
 import numpy as np
 
-from .._native import MechanismError, SteadyResult
-from .._shaft import inertia_torque
+from .._native import MechanismError
 from .._validation import as_count, as_flag, as_instance, rpm_from_omega
 from ..machine.machine import Machine
 from ..machine.native import motion_machine
+from ._deferred import COMPARISONS, Computed, CoreQuestion, steady_arrays
 from ._periodic import (
     DEFAULT_MIN_SPEED_RATIO,
     METHODS,
@@ -186,70 +185,8 @@ def steady_state(
 
 #: The numbers of a solution that :class:`SteadyState` holds from the start.
 _NUMBERS = ("omega_mean", "omega_max", "omega_min", "phi_max", "phi_min", "period", "mean_load_torque")
-#: Its comparison δ, computed when first read on the core's route.
-_COMPARISONS = ("delta_without_gravity", "delta_coasting")
-
-
-def _native_comparisons(found: SteadyResult) -> dict[str, float]:
-    """The comparison δ of a native result, by their names here."""
-    return dict(delta_without_gravity=found.delta_without_gravity, delta_coasting=found.delta_gravity_only)
-
-
-_Solved = tuple[dict[str, Any], Callable[[str], dict[str, Any]]]
-
-
-def _arrays(
-    machine: Machine,
-    rules: Rules,
-    gravity: bool,
-    phi: np.ndarray,
-    curves: SteadyResult | dict[str, np.ndarray],
-    omega_mean: float,
-    period: float,
-    mean_load: float,
-) -> dict[str, np.ndarray]:
-    """The arrays of :class:`SteadyState` (read-only) from ω and t at ``phi`` (``curves``),
-    with J, J′, M_gas and the gravity torque from ``curves`` where the core gave them (a
-    :class:`~multicrank._native.SteadyResult` asked for its arrays)."""
-    count = phi.size
-    given = curves if isinstance(curves, SteadyResult) else None
-    if isinstance(curves, SteadyResult):
-        omega, time = curves.omega, curves.time
-    else:
-        omega, time = curves["omega"], curves["time"]
-    assert omega is not None and time is not None
-    time[0], time[-1] = 0.0, period
-    if given is not None and given.gas_torque is not None:
-        J, slope = given.reduced_inertia, given.reduced_inertia_slope
-        gas, weight = given.gas_torque, given.gravity_torque
-        assert J is not None and slope is not None and weight is not None
-    else:
-        J, slope = machine.reduced_inertia(phi)
-        gas = machine.gas_torque(phi)
-        weight = machine.gravity_torque(phi) if gravity and machine.g != 0 else np.zeros(count)
-    inertia = inertia_torque(slope, omega)
-    speed = np.full(count, omega_mean) if rules.route == BALANCE else omega
-    drive_ = rules.drive(phi, speed) if rules.drive is not None else np.zeros(count)
-    if rules.route == BALANCE:
-        load_ = np.full(count, mean_load)
-    else:
-        load_ = rules.load(phi, omega) if isinstance(rules.load, Torque) else np.zeros(count)
-    arrays = dict(
-        phi=phi,
-        omega=omega,
-        time=time,
-        reduced_inertia=J,
-        reduced_inertia_slope=slope,
-        gas_torque=gas,
-        gravity_torque=weight,
-        inertia_torque=inertia,
-        drive_torque=drive_,
-        load_torque=load_,
-        acceleration=(gas + weight + inertia + drive_ - load_) / J,
-    )
-    for array in arrays.values():
-        array.flags.writeable = False
-    return arrays
+#: A route's answer: the numbers, and what computes the rest.
+_Solved = tuple[dict[str, Any], CoreQuestion | Computed]
 
 
 def _native_solution(
@@ -297,24 +234,22 @@ def _native_solution(
     if balance and rules.drive is not None and table is None:  # the load takes it (Rules.plain_balance)
         assert omega is not None
         numbers["mean_load_torque"] += rules.drive_at(omega)
-    mean, period, load = numbers["omega_mean"], numbers["period"], numbers["mean_load_torque"]
-
-    def later(what: str) -> dict[str, Any]:
-        if what == "comparisons":
-            if not balance:  # the square law gave them with the rest
-                return _native_comparisons(found)
-            assert omega is not None
-            compared = native.comparisons(omega, found.delta, mean, ratio, gravity=gravity, drive=table)
-            return dict(zip(_COMPARISONS, compared, strict=True))
-        if balance:
-            assert omega is not None
-            phi = np.linspace(0.0, machine.cycle, points)
-            curves = native.steady_state(omega, ratio, phi, False, gravity=gravity, drive=table)
-            return _arrays(machine, rules, gravity, phi, curves, mean, period, load)
-        assert square_law_phi is not None
-        return _arrays(machine, rules, gravity, square_law_phi, found, mean, period, load)
-
-    return dict(numbers, method=METHODS[rules.route]), later
+    question = CoreQuestion(
+        native=native,
+        machine=machine,
+        rules=rules,
+        omega=omega if balance else None,
+        gravity=gravity,
+        ratio=ratio,
+        points=points,
+        table=table,
+        found=found,
+        phi=square_law_phi,
+        omega_mean=numbers["omega_mean"],
+        period=numbers["period"],
+        mean_load=numbers["mean_load_torque"],
+    )
+    return dict(numbers, method=METHODS[rules.route]), question
 
 
 def _native_stall(angle: float, omega: float | None, min_omega: float | None, ratio: float) -> StallError:
@@ -380,9 +315,9 @@ def _shooting_solution(machine: Machine, rules: Rules, gravity: bool, ratio: flo
         nfev=solution.nfev,
     )
     curves = dict(omega=solution.omega_at(phi), time=solution.time_at(phi))
-    arrays = _arrays(machine, rules, gravity, phi, curves, mean, solution.period, mean_load)
-    compared = dict(delta_without_gravity=delta_without, delta_coasting=delta_coasting)
-    return dict(numbers, method=solution.method), lambda what: arrays if what == "arrays" else compared
+    arrays = steady_arrays(machine, rules, gravity, phi, curves, mean, solution.period, mean_load)
+    compared = dict(zip(COMPARISONS, (delta_without, delta_coasting), strict=True))
+    return dict(numbers, method=solution.method), Computed(arrays, compared)
 
 
 def _describe(load: Any, rules: Rules) -> str:

@@ -12,7 +12,6 @@ Speeds follow the house convention: a name carries its unit, ``rpm…`` in 1/min
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
 from dataclasses import dataclass, field
 from functools import cached_property
 from typing import Any, ClassVar
@@ -23,6 +22,7 @@ from .._native import MechanismError
 from .._text import counted
 from .._validation import renamed, rpm_from_omega
 from ..machine.machine import Machine
+from ._deferred import Computed, CoreQuestion
 from ._periodic import SOLVED
 from ._result import MotionResult
 from ._shooting import restored_error
@@ -195,19 +195,22 @@ class SteadyState(MotionResult):
     status: int
     message: str
     nfev: int
-    #: What is computed on first use: ``later("arrays")`` the arrays by name,
-    #: ``later("comparisons")`` the two comparison δ by name (each once, then kept).
-    _later: Callable[[str], dict[str, Any]] = field(repr=False, compare=False)
+    #: What computes the rest on first use: its ``arrays()`` the arrays by name, its
+    #: ``comparisons()`` the two comparison δ by name (each asked once, then kept): the
+    #: question the core answered, or what shooting found with the solution. None in a pickle.
+    _later: CoreQuestion | Computed | None = field(repr=False, compare=False)
 
     # The arrays and the two comparison solves, computed when first read: δ alone costs one
     # solve (docs/theory.md, "Where it is computed, and when").
     @cached_property
     def _arrays(self) -> dict[str, np.ndarray]:
-        return self._later("arrays")
+        assert self._later is not None  # a pickle holds them
+        return self._later.arrays()
 
     @cached_property
     def _comparisons(self) -> dict[str, float]:
-        return self._later("comparisons")
+        assert self._later is not None  # a pickle holds them
+        return self._later.comparisons()
 
     @property
     def phi(self) -> np.ndarray:

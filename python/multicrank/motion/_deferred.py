@@ -1,0 +1,181 @@
+"""What a :class:`~multicrank.SteadyState` computes when first read — its arrays and its two
+comparison δ — asked of a typed object rather than a closure: :class:`CoreQuestion` holds
+the native machine and the question the Rust core answered (speed, ratio, gravity, drive
+table, route) and asks the core again for the rest; :class:`Computed` holds what a route
+that solves everything at once (shooting) found. Neither is pickled: a pickled
+:class:`~multicrank.SteadyState` holds every array and number, computed first.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from .._native import MotionMachine, SteadyResult
+from .._shaft import inertia_torque
+from ..machine.machine import Machine
+from ._periodic import Rules
+from .loads import BALANCE, Torque
+
+__all__ = ["COMPARISONS", "Computed", "CoreQuestion", "steady_arrays"]
+
+#: The comparison δ of a steady state, by their names on :class:`~multicrank.SteadyState`.
+COMPARISONS = ("delta_without_gravity", "delta_coasting")
+
+
+def steady_arrays(
+    machine: Machine,
+    rules: Rules,
+    gravity: bool,
+    phi: np.ndarray,
+    curves: SteadyResult | dict[str, np.ndarray],
+    omega_mean: float,
+    period: float,
+    mean_load: float,
+) -> dict[str, np.ndarray]:
+    """The arrays of :class:`~multicrank.SteadyState` (read-only) from ω and t at ``phi``
+    (``curves``), with J, J′, M_gas and the gravity torque from ``curves`` where the core gave
+    them (a :class:`~multicrank._native.SteadyResult` asked for its arrays)."""
+    count = phi.size
+    given = curves if isinstance(curves, SteadyResult) else None
+    if isinstance(curves, SteadyResult):
+        omega, time = curves.omega, curves.time
+    else:
+        omega, time = curves["omega"], curves["time"]
+    assert omega is not None and time is not None
+    time[0], time[-1] = 0.0, period
+    if given is not None and given.gas_torque is not None:
+        J, slope = given.reduced_inertia, given.reduced_inertia_slope
+        gas, weight = given.gas_torque, given.gravity_torque
+        assert J is not None and slope is not None and weight is not None
+    else:
+        J, slope = machine.reduced_inertia(phi)
+        gas = machine.gas_torque(phi)
+        weight = machine.gravity_torque(phi) if gravity and machine.g != 0 else np.zeros(count)
+    inertia = inertia_torque(slope, omega)
+    speed = np.full(count, omega_mean) if rules.route == BALANCE else omega
+    drive_ = rules.drive(phi, speed) if rules.drive is not None else np.zeros(count)
+    if rules.route == BALANCE:
+        load_ = np.full(count, mean_load)
+    else:
+        load_ = rules.load(phi, omega) if isinstance(rules.load, Torque) else np.zeros(count)
+    arrays = dict(
+        phi=phi,
+        omega=omega,
+        time=time,
+        reduced_inertia=J,
+        reduced_inertia_slope=slope,
+        gas_torque=gas,
+        gravity_torque=weight,
+        inertia_torque=inertia,
+        drive_torque=drive_,
+        load_torque=load_,
+        acceleration=(gas + weight + inertia + drive_ - load_) / J,
+    )
+    for array in arrays.values():
+        array.flags.writeable = False
+    return arrays
+
+
+@dataclass(frozen=True, eq=False)
+class CoreQuestion:
+    """A steady state the Rust core solved, and what it takes to ask the core for the rest.
+
+    Attributes
+    ----------
+    native : MotionMachine
+        The machine's native machine (:func:`~multicrank.machine.native.motion_machine`).
+    machine : Machine
+        The machine.
+    rules : Rules
+        The load and drive resolved; ``rules.route`` is the route: "balance" (the energy
+        method, asked again for curves and the comparisons) or the square law (which gave
+        both with its solution).
+    omega : float or None
+        The mean speed asked for [rad/s] ("balance"; None for the square law).
+    gravity : bool
+        Whether g was kept.
+    ratio : float
+        ``min_speed_ratio`` [dimensionless].
+    points : int
+        Points of the arrays over the closed cycle.
+    table : tuple of ndarray or None
+        The drive as the core takes it (PPoly breakpoints and coefficients), or None.
+    found : SteadyResult
+        The core's solution (with the square law's curves at ``phi``).
+    phi : ndarray or None
+        The square law's angles [rad] (None for "balance", whose angles are made when its
+        arrays are read).
+    omega_mean, period, mean_load : float
+        The solution's ω_m [rad/s], t_Φ [s] and mean load [N·m] as the result holds them.
+    """
+
+    native: MotionMachine
+    machine: Machine
+    rules: Rules
+    omega: float | None
+    gravity: bool
+    ratio: float
+    points: int
+    table: tuple[np.ndarray, np.ndarray] | None
+    found: SteadyResult
+    phi: np.ndarray | None
+    omega_mean: float
+    period: float
+    mean_load: float
+
+    @property
+    def balance(self) -> bool:
+        return self.rules.route == BALANCE
+
+    def arrays(self) -> dict[str, np.ndarray]:
+        """The arrays by name: "balance" solves again with curves at ``points`` angles (the
+        same root, now with ω and t there); the square law's came with its solution."""
+        if self.balance:
+            assert self.omega is not None
+            phi = np.linspace(0.0, self.machine.cycle, self.points)
+            curves = self.native.steady_state(
+                self.omega, self.ratio, phi, False, gravity=self.gravity, drive=self.table
+            )
+        else:
+            assert self.phi is not None
+            phi, curves = self.phi, self.found
+        return steady_arrays(
+            self.machine, self.rules, self.gravity, phi, curves, self.omega_mean, self.period, self.mean_load
+        )
+
+    def comparisons(self) -> dict[str, float]:
+        """The two comparison δ by name: two more solves for "balance"; the square law's
+        came with its solution."""
+        if not self.balance:
+            found = self.found
+            return dict(zip(COMPARISONS, (found.delta_without_gravity, found.delta_gravity_only), strict=True))
+        assert self.omega is not None
+        compared = self.native.comparisons(
+            self.omega, self.found.delta, self.omega_mean, self.ratio, gravity=self.gravity, drive=self.table
+        )
+        return dict(zip(COMPARISONS, compared, strict=True))
+
+
+@dataclass(frozen=True, eq=False)
+class Computed:
+    """A steady state whose arrays and comparison δ were found with it (shooting).
+
+    Attributes
+    ----------
+    found_arrays : dict of str to ndarray
+        The arrays by name.
+    found_comparisons : dict of str to float
+        The comparison δ by name.
+    """
+
+    found_arrays: dict[str, np.ndarray]
+    found_comparisons: dict[str, float]
+
+    def arrays(self) -> dict[str, np.ndarray]:
+        return self.found_arrays
+
+    def comparisons(self) -> dict[str, Any]:
+        return self.found_comparisons
