@@ -23,14 +23,11 @@ from multicrank.machine.cylinder import unit_columns
 from multicrank.machine.native import native_machine
 from multicrank.motion.variants import machine_variant
 
-# The extension's key of δ of the machine coasting (SteadyState.delta_coasting), until the
-# extension takes the Python name.
-NATIVE_COASTING = "delta_gravity_only" if "delta_gravity_only" in MOTION_SWEEP_OUTPUTS else "delta_coasting"
 STEADY = (
     "delta",
     "delta_midrange",
     "delta_without_gravity",
-    NATIVE_COASTING,
+    "delta_coasting",
     "omega_mean",
     "omega_max",
     "omega_min",
@@ -111,10 +108,10 @@ def test_the_steady_state_agrees_with_the_oracle(record):
         close(getattr(state, key), expected[key], "speeds", key)
         close(getattr(found, key), expected[key], "speeds", key)
     for key in ("delta", "delta_midrange", "delta_without_gravity", "delta_gravity_only"):
-        python_name = "delta_coasting" if key == "delta_gravity_only" else key
-        native_name = NATIVE_COASTING if key == "delta_gravity_only" else key
-        close(getattr(state, python_name), expected[key], "deltas", key)
-        close(getattr(found, native_name), expected[key], "deltas", key)
+        # The oracle's fixture says "delta_gravity_only" for δ of the machine coasting.
+        name = "delta_coasting" if key == "delta_gravity_only" else key
+        close(getattr(state, name), expected[key], "deltas", key)
+        close(getattr(found, name), expected[key], "deltas", key)
     np.testing.assert_allclose(
         mc.steady_state(m, rpm=record["rpm"], points=361).omega, record["curves"]["omega"], rtol=TOLERANCE["speeds"]
     )
@@ -221,7 +218,7 @@ def test_sweep_rows_are_the_steady_states_of_their_machines(name):
         expected = {
             "delta": state.delta,
             "delta_without_gravity": state.delta_without_gravity,
-            NATIVE_COASTING: getattr(state, NATIVE_COASTING),
+            "delta_coasting": state.delta_coasting,
             "gravity_effect": state.delta / state.delta_without_gravity - 1,
             "omega_min": state.omega_min,
             "omega_max": state.omega_max,
@@ -283,7 +280,7 @@ def test_the_object_is_reused_and_thread_count_independent():
     with ThreadPoolExecutor(4) as pool:
         assert list(pool.map(lambda _: native.steady_state(omega(m.rpm)), range(8))) == [first] * 8
     designs = {"shaft_inertia": np.linspace(100.0, 400.0, 12), "omega": omega(np.linspace(60.0, 140.0, 12))}
-    outputs = ["delta", "delta_without_gravity", NATIVE_COASTING, "omega_max", "flywheel_inertia"]
+    outputs = ["delta", "delta_without_gravity", "delta_coasting", "omega_max", "flywheel_inertia"]
     parallel = native.sweep(designs, outputs, target_delta=1 / 50, parallel_threshold=0)
     serial = native.sweep(designs, outputs, target_delta=1 / 50, parallel_threshold=2**62)
     assert parallel.keys() == serial.keys()

@@ -151,7 +151,7 @@ class CoreQuestion:
         came with its solution."""
         if not self.balance:
             found = self.found
-            return dict(zip(COMPARISONS, (found.delta_without_gravity, found.delta_gravity_only), strict=True))
+            return dict(zip(COMPARISONS, (found.delta_without_gravity, found.delta_coasting), strict=True))
         assert self.omega is not None
         compared = self.native.comparisons(
             self.omega, self.found.delta, self.omega_mean, self.ratio, gravity=self.gravity, drive=self.table

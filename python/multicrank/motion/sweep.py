@@ -60,11 +60,10 @@ __all__ = ["MOTION_SWEEP_OUTPUTS", "MachineGrid", "motion_sweep"]
 #: Outputs of 0.1 under their new names: the old name is still accepted, with a
 #: DeprecationWarning, and gives the column under its new name.
 RENAMED_OUTPUTS = {"delta_gravity_only": "delta_coasting"}
-# The native extension's names of our outputs, where they differ (it still says
-# "delta_gravity_only" for δ of the machine coasting, and gives the speed extremes in rad/s).
+# The native extension's names of our outputs, where they differ (it gives the speed
+# extremes in rad/s).
 _SPEED_OUTPUTS = {"rpm_min": "omega_min", "rpm_max": "omega_max"}
-_NATIVE_NAMES = {new: old for old, new in RENAMED_OUTPUTS.items() if old in _CORE_OUTPUTS} | _SPEED_OUTPUTS
-_FROM_NATIVE = {native: name for name, native in _NATIVE_NAMES.items()}
+_FROM_NATIVE = {native: name for name, native in _SPEED_OUTPUTS.items()}
 # The flywheel's outputs (which need delta=), and the steady state's: the core's, and
 # near_stall (δ > NEAR_STALL_DELTA, from δ) after stalled.
 _FLYWHEEL = ("flywheel_inertia", "flywheel_inertia_without_gravity")
@@ -164,7 +163,7 @@ def _solve_chunk(
         computed = [o for o in outputs if o != "near_stall"]
         omega = None if machine.rpm is None else omega_from_rpm(machine.rpm)
         try:
-            found = native.sweep(designs, [_NATIVE_NAMES.get(o, o) for o in computed], omega=omega, target_delta=delta)
+            found = native.sweep(designs, [_SPEED_OUTPUTS.get(o, o) for o in computed], omega=omega, target_delta=delta)
         except MechanismError as error:
             raise _refused_design(machine, frame, names, error) from None
         result = frame.copy()
@@ -172,7 +171,7 @@ def _solve_chunk(
             if name in _SPEED_OUTPUTS:
                 result[name] = rpm_from_omega(found[_SPEED_OUTPUTS[name]])
             else:
-                result[name] = False if name == "near_stall" else found[_NATIVE_NAMES.get(name, name)]
+                result[name] = False if name == "near_stall" else found[name]
         return _near_stall(result, outputs)
     return _near_stall(_solve_rows(machine, frame, outputs, load, delta), outputs)
 

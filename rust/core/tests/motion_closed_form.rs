@@ -106,7 +106,7 @@ fn gravity_alone_on_a_constant_inertia_is_the_energy_integral() {
         state.phi_min
     );
     assert_eq!(state.mean_load_torque, 0.0);
-    assert!(relative(state.delta_gravity_only, delta) < 1e-12);
+    assert!(relative(state.delta_coasting, delta) < 1e-12);
     // g = 0: a pure flywheel.
     assert!(
         state.delta_without_gravity.abs() < 1e-15,
@@ -114,7 +114,7 @@ fn gravity_alone_on_a_constant_inertia_is_the_energy_integral() {
         state.delta_without_gravity
     );
     let still = steady_state(&Machine { g: 0.0, ..machine }, omega(rpm), 1e-3).unwrap();
-    assert!(still.delta.abs() < 1e-15 && still.delta_gravity_only.abs() < 1e-15);
+    assert!(still.delta.abs() < 1e-15 && still.delta_coasting.abs() < 1e-15);
     assert!(relative(still.omega_max, omega_mean) < 1e-15);
 }
 
@@ -209,7 +209,7 @@ fn a_constant_pressure_stroke_on_a_constant_inertia_is_the_textbook_machine() {
     );
     // No moving mass leaves gravity nothing to do.
     assert!(relative(state.delta_without_gravity, state.delta) < 1e-14);
-    assert!(state.delta_gravity_only.abs() < 1e-15);
+    assert!(state.delta_coasting.abs() < 1e-15);
     let textbook = (work(phi_2) - k_min) / (inertia * omega_mean * omega_mean);
     assert!(
         relative(textbook, delta) < 2.0 * delta,

@@ -209,9 +209,9 @@ fn check_row(
                     &what("delta_without_gravity"),
                 );
                 same(
-                    found.delta_gravity_only[i],
-                    state.delta_gravity_only,
-                    &what("delta_gravity_only"),
+                    found.delta_coasting[i],
+                    state.delta_coasting,
+                    &what("delta_coasting"),
                 );
                 same(
                     found.gravity_effect[i],
@@ -226,7 +226,7 @@ fn check_row(
                 for column in [
                     &found.delta,
                     &found.delta_without_gravity,
-                    &found.delta_gravity_only,
+                    &found.delta_coasting,
                     &found.gravity_effect,
                     &found.omega_min,
                     &found.omega_max,
@@ -641,7 +641,7 @@ fn a_parallel_sweep_is_bit_identical_to_a_serial_one() {
         [
             &c.delta,
             &c.delta_without_gravity,
-            &c.delta_gravity_only,
+            &c.delta_coasting,
             &c.gravity_effect,
             &c.omega_min,
             &c.omega_max,
@@ -733,7 +733,7 @@ fn tables_made_once_give_every_inertia_and_speed_exactly() {
                         .expect("runs");
                     assert_eq!(alone.state.delta, fresh.state.delta);
                     assert!(alone.state.delta_without_gravity.is_nan());
-                    assert!(alone.state.delta_gravity_only.is_nan());
+                    assert!(alone.state.delta_coasting.is_nan());
                     assert!(alone.omega.is_empty() && alone.time.is_empty());
                 }
                 (Err(fresh), Err(reused)) => assert_eq!(fresh, reused, "{}", f.name),

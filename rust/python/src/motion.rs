@@ -213,7 +213,7 @@ impl MotionMachine {
     /// shaft_inertia=None, gravity=True) -> SteadyResult: the periodic steady state under the
     /// "balance" load at the mean speed `omega_mean` (rad/s, within SPEED_LIMITS) with I_w = `shaft_inertia` (kg·m², default the machine's): omega_mean, period,
     /// omega_max, omega_min, phi_max, phi_min, energy_at_zero, mean_load_torque, delta,
-    /// delta_midrange, delta_without_gravity, delta_gravity_only (SI units; the last two
+    /// delta_midrange, delta_without_gravity, delta_coasting (SI units; the last two
     /// NaN unless `compare`), and with `phi` (rad, in [0, Φ]) the arrays omega (rad/s),
     /// time (s from φ = 0), reduced_inertia, reduced_inertia_slope, gas_torque and
     /// gravity_torque there. A stall is a MechanismError with attributes angle, omega_mean
@@ -260,7 +260,7 @@ impl MotionMachine {
 
     /// comparisons(omega, delta, omega_mean, min_speed_ratio=1e-3, shaft_inertia=None,
     /// gravity=True) ->
-    /// (delta_without_gravity, delta_gravity_only): the two comparison solves of the steady
+    /// (delta_without_gravity, delta_coasting): the two comparison solves of the steady
     /// state at the mean speed `omega` asked for (rad/s) that steady_state(compare=False)
     /// found (its `delta` and `omega_mean`, the mean speed found, rad/s), each NaN where it
     /// stalls; `drive` as steady_state takes it.
@@ -495,7 +495,7 @@ impl MotionMachine {
                 }
                 "delta" => &mut found.delta,
                 "delta_without_gravity" => &mut found.delta_without_gravity,
-                "delta_gravity_only" => &mut found.delta_gravity_only,
+                "delta_coasting" => &mut found.delta_coasting,
                 "gravity_effect" => &mut found.gravity_effect,
                 "omega_min" => &mut found.omega_min,
                 "omega_max" => &mut found.omega_max,

@@ -38,7 +38,7 @@ pub(crate) struct SteadyResult {
     delta: f64,
     delta_midrange: f64,
     delta_without_gravity: f64,
-    delta_gravity_only: f64,
+    delta_coasting: f64,
     status: i32,
     message: &'static str,
     nfev: usize,
@@ -65,7 +65,7 @@ impl SteadyResult {
             self.delta,
             self.delta_midrange,
             self.delta_without_gravity,
-            self.delta_gravity_only,
+            self.delta_coasting,
         ]
     }
 
@@ -97,8 +97,8 @@ impl SteadyResult {
 
     fn __repr__(&self) -> String {
         format!(
-            "SteadyResult(omega_mean={}, delta={}, delta_without_gravity={}, delta_gravity_only={})",
-            self.omega_mean, self.delta, self.delta_without_gravity, self.delta_gravity_only
+            "SteadyResult(omega_mean={}, delta={}, delta_without_gravity={}, delta_coasting={})",
+            self.omega_mean, self.delta, self.delta_without_gravity, self.delta_coasting
         )
     }
 }
@@ -169,7 +169,7 @@ pub(crate) fn steady_result(
         delta: s.delta,
         delta_midrange: s.delta_midrange,
         delta_without_gravity: s.delta_without_gravity,
-        delta_gravity_only: s.delta_gravity_only,
+        delta_coasting: s.delta_coasting,
         status: found.status,
         message: found.message,
         nfev: found.nfev,

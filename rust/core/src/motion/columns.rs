@@ -148,7 +148,7 @@ pub struct MotionOutputs {
     /// δ of the machine with g = 0 at the same mean speed.
     pub delta_without_gravity: bool,
     /// δ of gravity (and the variation of J) alone.
-    pub delta_gravity_only: bool,
+    pub delta_coasting: bool,
     /// δ/δ₀ − 1, δ₀ = `delta_without_gravity`.
     pub gravity_effect: bool,
     /// The speed extremes (rad/s).
@@ -166,7 +166,7 @@ impl MotionOutputs {
     pub const NAMES: [&'static str; 9] = [
         "delta",
         "delta_without_gravity",
-        "delta_gravity_only",
+        "delta_coasting",
         "gravity_effect",
         "omega_min",
         "omega_max",
@@ -183,7 +183,7 @@ impl MotionOutputs {
                 "delta" => outputs.delta = true,
                 "stalled" => outputs.stalled = true,
                 "delta_without_gravity" => outputs.delta_without_gravity = true,
-                "delta_gravity_only" => outputs.delta_gravity_only = true,
+                "delta_coasting" => outputs.delta_coasting = true,
                 "gravity_effect" => outputs.gravity_effect = true,
                 "omega_min" => outputs.omega_min = true,
                 "omega_max" => outputs.omega_max = true,
@@ -195,7 +195,7 @@ impl MotionOutputs {
                     return Err(MechanismError::InvalidChoice {
                         parameter: "outputs",
                         value: format!("{other:?}"),
-                        allowed: "delta, delta_without_gravity, delta_gravity_only, \
+                        allowed: "delta, delta_without_gravity, delta_coasting, \
                                   gravity_effect, omega_min, omega_max, stalled, flywheel_inertia, \
                                   flywheel_inertia_without_gravity",
                     })
@@ -210,7 +210,7 @@ impl MotionOutputs {
         self.stalled
             || self.delta
             || self.delta_without_gravity
-            || self.delta_gravity_only
+            || self.delta_coasting
             || self.gravity_effect
             || self.omega_min
             || self.omega_max
@@ -230,7 +230,7 @@ pub struct MotionColumns {
     /// δ₀: g = 0 (NaN where stalled, or where that machine stalls).
     pub delta_without_gravity: Vec<f64>,
     /// δ of gravity alone (NaN where stalled, or where it stalls).
-    pub delta_gravity_only: Vec<f64>,
+    pub delta_coasting: Vec<f64>,
     /// δ/δ₀ − 1: NaN where δ₀ is; +∞ where δ₀ = 0 < δ; NaN where both are 0.
     pub gravity_effect: Vec<f64>,
     /// ω_min, ω_max (rad/s), each widened to hold the mean speed asked for (NaN where

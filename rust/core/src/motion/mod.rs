@@ -87,9 +87,9 @@ pub struct SteadyState {
     /// δ of the same machine and load rule with g = 0, at the same mean speed; NaN where
     /// that machine would stall.
     pub delta_without_gravity: f64,
-    /// δ with gas and load removed, gravity (and the variation of J) alone, at the same mean
-    /// speed; NaN where it would stall.
-    pub delta_gravity_only: f64,
+    /// δ of the machine coasting: gas, drive and load removed, gravity and the variation of J
+    /// alone, at the same mean speed; NaN where it would stall.
+    pub delta_coasting: f64,
 }
 
 /// The lowest ratio ω_min/ω_m accepted for `min_speed_ratio`: below it the crawl over a dead
@@ -197,8 +197,8 @@ pub fn steady_state_curves(
 ///
 /// In the [`SteadyState`]: `mean_load_torque` is the load's cycle mean (1/Φ)∫cω² dφ;
 /// `energy_at_zero` E₀; `delta_without_gravity` the same load and drive with g = 0 and
-/// `delta_gravity_only` gravity alone ("balance", gas and load removed) at the mean speed
-/// found, each NaN where it stalls.
+/// `delta_coasting` that of the machine coasting (gas, drive and load removed: gravity and
+/// J(φ)'s variation alone) at the mean speed found, each NaN where it stalls.
 ///
 /// Errors: bad input, naming the parameter; a drive whose cycle mean with the gas torque is
 /// not positive (`drive`: nothing to balance); a load damping more than 700 e-folds of E per
@@ -257,14 +257,14 @@ pub fn square_law_steady_state(
     } else {
         solution.delta()
     };
-    let delta_gravity_only =
-        tables.delta_gravity_only(machine.shaft_inertia, solution.omega_mean, min_speed_ratio)?;
+    let delta_coasting =
+        tables.delta_coasting(machine.shaft_inertia, solution.omega_mean, min_speed_ratio)?;
     Ok(SteadyCurves {
         state: state_of(
             &solution,
             found.mean_load,
             delta_without_gravity,
-            delta_gravity_only,
+            delta_coasting,
         ),
         omega: curves.omega,
         time: curves.time,

@@ -23,7 +23,7 @@ use super::{check_speed_ratio, flywheel, Machine, SteadyTables};
 struct Row {
     delta: f64,
     delta_without_gravity: f64,
-    delta_gravity_only: f64,
+    delta_coasting: f64,
     gravity_effect: f64,
     omega_min: f64,
     omega_max: f64,
@@ -36,7 +36,7 @@ impl Row {
     const NONE: Self = Self {
         delta: f64::NAN,
         delta_without_gravity: f64::NAN,
-        delta_gravity_only: f64::NAN,
+        delta_coasting: f64::NAN,
         gravity_effect: f64::NAN,
         omega_min: f64::NAN,
         omega_max: f64::NAN,
@@ -91,9 +91,9 @@ fn solve(
                     row.delta_without_gravity = without;
                     row.gravity_effect = gravity_effect(delta, without);
                 }
-                if outputs.delta_gravity_only {
-                    row.delta_gravity_only =
-                        tables.delta_gravity_only(inertia, solution.omega_mean, ratio)?;
+                if outputs.delta_coasting {
+                    row.delta_coasting =
+                        tables.delta_coasting(inertia, solution.omega_mean, ratio)?;
                 }
             }
             _ => row.stalled = true,
@@ -289,7 +289,7 @@ pub fn motion_sweep(
     Ok(MotionColumns {
         delta: column(outputs.delta, |r| r.delta),
         delta_without_gravity: column(outputs.delta_without_gravity, |r| r.delta_without_gravity),
-        delta_gravity_only: column(outputs.delta_gravity_only, |r| r.delta_gravity_only),
+        delta_coasting: column(outputs.delta_coasting, |r| r.delta_coasting),
         gravity_effect: column(outputs.gravity_effect, |r| r.gravity_effect),
         omega_min: column(outputs.omega_min, |r| r.omega_min),
         omega_max: column(outputs.omega_max, |r| r.omega_max),

@@ -223,7 +223,7 @@ impl SteadyTables {
         };
         let mut state = state_of(&solution, self.load, f64::NAN, f64::NAN);
         if compare {
-            (state.delta_without_gravity, state.delta_gravity_only) = self.comparisons(
+            (state.delta_without_gravity, state.delta_coasting) = self.comparisons(
                 shaft_inertia,
                 omega_mean,
                 state.delta,
@@ -262,7 +262,7 @@ impl SteadyTables {
         let without = self
             .delta_without_gravity(shaft_inertia, omega, min_speed_ratio)?
             .unwrap_or(delta);
-        let alone = self.delta_gravity_only(shaft_inertia, omega_mean, min_speed_ratio)?;
+        let alone = self.delta_coasting(shaft_inertia, omega_mean, min_speed_ratio)?;
         Ok((without, alone))
     }
 
@@ -351,9 +351,9 @@ impl SteadyTables {
             .transpose()
     }
 
-    /// δ of gravity (and the variation of J) alone, gas and load removed, at ω_m =
-    /// `omega_mean` (rad/s); NaN where it stalls.
-    pub(crate) fn delta_gravity_only(
+    /// δ of the machine coasting: gravity and the variation of J alone (gas, drive and load
+    /// removed), at ω_m = `omega_mean` (rad/s); NaN where it stalls.
+    pub(crate) fn delta_coasting(
         &self,
         shaft_inertia: f64,
         omega_mean: f64,
@@ -466,6 +466,6 @@ pub(super) fn state_of(solution: &Periodic, load: f64, without: f64, alone: f64)
         delta_midrange: 2.0 * (solution.omega_max - solution.omega_min)
             / (solution.omega_max + solution.omega_min),
         delta_without_gravity: without,
-        delta_gravity_only: alone,
+        delta_coasting: alone,
     }
 }

@@ -11,6 +11,11 @@ use serde_json::Value;
 
 pub const FIXTURES: &str = include_str!("../data/motion_fixtures.json");
 
+/// The fixtures' key for δ of the machine coasting (gas, drive and load removed; gravity and
+/// J(φ)'s variation alone), the core's `SteadyState::delta_coasting`: the oracle's own
+/// vocabulary (tests/data/make_motion_fixtures.py), kept so the fixture file stays as written.
+pub const COASTING_KEY: &str = "delta_gravity_only";
+
 pub fn number(value: &Value, key: &str) -> f64 {
     value[key]
         .as_f64()
