@@ -13,7 +13,7 @@ use std::f64::consts::{FRAC_PI_2, PI, TAU};
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use multicrank_core::{
     all_energy_extrema, build_series, crank_phases, motion_sweep, steady_state, sweep, Acting,
-    Design, DesignColumns, Dynamics, GasCylinder, Kinematics, Machine, MotionOutputs, Parallelism,
+    Design, Dynamics, GasCylinder, Kinematics, Machine, MachineDesigns, MotionOutputs, Parallelism,
     PhaseSetTable, Phases, PhysicalCylinder, PiecewisePolynomial, SeriesKind, Strokes,
     SweepOutputs,
 };
@@ -156,10 +156,10 @@ fn motion(c: &mut Criterion) {
             (0.1 + 0.02 * (i / 8) as f64, 50.0 * PI * (1.0 + step / 3.0))
         })
         .unzip();
-    let designs = DesignColumns {
+    let designs = MachineDesigns {
         shaft_inertia: Some(&inertia),
         omega: Some(&omega),
-        ..DesignColumns::new(MOTION_DESIGNS)
+        ..MachineDesigns::new(MOTION_DESIGNS)
     };
     let outputs = MotionOutputs {
         delta: true,

@@ -52,8 +52,8 @@ pub use mechanism::{
 };
 pub use motion::{
     flywheel_inertia, motion_sweep, square_law_flywheel_inertia, square_law_steady_state,
-    steady_state, steady_state_curves, CycleArrays, DesignColumns, FlywheelInertia, GasCylinder,
-    Machine, MotionColumns, MotionOutputs, PiecewisePolynomial, SteadyCurves, SteadyState,
+    steady_state, steady_state_curves, CycleArrays, FlywheelInertia, GasCylinder, Machine,
+    MachineDesigns, MotionColumns, MotionOutputs, PiecewisePolynomial, SteadyCurves, SteadyState,
     SteadyTables, UnitColumn, UnitField,
 };
 pub use motion::{torque_orders, TorqueOrders};

@@ -6,8 +6,8 @@ mod common;
 use common::{diagram, fixture_named, fixtures, machine_json, machine_of, number, omega, Fixture};
 use multicrank_core::{
     flywheel_inertia, motion_sweep, steady_state, steady_state_curves, two_mass_rod_inertia,
-    DesignColumns, GasCylinder, Machine, MechanismError, MotionColumns, MotionOutputs, Parallelism,
-    PhysicalCylinder, PiecewisePolynomial, SteadyTables, UnitColumn, UnitField,
+    GasCylinder, Machine, MachineDesigns, MechanismError, MotionColumns, MotionOutputs,
+    Parallelism, PhysicalCylinder, PiecewisePolynomial, SteadyTables, UnitColumn, UnitField,
 };
 use std::f64::consts::PI;
 
@@ -136,8 +136,8 @@ fn columns(f: &Fixture, designs: &[Design]) -> Columns {
 }
 
 impl Columns {
-    fn view(&self) -> DesignColumns<'_> {
-        let mut view = DesignColumns::new(self.designs);
+    fn view(&self) -> MachineDesigns<'_> {
+        let mut view = MachineDesigns::new(self.designs);
         for (name, values) in &self.values {
             let column = Some(&values[..]);
             match *name {
@@ -329,7 +329,7 @@ fn a_unit_column_sets_that_unit_alone() {
         let radii = [first.counterweight_radius, 0.05, 0.05, 0.11];
         // Every unit's counterweight first, then unit 0's own: the own value wins.
         let everywhere = [7.0; 4];
-        let view = DesignColumns {
+        let view = MachineDesigns {
             counterweight_mass: Some(&everywhere),
             units: vec![
                 UnitColumn {
@@ -348,7 +348,7 @@ fn a_unit_column_sets_that_unit_alone() {
                     values: &radii,
                 },
             ],
-            ..DesignColumns::new(4)
+            ..MachineDesigns::new(4)
         };
         let target = 1.0 / 60.0;
         let found = motion_sweep(
@@ -380,13 +380,13 @@ fn a_unit_column_sets_that_unit_alone() {
             check_row(&f.name, row, &machine, f.rpm, &found, Some(target));
         }
         // A unit the machine does not have names the column.
-        let view = DesignColumns {
+        let view = MachineDesigns {
             units: vec![UnitColumn {
                 field: UnitField::Phase,
                 unit: f.units.len(),
                 values: &phases,
             }],
-            ..DesignColumns::new(4)
+            ..MachineDesigns::new(4)
         };
         let error = motion_sweep(
             &machine_of(&f),
@@ -458,7 +458,7 @@ fn a_nan_rod_inertia_is_the_two_mass_rod_of_the_design() {
         flywheel_inertia_without_gravity: false,
         ..all_outputs()
     };
-    let run = |base: &Machine<'_>, view: &DesignColumns<'_>| {
+    let run = |base: &Machine<'_>, view: &MachineDesigns<'_>| {
         motion_sweep(
             base,
             Some(omega(f.rpm)),
@@ -478,18 +478,18 @@ fn a_nan_rod_inertia_is_the_two_mass_rod_of_the_design() {
     // The same rows by rod_inertia given as numbers.
     let rod_length = [1.1 * u.rod_length; 2];
     let given = [two_mass, 7.0];
-    let view = DesignColumns {
+    let view = MachineDesigns {
         rod_length: Some(&rod_length),
         rod_inertia: Some(&given),
         omega: owned.view().omega,
-        ..DesignColumns::new(2)
+        ..MachineDesigns::new(2)
     };
     assert_eq!(run(&machine_of(&f), &view).delta, found);
     // No rod_inertia column: the two-mass rod follows its rod (row 0) …
     let lengths = [1.1 * u.rod_length];
-    let view = DesignColumns {
+    let view = MachineDesigns {
         rod_length: Some(&lengths),
-        ..DesignColumns::new(1)
+        ..MachineDesigns::new(1)
     };
     let base = machine_of(&f);
     assert_eq!(run(&base, &view).delta[0].to_bits(), found[0].to_bits());
@@ -516,9 +516,9 @@ fn a_bad_design_is_an_error_naming_its_row_and_parameter() {
     let f = slow_compressor();
     let u = f.units[0];
     let radii = [u.crank_radius, u.crank_radius, 2.0 * u.rod_length];
-    let view = DesignColumns {
+    let view = MachineDesigns {
         crank_radius: Some(&radii),
-        ..DesignColumns::new(3)
+        ..MachineDesigns::new(3)
     };
     let error = motion_sweep(
         &machine_of(&f),
@@ -542,9 +542,9 @@ fn a_bad_design_is_an_error_naming_its_row_and_parameter() {
         "{error}"
     );
     let inertia = [1.0, -1.0];
-    let view = DesignColumns {
+    let view = MachineDesigns {
         shaft_inertia: Some(&inertia),
-        ..DesignColumns::new(2)
+        ..MachineDesigns::new(2)
     };
     let error = motion_sweep(
         &machine_of(&f),
@@ -562,9 +562,9 @@ fn a_bad_design_is_an_error_naming_its_row_and_parameter() {
     );
     // A column of the wrong length, and a flywheel without its target: the sweep's own.
     let short = [1.0];
-    let view = DesignColumns {
+    let view = MachineDesigns {
         g: Some(&short),
-        ..DesignColumns::new(2)
+        ..MachineDesigns::new(2)
     };
     let delta = MotionOutputs {
         delta: true,
@@ -590,7 +590,7 @@ fn a_bad_design_is_an_error_naming_its_row_and_parameter() {
         motion_sweep(
             &machine_of(&f),
             Some(omega(f.rpm)),
-            &DesignColumns::new(1),
+            &MachineDesigns::new(1),
             flywheel,
             None,
             1e-3,

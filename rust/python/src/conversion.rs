@@ -54,17 +54,19 @@ impl<'a> PhiSlice<'a> {
     }
 }
 
-/// Designs as four broadcast columns of one length.
+/// The gravity API's dimensionless designs (crank ratio λ, inclination, u1, u2: the fields
+/// of a `core::Design`) as four broadcast columns of one length; a motion sweep's per-design
+/// overrides of a physical machine are `MotionDesigns` (`core::MachineDesigns`).
 #[derive(FromPyObject)]
 #[pyo3(from_item_all)]
-pub(crate) struct DesignColumns<'py> {
+pub(crate) struct DimensionlessDesigns<'py> {
     crank_ratio: PyReadonlyArray1<'py, f64>,
     inclination: PyReadonlyArray1<'py, f64>,
     u1: PyReadonlyArray1<'py, f64>,
     u2: PyReadonlyArray1<'py, f64>,
 }
 
-impl DesignColumns<'_> {
+impl DimensionlessDesigns<'_> {
     pub(crate) fn slices(&self) -> PyResult<[&[f64]; 4]> {
         Ok([
             self.crank_ratio.as_slice()?,
@@ -316,7 +318,7 @@ pub(crate) fn gas_tables(
     Ok((gas, diagrams))
 }
 
-/// A motion sweep's design columns by name (`core::DesignColumns`'s fields, and
+/// A motion sweep's design columns by name (`core::MachineDesigns`'s fields, and
 /// `"field[j]"` for a field of unit j alone), each a 1-D float64 array.
 pub(crate) struct MotionDesigns<'py>(Vec<(String, PyReadonlyArray1<'py, f64>)>);
 
@@ -345,12 +347,12 @@ impl<'py> MotionDesigns<'py> {
 
     /// The core's columns: as many designs as the first column is long (one, the base
     /// machine, without columns); a name the core does not know names `designs`.
-    pub(crate) fn columns(&self) -> PyResult<core::DesignColumns<'_>> {
+    pub(crate) fn columns(&self) -> PyResult<core::MachineDesigns<'_>> {
         let count = match self.0.first() {
             Some((_, values)) => values.len(),
             None => 1,
         };
-        let mut designs = core::DesignColumns::new(count);
+        let mut designs = core::MachineDesigns::new(count);
         for (name, values) in &self.0 {
             let values = values.as_slice()?;
             let field = match name.as_str() {

@@ -7,7 +7,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::conversion::{
-    designs, filled, named, DesignColumns, OutputSize, PhiArg, PhysicalArrays,
+    designs, filled, named, DimensionlessDesigns, OutputSize, PhiArg, PhysicalArrays,
 };
 use crate::error::{to_py_err, MechanismError};
 use crate::parallel::parallelism;
@@ -68,7 +68,7 @@ pub(crate) fn evaluate<'py>(
     py: Python<'py>,
     quantity: &str,
     phi: PhiArg<'py>,
-    design: DesignColumns<'py>,
+    design: DimensionlessDesigns<'py>,
     phases: PyReadonlyArray1<'py, f64>,
     parallel_threshold: Option<usize>,
 ) -> PyResult<Bound<'py, PyArray1<f64>>> {

@@ -5,7 +5,7 @@ use numpy::PyReadonlyArray1;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::conversion::{designs, record_columns, DesignColumns};
+use crate::conversion::{designs, record_columns, DimensionlessDesigns};
 use crate::error::to_py_err;
 use crate::parallel::parallelism;
 
@@ -15,7 +15,7 @@ use crate::parallel::parallelism;
 #[pyo3(signature = (design, phases, parallel_threshold=None))]
 pub(crate) fn energy_extrema<'py>(
     py: Python<'py>,
-    design: DesignColumns<'py>,
+    design: DimensionlessDesigns<'py>,
     phases: PyReadonlyArray1<'py, f64>,
     parallel_threshold: Option<usize>,
 ) -> PyResult<Bound<'py, PyDict>> {

@@ -6,7 +6,7 @@ use numpy::{IntoPyArray, PyArray1, PyReadonlyArray1};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::conversion::{designs, named, DesignColumns};
+use crate::conversion::{designs, named, DimensionlessDesigns};
 use crate::error::{to_py_err, MechanismError};
 use crate::parallel::parallelism;
 
@@ -68,7 +68,7 @@ pub(crate) fn surviving_harmonics<'py>(
 #[pyo3(signature = (design, phases, n_max, parallel_threshold=None))]
 pub(crate) fn fourier_coefficients<'py>(
     py: Python<'py>,
-    design: DesignColumns<'py>,
+    design: DimensionlessDesigns<'py>,
     phases: PyReadonlyArray1<'py, f64>,
     n_max: usize,
     parallel_threshold: Option<usize>,

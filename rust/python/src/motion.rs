@@ -199,7 +199,7 @@ impl MotionMachine {
         core::motion_sweep(
             &machine.machine(),
             None,
-            &core::DesignColumns::new(0),
+            &core::MachineDesigns::new(0),
             core::MotionOutputs::default(),
             None,
             1e-3,

@@ -5,7 +5,7 @@ use numpy::PyReadonlyArray1;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::conversion::{designs, record_columns, DesignColumns, EngineColumns};
+use crate::conversion::{designs, record_columns, DimensionlessDesigns, EngineColumns};
 use crate::error::to_py_err;
 use crate::parallel::parallelism;
 
@@ -26,7 +26,7 @@ pub(crate) fn sweep_names(outputs: &[String]) -> PyResult<(core::SweepOutputs, V
 #[pyo3(signature = (design, phase_set, phase_sets, phi, outputs, parallel_threshold=None))]
 pub(crate) fn sweep<'py>(
     py: Python<'py>,
-    design: DesignColumns<'py>,
+    design: DimensionlessDesigns<'py>,
     phase_set: PyReadonlyArray1<'py, u32>,
     phase_sets: Vec<PyReadonlyArray1<'py, f64>>,
     phi: PyReadonlyArray1<'py, f64>,

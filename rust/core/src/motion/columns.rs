@@ -1,5 +1,5 @@
 //! The vocabulary of a motion sweep: the design columns a sweep may set on its base machine
-//! (`DesignColumns`, with `UnitColumn` and `UnitField` for a single unit's fields), the outputs
+//! (`MachineDesigns`, with `UnitColumn` and `UnitField` for a single unit's fields), the outputs
 //! it may ask for (`MotionOutputs`) and the columns it fills (`MotionColumns`).
 
 use crate::dynamics::PhysicalCylinder;
@@ -19,7 +19,7 @@ use crate::error::{MechanismError, Result};
 ///
 /// [`two_mass_rod_inertia`]: crate::dynamics::two_mass_rod_inertia
 #[derive(Debug, Clone, Default)]
-pub struct DesignColumns<'a> {
+pub struct MachineDesigns<'a> {
     /// The number of designs (every column given has this length).
     pub designs: usize,
     /// I_w (kg·m²).
@@ -108,7 +108,7 @@ pub struct UnitColumn<'a> {
     pub values: &'a [f64],
 }
 
-impl<'a> DesignColumns<'a> {
+impl<'a> MachineDesigns<'a> {
     /// `designs` designs, none of them changing anything yet.
     pub fn new(designs: usize) -> Self {
         Self {

@@ -39,7 +39,7 @@ use solution::PeriodicSolver;
 use square_law::SquareLaw;
 use tables::state_of;
 
-pub use columns::{DesignColumns, MotionColumns, MotionOutputs, UnitColumn, UnitField};
+pub use columns::{MachineDesigns, MotionColumns, MotionOutputs, UnitColumn, UnitField};
 pub use gas::{GasCylinder, PiecewisePolynomial};
 pub use orders::{torque_orders, TorqueOrders};
 pub use sweep::motion_sweep;

@@ -1,7 +1,7 @@
 //! Motion at sweep scale: the steady state (and the flywheel) of many variants of one
 //! machine, one row each (the Python API's `motion_sweep`, its `_solve_chunk`).
 //!
-//! A design is the base machine with some numbers replaced (`DesignColumns`); each row is
+//! A design is the base machine with some numbers replaced (`MachineDesigns`); each row is
 //! exactly what `steady_state` and `flywheel_inertia` give for that design's machine — the
 //! same tables, the same solves, in the same order — less what was not asked for. Every row
 //! is solved on its own, so the columns are bit-identical for any thread count.
@@ -13,7 +13,7 @@ use crate::dynamics::Dynamics;
 use crate::error::{check, check_length, MechanismError, Result};
 use crate::parallel::{map_indices, Parallelism};
 
-use super::columns::{DesignColumns, MotionColumns, MotionOutputs};
+use super::columns::{MachineDesigns, MotionColumns, MotionOutputs};
 use super::gas::PiecewisePolynomial;
 use super::variant::{gas, variant, Variant};
 use super::{check_speed_ratio, flywheel, Machine, SteadyTables};
@@ -125,7 +125,7 @@ const GAS_COLUMNS: [&str; 4] = ["pressure_scale", "crank_radius", "rod_length", 
 
 /// What of design `row` changes its machine's tables (every column but `shaft_inertia` and
 /// `omega`; `gas`: only the gas's columns, and the units' phases), bit for bit.
-fn row_key(designs: &DesignColumns<'_>, row: usize, gas: bool) -> Vec<u64> {
+fn row_key(designs: &MachineDesigns<'_>, row: usize, gas: bool) -> Vec<u64> {
     let shared = designs
         .named()
         .into_iter()
@@ -183,7 +183,7 @@ fn distinct(
 pub fn motion_sweep(
     base: &Machine<'_>,
     omega: Option<f64>,
-    designs: &DesignColumns<'_>,
+    designs: &MachineDesigns<'_>,
     outputs: MotionOutputs,
     target_delta: Option<f64>,
     min_speed_ratio: f64,

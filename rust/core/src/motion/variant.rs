@@ -1,5 +1,5 @@
 //! The variant rule of a motion sweep: a design's machine is the base machine with the
-//! design's columns applied (`DesignColumns`), every value, unit and gas checked; its gas is
+//! design's columns applied (`MachineDesigns`), every value, unit and gas checked; its gas is
 //! made with the base diagrams, scaled where the design says so.
 
 use std::sync::Arc;
@@ -8,7 +8,7 @@ use crate::dynamics::{two_mass_rod_inertia, PhysicalCylinder};
 use crate::error::{check, MechanismError, Result};
 use crate::mechanism::{check_shaft_inertia, check_speed};
 
-use super::columns::DesignColumns;
+use super::columns::MachineDesigns;
 use super::cycle::Gas;
 use super::gas::{GasCylinder, PiecewisePolynomial};
 use super::Machine;
@@ -31,7 +31,7 @@ pub(super) struct Variant {
 pub(super) fn variant(
     base: &Machine<'_>,
     omega: Option<f64>,
-    designs: &DesignColumns<'_>,
+    designs: &MachineDesigns<'_>,
     row: usize,
 ) -> Result<Variant> {
     let value = |column: Option<&[f64]>| column.map(|c| c[row]);
