@@ -17,7 +17,7 @@
 //! sources and threads as the gravity kernels.
 
 use crate::angles::{Phi, PreparedPhi};
-use crate::engine::{Cylinder, Engine};
+use crate::engine::{Engine, EngineUnit};
 use crate::error::{check, check_length, check_rows_length, MechanismError, Result};
 use crate::exact::{crank_run, CrankTerm, Quantity};
 use crate::mechanism::{check_shaft_inertia, check_speed, Phases, PhysicalUnit};
@@ -105,9 +105,9 @@ impl PhysicalCylinder {
 
     /// The gravity moments U1, U2 (J) of this unit (eq. 5–7 times I_w ω²: g times the
     /// moment arms), as the unit of an SI engine whose U* is U in joules.
-    fn gravity_unit(&self, g: f64) -> Cylinder {
+    fn gravity_unit(&self, g: f64) -> EngineUnit {
         let (reciprocating, rotating) = self.masses(g).moment_arms();
-        Cylinder {
+        EngineUnit {
             phase: self.phase,
             inclination: self.inclination,
             crank_ratio: self.crank_radius / self.rod_length,
@@ -282,7 +282,7 @@ impl Dynamics {
             self.gravity
                 .cylinders()
                 .iter()
-                .map(|c| Cylinder {
+                .map(|c| EngineUnit {
                     u1: c.u1 / scale,
                     u2: c.u2 / scale,
                     ..*c

@@ -19,9 +19,12 @@ use crate::parallel::{for_each_row_segment, Parallelism};
 use crate::series::{self, FourierSeries, SeriesKind, UnitGroup};
 use crate::series_kernels::{series_or_closed, SeriesPhi};
 
-/// One slider-crank unit of an engine (dimensionless, like `Design`).
+/// One slider-crank unit of an engine in the dimensionless terms of the gravity moments: its
+/// crank phase α_j, cylinder inclination γ_j (rad) and `Design` (crank ratio λ, gravity
+/// moments u1, u2). Not a physical cylinder: the unit in SI units (masses, lengths, bore) is
+/// `PhysicalCylinder`, whose gravity is one of these in joules (`Dynamics`).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Cylinder {
+pub struct EngineUnit {
     /// α_j: the unit's crank angle is ψ_j = φ + α_j, from its own outer dead centre.
     pub phase: f64,
     /// γ_j: its cylinder axis to the horizontal.
@@ -35,7 +38,7 @@ pub struct Cylinder {
 /// or one per unit) and the groups of units that share one design.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Engine {
-    cylinders: Vec<Cylinder>,
+    cylinders: Vec<EngineUnit>,
     phases: Phases,
     coefficients: Vec<Coefficients>,
     /// Each group's design and the phases of its units.
@@ -44,7 +47,7 @@ pub struct Engine {
 
 impl Engine {
     /// An engine of independent units (one group each).
-    pub fn new(cylinders: Vec<Cylinder>) -> Result<Self> {
+    pub fn new(cylinders: Vec<EngineUnit>) -> Result<Self> {
         if cylinders.is_empty() {
             return Err(MechanismError::Empty {
                 parameter: "cylinders",
@@ -73,7 +76,7 @@ impl Engine {
         Ok(Self {
             cylinders: phases
                 .iter()
-                .map(|&phase| Cylinder {
+                .map(|&phase| EngineUnit {
                     phase,
                     inclination: design.inclination,
                     crank_ratio: design.crank_ratio,
@@ -100,7 +103,7 @@ impl Engine {
         }
         Self::new(
             (0..phase.len())
-                .map(|i| Cylinder {
+                .map(|i| EngineUnit {
                     phase: phase[i],
                     inclination: inclination[i],
                     crank_ratio: crank_ratio[i],
@@ -111,7 +114,7 @@ impl Engine {
         )
     }
 
-    pub fn cylinders(&self) -> &[Cylinder] {
+    pub fn cylinders(&self) -> &[EngineUnit] {
         &self.cylinders
     }
 
@@ -289,7 +292,7 @@ mod tests {
     #[test]
     fn rejects_bad_cylinders() {
         assert!(Engine::new(vec![]).is_err());
-        let bad = Cylinder {
+        let bad = EngineUnit {
             phase: 0.0,
             inclination: 0.0,
             crank_ratio: 1.0,

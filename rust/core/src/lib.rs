@@ -38,7 +38,7 @@ mod trig;
 
 pub use angles::{Phi, UniformGrid};
 pub use dynamics::{two_mass_rod_inertia, Dynamics, Kinematics, PhysicalCylinder};
-pub use engine::{Cylinder, Engine};
+pub use engine::{Engine, EngineUnit};
 pub use error::{MechanismError, Reach, Result};
 pub use exact::{evaluate, evaluate_one, Quantity};
 pub use extrema::{all_energy_extrema, energy_extrema, EnergyExtrema};

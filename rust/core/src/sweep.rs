@@ -319,7 +319,7 @@ pub fn sweep_engines(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::engine::Cylinder;
+    use crate::engine::EngineUnit;
     use crate::mechanism::{crank_phases, Acting, Strokes};
 
     fn engines() -> Vec<Engine> {
@@ -331,7 +331,7 @@ mod tests {
                     alphas
                         .iter()
                         .enumerate()
-                        .map(|(j, &phase)| Cylinder {
+                        .map(|(j, &phase)| EngineUnit {
                             phase: phase + 1e-3 * (x + j as f64).sin(),
                             inclination: 0.3 + 0.1 * x - 0.2 * j as f64,
                             crank_ratio: 0.05 + 0.02 * x,

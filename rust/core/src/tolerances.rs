@@ -107,10 +107,10 @@ fn squared((x, y): (f64, f64)) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::engine::Cylinder;
+    use crate::engine::EngineUnit;
 
     fn v_twin() -> Engine {
-        let cylinder = |phase, inclination, u1, u2| Cylinder {
+        let cylinder = |phase, inclination, u1, u2| EngineUnit {
             phase,
             inclination,
             crank_ratio: 0.28,
@@ -125,13 +125,13 @@ mod tests {
         .unwrap()
     }
 
-    type Perturbation = fn(&mut Cylinder, f64);
+    type Perturbation = fn(&mut EngineUnit, f64);
 
     /// |∂c_n/∂x|² by central differences of the Fourier coefficients of perturbed engines.
     fn squared_slope(
         engine: &Engine,
         n_max: usize,
-        perturb: impl Fn(&mut Cylinder, f64),
+        perturb: impl Fn(&mut EngineUnit, f64),
     ) -> Vec<f64> {
         let h = 1e-6;
         let shifted = |sign: f64| {
@@ -153,9 +153,9 @@ mod tests {
         // One error at a time, on the first unit only: the variance is |∂c_n/∂x_0|²·σ².
         let n_max = 8;
         let first = v_twin().cylinders()[0];
-        let others: Vec<Cylinder> = v_twin().cylinders()[1..]
+        let others: Vec<EngineUnit> = v_twin().cylinders()[1..]
             .iter()
-            .map(|c| Cylinder {
+            .map(|c| EngineUnit {
                 u1: 0.0,
                 u2: 0.0,
                 ..*c

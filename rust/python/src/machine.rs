@@ -105,7 +105,7 @@ pub(crate) fn machine_engine<'py>(
         .dynamics(g)?
         .dimensionless(shaft_inertia, omega)
         .map_err(to_py_err)?;
-    let column = |f: fn(&core::Cylinder) -> f64| engine.cylinders().iter().map(f).collect();
+    let column = |f: fn(&core::EngineUnit) -> f64| engine.cylinders().iter().map(f).collect();
     named(
         py,
         [
