@@ -75,15 +75,37 @@ pub(crate) fn square_law_inertia(
     } else {
         inertia
     };
-    Ok(FlywheelInertia {
-        shaft_inertia: inertia,
-        shaft_inertia_without_gravity: without,
-        textbook,
-        textbook_error: (textbook - inertia) / inertia,
-        energy_swing: swing,
+    Ok(FlywheelInertia::sized(
+        inertia,
+        without,
+        (swing, textbook),
         delta,
-        omega_mean: reached,
-    })
+        reached,
+    ))
+}
+
+impl FlywheelInertia {
+    /// The flywheel found: I_w = `shaft_inertia` (kg·m²) for `delta` at ω_m = `omega_mean`
+    /// (rad/s), the g = 0 machine's `shaft_inertia_without_gravity`, and the textbook
+    /// estimate's ΔE (J) and I_w (kg·m²) as [`SteadyTables::textbook_flywheel`] gives them,
+    /// with its relative error (textbook − I_w)/I_w.
+    pub(crate) fn sized(
+        shaft_inertia: f64,
+        shaft_inertia_without_gravity: f64,
+        (energy_swing, textbook): (f64, f64),
+        delta: f64,
+        omega_mean: f64,
+    ) -> Self {
+        Self {
+            shaft_inertia,
+            shaft_inertia_without_gravity,
+            textbook,
+            textbook_error: (textbook - shaft_inertia) / shaft_inertia,
+            energy_swing,
+            delta,
+            omega_mean,
+        }
+    }
 }
 
 /// The smallest δ a flywheel is sized for: below it δ is within the rounding of the speeds

@@ -24,7 +24,8 @@ fn balance_load(cycle: &Cycle) -> f64 {
 /// A machine's working cycle tabulated once for every steady state of it under the
 /// "balance" load, whatever the shaft inertia I_w and the mean speed: J − I_w, U, the gas
 /// work W and the torques' slopes on the cycle's panels, and the energy method's set-up with
-/// gravity, with g = 0 and of gravity alone (none of them depends on I_w or the speed).
+/// gravity, with g = 0 and coasting (gas and load removed): none of them depends on I_w or
+/// the speed.
 /// What the Python API's `MotionMachine` keeps, and what a motion sweep shares between designs
 /// that differ only in I_w and speed. Immutable; every solve works on its own copy.
 #[derive(Debug, Clone)]
@@ -32,10 +33,11 @@ pub struct SteadyTables {
     pub(super) cycle: Arc<Cycle>,
     /// The "balance" load (N·m).
     pub(super) load: f64,
-    /// The machine as it is; with g = 0 (`None` when g = 0 already); gravity alone.
+    /// The machine as it is; with g = 0 (`None` when g = 0 already); coasting (gravity and
+    /// J(φ)'s variation alone).
     machine: Balance,
     without_gravity: Option<Balance>,
-    gravity_only: Balance,
+    coasting: Balance,
     /// (ω_m, ΔE) of the textbook estimate at the first mean speed asked for (ΔE does not
     /// depend on I_w; a sweep sizes many flywheels at one speed).
     swing: OnceLock<(f64, f64)>,
@@ -116,7 +118,7 @@ impl SteadyTables {
         };
         Ok(Self {
             machine: Balance::new(&cycle, load, true)?,
-            gravity_only: Balance::new(&cycle, 0.0, false)?,
+            coasting: Balance::new(&cycle, 0.0, false)?,
             without_gravity,
             load,
             cycle,
@@ -149,7 +151,7 @@ impl SteadyTables {
         Ok(Self {
             machine: balance.clone(),
             without_gravity: None,
-            gravity_only: Balance::new(&cycle, 0.0, false)?,
+            coasting: Balance::new(&cycle, 0.0, false)?,
             load: self.load,
             cycle,
             swing: OnceLock::new(),
@@ -188,7 +190,7 @@ impl SteadyTables {
 
     /// The periodic steady state with I_w = `shaft_inertia` (kg·m²) at the mean speed
     /// `omega_mean` (rad/s), as [`steady_state_curves`] gives it, with ω and t at `phi` (rad, each in
-    /// [0, Φ]; none: no curves). `compare`: whether δ without gravity and of gravity alone
+    /// [0, Φ]; none: no curves). `compare`: whether δ without gravity and coasting
     /// are solved too (else NaN, and two solves saved).
     ///
     /// Errors: bad input, naming the parameter; [`MechanismError::Stall`] with the lowest
@@ -242,11 +244,11 @@ impl SteadyTables {
         })
     }
 
-    /// (δ without gravity, δ of gravity alone) of a steady state found by
+    /// (δ without gravity, δ coasting) of a steady state found by
     /// [`SteadyTables::steady_state`] with I_w = `shaft_inertia` at the mean speed `omega`
     /// asked for (rad/s) (its `delta` and `omega_mean`, the mean speed found, rad/s): the two
     /// comparison solves it skips without `compare` — δ₀ at the speed asked for (δ itself
-    /// without gravity), δ of gravity alone at the mean speed found; each NaN where it stalls.
+    /// without gravity), δ coasting at the mean speed found; each NaN where it stalls.
     pub fn comparisons(
         &self,
         shaft_inertia: f64,
@@ -360,7 +362,7 @@ impl SteadyTables {
         ratio: f64,
     ) -> Result<f64> {
         Ok(self
-            .gravity_only
+            .coasting
             .at_speed(omega_mean)
             .solve(shaft_inertia, ratio, None)?
             .delta_or_nan())
@@ -408,15 +410,13 @@ impl SteadyTables {
             )
             .unwrap_or(f64::NAN),
         };
-        Ok(FlywheelInertia {
-            shaft_inertia: inertia,
-            shaft_inertia_without_gravity: without,
-            textbook,
-            textbook_error: (textbook - inertia) / inertia,
-            energy_swing: swing,
+        Ok(FlywheelInertia::sized(
+            inertia,
+            without,
+            (swing, textbook),
             delta,
             omega_mean,
-        })
+        ))
     }
 }
 
