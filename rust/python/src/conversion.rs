@@ -354,59 +354,10 @@ impl<'py> MotionDesigns<'py> {
         };
         let mut designs = core::MachineDesigns::new(count);
         for (name, values) in &self.0 {
-            let values = values.as_slice()?;
-            let field = match name.as_str() {
-                "shaft_inertia" => &mut designs.shaft_inertia,
-                "omega" => &mut designs.omega,
-                "g" => &mut designs.g,
-                "pressure_scale" => &mut designs.pressure_scale,
-                "crank_radius" => &mut designs.crank_radius,
-                "rod_length" => &mut designs.rod_length,
-                "piston_mass" => &mut designs.piston_mass,
-                "rod_mass" => &mut designs.rod_mass,
-                "rod_cg" => &mut designs.rod_cg,
-                "rod_inertia" => &mut designs.rod_inertia,
-                "crank_mass" => &mut designs.crank_mass,
-                "crank_cg_radius" => &mut designs.crank_cg_radius,
-                "counterweight_mass" => &mut designs.counterweight_mass,
-                "counterweight_radius" => &mut designs.counterweight_radius,
-                "bore" => &mut designs.bore,
-                other => match unit_column(other) {
-                    Some((field, unit)) => {
-                        designs.units.push(core::UnitColumn {
-                            field,
-                            unit,
-                            values,
-                        });
-                        continue;
-                    }
-                    None => {
-                        return Err(to_py_err(core::MechanismError::InvalidChoice {
-                            parameter: "designs",
-                            value: format!("{other:?}"),
-                            allowed: "shaft_inertia, omega, g, pressure_scale, crank_radius, \
-                                      rod_length, piston_mass, rod_mass, rod_cg, rod_inertia, \
-                                      crank_mass, crank_cg_radius, counterweight_mass, \
-                                      counterweight_radius, bore, and phase[j], \
-                                      counterweight_mass[j], counterweight_radius[j] of unit j",
-                        }))
-                    }
-                },
-            };
-            *field = Some(values);
+            designs.set(name, values.as_slice()?).map_err(to_py_err)?;
         }
         Ok(designs)
     }
-}
-
-/// A one-unit column's field and unit, from its name `"field[j]"` (j a decimal index).
-fn unit_column(name: &str) -> Option<(core::UnitField, usize)> {
-    let (field, rest) = name.split_once('[')?;
-    let unit = rest.strip_suffix(']')?;
-    if unit.is_empty() || !unit.bytes().all(|b| b.is_ascii_digit()) {
-        return None;
-    }
-    Some((core::UnitField::from_name(field)?, unit.parse().ok()?))
 }
 
 /// How many values an output holds, and which request asked for them: the size is checked

@@ -117,26 +117,98 @@ impl<'a> MachineDesigns<'a> {
         }
     }
 
-    /// Every column by its public name, given or not.
-    pub(super) fn named(&self) -> [(&'static str, Option<&'a [f64]>); 15] {
-        [
-            ("shaft_inertia", self.shaft_inertia),
-            ("omega", self.omega),
-            ("g", self.g),
-            ("pressure_scale", self.pressure_scale),
-            ("crank_radius", self.crank_radius),
-            ("rod_length", self.rod_length),
-            ("piston_mass", self.piston_mass),
-            ("rod_mass", self.rod_mass),
-            ("rod_cg", self.rod_cg),
-            ("rod_inertia", self.rod_inertia),
-            ("crank_mass", self.crank_mass),
-            ("crank_cg_radius", self.crank_cg_radius),
-            ("counterweight_mass", self.counterweight_mass),
-            ("counterweight_radius", self.counterweight_radius),
-            ("bore", self.bore),
-        ]
+    /// Every column by its public name, given or not, with what it changes.
+    pub(super) fn named(&self) -> [(&'static str, Changes, Option<&'a [f64]>); COLUMNS.len()] {
+        COLUMNS.map(|c| (c.name, c.changes, (c.get)(self)))
     }
+
+    /// Sets the column `name` (a name of [`MachineDesigns::NAMES`], or `"field[j]"`: a
+    /// [`UnitField`] of unit j alone) to `values`, one per design (their number is checked
+    /// by the sweep). An unknown name is an error naming `designs`.
+    pub fn set(&mut self, name: &str, values: &'a [f64]) -> Result<()> {
+        if let Some(column) = COLUMNS.iter().find(|c| c.name == name) {
+            *(column.field)(self) = Some(values);
+        } else if let Some((field, unit)) = unit_column(name) {
+            self.units.push(UnitColumn {
+                field,
+                unit,
+                values,
+            });
+        } else {
+            return Err(MechanismError::InvalidChoice {
+                parameter: "designs",
+                value: format!("{name:?}"),
+                allowed: Self::NAMES,
+            });
+        }
+        Ok(())
+    }
+
+    /// The names [`MachineDesigns::set`] knows, as its error lists them.
+    pub const NAMES: &'static str = "shaft_inertia, omega, g, pressure_scale, crank_radius, \
+        rod_length, piston_mass, rod_mass, rod_cg, rod_inertia, crank_mass, crank_cg_radius, \
+        counterweight_mass, counterweight_radius, bore, and phase[j], counterweight_mass[j], \
+        counterweight_radius[j] of unit j";
+}
+
+/// What a column set on the whole machine changes of its tables.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Changes {
+    /// Nothing: the tables do not depend on I_w or the mean speed.
+    Nothing,
+    /// The machine's inertia and gravity, not its gas.
+    Machine,
+    /// Its gas too (W and M_gas): the pressures and the gassed cylinders' kinematics.
+    Gas,
+}
+
+/// One column of [`MachineDesigns`] set on the whole machine: its public name, what it
+/// changes, and its field.
+struct Column {
+    name: &'static str,
+    changes: Changes,
+    get: for<'a> fn(&MachineDesigns<'a>) -> Option<&'a [f64]>,
+    field: for<'a, 'b> fn(&'b mut MachineDesigns<'a>) -> &'b mut Option<&'a [f64]>,
+}
+
+macro_rules! columns {
+    ($($name:ident: $changes:ident),* $(,)?) => {
+        [$(Column {
+            name: stringify!($name),
+            changes: Changes::$changes,
+            get: |d| d.$name,
+            field: |d| &mut d.$name,
+        }),*]
+    };
+}
+
+/// Every column set on the whole machine: the one list of their names.
+const COLUMNS: [Column; 15] = columns![
+    shaft_inertia: Nothing,
+    omega: Nothing,
+    g: Machine,
+    pressure_scale: Gas,
+    crank_radius: Gas,
+    rod_length: Gas,
+    piston_mass: Machine,
+    rod_mass: Machine,
+    rod_cg: Machine,
+    rod_inertia: Machine,
+    crank_mass: Machine,
+    crank_cg_radius: Machine,
+    counterweight_mass: Machine,
+    counterweight_radius: Machine,
+    bore: Gas,
+];
+
+/// A one-unit column's field and unit, from its name `"field[j]"` (j a decimal index).
+fn unit_column(name: &str) -> Option<(UnitField, usize)> {
+    let (field, rest) = name.split_once('[')?;
+    let unit = rest.strip_suffix(']')?;
+    if unit.is_empty() || !unit.bytes().all(|b| b.is_ascii_digit()) {
+        return None;
+    }
+    Some((UnitField::from_name(field)?, unit.parse().ok()?))
 }
 
 /// Which columns a motion sweep fills (the Python API's `MOTION_SWEEP_OUTPUTS`); only
@@ -147,7 +219,7 @@ pub struct MotionOutputs {
     pub delta: bool,
     /// δ of the machine with g = 0 at the same mean speed.
     pub delta_without_gravity: bool,
-    /// δ of gravity (and the variation of J) alone.
+    /// δ of the machine coasting: gas, drive and load removed (gravity and J(φ)'s variation).
     pub delta_coasting: bool,
     /// δ/δ₀ − 1, δ₀ = `delta_without_gravity`.
     pub gravity_effect: bool,
@@ -229,7 +301,7 @@ pub struct MotionColumns {
     pub delta: Vec<f64>,
     /// δ₀: g = 0 (NaN where stalled, or where that machine stalls).
     pub delta_without_gravity: Vec<f64>,
-    /// δ of gravity alone (NaN where stalled, or where it stalls).
+    /// δ of the machine coasting (NaN where stalled, or where it stalls).
     pub delta_coasting: Vec<f64>,
     /// δ/δ₀ − 1: NaN where δ₀ is; +∞ where δ₀ = 0 < δ; NaN where both are 0.
     pub gravity_effect: Vec<f64>,
@@ -244,4 +316,43 @@ pub struct MotionColumns {
     pub flywheel_inertia: Vec<f64>,
     /// The same with g = 0; NaN where unreachable.
     pub flywheel_inertia_without_gravity: Vec<f64>,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Each column's name sets its own field alone, and the error lists every name.
+    #[test]
+    fn each_name_sets_its_own_column() {
+        let values = [1.0, 2.0];
+        for (i, column) in COLUMNS.iter().enumerate() {
+            let mut designs = MachineDesigns::new(2);
+            designs.set(column.name, &values).unwrap();
+            for (j, (name, _, given)) in designs.named().into_iter().enumerate() {
+                assert_eq!(
+                    given.is_some(),
+                    i == j,
+                    "{name} after setting {}",
+                    column.name
+                );
+            }
+            assert!(MachineDesigns::NAMES.contains(column.name));
+        }
+        let mut designs = MachineDesigns::new(2);
+        designs.set("phase[3]", &values).unwrap();
+        assert_eq!(
+            (designs.units[0].field, designs.units[0].unit),
+            (UnitField::Phase, 3)
+        );
+        for bad in ["crank", "phase[]", "phase[x]", "bore[1]"] {
+            assert!(matches!(
+                designs.set(bad, &values),
+                Err(MechanismError::InvalidChoice {
+                    parameter: "designs",
+                    ..
+                })
+            ));
+        }
+    }
 }

@@ -13,7 +13,7 @@ use crate::dynamics::Dynamics;
 use crate::error::{check, check_length, MechanismError, Result};
 use crate::parallel::{map_indices, Parallelism};
 
-use super::columns::{MachineDesigns, MotionColumns, MotionOutputs};
+use super::columns::{Changes, MachineDesigns, MotionColumns, MotionOutputs};
 use super::gas::PiecewisePolynomial;
 use super::variant::{gas, variant, Variant};
 use super::{check_speed_ratio, flywheel, Machine, SteadyTables};
@@ -119,24 +119,20 @@ fn solve(
 /// held at once (~100 kB each).
 const BLOCK: usize = 512;
 
-/// The columns that change a machine's gas (its W and M_gas): the pressures and the
-/// kinematics of the gassed cylinders.
-const GAS_COLUMNS: [&str; 4] = ["pressure_scale", "crank_radius", "rod_length", "bore"];
-
 /// What of design `row` changes its machine's tables (every column but `shaft_inertia` and
 /// `omega`; `gas`: only the gas's columns, and the units' phases), bit for bit.
 fn row_key(designs: &MachineDesigns<'_>, row: usize, gas: bool) -> Vec<u64> {
     let shared = designs
         .named()
         .into_iter()
-        .filter(|(name, _)| {
+        .filter(|(_, changes, _)| {
             if gas {
-                GAS_COLUMNS.contains(name)
+                *changes == Changes::Gas
             } else {
-                !matches!(*name, "shaft_inertia" | "omega")
+                *changes != Changes::Nothing
             }
         })
-        .filter_map(|(_, column)| column.map(|c| c[row].to_bits()));
+        .filter_map(|(_, _, column)| column.map(|c| c[row].to_bits()));
     let units = designs
         .units
         .iter()
@@ -204,7 +200,7 @@ pub fn motion_sweep(
     for gas in base.gas {
         gas.validate(base.diagrams.len())?;
     }
-    for (name, column) in designs.named() {
+    for (name, _, column) in designs.named() {
         if let Some(column) = column {
             check_length(name, designs.designs, column.len())?;
         }
