@@ -20,7 +20,7 @@ use crate::angles::{Phi, PreparedPhi};
 use crate::engine::{Engine, EngineUnit};
 use crate::error::{check, check_length, check_rows_length, MechanismError, Result};
 use crate::exact::{crank_run, CrankTerm, Quantity};
-use crate::mechanism::{check_shaft_inertia, check_speed, Phases, PhysicalUnit};
+use crate::mechanism::{check_shaft_inertia, check_speed, Phases};
 use crate::parallel::{for_each_row_segment, Parallelism};
 use crate::trig::MulAdd;
 
@@ -69,7 +69,7 @@ pub(crate) struct Slider {
 impl PhysicalCylinder {
     pub(crate) fn validate(&self) -> Result<()> {
         // The geometry and mass rules are those of the dimensionless moments.
-        self.masses(0.0).validate_masses()?;
+        self.validate_masses()?;
         check("rod_inertia", self.rod_inertia, "rod_inertia >= 0", |x| {
             x >= 0.0
         })?;
@@ -83,30 +83,10 @@ impl PhysicalCylinder {
         Ok(())
     }
 
-    /// This unit's geometry and masses as a `PhysicalUnit`, for its rules and moment arms.
-    fn masses(&self, g: f64) -> PhysicalUnit {
-        PhysicalUnit {
-            crank_radius: self.crank_radius,
-            rod_length: self.rod_length,
-            rod_cg: self.rod_cg,
-            piston_mass: self.piston_mass,
-            rod_mass: self.rod_mass,
-            crank_mass: self.crank_mass,
-            crank_cg_radius: self.crank_cg_radius,
-            counterweight_mass: self.counterweight_mass,
-            counterweight_radius: self.counterweight_radius,
-            // Neither used by the rules nor by the moment arms: energies here are in
-            // joules, not ÷ I_w ω².
-            shaft_inertia: 1.0,
-            omega: 1.0,
-            g,
-        }
-    }
-
     /// The gravity moments U1, U2 (J) of this unit (eq. 5–7 times I_w ω²: g times the
     /// moment arms), as the unit of an SI engine whose U* is U in joules.
     fn gravity_unit(&self, g: f64) -> EngineUnit {
-        let (reciprocating, rotating) = self.masses(g).moment_arms();
+        let (reciprocating, rotating) = self.moment_arms();
         EngineUnit {
             phase: self.phase,
             inclination: self.inclination,

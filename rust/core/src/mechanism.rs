@@ -5,6 +5,7 @@
 use std::f64::consts::{PI, TAU};
 use std::sync::LazyLock;
 
+use crate::dynamics::PhysicalCylinder;
 use crate::error::{check, check_length, try_with_capacity, MechanismError, Result};
 
 /// The speeds a machine may run at, ω [rad/s]: (π/30)·10⁻⁶ ≤ ω ≤ (π/30)·10⁸, i.e. 10⁻⁶ to
@@ -228,27 +229,20 @@ impl Phases {
 /// Standard gravity, m/s².
 pub const STANDARD_GRAVITY: f64 = 9.80665;
 
-/// One slider-crank unit in SI units (eq. 1–7). Lengths in m, masses in kg,
-/// `shaft_inertia` I_w in kg·m², `omega` ω in rad/s, `g` in m/s².
+/// One slider-crank unit in SI units with its shaft's I_w (kg·m²), speed ω (rad/s) and g
+/// (m/s²): the input of the dimensionless moments U1, U2 (eq. 1–7). The unit's phase,
+/// inclination and `rod_inertia` do not enter them.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PhysicalUnit {
-    pub crank_radius: f64,
-    pub rod_length: f64,
-    /// z_k: distance of the rod's centre of gravity from the piston-pin axis.
-    pub rod_cg: f64,
-    pub piston_mass: f64,
-    pub rod_mass: f64,
-    pub crank_mass: f64,
-    pub crank_cg_radius: f64,
-    pub counterweight_mass: f64,
-    pub counterweight_radius: f64,
+    /// The unit's geometry and moving masses.
+    pub cylinder: PhysicalCylinder,
     pub shaft_inertia: f64,
     /// The shaft's speed ω [rad/s].
     pub omega: f64,
     pub g: f64,
 }
 
-impl PhysicalUnit {
+impl PhysicalCylinder {
     /// The rules of the geometry and the masses (everything but I_w, the speed and g).
     pub(crate) fn validate_masses(&self) -> Result<()> {
         let positive = |x: f64| x > 0.0;
@@ -302,9 +296,24 @@ impl PhysicalUnit {
         Ok(())
     }
 
+    /// The first moments [kg·m] whose weight makes U1 and U2 (eq. 5–7 without g/(I_w ω²)):
+    /// r·[m_t + (l − z_k)/l · m_k] and r_s·m_s − r_p·m_p + r·(z_k/l)·m_k.
+    pub(crate) fn moment_arms(&self) -> (f64, f64) {
+        let rod_share_pin = self.rod_cg / self.rod_length;
+        let rod_share_piston = (self.rod_length - self.rod_cg) / self.rod_length;
+        (
+            self.crank_radius * (self.piston_mass + rod_share_piston * self.rod_mass),
+            self.crank_cg_radius * self.crank_mass
+                - self.counterweight_radius * self.counterweight_mass
+                + self.crank_radius * rod_share_pin * self.rod_mass,
+        )
+    }
+}
+
+impl PhysicalUnit {
     fn validate(&self) -> Result<()> {
         let positive = |x: f64| x > 0.0;
-        self.validate_masses()?;
+        self.cylinder.validate_masses()?;
         check(
             "shaft_inertia",
             self.shaft_inertia,
@@ -326,25 +335,13 @@ impl PhysicalUnit {
     pub fn dimensionless_moments(&self) -> Result<(f64, f64)> {
         self.validate()?;
         let scale = self.g / (self.shaft_inertia * self.omega * self.omega);
-        let (reciprocating, rotating) = self.moment_arms();
+        let (reciprocating, rotating) = self.cylinder.moment_arms();
         Ok((scale * reciprocating, scale * rotating))
-    }
-
-    /// The first moments [kg·m] whose weight makes U1 and U2 (eq. 5–7 without g/(I_w ω²)):
-    /// r·[m_t + (l − z_k)/l · m_k] and r_s·m_s − r_p·m_p + r·(z_k/l)·m_k.
-    pub(crate) fn moment_arms(&self) -> (f64, f64) {
-        let rod_share_pin = self.rod_cg / self.rod_length;
-        let rod_share_piston = (self.rod_length - self.rod_cg) / self.rod_length;
-        (
-            self.crank_radius * (self.piston_mass + rod_share_piston * self.rod_mass),
-            self.crank_cg_radius * self.crank_mass
-                - self.counterweight_radius * self.counterweight_mass
-                + self.crank_radius * rod_share_pin * self.rod_mass,
-        )
     }
 }
 
-/// Columns of `PhysicalUnit` fields, one entry per unit, all of one length.
+/// Columns of the `PhysicalUnit` fields that enter U1, U2 (its cylinder's and the shaft's),
+/// one entry per unit, all of one length.
 #[derive(Debug, Clone, Copy)]
 pub struct PhysicalColumns<'a> {
     pub crank_radius: &'a [f64],
@@ -383,15 +380,21 @@ pub fn dimensionless_moments(columns: &PhysicalColumns) -> Result<(Vec<f64>, Vec
     (0..n)
         .map(|i| {
             PhysicalUnit {
-                crank_radius: c.crank_radius[i],
-                rod_length: c.rod_length[i],
-                rod_cg: c.rod_cg[i],
-                piston_mass: c.piston_mass[i],
-                rod_mass: c.rod_mass[i],
-                crank_mass: c.crank_mass[i],
-                crank_cg_radius: c.crank_cg_radius[i],
-                counterweight_mass: c.counterweight_mass[i],
-                counterweight_radius: c.counterweight_radius[i],
+                cylinder: PhysicalCylinder {
+                    crank_radius: c.crank_radius[i],
+                    rod_length: c.rod_length[i],
+                    rod_cg: c.rod_cg[i],
+                    piston_mass: c.piston_mass[i],
+                    rod_mass: c.rod_mass[i],
+                    crank_mass: c.crank_mass[i],
+                    crank_cg_radius: c.crank_cg_radius[i],
+                    counterweight_mass: c.counterweight_mass[i],
+                    counterweight_radius: c.counterweight_radius[i],
+                    // Not in U1, U2.
+                    rod_inertia: 0.0,
+                    phase: 0.0,
+                    inclination: 0.0,
+                },
                 shaft_inertia: c.shaft_inertia[i],
                 omega: c.omega[i],
                 g: c.g[i],

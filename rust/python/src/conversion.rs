@@ -108,7 +108,7 @@ impl EngineColumns<'_> {
     }
 }
 
-/// The physical parameters of units, one column per field of `core::PhysicalUnit`.
+/// The physical parameters of units, one column per field of `core::PhysicalColumns`.
 #[derive(FromPyObject)]
 #[pyo3(from_item_all)]
 pub(crate) struct PhysicalArrays<'py> {

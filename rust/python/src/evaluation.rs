@@ -89,7 +89,7 @@ pub(crate) fn evaluate<'py>(
 }
 
 /// dimensionless_moments(units) -> {"u1", "u2"}: `units` holds equal-length arrays of
-/// every `PhysicalUnit` field (see `multicrank_core::PhysicalUnit::dimensionless_moments`).
+/// every `PhysicalColumns` field (see `multicrank_core::PhysicalUnit::dimensionless_moments`).
 #[pyfunction]
 pub(crate) fn dimensionless_moments<'py>(
     py: Python<'py>,
