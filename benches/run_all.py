@@ -2,9 +2,9 @@
 
     python benches/run_all.py [--criterion]
 
-Runs benches/python/bench_kernels.py, benches/python/bench_sweep.py,
-benches/python/bench_machine.py and benches/python/bench_motion.py (release build of the
-installed package; each refuses a debug build) and, with --criterion, the criterion benches
+Runs benches/python/bench_kernels.py, bench_sweep.py, bench_machine.py, bench_motion.py,
+bench_routes.py, bench_motion_sweep.py and bench_design_aid.py (release build of the installed
+package; each refuses a debug build) and, with --criterion, the criterion benches
 of the Rust kernels, then writes BENCHMARKS.md at the repository root.
 OPENBLAS_NUM_THREADS=1 keeps numpy's BLAS threads from spinning on the cores being timed.
 To compare two builds' criterion figures instead, see benches/compare_builds.py.
@@ -25,6 +25,12 @@ ROOT = Path(__file__).resolve().parent.parent
 ENV = dict(os.environ, OPENBLAS_NUM_THREADS="1")
 
 
+ROUTES_HEADING = "## The routes of one steady state: a drive, a callable pressure, against the plain route"
+ROUTES_NOTE = (
+    "`benches/python/bench_routes.py`: one core, the slow compressor at 120 rpm, `.delta` only. "
+    "Each route is the Rust core's; a callable drive or pressure is sampled once (a new machine "
+    "pays that and its cycle tables once)."
+)
 MACHINE_HEADING = "## The machine's kernels: 10⁶ points, J and J′ together, U"
 MACHINE_NOTE = (
     "Cylinders with λ = 0.3, rods with ΔI < 0, webs and counterweights, phases spread over the "
@@ -89,6 +95,7 @@ def main() -> None:
     sweeps = run(sys.executable, "benches/python/bench_sweep.py", "--markdown")
     machine = run(sys.executable, "benches/python/bench_machine.py", "--markdown")
     motion = run(sys.executable, "benches/python/bench_motion.py", "--markdown")
+    routes = run(sys.executable, "benches/python/bench_routes.py", "--markdown")
     motion_sweep = run(sys.executable, "benches/python/bench_motion_sweep.py", "--markdown")
     design_aid = run(sys.executable, "benches/python/bench_design_aid.py", "--markdown")
     cpu = next(
@@ -132,6 +139,12 @@ def main() -> None:
         motion.strip(),
         "",
         MOTION_NOTE,
+        "",
+        ROUTES_HEADING,
+        "",
+        routes.strip(),
+        "",
+        ROUTES_NOTE,
         "",
         MOTION_SWEEP_HEADING,
         "",
