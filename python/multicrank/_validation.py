@@ -1,9 +1,8 @@
 """Coercion, validation and broadcasting shared by the fast API and the numpy reference.
 
-Everything that reaches the Rust kernels leaves here as a contiguous float64 array, and
-every kind of bad input leaves here as a :class:`MechanismError` that names the parameter.
-It depends on nothing of the package but that error class (from the extension), so every
-other module can use it without an import circle.
+Everything that reaches the Rust kernels leaves here as a contiguous float64 array, and every kind
+of bad input leaves here as a :class:`MechanismError` that names the parameter. It depends on nothing
+of the package but the extension, so every other module can use it without an import circle.
 """
 
 from __future__ import annotations
@@ -481,12 +480,11 @@ def warn_renamed(old: str, new: str, *, stacklevel: int = 3) -> None:
 
 
 class renamed:
-    """A class attribute that keeps an old attribute name readable: ``J = renamed("reduced_inertia")``
-    returns ``self.reduced_inertia`` with a DeprecationWarning (see :func:`warn_renamed`)."""
+    """An old attribute name kept working: ``J = renamed("reduced_inertia")`` reads and writes
+    ``self.reduced_inertia`` with a DeprecationWarning (:func:`warn_renamed`; a frozen class refuses writes)."""
 
     def __init__(self, new: str) -> None:
-        self.new = new
-        self.old = new
+        self.new = self.old = new
 
     def __set_name__(self, owner: type, name: str) -> None:
         self.old = f"{owner.__name__}.{name}"
@@ -496,3 +494,7 @@ class renamed:
             return self
         warn_renamed(self.old, f"{self.old.split('.')[0]}.{self.new}")
         return getattr(instance, self.new)
+
+    def __set__(self, instance: Any, value: Any) -> None:
+        warn_renamed(self.old, f"{self.old.split('.')[0]}.{self.new}")
+        setattr(instance, self.new, value)

@@ -21,15 +21,6 @@ __all__ = ["DEFAULT_THRESHOLD", "ReportSettings", "running_speed", "speed_range"
 DEFAULT_THRESHOLD = 1.0 / 3000.0
 
 
-class _renamed_setting(renamed):
-    """:class:`renamed` for a mutable dataclass: the old name is written through as well as
-    read, so that ``settings.delta = 0.02`` still sets :attr:`ReportSettings.delta_target`."""
-
-    def __set__(self, instance: Any, value: Any) -> None:
-        warn_renamed(self.old, f"{self.old.split('.')[0]}.{self.new}")
-        setattr(instance, self.new, value)
-
-
 @dataclass
 class ReportSettings:
     """What the report is about: ``machine`` (it needs a running speed, ``rpm``), and
@@ -53,7 +44,7 @@ class ReportSettings:
     gravity_map_points: int = 15
 
     #: The name of 0.1 for :attr:`delta_target`.
-    delta: ClassVar[_renamed_setting] = _renamed_setting("delta_target")
+    delta: ClassVar[renamed] = renamed("delta_target")
 
     def __setstate__(self, state: dict[str, Any]) -> None:
         # A pickle of 0.1 holds the target as ``delta``.
