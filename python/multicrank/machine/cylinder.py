@@ -19,6 +19,7 @@ import numpy as np
 
 from .._native import MechanismError
 from .._native import machine_evaluate as _native_machine_evaluate
+from .._native import piston_forces as _native_piston_forces
 from .._native import two_mass_rod_inertia as _native_two_mass_rod_inertia
 from .._validation import as_option, as_real_array, as_scalar, check_fields, check_magnitude, contiguous
 from ..pressure.diagram import IndicatorDiagram
@@ -185,13 +186,18 @@ class Cylinder:
 
     @property
     def piston_area(self) -> float:
-        """π D²/4 [m²], the crown's area."""
-        return math.pi * self.bore**2 / 4
+        """π D²/4 [m²], the crown's area: the core's force of a unit pressure on the head end."""
+        return self._unit_pressure_force(1.0, 0.0)
 
     @property
     def crank_end_area(self) -> float:
-        """π (D² − d²)/4 [m²], the crank-end face's area around the piston rod."""
-        return math.pi * (self.bore**2 - self.piston_rod_diameter**2) / 4
+        """π (D² − d²)/4 [m²], the crank-end face's area around the piston rod: the core's
+        force of a unit pressure on the crank end, which pushes away from the shaft."""
+        return -self._unit_pressure_force(0.0, 1.0)
+
+    def _unit_pressure_force(self, head: float, crank_end: float) -> float:
+        bore, rod = np.array([self.bore]), np.array([self.piston_rod_diameter])
+        return float(_native_piston_forces(bore, rod, np.array([head]), np.array([crank_end]))[0])
 
     @property
     def stroke(self) -> float:

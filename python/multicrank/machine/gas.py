@@ -14,6 +14,7 @@ import numpy as np
 
 from .._native import MechanismError
 from .._native import machine_gas_torque as _native_machine_gas_torque
+from .._native import piston_forces as _native_piston_forces
 from .._validation import as_real_array, as_returned, as_threshold, contiguous
 from .cylinder import Cylinder, Pressure
 
@@ -63,8 +64,8 @@ class MachineGas:
         """
         angles = np.asarray(as_real_array(phi, "phi"))
         theta = self.cycle_angles(angles)
-        forces = np.zeros(theta.shape)
-        for name, area, sign in (("pressure", "piston_area", 1.0), ("pressure_crank_end", "crank_end_area", -1.0)):
+        ends = {name: np.zeros(theta.shape) for name in ("pressure", "pressure_crank_end")}
+        for name, pressures in ends.items():
             # Units that share one pressure callable (one indicator diagram for every
             # cylinder, the usual case) take it in one call: per call overhead dominates.
             groups: dict[int, tuple[Pressure, list[int]]] = {}
@@ -73,13 +74,10 @@ class MachineGas:
                 if function is not None and c.bore > 0:
                     groups.setdefault(id(function), (function, []))[1].append(j)
             for function, units in groups.values():
-                pressures = _pressure(function, theta[units], name)
-                forces[units] += (
-                    sign
-                    * pressures
-                    * np.array([getattr(self.cylinders[j], area) for j in units]).reshape((-1,) + (1,) * angles.ndim)
-                )
-        return forces
+                pressures[units] = _pressure(function, theta[units], name)
+        bore, rod = (np.array([getattr(c, field) for c in self.cylinders]) for field in ("bore", "piston_rod_diameter"))
+        forces = _native_piston_forces(bore, rod, *(contiguous(p).reshape(-1) for p in ends.values()))
+        return forces.reshape(theta.shape)
 
     def gas_torque(self, phi: Any, *, parallel_threshold: Any = None) -> np.ndarray:
         """The gas torque Σ_j F_j(θ_j)·s'(ψ_j), by the virtual work of the piston forces.

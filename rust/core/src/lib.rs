@@ -51,10 +51,10 @@ pub use mechanism::{
     PhysicalUnit, Strokes, SPEED_LIMITS, STANDARD_GRAVITY,
 };
 pub use motion::{
-    flywheel_inertia, motion_sweep, square_law_flywheel_inertia, square_law_steady_state,
-    steady_state, steady_state_curves, CycleArrays, FlywheelInertia, GasCylinder, Machine,
-    MachineDesigns, MotionColumns, MotionOutputs, PiecewisePolynomial, SteadyCurves, SteadyState,
-    SteadyTables, UnitColumn, UnitField,
+    flywheel_inertia, motion_sweep, net_piston_forces, square_law_flywheel_inertia,
+    square_law_steady_state, steady_state, steady_state_curves, CycleArrays, FlywheelInertia,
+    GasCylinder, Machine, MachineDesigns, MotionColumns, MotionOutputs, PiecewisePolynomial,
+    SteadyCurves, SteadyState, SteadyTables, UnitColumn, UnitField,
 };
 pub use motion::{torque_orders, TorqueOrders};
 pub use parallel::Parallelism;

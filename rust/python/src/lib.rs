@@ -51,7 +51,8 @@ mod _native {
     };
     #[pymodule_export]
     use crate::machine::{
-        machine_engine, machine_evaluate, machine_gas_torque, machine_inertia, two_mass_rod_inertia,
+        machine_engine, machine_evaluate, machine_gas_torque, machine_inertia, piston_forces,
+        two_mass_rod_inertia,
     };
     #[pymodule_export]
     use crate::motion::MotionMachine;

@@ -91,6 +91,41 @@ pub(crate) fn machine_gas_torque<'py>(
     })
 }
 
+/// piston_forces(bore, piston_rod_diameter, head, crank_end) -> F = p·A − p_c·A_c (N) of
+/// every unit (bore D and piston-rod diameter d in m, one per unit) at every point, from the
+/// gauge pressures (Pa) on its two ends: `head`, `crank_end` and the result are unit-major
+/// (units × points), 0 where an end has no pressure.
+#[pyfunction]
+pub(crate) fn piston_forces<'py>(
+    py: Python<'py>,
+    bore: PyReadonlyArray1<'py, f64>,
+    piston_rod_diameter: PyReadonlyArray1<'py, f64>,
+    head: PyReadonlyArray1<'py, f64>,
+    crank_end: PyReadonlyArray1<'py, f64>,
+) -> PyResult<Bound<'py, PyArray1<f64>>> {
+    let (bore, rod) = (bore.as_slice()?, piston_rod_diameter.as_slice()?);
+    if rod.len() != bore.len() {
+        return Err(to_py_err(core::MechanismError::LengthMismatch {
+            parameter: "piston_rod_diameter",
+            expected: bore.len(),
+            found: rod.len(),
+        }));
+    }
+    let gas: Vec<core::GasCylinder> = bore
+        .iter()
+        .zip(rod)
+        .map(|(&bore, &piston_rod_diameter)| core::GasCylinder {
+            bore,
+            piston_rod_diameter,
+            ..core::GasCylinder::NONE
+        })
+        .collect();
+    let (head, crank_end) = (head.as_slice()?, crank_end.as_slice()?);
+    filled(py, OutputSize::of("head", head.len()), |out| {
+        core::net_piston_forces(&gas, head, crank_end, out)
+    })
+}
+
 /// machine_engine(units, g, shaft_inertia, omega) -> the dimensionless engine's columns
 /// {"phase", "inclination", "crank_ratio", "u1", "u2"} at the speed `omega` (rad/s).
 #[pyfunction]

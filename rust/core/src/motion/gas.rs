@@ -229,14 +229,69 @@ impl GasCylinder {
         Ok(())
     }
 
-    /// πD²/4 and π(D² − d²)/4 (m²).
-    fn areas(&self) -> (f64, f64) {
+    /// πD²/4 and π(D² − d²)/4 (m²): the head end's and the crank end's areas.
+    pub fn areas(&self) -> (f64, f64) {
         (
-            PI * self.bore * self.bore / 4.0,
+            PI * (self.bore * self.bore) / 4.0,
             PI * (self.bore * self.bore - self.piston_rod_diameter * self.piston_rod_diameter)
                 / 4.0,
         )
     }
+
+    /// F = p·A − p_c·A_c (N), positive toward the shaft, from the gauge pressures (Pa) on
+    /// the head end (p) and on the crank end (p_c): the one place of this rule.
+    pub fn net_force(&self, head: f64, crank_end: f64) -> f64 {
+        let (head_area, crank_area) = self.areas();
+        head * head_area - crank_end * crank_area
+    }
+}
+
+/// F = p·A − p_c·A_c (N) of every unit at every point, from the gauge pressures (Pa) on each
+/// unit's two ends (`head`, `crank_end`: unit-major, units × points, 0 where an end has no
+/// pressure), into `out` (the same shape). For pressures the core does not hold (a callable
+/// evaluated by the caller); each cylinder's `head` and `crank_end` indices are not read.
+pub fn net_piston_forces(
+    gas: &[GasCylinder],
+    head: &[f64],
+    crank_end: &[f64],
+    out: &mut [f64],
+) -> Result<()> {
+    for (parameter, found) in [("head", head.len()), ("crank_end", crank_end.len())] {
+        if found != out.len() {
+            return Err(MechanismError::LengthMismatch {
+                parameter,
+                expected: out.len(),
+                found,
+            });
+        }
+    }
+    if gas.is_empty() {
+        return Ok(());
+    }
+    if out.len() % gas.len() != 0 {
+        return Err(MechanismError::LengthMismatch {
+            parameter: "head",
+            expected: gas.len() * (out.len() / gas.len() + 1),
+            found: out.len(),
+        });
+    }
+    let points = out.len() / gas.len();
+    for cylinder in gas {
+        let ends_unread = GasCylinder {
+            head: None,
+            crank_end: None,
+            ..*cylinder
+        };
+        ends_unread.validate(0)?;
+    }
+    for (j, cylinder) in gas.iter().enumerate() {
+        let span = j * points..(j + 1) * points;
+        let unit = out[span.clone()].iter_mut();
+        for ((f, &p), &p_c) in unit.zip(&head[span.clone()]).zip(&crank_end[span]) {
+            *f = cylinder.net_force(p, p_c);
+        }
+    }
+    Ok(())
 }
 
 /// The net piston forces F = p(θ)·A − p_c(θ)·A_c of a machine's units.
@@ -305,15 +360,8 @@ fn cylinder_force(cylinder: &GasCylinder, diagrams: &[PiecewisePolynomial], thet
     if !cylinder.has_gas() {
         return 0.0;
     }
-    let (head, crank) = cylinder.areas();
-    let mut force = 0.0;
-    if let Some(d) = cylinder.head {
-        force += diagrams[d].value(theta) * head;
-    }
-    if let Some(d) = cylinder.crank_end {
-        force -= diagrams[d].value(theta) * crank;
-    }
-    force
+    let pressure = |end: Option<usize>| end.map_or(0.0, |d| diagrams[d].value(theta));
+    cylinder.net_force(pressure(cylinder.head), pressure(cylinder.crank_end))
 }
 
 /// F of one cylinder at phase 0 at every θ (rad), θ taken modulo the cycle.

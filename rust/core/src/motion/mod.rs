@@ -40,7 +40,7 @@ use square_law::SquareLaw;
 use tables::state_of;
 
 pub use columns::{MachineDesigns, MotionColumns, MotionOutputs, UnitColumn, UnitField};
-pub use gas::{GasCylinder, PiecewisePolynomial};
+pub use gas::{net_piston_forces, GasCylinder, PiecewisePolynomial};
 pub use orders::{torque_orders, TorqueOrders};
 pub use sweep::motion_sweep;
 pub use tables::{CycleArrays, SteadyTables};

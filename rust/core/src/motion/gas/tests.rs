@@ -69,3 +69,34 @@ fn the_guessed_piece_is_the_searched_one() {
         }
     }
 }
+
+#[test]
+fn net_piston_forces_are_the_pressures_on_the_two_circles() {
+    // D = 0.2 m, d = 0.05 m: A = 0.01π, A_c = (0.04 − 0.0025)π/4 = 0.009375π (m²).
+    let gas = [
+        GasCylinder {
+            bore: 0.2,
+            piston_rod_diameter: 0.05,
+            ..GasCylinder::NONE
+        },
+        GasCylinder::NONE,
+    ];
+    let head = [1e5, 0.0, 7.0, 7.0];
+    let crank_end = [0.0, 2e5, 0.0, 0.0];
+    let mut out = [f64::NAN; 4];
+    net_piston_forces(&gas, &head, &crank_end, &mut out).unwrap();
+    let close = |a: f64, b: f64| (a - b).abs() <= 1e-12 * b.abs();
+    assert!(close(out[0], 1e5 * 0.01 * PI), "{}", out[0]);
+    assert!(close(out[1], -2e5 * 0.009375 * PI), "{}", out[1]);
+    assert_eq!(&out[2..], &[0.0, 0.0], "no bore, no force");
+    let mut short = [0.0; 3];
+    assert!(net_piston_forces(&gas, &head[..3], &crank_end[..3], &mut short).is_err());
+    let mut five = [0.0; 5];
+    assert!(net_piston_forces(&gas, &[0.0; 5], &[0.0; 5], &mut five).is_err());
+    let wide_rod = [GasCylinder {
+        bore: 0.1,
+        piston_rod_diameter: 0.2,
+        ..GasCylinder::NONE
+    }];
+    assert!(net_piston_forces(&wide_rod, &[1.0], &[1.0], &mut [0.0]).is_err());
+}
