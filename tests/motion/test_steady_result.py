@@ -1,7 +1,8 @@
 """How a steady state was solved, as SciPy's solvers say it (issue 27, item 5): ``status`` (0,
-converged), ``message`` and ``nfev``, the evaluations of the function whose root the solver
-finds. Oracles: SciPy's own counts (every ``solve_ivp`` run of the shooting, counted by a
-wrapper around SciPy), and bisection's count for the energy method's root."""
+converged), ``message``, ``nfev``, the evaluations of the function whose root the solver
+finds, and ``nit``, Brent's method's iterations among them. Oracles: SciPy's own counts (every
+``solve_ivp`` run of the shooting and its ``brentq``'s iterations, counted by wrappers around
+SciPy), and bisection's count for the energy method's root."""
 
 from __future__ import annotations
 
@@ -10,6 +11,7 @@ import pickle
 
 import numpy as np
 import scipy.integrate
+import scipy.optimize
 
 import multicrank as mc
 from multicrank.presets import MACHINES
@@ -25,12 +27,14 @@ def test_the_energy_method_converges_in_fewer_evaluations_than_bisection():
     # 1e-15 would take log2(1e6/1e-15) ≈ 70 evaluations; Brent's method on the nearly linear
     # excess a handful.
     assert 0 < state.nfev < math.log2(1e6 / 1e-15) / 2
+    # the rest of the evaluations bracket the root
+    assert 0 < state.nit <= state.nfev
 
 
 def test_the_closed_form_counts_no_evaluation():
     fan = mc.PowerLawLoad(torque=90.0, rpm=120)
     state = mc.steady_state(COMPRESSOR, load=fan, drive=1000.0)
-    assert (state.status, state.nfev, state.method) == (0, 0, "closed form")
+    assert (state.status, state.nfev, state.nit, state.method) == (0, 0, 0, "closed form")
     assert "closed form" in state.message
 
 
@@ -46,6 +50,16 @@ def test_shooting_counts_every_right_hand_side_of_its_runs(monkeypatch):
         return run
 
     monkeypatch.setattr(scipy.integrate, "solve_ivp", solve_ivp)
+    iterations: list[int] = []
+    brentq = scipy.optimize.brentq
+
+    def counted_brentq(*args, **kwargs):
+        found = brentq(*args, **kwargs)
+        if kwargs.get("full_output"):  # the search for E(0) (not that for the start speed)
+            iterations.append(found[1].iterations)
+        return found
+
+    monkeypatch.setattr(scipy.optimize, "brentq", counted_brentq)
     law = mc.PowerLawLoad(torque=90.0, rpm=120)
     state = mc.steady_state(
         COMPRESSOR, load=lambda phi, omega: law.coefficient * omega * np.abs(omega), drive=1000.0, gravity=False
@@ -54,14 +68,16 @@ def test_shooting_counts_every_right_hand_side_of_its_runs(monkeypatch):
     assert "Brent" in state.message
     assert len(counted) > 3
     assert state.nfev == sum(counted)
+    assert len(iterations) == 1 and state.nit == iterations[0] > 0
 
 
 def test_the_table_and_a_pickle_keep_them():
     state = mc.steady_state(COMPRESSOR, rpm=120, points=9)
     attrs = state.to_pandas().attrs
-    assert (attrs["status"], attrs["message"], attrs["nfev"]) == (state.status, state.message, state.nfev)
+    told = (state.status, state.message, state.nfev, state.nit)
+    assert tuple(attrs[key] for key in ("status", "message", "nfev", "nit")) == told
     again = pickle.loads(pickle.dumps(state))
-    assert (again.status, again.message, again.nfev) == (state.status, state.message, state.nfev)
+    assert (again.status, again.message, again.nfev, again.nit) == told
 
 
 def test_a_pickle_of_0_1_reads_them():
@@ -69,9 +85,9 @@ def test_a_pickle_of_0_1_reads_them():
     is unknown (-1)."""
     state = mc.steady_state(COMPRESSOR, rpm=120, points=9)
     old = state.__getstate__()
-    for key in ("status", "message", "nfev"):
+    for key in ("status", "message", "nfev", "nit"):
         del old[key]
     restored = object.__new__(mc.SteadyState)
     restored.__setstate__(old)
-    assert (restored.status, restored.nfev) == (0, -1)
+    assert (restored.status, restored.nfev, restored.nit) == (0, -1, -1)
     assert "0.1" in restored.message

@@ -10,9 +10,8 @@ pressures); SciPy's ``solve_ivp`` (DOP853) integrates only Y = E − K₀, with
 dY/dφ = M_drive(φ, ω) − M_load(φ, ω), and the time t, with dt/dφ = 1/ω, over one cycle, and
 Brent's method finds the E(0) with E(Φ) = E(0). J(φ) is the machine's
 (:meth:`~multicrank.Machine.reduced_inertia`), with the trial shaft inertia I_w in place of the
-machine's own during a flywheel search.
-
-Notation: Φ the working cycle [rad], ω_m = Φ/t_Φ the time-mean speed [rad/s].
+machine's own during a flywheel search. Notation: Φ the working cycle [rad], ω_m = Φ/t_Φ the
+time-mean speed [rad/s].
 """
 
 from __future__ import annotations
@@ -212,6 +211,7 @@ class Periodic:
     omega_at: Callable[[np.ndarray], np.ndarray]  # ω(φ) [rad/s]
     method: str = "shooting"
     nfev: int = 0  # the right-hand sides of every run of the search for E(0) (their nfev, summed)
+    nit: int = 0  # of that search, Brent's method's iterations (the rest bracket the root)
     message: str = "E(0) = E(Φ) found by Brent's method over DOP853 runs; the machine runs"
 
     @property
@@ -328,7 +328,7 @@ class Shooting:
                     break
             else:
                 raise MechanismError("load: no periodic solution found (the machine keeps losing energy)")
-        E0 = optimize.brentq(self.residual, low, high, xtol=1e-300, rtol=max(self.rtol, 1e-15))
+        E0, root = optimize.brentq(self.residual, low, high, xtol=1e-300, rtol=max(self.rtol, 1e-15), full_output=True)
         run = self._run(E0, dense=True)
         if run.status == 1:
             raise Stall(float(run.t_events[0][0]), "it stops on the cycle: there is no periodic solution")
@@ -354,7 +354,8 @@ class Shooting:
         period = float(run.y[1, -1])
         omega_mean = shaft.cycle / period
         extremes = _extremes(omega_at, shaft.cycle).around(omega_mean)
-        result = Periodic(omega_mean, period, extremes, energy_at, time_at, omega_at, nfev=self.nfev)
+        counts = {"nfev": self.nfev, "nit": root.iterations}
+        result = Periodic(omega_mean, period, extremes, energy_at, time_at, omega_at, **counts)
         if extremes.omega_min < ratio * omega_mean:
             raise Stall(extremes.phi_min, "its speed minimum falls below min_speed_ratio·ω_m")
         return result
@@ -410,9 +411,8 @@ def inertia_for(delta_at: Callable[[float], float], delta: float, start: float) 
                 known[log_inertia] = math.inf
         return known[log_inertia]
 
-    # The bracket: from the estimate outwards, in steps that grow (the textbook estimate is
-    # near for a machine of small δ, and ~10 % off for a compressor at δ ≈ 1/30: the first
-    # steps cover both).
+    # The bracket: from the estimate outwards, in steps that grow (the textbook estimate is near for
+    # a machine of small δ, and ~10 % off for a compressor at δ ≈ 1/30: the first steps cover both).
     origin = math.log(max(start, 1e-300))
     steps = [0.05, 0.2, 0.7, *([math.log(4.0)] * 100)]
     low = high = origin

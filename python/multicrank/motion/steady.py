@@ -230,7 +230,7 @@ def _native_solution(
                 ) from None
         raise _native_stall(angle, omega, getattr(error, "min_omega", None), ratio) from None
     numbers: dict[str, Any] = {name: float(getattr(found, name)) for name in _NUMBERS}
-    numbers.update(status=int(found.status), message=str(found.message), nfev=int(found.nfev))
+    numbers.update(status=int(found.status), message=str(found.message), nfev=int(found.nfev), nit=int(found.nit))
     if balance and rules.drive is not None and table is None:  # the load takes it (Rules.plain_balance)
         assert omega is not None
         numbers["mean_load_torque"] += rules.drive_at(omega)
@@ -313,6 +313,7 @@ def _shooting_solution(machine: Machine, rules: Rules, gravity: bool, ratio: flo
         status=0,
         message=solution.message,
         nfev=solution.nfev,
+        nit=solution.nit,
     )
     curves = dict(omega=solution.omega_at(phi), time=solution.time_at(phi))
     arrays = steady_arrays(machine, rules, gravity, phi, curves, mean, solution.period, mean_load)

@@ -169,6 +169,9 @@ class SteadyState(MotionResult):
         nearly linear function); 0 for the closed form (square law), which finds no root; by
         shooting the right-hand sides of every ``solve_ivp`` run of the search for E(0) (its
         bracket, Brent's method and the final run), the sum of their ``nfev``.
+    nit : int
+        Of the root finder's work, Brent's method's iterations [count] (the other evaluations
+        bracket the root); 0 for the closed form.
     load_rule : str
         The load as given, in words.
     gravity : bool
@@ -195,6 +198,7 @@ class SteadyState(MotionResult):
     status: int
     message: str
     nfev: int
+    nit: int
     #: What computes the rest on first use: its ``arrays()`` the arrays by name, its
     #: ``comparisons()`` the two comparison δ by name (each asked once, then kept): the
     #: question the core answered, or what shooting found with the solution. None in a pickle.
@@ -294,7 +298,12 @@ class SteadyState(MotionResult):
     def __setstate__(self, state: dict[str, Any]) -> None:
         # A pickle of 0.1 has no word on how the solve ended: it converged (or it would not
         # exist); its count is unknown (-1).
-        for name, value in (("status", 0), ("message", "converged (pickled by multicrank 0.1)"), ("nfev", -1)):
+        for name, value in (
+            ("status", 0),
+            ("message", "converged (pickled by multicrank 0.1)"),
+            ("nfev", -1),
+            ("nit", -1),
+        ):
             state.setdefault(name, value)
         compared = state.get("_comparisons")
         if isinstance(compared, dict) and "delta_gravity_only" in compared:  # a pickle of 0.1
@@ -332,6 +341,7 @@ class SteadyState(MotionResult):
         "status": "",
         "message": "",
         "nfev": "count",
+        "nit": "count",
     }
     #: The array attributes, in column order (``rpm`` is ω in 1/min).
     ARRAYS: ClassVar[tuple[str, ...]] = tuple(COLUMNS)
