@@ -27,12 +27,10 @@ import argparse
 import functools
 import json
 import math
-import os
-import subprocess
 import sys
 import time
 
-from timing import best_time
+from timing import best_time, child_rows
 
 
 def machines():
@@ -189,15 +187,7 @@ def main() -> None:
     if args.child:
         print(json.dumps(measure(args.repeat)))
         return
-    env = dict(os.environ, RAYON_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1")
-    child = subprocess.run(
-        [sys.executable, __file__, "--child", "--repeat", str(args.repeat)],
-        env=env,
-        capture_output=True,
-        text=True,
-        check=True,
-    )
-    rows = json.loads(child.stdout)
+    rows = child_rows(__file__, "--repeat", str(args.repeat))
     header = (
         "| machine | k | rpm | δ | steady_state | first call | flywheel_inertia | solve_ivp, rtol 1e-10 "
         "(its δ off by) | ratio | solve_ivp, δ to 1e-6 (rtol) | ratio |"

@@ -30,11 +30,12 @@ import argparse
 import json
 import os
 import resource
-import subprocess
 import sys
 import tempfile
 import time
 from pathlib import Path
+
+from timing import child_rows
 
 BASELINE_DESIGNS = 48
 
@@ -165,14 +166,7 @@ def main() -> None:
         return
     results = {}
     for threads in ("1", str(os.cpu_count())):
-        done = subprocess.run(
-            [sys.executable, __file__, "--child"],
-            env=dict(os.environ, RAYON_NUM_THREADS=threads, OPENBLAS_NUM_THREADS="1"),
-            capture_output=True,
-            text=True,
-            check=True,
-        )
-        results[threads] = json.loads(done.stdout.strip().splitlines()[-1])
+        results[threads] = child_rows(__file__, threads=threads)
     cpu = next(
         (
             line.split(":", 1)[1].strip()

@@ -21,11 +21,8 @@ from __future__ import annotations
 
 import argparse
 import json
-import os
-import subprocess
-import sys
 
-from timing import best_time
+from timing import best_time, child_rows
 
 
 def measure(repeat: int) -> list[dict]:
@@ -71,16 +68,10 @@ def main() -> None:
     if args.child:
         print(json.dumps(measure(args.repeat)))
         return
-    child = subprocess.run(
-        [sys.executable, __file__, "--child", "--repeat", str(args.repeat)],
-        env=dict(os.environ, RAYON_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1"),
-        capture_output=True,
-        text=True,
-        check=True,
-    )
+    rows = child_rows(__file__, "--repeat", str(args.repeat))
     print("| steady_state of the slow compressor at 120 rpm | time | against the plain route |")
     print("|---|---|---|")
-    for row in json.loads(child.stdout):
+    for row in rows:
         print(f"| {row['route']} | {row['seconds'] * 1e6:.1f} µs | {row['ratio']:.2f}× |")
     if not args.markdown:
         print("\none core (RAYON_NUM_THREADS=1); best of --repeat, each run long enough to time")

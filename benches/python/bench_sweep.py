@@ -19,10 +19,11 @@ import argparse
 import json
 import os
 import resource
-import subprocess
 import sys
 import tempfile
 import time
+
+from timing import child_rows
 
 
 def designs(n: int):
@@ -124,18 +125,8 @@ def main() -> None:
         return
 
     def run(kind: str, threads: str) -> dict:
-        env = dict(os.environ, RAYON_NUM_THREADS=threads)
-        command = [
-            sys.executable,
-            __file__,
-            "--child",
-            kind,
-            "--designs",
-            str(args.designs),
-            "--stream",
-            str(args.stream),
-        ]
-        return json.loads(subprocess.run(command, env=env, capture_output=True, text=True, check=True).stdout)
+        arguments = ("--designs", str(args.designs), "--stream", str(args.stream))
+        return child_rows(__file__, kind, *arguments, threads=threads)
 
     if args.markdown:
         print(

@@ -7,6 +7,7 @@ import os
 import subprocess
 import sys
 import time
+from typing import Any
 
 
 def best_time(function, repeat: int, min_seconds: float = 0.02) -> float:
@@ -25,18 +26,22 @@ def best_time(function, repeat: int, min_seconds: float = 0.02) -> float:
     return min(times)
 
 
+def child_rows(script: str, *arguments: str, threads: str = "1") -> Any:
+    """The JSON that ``script --child ARGUMENTS`` prints on its last line, run in a fresh
+    interpreter with ``threads`` rayon threads (rayon fixes its pool at first use, so each
+    count needs its own process) and one BLAS thread."""
+    child = subprocess.run(
+        [sys.executable, script, "--child", *arguments],
+        env=dict(os.environ, RAYON_NUM_THREADS=threads, OPENBLAS_NUM_THREADS="1"),
+        capture_output=True,
+        text=True,
+        check=True,
+    )
+    return json.loads(child.stdout.strip().splitlines()[-1])
+
+
 def per_thread_count(script: str, points: int, repeat: int) -> dict[str, list]:
     """Run ``script --child --points P --repeat R`` once with one rayon thread and once with
-    all cores (rayon fixes its pool at first use, so each count needs its own process), and
-    return each child's JSON rows by thread count."""
-    results = {}
-    for threads in ("1", str(os.cpu_count())):
-        child = subprocess.run(
-            [sys.executable, script, "--child", "--points", str(points), "--repeat", str(repeat)],
-            env=dict(os.environ, RAYON_NUM_THREADS=threads),
-            capture_output=True,
-            text=True,
-            check=True,
-        )
-        results[threads] = json.loads(child.stdout)
-    return results
+    all cores, and return each child's JSON rows by thread count."""
+    arguments = ("--points", str(points), "--repeat", str(repeat))
+    return {threads: child_rows(script, *arguments, threads=threads) for threads in ("1", str(os.cpu_count()))}
