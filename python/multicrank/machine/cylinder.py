@@ -29,7 +29,9 @@ __all__ = ["CYLINDER_FIELDS", "UNIT_FIELDS", "Cylinder", "Pressure", "diagram_st
 #: Every number of a cylinder, with what it is and its SI unit: the fields that the core's
 #: kinematics and gravity take first, in its order (:data:`UNIT_FIELDS`), then those of its gas
 #: force. The one place of these names; the design columns of a motion sweep and the options of
-#: ``multicrank sweep motion`` are taken from it.
+#: ``multicrank sweep motion`` are taken from it. ``axial_position`` (where the cylinder sits
+#: along the shaft) is not among them: no torque of the shaft depends on it, so it is no design
+#: column and the core's unit columns do not carry it.
 CYLINDER_FIELDS: dict[str, tuple[str, str]] = {
     "crank_radius": ("crank radius", "m"),
     "rod_length": ("rod length", "m"),
@@ -106,6 +108,12 @@ class Cylinder:
         on the area π D²/4 − π d²/4 and pushing the piston away from the shaft.
     piston_rod_diameter : float
         d [m], 0 ≤ d < D: the piston rod through the crank-end chamber.
+    axial_position : float
+        z [m], any finite real, default 0: where the cylinder's axis crosses the shaft, along
+        the shaft from an origin of one's choice. The cylinders at one axial position are one
+        **throw** (a V's two banks on a shared pin); its crank web and counterweight belong to
+        it. It places the throws between the main bearings (:attr:`Machine.bearings`) and gives
+        the moments of the frame's forces; no torque of the shaft depends on it.
 
     Raises
     ------
@@ -151,6 +159,9 @@ class Cylinder:
     pressure: Pressure | None = None
     pressure_crank_end: Pressure | None = None
     piston_rod_diameter: float = 0.0
+    # Last, so that the positional order of the fields above stays; a cylinder pickled before
+    # it existed has none in its __dict__ and reads this class default, 0.
+    axial_position: float = 0.0
 
     def __post_init__(self) -> None:
         for field in CYLINDER_FIELDS:
@@ -163,6 +174,10 @@ class Cylinder:
             object.__setattr__(self, field, value)
         if self.rod_inertia is None:
             object.__setattr__(self, "rod_inertia", self._two_mass_rod_inertia())
+        position = check_magnitude(as_scalar(self.axial_position, "axial_position"), "axial_position", "m")
+        if not math.isfinite(position):
+            raise MechanismError(f"axial_position = {position} is out of range; allowed: any finite real [m]")
+        object.__setattr__(self, "axial_position", position)
         if not (math.isfinite(self.bore) and self.bore >= 0):
             raise MechanismError(f"bore = {self.bore} is out of range; allowed: bore >= 0 [m]")
         if not (math.isfinite(self.piston_rod_diameter) and 0 <= self.piston_rod_diameter):
