@@ -89,6 +89,7 @@ KINDS: dict[str, set[str]] = {
     "positive_or_inf": {"float", "huge", "nonfinite"},
     "count_or_none": {"none"},
     "range_or_none": {"none"},
+    "positions_or_none": {"none"},  # increasing axial positions [m], at least two
     "pressure": {"none", "callable"},  # the callable is called (and refused) when the machine runs
     "firing": {"none"},
     "load": {"none", "callable", "float", "negative", "huge"},  # "balance", a torque [N·m], a callable
@@ -118,6 +119,7 @@ CYLINDER_KINDS = {
     "pressure": (None, "pressure"),
     "pressure_crank_end": (None, "pressure"),
     "piston_rod_diameter": (0.0, "real"),
+    "axial_position": (0.0, "real"),
 }
 DESIGN = dict(crank_ratio=0.3, inclination=1.0, u1=0.5, u2=0.1)
 DESIGN_KINDS = dict(crank_ratio="ratio", inclination="real", u1="real", u2="real")
@@ -314,6 +316,7 @@ MACHINE_KINDS = {
     "rpm": (600.0, "positive_or_none"),
     "rpm_range": (None, "range_or_none"),
     "delta_target": (None, "positive_or_none"),
+    "main_bearings": (None, "positions_or_none"),
 }
 REGISTRY.update(
     {
@@ -335,6 +338,7 @@ REGISTRY.update(
                 "cylinder": (CYLINDER, "cylinder"),
                 "strokes": (None, "count_or_none"),
                 "firing": (None, "firing"),
+                "cylinder_spacing": (None, "positive_or_none"),
                 "name": (None, "label_or_none"),
                 "note": (None, "label_or_none"),
                 **MACHINE_KINDS,

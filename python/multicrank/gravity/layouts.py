@@ -37,7 +37,11 @@ class Layout:
     note : str
         What it is, in a few words.
     throws : tuple of float
-        β_t [deg]: each throw's crank-pin angle at φ = 0 (absolute, from the horizontal).
+        β_t [deg]: each throw's crank-pin angle at φ = 0 (absolute, from the horizontal),
+        in their order along the shaft from the front: ``Machine.from_layout``'s
+        ``cylinder_spacing`` places them so. The in-line layouts other than the four-stroke
+        4, 5, 6 and 8 (which are the textbook cranks, numbered from the front) list their
+        cylinders in the order of the regular phase set, that is in firing order.
     banks : tuple of tuple of float
         Per throw, the inclinations γ [deg] of the cylinders on it (90 = upright).
     strokes : {2, 4} or None, default None

@@ -38,11 +38,24 @@ from .dynamics import MachineDynamics
 from .gas import MachineGas
 from .loading import from_toml as _from_toml
 from .phases import chosen_firing, even_firing
+from .shaft import as_bearings, default_bearings
+from .shaft import throws as _throws
 
 __all__ = ["Machine"]
 
 #: A machine's fields, as :meth:`Machine.replace` takes them.
-_MACHINE_FIELDS = ("cylinders", "shaft_inertia", "strokes", "g", "name", "rpm", "rpm_range", "note", "delta_target")
+_MACHINE_FIELDS = (
+    "cylinders",
+    "shaft_inertia",
+    "strokes",
+    "g",
+    "name",
+    "rpm",
+    "rpm_range",
+    "note",
+    "delta_target",
+    "main_bearings",
+)
 
 
 class Machine(MachineDescription, MachineDynamics, MachineGas):
@@ -75,14 +88,20 @@ class Machine(MachineDescription, MachineDynamics, MachineGas):
         to run at [dimensionless], > 0, where it has one: its class's limit (compressors
         1/20, vehicle engines 1/100, generator sets 1/300). The report sizes the flywheel
         for it. Descriptive; nothing else depends on it.
+    main_bearings : sequence of float, optional
+        The main bearings' axial positions z [m] along the shaft (the axis of the cylinders'
+        ``axial_position``), at least two, strictly increasing: every throw must lie strictly
+        between two bearings — a throw before the first or after the last (overhung) or
+        exactly at a bearing is refused. Default: :attr:`bearings` interleaves the throws.
 
     Attributes
     ----------
     cylinders : tuple of Cylinder
         The cylinders, in the order given.
-    shaft_inertia, strokes, g, name, rpm, rpm_range, note, delta_target
-        The parameters as given (``rpm``, ``rpm_range`` and ``delta_target`` None where not
-        given). A machine is immutable (setting a field raises ``FrozenInstanceError``, an
+    shaft_inertia, strokes, g, name, rpm, rpm_range, note, delta_target, main_bearings
+        The parameters as given (``rpm``, ``rpm_range``, ``delta_target`` and
+        ``main_bearings`` None where not given; ``main_bearings`` a tuple of floats). A
+        machine is immutable (setting a field raises ``FrozenInstanceError``, an
         ``AttributeError``): :meth:`replace` makes a changed copy.
 
     Raises
@@ -116,8 +135,10 @@ class Machine(MachineDescription, MachineDynamics, MachineGas):
     δ_g = 0.06003
     """
 
-    # A machine pickled before delta_target existed has none in its __dict__: it reads None.
+    # A machine pickled before delta_target or main_bearings existed has none in its
+    # __dict__: it reads None.
     delta_target: float | None = None
+    main_bearings: tuple[float, ...] | None = None
 
     def __init__(
         self,
@@ -131,6 +152,7 @@ class Machine(MachineDescription, MachineDynamics, MachineGas):
         rpm_range: tuple[float, float] | None = None,
         note: str = "",
         delta_target: float | None = None,
+        main_bearings: Sequence[float] | None = None,
     ) -> None:
         if isinstance(cylinders, Cylinder) or not isinstance(cylinders, Sequence):
             raise MechanismError("cylinders must be a sequence of multicrank.Cylinder")
@@ -172,6 +194,10 @@ class Machine(MachineDescription, MachineDynamics, MachineGas):
                         f"{round(period / math.pi)} or a diagram of the machine's cycle"
                     )
         self.delta_target: float | None = None if delta_target is None else _delta_target(delta_target)
+        self.main_bearings: tuple[float, ...] | None = None
+        if main_bearings is not None:
+            members = [[j for j, t in enumerate(self.throw_index) if t == index] for index in range(len(self.throws))]
+            self.main_bearings = as_bearings(main_bearings, self.throws, members)
         self._units = unit_columns(cylinders)
         self._sealed = True
 
@@ -191,6 +217,8 @@ class Machine(MachineDescription, MachineDynamics, MachineGas):
         rpm_range: tuple[float, float] | None = None,
         note: str | None = None,
         delta_target: float | None = None,
+        cylinder_spacing: float | None = None,
+        main_bearings: Sequence[float] | None = None,
     ) -> Machine:
         """A machine of a layout with one cylinder template on every bank.
 
@@ -227,6 +255,14 @@ class Machine(MachineDescription, MachineDynamics, MachineGas):
             A description; default the layout's note.
         delta_target : float, optional
             The δ the machine is meant to run at, as for :class:`Machine`.
+        cylinder_spacing : float, optional
+            s [m], > 0: the distance between neighbouring throws along the shaft. Throw t of
+            the layout (``Layout.throws``, from 0) is placed at z_t = z₀ + t·s, z₀ the
+            template's ``axial_position``, and every cylinder on it (a V's banks on its shared
+            pin) there. Default: every cylinder at z₀, one throw.
+        main_bearings : sequence of float, optional
+            The main bearings' axial positions [m], as for :class:`Machine`; default
+            :attr:`bearings` interleaves the throws.
 
         Returns
         -------
@@ -249,6 +285,21 @@ class Machine(MachineDescription, MachineDynamics, MachineGas):
         presets write the regular phase set j·4π/k of :func:`~multicrank.crank_phases`,
         whose firing is perfectly even, so they keep it exactly); then the one that keeps
         the earlier cylinders as written. Up to 16 cylinders; beyond, give ``firing``.
+
+        **Along the shaft** the layout's throws are taken in their order from the front:
+        ``cylinder_spacing`` puts throw t at z₀ + t·s. The four-stroke in-line layouts of
+        4, 5, 6 and 8 cylinders (``inline-4-4t``, …) are the textbook cranks numbered from
+        the front, their phases from the textbook firing order (1-3-4-2, 1-2-4-5-3,
+        1-5-3-6-2-4, 1-6-2-5-8-3-7-4): the in-line four's pins lie at 0°, 180°, 180°, 0°
+        along the shaft and the six's at 0°, 120°, 240°, 240°, 120°, 0° (mirror symmetric,
+        so without first- and second-order couples), as in real engines. The other in-line
+        layouts list their cylinders in the order of the regular phase set, that is in
+        firing order: spaced, their pins follow the firing order along the shaft — for
+        three cylinders every order is the same crank up to a mirror, but for the others
+        it need not be the crank a real engine of that size has, whose couples differ.
+        The V, boxer and W layouts write their throws along the shaft (``v8-cross``:
+        0°, 90°, 270°, 180°). For another crank, give the cylinders one by one to
+        :class:`Machine`, or a :class:`~multicrank.Layout` of one's own.
 
         Raises
         ------
@@ -309,10 +360,28 @@ class Machine(MachineDescription, MachineDynamics, MachineGas):
             phases = even_firing(crank, cycle_strokes)
         else:
             phases = chosen_firing(firing, crank, cycle_strokes)
+        origin = cylinder.axial_position
+        if cylinder_spacing is None:
+            positions = [origin] * len(first)
+        else:
+            spacing = check_magnitude(as_scalar(cylinder_spacing, "cylinder_spacing"), "cylinder_spacing", "m")
+            if not (math.isfinite(spacing) and spacing > 0):
+                raise MechanismError(
+                    f"cylinder_spacing = {spacing} is out of range; allowed: cylinder_spacing > 0 [m] (the distance "
+                    "between neighbouring throws along the shaft)"
+                )
+            # Throw t of the layout: the count of first cylinders up to and including this one, less one.
+            throw_of = np.cumsum(first) - 1
+            positions = [origin + float(t) * spacing for t in throw_of]
         bare = {"crank_mass": 0.0, "counterweight_mass": 0.0}
         cylinders = [
-            cylinder.replace(phase=phase, inclination=math.radians(gamma), **({} if keeps_web else bare))
-            for phase, gamma, keeps_web in zip(phases, inclinations, first, strict=True)
+            cylinder.replace(
+                phase=phase,
+                inclination=math.radians(gamma),
+                axial_position=position,
+                **({} if keeps_web else bare),
+            )
+            for phase, gamma, keeps_web, position in zip(phases, inclinations, first, positions, strict=True)
         ]
         return cls(
             cylinders,
@@ -324,6 +393,7 @@ class Machine(MachineDescription, MachineDynamics, MachineGas):
             rpm_range=rpm_range,
             note=layout.note if note is None else note,
             delta_target=delta_target,
+            main_bearings=main_bearings,
         )
 
     # A class method that builds ``cls``: bound from its module, where the type checker
@@ -335,6 +405,46 @@ class Machine(MachineDescription, MachineDynamics, MachineGas):
     def cycle(self) -> float:
         """Φ [rad]: the crank angle of one working cycle, π·strokes."""
         return math.pi * self.strokes
+
+    @property
+    def throws(self) -> tuple[float, ...]:
+        """The throws' axial positions z_t [m], increasing: the distinct ``axial_position`` of
+        the cylinders (a throw is the cylinders at one axial position, with its crank web and
+        counterweight; positions equal to within 10⁻¹²·max(1, |z|) m are one).
+
+        Examples
+        --------
+        >>> import multicrank as mc
+        >>> cylinder = mc.presets.MACHINES["inline-4"].cylinders[0]
+        >>> vee = mc.Machine.from_layout("v6-60", cylinder, shaft_inertia=0.2,
+        ...                              cylinder_spacing=0.1)
+        >>> vee.throws, vee.throw_index
+        ((0.0, 0.1, 0.2), (0, 0, 1, 1, 2, 2))
+        >>> [round(z, 6) for z in vee.bearings]
+        [-0.05, 0.05, 0.15, 0.25]
+        """
+        return _throws([c.axial_position for c in self.cylinders])[0]
+
+    @property
+    def throw_index(self) -> tuple[int, ...]:
+        """Each cylinder's throw: its index in :attr:`throws` (an int per cylinder, in the
+        machine's order)."""
+        return _throws([c.axial_position for c in self.cylinders])[1]
+
+    @property
+    def bearings(self) -> tuple[float, ...]:
+        """The main bearings' axial positions [m], increasing: ``main_bearings`` where given,
+        else n + 1 bearings interleaving the n :attr:`throws` z₁ < … < zₙ.
+
+        The default puts a bearing at the midpoint between neighbouring throws and, outside,
+        at z₁ − d₁/2 and zₙ + dₙ/2 (d₁ = z₂ − z₁, dₙ = zₙ − zₙ₋₁: as far out as the next
+        bearing in). A machine of one throw gets z₁ ± r, r the largest ``crank_radius``: the
+        lever rule splits a lone throw's load between its two bearings in halves whatever
+        their distance, so r only places them plausibly.
+        """
+        if self.main_bearings is not None:
+            return self.main_bearings
+        return default_bearings(self.throws, max(c.crank_radius for c in self.cylinders))
 
     def __len__(self) -> int:
         return len(self.cylinders)
@@ -380,8 +490,10 @@ class Machine(MachineDescription, MachineDynamics, MachineGas):
         ----------
         **changes
             New values of ``cylinders``, ``shaft_inertia``, ``strokes``, ``g``, ``name``,
-            ``rpm``, ``rpm_range``, ``note`` or ``delta_target`` (as for :class:`Machine`);
-            ``rpm=None``, ``rpm_range=None`` or ``delta_target=None`` removes them.
+            ``rpm``, ``rpm_range``, ``note``, ``delta_target`` or ``main_bearings`` (as for
+            :class:`Machine`); ``rpm=None``, ``rpm_range=None``, ``delta_target=None`` or
+            ``main_bearings=None`` removes them. New ``cylinders`` keep the given
+            ``main_bearings``, which must still hold their throws.
 
         Returns
         -------
