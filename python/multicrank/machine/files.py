@@ -54,6 +54,8 @@ MACHINE_KEYS = {
     "class": "string",
     "layout": "layout",
     "firing_deg": "numbers",
+    "cylinder_spacing": "number",
+    "main_bearings": "numbers",
     "cylinder": "tables",
 }
 _MACHINE_REQUIRED = ("shaft_inertia", "cylinder")
@@ -74,6 +76,7 @@ CYLINDER_KEYS = {
     "piston_rod_diameter": "number",
     "phase_deg": "number",
     "inclination_deg": "number",
+    "axial_position": "number",
     "pressure": "table",
     "pressure_crank_end": "table",
 }
@@ -204,6 +207,7 @@ class MachineFile:
     cylinders: list[CylinderSpec]
     layout: Layout | None = None
     firing: list[float] | None = None
+    cylinder_spacing: float | None = None
 
     @property
     def strokes(self) -> int | None:
@@ -264,6 +268,16 @@ def read_machine_file(path: str | os.PathLike[str]) -> MachineFile:
         if file.layout is None:
             raise file.error("firing_deg", "firing_deg sets the firing of a layout's cylinders; give layout too")
         file.firing = [math.radians(a) for a in top.numbers("firing_deg")]
+    if "cylinder_spacing" in data:
+        if file.layout is None:
+            raise file.error(
+                "cylinder_spacing",
+                "cylinder_spacing places a layout's throws along the shaft; give layout too (without one, give "
+                "each [[cylinder]] its axial_position)",
+            )
+        file.cylinder_spacing = top.get("cylinder_spacing")
+    if "main_bearings" in data:
+        file.fields["main_bearings"] = top.numbers("main_bearings")
     cylinders = data["cylinder"]
     if file.layout is not None:
         if not isinstance(cylinders, dict):

@@ -71,6 +71,10 @@ def from_toml(cls: type[Machine], path: str | os.PathLike[str]) -> Machine:
                                             (per throw, the bank inclinations γ [deg]),
                                             ``name``, ``note``, ``strokes``
     ``firing_deg``             deg          with a layout: every cylinder's phase α (firing)
+    ``cylinder_spacing``       m            with a layout: throw t at z₀ + t·s along the
+                                            shaft (z₀ the template's ``axial_position``)
+    ``main_bearings``          m            the main bearings' axial positions, increasing
+                                            (default: n + 1 interleaving the n throws)
     ``cylinder``               table(s)     required; ``[cylinder]`` (one cylinder, or the
                                             layout's template) or ``[[cylinder]]`` (one each)
     **[cylinder]**
@@ -88,6 +92,8 @@ def from_toml(cls: type[Machine], path: str | os.PathLike[str]) -> Machine:
     ``piston_rod_diameter``    m            d, double acting
     ``phase_deg``              deg          α (not with a layout)
     ``inclination_deg``        deg          γ, 90 upright (not with a layout)
+    ``axial_position``         m            z along the shaft (default 0; with a layout
+                                            the first throw's)
     ``pressure``               table        the crown's (head end's) gas pressure, below
     ``pressure_crank_end``     table        double acting: the crank end's, below
     **pressure tables**                     ``[cylinder.pressure]``, ``[cylinder.pressure_crank_end]``
@@ -157,8 +163,11 @@ def from_toml(cls: type[Machine], path: str | os.PathLike[str]) -> Machine:
                 cylinder = cylinder.replace(**{end: diagram})
         cylinders.append(cylinder)
     if file.layout is not None:
+        # A bad cylinder_spacing or main_bearings is named by its own message.
         with file.context("firing_deg" if file.firing is not None else ""):
-            return cls.from_layout(file.layout, cylinders[0], firing=file.firing, **file.fields)
+            return cls.from_layout(
+                file.layout, cylinders[0], firing=file.firing, cylinder_spacing=file.cylinder_spacing, **file.fields
+            )
     with file.context(""):
         return cls(cylinders, **file.fields)
 
