@@ -81,6 +81,7 @@ def existing() -> set[str]:
         value = getattr(mc, name)
         if callable(value) and not inspect.isclass(value):
             names |= set(inspect.signature(value).parameters)
+    names |= set(inspect.signature(mc.Machine.from_layout).parameters)  # cylinder_spacing
     return names
 
 
