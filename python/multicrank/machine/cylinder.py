@@ -112,8 +112,9 @@ class Cylinder:
         z [m], any finite real, default 0: where the cylinder's axis crosses the shaft, along
         the shaft from an origin of one's choice. The cylinders at one axial position are one
         **throw** (a V's two banks on a shared pin); its crank web and counterweight belong to
-        it. It places the throws between the main bearings (:attr:`Machine.bearings <multicrank.Machine.bearings>`) and gives
-        the moments of the frame's forces; no torque of the shaft depends on it.
+        it. It places the throws between the main bearings
+        (:attr:`Machine.bearings <multicrank.Machine.bearings>`) and gives the moments of the
+        frame's forces; no torque of the shaft depends on it.
 
     Raises
     ------
