@@ -71,6 +71,8 @@ _LAZY = {
     "firing_orders": "design.firing",
     "optimize_counterweights": "design.counterweights",
     "CounterweightOptimum": "design.counterweights",
+    "shaking_forces": "forces.shaking",
+    "ShakingForces": "forces.shaking",
 }
 
 
@@ -106,6 +108,7 @@ __all__ = [
     "MachineGrid",
     "MechanismError",
     "PowerLawLoad",
+    "ShakingForces",
     "StallError",
     "SteadyState",
     "Transient",
@@ -130,6 +133,7 @@ __all__ = [
     "paper_coefficient",
     "potential_energy",
     "set_parallel_threshold",
+    "shaking_forces",
     "simulate",
     "speed_fluctuation",
     "steady_state",

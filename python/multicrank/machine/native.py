@@ -149,6 +149,7 @@ def native_machine(machine: Machine) -> MotionMachine:
         shaft_inertia=machine.shaft_inertia,
         strokes=machine.strokes,
         g=machine.g,
+        axial_position=contiguous(np.array([c.axial_position for c in machine.cylinders], dtype=float)),
     )
 
 

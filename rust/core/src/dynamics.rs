@@ -85,7 +85,7 @@ impl PhysicalCylinder {
 
     /// The gravity moments U1, U2 (J) of this unit (eq. 5–7 times I_w ω²: g times the
     /// moment arms), as the unit of an SI engine whose U* is U in joules.
-    fn gravity_unit(&self, g: f64) -> EngineUnit {
+    pub(crate) fn gravity_unit(&self, g: f64) -> EngineUnit {
         let (reciprocating, rotating) = self.moment_arms();
         EngineUnit {
             phase: self.phase,

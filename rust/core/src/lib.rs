@@ -26,6 +26,7 @@ mod engine;
 mod error;
 mod exact;
 mod extrema;
+mod forces;
 mod harmonics;
 mod mechanism;
 mod motion;
@@ -42,6 +43,7 @@ pub use engine::{Engine, EngineUnit};
 pub use error::{MechanismError, Reach, Result};
 pub use exact::{evaluate, evaluate_one, Quantity};
 pub use extrema::{all_energy_extrema, energy_extrema, EnergyExtrema};
+pub use forces::{ShakingForces, ShakingOrders, ORDER_COLUMNS};
 pub use harmonics::{
     harmonic_survives, lambda_exact, lambda_paper, lambda_table, paper_coefficient,
     surviving_harmonics, PhaseSums, PAPER_MAX_J,

@@ -19,6 +19,7 @@ mod engine;
 mod error;
 mod evaluation;
 mod extrema;
+mod forces;
 mod harmonics;
 mod machine;
 mod motion;

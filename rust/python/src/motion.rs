@@ -12,6 +12,7 @@ use pyo3::types::PyDict;
 
 use crate::conversion::{drive_table, gas_tables, DiagramArg, MachineColumns, MotionDesigns};
 use crate::error::to_py_err;
+use crate::forces::ShakingCache;
 use crate::motion_results::{steady_result, FlywheelResult, SteadyResult};
 use crate::parallel::parallelism;
 
@@ -79,7 +80,8 @@ fn motion_err(py: Python<'_>, error: core::MechanismError) -> PyErr {
 /// `bore` and `piston_rod_diameter` (m) one per unit, `pressure` and `pressure_crank_end`
 /// one per unit, each None or the pair (x, c) of the gauge pressure's (Pa) `PPoly`
 /// (breakpoints x spanning one working cycle, coefficients c of shape (K, len(x) − 1)),
-/// `shaft_inertia` I_w (kg·m²) > 0, `strokes` 2 or 4, `g` (m/s²).
+/// `shaft_inertia` I_w (kg·m²) > 0, `strokes` 2 or 4, `g` (m/s²), `axial_position` (m)
+/// one per unit (default all 0).
 #[pyclass(frozen, name = "MotionMachine", module = "multicrank._native")]
 pub(crate) struct MotionMachine {
     units: Vec<core::PhysicalCylinder>,
@@ -92,6 +94,8 @@ pub(crate) struct MotionMachine {
     tables: OnceLock<core::SteadyTables>,
     /// The same with g = 0, made from them on the first question asked with gravity=False.
     tables_without_gravity: OnceLock<core::SteadyTables>,
+    /// Its shaking forces (the units at their axial positions), with the orders last asked.
+    shaking: ShakingCache,
 }
 
 impl MotionMachine {
@@ -155,7 +159,8 @@ impl MotionMachine {
 impl MotionMachine {
     #[new]
     #[pyo3(signature = (
-        units, bore, piston_rod_diameter, pressure, pressure_crank_end, shaft_inertia, strokes, g
+        units, bore, piston_rod_diameter, pressure, pressure_crank_end, shaft_inertia, strokes, g,
+        axial_position=None
     ))]
     #[allow(clippy::too_many_arguments)]
     fn new(
@@ -167,6 +172,7 @@ impl MotionMachine {
         shaft_inertia: f64,
         strokes: i64,
         g: f64,
+        axial_position: Option<PyReadonlyArray1<'_, f64>>,
     ) -> PyResult<Self> {
         let strokes = core::Strokes::from_count(strokes).map_err(to_py_err)?;
         if !(shaft_inertia.is_finite() && shaft_inertia > 0.0) {
@@ -185,7 +191,13 @@ impl MotionMachine {
             &pressure_crank_end,
             strokes.cycle_angle(),
         )?;
+        let axial_position = match axial_position {
+            Some(z) => z.as_slice()?.to_vec(),
+            None => vec![0.0; units.len()],
+        };
+        let shaking = core::ShakingForces::new(&units, &axial_position).map_err(to_py_err)?;
         let machine = Self {
+            shaking: ShakingCache::new(shaking),
             units,
             gas,
             diagrams,
@@ -508,6 +520,47 @@ impl MotionMachine {
             }
         }
         Ok(dict)
+    }
+
+    /// shaking_orders(omega, max_order) -> {column: array}: the shaking forces and moments by
+    /// order 1 … max_order at the constant speed `omega` (rad/s), the columns
+    /// `core::ORDER_COLUMNS` (N, N·m, rad).
+    fn shaking_orders<'py>(
+        &self,
+        py: Python<'py>,
+        omega: f64,
+        max_order: usize,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        self.shaking.orders(py, omega, max_order)
+    }
+
+    /// shaking_orders_in_motion(omega, acceleration, max_harmonic) -> {column: array}: the
+    /// harmonics 1 … max_harmonic of the working cycle of the shaking forces and moments
+    /// while the machine runs at ω(φ) (rad/s) with ε(φ) (rad/s²), both sampled at N uniform
+    /// angles jΦ/N of the cycle (N > 2·max_harmonic); the columns `core::ORDER_COLUMNS`.
+    fn shaking_orders_in_motion<'py>(
+        &self,
+        py: Python<'py>,
+        omega: PyReadonlyArray1<'py, f64>,
+        acceleration: PyReadonlyArray1<'py, f64>,
+        max_harmonic: usize,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let cycle = self.strokes.cycle_angle();
+        self.shaking
+            .orders_in_motion(py, cycle, &omega, &acceleration, max_harmonic)
+    }
+
+    /// shaking_curves(phi, omega, acceleration) -> array (4 × phi, component-major): the
+    /// vertical and horizontal forces (N) and the pitch and yaw moments (N·m) at each φ (rad)
+    /// at the speed ω (rad/s) and acceleration ε (rad/s²) given there.
+    fn shaking_curves<'py>(
+        &self,
+        py: Python<'py>,
+        phi: PyReadonlyArray1<'py, f64>,
+        omega: PyReadonlyArray1<'py, f64>,
+        acceleration: PyReadonlyArray1<'py, f64>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        self.shaking.curves(py, &phi, &omega, &acceleration)
     }
 
     fn __repr__(&self) -> String {

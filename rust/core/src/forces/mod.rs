@@ -1,0 +1,17 @@
+//! Forces on the frame (docs/theory.md, "Forces on the frame"): the shaking forces and
+//! moments by order, from the gravity kernels. For a rigid mechanism of mass M whose centre
+//! of mass is r_G(φ), the potential of a uniform field of unit strength along a unit vector
+//! e is S_e(φ) = M e·r_G(φ) + const (kg·m), so the frame's inertial reaction along e is
+//!
+//!   F_e = −M a_G·e = −(S_e″(φ) ω² + S_e′(φ) ε),
+//!
+//! and at constant speed its order-n amplitude is n² ω² |S_e,n|. S_e is the paper's U with
+//! g = 1 and U1, U2 the first moments (kg·m): with e vertical S_e′ is the paper's Q, with e
+//! horizontal the same kernel with every inclination turned by +90°, and each unit's S_e
+//! weighted by its axial position z gives the moments about z = 0. The two-mass rod keeps
+//! the rod's mass and centre of gravity, so this is exact with the kernels and their exact
+//! series; no new kinematics.
+
+mod shaking;
+
+pub use shaking::{ShakingForces, ShakingOrders, ORDER_COLUMNS};
