@@ -25,6 +25,12 @@ from multicrank.presets import LAYOUTS, MACHINES
 DATA = Path(__file__).resolve().parent / "data" / "pickles-0.1.0.pickle"
 
 
+def unplaced(machine: mc.Machine) -> mc.Machine:
+    """A preset as 0.1 knew it: no cylinder placed along the shaft (0.1 had no axial_position;
+    its pickles read 0), the bearings by default."""
+    return machine.replace(cylinders=[c.replace(axial_position=0.0) for c in machine.cylinders], main_bearings=None)
+
+
 def built_now() -> dict[str, object]:
     """The objects of the 0.1.0 pickle, as the current code builds them."""
     compressor = MACHINES["slow-compressor"]
@@ -33,10 +39,10 @@ def built_now() -> dict[str, object]:
         # 0.1 numbered the in-line four's cylinders by their phases (0°, 180°, 360°, 540°); the
         # layout is now the textbook crank numbered along the shaft (firing 1-3-4-2): the
         # same cylinders, in 0.1's order.
-        "machine:inline-4": MACHINES["inline-4"].replace(
-            cylinders=sorted(MACHINES["inline-4"].cylinders, key=lambda cylinder: cylinder.phase)
+        "machine:inline-4": unplaced(MACHINES["inline-4"]).replace(
+            cylinders=sorted(unplaced(MACHINES["inline-4"]).cylinders, key=lambda cylinder: cylinder.phase)
         ),
-        "machine:boxer-compressor": MACHINES["boxer-compressor"],
+        "machine:boxer-compressor": unplaced(MACHINES["boxer-compressor"]),
         "cylinder": compressor.cylinders[0],
         "diagram": compressor.cylinders[0].pressure,
         "layout": LAYOUTS["v8-cross"],
@@ -233,6 +239,7 @@ INSTANCES = {
     "PowerLawLoad": lambda: NOW["load"],
     "PressureUnitWarning": lambda: _pressure_unit_warning(),
     "ReportSettings": lambda: __import__("multicrank.report", fromlist=["ReportSettings"]).ReportSettings(),
+    "ShakingForces": lambda: mc.shaking_forces(MACHINES["inline-4"], max_order=3, steady=True),
     "Stall": _internal_stall,
     "StallError": _stall_error,
     "SteadyState": lambda: mc.steady_state(MACHINES["inline-4"], points=37),
