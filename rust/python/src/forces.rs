@@ -1,8 +1,8 @@
-//! The forces on the frame of a `MotionMachine`: its shaking forces, converted, with the
-//! orders last computed kept for the next call (the same machine asked again at another
+//! The forces on the frame of a `MotionMachine`: its shaking forces, made on first use, with
+//! the orders last computed kept for the next call (the same machine asked again at another
 //! speed scales them by ω² in the core without a new series).
 
-use std::sync::{Arc, Mutex};
+use std::sync::{Arc, Mutex, OnceLock};
 
 use multicrank_core as core;
 use numpy::{PyArray1, PyReadonlyArray1};
@@ -13,18 +13,31 @@ use crate::conversion::{filled, OutputSize};
 use crate::error::to_py_err;
 use crate::parallel::parallelism;
 
-/// A machine's shaking forces and the orders last computed (the most asked so far).
+/// A machine's units at their axial positions, their shaking forces (made on first use: a
+/// machine asked only for its motion never pays for them) and the orders last computed.
 pub(crate) struct ShakingCache {
-    forces: core::ShakingForces,
+    units: Vec<core::PhysicalCylinder>,
+    axial_position: Vec<f64>,
+    forces: OnceLock<core::ShakingForces>,
     orders: Mutex<Option<Arc<core::ShakingOrders>>>,
 }
 
 impl ShakingCache {
-    pub(crate) fn new(forces: core::ShakingForces) -> Self {
+    pub(crate) fn new(units: Vec<core::PhysicalCylinder>, axial_position: Vec<f64>) -> Self {
         Self {
-            forces,
+            units,
+            axial_position,
+            forces: OnceLock::new(),
             orders: Mutex::new(None),
         }
+    }
+
+    fn forces(&self) -> core::Result<&core::ShakingForces> {
+        if let Some(forces) = self.forces.get() {
+            return Ok(forces);
+        }
+        let made = core::ShakingForces::new(&self.units, &self.axial_position)?;
+        Ok(self.forces.get_or_init(|| made))
     }
 
     /// The orders through `max_order`: those kept where they reach it, else computed (and
@@ -34,7 +47,7 @@ impl ShakingCache {
         if let Some(orders) = kept.filter(|o| o.max_order() >= max_order) {
             return Ok(orders);
         }
-        let made = Arc::new(self.forces.orders(max_order)?);
+        let made = Arc::new(self.forces()?.orders(max_order)?);
         if let Ok(mut held) = self.orders.lock() {
             *held = Some(Arc::clone(&made));
         }
@@ -65,7 +78,7 @@ impl ShakingCache {
         let parallelism = parallelism(None);
         let columns = py
             .detach(|| {
-                self.forces
+                self.forces()?
                     .orders_in_motion(cycle, omega, acceleration, max_harmonic, parallelism)?
                     .table(1.0, max_harmonic)
             })
@@ -84,7 +97,7 @@ impl ShakingCache {
             (phi.as_slice()?, omega.as_slice()?, acceleration.as_slice()?);
         let parallelism = parallelism(None);
         filled(py, OutputSize::of("phi", phi.len()).times(4), |out| {
-            self.forces
+            self.forces()?
                 .curves(phi, omega, acceleration, out, parallelism)
         })
     }

@@ -195,9 +195,15 @@ impl MotionMachine {
             Some(z) => z.as_slice()?.to_vec(),
             None => vec![0.0; units.len()],
         };
-        let shaking = core::ShakingForces::new(&units, &axial_position).map_err(to_py_err)?;
+        if axial_position.len() != units.len() || axial_position.iter().any(|z| !z.is_finite()) {
+            return Err(to_py_err(core::MechanismError::InvalidChoice {
+                parameter: "axial_position",
+                value: format!("{axial_position:?}"),
+                allowed: "one finite position (m) per unit",
+            }));
+        }
         let machine = Self {
-            shaking: ShakingCache::new(shaking),
+            shaking: ShakingCache::new(units.clone(), axial_position),
             units,
             gas,
             diagrams,
