@@ -229,20 +229,32 @@ impl GasCylinder {
         Ok(())
     }
 
-    /// πD²/4 and π(D² − d²)/4 (m²): the head end's and the crank end's areas.
-    pub fn areas(&self) -> (f64, f64) {
-        (
-            PI * (self.bore * self.bore) / 4.0,
-            PI * (self.bore * self.bore - self.piston_rod_diameter * self.piston_rod_diameter)
-                / 4.0,
-        )
+    /// πD²/4 (m²): the head end's area.
+    #[inline]
+    pub fn head_area(&self) -> f64 {
+        PI * (self.bore * self.bore) / 4.0
+    }
+
+    /// π(D² − d²)/4 (m²): the crank end's area, around the piston rod.
+    #[inline]
+    pub fn crank_end_area(&self) -> f64 {
+        PI * (self.bore * self.bore - self.piston_rod_diameter * self.piston_rod_diameter) / 4.0
     }
 
     /// F = p·A − p_c·A_c (N), positive toward the shaft, from the gauge pressures (Pa) on
-    /// the head end (p) and on the crank end (p_c): the one place of this rule.
-    pub fn net_force(&self, head: f64, crank_end: f64) -> f64 {
-        let (head_area, crank_area) = self.areas();
-        head * head_area - crank_end * crank_area
+    /// the head end (p) and on the crank end (p_c), each None where that end has none (its
+    /// area is then not computed: this sits in the gas work's quadrature loops): the one
+    /// place of this rule.
+    #[inline]
+    pub fn net_force(&self, head: Option<f64>, crank_end: Option<f64>) -> f64 {
+        let mut force = 0.0;
+        if let Some(p) = head {
+            force += p * self.head_area();
+        }
+        if let Some(p) = crank_end {
+            force -= p * self.crank_end_area();
+        }
+        force
     }
 }
 
@@ -288,7 +300,7 @@ pub fn net_piston_forces(
         let span = j * points..(j + 1) * points;
         let unit = out[span.clone()].iter_mut();
         for ((f, &p), &p_c) in unit.zip(&head[span.clone()]).zip(&crank_end[span]) {
-            *f = cylinder.net_force(p, p_c);
+            *f = cylinder.net_force(Some(p), Some(p_c));
         }
     }
     Ok(())
@@ -360,7 +372,7 @@ fn cylinder_force(cylinder: &GasCylinder, diagrams: &[PiecewisePolynomial], thet
     if !cylinder.has_gas() {
         return 0.0;
     }
-    let pressure = |end: Option<usize>| end.map_or(0.0, |d| diagrams[d].value(theta));
+    let pressure = |end: Option<usize>| end.map(|d| diagrams[d].value(theta));
     cylinder.net_force(pressure(cylinder.head), pressure(cylinder.crank_end))
 }
 
