@@ -26,6 +26,7 @@ MACHINE_COMMANDS = {
     "eval": ["eval"],
     "motion": ["motion", "--no-progress"],
     "simulate": ["simulate", "--no-progress"],
+    "forces": ["forces"],
     "report": ["report", "--no-progress"],
     "sweep motion": ["sweep", "motion", "--rpm", "100", "--no-progress"],
     "optimize firing": ["optimize", "firing", "--no-progress"],
@@ -80,6 +81,7 @@ FILE_OPTIONS = {
     "motion --out": (["motion", "--machine", "slow-compressor", "--rpm", "100", "--no-progress"], "--out"),
     "motion --cycle": (["motion", "--machine", "slow-compressor", "--rpm", "100", "--no-progress"], "--cycle"),
     "simulate --out": (["simulate", "--machine", "slow-compressor", "--duration", "0.5", "--no-progress"], "--out"),
+    "forces --out": (["forces", "--machine", "inline-4", "--max-order", "2"], "--out"),
     "optimize firing --out": (["optimize", "firing", "--machine", "marine-2t-twin", "--no-progress"], "--out"),
     "optimize counterweights --out": (
         ["optimize", "counterweights", "--machine", "marine-2t-twin", "--maxiter", "1", "--no-progress"],

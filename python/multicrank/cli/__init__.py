@@ -2,13 +2,15 @@
 
 ``_group`` holds the group itself (errors as one line, exit status 2) and the shared
 ``--machine``; ``_output`` the ``--format``/``--out`` of a result; ``gravity`` the commands
-``eval`` and ``tables``; ``motion`` ``motion`` and ``simulate``; ``sweep`` the group ``sweep`` (the gravity sweep),
+``eval`` and ``tables``; ``motion`` ``motion`` and ``simulate``; ``forces`` ``forces``
+(the shaking forces and moments by order); ``sweep`` the group ``sweep`` (the gravity sweep),
 ``motion_sweep`` its command ``sweep motion``; ``optimize`` the group ``optimize`` (the design
 aid: ``optimize firing`` and ``optimize counterweights``); ``report`` ``report``. Each command
 imports what it computes with when it runs, so that ``multicrank --help`` stays quick.
 """
 
 from ._group import main
+from .forces import forces_command
 from .gravity import eval_command, tables_command
 from .motion import motion_command, simulate_command
 from .motion_sweep import motion_sweep_command
@@ -20,6 +22,7 @@ for _command in (
     report_command,
     motion_command,
     simulate_command,
+    forces_command,
     eval_command,
     tables_command,
     sweep_command,

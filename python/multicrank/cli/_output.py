@@ -78,8 +78,10 @@ def write_result(
     *,
     summary: list[str],
     json_meta: dict[str, Any],
+    footer: list[str] | None = None,
 ) -> None:
-    """Write a result frame as csv/json (to --out or stdout), or the summary and the table."""
+    """Write a result frame as csv/json (to --out or stdout), or the summary, the table and
+    the ``footer`` lines below it."""
     if fmt == "csv":
         text = frame.to_csv(float_format="%.12g")
     elif fmt == "json":
@@ -87,6 +89,8 @@ def write_result(
         text = json.dumps(payload, indent=2) + "\n"
     else:
         text = "\n".join(summary) + "\n\n" + frame.to_string(float_format=lambda v: f"{v:.6g}") + "\n"
+        if footer:
+            text += "\n" + "\n".join(footer) + "\n"
     if out_path is None:
         sys.stdout.write(text)
     else:

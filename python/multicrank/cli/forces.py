@@ -1,0 +1,172 @@
+"""The command ``forces``: the forces and moments a machine shakes its frame with, by order
+(:func:`multicrank.shaking_forces`)."""
+
+from __future__ import annotations
+
+import textwrap
+from typing import TYPE_CHECKING, Any
+
+import click
+
+from .._native import MechanismError
+from ._group import machine_option
+from ._output import format_option, out_option, write_result
+from .motion import _speed
+
+if TYPE_CHECKING:
+    import pandas as pd
+
+    from ..forces.shaking import ShakingForces
+    from ..machine.machine import Machine
+
+__all__ = ["bearing_summary", "forces_command"]
+
+#: The columns of the table to read, in this order (csv and json give every column of
+#: ``ShakingForces.orders``, phases and the moments' forward and backward parts included).
+SHOWN = ("force_vertical", "force_horizontal", "force_forward", "force_backward", "moment_pitch", "moment_yaw")
+
+#: Significant digits of the table to read (csv and json give 12 and 15).
+DIGITS = 4
+
+
+@click.command("forces", short_help="Shaking forces and moments on the frame, by order.")
+@machine_option
+@click.option(
+    "--rpm",
+    type=float,
+    default=None,
+    metavar="RPM",
+    help="The speed [1/min]: constant, or the steady running's mean with --steady [default: the machine's].",
+)
+@click.option(
+    "--max-order",
+    "max_order",
+    type=int,
+    default=12,
+    show_default=True,
+    metavar="K",
+    help="The highest order listed [per revolution]: 1 … 2048, with --steady 1 … 360.",
+)
+@click.option(
+    "--steady",
+    is_flag=True,
+    help="In the steady running (load balance): its ω(φ) and ε(φ), the speed fluctuation with gravity's "
+    "part carried into the inertia forces; a four-stroke machine then has half orders. "
+    "Default: at the constant speed --rpm.",
+)
+@format_option
+@out_option
+def forces_command(
+    machine: Machine, rpm: float | None, max_order: int, steady: bool, fmt: str, out_path: str | None
+) -> None:
+    """The forces and moments the machine's moving parts shake its frame with, by order.
+
+    The frame takes the inertial reaction −Σ m·a of the pistons, rods, crank webs and
+    counterweights. For each order n (per revolution) the table gives the amplitude of the
+    order's harmonic of force_vertical (positive upward) and force_horizontal (positive toward
+    a cylinder at inclination 0) [N]; force_forward and force_backward [N], the parts of the
+    plane force that turn with the crank and against it; and moment_pitch and moment_yaw
+    [N·m], the moments of the vertical and horizontal forces about the axial origin z = 0
+    (cylinders are placed along the shaft by axial_position, or cylinder_spacing with a
+    layout, in the machine file). Counterweights can cancel only the forward first order; the
+    rest needs balance shafts.
+
+    --format csv and json give every column of multicrank.shaking_forces(...).orders: the
+    phases [rad] as well (an order's component is amplitude·cos(nφ − phase)) and
+    moment_forward and moment_backward [N·m]; json adds rpm, omega [rad/s], steady and the
+    units.
+    """
+    from ..forces.shaking import shaking_forces
+
+    speed = _speed(machine, rpm, "--rpm")
+    try:
+        result = shaking_forces(machine, speed, max_order=max_order, steady=steady)
+    except MechanismError as error:
+        message = str(error)
+        if message.startswith("max_order"):  # the option's name, as the user typed it
+            raise MechanismError(message.replace("max_order", "--max-order")) from None
+        raise
+    orders = result.orders
+    bearing_lines, bearing_meta = bearing_summary(machine, result)
+    if fmt == "table":
+        write_result(
+            _readable(orders),
+            fmt,
+            out_path,
+            summary=_header(machine, result),
+            json_meta={},
+            footer=_balancing(orders) + bearing_lines,
+        )
+        return
+    meta = dict(
+        machine=machine.name,
+        rpm=result.rpm,
+        omega=result.omega,
+        steady=result.steady,
+        max_order=result.max_order,
+        units=dict(orders.attrs["units"], order="1/revolution"),
+        **bearing_meta,
+    )
+    write_result(orders, fmt, out_path, summary=[], json_meta=meta)
+
+
+def bearing_summary(machine: Machine, result: ShakingForces) -> tuple[list[str], dict[str, Any]]:
+    """What the command adds about the main bearings: lines below the table to read, and
+    entries of json's metadata.
+
+    The place for the main-bearing loads' summary per bearing (largest and mean load, the
+    angle of the largest, what gravity adds), once the library computes them; until then it
+    adds nothing.
+    """
+    return [], {}
+
+
+def _header(machine: Machine, result: ShakingForces) -> list[str]:
+    """The lines above the table: the machine and its speed, what the columns are."""
+    if result.steady:
+        speed = f"steady running at a mean {result.rpm:.6g} rpm (load balance: ω(φ) and ε(φ) with gravity)"
+    else:
+        speed = f"constant speed {result.rpm:.6g} rpm (ω = {result.omega:.6g} rad/s)"
+    lines = [
+        f"{machine.name}: shaking forces and moments on the frame by order, {speed}",
+        *_wrapped(
+            "the amplitude of each order (per revolution) of −Σ m·a: vertical upward, horizontal toward a "
+            "cylinder at γ = 0, forward and backward the parts that turn with and against the crank; the "
+            "moments about z = 0"
+        ),
+    ]
+    if len(machine) > 1 and all(c.axial_position == 0 for c in machine.cylinders):
+        lines += _wrapped(
+            "note: every cylinder is at z = 0 (none placed along the shaft), so the moments are 0; a machine "
+            "file places them by axial_position, or by cylinder_spacing with a layout"
+        )
+    return lines
+
+
+def _readable(orders: pd.DataFrame) -> pd.DataFrame:
+    """The table to read: the :data:`SHOWN` columns with their units, to :data:`DIGITS`
+    significant digits, the orders as 1, 1.5, 2."""
+    units = orders.attrs["units"]
+    shown = orders.loc[:, list(SHOWN)].map(lambda v: float(f"{v:.{DIGITS}g}"))
+    shown.columns = [f"{name} [{units[name]}]" for name in SHOWN]
+    shown.index = [f"{n:g}" for n in orders.index]
+    shown.index.name = "order"
+    return shown
+
+
+def _balancing(orders: pd.DataFrame) -> list[str]:
+    """The lines below the table: what counterweights can cancel here, and what they cannot."""
+    force, moment = orders.loc[1.0, ["force_forward", "moment_forward"]]
+    if force == 0 and moment == 0:
+        here = "here there is none"
+    else:
+        here = f"here {force:.{DIGITS}g} N and {moment:.{DIGITS}g} N·m"
+    return _wrapped(
+        f"counterweights turn with the crank: they can cancel only the forward first order ({here}); the "
+        "backward first order and every higher order need balance shafts turning at that order"
+    )
+
+
+def _wrapped(text: str) -> list[str]:
+    """A note as lines of at most 100 characters."""
+    return textwrap.wrap(text, 100)
