@@ -222,6 +222,7 @@ def _symbolic(which: str) -> object:
 #: A real instance of each class, by name; a class of the rooms or an exception of the package
 #: missing here fails test_every_public_class_has_an_instance_here.
 INSTANCES = {
+    "BearingLoads": lambda: mc.bearing_loads(MACHINES["boxer-compressor"], phi=np.linspace(0.0, 1.0, 5)),
     "CounterweightOptimum": lambda: mc.optimize_counterweights(MACHINES["marine-2t-twin"], seed=7, maxiter=3),
     "Cylinder": lambda: NOW["cylinder"],
     "DesignGrid": lambda: NOW["design_grid"],

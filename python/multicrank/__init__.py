@@ -73,6 +73,8 @@ _LAZY = {
     "CounterweightOptimum": "design.counterweights",
     "shaking_forces": "forces.shaking",
     "ShakingForces": "forces.shaking",
+    "bearing_loads": "forces.bearings",
+    "BearingLoads": "forces.bearings",
 }
 
 
@@ -96,6 +98,7 @@ __all__ = [
     "NEAR_STALL_DELTA",
     "STANDARD_GRAVITY",
     "SWEEP_OUTPUTS",
+    "BearingLoads",
     "CounterweightOptimum",
     "Cylinder",
     "DesignGrid",
@@ -114,6 +117,7 @@ __all__ = [
     "Transient",
     "UniformGrid",
     "__version__",
+    "bearing_loads",
     "build_profile",
     "crank_phases",
     "design_grid",

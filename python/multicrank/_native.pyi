@@ -37,6 +37,7 @@ __all__ = [
     "fourier_coefficients",
     "get_parallel_threshold",
     "lambda_coefficients",
+    "machine_bearing_loads",
     "machine_engine",
     "machine_evaluate",
     "machine_gas_torque",
@@ -265,6 +266,16 @@ def machine_inertia(
     units: _Columns, shaft_inertia: float, phi: _Phi, parallel_threshold: int | None = None
 ) -> dict[str, _Array]: ...
 def machine_gas_torque(units: _Columns, phi: _Phi, forces: _Array, parallel_threshold: int | None = None) -> _Array: ...
+def machine_bearing_loads(
+    machine: MotionMachine,
+    phi: _Array,
+    omega: _Array,
+    acceleration: _Array,
+    throw_of_unit: Sequence[int],
+    throw_position: _Array,
+    bearing_position: _Array,
+    gravity: bool = True,
+) -> tuple[_Array, _Array]: ...
 def piston_forces(bore: _Array, piston_rod_diameter: _Array, head: _Array, crank_end: _Array) -> _Array: ...
 def machine_engine(units: _Columns, g: float, shaft_inertia: float, omega: float) -> dict[str, _Array]: ...
 def two_mass_rod_inertia(rod_mass: float, rod_length: float, rod_cg: float) -> float: ...

@@ -21,7 +21,7 @@ from multicrank.sweeps.designs import KNOWN_COLUMNS
 from multicrank.sweeps.outputs import SWEEP_OUTPUTS
 
 GLOSSARY = Path(__file__).resolve().parents[2] / "docs" / "glossary.md"
-RESULTS = (mc.SteadyState, mc.FlywheelInertia, mc.Transient, mc.CounterweightOptimum, mc.ShakingForces)
+RESULTS = (mc.SteadyState, mc.FlywheelInertia, mc.Transient, mc.CounterweightOptimum, mc.ShakingForces, mc.BearingLoads)
 # The section of names kept for one release, which need not be current names.
 DEPRECATED = "## Names of 0.1, deprecated"
 
@@ -64,6 +64,7 @@ def required() -> dict[str, set[str]]:
         "DesignGrid columns": set(KNOWN_COLUMNS),
         "MachineGrid columns": {as_entry(c) for c in machine_columns(machine)},
         "ShakingForces.orders columns": set(mc.ShakingForces.COLUMNS),
+        "BearingLoads.summary columns": set(mc.bearing_loads(machine).summary.columns),
     }
 
 

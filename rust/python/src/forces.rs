@@ -5,12 +5,13 @@
 use std::sync::{Arc, Mutex, OnceLock};
 
 use multicrank_core as core;
-use numpy::{PyArray1, PyReadonlyArray1};
+use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray1};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::conversion::{filled, OutputSize};
+use crate::conversion::{empty_array, filled, OutputSize};
 use crate::error::to_py_err;
+use crate::motion::MotionMachine;
 use crate::parallel::parallelism;
 
 /// A machine's units at their axial positions, their shaking forces (made on first use: a
@@ -110,4 +111,60 @@ fn order_columns(py: Python<'_>, columns: Vec<Vec<f64>>) -> PyResult<Bound<'_, P
         dict.set_item(*name, PyArray1::from_vec(py, values))?;
     }
     Ok(dict)
+}
+
+/// machine_bearing_loads(machine, phi, omega, acceleration, throw_of_unit, throw_position,
+/// bearing_position, gravity=True) -> (horizontal, vertical): the force every main bearing
+/// (at `bearing_position`, m, increasing) receives from the shaft (N), bearing-major
+/// (bearings × phi), at the crank angles `phi` (rad) with the speed `omega` (rad/s) and
+/// acceleration `acceleration` (rad/s²) there, one value per angle; unit j on throw
+/// `throw_of_unit[j]` at `throw_position` (m); the machine's gas forces and (with `gravity`)
+/// its weights.
+#[pyfunction]
+#[pyo3(signature = (
+    machine, phi, omega, acceleration, throw_of_unit, throw_position, bearing_position,
+    gravity=true
+))]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn machine_bearing_loads<'py>(
+    py: Python<'py>,
+    machine: &Bound<'py, MotionMachine>,
+    phi: PyReadonlyArray1<'py, f64>,
+    omega: PyReadonlyArray1<'py, f64>,
+    acceleration: PyReadonlyArray1<'py, f64>,
+    throw_of_unit: Vec<usize>,
+    throw_position: PyReadonlyArray1<'py, f64>,
+    bearing_position: PyReadonlyArray1<'py, f64>,
+    gravity: bool,
+) -> PyResult<(Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>)> {
+    let machine = machine.get().machine_with(gravity);
+    let (phi, omega, acceleration) = (phi.as_slice()?, omega.as_slice()?, acceleration.as_slice()?);
+    let layout = core::BearingLayout::new(
+        &throw_of_unit,
+        throw_position.as_slice()?,
+        bearing_position.as_slice()?,
+    )
+    .map_err(to_py_err)?;
+    let size = OutputSize::of("phi", phi.len()).times(layout.bearings());
+    let (horizontal, vertical) = (empty_array(py, size)?, empty_array(py, size)?);
+    {
+        let (mut h, mut v) = (horizontal.readwrite(), vertical.readwrite());
+        let (h, v) = (h.as_slice_mut()?, v.as_slice_mut()?);
+        py.detach(|| {
+            let gas = machine.piston_forces(phi)?;
+            core::bearing_loads(
+                machine.units,
+                &layout,
+                phi,
+                omega,
+                acceleration,
+                &gas,
+                machine.g,
+                h,
+                v,
+            )
+        })
+        .map_err(to_py_err)?;
+    }
+    Ok((horizontal, vertical))
 }

@@ -47,6 +47,8 @@ mod _native {
     #[pymodule_export]
     use crate::extrema::energy_extrema;
     #[pymodule_export]
+    use crate::forces::machine_bearing_loads;
+    #[pymodule_export]
     use crate::harmonics::{
         fourier_coefficients, lambda_coefficients, paper_coefficient, surviving_harmonics,
     };

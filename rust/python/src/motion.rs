@@ -143,7 +143,7 @@ impl MotionMachine {
     }
 
     /// The core's view of it, with g = 0 unless `gravity`.
-    fn machine_with(&self, gravity: bool) -> core::Machine<'_> {
+    pub(crate) fn machine_with(&self, gravity: bool) -> core::Machine<'_> {
         core::Machine {
             units: &self.units,
             gas: &self.gas,

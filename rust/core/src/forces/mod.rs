@@ -1,5 +1,5 @@
 //! Forces on the frame (docs/theory.md, "Forces on the frame"): the shaking forces and
-//! moments by order, from the gravity kernels. For a rigid mechanism of mass M whose centre
+//! moments by order, from the gravity kernels, and the main-bearing loads (`bearings`). For a rigid mechanism of mass M whose centre
 //! of mass is r_G(φ), the potential of a uniform field of unit strength along a unit vector
 //! e is S_e(φ) = M e·r_G(φ) + const (kg·m), so the frame's inertial reaction along e is
 //!
@@ -12,6 +12,8 @@
 //! the rod's mass and centre of gravity, so this is exact with the kernels and their exact
 //! series; no new kinematics.
 
+mod bearings;
 mod shaking;
 
+pub use bearings::{bearing_loads, BearingLayout};
 pub use shaking::{ShakingForces, ShakingOrders, ORDER_COLUMNS};

@@ -62,6 +62,20 @@ pub struct Machine<'a> {
     pub g: f64,
 }
 
+impl Machine<'_> {
+    /// Every unit's gas force F = p·A − p_c·A_c (N, toward the shaft) at every φ (rad),
+    /// unit-major (units × phi), from the machine's own diagrams.
+    pub fn piston_forces(&self, phi: &[f64]) -> Result<Vec<f64>> {
+        let forces = gas::Forces::new(
+            self.units,
+            self.gas,
+            self.diagrams.into(),
+            self.strokes.cycle_angle(),
+        )?;
+        Ok(forces.at(phi))
+    }
+}
+
 /// A machine's periodic steady running under the "balance" load (a constant load equal to
 /// the cycle mean of the gas torque) at a given time-mean speed.
 #[derive(Debug, Clone, Copy, PartialEq)]

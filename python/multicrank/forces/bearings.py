@@ -1,0 +1,256 @@
+"""The loads on a machine's main bearings (docs/theory.md, "Main-bearing loads").
+
+Each unit's piston and rod are rigid bodies (the rod with its real mass, centre of gravity
+and moment of inertia ``rod_inertia`` — unlike the free forces, the bearing loads depend on
+it), the gas force is carried through the rod to the crank pin, the crank web and
+counterweight turn with their throw, and every part has its weight. The shaft is taken as
+statically determinate, cut at every main bearing: each throw's load is shared by the two
+bearings on either side of it by the lever rule. The Rust core computes it all; here the
+arguments are checked and the result is laid out.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from .._native import MechanismError, machine_bearing_loads
+from .._validation import as_flag, as_instance, as_omega, as_real_array, contiguous, rpm_from_omega
+from ..machine.machine import Machine
+from ..machine.native import motion_machine
+
+__all__ = ["BearingLoads", "bearing_loads"]
+
+#: Angles per working cycle when none are given at a constant speed (every half degree of a
+#: two-stroke cycle), and of the steady state's grid (``steady=True``).
+DEFAULT_POINTS = 720
+
+
+@dataclass(frozen=True, eq=False)
+class BearingLoads:
+    """The forces a machine's main bearings receive from its shaft.
+
+    Attributes
+    ----------
+    machine : Machine
+        The machine.
+    rpm : float
+        The speed n [1/min]: constant, or the steady state's mean (``steady``).
+    omega : float
+        ω = πn/30 [rad/s].
+    steady : bool
+        Whether the loads are those of the steady state's ω(φ) and ε(φ).
+    gravity : bool
+        Whether the weights (and, in steady running, gravity's part of the speed fluctuation)
+        are included.
+    phi : ndarray
+        The crank angles φ [rad], shape (angles,).
+    positions : ndarray
+        The bearings' axial positions z [m] (``Machine.bearings``), shape (bearings,).
+    vertical, horizontal : ndarray
+        The force each bearing receives from the shaft [N], vertical (positive upward) and
+        horizontal (positive toward a cylinder at γ = 0), shape (bearings, angles).
+    """
+
+    machine: Machine
+    rpm: float
+    omega: float
+    steady: bool
+    gravity: bool
+    phi: np.ndarray
+    positions: np.ndarray
+    vertical: np.ndarray
+    horizontal: np.ndarray
+    #: The loads of the same machine with g = 0 (horizontal, vertical), made when first read.
+    _without_gravity: list[tuple[np.ndarray, np.ndarray]] = field(default_factory=list, repr=False)
+
+    def without_gravity(self) -> tuple[np.ndarray, np.ndarray]:
+        """(horizontal, vertical) [N] of the same machine at the same angles with g = 0 (no
+        weights and, in steady running, no gravity in the speed fluctuation), bearings ×
+        angles: computed on first use (the summary's "what gravity adds") and kept."""
+        if not self._without_gravity:
+            if self.gravity:
+                phi = None if self.steady else self.phi
+                _, horizontal, vertical = _loads(self.machine, self.omega, self.steady, phi, False)
+            else:
+                horizontal, vertical = self.horizontal, self.vertical
+            self._without_gravity.append((horizontal, vertical))
+        return self._without_gravity[0]
+
+    @property
+    def magnitude(self) -> np.ndarray:
+        """|F| [N] of each bearing's load at each angle, shape (bearings, angles)."""
+        return np.hypot(self.horizontal, self.vertical)
+
+    @property
+    def summary(self) -> Any:
+        """Per bearing: its ``position`` [m], the largest load ``max`` [N] and the angle
+        ``phi_max`` [rad] where it acts, the ``mean`` of the load's magnitude over the angles
+        [N], ``max_without_gravity`` [N] (the same machine with g = 0: no weights and, in
+        steady running, no gravity in the speed fluctuation) and ``gravity_adds`` [N], the
+        largest magnitude over the angles of what gravity adds to the load vector. A pandas
+        DataFrame indexed by ``bearing`` (0 … from the front, z increasing)."""
+        import pandas as pd
+
+        magnitude = self.magnitude
+        at = np.argmax(magnitude, axis=1)
+        horizontal, vertical = self.without_gravity()
+        added = np.hypot(self.horizontal - horizontal, self.vertical - vertical) if self.gravity else 0 * magnitude
+        frame = pd.DataFrame(
+            {
+                "position": self.positions,
+                "max": magnitude.max(axis=1),
+                "phi_max": self.phi[at],
+                "mean": magnitude.mean(axis=1),
+                "max_without_gravity": np.hypot(horizontal, vertical).max(axis=1),
+                "gravity_adds": added.max(axis=1),
+            },
+            index=pd.Index(np.arange(len(self.positions)), name="bearing"),
+        )
+        frame.attrs.update(
+            {
+                "rpm": self.rpm,
+                "steady": self.steady,
+                "gravity": self.gravity,
+                "units": {
+                    "position": "m",
+                    "max": "N",
+                    "phi_max": "rad",
+                    "mean": "N",
+                    "max_without_gravity": "N",
+                    "gravity_adds": "N",
+                },
+            }
+        )
+        return frame
+
+    def polar(self, bearing: int = 0, ax: Any = None) -> Any:
+        """The polar diagram of one bearing's load: the tip of the load vector over the cycle,
+        horizontal against vertical [N], the shaft centre at the origin, the largest load
+        marked. Returns the matplotlib Axes (a new figure's where ``ax`` is None)."""
+        import matplotlib.pyplot as plt
+
+        count = len(self.positions)
+        if not (isinstance(bearing, int | np.integer) and 0 <= bearing < count):
+            raise MechanismError(f"bearing = {bearing!r} is out of range; allowed: 0 <= bearing < {count}")
+        if ax is None:
+            _, ax = plt.subplots(figsize=(4.5, 4.5), layout="constrained")
+        h, v = self.horizontal[bearing], self.vertical[bearing]
+        ax.plot(h, v, lw=1.2)
+        largest = int(np.argmax(np.hypot(h, v)))
+        ax.plot([0, h[largest]], [0, v[largest]], color="C3", lw=1)
+        ax.annotate(f"max {np.hypot(h, v)[largest]:.4g} N", (h[largest], v[largest]), fontsize="small")
+        ax.plot([0], [0], marker="+", color="k")
+        ax.set(
+            aspect="equal",
+            xlabel="horizontal [N]",
+            ylabel="vertical [N]",
+            title=f"bearing {bearing} (z = {self.positions[bearing]:.3g} m), {self.rpm:.4g} rpm",
+        )
+        ax.grid(alpha=0.3)
+        return ax
+
+
+def bearing_loads(
+    machine: Machine, rpm: Any = None, *, phi: Any = None, steady: Any = False, gravity: Any = True
+) -> BearingLoads:
+    """The force each main bearing receives from the shaft, over the crank angle.
+
+    Parameters
+    ----------
+    machine : Machine
+        The machine: its cylinders (masses, geometry, ``rod_inertia``, gas pressures, phases,
+        inclinations and ``axial_position``) and its main bearings (``Machine.bearings``:
+        ``main_bearings``, or n + 1 interleaving the n throws).
+    rpm : float, optional
+        The speed n [1/min] (constant, or the steady state's mean); default the machine's own
+        ``rpm``.
+    phi : array_like, optional
+        Crank angles φ [rad], 1-D, at a constant speed; default 720 uniform angles over one
+        working cycle. In steady running the loads are on the steady state's 720 angles
+        (give None).
+    steady : bool, default False
+        True: in the machine's steady running at that mean speed ("balance" load), with its
+        ω(φ) and ε(φ), rather than at a constant speed.
+    gravity : bool, default True
+        False leaves the weights out (g = 0).
+
+    Returns
+    -------
+    BearingLoads
+        ``phi``, ``positions``, ``vertical``, ``horizontal`` (bearings × angles) [N],
+        ``summary`` and ``polar(bearing)``.
+
+    Raises
+    ------
+    MechanismError
+        For a bad argument, naming it; for a machine without ``rpm`` when none is given.
+    StallError
+        ``steady=True`` where the machine stalls at that speed.
+
+    Notes
+    -----
+    Each unit: the piston (mass m_t) is pushed by the gas force F, the wall's normal force and
+    the rod; the rod (m_k, centre of gravity z_k from the piston pin, I_k about it) by the
+    piston and the crank pin; Newton–Euler for both gives the pin's force on the rod, whose
+    reaction, with the web's and counterweight's inertia and the weights, loads the throw. A
+    throw at z_t between bearings at z_a < z_t < z_b puts (z_b − z_t)/(z_b − z_a) of its load on
+    a and the rest on b (docs/theory.md, "Main-bearing loads").
+
+    Examples
+    --------
+    >>> import multicrank as mc
+    >>> compressor = mc.presets.MACHINES["boxer-compressor"]
+    >>> loads = mc.bearing_loads(compressor)
+    >>> loads.vertical.shape
+    (3, 720)
+    """
+    machine = as_instance(machine, Machine, "machine")
+    if rpm is None:
+        if machine.rpm is None:
+            raise MechanismError(f"machine {machine.name!r} has no rpm: give rpm, the speed [1/min]")
+        rpm = machine.rpm
+    omega = as_omega(rpm, "rpm")
+    steady, gravity = as_flag(steady, "steady"), as_flag(gravity, "gravity")
+    if steady and phi is not None:
+        raise MechanismError("phi: in steady running the loads are on the steady state's own angles; give None")
+    angles, horizontal, vertical = _loads(machine, omega, steady, phi, gravity)
+    positions = np.asarray(machine.bearings, dtype=float)
+    return BearingLoads(machine, rpm_from_omega(omega), omega, steady, gravity, angles, positions, vertical, horizontal)
+
+
+def _loads(
+    machine: Machine, omega: float, steady: bool, phi: Any, gravity: bool
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(φ, horizontal, vertical) of one pass of the core: at the constant speed ω [rad/s] at
+    the angles ``phi`` (None: the default ones), or in steady running at that mean speed."""
+    if steady:
+        from ..motion.steady import steady_state
+
+        state = steady_state(machine, rpm=rpm_from_omega(omega), gravity=gravity, points=DEFAULT_POINTS + 1)
+        angles, speeds, accelerations = state.phi[:-1], state.omega[:-1], state.acceleration[:-1]
+    else:
+        angles = (
+            machine.cycle * np.arange(DEFAULT_POINTS) / DEFAULT_POINTS
+            if phi is None
+            else as_real_array(phi, "phi").astype(float)
+        )
+        if angles.ndim != 1:
+            raise MechanismError(f"phi must be 1-D, got shape {angles.shape}")
+        speeds, accelerations = np.full(angles.shape, omega), np.zeros(angles.shape)
+    positions = np.asarray(machine.bearings, dtype=float)
+    angles, speeds, accelerations = (contiguous(np.asarray(a, dtype=float)) for a in (angles, speeds, accelerations))
+    horizontal, vertical = machine_bearing_loads(
+        motion_machine(machine),
+        angles,
+        speeds,
+        accelerations,
+        list(machine.throw_index),
+        contiguous(np.asarray(machine.throws, dtype=float)),
+        contiguous(positions),
+        gravity,
+    )
+    shape = (len(positions), angles.size)
+    return angles, horizontal.reshape(shape), vertical.reshape(shape)
