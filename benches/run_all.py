@@ -3,7 +3,7 @@
     python benches/run_all.py [--criterion]
 
 Runs benches/python/bench_kernels.py, bench_sweep.py, bench_machine.py, bench_motion.py,
-bench_routes.py, bench_motion_sweep.py and bench_design_aid.py (release build of the installed
+bench_routes.py, bench_forces.py, bench_motion_sweep.py and bench_design_aid.py (release build of the installed
 package; each refuses a debug build) and, with --criterion, the criterion benches
 of the Rust kernels, then writes BENCHMARKS.md at the repository root.
 OPENBLAS_NUM_THREADS=1 keeps numpy's BLAS threads from spinning on the cores being timed.
@@ -30,6 +30,14 @@ ROUTES_NOTE = (
     "`benches/python/bench_routes.py`: one core, the slow compressor at 120 rpm, `.delta` only. "
     "Each route is the Rust core's; a callable drive or pressure is sampled once (a new machine "
     "pays that and its cycle tables once)."
+)
+FORCES_HEADING = "## Forces on the frame and the bearings: a twelve-cylinder V, one core"
+FORCES_NOTE = (
+    "`benches/python/bench_forces.py`: genset-v12 (six throws along the shaft, seven main "
+    "bearings). `shaking_forces` asked again (its series kept by the machine after the first "
+    "call); `bearing_loads` at 720 angles, one pass, and its summary (a second pass with g = 0). Baselines: "
+    "plain numpy — an FFT of the bodies' sampled first moments; stacked Newton–Euler solves per "
+    "unit over the angles — whose results agree as the last column says."
 )
 MACHINE_HEADING = "## The machine's kernels: 10⁶ points, J and J′ together, U"
 MACHINE_NOTE = (
@@ -96,6 +104,7 @@ def main() -> None:
     machine = run(sys.executable, "benches/python/bench_machine.py", "--markdown")
     motion = run(sys.executable, "benches/python/bench_motion.py", "--markdown")
     routes = run(sys.executable, "benches/python/bench_routes.py", "--markdown")
+    forces = run(sys.executable, "benches/python/bench_forces.py", "--markdown")
     motion_sweep = run(sys.executable, "benches/python/bench_motion_sweep.py", "--markdown")
     design_aid = run(sys.executable, "benches/python/bench_design_aid.py", "--markdown")
     cpu = next(
@@ -145,6 +154,12 @@ def main() -> None:
         routes.strip(),
         "",
         ROUTES_NOTE,
+        "",
+        FORCES_HEADING,
+        "",
+        forces.strip(),
+        "",
+        FORCES_NOTE,
         "",
         MOTION_SWEEP_HEADING,
         "",
