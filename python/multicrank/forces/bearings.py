@@ -138,13 +138,24 @@ class BearingLoads:
         if ax is None:
             _, ax = plt.subplots(figsize=(4.5, 4.5), layout="constrained")
         h, v = self.horizontal[bearing], self.vertical[bearing]
-        ax.plot(h, v, lw=1.2)
-        largest = int(np.argmax(np.hypot(h, v)))
+        magnitude = np.hypot(h, v)
+        largest = int(np.argmax(magnitude))
+        reach = 1.15 * float(magnitude[largest]) or 1.0
+        ax.plot(h, v, lw=1.2, color="C0")
         ax.plot([0, h[largest]], [0, v[largest]], color="C3", lw=1)
-        ax.annotate(f"max {np.hypot(h, v)[largest]:.4g} N", (h[largest], v[largest]), fontsize="small")
+        ax.annotate(
+            f"max {magnitude[largest]:.4g} N at φ = {np.degrees(self.phi[largest]):.0f}°",
+            (h[largest], v[largest]),
+            xytext=(0.03, 0.03),
+            textcoords="axes fraction",
+            fontsize="small",
+            color="C3",
+        )
         ax.plot([0], [0], marker="+", color="k")
         ax.set(
             aspect="equal",
+            xlim=(-reach, reach),
+            ylim=(-reach, reach),
             xlabel="horizontal [N]",
             ylabel="vertical [N]",
             title=f"bearing {bearing} (z = {self.positions[bearing]:.3g} m), {self.rpm:.4g} rpm",
