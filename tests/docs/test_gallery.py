@@ -49,7 +49,7 @@ def run(name: str) -> dict:
 
 
 def test_the_gallery_has_its_examples():
-    assert len(SCRIPTS) == 9
+    assert len(SCRIPTS) == 10
     for name in SCRIPTS:
         text = (GALLERY / name).read_text(encoding="utf-8")
         assert text.startswith('"""\n'), f"{name}: the module docstring (title and summary) comes first"
@@ -200,3 +200,35 @@ def test_design_aid_says_what_its_figure_shows():
     assert 0.18 < swept["delta"].max() / swept["delta"].min() - 1 < 0.22  # "by a fifth"
     state = mc.steady_state(best.machine)
     assert math.isclose(state.delta, best.delta, rel_tol=1e-9)
+
+
+def test_inline_three_rocks_and_a_counterweight_takes_the_forward_part():
+    space = run("plot_10_shaking_forces.py")
+    orders, after, alone = space["orders"], space["after"], space["alone"]
+    forces = ["force_vertical", "force_horizontal"]
+    # "they add up to nothing ... only every third order survives ... (the 6th, 1.6 N)"
+    assert (orders.loc[[1, 2, 4, 5], forces] == 0).all().all()
+    assert (after.loc[[1, 2, 4, 5], forces] == 0).all().all()
+    assert round(orders.loc[6, "force_vertical"], 1) == 1.6
+    # "a couple of √3·a times one of them", of the first and the second order
+    for n in (1, 2):
+        expected = math.sqrt(3) * 0.094 * alone.loc[n, "force_vertical"]
+        assert math.isclose(orders.loc[n, "moment_pitch"], expected, rel_tol=1e-12)
+    # the numbers of the text (3000 rpm)
+    assert round(orders.loc[1, "moment_forward"]) == 323
+    assert round(orders.loc[1, "moment_backward"]) == 207
+    assert round(orders.loc[1, "moment_pitch"]) == 530 and round(orders.loc[1, "moment_yaw"]) == 116
+    assert round(orders.loc[2, "moment_forward"]) == 64 == round(orders.loc[2, "moment_backward"])
+    assert round(space["heavier"].counterweight_mass - space["cylinder"].counterweight_mass, 2) == 0.57
+    # the counterweight: the forward first order gone, pitch and yaw equal; the backward
+    # first order and the second order untouched; the yaw grows to 207 N·m
+    assert after.loc[1, "moment_forward"] <= 1e-12 * orders.loc[1, "moment_forward"]
+    assert math.isclose(after.loc[1, "moment_pitch"], after.loc[1, "moment_yaw"], rel_tol=1e-9)
+    assert math.isclose(after.loc[1, "moment_backward"], orders.loc[1, "moment_backward"], rel_tol=1e-12)
+    assert (after.loc[2] - orders.loc[2]).abs().max() <= 1e-9 * orders.loc[2, "moment_pitch"]
+    assert round(after.loc[1, "moment_yaw"]) == 207
+    # "the second order's couple (129 N·m at most) is more than half the first order's"
+    assert round(after.loc[2, "moment_pitch"]) == 129
+    assert after.loc[2, "moment_pitch"] > after.loc[1, "moment_pitch"] / 2
+    # the curves: the largest pitching moment over a revolution (every order at once)
+    assert round(space["curves"]["moment_pitch"].abs().max()) == 578
