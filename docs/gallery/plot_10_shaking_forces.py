@@ -233,7 +233,7 @@ plt.show()
 # horizontal plane too: the first-order yaw moment grows from 116 to 207 N·m. A rocking
 # mostly up and down becomes a smaller couple that swings round (the path on the right).
 # Every amplitude grows with the square of the speed; ``steady=True`` adds what the
-# speed fluctuation does (the how-to "Shaking forces and moments").
+# speed fluctuation does (the how-to :doc:`/howto/shaking-forces`).
 print(
     "largest first-order couple, as built and balanced [N·m]:",
     round(orders.loc[1, "moment_forward"] + orders.loc[1, "moment_backward"], 1),
