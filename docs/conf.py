@@ -107,6 +107,8 @@ RESULT_CLASSES = (
     "SymbolicGravity",
     "SymbolicInertia",
     "CounterweightOptimum",
+    "ShakingForces",
+    "BearingLoads",
 )
 numpydoc_validation_exclude = {rf"^multicrank\.(symbolic\.)?{name}$" for name in RESULT_CLASSES}
 

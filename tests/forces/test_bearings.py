@@ -92,7 +92,7 @@ def oracle_throw_loads(machine, phi, omega, epsilon, gas, g):
             A[4, 3:5] = [-p_g[1], p_g[0]]  # p_g × Q
             A[4] = -A[4]
             rhs[4] = -c.rod_inertia * alpha
-            R_x, R_y, N, Q_x, Q_y = np.linalg.solve(A, rhs)
+            *_, Q_x, Q_y = np.linalg.solve(A, rhs)  # R and N solved too: not needed here
             a_P = acceleration["pin"][:, i]
             web = c.crank_cg_radius / c.crank_radius * a_P
             counterweight = -c.counterweight_radius / c.crank_radius * a_P
@@ -202,7 +202,9 @@ def test_the_summary_and_the_polar_diagram():
     np.testing.assert_array_equal(summary["max"], magnitude.max(axis=1))
     np.testing.assert_array_equal(summary["phi_max"], loads.phi[magnitude.argmax(axis=1)])
     without = mc.bearing_loads(machine, gravity=False)
-    np.testing.assert_array_equal(summary["max_without_gravity"], np.hypot(without.horizontal, without.vertical).max(axis=1))
+    np.testing.assert_array_equal(
+        summary["max_without_gravity"], np.hypot(without.horizontal, without.vertical).max(axis=1)
+    )
     added = np.hypot(loads.horizontal - without.horizontal, loads.vertical - without.vertical).max(axis=1)
     np.testing.assert_allclose(summary["gravity_adds"], added, rtol=1e-12)
     import matplotlib

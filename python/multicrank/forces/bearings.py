@@ -67,9 +67,16 @@ class BearingLoads:
     _without_gravity: list[tuple[np.ndarray, np.ndarray]] = field(default_factory=list, repr=False)
 
     def without_gravity(self) -> tuple[np.ndarray, np.ndarray]:
-        """(horizontal, vertical) [N] of the same machine at the same angles with g = 0 (no
-        weights and, in steady running, no gravity in the speed fluctuation), bearings ×
-        angles: computed on first use (the summary's "what gravity adds") and kept."""
+        """The loads of the same machine at the same angles with g = 0.
+
+        No weights and, in steady running, no gravity in the speed fluctuation: computed on
+        first use (the summary's "what gravity adds") and kept.
+
+        Returns
+        -------
+        tuple of ndarray
+            (horizontal, vertical) [N], each of shape (bearings, angles).
+        """
         if not self._without_gravity:
             if self.gravity:
                 phi = None if self.steady else self.phi
@@ -81,7 +88,8 @@ class BearingLoads:
 
     @property
     def magnitude(self) -> np.ndarray:
-        """|F| [N] of each bearing's load at each angle, shape (bearings, angles)."""
+        """The magnitude √(F_h² + F_v²) [N] of each bearing's load at each angle, shape
+        (bearings, angles)."""
         return np.hypot(self.horizontal, self.vertical)
 
     @property
@@ -127,9 +135,23 @@ class BearingLoads:
         return frame
 
     def polar(self, bearing: int = 0, ax: Any = None) -> Any:
-        """The polar diagram of one bearing's load: the tip of the load vector over the cycle,
-        horizontal against vertical [N], the shaft centre at the origin, the largest load
-        marked. Returns the matplotlib Axes (a new figure's where ``ax`` is None)."""
+        """The polar diagram of one bearing's load.
+
+        The tip of the load vector over the cycle, horizontal against vertical [N], the shaft
+        centre at the origin, the largest load marked (its value and angle φ).
+
+        Parameters
+        ----------
+        bearing : int, default 0
+            Which bearing, from the front (0 … bearings − 1).
+        ax : matplotlib Axes, optional
+            Where to draw; default a new figure's.
+
+        Returns
+        -------
+        matplotlib.axes.Axes
+            The axes drawn on.
+        """
         import matplotlib.pyplot as plt
 
         count = len(self.positions)

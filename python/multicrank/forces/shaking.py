@@ -8,7 +8,7 @@ with g = 1, so
 
     F_e = −M a_G·e = −(S_e″(φ) ω² + S_e′(φ) ε),
 
-and at a constant speed ω the order-n amplitude is n² ω² |S_e,n|. With e vertical S_e′ is the
+and at a constant speed ω the order-n amplitude is n² ω² times that of S_e. With e vertical S_e′ is the
 paper's Q; with e horizontal it is the same kernel with every cylinder's inclination turned by
 90°; each unit's S_e weighted by its axial position z gives the moments about z = 0. The two
 masses that replace a rod keep its mass and centre of gravity, so all this is exact — the Rust
@@ -183,7 +183,7 @@ def shaking_forces(machine: Machine, rpm: Any = None, *, max_order: Any = 12, st
     max_order : int, default 12
         The highest order (per revolution) listed, 1 … 2048 (steady: 1 … 360).
     steady : bool, default False
-        False: at the constant speed ω = πn/30, where the order-n amplitude is n²ω²|S_n|
+        False: at the constant speed ω = πn/30, where the order-n amplitude is n²ω² times that of S_n
         exactly. True: in the machine's steady running at that mean speed ("balance" load,
         :func:`~multicrank.steady_state`), with its ω(φ) and ε(φ), so that the speed
         fluctuation (gravity's included) is carried into the inertia forces; the orders then

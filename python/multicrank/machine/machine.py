@@ -410,7 +410,7 @@ class Machine(MachineDescription, MachineDynamics, MachineGas):
     def throws(self) -> tuple[float, ...]:
         """The throws' axial positions z_t [m], increasing: the distinct ``axial_position`` of
         the cylinders (a throw is the cylinders at one axial position, with its crank web and
-        counterweight; positions equal to within 10⁻¹²·max(1, |z|) m are one).
+        counterweight; positions equal to within 10⁻¹²·max(1, abs z) m are one).
 
         Examples
         --------
