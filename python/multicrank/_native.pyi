@@ -14,6 +14,7 @@ import numpy.typing as npt
 
 __all__ = [
     "EXTREMA_FIELDS",
+    "FRAME_OUTPUTS",
     "MOTION_SWEEP_OUTPUTS",
     "SPEED_LIMITS",
     "STANDARD_GRAVITY",
@@ -40,6 +41,7 @@ __all__ = [
     "machine_bearing_loads",
     "machine_engine",
     "machine_evaluate",
+    "machine_frame_sweep",
     "machine_gas_torque",
     "machine_inertia",
     "machine_torque_orders",
@@ -63,6 +65,7 @@ STANDARD_GRAVITY: float
 SWEEP_OUTPUTS: list[str]
 EXTREMA_FIELDS: list[str]
 MOTION_SWEEP_OUTPUTS: list[str]
+FRAME_OUTPUTS: list[str]
 
 class MechanismError(ValueError): ...
 
@@ -276,6 +279,17 @@ def machine_bearing_loads(
     bearing_position: _Array,
     gravity: bool = True,
 ) -> tuple[_Array, _Array]: ...
+def machine_frame_sweep(
+    machine: MotionMachine,
+    designs: Mapping[str, _Array],
+    outputs: Sequence[str],
+    omega: float | None,
+    axial_position: _Array,
+    throw_of_unit: Sequence[int],
+    throw_position: _Array,
+    bearing_position: _Array,
+    parallel_threshold: int | None = None,
+) -> dict[str, _Array]: ...
 def piston_forces(bore: _Array, piston_rod_diameter: _Array, head: _Array, crank_end: _Array) -> _Array: ...
 def machine_engine(units: _Columns, g: float, shaft_inertia: float, omega: float) -> dict[str, _Array]: ...
 def two_mass_rod_inertia(rod_mass: float, rod_length: float, rod_cg: float) -> float: ...

@@ -25,8 +25,9 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
+from .._native import FRAME_OUTPUTS as _CORE_FRAME_OUTPUTS
 from .._native import MOTION_SWEEP_OUTPUTS as _CORE_OUTPUTS
-from .._native import MechanismError
+from .._native import MechanismError, machine_frame_sweep
 from .._validation import (
     as_count,
     as_flag,
@@ -68,8 +69,11 @@ _FROM_NATIVE = {native: name for name, native in _SPEED_OUTPUTS.items()}
 # near_stall (δ > NEAR_STALL_DELTA, from δ) after stalled.
 _FLYWHEEL = ("flywheel_inertia", "flywheel_inertia_without_gravity")
 _STEADY = (*(_FROM_NATIVE.get(o, o) for o in _CORE_OUTPUTS if o not in _FLYWHEEL), "near_stall")
+# The frame's outputs (at each design's speed held constant; any load): the first- and
+# second-order free force and moment, the largest main-bearing load.
+_FRAME = tuple(_CORE_FRAME_OUTPUTS)
 #: Every output a motion sweep can compute, in column order.
-MOTION_SWEEP_OUTPUTS: tuple[str, ...] = (*_STEADY, *_FLYWHEEL)
+MOTION_SWEEP_OUTPUTS: tuple[str, ...] = (*_STEADY, *_FLYWHEEL, *_FRAME)
 # Designs per chunk: about a second of work — Ctrl-C keeps all but that, and a part of Parquet
 # is not too small to be worth a file. The core solves a design in ~0.05–0.2 ms; the Python
 # loop (callable pressures, other loads) in a few ms.
@@ -151,6 +155,13 @@ def _solve_chunk(
     gives (the target unreachable) is NaN. A design the machine refuses (a rod shorter than
     its crank) raises :class:`MechanismError` naming the row.
     """
+    framed = [o for o in outputs if o in _FRAME]
+    if framed:
+        rest = tuple(o for o in outputs if o not in _FRAME)
+        result = _solve_chunk(machine, frame, rest, load, delta) if rest else frame.copy()
+        for name, column in _frame_columns(machine, frame, framed).items():
+            result[name] = column
+        return result
     if isinstance(load, str) and load == BALANCE:
         native = motion_machine(machine)
         known = machine_columns(machine)
@@ -174,6 +185,34 @@ def _solve_chunk(
                 result[name] = False if name == "near_stall" else found[name]
         return _near_stall(result, outputs)
     return _near_stall(_solve_rows(machine, frame, outputs, load, delta), outputs)
+
+
+def _frame_columns(machine: Machine, frame: pd.DataFrame, outputs: list[str]) -> dict[str, np.ndarray]:
+    """The frame's outputs of the designs of ``frame`` by the Rust core, each at the design's
+    speed (its ``rpm`` column, else the machine's ``rpm``) held constant, whatever the load."""
+    known = machine_columns(machine)
+    names = [c for c in frame.columns if c in known]
+    if "rpm" not in names and machine.rpm is None:
+        raise MechanismError(
+            f"outputs {outputs!r} are taken at each design's speed: give an rpm column, or a machine with rpm"
+        )
+    designs = {name: contiguous(frame[name].to_numpy(dtype=np.float64)) for name in names}
+    if "rpm" in designs:
+        designs["omega"] = contiguous(omega_from_rpm(designs.pop("rpm")))
+    omega = None if machine.rpm is None else omega_from_rpm(machine.rpm)
+    try:
+        return machine_frame_sweep(
+            motion_machine(machine),
+            designs,
+            outputs,
+            omega,
+            contiguous(np.array([c.axial_position for c in machine.cylinders], dtype=np.float64)),
+            list(machine.throw_index),
+            contiguous(np.asarray(machine.throws, dtype=np.float64)),
+            contiguous(np.asarray(machine.bearings, dtype=np.float64)),
+        )
+    except MechanismError as error:
+        raise _refused_design(machine, frame, names, error) from None
 
 
 def _refused_design(machine: Machine, frame: pd.DataFrame, names: list[str], error: MechanismError) -> MechanismError:
@@ -350,8 +389,15 @@ def motion_sweep(
         (δ > :data:`~multicrank.NEAR_STALL_DELTA` = 0.5, a machine that nearly stops each
         cycle; added with ``delta``, and adds it), ``flywheel_inertia`` and
         ``flywheel_inertia_without_gravity`` [kg·m²] (:class:`FlywheelInertia`'s
-        ``shaft_inertia`` and ``shaft_inertia_without_gravity``; need ``delta_target``).
-        Default: all of the steady state's, and the flywheel's with ``delta_target``. Only what is asked is
+        ``shaft_inertia`` and ``shaft_inertia_without_gravity``; need ``delta_target``);
+        the frame's, at each design's speed (its ``rpm``, else the machine's) held constant,
+        whatever the load: ``free_force_1``, ``free_force_2`` [N] and ``free_moment_1``,
+        ``free_moment_2`` [N·m] (the largest magnitude over a cycle of the first- and
+        second-order shaking force and moment: forward + backward of
+        :func:`~multicrank.shaking_forces`) and ``max_bearing_load`` [N] (the largest load on
+        any main bearing over the working cycle, :func:`~multicrank.bearing_loads` at 720
+        angles). Default: all of the steady state's, and the flywheel's with ``delta_target``
+        (the frame's only when named). Only what is asked is
         computed. The name of 0.1 ``delta_gravity_only`` is still accepted, with a
         DeprecationWarning, and gives the column ``delta_coasting``.
     load : "balance", PowerLawLoad or callable, default "balance"

@@ -58,6 +58,7 @@ pub use motion::{
     GasCylinder, Machine, MachineDesigns, MotionColumns, MotionOutputs, PiecewisePolynomial,
     SteadyCurves, SteadyState, SteadyTables, UnitColumn, UnitField,
 };
+pub use motion::{frame_sweep, FrameOutputs, BEARING_ANGLES, FRAME_OUTPUTS};
 pub use motion::{torque_orders, TorqueOrders};
 pub use parallel::Parallelism;
 pub use series::{build_series, fourier_table, FourierSeries, SeriesKind};

@@ -9,9 +9,9 @@ use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray1};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::conversion::{empty_array, filled, OutputSize};
+use crate::conversion::{empty_array, filled, MotionDesigns, OutputSize};
 use crate::error::to_py_err;
-use crate::motion::MotionMachine;
+use crate::motion::{motion_err, MotionMachine};
 use crate::parallel::parallelism;
 
 /// A machine's units at their axial positions, their shaking forces (made on first use: a
@@ -167,4 +167,64 @@ pub(crate) fn machine_bearing_loads<'py>(
         .map_err(to_py_err)?;
     }
     Ok((horizontal, vertical))
+}
+
+/// machine_frame_sweep(machine, designs, outputs, omega, axial_position, throw_of_unit,
+/// throw_position, bearing_position, parallel_threshold=None) -> {output: array}: the frame's
+/// outputs (`core::FRAME_OUTPUTS`, those named in `outputs`) of every design (the motion
+/// sweep's design columns, `designs`) at its speed (an `omega` column, else `omega`, rad/s)
+/// held constant: free_force_1/2 (N) and free_moment_1/2 (N·m), the largest magnitude over a
+/// cycle of the first- and second-order shaking force and moment, and max_bearing_load (N)
+/// over the working cycle; units at `axial_position` (m), on the throws `throw_of_unit` at
+/// `throw_position` between the bearings at `bearing_position` (m).
+#[pyfunction]
+#[pyo3(signature = (
+    machine, designs, outputs, omega, axial_position, throw_of_unit, throw_position,
+    bearing_position, parallel_threshold=None
+))]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn machine_frame_sweep<'py>(
+    py: Python<'py>,
+    machine: &Bound<'py, MotionMachine>,
+    designs: &Bound<'py, PyDict>,
+    outputs: Vec<String>,
+    omega: Option<f64>,
+    axial_position: PyReadonlyArray1<'py, f64>,
+    throw_of_unit: Vec<usize>,
+    throw_position: PyReadonlyArray1<'py, f64>,
+    bearing_position: PyReadonlyArray1<'py, f64>,
+    parallel_threshold: Option<usize>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let machine = machine.get().machine();
+    let asked = core::FrameOutputs::from_names(&outputs).map_err(to_py_err)?;
+    let designs = MotionDesigns::extract(designs)?;
+    let columns = designs.columns()?;
+    let layout = core::BearingLayout::new(
+        &throw_of_unit,
+        throw_position.as_slice()?,
+        bearing_position.as_slice()?,
+    )
+    .map_err(to_py_err)?;
+    let axial_position = axial_position.as_slice()?;
+    let parallelism = parallelism(parallel_threshold);
+    let found = py
+        .detach(|| {
+            core::frame_sweep(
+                &machine,
+                omega,
+                &columns,
+                axial_position,
+                &layout,
+                asked,
+                parallelism,
+            )
+        })
+        .map_err(|error| motion_err(py, error))?;
+    let dict = PyDict::new(py);
+    for (name, column) in core::FRAME_OUTPUTS.iter().zip(found) {
+        if outputs.iter().any(|o| o == name) {
+            dict.set_item(*name, PyArray1::from_vec(py, column))?;
+        }
+    }
+    Ok(dict)
 }

@@ -47,7 +47,7 @@ mod _native {
     #[pymodule_export]
     use crate::extrema::energy_extrema;
     #[pymodule_export]
-    use crate::forces::machine_bearing_loads;
+    use crate::forces::{machine_bearing_loads, machine_frame_sweep};
     #[pymodule_export]
     use crate::harmonics::{
         fourier_coefficients, lambda_coefficients, paper_coefficient, surviving_harmonics,
@@ -86,6 +86,7 @@ mod _native {
         m.add("SWEEP_OUTPUTS", core::SweepRow::NAMES.to_vec())?;
         m.add("EXTREMA_FIELDS", core::EnergyExtrema::NAMES.to_vec())?;
         m.add("MOTION_SWEEP_OUTPUTS", core::MotionOutputs::NAMES.to_vec())?;
+        m.add("FRAME_OUTPUTS", core::FRAME_OUTPUTS.to_vec())?;
         Ok(())
     }
 }

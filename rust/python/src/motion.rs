@@ -22,7 +22,7 @@ use crate::parallel::parallelism;
 /// "massless" or "stalls") and `closest` (the δ nearest to it that the machine reaches, NaN
 /// where none is known); a bad design its `row` (from 0), with the attributes of its own
 /// error beside.
-fn motion_err(py: Python<'_>, error: core::MechanismError) -> PyErr {
+pub(crate) fn motion_err(py: Python<'_>, error: core::MechanismError) -> PyErr {
     let mut row = None;
     let mut inner = &error;
     if let core::MechanismError::InRow { row: at, error } = &error {

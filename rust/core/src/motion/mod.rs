@@ -21,6 +21,7 @@ mod cycle;
 mod drive;
 mod extrema;
 mod flywheel;
+mod frame_sweep;
 mod gas;
 mod orders;
 mod quadrature;
@@ -40,6 +41,7 @@ use square_law::SquareLaw;
 use tables::state_of;
 
 pub use columns::{MachineDesigns, MotionColumns, MotionOutputs, UnitColumn, UnitField};
+pub use frame_sweep::{frame_sweep, FrameOutputs, BEARING_ANGLES, FRAME_OUTPUTS};
 pub use gas::{net_piston_forces, GasCylinder, PiecewisePolynomial};
 pub use orders::{torque_orders, TorqueOrders};
 pub use sweep::motion_sweep;

@@ -63,6 +63,32 @@ fn gravity_effect(delta: f64, without: f64) -> f64 {
 /// and unit given to `Parallelism` (whose threshold counts points × cranks).
 const WORK_PER_DESIGN_AND_UNIT: usize = 4096;
 
+/// The base machine's own faults (not a row's) and the designs' columns: each as long as
+/// the designs, each unit column of a unit the machine has.
+pub(super) fn check_designs(base: &Machine<'_>, designs: &MachineDesigns<'_>) -> Result<()> {
+    Dynamics::new(base.units, base.g)?;
+    check_length("gas", base.units.len(), base.gas.len())?;
+    for gas in base.gas {
+        gas.validate(base.diagrams.len())?;
+    }
+    for (name, _, column) in designs.named() {
+        if let Some(column) = column {
+            check_length(name, designs.designs, column.len())?;
+        }
+    }
+    for column in &designs.units {
+        if column.unit >= base.units.len() {
+            return Err(MechanismError::InvalidChoice {
+                parameter: "designs",
+                value: format!("{}[{}]", column.field.name(), column.unit),
+                allowed: "a unit's field with the unit's index below the machine's number of units",
+            });
+        }
+        check_length(column.field.name(), designs.designs, column.values.len())?;
+    }
+    Ok(())
+}
+
 /// One design solved on its machine's tables: `steady_state` and `flywheel_inertia` of
 /// that machine, less what is not asked for; a stall is a row, not an error.
 fn solve(
@@ -194,27 +220,7 @@ pub fn motion_sweep(
             |d| d >= flywheel::SMALLEST_DELTA,
         )?;
     }
-    // The base machine's own faults are not a row's.
-    Dynamics::new(base.units, base.g)?;
-    check_length("gas", base.units.len(), base.gas.len())?;
-    for gas in base.gas {
-        gas.validate(base.diagrams.len())?;
-    }
-    for (name, _, column) in designs.named() {
-        if let Some(column) = column {
-            check_length(name, designs.designs, column.len())?;
-        }
-    }
-    for column in &designs.units {
-        if column.unit >= base.units.len() {
-            return Err(MechanismError::InvalidChoice {
-                parameter: "designs",
-                value: format!("{}[{}]", column.field.name(), column.unit),
-                allowed: "a unit's field with the unit's index below the machine's number of units",
-            });
-        }
-        check_length(column.field.name(), designs.designs, column.values.len())?;
-    }
+    check_designs(base, designs)?;
     let n = designs.designs;
     for row in 0..n {
         variant(base, omega, designs, row).map_err(|error| MechanismError::InRow {

@@ -16,13 +16,13 @@ use super::Machine;
 /// A design's machine, apart from the diagrams (scaled only when it is solved).
 #[derive(Debug, Clone)]
 pub(super) struct Variant {
-    units: Vec<PhysicalCylinder>,
+    pub(super) units: Vec<PhysicalCylinder>,
     gas: Vec<GasCylinder>,
     pub(super) shaft_inertia: f64,
     /// The mean speed ω_m (rad/s).
     pub(super) omega: f64,
-    g: f64,
-    pressure_scale: Option<f64>,
+    pub(super) g: f64,
+    pub(super) pressure_scale: Option<f64>,
 }
 
 /// Design `row` of `designs` applied to `base` (mean speed `omega`, rad/s, where there is

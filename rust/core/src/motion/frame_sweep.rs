@@ -1,0 +1,183 @@
+//! The frame's outputs of a motion sweep (docs/theory.md, "Forces on the frame", "Main-bearing
+//! loads"): for every design at its speed, held constant, the largest magnitude over a cycle
+//! of the first- and second-order shaking force and moment (forward + backward: the
+//! ellipse's largest radius) and the largest main-bearing load over the working cycle. Each
+//! row is the design's machine as the motion sweep's variant rule makes it, alone, so the
+//! columns are bit-identical for any thread count.
+
+use crate::error::{MechanismError, Result};
+use crate::forces::{bearing_loads, BearingLayout, ShakingForces, ORDER_COLUMNS};
+use crate::parallel::{map_indices, Parallelism};
+
+use super::columns::MachineDesigns;
+use super::gas::PiecewisePolynomial;
+use super::sweep::check_designs;
+use super::variant::variant;
+use super::Machine;
+
+/// The frame's outputs, in column order.
+pub const FRAME_OUTPUTS: [&str; 5] = [
+    "free_force_1",
+    "free_force_2",
+    "free_moment_1",
+    "free_moment_2",
+    "max_bearing_load",
+];
+
+/// Angles per working cycle at which a design's bearing loads are taken (every half degree
+/// of a two-stroke cycle, every degree of a four-stroke one's).
+pub const BEARING_ANGLES: usize = 720;
+
+/// Kernel evaluations per design and unit, for `Parallelism`'s threshold: the free forces
+/// alone are a few series terms; the bearing loads BEARING_ANGLES Newton–Euler solutions.
+const FREE_WORK: usize = 256;
+
+/// Which of [`FRAME_OUTPUTS`] to compute.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct FrameOutputs([bool; 5]);
+
+impl FrameOutputs {
+    /// The outputs named (each from [`FRAME_OUTPUTS`]).
+    pub fn from_names<S: AsRef<str>>(names: &[S]) -> Result<Self> {
+        let mut asked = [false; 5];
+        for name in names {
+            let Some(i) = FRAME_OUTPUTS.iter().position(|o| *o == name.as_ref()) else {
+                return Err(MechanismError::InvalidChoice {
+                    parameter: "outputs",
+                    value: name.as_ref().to_string(),
+                    allowed:
+                        "free_force_1, free_force_2, free_moment_1, free_moment_2, max_bearing_load",
+                });
+            };
+            asked[i] = true;
+        }
+        Ok(Self(asked))
+    }
+
+    fn free(self) -> bool {
+        self.0[..4].iter().any(|&a| a)
+    }
+
+    fn bearings(self) -> bool {
+        self.0[4]
+    }
+}
+
+/// The frame's outputs of every design of `designs` applied to `base` (mean speed `omega`,
+/// rad/s, where there is no omega column), each unit at `axial_position` (m) and its throw
+/// shared between the bearings of `bearings`: one column per [`FRAME_OUTPUTS`] name (N, N·m),
+/// empty where not asked. A bad value of design `row` is a [`MechanismError::InRow`].
+pub fn frame_sweep(
+    base: &Machine<'_>,
+    omega: Option<f64>,
+    designs: &MachineDesigns<'_>,
+    axial_position: &[f64],
+    bearings: &BearingLayout,
+    outputs: FrameOutputs,
+    parallelism: Parallelism,
+) -> Result<[Vec<f64>; 5]> {
+    check_designs(base, designs)?;
+    crate::error::check_length("axial_position", base.units.len(), axial_position.len())?;
+    let n = designs.designs;
+    let work = n
+        .saturating_mul(base.units.len())
+        .saturating_mul(if outputs.bearings() {
+            BEARING_ANGLES * 8
+        } else {
+            FREE_WORK
+        });
+    let cycle = base.strokes.cycle_angle();
+    let phi: Vec<f64> = (0..BEARING_ANGLES)
+        .map(|i| cycle * i as f64 / BEARING_ANGLES as f64)
+        .collect();
+    let rows = map_indices(n, work, parallelism, |row| {
+        design_row(
+            base,
+            omega,
+            designs,
+            row,
+            axial_position,
+            bearings,
+            outputs,
+            &phi,
+        )
+        .map_err(|error| MechanismError::InRow {
+            row,
+            error: Box::new(error),
+        })
+    });
+    let mut columns: [Vec<f64>; 5] = Default::default();
+    for (k, column) in columns.iter_mut().enumerate() {
+        if outputs.0[k] {
+            column.reserve(n);
+        }
+    }
+    for row in rows {
+        let row = row?;
+        for (k, column) in columns.iter_mut().enumerate() {
+            if outputs.0[k] {
+                column.push(row[k]);
+            }
+        }
+    }
+    Ok(columns)
+}
+
+#[allow(clippy::too_many_arguments)]
+fn design_row(
+    base: &Machine<'_>,
+    omega: Option<f64>,
+    designs: &MachineDesigns<'_>,
+    row: usize,
+    axial_position: &[f64],
+    bearings: &BearingLayout,
+    outputs: FrameOutputs,
+    phi: &[f64],
+) -> Result<[f64; 5]> {
+    let v = variant(base, omega, designs, row)?;
+    let mut found = [f64::NAN; 5];
+    if outputs.free() {
+        let table = ShakingForces::new(&v.units, axial_position)?
+            .orders(2)?
+            .at(v.omega, 2)?;
+        let column =
+            |name: &str| &table[ORDER_COLUMNS.iter().position(|c| *c == name).unwrap_or(0)];
+        let (forward, backward) = (column("force_forward"), column("force_backward"));
+        let (ahead, behind) = (column("moment_forward"), column("moment_backward"));
+        found[0] = forward[0] + backward[0];
+        found[1] = forward[1] + backward[1];
+        found[2] = ahead[0] + behind[0];
+        found[3] = ahead[1] + behind[1];
+    }
+    if outputs.bearings() {
+        let diagrams: Vec<PiecewisePolynomial> = match v.pressure_scale {
+            Some(factor) => base.diagrams.iter().map(|d| d.scaled(factor)).collect(),
+            None => base.diagrams.to_vec(),
+        };
+        let machine = Machine {
+            diagrams: &diagrams,
+            ..v.machine(base)
+        };
+        let gas = machine.piston_forces(phi)?;
+        let points = phi.len();
+        let (speed, rest) = (vec![v.omega; points], vec![0.0; points]);
+        let size = bearings.bearings() * points;
+        let (mut horizontal, mut vertical) = (vec![0.0; size], vec![0.0; size]);
+        bearing_loads(
+            &v.units,
+            bearings,
+            phi,
+            &speed,
+            &rest,
+            &gas,
+            v.g,
+            &mut horizontal,
+            &mut vertical,
+        )?;
+        found[4] = horizontal
+            .iter()
+            .zip(&vertical)
+            .fold(0.0_f64, |m, (h, v)| m.max(h.hypot(*v)));
+    }
+    Ok(found)
+}
