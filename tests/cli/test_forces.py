@@ -98,7 +98,7 @@ def test_the_table_of_a_preset_is_the_libraries_to_four_digits():
     # the units in the header, and the line on what counterweights can cancel, with the
     # forward first order of this machine
     assert "force_vertical [N]" in text and "moment_pitch [N·m]" in text
-    below = " ".join(text.split("\n\n")[-1].split())
+    below = next(" ".join(part.split()) for part in text.split("\n\n") if part.startswith("counterweights"))
     assert below.startswith("counterweights turn with the crank: they can cancel only the forward first order")
     assert f"{expected.loc[1, 'force_forward']:.4g} N" in below and "balance shafts" in below
 
@@ -206,3 +206,21 @@ def test_a_machine_without_a_speed_asks_for_rpm(tmp_path):
     line = refused("--machine", str(path))
     assert "no running speed" in line and "--rpm" in line
     assert printed_table(invoke("--machine", str(path), "--rpm", "3000", "--max-order", "2")).loc[1.0].eq(0).all()
+
+
+def test_the_main_bearings_are_summed_up_below_the_orders():
+    """The bearing lines are mc.bearing_loads' summary at the same speed (the physics is
+    tested in tests/forces): one line per bearing, and json's bearings records."""
+    machine = mc.presets.MACHINES["boxer-compressor"]
+    summary = mc.bearing_loads(machine).summary
+    table = CliRunner().invoke(cli.main, ["forces", "--machine", "boxer-compressor"])
+    assert table.exit_code == 0, table.output
+    lines = table.output.splitlines()
+    start = next(i for i, line in enumerate(lines) if line.startswith("main bearings"))
+    rows = lines[start + 2 : start + 2 + len(summary)]
+    for (index, row), line in zip(summary.iterrows(), rows, strict=True):
+        cells = line.split()
+        assert int(cells[0]) == index and float(cells[2]) == pytest.approx(row["max"], rel=1e-3)
+    as_json = CliRunner().invoke(cli.main, ["forces", "--machine", "boxer-compressor", "--format", "json"])
+    records = json.loads(as_json.output)["bearings"]
+    assert [r["max"] for r in records] == pytest.approx(list(summary["max"]), rel=1e-12)

@@ -3,6 +3,7 @@
 
 from __future__ import annotations
 
+import math
 import textwrap
 from typing import TYPE_CHECKING, Any
 
@@ -111,14 +112,23 @@ def forces_command(
 
 
 def bearing_summary(machine: Machine, result: ShakingForces) -> tuple[list[str], dict[str, Any]]:
-    """What the command adds about the main bearings: lines below the table to read, and
-    entries of json's metadata.
+    """What the command adds about the main bearings (:func:`~multicrank.bearing_loads` at
+    the same speed, steady or constant): lines below the table to read — per bearing its
+    position, largest load and where it acts, mean load and what gravity adds — and a
+    ``bearings`` entry of json's metadata (one record per bearing, the summary's columns)."""
+    from ..forces.bearings import bearing_loads
 
-    The place for the main-bearing loads' summary per bearing (largest and mean load, the
-    angle of the largest, what gravity adds), once the library computes them; until then it
-    adds nothing.
-    """
-    return [], {}
+    summary = bearing_loads(machine, result.rpm, steady=result.steady).summary
+    lines = ["", "main bearings (force received from the shaft over the working cycle, gravity included):"]
+    heading = ("bearing", "z [m]", "max [N]", "at φ [°]", "mean [N]", "gravity adds [N]")
+    lines.append(" ".join(f"{h:>{w}}" for h, w in zip(heading, (8, 9, 11, 9, 11, 17), strict=True)))
+    for index, row in summary.iterrows():
+        lines.append(
+            f"{index:>8} {row['position']:>9.4g} {row['max']:>11.4g} {math.degrees(row['phi_max']):>9.1f} "
+            f"{row['mean']:>11.4g} {row['gravity_adds']:>17.4g}"
+        )
+    records = [{"bearing": int(index), **{k: float(v) for k, v in row.items()}} for index, row in summary.iterrows()]
+    return lines, {"bearings": records, "bearing_units": dict(summary.attrs["units"])}
 
 
 def _header(machine: Machine, result: ShakingForces) -> list[str]:
