@@ -15,6 +15,7 @@ import pytest
 
 import multicrank as mc
 from multicrank._validation import renamed
+from multicrank.forces.shaking import COMPONENTS as CURVE_COLUMNS
 from multicrank.motion.variants import machine_columns
 from multicrank.report.settings import ReportSettings
 from multicrank.sweeps.designs import KNOWN_COLUMNS
@@ -64,6 +65,7 @@ def required() -> dict[str, set[str]]:
         "DesignGrid columns": set(KNOWN_COLUMNS),
         "MachineGrid columns": {as_entry(c) for c in machine_columns(machine)},
         "ShakingForces.orders columns": set(mc.ShakingForces.COLUMNS),
+        "ShakingForces.curves columns": set(CURVE_COLUMNS),
         "BearingLoads.summary columns": set(mc.bearing_loads(machine).summary.columns),
     }
 

@@ -59,8 +59,10 @@ def cross(a, b):
     return a[0] * b[1] - a[1] * b[0]
 
 
-def oracle_throw_loads(machine, phi, omega, epsilon, gas, g):
-    """Each unit's load on its throw (units, 2, n) [N] by Newton–Euler of its bodies."""
+def oracle_throw_loads(machine, phi, omega, epsilon, gas, g, walls=None):
+    """Each unit's load on its throw (units, 2, n) [N] by Newton–Euler of its bodies; where
+    ``walls`` is a list, each unit's wall moment about the shaft axis, −N·|OB|, is appended
+    to it (the wall takes −N n at the piston pin B)."""
     gravity = np.array([0.0, -g])
     loads = []
     for j, c in enumerate(machine.cylinders):
@@ -74,6 +76,7 @@ def oracle_throw_loads(machine, phi, omega, epsilon, gas, g):
         axis = np.array([math.cos(c.inclination), math.sin(c.inclination)])
         normal = np.array([-axis[1], axis[0]])
         out = np.zeros((2, phi.size))
+        moment = np.zeros(phi.size)
         for i in range(phi.size):
             B, P, G = positions["piston"][:, i], positions["pin"][:, i], positions["rod"][:, i]
             a_B, a_G, alpha = acceleration["piston"][:, i], acceleration["rod"][:, i], acceleration["angle"][0, i]
@@ -92,7 +95,9 @@ def oracle_throw_loads(machine, phi, omega, epsilon, gas, g):
             A[4, 3:5] = [-p_g[1], p_g[0]]  # p_g × Q
             A[4] = -A[4]
             rhs[4] = -c.rod_inertia * alpha
-            *_, Q_x, Q_y = np.linalg.solve(A, rhs)  # R and N solved too: not needed here
+            _, _, N, Q_x, Q_y = np.linalg.solve(A, rhs)
+            if walls is not None:
+                moment[i] = cross(B, -N * normal)
             a_P = acceleration["pin"][:, i]
             web = c.crank_cg_radius / c.crank_radius * a_P
             counterweight = -c.counterweight_radius / c.crank_radius * a_P
@@ -103,6 +108,8 @@ def oracle_throw_loads(machine, phi, omega, epsilon, gas, g):
                 - c.counterweight_mass * counterweight
             )
         loads.append(out)
+        if walls is not None:
+            walls.append(moment)
     return np.array(loads)
 
 
@@ -230,3 +237,28 @@ def test_bad_arguments_are_refused_by_name():
             mc.bearing_loads(machine, **kwargs)
     with pytest.raises(mc.MechanismError, match="machine"):
         mc.bearing_loads("inline-4")
+
+
+@pytest.mark.parametrize("name", ["slow-compressor", "inline-4", "genset-v12"])
+def test_the_frame_takes_the_walls_moments_about_the_shaft(name):
+    """ShakingForces.curves' torque_reaction: the moments of the pistons' side forces on the
+    walls, −Σ N·x_B, from this file's Newton–Euler solution."""
+    machine = MACHINES[name]
+    phi = np.linspace(0.0, machine.cycle, 25)[:-1]
+    walls: list[np.ndarray] = []
+    oracle_throw_loads(machine, phi, math.pi * machine.rpm / 30, 0.0, machine.piston_forces(phi), machine.g, walls)
+    expected = np.sum(walls, axis=0)
+    found = mc.shaking_forces(machine).curves(phi)["torque_reaction"].to_numpy()
+    np.testing.assert_allclose(found, expected, rtol=0, atol=1e-9 * np.abs(expected).max())
+
+
+def test_over_a_cycle_the_block_rolls_against_the_crank_with_the_mean_gas_torque():
+    """Without gravity and at a constant speed the mechanism's angular momentum about the
+    axis is periodic: the walls' moment averages what the shaft delivers, the mean gas
+    torque (an independent integral of Machine.gas_torque), and the frame takes minus that."""
+    machine = MACHINES["inline-4"].replace(g=0.0)
+    phi = machine.cycle * np.arange(2880) / 2880
+    torque = mc.shaking_forces(machine).curves(phi)["torque_reaction"].to_numpy()
+    mean_gas = float(np.mean(machine.gas_torque(phi)))
+    assert mean_gas > 0
+    assert np.mean(torque) == pytest.approx(-mean_gas, rel=1e-6)

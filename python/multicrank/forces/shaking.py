@@ -35,6 +35,7 @@ COMPONENTS: dict[str, str] = {
     "force_horizontal": "N",
     "moment_pitch": "N·m",
     "moment_yaw": "N·m",
+    "torque_reaction": "N·m",
 }
 
 
@@ -145,7 +146,12 @@ class ShakingForces:
         pandas.DataFrame
             Indexed by ``phi``, with ``force_vertical``, ``force_horizontal`` [N],
             ``moment_pitch`` and ``moment_yaw`` [N·m] there, −(S″ω² + S′ε) of each component
-            from the core's closed-form kernels (every order, not a truncated series).
+            from the core's closed-form kernels (every order, not a truncated series), and
+            ``torque_reaction`` [N·m]: the torque about the shaft axis that the frame receives
+            from the moving parts and its mounts take — the moments of the pistons' side
+            forces on the cylinder walls, with the gas forces, the rods' inertia and the
+            weights (positive in the crank's sense of rotation; over a cycle without gravity
+            it averages minus the mean gas torque: the block rolls against the crank).
         """
         import pandas as pd
 

@@ -43,7 +43,9 @@ pub use engine::{Engine, EngineUnit};
 pub use error::{MechanismError, Reach, Result};
 pub use exact::{evaluate, evaluate_one, Quantity};
 pub use extrema::{all_energy_extrema, energy_extrema, EnergyExtrema};
-pub use forces::{bearing_loads, BearingLayout, ShakingForces, ShakingOrders, ORDER_COLUMNS};
+pub use forces::{
+    bearing_loads, frame_torque, BearingLayout, ShakingForces, ShakingOrders, ORDER_COLUMNS,
+};
 pub use harmonics::{
     harmonic_survives, lambda_exact, lambda_paper, lambda_table, paper_coefficient,
     surviving_harmonics, PhaseSums, PAPER_MAX_J,

@@ -87,9 +87,12 @@ impl ShakingCache {
         order_columns(py, columns)
     }
 
+    /// The four components (component-major) and, fifth, the torque the frame receives
+    /// about the shaft axis (`core::frame_torque`, with `machine`'s gas forces and g).
     pub(crate) fn curves<'py>(
         &self,
         py: Python<'py>,
+        machine: &core::Machine<'_>,
         phi: &PyReadonlyArray1<'py, f64>,
         omega: &PyReadonlyArray1<'py, f64>,
         acceleration: &PyReadonlyArray1<'py, f64>,
@@ -97,9 +100,21 @@ impl ShakingCache {
         let (phi, omega, acceleration) =
             (phi.as_slice()?, omega.as_slice()?, acceleration.as_slice()?);
         let parallelism = parallelism(None);
-        filled(py, OutputSize::of("phi", phi.len()).times(4), |out| {
+        let points = phi.len();
+        filled(py, OutputSize::of("phi", points).times(5), |out| {
+            let (components, torque) = out.split_at_mut(4 * points);
             self.forces()?
-                .curves(phi, omega, acceleration, out, parallelism)
+                .curves(phi, omega, acceleration, components, parallelism)?;
+            let gas = machine.piston_forces(phi)?;
+            core::frame_torque(
+                machine.units,
+                phi,
+                omega,
+                acceleration,
+                &gas,
+                machine.g,
+                torque,
+            )
         })
     }
 }

@@ -556,9 +556,10 @@ impl MotionMachine {
             .orders_in_motion(py, cycle, &omega, &acceleration, max_harmonic)
     }
 
-    /// shaking_curves(phi, omega, acceleration) -> array (4 × phi, component-major): the
-    /// vertical and horizontal forces (N) and the pitch and yaw moments (N·m) at each φ (rad)
-    /// at the speed ω (rad/s) and acceleration ε (rad/s²) given there.
+    /// shaking_curves(phi, omega, acceleration) -> array (5 × phi, component-major): the
+    /// vertical and horizontal forces (N), the pitch and yaw moments (N·m) and the torque the
+    /// frame receives about the shaft axis (N·m) at each φ (rad) at the speed ω (rad/s) and
+    /// acceleration ε (rad/s²) given there.
     fn shaking_curves<'py>(
         &self,
         py: Python<'py>,
@@ -566,7 +567,8 @@ impl MotionMachine {
         omega: PyReadonlyArray1<'py, f64>,
         acceleration: PyReadonlyArray1<'py, f64>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        self.shaking.curves(py, &phi, &omega, &acceleration)
+        self.shaking
+            .curves(py, &self.machine(), &phi, &omega, &acceleration)
     }
 
     fn __repr__(&self) -> String {

@@ -91,16 +91,24 @@ impl BearingLayout {
     }
 }
 
-/// A unit's load on its throw (horizontal, vertical; N) at crank angle φ, speed ω (rad/s),
-/// acceleration ε (rad/s²), gas force `gas` (N, toward the shaft) and gravity g (m/s²).
-fn throw_load(
+/// What one unit does at crank angle φ, speed ω (rad/s), acceleration ε (rad/s²), gas force
+/// `gas` (N, toward the shaft) and gravity g (m/s²).
+struct UnitForces {
+    /// Its load on its throw (horizontal, vertical; N).
+    throw_load: [f64; 2],
+    /// The moment about the shaft axis (N·m, positive with the crank's rotation) of the force
+    /// the piston pushes the cylinder wall with: −N·x_B.
+    wall_moment: f64,
+}
+
+fn unit_forces(
     unit: &PhysicalCylinder,
     phi: f64,
     omega: f64,
     epsilon: f64,
     gas: f64,
     g: f64,
-) -> [f64; 2] {
+) -> UnitForces {
     let (r, l, z) = (unit.crank_radius, unit.rod_length, unit.rod_cg);
     let lambda = r / l;
     let psi = phi + unit.phase;
@@ -151,10 +159,14 @@ fn throw_load(
         -pin_on_rod[1] + crank_weight * weight[1] - turning * a_p[1],
     ];
     // Back to (horizontal, vertical): e = (cos γ, sin γ), n = (−sin γ, cos γ).
-    [
-        load[0] * cos_g - load[1] * sin_g,
-        load[0] * sin_g + load[1] * cos_g,
-    ]
+    UnitForces {
+        throw_load: [
+            load[0] * cos_g - load[1] * sin_g,
+            load[0] * sin_g + load[1] * cos_g,
+        ],
+        // The wall takes −N n at B = x_B e: moment x_B e × (−N n) = −N x_B.
+        wall_moment: -wall * (r * c + l * cos_beta),
+    }
 }
 
 /// The force every main bearing receives from the shaft (N), into `horizontal` and
@@ -200,7 +212,55 @@ pub fn bearing_loads(
     for (j, unit) in units.iter().enumerate() {
         let (a, share_a, b, share_b) = layout.shares[layout.throw_of_unit[j]];
         for i in 0..points {
-            let [h, v] = throw_load(
+            let [h, v] = unit_forces(
+                unit,
+                phi[i],
+                omega[i],
+                acceleration[i],
+                gas[j * points + i],
+                g,
+            )
+            .throw_load;
+            horizontal[a * points + i] += share_a * h;
+            vertical[a * points + i] += share_a * v;
+            horizontal[b * points + i] += share_b * h;
+            vertical[b * points + i] += share_b * v;
+        }
+    }
+    Ok(())
+}
+
+/// The torque about the shaft axis that the frame receives from the moving parts (N·m,
+/// positive in the crank's sense of rotation), at the crank angles `phi` (rad) with the speed
+/// `omega` (rad/s), acceleration `acceleration` (rad/s²) and gas forces `gas` (N, unit-major,
+/// units × points) there, under gravity `g` (m/s²), into `out`: the moments of the pistons'
+/// side forces on the cylinder walls, −Σ_j N_j·x_B,j (the main bearings' forces pass through
+/// the axis, the gas force on each cylinder head along its axis). The mounts take it; over a
+/// steady cycle without gravity it averages −(the mean gas torque): the block rolls against
+/// the crank.
+#[allow(clippy::too_many_arguments)]
+pub fn frame_torque(
+    units: &[PhysicalCylinder],
+    phi: &[f64],
+    omega: &[f64],
+    acceleration: &[f64],
+    gas: &[f64],
+    g: f64,
+    out: &mut [f64],
+) -> Result<()> {
+    let points = phi.len();
+    check_length("omega", points, omega.len())?;
+    check_length("acceleration", points, acceleration.len())?;
+    check_length("gas", units.len() * points, gas.len())?;
+    check_length("out", points, out.len())?;
+    check("g", g, "any finite real", |_| true)?;
+    for unit in units {
+        unit.validate()?;
+    }
+    out.fill(0.0);
+    for (j, unit) in units.iter().enumerate() {
+        for i in 0..points {
+            let forces = unit_forces(
                 unit,
                 phi[i],
                 omega[i],
@@ -208,10 +268,7 @@ pub fn bearing_loads(
                 gas[j * points + i],
                 g,
             );
-            horizontal[a * points + i] += share_a * h;
-            vertical[a * points + i] += share_a * v;
-            horizontal[b * points + i] += share_b * h;
-            vertical[b * points + i] += share_b * v;
+            out[i] += forces.wall_moment;
         }
     }
     Ok(())

@@ -15,5 +15,5 @@
 mod bearings;
 mod shaking;
 
-pub use bearings::{bearing_loads, BearingLayout};
+pub use bearings::{bearing_loads, frame_torque, BearingLayout};
 pub use shaking::{ShakingForces, ShakingOrders, ORDER_COLUMNS};

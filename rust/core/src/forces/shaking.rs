@@ -317,7 +317,11 @@ impl ShakingOrders {
                 let amplitude = a[k].hypot(b[k]);
                 columns[2 * k].push(amplitude);
                 // An order that is exactly 0 has no phase: 0, not atan2's π of a −0.
-                columns[2 * k + 1].push(if amplitude == 0.0 { 0.0 } else { b[k].atan2(a[k]) });
+                columns[2 * k + 1].push(if amplitude == 0.0 {
+                    0.0
+                } else {
+                    b[k].atan2(a[k])
+                });
             }
             // (h, v) = (1, 0) for the forces, (3, 2) for the moments: A = a_h + i a_v,
             // B = b_h + i b_v; forward |A − iB|/2, backward |A + iB|/2.
