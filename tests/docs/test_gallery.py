@@ -12,6 +12,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+import multicrank as mc
+
 GALLERY = Path(__file__).resolve().parents[2] / "docs" / "gallery"
 SCRIPTS = sorted(path.name for path in GALLERY.glob("plot_*.py"))
 
@@ -49,7 +51,7 @@ def run(name: str) -> dict:
 
 
 def test_the_gallery_has_its_examples():
-    assert len(SCRIPTS) == 10
+    assert len(SCRIPTS) == 11
     for name in SCRIPTS:
         text = (GALLERY / name).read_text(encoding="utf-8")
         assert text.startswith('"""\n'), f"{name}: the module docstring (title and summary) comes first"
@@ -232,3 +234,25 @@ def test_inline_three_rocks_and_a_counterweight_takes_the_forward_part():
     assert after.loc[2, "moment_pitch"] > after.loc[1, "moment_pitch"] / 2
     # the curves: the largest pitching moment over a revolution (every order at once)
     assert round(space["curves"]["moment_pitch"].abs().max()) == 578
+
+
+def test_the_compressors_least_delta_counterweight_loads_its_bearings():
+    space = run("plot_11_bearing_loads.py")
+    built, least_free, best = space["as_built"], space["least_free"], space["best_delta"]
+    swept = space["swept"]
+    # "about seven times the built one, which is what mc.optimize_counterweights recommends"
+    assert 6.5 < space["ratio"] < 7.0
+    optimum = mc.optimize_counterweights(space["compressor"], seed=1)
+    moment = optimum.counterweights[0] / space["cylinder"].counterweight_radius
+    assert abs(moment - best["counterweight_mass"]) <= 2.5  # within the grid's step
+    # "the free first-order force is least well before that"
+    assert least_free["counterweight_mass"] < 0.75 * best["counterweight_mass"]
+    # "the largest bearing load grows with every kilogram"
+    assert (np.diff(swept["max_bearing_load"]) > 0).all()
+    assert best["max_bearing_load"] > built["max_bearing_load"]
+    # the rows are mc.bearing_loads' and mc.shaking_forces' of the machine as built
+    summary = mc.bearing_loads(space["compressor"]).summary
+    assert math.isclose(built["max_bearing_load"], summary["max"].max(), rel_tol=1e-9)
+    first = mc.shaking_forces(space["compressor"]).orders.loc[1]
+    free = first["force_forward"] + first["force_backward"]
+    assert math.isclose(built["free_force_1"], free, rel_tol=1e-9)
