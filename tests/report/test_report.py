@@ -65,6 +65,7 @@ def test_report_files(report):
         "motion_speed_range",
         "motion_gravity_map",
         "motion_orders",
+        "forces_bearing_loads",
     ]:
         assert f"{stem}.png" in names and f"{stem}.csv" in names
         assert (report / f"{stem}.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
@@ -77,7 +78,7 @@ def test_report_files(report):
     ]:
         assert f"{table}.csv" in names
     page = (report / "index.html").read_text(encoding="utf-8")
-    assert page.count("data:image/png;base64,") == 15  # self-contained
+    assert page.count("data:image/png;base64,") == 16  # self-contained
     for heading in [
         "The machine",
         "Gravity significance",

@@ -1,8 +1,9 @@
 """The report's "What to change" part, between the motion part and the paper's analysis: for
 the machine, the best firing orders its crank allows (:func:`multicrank.firing_orders`) next
 to its own, and the counterweights that make δ with gravity smallest
-(:func:`multicrank.optimize_counterweights`) against those it has, as two tables and their
-HTML section."""
+(:func:`multicrank.optimize_counterweights`) against those it has, with what they do to the
+first-order shaking force and moment and to the largest main-bearing load, as tables and
+their HTML section."""
 
 from __future__ import annotations
 
@@ -23,6 +24,9 @@ __all__ = [
     "FIRING_ROWS",
     "NEGLIGIBLE",
     "DesignResults",
+    "counterweight_forces",
+    "counterweight_forces_sentence",
+    "counterweight_forces_table",
     "counterweight_table",
     "design_html",
     "design_results",
@@ -42,13 +46,15 @@ class DesignResults:
     """What the section shows: ``firing``, :func:`~multicrank.firing_orders`'s whole table
     for the machine; ``own``, the row of it that runs as the machine as given (its
     ``as_given``); ``optimum``, :func:`~multicrank.optimize_counterweights`'s
-    result (a ``CounterweightOptimum``)."""
+    result (a ``CounterweightOptimum``); ``forces``, :func:`counterweight_forces` of the
+    optimum (None: made from ``optimum`` when asked)."""
 
     machine: Machine
     rpm: float
     firing: pd.DataFrame
     own: int | None
     optimum: Any
+    forces: pd.DataFrame | None = None
 
 
 def design_results(settings: ReportSettings) -> DesignResults:
@@ -60,13 +66,49 @@ def design_results(settings: ReportSettings) -> DesignResults:
     machine = settings.machine
     rpm = running_speed(machine)
     firing = firing_orders(machine, rpm=rpm)
+    optimum = optimize_counterweights(machine, rpm=rpm)
     return DesignResults(
         machine=machine,
         rpm=rpm,
         firing=firing,
         own=next((int(row) for row in np.flatnonzero(firing["as_given"].to_numpy())), None),
-        optimum=optimize_counterweights(machine, rpm=rpm),
+        optimum=optimum,
+        forces=counterweight_forces(optimum, rpm),
     )
+
+
+def counterweight_forces(optimum: Any, rpm: float) -> pd.DataFrame:
+    """What a counterweight optimum does to the frame and the bearings at ``rpm`` [1/min]
+    (constant speed): one row for the machine as given and one for the optimum's machine
+    (``CounterweightOptimum.machine_before`` and ``.machine``), with ``design`` ("as given",
+    "optimum"), ``first_order_force`` [N] and ``first_order_moment`` [N·m] (the largest
+    magnitude the first order's force and moment about z = 0 reach over a cycle: forward +
+    backward of :func:`~multicrank.shaking_forces`), ``max_bearing_load`` [N] (the largest load
+    of any main bearing over a working cycle, gravity included: :func:`~multicrank.bearing_loads`)
+    and ``bearing``, the bearing that takes it."""
+    from ..forces.bearings import bearing_loads
+    from ..forces.shaking import shaking_forces
+
+    rows = []
+    for design, machine in (("as given", optimum.machine_before), ("optimum", optimum.machine)):
+        first = shaking_forces(machine, rpm, max_order=1).orders.loc[1.0]
+        largest = bearing_loads(machine, rpm).magnitude.max(axis=1)
+        rows.append(
+            {
+                "design": design,
+                "first_order_force": float(first["force_forward"] + first["force_backward"]),
+                "first_order_moment": float(first["moment_forward"] + first["moment_backward"]),
+                "max_bearing_load": float(largest.max()),
+                "bearing": int(np.argmax(largest)),
+            }
+        )
+    return pd.DataFrame(rows)
+
+
+def counterweight_forces_table(results: DesignResults) -> pd.DataFrame:
+    """The section's before/after table of the counterweight optimum's forces
+    (:func:`counterweight_forces`)."""
+    return results.forces if results.forces is not None else counterweight_forces(results.optimum, results.rpm)
 
 
 def firing_table(results: DesignResults) -> pd.DataFrame:
@@ -222,11 +264,85 @@ def _counterweight_html(results: DesignResults) -> str:
 <p>The first moment m·r of each throw's counterweight (kg·m, opposite the crank pin) that makes δ with gravity
 at {optimum.rpm:g} rpm smallest, the rest of the machine as given (<code>mc.optimize_counterweights</code>:
 differential evolution over the library's default bounds, then polished). A counterweight also balances the
-rotating masses: check the shaking forces and bearing loads before changing it for δ.{verdict}</p>
+rotating masses: it changes the shaking forces and the bearing loads, which δ does not see (below).{verdict}</p>
 <table><tr><th>throw</th><th>cylinders</th><th>pin angle</th><th>as given [kg·m]</th><th>optimum [kg·m]</th>
 <th>change [kg·m]</th></tr>{body}</table>
 <table>{summary_body}</table>
-{_near_stall_legend(optimum.delta_before, optimum.delta)}"""
+{_near_stall_legend(optimum.delta_before, optimum.delta)}
+{_counterweight_forces_html(results)}"""
+
+
+#: Relative changes below this are "unchanged" in the before/after of the counterweight optimum.
+UNCHANGED = 1e-9
+
+#: The before/after rows: the column of :func:`counterweight_forces`, its name and unit.
+_FORCE_ROWS = {
+    "first_order_force": ("first-order force on the frame", "N"),
+    "first_order_moment": ("first-order moment on the frame about z = 0", "N·m"),
+    "max_bearing_load": ("largest main-bearing load", "N"),
+}
+
+
+def _change(before: float, after: float) -> str:
+    """The change from ``before`` to ``after`` in %, or what it is where a % says nothing."""
+    if abs(after - before) <= UNCHANGED * max(abs(before), abs(after)):
+        return "unchanged"
+    if before == 0:
+        return "from none"
+    return f"{100 * (after / before - 1):+.3g} %"
+
+
+def counterweight_forces_sentence(forces: pd.DataFrame) -> str:
+    """Whether the counterweight optimum makes the first-order force and moment and the
+    largest bearing load worse, said plainly, from :func:`counterweight_forces`'s table."""
+    from .forces import _listed, number
+
+    before, after = forces.iloc[0], forces.iloc[1]
+    worse: list[str] = []
+    better: list[str] = []
+    takers: list[str] = []
+    for column, (name, unit) in _FORCE_ROWS.items():
+        old, new = float(before[column]), float(after[column])
+        change = _change(old, new)
+        if change == "unchanged":
+            continue
+        said = f"the {name} ({number(old)} → {number(new)} {unit}" + (f", {change})" if old else ")")
+        (worse if new > old else better).append(said)
+        if new > old:
+            takers.append("the bearings" if column == "max_bearing_load" else "the frame's mounts")
+    if not worse and not better:
+        return "The optimum leaves the first-order force and moment and the largest bearing load as they are."
+    text = ""
+    if worse:
+        them = "it" if len(worse) == 1 else "them"
+        text = (
+            f"<b>The optimum for δ makes {_listed(worse)} larger</b>: δ does not see {them}; check that "
+            f"{_listed(list(dict.fromkeys(takers)))} can take {them} before fitting these counterweights for δ."
+        )
+    if better:
+        text += (" It makes " if worse else "The optimum makes ") + _listed(better) + " smaller."
+    return text
+
+
+def _counterweight_forces_html(results: DesignResults) -> str:
+    """The first-order force and moment and the largest bearing load, as given and with the
+    optimum counterweights, and the sentence on them."""
+    from .forces import number
+
+    forces = counterweight_forces_table(results)
+    before, after = forces.iloc[0], forces.iloc[1]
+    body = "".join(
+        f"<tr><th>{name} [{unit}]</th><td>{number(before[column])}</td><td>{number(after[column])}</td>"
+        f"<td>{_change(float(before[column]), float(after[column]))}</td></tr>"
+        for column, (name, unit) in _FORCE_ROWS.items()
+    )
+    return f"""
+<p>What the optimum counterweights do at {results.rpm:g} rpm (constant speed) to the frame and the bearings: the
+largest magnitude the first order's shaking force and moment reach over a cycle (forward + backward,
+<code>mc.shaking_forces</code>) and the largest load of any main bearing over a working cycle, gravity included
+(bearing {int(before["bearing"])} as given, bearing {int(after["bearing"])} with the optimum;
+<code>mc.bearing_loads</code>). {counterweight_forces_sentence(forces)}</p>
+<table><tr><th></th><th>as given</th><th>optimum</th><th>change</th></tr>{body}</table>"""
 
 
 def design_html(results: DesignResults) -> str:
@@ -238,5 +354,5 @@ camshaft; two-stroke: the crank's throws rearranged) and other counterweights, e
 the machine's speed.</p>
 {_firing_html(results)}
 {_counterweight_html(results)}
-<p class="note">Data: design_firing_orders.csv, design_counterweights.csv</p>
+<p class="note">Data: design_firing_orders.csv, design_counterweights.csv, design_counterweight_forces.csv</p>
 """

@@ -1,7 +1,8 @@
 """The report as a directory: ``index.html`` (its figures embedded, so that the page stands
 alone), every figure as PNG and every table as CSV beside it, each file written whole or not
-at all. The motion part (:mod:`.motion`) comes first, then what to change (:mod:`.design`), then
-the gravity part (:mod:`.gravity`)."""
+at all. The motion part (:mod:`.motion`) comes first, then the forces on the frame and the
+bearings (:mod:`.forces`), then what to change (:mod:`.design`), then the gravity part
+(:mod:`.gravity`)."""
 
 from __future__ import annotations
 
@@ -16,7 +17,8 @@ import pandas as pd
 from .._files import TEMPORARY_SUFFIX, atomic_directory, write_atomically
 from .._native import MechanismError
 from .._optional import require
-from .design import counterweight_table, design_html, design_results, firing_table
+from .design import counterweight_forces_table, counterweight_table, design_html, design_results, firing_table
+from .forces import bearing_polar_figure, bearing_summary_table, forces_html, forces_results, orders_table
 from .gravity import (
     curves_figure,
     gravity_html,
@@ -152,6 +154,7 @@ def _write_files(out: Path, settings: ReportSettings, progress: bool) -> Path:
     sections: list[str] = []
     steps = [
         "motion",
+        "forces",
         "design",
         "curves",
         "spectra",
@@ -178,10 +181,18 @@ def _write_files(out: Path, settings: ReportSettings, progress: bool) -> Path:
             save("motion_speed_range", *speed_range_figure(motion))
             save("motion_gravity_map", *gravity_map_figure(motion, machine, settings.threshold))
             save("motion_orders", *orders_figure(motion))
+        elif step == "forces":
+            forces = forces_results(settings)
+            write_atomically(out / "forces_orders.csv", orders_table(forces).to_csv(index=False))
+            save("forces_bearing_loads", *bearing_polar_figure(forces))
+            write_atomically(out / "forces_bearing_summary.csv", bearing_summary_table(forces).to_csv(index=False))
         elif step == "design":
             design = design_results(settings)
             write_atomically(out / "design_firing_orders.csv", firing_table(design).to_csv(index=False))
             write_atomically(out / "design_counterweights.csv", counterweight_table(design).to_csv(index=False))
+            write_atomically(
+                out / "design_counterweight_forces.csv", counterweight_forces_table(design).to_csv(index=False)
+            )
         elif step == "curves":
             for strokes in (2, 4):
                 for quantity in ("energy", "force"):
@@ -206,6 +217,7 @@ def _write_files(out: Path, settings: ReportSettings, progress: bool) -> Path:
             save("layouts", figure, layouts)
 
     sections.append(motion_html(motion, machine, figures, settings.threshold))
+    sections.append(forces_html(forces, figures))
     sections.append(design_html(design))
     sections.append(gravity_html(settings, figures, tables, paper, layouts))
     from .._native import __version__
