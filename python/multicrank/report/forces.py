@@ -276,7 +276,8 @@ def bearing_polar_figure(results: ForcesResults) -> tuple[Figure, pd.DataFrame]:
     columns = min(count, POLAR_COLUMNS)
     rows = math.ceil(count / columns)
     factor, unit = _scale(float(max(loads.magnitude.max(), np.hypot(horizontal0, vertical0).max())))
-    fig, axes = plt.subplots(rows, columns, figsize=(2.9 * columns + 0.4, 3.0 * rows + 0.6), squeeze=False,
+    side = {2: 3.6, 3: 3.2}.get(columns, 2.9)  # a panel's width [in]: larger where there are few
+    fig, axes = plt.subplots(rows, columns, figsize=(side * columns + 0.4, (side + 0.1) * rows + 0.6), squeeze=False,
                              layout="constrained")  # fmt: skip
     ticks = FuncFormatter(lambda value, _: f"{value / factor:g}")
     for bearing, ax in enumerate(axes.flat):
