@@ -62,6 +62,7 @@ KINDS: dict[str, set[str]] = {
     "real": {"float", "negative", "nested", "huge"},  # finite reals of any shape (2**63 is a uint64)
     "ratio": {"float", "nested"},  # 0 <= λ < 1
     "angles": {"float", "negative", "nonfinite", "nested", "huge"},  # φ: NaN gives NaN
+    "angles_or_none": {"none", "float", "negative", "nonfinite", "nested", "huge"},
     "count": set(),  # an integer >= some minimum
     "option": set(),  # one of a few strings
     "phases": {"none"},
@@ -426,6 +427,25 @@ REGISTRY.update(
                 "gravity": (True, "flag"),
             },
         ),
+        "shaking_forces": (
+            mc.shaking_forces,
+            {
+                "machine": (MACHINE, "machine"),
+                "rpm": (600.0, "positive_or_none"),
+                "max_order": (6, "count"),
+                "steady": (False, "flag"),
+            },
+        ),
+        "bearing_loads": (
+            mc.bearing_loads,
+            {
+                "machine": (MACHINE, "machine"),
+                "rpm": (600.0, "positive_or_none"),
+                "phi": (None, "angles_or_none"),
+                "steady": (False, "flag"),
+                "gravity": (True, "flag"),
+            },
+        ),
         "to_opentorsion": (
             mc.to_opentorsion,
             {
@@ -501,8 +521,10 @@ CASES = [(name, parameter) for name, (_, params) in REGISTRY.items() for paramet
 
 # Public callables not in the registry, and why.
 OWNED_ELSEWHERE = {
-    # results, made by steady_state, flywheel_inertia, simulate and optimize_counterweights
-    # from checked input
+    # results, made by steady_state, flywheel_inertia, simulate, optimize_counterweights,
+    # shaking_forces and bearing_loads from checked input
+    "BearingLoads",
+    "ShakingForces",
     "CounterweightOptimum",
     "FlywheelInertia",
     "SteadyState",
