@@ -309,7 +309,9 @@ def optimize_counterweights(
     stalls scores +∞. Counterweights act only through their resultant Σ m_p r_p e^{iθ} over
     the throws (θ the pin angles): of all those that run alike, the one nearest the machine
     as given (least squares) is returned. They are chosen for δ alone: the shaking forces
-    and main-bearing loads, which usually set counterweights, are not looked at.
+    and main-bearing loads, which usually set counterweights, are not weighed here — judge
+    the optimum by :func:`~multicrank.shaking_forces` and :func:`~multicrank.bearing_loads`
+    of ``optimum.machine`` (the report's "What to change" shows both before and after).
 
     Examples
     --------
