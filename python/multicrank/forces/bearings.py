@@ -17,9 +17,10 @@ from typing import Any
 import numpy as np
 
 from .._native import MechanismError, machine_bearing_loads
-from .._validation import as_flag, as_instance, as_omega, as_real_array, contiguous, rpm_from_omega
+from .._validation import as_flag, as_instance, as_real_array, contiguous, rpm_from_omega
 from ..machine.machine import Machine
 from ..machine.native import motion_machine
+from .shaking import speed_of
 
 __all__ = ["BearingLoads", "bearing_loads"]
 
@@ -241,11 +242,7 @@ def bearing_loads(
     (3, 720)
     """
     machine = as_instance(machine, Machine, "machine")
-    if rpm is None:
-        if machine.rpm is None:
-            raise MechanismError(f"machine {machine.name!r} has no rpm: give rpm, the speed [1/min]")
-        rpm = machine.rpm
-    omega = as_omega(rpm, "rpm")
+    omega = speed_of(machine, rpm)
     steady, gravity = as_flag(steady, "steady"), as_flag(gravity, "gravity")
     if steady and phi is not None:
         raise MechanismError("phi: in steady running the loads are on the steady state's own angles; give None")

@@ -175,6 +175,16 @@ class ShakingForces:
         return frame
 
 
+def speed_of(machine: Machine, rpm: Any) -> float:
+    """ω [rad/s] of the speed ``rpm`` [1/min] asked of the frame's forces, default the
+    machine's own ``rpm`` (refused by name where it has none)."""
+    if rpm is None:
+        if machine.rpm is None:
+            raise MechanismError(f"machine {machine.name!r} has no rpm: give rpm, the speed [1/min]")
+        rpm = machine.rpm
+    return as_omega(rpm, "rpm")
+
+
 def shaking_forces(machine: Machine, rpm: Any = None, *, max_order: Any = 12, steady: Any = False) -> ShakingForces:
     """The forces and moments the machine's moving parts shake its frame with, by order.
 
@@ -226,11 +236,7 @@ def shaking_forces(machine: Machine, rpm: Any = None, *, max_order: Any = 12, st
     2.0            315.9           315.9
     """
     machine = as_instance(machine, Machine, "machine")
-    if rpm is None:
-        if machine.rpm is None:
-            raise MechanismError(f"machine {machine.name!r} has no rpm: give rpm, the speed [1/min]")
-        rpm = machine.rpm
-    omega = as_omega(rpm, "rpm")
+    omega = speed_of(machine, rpm)
     steady = as_flag(steady, "steady")
     highest = as_count(max_order, "max_order", minimum=1, maximum=STEADY_SAMPLES // 4 if steady else 2048)
     native = motion_machine(machine)
