@@ -128,6 +128,9 @@ fn order_columns(py: Python<'_>, columns: Vec<Vec<f64>>) -> PyResult<Bound<'_, P
     Ok(dict)
 }
 
+/// Two arrays: a bearing load's horizontal and vertical components.
+type ArrayPair<'py> = (Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>);
+
 /// machine_bearing_loads(machine, phi, omega, acceleration, throw_of_unit, throw_position,
 /// bearing_position, gravity=True) -> (horizontal, vertical): the force every main bearing
 /// (at `bearing_position`, m, increasing) receives from the shaft (N), bearing-major
@@ -151,7 +154,7 @@ pub(crate) fn machine_bearing_loads<'py>(
     throw_position: PyReadonlyArray1<'py, f64>,
     bearing_position: PyReadonlyArray1<'py, f64>,
     gravity: bool,
-) -> PyResult<(Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>)> {
+) -> PyResult<ArrayPair<'py>> {
     let machine = machine.get().machine_with(gravity);
     let (phi, omega, acceleration) = (phi.as_slice()?, omega.as_slice()?, acceleration.as_slice()?);
     let layout = core::BearingLayout::new(
