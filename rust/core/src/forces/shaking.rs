@@ -53,7 +53,7 @@ pub struct ShakingForces {
     engines: [Engine; 4],
     /// Per component, Σ_j (|U1_j| + |U2_j|) of its engine: no unit's S′ has a harmonic
     /// larger than a small multiple of its share, so what the sum leaves below
-    /// [`RESOLUTION`] of it is rounding.
+    /// `RESOLUTION` of it is rounding.
     scales: [f64; 4],
 }
 
@@ -193,7 +193,7 @@ impl ShakingForces {
     /// N uniform angles jΦ/N, j = 0 … N − 1: the components there from the closed-form
     /// kernels ([`ShakingForces::curves`]), then their discrete Fourier transform (N >
     /// 2·`max_harmonic`). The coefficients are in N and N·m ([`ShakingOrders::table`] with
-    /// scale 1); an amplitude below [`RESOLUTION`]·N times the larger of the component's
+    /// scale 1); an amplitude below `RESOLUTION`·N times the larger of the component's
     /// largest value and its units' own forces (scale·max(ω² + |ε|)) is rounding, exactly 0.
     pub fn orders_in_motion(
         &self,
