@@ -82,11 +82,12 @@ def _gas_kinds(machine: Machine) -> list[int | None]:
 
 
 def _kinds(machine: Machine) -> list[int]:
-    """Each cylinder's kind: cylinders equal but for their phase share one."""
+    """Each cylinder's kind: cylinders equal but for their phase share one (and but for their
+    place along the shaft, which changes no torque, so not δ either)."""
     known: list[Any] = []
     kinds = []
     for cylinder in machine.cylinders:
-        template = cylinder.replace(phase=0.0)
+        template = cylinder.replace(phase=0.0, axial_position=0.0)
         kinds.append(next((i for i, other in enumerate(known) if other == template), len(known)))
         if kinds[-1] == len(known):
             known.append(template)
@@ -208,7 +209,7 @@ class _Signatures:
         terms: dict[Any, np.ndarray] = {}
         coefficients, parts = [], np.zeros(2)
         for cylinder in machine.cylinders:
-            template = cylinder.replace(phase=0.0)
+            template = cylinder.replace(phase=0.0, axial_position=0.0)  # its place moves no torque
             if template not in terms:
                 alone = machine.replace(cylinders=[template])
                 terms[template] = np.stack([alone.reduced_inertia(phi)[0], alone.gravity_torque(phi)])
