@@ -10,7 +10,7 @@
 use std::f64::consts::{FRAC_PI_2, PI};
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use multicrank_core::{bearing_loads, BearingLayout, PhysicalCylinder, ShakingForces};
+use multicrank_core::{bearing_loads, BearingLayout, Parallelism, PhysicalCylinder, ShakingForces};
 
 const ANGLES: usize = 720;
 
@@ -88,6 +88,7 @@ fn forces(c: &mut Criterion) {
                 9.81,
                 &mut horizontal,
                 &mut vertical,
+                Parallelism::SERIAL,
             )
             .expect("valid input")
         })

@@ -18,7 +18,8 @@ plain numpy in the same run.
   from the geometry by spectral derivatives, the lever rule.
 
 - ``mc.motion_sweep(inline-4, 50 000 designs, outputs=free_force_1/2, free_moment_1/2)`` in
-  designs per second on all cores (the issue's figure: ≥ 10⁵ designs/s on 2 cores).
+  designs per second on all cores (the issue's figure: ≥ 10⁵ designs/s on 2 cores), and
+  ``bearing_loads`` again on all cores (its units solved in parallel).
 
 Each figure is the best of --repeat runs (benches/python/timing.py). Runs in child processes
 with RAYON_NUM_THREADS=1 (the sweep: all cores). Refuses a debug build of the extension.
@@ -166,7 +167,10 @@ def sweep_rate(repeat: int) -> list[dict]:
     grid = mc.MachineGrid(machine, rpm=np.linspace(1000.0, 6000.0, 200), counterweight_mass=np.linspace(0.5, 2.0, 250))
     outputs = ["free_force_1", "free_force_2", "free_moment_1", "free_moment_2"]
     seconds = best_time(lambda: mc.motion_sweep(machine, grid, outputs=outputs, progress=False), max(1, repeat // 3))
-    return [{"designs": len(grid), "seconds": seconds}]
+    v12 = mc.presets.MACHINES["genset-v12"]
+    phi = v12.cycle * np.arange(720) / 720
+    bearings = best_time(lambda: mc.bearing_loads(v12, phi=phi, gravity=False), repeat)
+    return [{"designs": len(grid), "seconds": seconds, "bearings": bearings}]
 
 
 def main() -> None:
@@ -193,6 +197,8 @@ def main() -> None:
     rate = swept["designs"] / swept["seconds"]
     label = f"motion_sweep, 4 free outputs, {swept['designs']} designs, {cores} cores"
     print(f"| {label} | {rate:,.0f} designs/s | – | – | – |")
+    label = f"bearing_loads, 720 angles, gravity=False, {cores} cores (the units in parallel)"
+    print(f"| {label} | {swept['bearings'] * 1e6:.1f} µs | – | – | – |")
     if not args.markdown:
         print("\none core (RAYON_NUM_THREADS=1) but the sweep; best of --repeat, each run long enough to time")
 

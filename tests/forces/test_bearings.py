@@ -262,3 +262,17 @@ def test_over_a_cycle_the_block_rolls_against_the_crank_with_the_mean_gas_torque
     mean_gas = float(np.mean(machine.gas_torque(phi)))
     assert mean_gas > 0
     assert np.mean(torque) == pytest.approx(-mean_gas, rel=1e-6)
+
+
+def test_the_loads_do_not_depend_on_the_thread_count():
+    machine = MACHINES["genset-v12"]
+    before = mc.get_parallel_threshold()
+    try:
+        mc.set_parallel_threshold(2**62)
+        serial = mc.bearing_loads(machine)
+        mc.set_parallel_threshold(1)
+        parallel = mc.bearing_loads(machine)
+    finally:
+        mc.set_parallel_threshold(before)
+    np.testing.assert_array_equal(serial.horizontal, parallel.horizontal)
+    np.testing.assert_array_equal(serial.vertical, parallel.vertical)

@@ -163,6 +163,7 @@ pub(crate) fn machine_bearing_loads<'py>(
         bearing_position.as_slice()?,
     )
     .map_err(to_py_err)?;
+    let parallelism = parallelism(None);
     let size = OutputSize::of("phi", phi.len()).times(layout.bearings());
     let (horizontal, vertical) = (empty_array(py, size)?, empty_array(py, size)?);
     {
@@ -180,6 +181,7 @@ pub(crate) fn machine_bearing_loads<'py>(
                 machine.g,
                 h,
                 v,
+                parallelism,
             )
         })
         .map_err(to_py_err)?;

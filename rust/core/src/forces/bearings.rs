@@ -22,6 +22,7 @@
 
 use crate::dynamics::PhysicalCylinder;
 use crate::error::{check, check_length, MechanismError, Result};
+use crate::parallel::{map_indices, Parallelism};
 
 /// Which throw each unit sits on, and for each throw the two bearings it lies between with
 /// their shares of its load.
@@ -174,6 +175,8 @@ fn unit_forces(
 /// speed `omega` (rad/s), acceleration `acceleration` (rad/s²) and each unit's gas force
 /// `gas` (N, toward the shaft; unit-major, units × points) there, under gravity `g` (m/s²,
 /// downward; 0: none). Horizontal is positive toward a cylinder at γ = 0, vertical upward.
+/// The units are solved in parallel when the work reaches `parallelism`'s threshold, and
+/// summed into the bearings in their order: the same doubles for any thread count.
 #[allow(clippy::too_many_arguments)]
 pub fn bearing_loads(
     units: &[PhysicalCylinder],
@@ -185,6 +188,7 @@ pub fn bearing_loads(
     g: f64,
     horizontal: &mut [f64],
     vertical: &mut [f64],
+    parallelism: Parallelism,
 ) -> Result<()> {
     let points = phi.len();
     check_length("throw_of_unit", units.len(), layout.throw_of_unit.len())?;
@@ -207,20 +211,29 @@ pub fn bearing_loads(
             check(name, value, "finite", |_| true)?;
         }
     }
+    // Each unit's load on its throw at every angle (a few dozen flops and one sin_cos each).
+    let work = units.len().saturating_mul(points).saturating_mul(64);
+    let per_unit = map_indices(units.len(), work, parallelism, |j| {
+        let unit = &units[j];
+        (0..points)
+            .map(|i| {
+                unit_forces(
+                    unit,
+                    phi[i],
+                    omega[i],
+                    acceleration[i],
+                    gas[j * points + i],
+                    g,
+                )
+                .throw_load
+            })
+            .collect::<Vec<[f64; 2]>>()
+    });
     horizontal.fill(0.0);
     vertical.fill(0.0);
-    for (j, unit) in units.iter().enumerate() {
+    for (j, loads) in per_unit.iter().enumerate() {
         let (a, share_a, b, share_b) = layout.shares[layout.throw_of_unit[j]];
-        for i in 0..points {
-            let [h, v] = unit_forces(
-                unit,
-                phi[i],
-                omega[i],
-                acceleration[i],
-                gas[j * points + i],
-                g,
-            )
-            .throw_load;
+        for (i, [h, v]) in loads.iter().enumerate() {
             horizontal[a * points + i] += share_a * h;
             vertical[a * points + i] += share_a * v;
             horizontal[b * points + i] += share_b * h;

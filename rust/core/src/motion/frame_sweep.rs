@@ -173,6 +173,7 @@ fn design_row(
             v.g,
             &mut horizontal,
             &mut vertical,
+            Parallelism::SERIAL, // the designs run in parallel
         )?;
         found[4] = horizontal
             .iter()
