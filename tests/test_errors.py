@@ -63,6 +63,9 @@ KINDS: dict[str, set[str]] = {
     "ratio": {"float", "nested"},  # 0 <= λ < 1
     "angles": {"float", "negative", "nonfinite", "nested", "huge"},  # φ: NaN gives NaN
     "angles_or_none": {"none", "float", "negative", "nonfinite", "nested", "huge"},
+    "positive_list": set(),  # a 1-D sequence of finite quantities > 0
+    "node_list": set(),  # a 1-D sequence of node indices
+    "positive_list_or_none": {"none"},
     "count": set(),  # an integer >= some minimum
     "option": set(),  # one of a few strings
     "phases": {"none"},
@@ -444,6 +447,15 @@ REGISTRY.update(
                 "phi": (None, "angles_or_none"),
                 "steady": (False, "flag"),
                 "gravity": (True, "flag"),
+            },
+        ),
+        "Shaft": (
+            mc.Shaft,
+            {
+                "inertia": ([1.0, 2.0, 0.5], "positive_list"),
+                "stiffness": ([1e4, 2e4], "positive_list"),
+                "cylinder_nodes": ([0, 1], "node_list"),
+                "damping": (None, "positive_list_or_none"),
             },
         ),
         "to_opentorsion": (

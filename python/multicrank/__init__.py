@@ -75,6 +75,7 @@ _LAZY = {
     "ShakingForces": "forces.shaking",
     "bearing_loads": "forces.bearings",
     "BearingLoads": "forces.bearings",
+    "Shaft": "torsion.shaft",
 }
 
 
@@ -111,6 +112,7 @@ __all__ = [
     "MachineGrid",
     "MechanismError",
     "PowerLawLoad",
+    "Shaft",
     "ShakingForces",
     "StallError",
     "SteadyState",
