@@ -17,3 +17,4 @@ mod shaking;
 
 pub use bearings::{bearing_loads, frame_torque, BearingLayout};
 pub use shaking::{ShakingForces, ShakingOrders, ORDER_COLUMNS};
+pub(crate) use shaking::{FORCE_FORWARD, MOMENT_FORWARD};

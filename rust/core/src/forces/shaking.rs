@@ -46,6 +46,11 @@ pub const ORDER_COLUMNS: [&str; 12] = [
     "moment_backward",
 ];
 
+/// Where [`ORDER_COLUMNS`] holds the forward parts of the force and of the moment (the
+/// backward part follows each).
+pub(crate) const FORCE_FORWARD: usize = 8;
+pub(crate) const MOMENT_FORWARD: usize = 10;
+
 /// A machine's four first-moment engines: S_v, S_h, Σ z S_v, Σ z S_h (kg·m, kg·m²), each
 /// unit's U1 = r·[m_t + (l − z_k)/l · m_k] and U2 = r_s m_s − r_p m_p + r (z_k/l) m_k.
 #[derive(Debug, Clone, PartialEq)]
@@ -184,9 +189,7 @@ impl ShakingForces {
         }
         Ok(())
     }
-}
 
-impl ShakingForces {
     /// The harmonics 1 … `max_harmonic` of the working cycle (`cycle` Φ, rad; harmonic k is
     /// order k·2π/Φ per revolution) of the four components while the machine runs at the
     /// speed ω(φ) `omega` (rad/s) and acceleration ε(φ) `acceleration` (rad/s²) sampled at
@@ -327,7 +330,7 @@ impl ShakingOrders {
             // B = b_h + i b_v; forward |A − iB|/2, backward |A + iB|/2.
             // What cancels between the two components is rounding as well, by the larger
             // of their floors.
-            for (slot, (h, v)) in [(8, (1, 0)), (10, (3, 2))] {
+            for (slot, (h, v)) in [(FORCE_FORWARD, (1, 0)), (MOMENT_FORWARD, (3, 2))] {
                 let floor = scale * self.floors[h][n].max(self.floors[v][n]);
                 let resolved = |x: f64| if x >= floor { x } else { 0.0 };
                 columns[slot].push(resolved(0.5 * (a[h] + b[v]).hypot(a[v] - b[h])));

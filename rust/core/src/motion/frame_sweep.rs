@@ -6,7 +6,7 @@
 //! columns are bit-identical for any thread count.
 
 use crate::error::{MechanismError, Result};
-use crate::forces::{bearing_loads, BearingLayout, ShakingForces, ORDER_COLUMNS};
+use crate::forces::{bearing_loads, BearingLayout, ShakingForces, FORCE_FORWARD, MOMENT_FORWARD};
 use crate::parallel::{map_indices, Parallelism};
 
 use super::columns::MachineDesigns;
@@ -140,14 +140,12 @@ fn design_row(
         let table = ShakingForces::new(&v.units, axial_position)?
             .orders(2)?
             .at(v.omega, 2)?;
-        let column =
-            |name: &str| &table[ORDER_COLUMNS.iter().position(|c| *c == name).unwrap_or(0)];
-        let (forward, backward) = (column("force_forward"), column("force_backward"));
-        let (ahead, behind) = (column("moment_forward"), column("moment_backward"));
-        found[0] = forward[0] + backward[0];
-        found[1] = forward[1] + backward[1];
-        found[2] = ahead[0] + behind[0];
-        found[3] = ahead[1] + behind[1];
+        // The largest magnitude over a cycle of orders 1 and 2: forward + backward.
+        for (slot, forward) in [(0, FORCE_FORWARD), (2, MOMENT_FORWARD)] {
+            for order in 0..2 {
+                found[slot + order] = table[forward][order] + table[forward + 1][order];
+            }
+        }
     }
     if outputs.bearings() {
         let diagrams: Vec<PiecewisePolynomial> = match v.pressure_scale {
