@@ -14,41 +14,45 @@ use crate::error::to_py_err;
 use crate::motion::{motion_err, MotionMachine};
 use crate::parallel::parallelism;
 
-/// A machine's units at their axial positions, their shaking forces (made on first use: a
-/// machine asked only for its motion never pays for them) and the orders last computed.
+/// A machine's axial positions, its shaking forces (made on first use from the machine's
+/// units: a machine asked only for its motion never pays for them) and the orders last
+/// computed.
 pub(crate) struct ShakingCache {
-    units: Vec<core::PhysicalCylinder>,
     axial_position: Vec<f64>,
     forces: OnceLock<core::ShakingForces>,
     orders: Mutex<Option<Arc<core::ShakingOrders>>>,
 }
 
 impl ShakingCache {
-    pub(crate) fn new(units: Vec<core::PhysicalCylinder>, axial_position: Vec<f64>) -> Self {
+    pub(crate) fn new(axial_position: Vec<f64>) -> Self {
         Self {
-            units,
             axial_position,
             forces: OnceLock::new(),
             orders: Mutex::new(None),
         }
     }
 
-    fn forces(&self) -> core::Result<&core::ShakingForces> {
+    /// The shaking forces of `units` (the owning machine's, the same at every call).
+    fn forces(&self, units: &[core::PhysicalCylinder]) -> core::Result<&core::ShakingForces> {
         if let Some(forces) = self.forces.get() {
             return Ok(forces);
         }
-        let made = core::ShakingForces::new(&self.units, &self.axial_position)?;
+        let made = core::ShakingForces::new(units, &self.axial_position)?;
         Ok(self.forces.get_or_init(|| made))
     }
 
     /// The orders through `max_order`: those kept where they reach it, else computed (and
     /// kept). A poisoned lock only loses the cache.
-    fn orders_through(&self, max_order: usize) -> core::Result<Arc<core::ShakingOrders>> {
+    fn orders_through(
+        &self,
+        units: &[core::PhysicalCylinder],
+        max_order: usize,
+    ) -> core::Result<Arc<core::ShakingOrders>> {
         let kept = self.orders.lock().ok().and_then(|held| held.clone());
         if let Some(orders) = kept.filter(|o| o.max_order() >= max_order) {
             return Ok(orders);
         }
-        let made = Arc::new(self.forces()?.orders(max_order)?);
+        let made = Arc::new(self.forces(units)?.orders(max_order)?);
         if let Ok(mut held) = self.orders.lock() {
             *held = Some(Arc::clone(&made));
         }
@@ -58,11 +62,15 @@ impl ShakingCache {
     pub(crate) fn orders<'py>(
         &self,
         py: Python<'py>,
+        machine: &core::Machine<'_>,
         omega: f64,
         max_order: usize,
     ) -> PyResult<Bound<'py, PyDict>> {
         let columns = py
-            .detach(|| self.orders_through(max_order)?.at(omega, max_order))
+            .detach(|| {
+                self.orders_through(machine.units, max_order)?
+                    .at(omega, max_order)
+            })
             .map_err(to_py_err)?;
         order_columns(py, columns)
     }
@@ -70,16 +78,16 @@ impl ShakingCache {
     pub(crate) fn orders_in_motion<'py>(
         &self,
         py: Python<'py>,
-        cycle: f64,
+        machine: &core::Machine<'_>,
         omega: &PyReadonlyArray1<'py, f64>,
         acceleration: &PyReadonlyArray1<'py, f64>,
         max_harmonic: usize,
     ) -> PyResult<Bound<'py, PyDict>> {
         let (omega, acceleration) = (omega.as_slice()?, acceleration.as_slice()?);
-        let parallelism = parallelism(None);
+        let (parallelism, cycle) = (parallelism(None), machine.strokes.cycle_angle());
         let columns = py
             .detach(|| {
-                self.forces()?
+                self.forces(machine.units)?
                     .orders_in_motion(cycle, omega, acceleration, max_harmonic, parallelism)?
                     .table(1.0, max_harmonic)
             })
@@ -103,8 +111,13 @@ impl ShakingCache {
         let points = phi.len();
         filled(py, OutputSize::of("phi", points).times(5), |out| {
             let (components, torque) = out.split_at_mut(4 * points);
-            self.forces()?
-                .curves(phi, omega, acceleration, components, parallelism)?;
+            self.forces(machine.units)?.curves(
+                phi,
+                omega,
+                acceleration,
+                components,
+                parallelism,
+            )?;
             let gas = machine.piston_forces(phi)?;
             core::frame_torque(
                 machine.units,

@@ -203,7 +203,7 @@ impl MotionMachine {
             }));
         }
         let machine = Self {
-            shaking: ShakingCache::new(units.clone(), axial_position),
+            shaking: ShakingCache::new(axial_position),
             units,
             gas,
             diagrams,
@@ -537,7 +537,7 @@ impl MotionMachine {
         omega: f64,
         max_order: usize,
     ) -> PyResult<Bound<'py, PyDict>> {
-        self.shaking.orders(py, omega, max_order)
+        self.shaking.orders(py, &self.machine(), omega, max_order)
     }
 
     /// shaking_orders_in_motion(omega, acceleration, max_harmonic) -> {column: array}: the
@@ -551,9 +551,8 @@ impl MotionMachine {
         acceleration: PyReadonlyArray1<'py, f64>,
         max_harmonic: usize,
     ) -> PyResult<Bound<'py, PyDict>> {
-        let cycle = self.strokes.cycle_angle();
         self.shaking
-            .orders_in_motion(py, cycle, &omega, &acceleration, max_harmonic)
+            .orders_in_motion(py, &self.machine(), &omega, &acceleration, max_harmonic)
     }
 
     /// shaking_curves(phi, omega, acceleration) -> array (5 × phi, component-major): the
