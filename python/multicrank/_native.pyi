@@ -16,6 +16,7 @@ __all__ = [
     "EXTREMA_FIELDS",
     "FRAME_OUTPUTS",
     "MOTION_SWEEP_OUTPUTS",
+    "SHAKING_ORDER_COLUMNS",
     "SPEED_LIMITS",
     "STANDARD_GRAVITY",
     "SWEEP_OUTPUTS",
@@ -66,6 +67,7 @@ SWEEP_OUTPUTS: list[str]
 EXTREMA_FIELDS: list[str]
 MOTION_SWEEP_OUTPUTS: list[str]
 FRAME_OUTPUTS: list[str]
+SHAKING_ORDER_COLUMNS: list[str]
 
 class MechanismError(ValueError): ...
 

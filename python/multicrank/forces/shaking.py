@@ -22,7 +22,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from .._native import MechanismError
+from .._native import SHAKING_ORDER_COLUMNS, MechanismError
 from .._validation import as_count, as_flag, as_instance, as_omega, as_real_array, contiguous, rpm_from_omega
 from ..machine.machine import Machine
 from ..machine.native import motion_machine
@@ -48,6 +48,13 @@ STEADY_SAMPLES = 1440
 #: The points of :meth:`ShakingForces.curves` at a constant speed when no angles are given:
 #: every degree of one revolution, both ends included.
 CURVE_POINTS = 361
+
+
+def _order_unit(column: str) -> str:
+    """The unit of a column of the orders' table: a phase's rad, a force's N, a moment's N·m."""
+    if column.endswith("_phase"):
+        return "rad"
+    return "N" if column.startswith("force") else "N·m"
 
 
 @dataclass(frozen=True, eq=False)
@@ -102,20 +109,8 @@ class ShakingForces:
     _state: Any = field(default=None, repr=False)
     _table: list[Any] = field(default_factory=list, repr=False)
 
-    COLUMNS: ClassVar[dict[str, str]] = {
-        "force_vertical": "N",
-        "force_vertical_phase": "rad",
-        "force_horizontal": "N",
-        "force_horizontal_phase": "rad",
-        "moment_pitch": "N·m",
-        "moment_pitch_phase": "rad",
-        "moment_yaw": "N·m",
-        "moment_yaw_phase": "rad",
-        "force_forward": "N",
-        "force_backward": "N",
-        "moment_forward": "N·m",
-        "moment_backward": "N·m",
-    }
+    #: The columns of :attr:`orders` (named by the core) with their units.
+    COLUMNS: ClassVar[dict[str, str]] = {name: _order_unit(name) for name in SHAKING_ORDER_COLUMNS}
 
     @property
     def orders(self) -> Any:

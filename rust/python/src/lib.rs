@@ -87,6 +87,7 @@ mod _native {
         m.add("EXTREMA_FIELDS", core::EnergyExtrema::NAMES.to_vec())?;
         m.add("MOTION_SWEEP_OUTPUTS", core::MotionOutputs::NAMES.to_vec())?;
         m.add("FRAME_OUTPUTS", core::FRAME_OUTPUTS.to_vec())?;
+        m.add("SHAKING_ORDER_COLUMNS", core::ORDER_COLUMNS.to_vec())?;
         Ok(())
     }
 }
