@@ -217,7 +217,10 @@ def test_the_summary_and_the_polar_diagram():
     import matplotlib
 
     matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
     ax = loads.polar(1)
+    plt.close(ax.figure)  # no figure left open for a later test to find
     assert ax.get_xlabel() == "horizontal [N]" and len(ax.lines) >= 2
     with pytest.raises(mc.MechanismError, match="bearing"):
         loads.polar(len(machine.bearings))

@@ -81,7 +81,7 @@ class BearingLoads:
         if not self._without_gravity:
             if self.gravity:
                 phi = None if self.steady else self.phi
-                _, horizontal, vertical = _loads(self.machine, self.omega, self.steady, phi, False)
+                _, horizontal, vertical = _loads(self.machine, self.omega, self.steady, phi, False, self.positions)
             else:
                 horizontal, vertical = self.horizontal, self.vertical
             self._without_gravity.append((horizontal, vertical))
@@ -106,7 +106,7 @@ class BearingLoads:
         magnitude = self.magnitude
         at = np.argmax(magnitude, axis=1)
         horizontal, vertical = self.without_gravity()
-        added = np.hypot(self.horizontal - horizontal, self.vertical - vertical) if self.gravity else 0 * magnitude
+        added = np.hypot(self.horizontal - horizontal, self.vertical - vertical)
         frame = pd.DataFrame(
             {
                 "position": self.positions,
@@ -246,16 +246,17 @@ def bearing_loads(
     steady, gravity = as_flag(steady, "steady"), as_flag(gravity, "gravity")
     if steady and phi is not None:
         raise MechanismError("phi: in steady running the loads are on the steady state's own angles; give None")
-    angles, horizontal, vertical = _loads(machine, omega, steady, phi, gravity)
     positions = np.asarray(machine.bearings, dtype=float)
+    angles, horizontal, vertical = _loads(machine, omega, steady, phi, gravity, positions)
     return BearingLoads(machine, rpm_from_omega(omega), omega, steady, gravity, angles, positions, vertical, horizontal)
 
 
 def _loads(
-    machine: Machine, omega: float, steady: bool, phi: Any, gravity: bool
+    machine: Machine, omega: float, steady: bool, phi: Any, gravity: bool, positions: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(φ, horizontal, vertical) of one pass of the core: at the constant speed ω [rad/s] at
-    the angles ``phi`` (None: the default ones), or in steady running at that mean speed."""
+    the angles ``phi`` (None: the default ones), or in steady running at that mean speed; the
+    bearings at ``positions`` [m] (``machine.bearings``)."""
     if steady:
         from ..motion.steady import steady_state
 
@@ -270,7 +271,6 @@ def _loads(
         if angles.ndim != 1:
             raise MechanismError(f"phi must be 1-D, got shape {angles.shape}")
         speeds, accelerations = np.full(angles.shape, omega), np.zeros(angles.shape)
-    positions = np.asarray(machine.bearings, dtype=float)
     angles, speeds, accelerations = (contiguous(np.asarray(a, dtype=float)) for a in (angles, speeds, accelerations))
     horizontal, vertical = machine_bearing_loads(
         motion_machine(machine),
