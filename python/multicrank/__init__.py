@@ -76,6 +76,7 @@ _LAZY = {
     "bearing_loads": "forces.bearings",
     "BearingLoads": "forces.bearings",
     "Shaft": "torsion.shaft",
+    "torsional_merit": "torsion.merit",
 }
 
 
@@ -148,5 +149,6 @@ __all__ = [
     "to_opentorsion",
     "to_xarray",
     "torque_orders",
+    "torsional_merit",
     "uniform_grid",
 ]

@@ -32,6 +32,7 @@ from .._validation import (
 from .._validation import as_speed_range as _speed_range
 from ..gravity.layouts import Layout, as_layout
 from ..gravity.mechanism import STANDARD_GRAVITY
+from ..torsion.shaft import Shaft
 from .cylinder import Cylinder, diagram_strokes, unit_columns
 from .description import MachineDescription
 from .dynamics import MachineDynamics
@@ -42,6 +43,9 @@ from .shaft import as_bearings, default_bearings
 from .shaft import throws as _throws
 
 __all__ = ["Machine"]
+
+#: What a machine keeps of its own computations (never pickled, copied or compared).
+_DERIVED = ("_native", "_native_lock", "_torsion_orders")
 
 #: A machine's fields, as :meth:`Machine.replace` takes them.
 _MACHINE_FIELDS = (
@@ -55,6 +59,7 @@ _MACHINE_FIELDS = (
     "note",
     "delta_target",
     "main_bearings",
+    "shaft",
 )
 
 
@@ -93,14 +98,20 @@ class Machine(MachineDescription, MachineDynamics, MachineGas):
         ``axial_position``), at least two, strictly increasing: every throw must lie strictly
         between two bearings — a throw before the first or after the last (overhung) or
         exactly at a bearing is refused. Default: :attr:`bearings` interleaves the throws.
+    shaft : Shaft, optional
+        The shaft as a torsional chain (:class:`~multicrank.Shaft`: node inertias and section
+        stiffnesses, and each cylinder's node), for the torsional questions
+        (:func:`~multicrank.torsional_merit`, :func:`~multicrank.firing_orders`,
+        :func:`~multicrank.to_opentorsion`); its ``cylinder_nodes`` must name one node per
+        cylinder. The rigid machine's motion does not depend on it.
 
     Attributes
     ----------
     cylinders : tuple of Cylinder
         The cylinders, in the order given.
-    shaft_inertia, strokes, g, name, rpm, rpm_range, note, delta_target, main_bearings
-        The parameters as given (``rpm``, ``rpm_range``, ``delta_target`` and
-        ``main_bearings`` None where not given; ``main_bearings`` a tuple of floats). A
+    shaft_inertia, strokes, g, name, rpm, rpm_range, note, delta_target, main_bearings, shaft
+        The parameters as given (``rpm``, ``rpm_range``, ``delta_target``,
+        ``main_bearings`` and ``shaft`` None where not given; ``main_bearings`` a tuple of floats). A
         machine is immutable (setting a field raises ``FrozenInstanceError``, an
         ``AttributeError``): :meth:`replace` makes a changed copy.
 
@@ -135,10 +146,11 @@ class Machine(MachineDescription, MachineDynamics, MachineGas):
     δ_g = 0.06003
     """
 
-    # A machine pickled before delta_target or main_bearings existed has none in its
+    # A machine pickled before delta_target, main_bearings or shaft existed has none in its
     # __dict__: it reads None.
     delta_target: float | None = None
     main_bearings: tuple[float, ...] | None = None
+    shaft: Shaft | None = None
 
     def __init__(
         self,
@@ -153,6 +165,7 @@ class Machine(MachineDescription, MachineDynamics, MachineGas):
         note: str = "",
         delta_target: float | None = None,
         main_bearings: Sequence[float] | None = None,
+        shaft: Shaft | None = None,
     ) -> None:
         if isinstance(cylinders, Cylinder) or not isinstance(cylinders, Sequence):
             raise MechanismError("cylinders must be a sequence of multicrank.Cylinder")
@@ -198,6 +211,7 @@ class Machine(MachineDescription, MachineDynamics, MachineGas):
         if main_bearings is not None:
             members = [[j for j, t in enumerate(self.throw_index) if t == index] for index in range(len(self.throws))]
             self.main_bearings = as_bearings(main_bearings, self.throws, members)
+        self.shaft: Shaft | None = None if shaft is None else _shaft_of(shaft, len(cylinders))
         self._units = unit_columns(cylinders)
         self._sealed = True
 
@@ -219,6 +233,7 @@ class Machine(MachineDescription, MachineDynamics, MachineGas):
         delta_target: float | None = None,
         cylinder_spacing: float | None = None,
         main_bearings: Sequence[float] | None = None,
+        shaft: Shaft | None = None,
     ) -> Machine:
         """A machine of a layout with one cylinder template on every bank.
 
@@ -263,6 +278,9 @@ class Machine(MachineDescription, MachineDynamics, MachineGas):
         main_bearings : sequence of float, optional
             The main bearings' axial positions [m], as for :class:`Machine`; default
             :attr:`bearings` interleaves the throws.
+        shaft : Shaft, optional
+            The shaft as a torsional chain, its ``cylinder_nodes`` in the layout's cylinder
+            order, as for :class:`Machine`.
 
         Returns
         -------
@@ -394,6 +412,7 @@ class Machine(MachineDescription, MachineDynamics, MachineGas):
             note=layout.note if note is None else note,
             delta_target=delta_target,
             main_bearings=main_bearings,
+            shaft=shaft,
         )
 
     # A class method that builds ``cls``: bound from its module, where the type checker
@@ -474,9 +493,10 @@ class Machine(MachineDescription, MachineDynamics, MachineGas):
         raise dataclasses.FrozenInstanceError(f"cannot delete field {name!r}: a Machine is immutable")
 
     def __getstate__(self) -> dict[str, Any]:
-        # The native machine (machine/native.motion_machine) and its lock stay behind: a copy
-        # or an unpickled machine makes its own on first use.
-        return {key: value for key, value in self.__dict__.items() if key not in ("_native", "_native_lock")}
+        # The native machine (machine/native.motion_machine), its lock and the cylinders' torque
+        # orders (torsion/merit.cylinder_orders) stay behind: a copy or an unpickled machine
+        # makes its own on first use.
+        return {key: value for key, value in self.__dict__.items() if key not in _DERIVED}
 
     def __setstate__(self, state: dict[str, Any]) -> None:
         # A pickle, of this release or an older one (which knew no sealing), unpickles sealed.
@@ -490,10 +510,10 @@ class Machine(MachineDescription, MachineDynamics, MachineGas):
         ----------
         **changes
             New values of ``cylinders``, ``shaft_inertia``, ``strokes``, ``g``, ``name``,
-            ``rpm``, ``rpm_range``, ``note``, ``delta_target`` or ``main_bearings`` (as for
-            :class:`Machine`); ``rpm=None``, ``rpm_range=None``, ``delta_target=None`` or
-            ``main_bearings=None`` removes them. New ``cylinders`` keep the given
-            ``main_bearings``, which must still hold their throws.
+            ``rpm``, ``rpm_range``, ``note``, ``delta_target``, ``main_bearings`` or ``shaft``
+            (as for :class:`Machine`); ``rpm=None``, ``rpm_range=None``, ``delta_target=None``,
+            ``main_bearings=None`` or ``shaft=None`` removes them. New ``cylinders`` keep the
+            given ``main_bearings`` and ``shaft``, which must still fit them.
 
         Returns
         -------
@@ -518,6 +538,18 @@ class Machine(MachineDescription, MachineDynamics, MachineGas):
         check_fields(changes, _MACHINE_FIELDS, "machine", elsewhere=cylinder_fields)
         fields = {field: changes.get(field, getattr(self, field)) for field in _MACHINE_FIELDS}
         return Machine(fields.pop("cylinders"), **fields)
+
+
+def _shaft_of(value: Any, cylinders: int) -> Shaft:
+    """A machine's shaft: a :class:`~multicrank.Shaft` with one node per cylinder."""
+    if not isinstance(value, Shaft):
+        raise MechanismError(f"shaft must be a multicrank.Shaft, got {type(value).__name__}")
+    if len(value.cylinder_nodes) != cylinders:
+        raise MechanismError(
+            f"shaft.cylinder_nodes holds {len(value.cylinder_nodes)} nodes; the machine has {cylinders} cylinders "
+            "(one node per cylinder, in the machine's order)"
+        )
+    return value
 
 
 def _delta_target(value: Any) -> float:

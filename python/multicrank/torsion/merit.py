@@ -1,0 +1,265 @@
+"""Torsional merit of a machine's firing order: the classical phase-vector sums
+(:func:`torsional_merit`).
+
+A mode m of the shaft swings node i with the amplitude a_i (its shape). The work a cylinder's
+torque does on the mode per cycle of order ν is proportional to the product of its order-ν
+torque harmonic and the mode's amplitude at its node, so at a resonance — where the speed
+makes ν·ω equal the mode's natural frequency — the mode is driven by
+
+    E_ν = |Σ_j a_j T_ν,j|,
+
+T_ν,j the complex order-ν harmonic of cylinder j's own tangential torque (gas, inertia and
+gravity). Cylinders alike but for their phase α_j have T_ν,j = T_ν e^{iνα_j} (the shift
+theorem), so that E_ν = |T_ν|·|Σ_j a_j e^{iνθ_j}|, θ_j = (−α_j) mod Φ the crank angle at
+which cylinder j fires: the *phase-vector sum* of the order. Where every cylinder fires in
+phase for an order (νθ_j equal modulo 2π) the order is *major*: its vectors add whatever the
+mode shape does to their lengths. A V's two banks on one pin, Θ apart, fire Θ apart in crank
+angle: their vectors for order ν make the angle νΘ, and the pair sums to |2 cos(νΘ/2)| times
+one cylinder's — the V-bank combination factor, which falls out of the phases here.
+
+What it stops short of: damping, and the forced response it limits (the size of the
+vibration at resonance, the stresses in the shaft). Hand the model to a torsional tool for
+that (:func:`~multicrank.to_opentorsion`).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from .._native import MechanismError
+from .._validation import as_count, as_instance, as_speed_range
+from ..machine.machine import Machine
+from .shaft import Shaft
+
+__all__ = ["CylinderOrders", "cylinder_orders", "machine_shaft", "torsional_merit"]
+
+#: Firing angles within this many radians (times the order) are in phase: the layouts'
+#: phases are exact to ~1e-13 rad.
+IN_PHASE = 1e-9
+#: The speed [1/min] at which each cylinder's inertia torque is found; it scales as ω².
+_REFERENCE_RPM = 1000.0
+#: The columns of :func:`torsional_merit`, with their units.
+MERIT_UNITS = {
+    "mode": "",
+    "order": "1/rev",
+    "natural_frequency": "Hz",
+    "resonance_rpm": "1/min",
+    "vector_sum": "",
+    "excitation": "N·m",
+    "major": "",
+}
+
+
+@dataclass(frozen=True)
+class CylinderOrders:
+    """The order harmonics of each cylinder's own tangential torque, at its phase 0.
+
+    ``orders`` ν > 0 [1/rev] up to the highest asked (halves for four strokes); ``gas`` and
+    ``gravity`` (cylinders × orders, complex [N·m]) those torques' harmonics c_ν (the torque
+    Σ_ν Re(c_ν e^{iνθ}) of the cylinder's own angle θ); ``inertial`` the inertia torque's per
+    (rad/s)², which scales as ω².
+    """
+
+    orders: np.ndarray
+    gas: np.ndarray
+    gravity: np.ndarray
+    inertial: np.ndarray
+
+    def at(
+        self, phases: np.ndarray, omega: np.ndarray, parts: tuple[str, ...] = ("gas", "inertia", "gravity")
+    ) -> np.ndarray:
+        """T_ν,j of every cylinder at its phase α_j (``phases``, (…, cylinders) [rad]) and
+        every order at its speed ``omega`` [rad/s] ((…, orders), broadcast against the
+        phases' leading axes): (…, cylinders, orders), of the torques named in ``parts``."""
+        coefficient = np.zeros_like(self.gas)
+        if "gas" in parts:
+            coefficient = coefficient + self.gas
+        if "gravity" in parts:
+            coefficient = coefficient + self.gravity
+        if "inertia" in parts:
+            coefficient = coefficient + self.inertial * np.square(omega)[..., None, :]
+        return coefficient * np.exp(1j * phases[..., :, None] * self.orders)
+
+
+def cylinder_orders(machine: Machine, highest: int) -> CylinderOrders:
+    """The :class:`CylinderOrders` of ``machine`` up to order ``highest``, each cylinder alone
+    at phase 0 (cylinders alike but for their phase and place share one computation), from
+    :func:`~multicrank.torque_orders`; kept on the machine for the next call."""
+    from ..motion.orders import torque_orders
+
+    cache = machine.__dict__.setdefault("_torsion_orders", {})
+    if highest in cache:
+        return cache[highest]
+    omega_squared = (_REFERENCE_RPM * math.pi / 30) ** 2
+    found: dict[Any, tuple[np.ndarray, ...]] = {}
+    rows = []
+    for cylinder in machine.cylinders:
+        template = cylinder.replace(phase=0.0, axial_position=0.0)
+        if template not in found:
+            alone = machine.replace(cylinders=[template], main_bearings=None, shaft=None)
+            table = torque_orders(alone, _REFERENCE_RPM, max_order=highest)
+            table = table[table.index > 0]
+            harmonic = {
+                part: table[f"{part}_cos"].to_numpy() - 1j * table[f"{part}_sin"].to_numpy()
+                for part in ("gas", "inertia", "gravity")
+            }
+            found[template] = (
+                table.index.to_numpy(dtype=float),
+                harmonic["gas"],
+                harmonic["gravity"],
+                harmonic["inertia"] / omega_squared,
+            )
+        rows.append(found[template])
+    result = CylinderOrders(rows[0][0], *(np.array([row[i] for row in rows]) for i in (1, 2, 3)))
+    cache[highest] = result
+    return result
+
+
+def machine_shaft(machine: Machine, shaft: Any) -> Shaft:
+    """The shaft to use: ``shaft`` where given (checked against the machine), else the
+    machine's own; refused by name where there is neither."""
+    if shaft is None:
+        if machine.shaft is None:
+            raise MechanismError(
+                f"shaft is required: machine {machine.name!r} has none (give shaft=mc.Shaft(...) or "
+                "Machine(shaft=...), or a [shaft] section in its machine file)"
+            )
+        return machine.shaft
+    return machine.replace(shaft=as_instance(shaft, Shaft, "shaft")).shaft  # type: ignore[return-value]
+
+
+def cylinder_amplitudes(shaft: Shaft, shapes: np.ndarray) -> np.ndarray:
+    """Each mode's amplitude at each cylinder's node, scaled so that the largest magnitude
+    over the cylinders' nodes is 1: (modes, cylinders)."""
+    at = shapes[list(shaft.cylinder_nodes), :].T
+    return at / np.abs(at).max(axis=1, keepdims=True)
+
+
+def firing_angles(phases: np.ndarray, cycle: float) -> np.ndarray:
+    """θ_j = (−α_j) mod Φ [rad]: the crank angle at which each cylinder fires."""
+    return np.mod(-np.asarray(phases, dtype=float), cycle)
+
+
+def torsional_merit(
+    machine: Machine,
+    shaft: Any = None,
+    *,
+    modes: Any = 2,
+    max_order: Any = 12,
+    rpm_range: Any = None,
+) -> Any:
+    """The excitation of the shaft's torsional modes by each order of the machine's firing.
+
+    Parameters
+    ----------
+    machine : Machine
+        The machine: its cylinders' phases (the firing order), pressures, masses and crank.
+    shaft : Shaft, optional
+        The shaft as a torsional chain; default the machine's own (``Machine.shaft``).
+    modes : int, default 2
+        How many elastic modes, from the lowest (mode 1), ≥ 1 and at most nodes − 1.
+    max_order : int, default 12
+        The highest order ν [per revolution]; every order from 1 (½ for a four-stroke
+        machine) in steps of 1 (½) up to it.
+    rpm_range : (float, float), optional
+        Keep only the rows whose resonance speed lies in (low, high) [1/min], ends included;
+        default every row.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per (mode, order), by mode then order: ``mode`` (1 = the first elastic
+        mode), ``order`` ν [1/rev], ``natural_frequency`` f [Hz], ``resonance_rpm`` = 60 f/ν
+        [1/min] (where order ν meets the mode), ``vector_sum`` |Σ_j a_j e^{iνθ_j}|
+        [dimensionless], ``excitation`` |Σ_j a_j T_ν,j| [N·m] and ``major`` (every cylinder
+        fires in phase for that order). a_j is the mode's amplitude at cylinder j's node,
+        scaled so that the largest magnitude over the cylinders' nodes is 1; θ_j = (−α_j) mod
+        Φ its firing angle; T_ν,j the complex order-ν harmonic of its own tangential torque —
+        gas, gravity and inertia, the inertia torque taken at the row's ``resonance_rpm``.
+        ``attrs``: ``units``, ``machine`` (its name), ``strokes``.
+
+    Raises
+    ------
+    MechanismError
+        For bad input, naming the parameter; for a machine without a shaft when none is given.
+
+    Notes
+    -----
+    This is the classical method of the phase-vector sums (docs/theory.md, "Torsional
+    merit"): a mode is driven at resonance by the work its order's torques do on it, which
+    grows with E_ν. It ranks firing orders and tells major orders from minor ones; it does
+    not give the size of the vibration, which damping limits — hand the model to openTorsion
+    (:func:`~multicrank.to_opentorsion`) for the forced response. The node inertias are used
+    as given: add each cylinder's running gear to its node.
+
+    Examples
+    --------
+    An in-line four on a shaft of five nodes (four throws and a flywheel): its second order
+    (two firings per revolution) is major; its first mode's 2nd-order vector sum is the sum
+    of the four throws' amplitudes.
+
+    >>> import multicrank as mc
+    >>> engine = mc.presets.MACHINES["inline-4"]
+    >>> shaft = mc.Shaft([0.02, 0.02, 0.02, 0.02, 0.3], [3e5, 3e5, 3e5, 4e5],
+    ...                  cylinder_nodes=[0, 1, 2, 3])
+    >>> merit = mc.torsional_merit(engine, shaft, modes=1, max_order=4)
+    >>> merit[["order", "resonance_rpm", "vector_sum", "major"]].round(1)
+       order  resonance_rpm  vector_sum  major
+    0    0.5       104837.5         0.7  False
+    1    1.0        52418.8         1.2  False
+    2    1.5        34945.8         0.7  False
+    3    2.0        26209.4         2.7   True
+    4    2.5        20967.5         0.7  False
+    5    3.0        17472.9         1.2  False
+    6    3.5        14976.8         0.7  False
+    7    4.0        13104.7         2.7   True
+    """
+    import pandas as pd
+
+    machine = as_instance(machine, Machine, "machine")
+    chosen = machine_shaft(machine, shaft)
+    elastic = len(chosen.inertia) - 1
+    count = as_count(modes, "modes", minimum=1)
+    if count > elastic:
+        raise MechanismError(
+            f"modes = {count} is out of range; allowed: 1 <= modes <= {elastic} (the shaft's nodes − 1)"
+        )
+    highest = as_count(max_order, "max_order", minimum=1)
+    window = None if rpm_range is None else as_speed_range(rpm_range)
+
+    found = chosen.modes()
+    frequency = found.natural_frequency[:count]
+    amplitude = cylinder_amplitudes(chosen, found.shapes[:, :count])  # (modes, cylinders)
+    harmonics = cylinder_orders(machine, highest)
+    orders = harmonics.orders
+    phases = np.array([c.phase for c in machine.cylinders])
+    theta = firing_angles(phases, machine.cycle)
+    resonance = 60.0 * frequency[:, None] / orders[None, :]  # (modes, orders) [1/min]
+    vectors = np.exp(1j * orders[:, None] * theta[None, :])  # (orders, cylinders)
+    vector_sum = np.abs(amplitude @ vectors.T)  # (modes, orders)
+    torque = harmonics.at(phases[None, :], resonance * math.pi / 30)  # (modes, cylinders, orders)
+    excitation = np.abs(np.einsum("mj,mjn->mn", amplitude, torque))
+    # In phase: every νθ_j the same angle modulo 2π (to rounding, scaled by the order).
+    turn = np.remainder(orders[:, None] * (theta[None, :] - theta[:1]) + math.pi, 2 * math.pi) - math.pi
+    major = np.all(np.abs(turn) <= IN_PHASE * np.maximum(orders[:, None], 1.0), axis=1)
+
+    table = pd.DataFrame(
+        {
+            "mode": np.repeat(np.arange(1, count + 1), orders.size),
+            "order": np.tile(orders, count),
+            "natural_frequency": np.repeat(frequency, orders.size),
+            "resonance_rpm": resonance.ravel(),
+            "vector_sum": vector_sum.ravel(),
+            "excitation": excitation.ravel(),
+            "major": np.tile(major, count),
+        }
+    )
+    if window is not None:
+        low, high = window
+        table = table[(table["resonance_rpm"] >= low) & (table["resonance_rpm"] <= high)].reset_index(drop=True)
+    table.attrs.update(units=dict(MERIT_UNITS), machine=machine.name, strokes=machine.strokes)
+    return table
