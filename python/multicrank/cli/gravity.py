@@ -36,7 +36,9 @@ def _inline_variant(
         # Gravity alone: the gas pressures (whose cycle --strokes may change) stay behind.
         first = first.replace(pressure=None, pressure_crank_end=None)
         phases = crank_phases(len(machine) if cranks is None else cranks, cycle, acting)
-        machine = machine.replace(cylinders=[first.replace(phase=float(a)) for a in phases], strokes=cycle)
+        machine = machine.replace(
+            cylinders=[first.replace(phase=float(a)) for a in phases], strokes=cycle, main_bearings=None, shaft=None
+        )
     if inclination is not None:
         gamma = float(np.radians(inclination))
         machine = machine.replace(cylinders=[c.replace(inclination=gamma) for c in machine.cylinders])

@@ -29,9 +29,10 @@ from typing import Any
 import numpy as np
 
 from .._native import MechanismError
-from .._validation import as_count, as_flag, as_instance, as_speed
+from .._validation import as_count, as_flag, as_instance, as_option, as_speed
 from ..machine.machine import Machine
 from ._crank import throws
+from .criteria import CRITERIA, frame_criteria, pareto_front, ticks
 
 __all__ = ["firing_orders"]
 
@@ -52,6 +53,8 @@ _AGREE = 1e-8
 #: every two-stroke crank of up to 7 unlike, evenly spaced throws ((t − 1)!) in full; a
 #: longer crank's first 4096 arrangements in seconds (each distinct one is a steady state).
 DEFAULT_MAX_CANDIDATES = 4096
+#: The steady state's columns of a row (its class's: candidates alike on a rigid shaft share them).
+MOTION_COLUMNS = ("delta", "delta_without_gravity", "gravity_effect", "stalled", "near_stall")
 
 
 def _gas_kinds(machine: Machine) -> list[int | None]:
@@ -211,7 +214,7 @@ class _Signatures:
         for cylinder in machine.cylinders:
             template = cylinder.replace(phase=0.0, axial_position=0.0)  # its place moves no torque
             if template not in terms:
-                alone = machine.replace(cylinders=[template])
+                alone = machine.replace(cylinders=[template], main_bearings=None, shaft=None)
                 terms[template] = np.stack([alone.reduced_inertia(phi)[0], alone.gravity_torque(phi)])
             coefficients.append(np.fft.rfft(terms[template], axis=1)[:, 1 : _HARMONICS + 1] / _FFT_POINTS)
             parts += np.ptp(terms[template], axis=1)
@@ -271,16 +274,14 @@ class _Signatures:
         return [gas[i, a].tobytes() + rounded[i].tobytes() for i, a in enumerate(chosen)]
 
 
-def _distinct(machine: Machine, phases: np.ndarray) -> list[int]:
-    """The candidates (row indices, in order) that run unlike every earlier one: a set
-    look-up of each one's :class:`_Signatures`."""
-    seen: set[bytes] = set()
-    kept = []
-    for row, signature in enumerate(_Signatures(machine)(phases)):
-        if signature not in seen:
-            seen.add(signature)
-            kept.append(row)
-    return kept
+def _groups(machine: Machine, phases: np.ndarray) -> np.ndarray:
+    """Each candidate's class of candidates that run alike on a rigid shaft (an integer per
+    row, numbered in order of first appearance): a dictionary look-up of its
+    :class:`_Signatures`."""
+    seen: dict[bytes, int] = {}
+    return np.array(
+        [seen.setdefault(signature, len(seen)) for signature in _Signatures(machine)(phases)], dtype=np.int64
+    )
 
 
 def _firing_sequence(phases: np.ndarray, cycle: float) -> str:
@@ -298,25 +299,16 @@ def _largest_orders(machine: Machine, phases: np.ndarray, rpm: float, highest: i
     (rows of ``phases``), and that amplitude [N·m].
 
     Every part of the torque (gas, inertia at the mean speed, gravity) is a sum over
-    cylinders of a function of φ + α_j: each cylinder's orders are found once, at phase 0
-    (:func:`~multicrank.torque_orders` of the cylinder alone), and moved to α_j by the shift
-    theorem, c_ν → c_ν e^{iνα_j} with c_ν = a_ν − i b_ν.
+    cylinders of a function of φ + α_j: each cylinder's orders are found once, at phase 0,
+    and moved to α_j by the shift theorem (:func:`~multicrank.torsion.merit.cylinder_orders`).
     """
-    from ..motion.orders import torque_orders
+    from ..torsion.merit import cylinder_orders
 
-    total: np.ndarray | None = None
-    for j, cylinder in enumerate(machine.cylinders):
-        alone = machine.replace(cylinders=[cylinder.replace(phase=0.0)])
-        orders = torque_orders(alone, rpm, max_order=highest)
-        orders = orders[orders.index > 0]
-        nu = orders.index.to_numpy()
-        c = orders["total_cos"].to_numpy() - 1j * orders["total_sin"].to_numpy()
-        moved = c[None, :] * np.exp(1j * nu[None, :] * phases[:, j : j + 1])
-        total = moved if total is None else total + moved
-    assert total is not None
-    amplitude = np.abs(total)
+    harmonics = cylinder_orders(machine, highest)
+    omega = np.full(harmonics.orders.shape, rpm * math.pi / 30)
+    amplitude = np.abs(harmonics.at(phases, omega).sum(axis=1))
     largest = np.argmax(amplitude, axis=1)
-    return nu[largest], amplitude[np.arange(len(phases)), largest]
+    return harmonics.orders[largest], amplitude[np.arange(len(phases)), largest]
 
 
 def _candidate_machines(machine: Machine, phases: np.ndarray) -> list[Machine]:
@@ -335,38 +327,53 @@ def _candidate_machines(machine: Machine, phases: np.ndarray) -> list[Machine]:
 def firing_orders(
     machine: Machine,
     *,
+    shaft: Any = None,
+    rank_by: Any = "delta",
     rpm: Any = None,
     max_order: Any = 12,
     max_candidates: Any = DEFAULT_MAX_CANDIDATES,
     progress: Any = False,
 ) -> Any:
-    """The distinct firing orders a machine's crank allows, ranked by δ with gravity.
+    """The distinct firing orders a machine's crank allows, judged by every criterion: δ with
+    gravity, the free moments, the main-bearing loads and, with a shaft, the torsional merit.
 
-    Each candidate is the machine with other phases α_j; candidates that run alike (the same
-    motion, shifted in φ) are one row. Every row's steady state ("balance" load, at ``rpm``)
-    is solved by :func:`~multicrank.motion_sweep`, the candidates its designs (columns
-    ``"phase[j]"``).
+    Each candidate is the machine with other phases α_j. Candidates that run alike on a rigid
+    shaft (the same motion, shifted in φ) share one steady state ("balance" load, at ``rpm``,
+    solved by :func:`~multicrank.motion_sweep`, the candidates its designs: columns
+    ``"phase[j]"``); they are one row where their free moments, bearing loads and torsional
+    merit agree too, and separate rows where those tell them apart. Every candidate's frame
+    criteria come from one motion sweep of its frame outputs.
 
     Parameters
     ----------
     machine : Machine
-        The machine: its cylinders, crank and pressures; its own phases are one candidate.
+        The machine: its cylinders, crank, pressures and places along the shaft; its own
+        phases are one candidate.
+    shaft : Shaft, optional
+        The shaft as a torsional chain; default the machine's own (``Machine.shaft``). With
+        one, the table has ``torsional_merit``.
+    rank_by : {"delta", "free_moment_1", "free_moment_2", "max_bearing_load", "torsional_merit"}, default "delta"
+        The criterion the rows are sorted by (smallest first; ties keep the candidates'
+        order, the machine as given first); "torsional_merit" needs a shaft.
     rpm : float, optional
-        The mean speed n [1/min] of the steady states; default the machine's own ``rpm``.
+        The speed n [1/min] of the table: the mean speed of the steady states and the
+        constant speed of the frame criteria; default the machine's own ``rpm``.
     max_order : int, default 12
-        The highest torque order ν (per revolution) that ``largest_order`` considers.
+        The highest order ν (per revolution) that ``largest_order`` and ``torsional_merit``
+        consider.
     max_candidates : int, default 4096
         At most this many candidates are made (in a fixed order, the machine's own first);
         where the crank allows more, the table says so (``attrs["exhaustive"]`` False). Each
-        distinct one costs a steady state (a few ms); the default covers every four-stroke
-        crank of up to 13 cylinders and every two-stroke crank of up to 7 unlike throws.
+        candidate costs its frame criteria (below a millisecond) and each class that runs
+        alike a steady state (a few ms); the default covers every four-stroke crank of up to
+        13 cylinders and every two-stroke crank of up to 7 unlike throws.
     progress : bool, default False
-        Show a progress bar of the steady states.
+        Show progress bars of the frame criteria and the steady states.
 
     Returns
     -------
     pandas.DataFrame
-        One row per distinct candidate, sorted by ``delta`` (stalled ones last): ``firing``
+        One row per distinct candidate, sorted by ``rank_by`` (stalled ones last): ``firing``
         (the cylinders, numbered from 1, in the order they fire from cylinder 1; "+" joins
         those that fire together; the convention in the notes), ``as_given`` (True for the one row that runs as the
         machine given), ``phases`` (α_j [rad], a tuple in the machine's cylinder order),
@@ -375,10 +382,22 @@ def firing_orders(
         ``near_stall`` (δ > :data:`~multicrank.NEAR_STALL_DELTA`: it nearly stops each cycle),
         ``largest_order`` (the order 0 < ν ≤ max_order of the largest amplitude of the total
         torque — gas, inertia at the mean speed and gravity — on the shaft; half orders for
-        four strokes) and ``largest_order_amplitude`` [N·m], and ``machine`` (the
+        four strokes) and ``largest_order_amplitude`` [N·m]; the frame's criteria at
+        ``rpm`` held constant, inertial: ``free_moment_1`` and ``free_moment_2`` [N·m] (the
+        largest magnitude over the cycle of the first- and second-order shaking moment
+        vector, pitch and yaw together, about z = 0: :func:`~multicrank.shaking_forces`),
+        ``max_bearing_load`` [N] (the largest load on any main bearing over the working
+        cycle, :func:`~multicrank.bearing_loads` at 720 angles); with a shaft
+        ``torsional_merit`` [N·m] (the largest ``excitation`` of the shaft's first mode,
+        :func:`~multicrank.torsional_merit`, over the orders up to ``max_order`` whose
+        resonance speed lies in the machine's ``rpm_range``, ends included — or from 0 to
+        ``rpm`` where it has none; 0 where no order resonates there); ``pareto`` (no other row
+        is at least as good on every criterion and better on one); and ``machine`` (the
         candidate's :class:`~multicrank.Machine`). ``attrs``: ``candidates`` (how many
         assignments the crank allows), ``distinct`` (the rows), ``exhaustive`` (whether
-        every candidate was made) and ``rpm``.
+        every candidate was made), ``rpm``, ``rank_by``, ``criteria`` (the criteria
+        weighed, smaller is better) and ``speed_range`` (that of the torsional merit, None
+        without a shaft).
 
     Raises
     ------
@@ -395,7 +414,11 @@ def firing_orders(
     bore and crank; J and gravity by their Fourier orders 1 … 48, rounded in steps of 1e-8
     of the cylinders' own swings. Each candidate gets one signature of both (its least over
     the shifts the gas allows), and alike candidates are found by a set look-up: the work
-    grows as the number of candidates, not its square.
+    grows as the number of candidates, not its square. Candidates alike on a rigid shaft may
+    still load the frame and the bearings differently and excite the shaft's modes
+    differently (the cylinders sit at other places along the shaft): they are separate rows
+    where a criterion differs by more than 1e-8 of its largest value. The Pareto marks use
+    the same rounding, a stalled δ counting worse than any.
 
     How a firing order is written: cylinders are numbered from 1 in the machine's order
     (for the built-in layouts and machines, along the shaft from the front), and the
@@ -405,7 +428,8 @@ def firing_orders(
     so they read as engine people write them: 1-3-4-2, 1-2-4-5-3, 1-5-3-6-2-4,
     1-6-2-5-8-3-7-4. Candidates that run alike are one row, named by the machine as given
     (its ``as_given`` row) or else by the first candidate of its kind: the four's 1-2-4-3
-    (another camshaft on the same crank) runs as its 1-3-4-2 and is that row. The six's
+    (another camshaft on the same crank) runs as its 1-3-4-2, with the same loads, and is
+    that row. The six's
     other textbook order, 1-4-2-6-3-5, is that of the mirror-image crank (throws 2-5 and 3-4
     exchanged; 1-5-3-6-2-4 read against the rotation): a machine built so prints it. A name
     does not say when each cylinder fires (a twin's "1-2" may be 180° or 540° apart):
@@ -417,18 +441,41 @@ def firing_orders(
     >>> engine = mc.presets.MACHINES["inline-4"]
     >>> table = mc.firing_orders(engine)
     >>> table.attrs["candidates"], table.attrs["distinct"]
-    (8, 3)
-    >>> table[["firing", "delta", "largest_order"]].round(4)  # the even firing runs smoothest
-        firing   delta  largest_order
-    0  1-3-4-2  0.0075            2.0
-    1  1-2+3-4  0.0180            2.0
-    2  1+4-2+3  0.0250            2.0
+    (8, 4)
+    >>> table[["firing", "delta", "max_bearing_load", "pareto"]].round(4)  # the even firing wins
+        firing   delta  max_bearing_load  pareto
+    0  1-3-4-2  0.0075        11647.3349    True
+    1  1-2+3-4  0.0180        16093.6853   False
+    2  1+4-3-2  0.0180        11647.3349   False
+    3  1+4-2+3  0.0250        16093.6853   False
+
+    Two firings that run alike on a rigid shaft (δ 0.018) load the bearings differently.
+    With a shaft, the torsional merit joins the criteria (1+4-3-2 excites the first mode as
+    little as 1-3-4-2, but is worse on δ: not on the Pareto front):
+
+    >>> shaft = mc.Shaft([0.02, 0.02, 0.02, 0.02, 0.3], [3e5, 3e5, 3e5, 4e5],
+    ...                  cylinder_nodes=[0, 1, 2, 3])
+    >>> by_merit = mc.firing_orders(engine, shaft=shaft, rank_by="torsional_merit")
+    >>> by_merit[["firing", "torsional_merit", "pareto"]].round(1)
+        firing  torsional_merit  pareto
+    0  1-3-4-2             79.7    True
+    1  1+4-3-2             79.7   False
+    2  1-2+3-4            107.0   False
+    3  1+4-2+3            118.2   False
     """
     import pandas as pd
 
     from ..motion.sweep import motion_sweep
+    from ..torsion.merit import first_mode_merit, machine_shaft
 
     machine = as_instance(machine, Machine, "machine")
+    chosen_shaft = None if shaft is None and machine.shaft is None else machine_shaft(machine, shaft)
+    criteria = CRITERIA if chosen_shaft is not None else CRITERIA[:-1]
+    if rank_by == "torsional_merit" and chosen_shaft is None:
+        raise MechanismError(
+            f"rank_by='torsional_merit' needs a shaft: give shaft=mc.Shaft(...); machine {machine.name!r} has none"
+        )
+    order_by = as_option(rank_by, "rank_by", criteria)
     highest = as_count(max_order, "max_order", minimum=1)
     limit = as_count(max_candidates, "max_candidates", minimum=1)
     progress = as_flag(progress, "progress")
@@ -436,29 +483,51 @@ def firing_orders(
         raise MechanismError(f"rpm is required: machine {machine.name!r} has no rpm of its own")
     speed = as_speed(machine.rpm if rpm is None else rpm, "rpm")
     found, total = _candidates(machine, limit)
-    kept = _distinct(machine, found)
+
+    # Every candidate's criteria; candidates alike on a rigid shaft (one δ, one steady state
+    # each) are one row only where those agree too.
+    groups = _groups(machine, found)
+    values = frame_criteria(machine, found, speed, progress)
+    speeds = machine.rpm_range if machine.rpm_range is not None else (0.0, speed)
+    if chosen_shaft is not None:
+        values["torsional_merit"] = first_mode_merit(machine, chosen_shaft, found, highest, speeds)
+    key = np.column_stack([groups, *(ticks(values[name]) for name in criteria[1:])])
+    _, first = np.unique(key, axis=0, return_index=True)
+    kept = np.sort(first)  # candidate 0, the machine as given, first
     phases = found[kept]
-    designs = pd.DataFrame({f"phase[{j}]": phases[:, j] for j in range(phases.shape[1])})
+
+    representative = np.unique(groups, return_index=True)[1]  # the first candidate of each class
+    designs = pd.DataFrame({f"phase[{j}]": found[representative, j] for j in range(found.shape[1])})
     designs["rpm"] = speed
     solved = motion_sweep(
         machine, designs, outputs=["delta", "delta_without_gravity", "gravity_effect"], progress=progress
     )
+    motion = {name: solved[name].to_numpy()[groups[kept]] for name in MOTION_COLUMNS}
     largest, amplitude = _largest_orders(machine, phases, speed, highest)
     table = pd.DataFrame(
         {
             "firing": [_firing_sequence(p, machine.cycle) for p in phases],
-            "as_given": [row == 0 for row in kept],  # candidate 0 is the machine's own phases
+            "as_given": kept == 0,  # candidate 0 is the machine's own phases
             "phases": [tuple(p.tolist()) for p in phases],
-            "delta": solved["delta"].to_numpy(),
-            "delta_without_gravity": solved["delta_without_gravity"].to_numpy(),
-            "gravity_effect": solved["gravity_effect"].to_numpy(),
-            "stalled": solved["stalled"].to_numpy(),
-            "near_stall": solved["near_stall"].to_numpy(),
+            **motion,
             "largest_order": largest,
             "largest_order_amplitude": amplitude,
-            "machine": _candidate_machines(machine, phases),
+            **{name: values[name][kept] for name in criteria[1:]},
         }
     )
-    table = table.sort_values("delta", na_position="last", kind="stable").reset_index(drop=True)
-    table.attrs.update(candidates=total, distinct=len(table), exhaustive=len(found) == total, rpm=speed)
+    scores = np.column_stack([ticks(table[name].to_numpy()) for name in criteria])
+    table["pareto"] = pareto_front(scores)
+    table["machine"] = _candidate_machines(machine, phases)
+    # Sorted by the rounded criterion, so that values equal but for rounding keep the
+    # candidates' order (the machine as given first); NaN (stalled) last.
+    table = table.iloc[np.argsort(scores[:, criteria.index(order_by)], kind="stable")].reset_index(drop=True)
+    table.attrs.update(
+        candidates=total,
+        distinct=len(table),
+        exhaustive=len(found) == total,
+        rpm=speed,
+        rank_by=order_by,
+        criteria=criteria,
+        speed_range=tuple(float(v) for v in speeds) if chosen_shaft is not None else None,
+    )
     return table

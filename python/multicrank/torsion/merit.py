@@ -35,7 +35,14 @@ from .._validation import as_count, as_instance, as_speed_range
 from ..machine.machine import Machine
 from .shaft import Shaft
 
-__all__ = ["CylinderOrders", "cylinder_orders", "machine_shaft", "torsional_merit"]
+__all__ = [
+    "CylinderOrders",
+    "cylinder_orders",
+    "first_mode_merit",
+    "machine_shaft",
+    "mode_excitation",
+    "torsional_merit",
+]
 
 #: Firing angles within this many radians (times the order) are in phase: the layouts'
 #: phases are exact to ~1e-13 rad.
@@ -144,6 +151,36 @@ def firing_angles(phases: np.ndarray, cycle: float) -> np.ndarray:
     return np.mod(-np.asarray(phases, dtype=float), cycle)
 
 
+def mode_excitation(
+    harmonics: CylinderOrders, amplitude: np.ndarray, phases: np.ndarray, resonance: np.ndarray
+) -> np.ndarray:
+    """E = |Σ_j a_j T_ν,j| of each candidate (rows of ``phases``, (candidates, cylinders)
+    [rad]), mode (rows of ``amplitude``, (modes, cylinders)) and order, the inertia torque at
+    each mode's and order's ``resonance`` speed ((modes, orders) [1/min]): (candidates,
+    modes, orders) [N·m]."""
+    torque = harmonics.at(phases[:, None, :], resonance[None, :, :] * math.pi / 30)  # (n, modes, j, orders)
+    return np.abs(np.einsum("mj,nmjo->nmo", amplitude, torque))
+
+
+def first_mode_merit(
+    machine: Machine, shaft: Shaft, phases: np.ndarray, highest: int, speeds: tuple[float, float]
+) -> np.ndarray:
+    """The torsional merit of each candidate (rows of ``phases`` [rad]): the largest
+    excitation of the shaft's first mode over the orders up to ``highest`` whose resonance
+    speed lies in ``speeds`` (low, high) [1/min], ends included; 0 where none does."""
+    found = shaft.modes()
+    amplitude = cylinder_amplitudes(shaft, found.shapes[:, :1])
+    harmonics = cylinder_orders(machine, highest)
+    resonance = 60.0 * found.natural_frequency[0] / harmonics.orders
+    inside = (resonance >= speeds[0]) & (resonance <= speeds[1])
+    if not inside.any():
+        return np.zeros(len(phases))
+    chosen = CylinderOrders(
+        harmonics.orders[inside], *(part[:, inside] for part in (harmonics.gas, harmonics.gravity, harmonics.inertial))
+    )
+    return mode_excitation(chosen, amplitude, phases, resonance[None, inside])[:, 0, :].max(axis=1)
+
+
 def torsional_merit(
     machine: Machine,
     shaft: Any = None,
@@ -209,14 +246,14 @@ def torsional_merit(
     >>> merit = mc.torsional_merit(engine, shaft, modes=1, max_order=4)
     >>> merit[["order", "resonance_rpm", "vector_sum", "major"]].round(1)
        order  resonance_rpm  vector_sum  major
-    0    0.5       104837.5         0.7  False
-    1    1.0        52418.8         1.2  False
-    2    1.5        34945.8         0.7  False
-    3    2.0        26209.4         2.7   True
-    4    2.5        20967.5         0.7  False
-    5    3.0        17472.9         1.2  False
-    6    3.5        14976.8         0.7  False
-    7    4.0        13104.7         2.7   True
+    0    0.5        30021.6         0.9  False
+    1    1.0        15010.8         0.2  False
+    2    1.5        10007.2         0.9  False
+    3    2.0         7505.4         2.5   True
+    4    2.5         6004.3         0.9  False
+    5    3.0         5003.6         0.2  False
+    6    3.5         4288.8         0.9  False
+    7    4.0         3752.7         2.5   True
     """
     import pandas as pd
 
@@ -241,8 +278,7 @@ def torsional_merit(
     resonance = 60.0 * frequency[:, None] / orders[None, :]  # (modes, orders) [1/min]
     vectors = np.exp(1j * orders[:, None] * theta[None, :])  # (orders, cylinders)
     vector_sum = np.abs(amplitude @ vectors.T)  # (modes, orders)
-    torque = harmonics.at(phases[None, :], resonance * math.pi / 30)  # (modes, cylinders, orders)
-    excitation = np.abs(np.einsum("mj,mjn->mn", amplitude, torque))
+    excitation = mode_excitation(harmonics, amplitude, phases[None, :], resonance)[0]
     # In phase: every νθ_j the same angle modulo 2π (to rounding, scaled by the order).
     turn = np.remainder(orders[:, None] * (theta[None, :] - theta[:1]) + math.pi, 2 * math.pi) - math.pi
     major = np.all(np.abs(turn) <= IN_PHASE * np.maximum(orders[:, None], 1.0), axis=1)

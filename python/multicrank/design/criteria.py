@@ -1,0 +1,75 @@
+"""What the design aid weighs besides δ, and how it tells rows apart and marks the best.
+
+An engine designer chooses a firing order by more than the speed fluctuation: by the free
+moments it leaves on the frame, the loads on the main bearings and the torsional vibration it
+excites. Every criterion here is smaller-is-better:
+
+- ``delta``: δ with gravity of the steady state ("balance" load) [dimensionless];
+- ``free_moment_1``, ``free_moment_2`` [N·m]: the largest magnitude over a cycle of the first-
+  and second-order shaking moment vector (pitch and yaw together, about z = 0), inertial, at
+  the table's constant speed (:func:`~multicrank.shaking_forces`);
+- ``max_bearing_load`` [N]: the largest load on any main bearing over the working cycle at
+  that speed (:func:`~multicrank.bearing_loads` at 720 angles);
+- ``torsional_merit`` [N·m], with a shaft: the largest excitation of its first mode over the
+  orders whose resonance lies in the machine's speed range
+  (:func:`~multicrank.torsional_merit`).
+
+Values that agree to :data:`AGREE` of the criterion's largest are equal: they are the same
+number but for rounding (mirror-image cranks give the same moments by different sums).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..machine.machine import Machine
+
+__all__ = ["AGREE", "CRITERIA", "FRAME_CRITERIA", "frame_criteria", "pareto_front", "ticks"]
+
+#: The criteria of the design aid, all smaller-is-better.
+CRITERIA = ("delta", "free_moment_1", "free_moment_2", "max_bearing_load", "torsional_merit")
+#: Those the motion sweep's frame outputs give.
+FRAME_CRITERIA = ("free_moment_1", "free_moment_2", "max_bearing_load")
+#: Values closer than this fraction of the criterion's largest finite value are equal.
+AGREE = 1e-8
+#: Rows compared at once by :func:`pareto_front` (a block's array is rows × BLOCK × criteria).
+_BLOCK = 512
+
+
+def frame_criteria(machine: Machine, phases: np.ndarray, rpm: float, progress: bool) -> dict[str, np.ndarray]:
+    """The :data:`FRAME_CRITERIA` of the machine with each row of ``phases`` [rad], at ``rpm``
+    held constant: one :func:`~multicrank.motion_sweep` (the core, rows in parallel)."""
+    import pandas as pd
+
+    from ..motion.sweep import motion_sweep
+
+    designs = pd.DataFrame({f"phase[{j}]": phases[:, j] for j in range(phases.shape[1])})
+    designs["rpm"] = rpm
+    found = motion_sweep(machine, designs, outputs=list(FRAME_CRITERIA), progress=progress)
+    return {name: found[name].to_numpy() for name in FRAME_CRITERIA}
+
+
+def ticks(values: np.ndarray) -> np.ndarray:
+    """``values`` as integers in steps of :data:`AGREE` of their largest finite magnitude, so
+    that equal-but-for-rounding values are equal; NaN (a stalled machine's δ) is the largest
+    integer, worse than every number."""
+    values = np.asarray(values, dtype=float)
+    finite = np.isfinite(values)
+    scale = float(np.abs(values[finite]).max()) if finite.any() else 0.0
+    result = np.full(values.shape, np.iinfo(np.int64).max, dtype=np.int64)
+    result[finite] = np.rint(values[finite] / (AGREE * scale)) if scale > 0 else 0
+    return result
+
+
+def pareto_front(scores: np.ndarray) -> np.ndarray:
+    """Whether each row of ``scores`` (rows × criteria, integers from :func:`ticks`, smaller is
+    better) is on the Pareto front: no other row is at least as good on every criterion and
+    better on one."""
+    scores = np.asarray(scores)
+    dominated = np.zeros(len(scores), dtype=bool)
+    for start in range(0, len(scores), _BLOCK):
+        block = scores[start : start + _BLOCK]  # the rows that may be dominated
+        no_worse = np.all(scores[None, :, :] <= block[:, None, :], axis=2)
+        better = np.any(scores[None, :, :] < block[:, None, :], axis=2)
+        dominated[start : start + _BLOCK] = np.any(no_worse & better, axis=1)
+    return ~dominated

@@ -1,0 +1,127 @@
+"""mc.firing_orders' criteria beside δ (issue 29 item 3): each row's free moments and bearing
+load against mc.shaking_forces and mc.bearing_loads of its machine, its torsional merit against
+mc.torsional_merit of its machine, the Pareto marks against a brute-force pairwise comparison
+written here, rank_by, and the rows that a rigid shaft cannot tell apart."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import multicrank as mc
+
+INLINE_4 = mc.presets.MACHINES["inline-4"]
+SHAFT_4 = mc.Shaft([0.02, 0.02, 0.02, 0.02, 0.3], [3e5, 3e5, 3e5, 4e5], cylinder_nodes=[0, 1, 2, 3])
+CRITERIA = ["delta", "free_moment_1", "free_moment_2", "max_bearing_load", "torsional_merit"]
+
+
+def v6_two_stroke() -> mc.Machine:
+    """A two-stroke 60° V6, placed along the shaft, its cylinders unlike (so that the throws'
+    order matters), with a shaft of a node per throw and a flywheel."""
+    cylinder = mc.presets.MACHINES["marine-2t-twin"].cylinders[0]
+    small = cylinder.replace(crank_radius=0.05, rod_length=0.2, rod_cg=0.13, piston_mass=2.0, rod_mass=2.5, bore=0.1)
+    machine = mc.Machine.from_layout("v6-60", small, shaft_inertia=1.0, strokes=2, rpm=1500, cylinder_spacing=0.15)
+    machine = machine.replace(
+        cylinders=[c.replace(piston_mass=2.0 + 0.3 * j) for j, c in enumerate(machine.cylinders)],
+        rpm_range=(600, 2400),
+    )
+    shaft = mc.Shaft([0.05, 0.05, 0.05, 1.5], [4e5, 4e5, 6e5], cylinder_nodes=list(machine.throw_index))
+    return machine.replace(shaft=shaft)
+
+
+def brute_pareto(rows: list[list[float]]) -> list[bool]:
+    """Pairwise, with NaN worst and values equal to 1e-8 of the column's largest equal."""
+    columns = np.array(rows, dtype=float).T
+    scaled = []
+    for column in columns:
+        finite = np.isfinite(column)
+        scale = (np.abs(column[finite]).max() if finite.any() else 0.0) or 1.0
+        scaled.append([round(v / (1e-8 * scale)) if math.isfinite(v) else math.inf for v in column])
+    points = list(zip(*scaled, strict=True))
+    front = []
+    for i, a in enumerate(points):
+        dominated = False
+        for j, b in enumerate(points):
+            if j != i and all(y <= x for x, y in zip(a, b, strict=True)) and any(y < x for x, y in zip(a, b, strict=True)):
+                dominated = True
+        front.append(not dominated)
+    return front
+
+
+@pytest.mark.parametrize("case", ["inline-4", "v6-2t"])
+def test_every_row_s_criteria_are_those_of_its_machine(case):
+    machine = INLINE_4.replace(shaft=SHAFT_4) if case == "inline-4" else v6_two_stroke()
+    table = mc.firing_orders(machine, max_order=8)
+    rpm = table.attrs["rpm"]
+    low, high = table.attrs["speed_range"]
+    assert (low, high) == machine.rpm_range
+    for _, row in table.iterrows():
+        orders = mc.shaking_forces(row["machine"], rpm).orders
+        moment = orders["moment_forward"] + orders["moment_backward"]
+        assert row["free_moment_1"] == pytest.approx(moment.get(1.0, 0.0), rel=1e-9, abs=1e-9)
+        assert row["free_moment_2"] == pytest.approx(moment.get(2.0, 0.0), rel=1e-9, abs=1e-9)
+        loads = mc.bearing_loads(row["machine"], rpm)
+        assert row["max_bearing_load"] == pytest.approx(loads.magnitude.max(), rel=1e-9)
+        merit = mc.torsional_merit(row["machine"], modes=1, max_order=8, rpm_range=(low, high))
+        assert row["torsional_merit"] == pytest.approx(merit["excitation"].max() if len(merit) else 0.0, rel=1e-9)
+    assert table["pareto"].tolist() == brute_pareto(table[CRITERIA].to_numpy().tolist())
+    assert table["pareto"].any()
+
+
+def test_firings_alike_on_a_rigid_shaft_are_separate_rows_where_the_frame_tells_them_apart():
+    table = mc.firing_orders(INLINE_4)
+    assert table.attrs["distinct"] == 4
+    # 1-2+3-4 and 1+4-3-2 run alike (one δ) but load the bearings differently.
+    pair = table.set_index("firing").loc[["1-2+3-4", "1+4-3-2"]]
+    assert pair["delta"].iloc[0] == pair["delta"].iloc[1]
+    assert pair["max_bearing_load"].iloc[0] > 1.2 * pair["max_bearing_load"].iloc[1]
+    # Without the places along the shaft the frame cannot tell them apart either: one row.
+    unplaced = INLINE_4.replace(cylinders=[c.replace(axial_position=0.0) for c in INLINE_4.cylinders])
+    assert mc.firing_orders(unplaced).attrs["distinct"] == 3
+
+
+@pytest.mark.parametrize("criterion", CRITERIA)
+def test_rank_by_sorts_by_any_criterion_ties_kept_in_the_candidates_order(criterion):
+    machine = v6_two_stroke()
+    table = mc.firing_orders(machine, rank_by=criterion, max_order=8)
+    values = table[criterion].to_numpy()
+    scale = np.nanmax(np.abs(values))
+    assert np.all(np.diff(values) >= -1e-8 * scale)
+    assert table.attrs["rank_by"] == criterion
+    assert set(table["firing"]) == set(mc.firing_orders(machine, max_order=8)["firing"])
+
+
+def test_without_a_shaft_there_is_no_torsional_merit():
+    table = mc.firing_orders(INLINE_4)
+    assert "torsional_merit" not in table.columns
+    assert table.attrs["criteria"] == tuple(CRITERIA[:-1])
+    assert table.attrs["speed_range"] is None
+    # The shaft given to the call counts as the machine's own.
+    given = mc.firing_orders(INLINE_4, shaft=SHAFT_4)
+    own = mc.firing_orders(INLINE_4.replace(shaft=SHAFT_4))
+    assert given.drop(columns="machine").equals(own.drop(columns="machine"))
+
+
+def test_a_machine_without_a_speed_range_weighs_resonances_up_to_its_speed():
+    machine = INLINE_4.replace(rpm_range=None, shaft=SHAFT_4)
+    table = mc.firing_orders(machine)
+    assert table.attrs["speed_range"] == (0.0, machine.rpm)
+    for _, row in table.iterrows():
+        merit = mc.torsional_merit(row["machine"], modes=1, rpm_range=(1e-3, machine.rpm))
+        assert row["torsional_merit"] == pytest.approx(merit["excitation"].max(), rel=1e-9)
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "named"),
+    [
+        ({"rank_by": "smoothness"}, "rank_by"),
+        ({"rank_by": "torsional_merit"}, "shaft"),
+        ({"shaft": "stiff"}, "shaft"),
+        ({"shaft": mc.Shaft([1.0, 1.0], [1e5], cylinder_nodes=[0, 0])}, "cylinder_nodes"),
+    ],
+)
+def test_bad_input_is_refused_by_name(kwargs, named):
+    with pytest.raises(mc.MechanismError, match=named):
+        mc.firing_orders(INLINE_4, **kwargs)
