@@ -18,6 +18,7 @@ import functools
 import inspect
 import math
 from collections.abc import Callable
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -55,7 +56,7 @@ WRONG_TYPE = {"text", "none", "complex", "object", "mapping", "set", "bytes", "t
 WRONG_TYPE |= {"bool_array", "datetime", "callable"}
 
 # Categories not drawn for a kind: a random string is a fine path, and would be written to.
-NOT_DRAWN: dict[str, set[str]] = {"path_or_none": {"text"}}
+NOT_DRAWN: dict[str, set[str]] = {"path_or_none": {"text"}, "path": {"text"}}
 
 # What each kind of parameter may accept (a call may still refuse such a value, by name).
 KINDS: dict[str, set[str]] = {
@@ -74,6 +75,7 @@ KINDS: dict[str, set[str]] = {
     "label_or_none": {"text", "none"},
     "flag": set(),
     "path_or_none": {"none"},
+    "path": set(),  # a file to read
     "outputs": set(),
     "outputs_or_none": {"none"},  # None: the default outputs
     "designs": set(),
@@ -94,11 +96,13 @@ KINDS: dict[str, set[str]] = {
     "count_or_none": {"none"},
     "range_or_none": {"none"},
     "positions_or_none": {"none"},  # increasing axial positions [m], at least two
+    "shaft_or_none": {"none"},  # an mc.Shaft with a node per cylinder; None: the machine's own, or none
     "pressure": {"none", "callable"},  # the callable is called (and refused) when the machine runs
     "firing": {"none"},
     "load": {"none", "callable", "float", "negative", "huge"},  # "balance", a torque [N·m], a callable
     "times": set(),  # increasing instants [s]
     "fraction": {"float"},  # 0 < x < 1
+    "assembly": set(),  # an openTorsion model
 }
 
 ENGINE = mc.Engine.inline(4, crank_ratio=0.3, inclination=1.0, u1=0.5, u2=0.1)
@@ -106,6 +110,8 @@ CYLINDER = mc.Cylinder(
     crank_radius=0.05, rod_length=0.2, piston_mass=1.0, rod_mass=1.0, rod_cg=0.05, crank_mass=1.0, crank_cg_radius=0.02
 )
 MACHINE = mc.Machine([CYLINDER], shaft_inertia=0.5, rpm=600.0)
+SHAFT = mc.Shaft([0.5, 0.2], [1e4], cylinder_nodes=[0], damping=[0.5])
+SHAFT_FILE = Path(__file__).resolve().parents[1] / "docs" / "machines" / "v8-cross.toml"  # with a [shaft]
 CYLINDER_KINDS = {
     "crank_radius": (0.05, "positive"),
     "rod_length": (0.2, "positive"),
@@ -143,6 +149,15 @@ def _quiet(function: Callable[..., Any]) -> Callable[..., Any]:
             return function(*args, **kwargs)
 
     return call
+
+
+def _machine_to_opentorsion(
+    orders: Any, shaft: Any, rpm: Any, max_order: Any, part: Any, mean: Any, dofs: Any, node: Any
+) -> Any:
+    """to_opentorsion's machine form, every keyword given (None where the call would leave it)."""
+    return mc.to_opentorsion(
+        orders, shaft=shaft, rpm=rpm, max_order=max_order, part=part, mean=mean, dofs=dofs, node=node
+    )
 
 
 def _threshold(threshold: Any) -> None:
@@ -321,6 +336,7 @@ MACHINE_KINDS = {
     "rpm_range": (None, "range_or_none"),
     "delta_target": (None, "positive_or_none"),
     "main_bearings": (None, "positions_or_none"),
+    "shaft": (None, "shaft_or_none"),
 }
 REGISTRY.update(
     {
@@ -466,8 +482,34 @@ REGISTRY.update(
                 "node": (1, "count"),
                 "part": ("total", "option"),
                 "mean": (False, "flag"),
+                # the machine form's: refused by name with a table
+                "shaft": (None, "passthrough"),
+                "rpm": (None, "passthrough"),
+                "max_order": (None, "passthrough"),
             },
         ),
+        "to_opentorsion (a machine)": (
+            _machine_to_opentorsion,
+            {
+                "orders": (MACHINE, "machine"),
+                "shaft": (SHAFT, "shaft_or_none"),
+                "rpm": (None, "positive_or_none"),  # None: the machine's own
+                "max_order": (3, "count_or_none"),  # None: 12
+                "part": ("total", "option"),
+                "mean": (False, "flag"),
+                # the table form's: refused by name with a machine
+                "dofs": (None, "passthrough"),
+                "node": (None, "passthrough"),
+            },
+        ),
+        "Shaft.from_opentorsion": (
+            mc.Shaft.from_opentorsion,
+            {
+                "assembly": (mc.to_opentorsion(MACHINE, shaft=SHAFT, max_order=1).assembly, "assembly"),
+                "cylinder_nodes": ([1], "node_list"),
+            },
+        ),
+        "Shaft.from_toml": (mc.Shaft.from_toml, {"path": (SHAFT_FILE, "path")}),
     }
 )
 
@@ -508,10 +550,22 @@ REGISTRY.update(
             mc.firing_orders,
             {
                 "machine": (MACHINE, "machine"),
+                "shaft": (None, "shaft_or_none"),
+                "rank_by": ("delta", "option"),
                 "rpm": (None, "positive_or_none"),
                 "max_order": (3, "count"),
                 "max_candidates": (10, "count"),
                 "progress": (False, "flag"),
+            },
+        ),
+        "torsional_merit": (
+            mc.torsional_merit,
+            {
+                "machine": (MACHINE, "machine"),
+                "shaft": (mc.Shaft([0.1, 0.2, 0.5], [1e4, 2e4], cylinder_nodes=[0]), "shaft_or_none"),
+                "modes": (2, "count"),
+                "max_order": (4, "count"),
+                "rpm_range": (None, "range_or_none"),
             },
         ),
         "optimize_counterweights": (
@@ -521,6 +575,9 @@ REGISTRY.update(
                 "objective": ("delta", "option"),
                 "bounds": (None, "range_or_none"),
                 "rpm": (None, "positive_or_none"),
+                # a finite force >= 0 [N]: a float may be a limit nothing meets (refused by name)
+                "max_bearing_load": (None, "positive_or_none"),
+                "max_free_force": (None, "positive_or_none"),
                 "seed": (0, "count"),
                 "maxiter": (2, "count"),
                 "progress": (False, "flag"),
@@ -542,6 +599,7 @@ OWNED_ELSEWHERE = {
     "SteadyState",
     "Transient",
     "StallError",
+    "TorsionalModel",  # to_opentorsion's, where exported
     # no user input
     "get_parallel_threshold",
     "EnergyExtrema",

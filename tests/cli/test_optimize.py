@@ -197,6 +197,72 @@ def test_counterweights_options_reach_the_library(tmp_path):
     assert all(0.0 <= value <= 50.0 for value in counterweights)
 
 
+CRITERIA = ("delta", "free_force_1", "free_moment_1", "max_bearing_load")
+
+
+def test_counterweights_bearing_load_and_limits_reach_the_library():
+    """--objective bearing_load and --max-free-force: the optimum is the library's, every
+    criterion before and after is in the JSON, and the limit holds (by mc.shaking_forces)."""
+    data = json.loads(
+        invoke(
+            "counterweights", "--machine", "boxer-compressor", *FAST, "--objective", "bearing_load",
+            "--max-free-force", "4000", "--format", "json",
+        ).stdout
+    )  # fmt: skip
+    found = mc.optimize_counterweights(
+        MACHINES["boxer-compressor"], objective="bearing_load", max_free_force=4000.0, seed=7, maxiter=3
+    )
+    assert data["objective_name"] == "bearing_load"
+    assert data["objective"] == pytest.approx(found.objective, rel=1e-12)
+    np.testing.assert_allclose([row["counterweight"] for row in data["rows"]], found.counterweights, rtol=1e-12)
+    for name in CRITERIA:
+        assert data[name] == pytest.approx(getattr(found, name), rel=1e-12, abs=1e-12), name
+        assert data[f"{name}_before"] == pytest.approx(getattr(found, f"{name}_before"), rel=1e-12, abs=1e-12), name
+    assert (data["max_free_force_limit"], data["max_bearing_load_limit"]) == (4000.0, None)
+    assert data["units"]["max_bearing_load"] == "N" and data["units"]["free_moment_1"] == "N·m"
+    orders = mc.shaking_forces(found.machine).orders
+    assert data["free_force_1"] <= 4000.0
+    assert data["free_force_1"] == pytest.approx(orders.loc[1, "force_forward"] + orders.loc[1, "force_backward"])
+
+
+def test_counterweights_table_prints_every_criterion_and_the_limit():
+    limit = 12000.0
+    result = invoke(
+        "counterweights", "--machine", "slow-compressor", "--maxiter", "20", "--max-bearing-load", f"{limit:g}",
+    )  # fmt: skip
+    head = result.stdout.split("\n\n", 1)[0]
+    found = mc.optimize_counterweights(MACHINES["slow-compressor"], max_bearing_load=limit, maxiter=20)
+    assert mc.bearing_loads(found.machine).magnitude.max() <= limit
+    for label, name in (
+        ("δ with gravity", "delta"),
+        ("first-order free force [N]", "free_force_1"),
+        ("first-order free moment about z = 0 [N·m]", "free_moment_1"),
+        ("largest main-bearing load [N]", "max_bearing_load"),
+    ):
+        before, after = getattr(found, f"{name}_before"), getattr(found, name)
+        assert f"{label}: {before:.6g} as given → {after:.6g}" in head, label
+    assert "kept: --max-bearing-load 12000 N" in head
+    # csv: the summary on stderr, the table alone on stdout.
+    csv = invoke(
+        "counterweights", "--machine", "slow-compressor", "--maxiter", "20", "--objective", "shaking_force",
+        "--max-bearing-load", f"{limit:g}", "--format", "csv",
+    )  # fmt: skip
+    assert "largest main-bearing load [N]" in csv.stderr and "largest main-bearing load" not in csv.stdout
+    assert csv_frame(csv, "throw").index.tolist() == [1]
+
+
+def test_a_limit_nothing_meets_is_one_line_naming_the_option():
+    line = refused("counterweights", "--machine", "slow-compressor", "--max-bearing-load", "1000", "--maxiter", "3",
+                   "--no-progress")  # fmt: skip
+    assert line.startswith("Error: no counterweights within bounds")
+    assert "--max-bearing-load <= 1000 N" in line and "(raise --max-bearing-load, or widen the bounds)" in line
+    both = refused(
+        "counterweights", "--machine", "slow-compressor", "--max-bearing-load", "1000", "--max-free-force", "1",
+        "--maxiter", "3", "--no-progress",
+    )  # fmt: skip
+    assert "--max-bearing-load <= 1000 N and --max-free-force <= 1 N together" in both
+
+
 # ------------------------------------------------------------------------- mistakes and help
 
 
@@ -219,6 +285,14 @@ def test_counterweights_options_reach_the_library(tmp_path):
         (["counterweights", "--seed", "-1"], "--seed"),
         (["counterweights", "--rpm", "-5"], "--rpm"),
         (["counterweights", "--machine", "no-such-machine"], "--machine"),
+        (["counterweights", "--objective", "bearing_loads"], "--objective"),
+        (["counterweights", "--max-bearing-load", "-5"], "--max-bearing-load"),
+        (["counterweights", "--max-bearing-load", "nan"], "--max-bearing-load"),
+        (["counterweights", "--max-bearing-load", "inf"], "--max-bearing-load"),
+        (["counterweights", "--max-bearing-load", "heavy"], "--max-bearing-load"),
+        (["counterweights", "--max-bearing-load"], "--max-bearing-load"),
+        (["counterweights", "--max-free-force", "-1"], "--max-free-force"),
+        (["counterweights", "--max-free-force", "nan"], "--max-free-force"),
         (["tune"], "tune"),
     ],
 )
@@ -282,4 +356,6 @@ def test_help():
         assert option in firing
     counterweights = helped("optimize", "counterweights")
     for option in ("--objective", "delta_over_speed_range", "--bounds LOW HIGH", "kg·m", "--seed", "--maxiter"):
+        assert option in counterweights
+    for option in ("bearing_load", "shaking_force", "--max-bearing-load N", "--max-free-force N", "newtons"):
         assert option in counterweights

@@ -1,10 +1,15 @@
 """mc.optimize_counterweights: no worse than the best point of a dense grid evaluated by
 mc.motion_sweep, its objective that of steady_state of the optimised machine, reproducible,
-the machine as given never beaten by its own result, and bad input refused by name."""
+the machine as given never beaten by its own result, and bad input refused by name. The
+frame's objectives and constraints: limits kept (checked by mc.bearing_loads and
+mc.shaking_forces of the returned machine), the first-order free force of one slider-crank
+against the textbook's closed form, every criterion before and after that of the machines,
+and a limit nothing meets refused by name."""
 
 from __future__ import annotations
 
 import math
+import re
 
 import numpy as np
 import pytest
@@ -14,6 +19,7 @@ import multicrank as mc
 COMPRESSOR = mc.presets.MACHINES["slow-compressor"]  # one throw
 TWIN = mc.presets.MACHINES["marine-2t-twin"]  # two opposed throws
 INLINE_4 = mc.presets.MACHINES["inline-4"]
+BOXER = mc.presets.MACHINES["boxer-compressor"]  # two opposed throws, apart along the shaft
 
 
 def moment(machine: mc.Machine, j: int) -> float:
@@ -124,6 +130,14 @@ def test_a_stalling_design_scores_infinity_not_nan():
         ({"rpm": 0.0}, "rpm"),
         ({"seed": -1}, "seed"),
         ({"maxiter": 0}, "maxiter"),
+        ({"objective": "bearing_loads"}, "objective"),
+        ({"max_bearing_load": -1.0}, "max_bearing_load"),
+        ({"max_bearing_load": math.nan}, "max_bearing_load"),
+        ({"max_bearing_load": math.inf}, "max_bearing_load"),
+        ({"max_bearing_load": "heavy"}, "max_bearing_load"),
+        ({"max_bearing_load": [1e4, 2e4]}, "max_bearing_load"),
+        ({"max_free_force": -0.5}, "max_free_force"),
+        ({"max_free_force": math.nan}, "max_free_force"),
     ],
 )
 def test_bad_input_is_named(options, match):
@@ -173,3 +187,157 @@ def test_counterweights_that_make_a_stalling_machine_run_are_found():
     assert math.isfinite(best.objective) and np.all(np.isfinite(best.counterweights))
     assert best.objective == mc.steady_state(best.machine, rpm=8.0).delta
     assert best.objective_before == math.inf and math.isnan(best.delta_before)
+
+
+# ------------------------------------------------------------ the frame's objectives and limits
+
+
+def largest_bearing_load(machine: mc.Machine, rpm: float) -> float:
+    return float(mc.bearing_loads(machine, rpm).magnitude.max())
+
+
+def first_order(machine: mc.Machine, rpm: float, what: str = "force") -> float:
+    """The largest magnitude over a revolution of the first-order free force [N] (or moment
+    [N·m]): its forward and backward parts in phase."""
+    orders = mc.shaking_forces(machine, rpm).orders
+    return float(orders.loc[1, f"{what}_forward"] + orders.loc[1, f"{what}_backward"])
+
+
+@pytest.fixture(scope="module")
+def least_delta():
+    """The compressor's counterweight of least δ: about seven times the one built, and
+    heavier on its bearings."""
+    return mc.optimize_counterweights(COMPRESSOR)
+
+
+def test_a_bearing_load_limit_is_kept_and_costs_delta(least_delta):
+    as_built = largest_bearing_load(COMPRESSOR, COMPRESSOR.rpm)
+    heaviest = largest_bearing_load(least_delta.machine, least_delta.rpm)
+    assert as_built < heaviest
+    limit = 0.5 * (as_built + heaviest)
+    kept = mc.optimize_counterweights(COMPRESSOR, max_bearing_load=limit, maxiter=40)
+    load = largest_bearing_load(kept.machine, kept.rpm)
+    assert load <= limit
+    assert kept.max_bearing_load == pytest.approx(load, rel=1e-12)
+    assert (kept.max_bearing_load_limit, kept.max_free_force_limit) == (limit, None)
+    # A constraint can't help; this one binds (the least δ is outside it), and the optimum is
+    # still better than as built.
+    assert least_delta.delta <= kept.delta < kept.delta_before
+    assert load > (1 - 1e-3) * limit
+    # No design of a dense grid that keeps the limit runs smoother.
+    radius = COMPRESSOR.cylinders[0].counterweight_radius
+    grid = mc.MachineGrid(COMPRESSOR, **{"counterweight_mass[0]": np.linspace(0.0, 49.9, 400) / radius})
+    dense = mc.motion_sweep(COMPRESSOR, grid, outputs=["delta", "max_bearing_load"])
+    assert kept.delta <= dense.loc[dense["max_bearing_load"] <= limit, "delta"].min() * (1 + 1e-12)
+
+
+def test_a_free_force_limit_is_kept(least_delta):
+    assert least_delta.free_force_1 > 2000.0
+    kept = mc.optimize_counterweights(COMPRESSOR, max_free_force=2000.0, maxiter=40)
+    # The machine as built breaks the limit: the optimum keeps it.
+    assert kept.free_force_1_before == pytest.approx(first_order(COMPRESSOR, COMPRESSOR.rpm), rel=1e-12)
+    assert kept.free_force_1_before > 2000.0 >= first_order(kept.machine, kept.rpm)
+    assert kept.free_force_1 == pytest.approx(first_order(kept.machine, kept.rpm), rel=1e-12)
+    assert least_delta.delta <= kept.delta < kept.delta_before
+
+
+def test_alike_counterweights_that_break_a_limit_are_not_returned():
+    """The boxer's δ sees only the difference of its two opposed counterweights: of the least
+    δ's designs, the one nearest the machine as given (no counterweights) loads the bearings
+    with 16 kN; under a 12 kN limit the optimiser's own point, as smooth, is returned."""
+    free = mc.optimize_counterweights(BOXER, maxiter=40, seed=1)
+    assert largest_bearing_load(free.machine, free.rpm) > 12e3
+    kept = mc.optimize_counterweights(BOXER, max_bearing_load=12e3, maxiter=40, seed=1)
+    assert largest_bearing_load(kept.machine, kept.rpm) <= 12e3
+    assert free.delta <= kept.delta <= free.delta * (1 + 1e-6)
+
+
+def test_the_first_order_free_force_of_one_slider_crank_is_the_textbook_s():
+    """The rotating masses (web, big-end share z_k/l of the rod, less the counterweight) turn
+    forward; the reciprocating r·m_rec·ω² cos φ along the axis (m_rec: the piston and the
+    pin-end share (l − z_k)/l of the rod) is half forward, half backward. Forward + backward
+    is least where the forward part is zero, and then half the reciprocating first order."""
+    c = COMPRESSOR.cylinders[0]
+    r, l, z = c.crank_radius, c.rod_length, c.rod_cg
+    rotating = c.crank_mass * c.crank_cg_radius + r * (z / l) * c.rod_mass  # [kg·m]
+    reciprocating = c.piston_mass + (l - z) / l * c.rod_mass  # [kg]
+    omega = COMPRESSOR.rpm * math.pi / 30
+    best_moment = rotating + 0.5 * r * reciprocating
+    least = 0.5 * r * omega**2 * reciprocating
+    found = mc.optimize_counterweights(COMPRESSOR, objective="shaking_force", bounds=(0.0, 40.0), maxiter=30)
+    assert found.counterweights[0] == pytest.approx(best_moment, rel=1e-6)
+    assert found.objective == found.free_force_1 == pytest.approx(least, rel=1e-6)
+    built = c.counterweight_mass * c.counterweight_radius
+    assert found.free_force_1_before == pytest.approx((abs(best_moment - built) * omega**2 + least), rel=1e-9)
+    assert found.objective_before == found.free_force_1_before
+    assert found.free_force_1 == pytest.approx(first_order(found.machine, found.rpm), rel=1e-12)
+
+
+def test_the_least_bearing_load_and_every_criterion_before_and_after():
+    found = mc.optimize_counterweights(BOXER, objective="bearing_load", maxiter=30, seed=1)
+    assert found.objective == found.max_bearing_load
+    assert found.max_bearing_load == pytest.approx(largest_bearing_load(found.machine, found.rpm), rel=1e-12)
+    assert found.max_bearing_load < found.max_bearing_load_before
+    # No design of a dense grid (61 × 61 over the default bounds) loads the bearings less:
+    # the optimiser's own point, not one moved along the designs of equal δ.
+    radii = [c.counterweight_radius or c.crank_radius for c in BOXER.cylinders]
+    high = 2 * sum(
+        c.crank_mass * c.crank_cg_radius + (c.rod_mass + c.piston_mass) * c.crank_radius for c in BOXER.cylinders[:1]
+    )
+    axis = np.linspace(0.0, high, 61)
+    columns = {f"counterweight_mass[{j}]": axis / radii[j] for j in range(2)}
+    columns |= {f"counterweight_radius[{j}]": [radii[j]] for j in range(2)}
+    dense = mc.motion_sweep(BOXER, mc.MachineGrid(BOXER, **columns), outputs="max_bearing_load")
+    assert found.objective <= dense["max_bearing_load"].min() * (1 + 1e-9)
+    # Every criterion, before and after, is that of the machine as given and of the optimum.
+    table = found.criteria()
+    assert table.index.tolist() == ["delta", "free_force_1", "free_moment_1", "max_bearing_load"]
+    assert table.columns.tolist() == ["before", "after", "unit"]
+    assert table["unit"].tolist() == ["", "N", "N·m", "N"]
+    for column, machine in (("before", found.machine_before), ("after", found.machine)):
+        expected = {
+            "delta": mc.steady_state(machine, rpm=found.rpm).delta,
+            "free_force_1": first_order(machine, found.rpm),
+            "free_moment_1": first_order(machine, found.rpm, "moment"),
+            "max_bearing_load": largest_bearing_load(machine, found.rpm),
+        }
+        for name, value in expected.items():
+            assert table.loc[name, column] == pytest.approx(value, rel=1e-12, abs=1e-9), (column, name)
+    assert found.machine_before is BOXER
+    assert table.loc["max_bearing_load", "before"] == found.max_bearing_load_before == found.objective_before
+
+
+def test_a_limit_on_the_speed_range_objective_holds_at_rpm():
+    kept = mc.optimize_counterweights(BOXER, objective="delta_over_speed_range", max_free_force=500.0, maxiter=20)
+    assert first_order(kept.machine, kept.rpm) <= 500.0
+    speeds = np.linspace(*BOXER.rpm_range, 9)
+    assert kept.objective == pytest.approx(max(mc.steady_state(kept.machine, rpm=n).delta for n in speeds), rel=1e-12)
+
+
+def test_the_same_seed_gives_the_same_constrained_result():
+    first = mc.optimize_counterweights(BOXER, objective="shaking_force", max_bearing_load=15e3, seed=5, maxiter=20)
+    again = mc.optimize_counterweights(BOXER, objective="shaking_force", max_bearing_load=15e3, seed=5, maxiter=20)
+    np.testing.assert_array_equal(first.counterweights, again.counterweights)
+    assert first.criteria().equals(again.criteria())
+
+
+def test_a_limit_nothing_meets_is_refused_by_name_with_the_least_found():
+    with pytest.raises(mc.MechanismError, match=r"max_bearing_load <= 1000 N") as caught:
+        mc.optimize_counterweights(COMPRESSOR, max_bearing_load=1000.0, maxiter=20)
+    reached = float(
+        re.search(
+            r"lowest main-bearing load \(largest over the cycle\) of the \d+ designs tried is (\S+) N",
+            str(caught.value),
+        )[1]
+    )
+    # The least reached (to the message's 6 digits) is the least over the bounds: a dense grid's.
+    radius = COMPRESSOR.cylinders[0].counterweight_radius
+    grid = mc.MachineGrid(COMPRESSOR, **{"counterweight_mass[0]": np.linspace(0.0, 49.9, 400) / radius})
+    least = mc.motion_sweep(COMPRESSOR, grid, outputs="max_bearing_load")["max_bearing_load"].min()
+    assert reached == pytest.approx(least, rel=1e-4)
+    # Two limits, each met alone, not together (no design of the grid meets both): both named.
+    both = mc.motion_sweep(COMPRESSOR, grid, outputs=["max_bearing_load", "free_force_1"])
+    assert (both["max_bearing_load"] <= 11100.0).any() and (both["free_force_1"] <= 1300.0).any()
+    assert not ((both["max_bearing_load"] <= 11100.0) & (both["free_force_1"] <= 1300.0)).any()
+    with pytest.raises(mc.MechanismError, match=r"max_bearing_load <= 11100 N and max_free_force <= 1300 N together"):
+        mc.optimize_counterweights(COMPRESSOR, max_bearing_load=11100.0, max_free_force=1300.0, maxiter=20)

@@ -89,7 +89,8 @@ def frame_mark(machine: mc.Machine) -> tuple[float, float, float]:
     second-order free moments (forward + backward) and the largest main-bearing load."""
     orders = mc.shaking_forces(machine, RPM).orders
     moment = orders["moment_forward"] + orders["moment_backward"]
-    return float(moment.get(1.0, 0.0)), float(moment.get(2.0, 0.0)), float(mc.bearing_loads(machine, RPM).magnitude.max())
+    largest = float(mc.bearing_loads(machine, RPM).magnitude.max())
+    return float(moment.get(1.0, 0.0)), float(moment.get(2.0, 0.0)), largest
 
 
 def same_frame(a, b) -> bool:

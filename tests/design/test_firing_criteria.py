@@ -44,7 +44,8 @@ def brute_pareto(rows: list[list[float]]) -> list[bool]:
     for i, a in enumerate(points):
         dominated = False
         for j, b in enumerate(points):
-            if j != i and all(y <= x for x, y in zip(a, b, strict=True)) and any(y < x for x, y in zip(a, b, strict=True)):
+            no_worse = all(y <= x for x, y in zip(a, b, strict=True))
+            if j != i and no_worse and any(y < x for x, y in zip(a, b, strict=True)):
                 dominated = True
         front.append(not dominated)
     return front

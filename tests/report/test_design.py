@@ -16,6 +16,7 @@ import pytest
 import multicrank as mc
 from multicrank.presets import DEFAULT_MACHINE_NAME, MACHINES
 from multicrank.report.design import FIRING_ROWS, NEGLIGIBLE, DesignResults, firing_table
+from multicrank.report.forces import number
 
 SCRIPT = Path(sys.executable).with_name("multicrank")
 #: The report's other parts on reduced settings: this file is about the design section.
@@ -44,7 +45,7 @@ def inline4(tmp_path_factory) -> Path:
 def read_csv(path: Path) -> pd.DataFrame:
     # Parsed by Python's float, exact on any pandas (before 3.0 its parser may be an ulp off).
     frame = pd.read_csv(path, dtype=str, keep_default_na=False)
-    text = ("firing", "phases_deg", "fires_at_deg", "cylinders", "as_given", "stalled", "near_stall")
+    text = ("firing", "phases_deg", "fires_at_deg", "cylinders", "as_given", "stalled", "near_stall", "pareto")
     numbers = [c for c in frame if c not in text]
     return frame.astype({c: float for c in numbers})
 
@@ -73,12 +74,22 @@ def check_firing(out: Path, machine: mc.Machine) -> tuple[pd.DataFrame, pd.DataF
         "near_stall",
         "largest_order",
         "largest_order_amplitude",
+        "free_moment_1",
+        "free_moment_2",
+        "max_bearing_load",
+        *(["torsional_merit"] if machine.shaft is not None else []),
+        "pareto",
     ]
     best = min(FIRING_ROWS, len(expected))
     assert table["rank"].tolist()[:best] == list(range(1, best + 1))
     rows = expected.iloc[table["rank"].astype(int) - 1]
     assert table["firing"].tolist() == rows["firing"].tolist()
-    for name in ("delta", "delta_without_gravity", "gravity_effect", "largest_order", "largest_order_amplitude"):
+    # every Pareto row is shown (these machines' fronts are short)
+    assert set(table["rank"].astype(int) - 1) >= set(np.flatnonzero(expected["pareto"]))
+    assert table["pareto"].tolist() == [str(p) for p in rows["pareto"]]
+    numbers = ["delta", "delta_without_gravity", "gravity_effect", "largest_order", "largest_order_amplitude"]
+    numbers += [c for c in ("free_moment_1", "free_moment_2", "max_bearing_load", "torsional_merit") if c in table]
+    for name in numbers:
         np.testing.assert_allclose(table[name], rows[name], rtol=1e-12, err_msg=name)
     phases = [np.radians([float(a) for a in text.split()]) for text in table["phases_deg"]]
     np.testing.assert_allclose(np.concatenate(phases), np.concatenate(rows["phases"].map(list).tolist()), atol=1e-12)
@@ -88,7 +99,7 @@ def check_firing(out: Path, machine: mc.Machine) -> tuple[pd.DataFrame, pd.DataF
     text = section(out)
     for r in table.itertuples():
         assert f"{r.delta:.5g}" in text and f"{r.delta_without_gravity:.5g}" in text
-        assert f"{r.largest_order_amplitude:.4g}" in text
+        assert f"<td>{number(r.max_bearing_load)}</td>" in text
     assert f"{own['firing'].iloc[0]} (as given)" in text
     return table, expected, text
 

@@ -6,6 +6,7 @@ and ``optimize counterweights`` (the counterweight per throw that minimises an o
 from __future__ import annotations
 
 import math
+import re
 from typing import TYPE_CHECKING, Any
 
 import click
@@ -29,7 +30,19 @@ OBJECTIVES: dict[str, str] = {
     "delta": "δ with gravity at --rpm",
     "gravity_effect": "the absolute value of δ/δ without gravity − 1 at --rpm: δ insensitive to gravity",
     "delta_over_speed_range": "the largest δ over the machine's speed range",
+    "bearing_load": "the largest main-bearing load over the cycle [N] at --rpm held constant",
+    "shaking_force": "the first-order free force [N] at --rpm held constant",
 }
+#: The criteria ``optimize counterweights`` prints before and after
+#: (CounterweightOptimum.criteria()), in words.
+CRITERIA: dict[str, str] = {
+    "delta": "δ with gravity",
+    "free_force_1": "first-order free force [N]",
+    "free_moment_1": "first-order free moment about z = 0 [N·m]",
+    "max_bearing_load": "largest main-bearing load [N]",
+}
+#: The constraints' options, by the library's parameter.
+_LIMIT_OPTIONS = {"max_bearing_load": "--max-bearing-load", "max_free_force": "--max-free-force"}
 
 _rpm_option = click.option(
     "--rpm",
@@ -173,6 +186,13 @@ def firing_command(
     _write(frame, fmt, out_path, summary=summary, json_meta=meta)
 
 
+def _limit(value: float | None, option: str) -> float | None:
+    """--max-bearing-load / --max-free-force N: finite, >= 0 [N]."""
+    if value is not None and not (math.isfinite(value) and value >= 0):
+        raise MechanismError(f"{option} {value:g} is out of range; allowed: a finite force >= 0 [N]")
+    return value
+
+
 def _bounds(value: tuple[float, float] | None) -> tuple[float, float] | None:
     """--bounds LOW HIGH: finite, 0 <= LOW < HIGH [kg·m]."""
     if value is None:
@@ -183,7 +203,10 @@ def _bounds(value: tuple[float, float] | None) -> tuple[float, float] | None:
     return (low, high)
 
 
-@click.command("counterweights", short_help="The counterweight per throw that minimises δ (or gravity's effect on it).")
+@click.command(
+    "counterweights",
+    short_help="The counterweight per throw that minimises δ, the bearing loads or the free force.",
+)
 @machine_option
 @click.option(
     "--objective",
@@ -203,6 +226,20 @@ def _bounds(value: tuple[float, float] | None) -> tuple[float, float] | None:
 )
 @_rpm_option
 @click.option(
+    "--max-bearing-load",
+    type=float,
+    default=None,
+    metavar="N",
+    help="A constraint: the optimum's largest main-bearing load over the cycle at --rpm is at most N [newtons].",
+)
+@click.option(
+    "--max-free-force",
+    type=float,
+    default=None,
+    metavar="N",
+    help="A constraint: the optimum's first-order free force at --rpm is at most N [newtons].",
+)
+@click.option(
     "--seed", type=click.IntRange(min=0), default=0, show_default=True, metavar="SEED", help="The optimiser's seed."
 )
 @click.option(
@@ -221,6 +258,8 @@ def counterweights_command(
     objective: str,
     bounds: tuple[float, float] | None,
     rpm: float | None,
+    max_bearing_load: float | None,
+    max_free_force: float | None,
     seed: int,
     maxiter: int,
     fmt: str,
@@ -229,36 +268,53 @@ def counterweights_command(
 ) -> None:
     """The counterweight of each throw (its first moment m·r [kg·m], opposite the crank pin)
     that minimises an objective, by SciPy's differential evolution (each generation one motion
-    sweep), polished.
+    sweep), polished — within --max-bearing-load and --max-free-force where given.
 
     Prints one row per throw: the cylinders on it, its angle [deg], the counterweight as
-    given and the optimum [kg·m]; above the table the objective before and after and whether
-    the optimiser converged (csv: to stderr; json: an object with these and the rows).
+    given and the optimum [kg·m]; above the table the objective before and after, every
+    criterion before and after (δ with gravity, the first-order free force and moment, the
+    largest main-bearing load, the last three at --rpm held constant), the constraints and
+    whether the optimiser converged (csv: to stderr; json: an object with these and the rows).
     """
     speed = _speed(machine, rpm, "--rpm")
     limits = _bounds(bounds)
+    given = {
+        "max_bearing_load": _limit(max_bearing_load, "--max-bearing-load"),
+        "max_free_force": _limit(max_free_force, "--max-free-force"),
+    }
 
     from ..design.counterweights import optimize_counterweights
 
-    found = optimize_counterweights(
-        machine,
-        objective=objective,
-        bounds=limits,
-        rpm=speed,
-        seed=seed,
-        maxiter=maxiter,
-        progress=progress,
-    )
+    try:
+        found = optimize_counterweights(
+            machine,
+            objective=objective,
+            bounds=limits,
+            rpm=speed,
+            **given,
+            seed=seed,
+            maxiter=maxiter,
+            progress=progress,
+        )
+    except MechanismError as error:
+        # A constraint nothing keeps: named by the option the user typed.
+        unmet = re.compile(r"\b(" + "|".join(_LIMIT_OPTIONS) + r")\b")
+        if not unmet.search(str(error)):
+            raise
+        raise UserError(unmet.sub(lambda name: _LIMIT_OPTIONS[name.group(1)], str(error))) from None
     frame = found.to_frame().set_index("throw")
     converged = "converged" if found.success else "NOT converged"
+    criteria = found.criteria()
     summary = [
         f"{machine.name}: the counterweight per throw [kg·m, opposite the crank pin] minimising "
         f"{found.objective_name} at {found.rpm:g} rpm",
         f"{found.objective_name}: {found.objective_before:.6g} as given → {found.objective:.6g} "
         f"({_percent(found.improvement)} lower)",
     ]
-    if found.objective_name != "delta":
-        summary.append(f"δ with gravity: {found.delta_before:.6g} → {found.delta:.6g}")
+    summary += [f"{CRITERIA[name]}: {row.before:.6g} as given → {row.after:.6g}" for name, row in criteria.iterrows()]
+    kept = [f"{option} {given[name]:g} N" for name, option in _LIMIT_OPTIONS.items() if given[name] is not None]
+    if kept:
+        summary.append("kept: " + ", ".join(kept))
     summary.append(f"{converged}: {found.message} ({found.nit} generations, {found.nfev} evaluations, seed {seed})")
     from ..motion.steady import NEAR_STALL_DELTA
 
@@ -273,8 +329,9 @@ def counterweights_command(
         objective_before=float(found.objective_before),
         objective=float(found.objective),
         improvement=float(found.improvement),
-        delta_before=float(found.delta_before),
-        delta=float(found.delta),
+        **{key: float(getattr(found, key)) for name in criteria.index for key in (f"{name}_before", name)},
+        max_bearing_load_limit=given["max_bearing_load"],
+        max_free_force_limit=given["max_free_force"],
         rpm=float(found.rpm),
         success=bool(found.success),
         message=str(found.message),
@@ -283,7 +340,15 @@ def counterweights_command(
         seed=seed,
         maxiter=maxiter,
         bounds=None if bounds is None else list(bounds),
-        units=dict(angle_deg="deg", counterweight_before="kg·m", counterweight="kg·m", rpm="1/min"),
+        units=dict(
+            angle_deg="deg",
+            counterweight_before="kg·m",
+            counterweight="kg·m",
+            rpm="1/min",
+            **{key: unit for name, unit in criteria["unit"].items() if unit for key in (f"{name}_before", name)},
+            max_bearing_load_limit="N",
+            max_free_force_limit="N",
+        ),
     )
     _write(frame, fmt, out_path, summary=summary, json_meta=meta)
 

@@ -1,15 +1,19 @@
-"""The counterweights per throw that keep δ lowest with gravity (:func:`optimize_counterweights`).
+"""The counterweights per throw that keep δ with gravity lowest, or the main-bearing loads or
+the first-order free force, within limits on those (:func:`optimize_counterweights`).
 
 A counterweight enters the machine's motion only through gravity: its first moment m_p r_p,
 opposite its crank pin, turns with the pin and adds −g m_p r_p cos(φ + pin angle) to the
-torque on the shaft (its moment of inertia is part of the shaft's). Cylinders whose pins
+torque on the shaft (its moment of inertia is part of the shaft's). On the frame it acts by
+its inertia too: it turns with the pin and pulls on the main bearings, and its centrifugal
+force m_p r_p ω² cancels part of the forward first-order free force. Cylinders whose pins
 coincide (a V's banks on one throw) share a throw, and only the sum of their counterweights'
-first moments counts: the design variables are one first moment per throw [kg·m], spread
-equally over the throw's cylinders, each at its own counterweight radius (the crank radius
-where it has none).
+first moments counts for δ and the free force: the design variables are one first moment per
+throw [kg·m], spread equally over the throw's cylinders, each at its own counterweight radius
+(the crank radius where it has none).
 
 The optimiser is SciPy's differential evolution — bounded, global, reproducible from its
-seed — evaluating each generation as one :func:`~multicrank.motion_sweep` of
+seed, limits on the bearing load and the free force kept by its own constraint handling —
+evaluating each generation as one :func:`~multicrank.motion_sweep` of
 ``"counterweight_mass[j]"`` columns, then polished by L-BFGS-B.
 """
 
@@ -24,16 +28,35 @@ from typing import Any
 import numpy as np
 
 from .._native import MechanismError
-from .._validation import as_count, as_flag, as_instance, as_option, as_real_array, as_speed
+from .._validation import (
+    as_count,
+    as_flag,
+    as_instance,
+    as_option,
+    as_real_array,
+    as_scalar,
+    as_speed,
+    omega_from_rpm,
+)
 from ..machine.machine import Machine
 from ._crank import throws as crank_throws
 
-__all__ = ["OBJECTIVES", "CounterweightOptimum", "optimize_counterweights"]
+__all__ = ["CRITERIA", "OBJECTIVES", "CounterweightOptimum", "optimize_counterweights"]
 
 #: The objectives :func:`optimize_counterweights` minimises, by name.
-OBJECTIVES: tuple[str, ...] = ("delta", "gravity_effect", "delta_over_speed_range")
+OBJECTIVES: tuple[str, ...] = ("delta", "gravity_effect", "delta_over_speed_range", "bearing_load", "shaking_force")
 #: Speeds at which "delta_over_speed_range" evaluates δ, evenly over the machine's rpm_range.
 SPEEDS_IN_RANGE = 9
+#: The criteria a :class:`CounterweightOptimum` reports before and after (the
+#: :func:`~multicrank.motion_sweep` outputs of those names), with their units.
+CRITERIA: dict[str, str] = {"delta": "", "free_force_1": "N", "free_moment_1": "N·m", "max_bearing_load": "N"}
+# The objectives that are δ's, whose optimum only the counterweights' resultant fixes.
+_DELTA_OBJECTIVES = ("delta", "gravity_effect", "delta_over_speed_range")
+# The objectives that are the frame's: the motion_sweep output each minimises (at rpm held
+# constant; no steady state solved, so none stalls).
+_FRAME_OBJECTIVES = {"bearing_load": "max_bearing_load", "shaking_force": "free_force_1"}
+# Each constraint (the parameter) and the motion_sweep output it bounds from above.
+_CONSTRAINTS = {"max_bearing_load": "max_bearing_load", "max_free_force": "free_force_1"}
 
 
 @dataclass(frozen=True)
@@ -51,17 +74,32 @@ class CounterweightOptimum:
     counterweights_before : ndarray
         The same of the machine as given [kg·m].
     objective : float
-        The objective at the optimum.
+        The objective at the optimum (δ [dimensionless], or a force [N]).
     objective_before : float
         The objective of the machine as given.
     objective_name : str
-        Which objective: "delta", "gravity_effect" or "delta_over_speed_range".
+        Which objective: "delta", "gravity_effect", "delta_over_speed_range",
+        "bearing_load" or "shaking_force".
     delta, delta_before : float
-        δ with gravity at ``rpm``, after and before [dimensionless] (``delta_before`` NaN
-        where the machine as given stalls and the counterweights make it run).
+        δ with gravity at ``rpm``, after and before [dimensionless]; NaN where that
+        machine stalls there (the machine as given, made to run by the counterweights; or
+        an optimum of "bearing_load" or "shaking_force", which weigh no δ).
+    max_bearing_load, max_bearing_load_before : float
+        The largest load on any main bearing over the working cycle [N], after and before
+        (:func:`~multicrank.bearing_loads` at ``rpm`` held constant, 720 angles).
+    free_force_1, free_force_1_before : float
+        The first-order free force [N], after and before: the largest magnitude over a
+        revolution of the first-order shaking force, forward + backward of
+        :func:`~multicrank.shaking_forces` at ``rpm`` held constant.
+    free_moment_1, free_moment_1_before : float
+        The first-order free moment about z = 0 [N·m], after and before, alike.
+    max_bearing_load_limit, max_free_force_limit : float or None
+        The constraints the optimum keeps [N] (``max_bearing_load`` ≤ the one,
+        ``free_force_1`` ≤ the other); None where not given.
     rpm : float
         The mean speed [1/min] of ``delta`` (and of the "delta" and "gravity_effect"
-        objectives).
+        objectives), and the constant speed of the frame's criteria, objectives and
+        constraints.
     machine, machine_before : Machine
         The machine with the optimum counterweights, and as given.
     success : bool
@@ -69,7 +107,8 @@ class CounterweightOptimum:
     message : str
         The optimiser's word on why it stopped.
     nit, nfev : int
-        Generations, and steady states solved (one per design and speed).
+        Generations, and designs evaluated (one per design and speed: a steady state, or
+        the frame's outputs at ``rpm``, or both in one).
     result : scipy.optimize.OptimizeResult
         The optimiser's whole result.
     """
@@ -83,6 +122,14 @@ class CounterweightOptimum:
     objective_name: str
     delta: float
     delta_before: float
+    max_bearing_load: float
+    max_bearing_load_before: float
+    free_force_1: float
+    free_force_1_before: float
+    free_moment_1: float
+    free_moment_1_before: float
+    max_bearing_load_limit: float | None
+    max_free_force_limit: float | None
     rpm: float
     machine: Machine
     machine_before: Machine
@@ -96,6 +143,30 @@ class CounterweightOptimum:
     def improvement(self) -> float:
         """1 − objective/objective_before: the fraction of the objective the optimum removes."""
         return 1.0 - self.objective / self.objective_before if self.objective_before else 0.0
+
+    def criteria(self) -> Any:
+        """Every criterion before and after, as a table.
+
+        Returns
+        -------
+        pandas.DataFrame
+            Indexed by ``criterion``: "delta" (δ with gravity at ``rpm``),
+            "free_force_1" (the first-order free force [N]), "free_moment_1" (the
+            first-order free moment about z = 0 [N·m]) and "max_bearing_load" (the largest
+            main-bearing load over the cycle [N]), the last three at ``rpm`` held constant;
+            columns ``before`` (the machine as given), ``after`` (the optimum) and ``unit``
+            ("" for δ).
+        """
+        import pandas as pd
+
+        return pd.DataFrame(
+            {
+                "before": [float(getattr(self, f"{name}_before")) for name in CRITERIA],
+                "after": [float(getattr(self, name)) for name in CRITERIA],
+                "unit": list(CRITERIA.values()),
+            },
+            index=pd.Index(list(CRITERIA), name="criterion"),
+        )
 
     def to_frame(self) -> Any:
         """The optimum per throw, as a table.
@@ -196,19 +267,49 @@ def _nearest_alike(found: np.ndarray, before: np.ndarray, angles: np.ndarray, li
     return moved if nearest.success and np.abs(rows @ moved - target).max() <= 1e-12 * scale else found
 
 
-def _delta_or_nan(machine: Machine, rpm: float) -> float:
-    """δ with gravity at ``rpm`` [dimensionless]; NaN where the machine stalls there."""
-    from ..motion.steady import StallError, steady_state
+def _as_limit(value: Any, name: str) -> float | None:
+    """A constraint: None, or a finite force >= 0 [N]."""
+    if value is None:
+        return None
+    limit = as_scalar(value, name)
+    if not (math.isfinite(limit) and limit >= 0):
+        raise MechanismError(f"{name} = {limit} is out of range; allowed: a finite force >= 0 [N], or None")
+    return limit
 
-    try:
-        return steady_state(machine, rpm=rpm).delta
-    except StallError:
-        return math.nan
+
+# What each constraint bounds, in words.
+_BOUNDED = {
+    "max_bearing_load": "main-bearing load (largest over the cycle)",
+    "max_free_force": "first-order free force",
+}
 
 
-def _nothing_runs(machine: Machine, objective: str, rpm: float, limits: np.ndarray) -> MechanismError:
-    """The error when every design the optimiser tried stalls: a StallError naming the speed,
-    with the machine's own stall (where and from which speed it runs) where it has one."""
+def _unmet(
+    limits: dict[str, float], closest: dict[str, float], least: dict[str, float], bounds: np.ndarray, tried: int
+) -> MechanismError:
+    """The error where no design tried keeps the constraints: each named, with the smallest
+    value any design reached (one constraint), or the values of the design closest to keeping
+    them (several: each alone may be kept)."""
+    pairs = ", ".join(f"({low:g}, {high:g})" for low, high in bounds)
+    kept = " and ".join(f"{name} <= {limit:g} N" for name, limit in limits.items())
+    if len(limits) == 1:
+        (name,) = limits
+        found = f": the lowest {_BOUNDED[name]} of the {tried} designs tried is {least[name]:.6g} N"
+    else:
+        values = " and ".join(f"a {_BOUNDED[name]} of {closest[name]:.6g} N" for name in limits)
+        found = f" together: the closest of the {tried} designs tried has {values}"
+    return MechanismError(
+        f"no counterweights within bounds = [{pairs}] kg·m keep {kept}{found} "
+        f"(raise {' or '.join(limits)}, or widen the bounds)"
+    )
+
+
+def _nothing_runs(
+    machine: Machine, objective: str, rpm: float, limits: np.ndarray, constrained: bool = False
+) -> MechanismError:
+    """The error when every design the optimiser tried (of those that keep the constraints)
+    stalls: a StallError naming the speed, with the machine's own stall (where and from which
+    speed it runs) where it has one."""
     from ..motion.steady import StallError, steady_state
 
     speed = rpm
@@ -217,7 +318,8 @@ def _nothing_runs(machine: Machine, objective: str, rpm: float, limits: np.ndarr
     else:
         where = f"at rpm = {rpm:g}"
     pairs = ", ".join(f"({low:g}, {high:g})" for low, high in limits)
-    message = f"no counterweights within bounds = [{pairs}] kg·m run {where}: every design tried stalls"
+    kept = " that keeps the constraints" if constrained else ""
+    message = f"no counterweights within bounds = [{pairs}] kg·m run {where}: every design tried{kept} stalls"
     try:
         steady_state(machine, rpm=speed)
     except StallError as error:
@@ -229,10 +331,11 @@ def _nothing_runs(machine: Machine, objective: str, rpm: float, limits: np.ndarr
 
 def _polish(result: Any, scores: Callable[[np.ndarray], Any], limits: np.ndarray) -> None:
     """Polish differential evolution's best point by L-BFGS-B, as SciPy's ``polish=True``
-    does (``result`` updated in place where it improves), but with a stalled design scoring a
-    finite penalty above every value found: the finite differences beside a stall then stay
-    finite (SciPy's own polish takes +∞ − +∞). The penalty is more than ten times the best
-    value, so a polished point that beats the best is one that runs."""
+    does (``result`` updated in place where it improves), but with a design that ``scores``
+    +∞ (a stall, or one that breaks a constraint) scoring a finite penalty above every value
+    found: the finite differences beside it then stay finite (SciPy's own polish takes
+    +∞ − +∞). The penalty is more than ten times the best value (which is >= 0), so a
+    polished point that beats the best is one that runs and keeps the constraints."""
     from scipy.optimize import minimize  # type: ignore[import-untyped,unused-ignore]
 
     penalty = max(10.0 * float(result.fun), 4.0)
@@ -253,27 +356,42 @@ def optimize_counterweights(
     objective: str = "delta",
     bounds: Any = None,
     rpm: Any = None,
+    max_bearing_load: Any = None,
+    max_free_force: Any = None,
     seed: Any = 0,
     maxiter: Any = 200,
     progress: Any = False,
 ) -> CounterweightOptimum:
     """The counterweights (first moments per throw, opposite the pin) that minimise δ with
-    gravity, or another objective.
+    gravity, the main-bearing loads or the first-order free force, within limits on those.
 
     Parameters
     ----------
     machine : Machine
         The machine: everything but its counterweights stays as given.
-    objective : {"delta", "gravity_effect", "delta_over_speed_range"}, default "delta"
-        What to minimise: δ with gravity at ``rpm``; the size of gravity's effect on δ,
-        the absolute value of δ/δ₀ − 1 (δ₀ with g = 0), so that the machine runs as if gravity were not there;
-        or the largest δ at 9 speeds evenly over the machine's ``rpm_range``.
+    objective : {"delta", "gravity_effect", "delta_over_speed_range", "bearing_load", "shaking_force"}, default "delta"
+        What to minimise: "delta", δ with gravity at ``rpm`` [dimensionless];
+        "gravity_effect", the size of gravity's effect on δ, the absolute value of δ/δ₀ − 1
+        (δ₀ with g = 0), so that the machine runs as if gravity were not there;
+        "delta_over_speed_range", the largest δ at 9 speeds evenly over the machine's
+        ``rpm_range``; "bearing_load", the largest load on any main bearing over the working
+        cycle [N] (:func:`~multicrank.bearing_loads` at ``rpm`` held constant, 720 angles);
+        "shaking_force", the first-order free force [N], inertial, at ``rpm`` held constant
+        (the largest magnitude of the first-order shaking force over a revolution: forward +
+        backward of :func:`~multicrank.shaking_forces`).
     bounds : (low, high) or sequence of them, optional
         The first moment m_p r_p [kg·m] of each throw's counterweights: one pair for every
         throw, or one per throw. Default: from 0 to twice the throw's own first moment of
         crank web, rod and piston masses at the crank radius.
     rpm : float, optional
-        The mean speed n [1/min] ("balance" load); default the machine's own ``rpm``.
+        The mean speed n [1/min] ("balance" load) of δ, and the constant speed of the
+        bearing loads and free forces; default the machine's own ``rpm``.
+    max_bearing_load : float, optional
+        A constraint: the optimum's largest main-bearing load over the cycle (as for
+        "bearing_load", at ``rpm``) is at most this [N], finite, >= 0.
+    max_free_force : float, optional
+        A constraint: the optimum's first-order free force (as for "shaking_force", at
+        ``rpm``) is at most this [N], finite, >= 0.
     seed : int, default 0
         The optimiser's seed: the same seed, the same result.
     maxiter : int, default 200
@@ -286,32 +404,55 @@ def optimize_counterweights(
     CounterweightOptimum
         The optimum per throw (``counterweights``, ``to_frame()``), ``objective`` after and
         ``objective_before`` (the machine as given; +∞ and ``delta_before`` NaN where it
-        stalls and counterweights make it run), δ after and before, the optimised
-        ``machine`` and the optimiser's convergence (``success``, ``message``, ``nit``,
-        ``nfev``, ``result``).
+        stalls and counterweights make it run), every criterion after and before — δ
+        (``delta``), the largest main-bearing load (``max_bearing_load`` [N]), the
+        first-order free force (``free_force_1`` [N]) and moment (``free_moment_1`` [N·m]),
+        each with ``…_before``, and all in ``criteria()`` — the constraints
+        (``max_bearing_load_limit``, ``max_free_force_limit``), the optimised ``machine``
+        and the optimiser's convergence (``success``, ``message``, ``nit``, ``nfev``,
+        ``result``).
 
     Raises
     ------
     MechanismError
-        For bad input, naming the parameter.
+        For bad input, naming the parameter; where no design within ``bounds`` that the
+        optimiser tried keeps the constraints, naming each one it could not keep with the
+        smallest value reached.
     StallError
-        Where no counterweights within ``bounds`` run at ``rpm`` (or over the speed range):
-        every design tried stalls. Its ``min_rpm`` is the machine as given's lowest speed
-        that runs.
+        Where no counterweights within ``bounds`` (keeping the constraints) run at ``rpm``
+        (or over the speed range): every design tried stalls. Its ``min_rpm`` is the
+        machine as given's lowest speed that runs.
 
     Notes
     -----
-    Only a throw's total first moment counts (the pins of its cylinders coincide); it is
-    spread equally over its cylinders, each at its own ``counterweight_radius`` (or the crank
-    radius where that is 0). The counterweights' moments of inertia are the shaft's
-    (``shaft_inertia``), unchanged here. The machine as given is a member of the first
-    generation, so that within the bounds the optimum is never worse than it. A design that
-    stalls scores +∞. Counterweights act only through their resultant Σ m_p r_p e^{iθ} over
-    the throws (θ the pin angles): of all those that run alike, the one nearest the machine
-    as given (least squares) is returned. They are chosen for δ alone: the shaking forces
-    and main-bearing loads, which usually set counterweights, are not weighed here — judge
-    the optimum by :func:`~multicrank.shaking_forces` and :func:`~multicrank.bearing_loads`
-    of ``optimum.machine`` (the report's "What to change" shows both before and after).
+    Only a throw's total first moment is a design variable (the pins of its cylinders
+    coincide); it is spread equally over its cylinders, each at its own
+    ``counterweight_radius`` (or the crank radius where that is 0). Cylinders whose pins
+    point the same way are one throw here even where they sit apart along the shaft (an
+    in-line four's cylinders 1 and 4): their counterweights have equal first moments, no
+    restriction for δ or the free force, but one for the bearing loads and the free moments.
+    The counterweights' moments of inertia are the shaft's (``shaft_inertia``), unchanged
+    here. The machine as given is a member of the first generation, so that within the
+    bounds (and the constraints, where it keeps them) the optimum is never worse than it; a
+    constraint the machine as given breaks is allowed, and the optimum keeps it. A design
+    that stalls scores +∞ (only the δ objectives solve a steady state).
+
+    The constraints are kept by differential evolution's own rule (Lampinen's: a design that
+    keeps them beats one that does not; of two that do not, the one that breaks them less
+    wins), and the polish by L-BFGS-B scores a design that breaks one as it scores a stall,
+    by a finite penalty above every value found, so that it never returns one. The
+    criteria, and so the constraints, are those of ``rpm`` alone, also for
+    "delta_over_speed_range" (give ``rpm`` the top of the range to hold the loads there).
+
+    δ and the first-order free force depend on the counterweights only through their
+    resultant Σ m_p r_p e^{iθ} over the throws (θ the pin angles); for the δ objectives and
+    "shaking_force", of all those that run alike, the one nearest the machine as given
+    (least squares) is returned, unless it breaks a constraint. The main-bearing loads and
+    the free moments depend on where along the shaft each counterweight sits: for
+    "bearing_load" the optimiser's own point is returned. Counterweights turn with the
+    crank, so they cancel only the forward part of the first-order free force (the rotating
+    masses and half the reciprocating first order): its backward half and the higher orders
+    remain (:func:`~multicrank.shaking_forces` of ``optimum.machine`` has every order).
 
     Examples
     --------
@@ -323,11 +464,18 @@ def optimize_counterweights(
     0      1         1       90.0                   3.6          24.62
     >>> round(best.delta_before, 5), round(best.delta, 5)
     (0.02953, 0.02526)
+
+    Least δ loads the bearings more than as built; the bearings' load kept as built:
+
+    >>> kept = mc.optimize_counterweights(compressor, max_bearing_load=best.max_bearing_load_before)
+    >>> bool(kept.max_bearing_load <= best.max_bearing_load_before < best.max_bearing_load)
+    True
+    >>> bool(best.delta <= kept.delta <= best.delta_before)
+    True
     """
     import pandas as pd
-    from scipy.optimize import differential_evolution  # type: ignore[import-untyped,unused-ignore]
+    from scipy.optimize import NonlinearConstraint, differential_evolution  # type: ignore[import-untyped,unused-ignore]
 
-    from ..motion.steady import steady_state
     from ..motion.sweep import motion_sweep
     from ..motion.variants import machine_variant
 
@@ -336,6 +484,9 @@ def optimize_counterweights(
     if rpm is None and machine.rpm is None:
         raise MechanismError(f"rpm is required: machine {machine.name!r} has no rpm of its own")
     speed = as_speed(machine.rpm if rpm is None else rpm, "rpm")
+    given = {name: _as_limit(value, name) for name, value in (("max_bearing_load", max_bearing_load),
+                                                              ("max_free_force", max_free_force))}  # fmt: skip
+    limits_of = {name: limit for name, limit in given.items() if limit is not None}
     seed = as_count(seed, "seed", minimum=0)
     generations = as_count(maxiter, "maxiter", minimum=1)
     progress = as_flag(progress, "progress")
@@ -359,39 +510,81 @@ def optimize_counterweights(
         f"counterweight_radius[{j}]": radius[j] for j, c in enumerate(machine.cylinders) if c.counterweight_radius <= 0
     }
 
-    def designs(moments: np.ndarray) -> pd.DataFrame:
-        """Rows: each column of ``moments`` (throws × candidates) at each speed."""
-        masses = np.repeat(share @ moments, len(speeds), axis=1)
+    def designs(moments: np.ndarray, at: np.ndarray) -> pd.DataFrame:
+        """Rows: each column of ``moments`` (throws × candidates) at each speed of ``at``."""
+        masses = np.repeat(share @ moments, len(at), axis=1)
         table = pd.DataFrame({f"counterweight_mass[{j}]": masses[j] for j in range(len(machine.cylinders))})
         for name, value in fixed.items():
             table[name] = value
-        table["rpm"] = np.tile(speeds, moments.shape[1])
+        table["rpm"] = np.tile(at, moments.shape[1])
         return table
 
-    outputs = ["delta", "gravity_effect"] if objective == "gravity_effect" else ["delta"]
+    # What each evaluation asks of motion_sweep: the objective's output (δ, or gravity's
+    # effect, at each speed; or the frame's at rpm) and the outputs the constraints bound
+    # (the frame's, at rpm): one sweep, or two where δ is taken over the speed range.
+    measured = _FRAME_OBJECTIVES.get(objective, "gravity_effect" if objective == "gravity_effect" else "delta")
+    steady = [] if objective in _FRAME_OBJECTIVES else list(dict.fromkeys(["delta", measured]))
+    bounded = [_CONSTRAINTS[name] for name in limits_of]
+    framed = list(dict.fromkeys([*([measured] if objective in _FRAME_OBJECTIVES else []), *bounded]))
+    apart = bool(steady) and bool(framed) and len(speeds) > 1
+    least = dict.fromkeys(limits_of, math.inf)
     evaluations = 0
 
-    def objective_of(table: pd.DataFrame) -> np.ndarray:
-        """The objective of each design of ``table`` (its rows: each design at each speed)."""
+    def evaluate(moments: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The objective of each column of ``moments`` (throws × candidates; +∞ where a design
+        stalls) and the outputs the constraints bound (constraints × candidates)."""
         nonlocal evaluations
-        found = motion_sweep(machine, table, outputs=outputs)
+        count = moments.shape[1]
+        if count == 0:  # a generation none of whose trials keeps the constraints
+            return np.empty(0), np.empty((len(bounded), 0))
+        at = np.array([speed]) if not steady else speeds
+        found = motion_sweep(machine, designs(moments, at), outputs=steady + ([] if apart else framed))
         evaluations += len(found)
-        column = "gravity_effect" if objective == "gravity_effect" else "delta"
-        value = np.abs(found[column].to_numpy())
-        # A stalled design (NaN) scores +∞.
-        return np.where(np.isfinite(value), value, math.inf).reshape(-1, len(speeds)).max(axis=1)
+        frame = found
+        if apart:
+            frame = motion_sweep(machine, designs(moments, np.array([speed])), outputs=framed)
+            evaluations += len(frame)
+        value = np.abs(found[measured].to_numpy(dtype=float))
+        # A stalled design (NaN δ) scores +∞; over the speed range, its worst speed counts.
+        value = np.where(np.isfinite(value), value, math.inf).reshape(count, len(at)).max(axis=1)
+        held = np.array([frame[output].to_numpy(dtype=float) for output in bounded]).reshape(len(bounded), count)
+        for name, row in zip(limits_of, held, strict=True):
+            least[name] = min(least[name], float(row.min()))
+        return value, held
+
+    # The last batch whose constraints SciPy asked, by design: its objective comes next, for
+    # the designs that keep them, and is not solved twice.
+    batch: dict[bytes, float] = {}
+
+    def constrained(x: np.ndarray) -> np.ndarray:
+        moments = np.asarray(x, dtype=float)
+        columns = moments.reshape(len(throws), -1)
+        value, held = evaluate(columns)
+        batch.clear()
+        batch.update((columns[:, k].tobytes(), float(value[k])) for k in range(columns.shape[1]))
+        return held if moments.ndim == 2 else held[:, 0]
 
     def scores(x: np.ndarray) -> Any:
         moments = np.asarray(x, dtype=float)
-        value = objective_of(designs(moments.reshape(len(throws), -1)))
+        columns = moments.reshape(len(throws), -1)
+        keys = [columns[:, k].tobytes() for k in range(columns.shape[1])]
+        if not all(key in batch for key in keys):
+            value = evaluate(columns)[0]
+        else:
+            value = np.array([batch[key] for key in keys])
         return float(value[0]) if moments.ndim == 1 else value  # the polish calls with one x
+
+    def kept(x: np.ndarray) -> tuple[float, list[str], dict[str, float]]:
+        """The objective of one design, the constraints it breaks, and what they bound."""
+        value, held = evaluate(np.asarray(x, dtype=float)[:, None])
+        bound = {name: float(v) for name, v in zip(limits_of, held[:, 0], strict=True)}
+        return float(value[0]), [name for name, v in bound.items() if v > limits_of[name]], bound
 
     # As given: a counterweight at radius 0 has no first moment, whatever its mass.
     before = np.array(
         [sum(machine.cylinders[j].counterweight_mass * machine.cylinders[j].counterweight_radius for j in throw)
          for throw in throws]
     )  # fmt: skip
-    objective_before = float(objective_of(pd.DataFrame({"rpm": speeds}))[0])
     bar = None
     if progress:
         from tqdm.auto import tqdm
@@ -403,6 +596,9 @@ def optimize_counterweights(
             bar.update(1)
 
     randomness = {"rng": seed} if "rng" in inspect.signature(differential_evolution).parameters else {"seed": seed}
+    # SciPy's constraint handling, vectorized alike: the constraints of a whole generation
+    # in one sweep (which computes its objective too, kept in ``batch``).
+    constraints = [NonlinearConstraint(constrained, -np.inf, np.array(list(limits_of.values())))] if limits_of else []
     try:
         result = differential_evolution(
             scores,
@@ -412,6 +608,7 @@ def optimize_counterweights(
             updating="deferred",
             x0=np.clip(before, limits[:, 0], limits[:, 1]),
             callback=advance,
+            constraints=constraints,
             # Polished below, where a stalled design scores a finite penalty: SciPy's own
             # polish differences +∞ − +∞ (NaN) beside a stall.
             polish=False,
@@ -423,17 +620,70 @@ def optimize_counterweights(
             # δ may barely depend on the counterweights: converge on the objective's
             # spread to 1e-7 of it, not SciPy's default 1 %.
             tol=1e-7,
+            # A free force a counterweight cancels is 0 at its optimum, where a relative
+            # spread never converges: also converged at 1e-9 of the centrifugal force of the
+            # heaviest counterweight the bounds allow.
+            atol=1e-9 * omega_from_rpm(speed) ** 2 * float(limits[:, 1].max())
+            if objective in _FRAME_OBJECTIVES
+            else 0.0,
             **randomness,
         )
     finally:
         if bar is not None:
             bar.close()
+    found = np.asarray(result.x, dtype=float)
+    if limits_of:
+        # The best is the least violating design where none keeps the constraints.
+        _, broken, closest = kept(found)
+        if broken:
+            raise _unmet(limits_of, closest, least, limits, evaluations)
     if not math.isfinite(result.fun):
-        raise _nothing_runs(machine, objective, speed, limits)
-    _polish(result, scores, limits)
-    best = _nearest_alike(np.asarray(result.x, dtype=float), before, angles, limits)
-    optimum = machine_variant(machine, {str(name): value for name, value in designs(best[:, None]).iloc[0].items()})
-    objective_after = scores(best)
+        raise _nothing_runs(machine, objective, speed, limits, constrained=bool(limits_of))
+
+    def polished_scores(x: np.ndarray) -> float:
+        # A design that breaks a constraint scores as a stall: the polish never returns it.
+        value, broken, _ = kept(x) if limits_of else (scores(x), [], {})
+        return math.inf if broken else value
+
+    _polish(result, polished_scores, limits)
+    best = np.asarray(result.x, dtype=float)
+    if objective not in _FRAME_OBJECTIVES or objective == "shaking_force":
+        # Only the resultant fixes δ and the free force: move along the designs alike to the
+        # nearest the machine as given, unless that breaks a constraint (the bearing loads
+        # are not alike along them).
+        moved = _nearest_alike(best, before, angles, limits)
+        if moved is not best and not (limits_of and kept(moved)[1]):
+            best = moved
+    optimum = machine_variant(
+        machine, {str(name): value for name, value in designs(best[:, None], np.array([speed])).iloc[0].items()}
+    )
+
+    # Every criterion of the machine as given and of the optimum in one sweep: the machine's
+    # own counterweights (a mass at radius 0 still weighs on the bearings), and the optimum's.
+    own = [(c.counterweight_mass, c.counterweight_radius) for c in machine.cylinders]
+    after = share @ best
+    table = pd.DataFrame(
+        {
+            **{f"counterweight_mass[{j}]": [own[j][0], after[j]] for j in range(len(own))},
+            **{f"counterweight_radius[{j}]": [own[j][1], radius[j]] for j in range(len(own))},
+            "rpm": [speed, speed],
+        }
+    )
+    reported = [*CRITERIA, *(["gravity_effect"] if objective == "gravity_effect" else [])]
+    criteria = motion_sweep(machine, table, outputs=reported)
+    evaluations += len(criteria)
+    if objective == "delta_over_speed_range":
+        on_speeds = motion_sweep(machine, pd.DataFrame({"rpm": speeds}), outputs=["delta"])["delta"].to_numpy()
+        evaluations += len(on_speeds)
+        objective_before = float(np.max(np.where(np.isfinite(on_speeds), on_speeds, math.inf)))
+        objective_after = scores(best)
+    else:
+        values = np.abs(criteria[measured].to_numpy(dtype=float))
+        objective_before, objective_after = (float(v) if math.isfinite(v) else math.inf for v in values)
+
+    def pair(name: str) -> dict[str, float]:
+        return {f"{name}_before": float(criteria[name].iloc[0]), name: float(criteria[name].iloc[1])}
+
     return CounterweightOptimum(
         throws=throws,
         throw_angles=angles,
@@ -442,8 +692,12 @@ def optimize_counterweights(
         objective=objective_after,
         objective_before=objective_before,
         objective_name=objective,
-        delta=steady_state(optimum, rpm=speed).delta,
-        delta_before=_delta_or_nan(machine, speed),
+        **pair("delta"),
+        **pair("max_bearing_load"),
+        **pair("free_force_1"),
+        **pair("free_moment_1"),
+        max_bearing_load_limit=given["max_bearing_load"],
+        max_free_force_limit=given["max_free_force"],
         rpm=speed,
         machine=optimum,
         machine_before=machine,

@@ -471,11 +471,11 @@ def firing_orders(
     machine = as_instance(machine, Machine, "machine")
     chosen_shaft = None if shaft is None and machine.shaft is None else machine_shaft(machine, shaft)
     criteria = CRITERIA if chosen_shaft is not None else CRITERIA[:-1]
-    if rank_by == "torsional_merit" and chosen_shaft is None:
+    order_by = as_option(rank_by, "rank_by", CRITERIA)
+    if order_by not in criteria:
         raise MechanismError(
             f"rank_by='torsional_merit' needs a shaft: give shaft=mc.Shaft(...); machine {machine.name!r} has none"
         )
-    order_by = as_option(rank_by, "rank_by", criteria)
     highest = as_count(max_order, "max_order", minimum=1)
     limit = as_count(max_candidates, "max_candidates", minimum=1)
     progress = as_flag(progress, "progress")
@@ -517,7 +517,7 @@ def firing_orders(
     )
     scores = np.column_stack([ticks(table[name].to_numpy()) for name in criteria])
     table["pareto"] = pareto_front(scores)
-    table["machine"] = _candidate_machines(machine, phases)
+    table["machine"] = pd.Series(_candidate_machines(machine, phases), dtype=object)
     # Sorted by the rounded criterion, so that values equal but for rounding keep the
     # candidates' order (the machine as given first); NaN (stalled) last.
     table = table.iloc[np.argsort(scores[:, criteria.index(order_by)], kind="stable")].reset_index(drop=True)

@@ -19,10 +19,12 @@ import pandas as pd
 from .._text import counted
 from ..machine.machine import Machine
 from .settings import ReportSettings, running_speed
+from .torsion import resonances, torsion_html
 
 __all__ = [
     "FIRING_ROWS",
     "NEGLIGIBLE",
+    "PARETO_ROWS",
     "DesignResults",
     "counterweight_forces",
     "counterweight_forces_sentence",
@@ -37,6 +39,10 @@ __all__ = [
 #: them where it ranks lower).
 FIRING_ROWS = 3
 
+#: The most rows of the Pareto front the section lists besides the best by δ (a V12's front
+#: may hold dozens; the CSV of :func:`~multicrank.firing_orders` has them all).
+PARETO_ROWS = 10
+
 #: An optimum that makes δ smaller by less than this fraction is not worth a change.
 NEGLIGIBLE = 1e-3
 
@@ -47,7 +53,8 @@ class DesignResults:
     for the machine; ``own``, the row of it that runs as the machine as given (its
     ``as_given``); ``optimum``, :func:`~multicrank.optimize_counterweights`'s
     result (a ``CounterweightOptimum``); ``forces``, :func:`counterweight_forces` of the
-    optimum (None: made from ``optimum`` when asked)."""
+    optimum (None: made from ``optimum`` when asked); ``resonances``, for a machine with a
+    shaft, its torsional resonances (:func:`~multicrank.report.torsion.resonances`)."""
 
     machine: Machine
     rpm: float
@@ -55,6 +62,7 @@ class DesignResults:
     own: int | None
     optimum: Any
     forces: pd.DataFrame | None = None
+    resonances: pd.DataFrame | None = None
 
 
 def design_results(settings: ReportSettings) -> DesignResults:
@@ -74,6 +82,7 @@ def design_results(settings: ReportSettings) -> DesignResults:
         own=next((int(row) for row in np.flatnonzero(firing["as_given"].to_numpy())), None),
         optimum=optimum,
         forces=counterweight_forces(optimum, rpm),
+        resonances=None if machine.shaft is None else resonances(machine, rpm),
     )
 
 
@@ -113,14 +122,17 @@ def counterweight_forces_table(results: DesignResults) -> pd.DataFrame:
 
 def firing_table(results: DesignResults) -> pd.DataFrame:
     """The section's firing-order table: the :data:`FIRING_ROWS` best of
-    :func:`~multicrank.firing_orders` and, where it ranks lower, the machine's own; ``rank``
-    (1 = smallest δ with gravity), ``as_given`` (the machine's own phases), ``phases_deg``
+    :func:`~multicrank.firing_orders` by δ, then the rest of its Pareto front (at most
+    :data:`PARETO_ROWS` rows in all of it) and, where it is not among them, the machine's own;
+    ``rank`` (1 = smallest δ with gravity), ``as_given`` (the machine's own phases), ``phases_deg``
     (α_j in degrees in the machine's cylinder order, space-separated), ``fires_at_deg`` (the
     crank angle φ at which each cylinder fires, (α_1 − α_j) mod the cycle in degrees from
     cylinder 1's firing, in cylinder order: two rows of one name, a twin's "1-2" 180° or
     540° apart, differ here) and the library's columns but ``phases`` and ``machine``."""
     firing = results.firing
     rows = list(range(min(FIRING_ROWS, len(firing))))
+    front = [row for row in np.flatnonzero(firing["pareto"].to_numpy()) if row not in rows]
+    rows += [int(row) for row in front[: max(PARETO_ROWS - len(rows), 0)]]
     if results.own is not None and results.own not in rows:
         rows.append(results.own)
     table = firing.iloc[rows].drop(columns=["phases", "machine"])
@@ -206,7 +218,10 @@ def _firing_html(results: DesignResults) -> str:
         own = f" The machine as given is rank {results.own + 1} (marked)."
     else:
         own = f" The machine as given is rank {results.own + 1} of {distinct}, the last row."
+    from .forces import number
+
     marked = ' class="own"'
+    merit = "torsional_merit" in table.columns
     records: Iterable[Any] = table.itertuples()  # the columns of firing_table
     body = "".join(
         f"<tr{marked if r.as_given else ''}><td>{r.rank}</td><td>{html.escape(str(r.firing))}"
@@ -214,18 +229,32 @@ def _firing_html(results: DesignResults) -> str:
         f"<td>{_delta(r.delta)}{_near_stall_mark(r.delta)}</td>"
         f"<td>{_delta(r.delta_without_gravity)}{_near_stall_mark(r.delta_without_gravity)}</td>"
         f"<td>{_percent(r.gravity_effect)}</td>"
-        f"<td>{r.largest_order:g}</td><td>{r.largest_order_amplitude:.4g}</td></tr>"
+        f"<td>{number(r.free_moment_1)}</td><td>{number(r.free_moment_2)}</td><td>{number(r.max_bearing_load)}</td>"
+        + (f"<td>{number(r.torsional_merit)}</td>" if merit else "")
+        + f"<td>{'✓' if r.pareto else ''}</td></tr>"
         for r in records
+    )
+    criteria = "δ, the free moments, the largest bearing load" + (" and the torsional merit" if merit else "")
+    merit_header = "<th>torsional merit [N·m]</th>" if merit else ""
+    merit_text = (
+        "; with the machine's shaft, the torsional merit: the largest excitation of its first mode by an order that "
+        "resonates in the speed range (below)"
+        if merit
+        else ""
     )
     return f"""
 <h3>Firing order</h3>
 <p>{count}{own} Each row is the exact steady state at {results.rpm:g} rpm with the balance load
 (<code>mc.firing_orders</code>): the cylinders, numbered from 1 in the machine's order, in the order
 they fire from cylinder 1 (the direction of rotation), "+" for those firing together; beside it the crank
-angle at which each cylinder fires, in cylinder order, from cylinder 1's firing.</p>
+angle at which each cylinder fires, in cylinder order, from cylinder 1's firing. Beside δ, what an engine designer
+weighs too, each at {results.rpm:g} rpm held constant: the first- and second-order free moments on the frame (the
+largest the order's moment vector reaches over a cycle, about z = 0) and the largest main-bearing load over the
+working cycle{merit_text}. A row marked Pareto is one no other row beats on every one of {criteria} at once: the
+choice is among those. Firings that run alike on a rigid shaft (one δ) are separate rows where those differ.</p>
 <table><tr><th>rank</th><th>firing</th><th>fires at [°], cylinder 1, 2, …</th><th>δ with gravity</th>
-<th>δ without gravity</th>
-<th>gravity changes δ by</th><th>largest torque order ν</th><th>its amplitude [N·m]</th></tr>{body}</table>
+<th>δ without gravity</th><th>gravity changes δ by</th><th>free moment, 1st order [N·m]</th>
+<th>free moment, 2nd order [N·m]</th><th>largest bearing load [N]</th>{merit_header}<th>Pareto</th></tr>{body}</table>
 {_near_stall_legend(*table["delta"], *table["delta_without_gravity"])}"""
 
 
@@ -345,14 +374,21 @@ largest magnitude the first order's shaking force and moment reach over a cycle 
 <table><tr><th></th><th>as given</th><th>optimum</th><th>change</th></tr>{body}</table>"""
 
 
-def design_html(results: DesignResults) -> str:
-    """The report's "What to change" section: the firing orders and the counterweights."""
+def design_html(results: DesignResults, figures: dict[str, str]) -> str:
+    """The report's "What to change" section: the firing orders, the torsional vibration
+    (where the machine has a shaft; its Campbell diagram is ``figures["design_campbell"]``)
+    and the counterweights."""
+    torsion = (
+        "" if results.resonances is None else torsion_html(results.machine, results.rpm, results.resonances, figures)
+    )
+    campbell = "" if results.resonances is None else ", design_campbell.csv"
     return f"""
 <h2>What to change</h2>
 <p>Two changes that keep the machine's cylinders and flywheel: another firing order (four-stroke: another
 camshaft; two-stroke: the crank's throws rearranged) and other counterweights, each judged by δ with gravity at
-the machine's speed.</p>
+the machine's speed and by what the frame, the bearings and the shaft feel.</p>
 {_firing_html(results)}
+{torsion}
 {_counterweight_html(results)}
-<p class="note">Data: design_firing_orders.csv, design_counterweights.csv, design_counterweight_forces.csv</p>
+<p class="note">Data: design_firing_orders.csv, design_counterweights.csv, design_counterweight_forces.csv{campbell}</p>
 """

@@ -40,6 +40,7 @@ from .motion import (
     torque_figure,
 )
 from .settings import ReportSettings, running_speed, speed_range
+from .torsion import campbell_figure
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -193,6 +194,8 @@ def _write_files(out: Path, settings: ReportSettings, progress: bool) -> Path:
             write_atomically(
                 out / "design_counterweight_forces.csv", counterweight_forces_table(design).to_csv(index=False)
             )
+            if design.resonances is not None:
+                save("design_campbell", *campbell_figure(machine, design.rpm, design.resonances))
         elif step == "curves":
             for strokes in (2, 4):
                 for quantity in ("energy", "force"):
@@ -218,7 +221,7 @@ def _write_files(out: Path, settings: ReportSettings, progress: bool) -> Path:
 
     sections.append(motion_html(motion, machine, figures, settings.threshold))
     sections.append(forces_html(forces, figures))
-    sections.append(design_html(design))
+    sections.append(design_html(design, figures))
     sections.append(gravity_html(settings, figures, tables, paper, layouts))
     from .._native import __version__
 
