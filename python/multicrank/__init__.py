@@ -70,7 +70,7 @@ _LAZY = {
     "motion_sweep": "motion.sweep",
     "firing_orders": "design.firing",
     "optimize_counterweights": "design.counterweights",
-    "CounterweightOptimum": "design.counterweights",
+    "CounterweightOptimum": "design.optimum",
     "shaking_forces": "forces.shaking",
     "ShakingForces": "forces.shaking",
     "bearing_loads": "forces.bearings",

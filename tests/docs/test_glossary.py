@@ -15,11 +15,13 @@ import pytest
 
 import multicrank as mc
 from multicrank._validation import renamed
+from multicrank.design.criteria import CRITERIA
 from multicrank.forces.shaking import COMPONENTS as CURVE_COLUMNS
 from multicrank.motion.variants import machine_columns
 from multicrank.report.settings import ReportSettings
 from multicrank.sweeps.designs import KNOWN_COLUMNS
 from multicrank.sweeps.outputs import SWEEP_OUTPUTS
+from multicrank.torsion.merit import MERIT_UNITS
 
 GLOSSARY = Path(__file__).resolve().parents[2] / "docs" / "glossary.md"
 RESULTS = (mc.SteadyState, mc.FlywheelInertia, mc.Transient, mc.CounterweightOptimum, mc.ShakingForces, mc.BearingLoads)
@@ -67,6 +69,8 @@ def required() -> dict[str, set[str]]:
         "ShakingForces.orders columns": set(mc.ShakingForces.COLUMNS),
         "ShakingForces.curves columns": set(CURVE_COLUMNS),
         "BearingLoads.summary columns": set(mc.bearing_loads(machine).summary.columns),
+        "torsional_merit columns": set(MERIT_UNITS),
+        "firing_orders criteria": {*CRITERIA, "pareto"},
     }
 
 

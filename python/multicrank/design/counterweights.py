@@ -6,8 +6,8 @@ opposite its crank pin, turns with the pin and adds −g m_p r_p cos(φ + pin an
 torque on the shaft (its moment of inertia is part of the shaft's). On the frame it acts by
 its inertia too: it turns with the pin and pulls on the main bearings, and its centrifugal
 force m_p r_p ω² cancels part of the forward first-order free force. Cylinders whose pins
-coincide (a V's banks on one throw) share a throw, and only the sum of their counterweights'
-first moments counts for δ and the free force: the design variables are one first moment per
+coincide at one place along the shaft (a V's banks on one throw) share a throw, and only the
+sum of their counterweights' first moments counts: the design variables are one first moment per
 throw [kg·m], spread equally over the throw's cylinders, each at its own counterweight radius
 (the crank radius where it has none).
 
@@ -21,8 +21,6 @@ from __future__ import annotations
 
 import inspect
 import math
-from collections.abc import Callable
-from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -33,13 +31,13 @@ from .._validation import (
     as_flag,
     as_instance,
     as_option,
-    as_real_array,
-    as_scalar,
     as_speed,
     omega_from_rpm,
 )
 from ..machine.machine import Machine
 from ._crank import throws as crank_throws
+from ._steps import _as_bounds, _as_limit, _nearest_alike, _nothing_runs, _polish, _radius, _unmet
+from .optimum import CRITERIA, CounterweightOptimum
 
 __all__ = ["CRITERIA", "OBJECTIVES", "CounterweightOptimum", "optimize_counterweights"]
 
@@ -47,9 +45,6 @@ __all__ = ["CRITERIA", "OBJECTIVES", "CounterweightOptimum", "optimize_counterwe
 OBJECTIVES: tuple[str, ...] = ("delta", "gravity_effect", "delta_over_speed_range", "bearing_load", "shaking_force")
 #: Speeds at which "delta_over_speed_range" evaluates δ, evenly over the machine's rpm_range.
 SPEEDS_IN_RANGE = 9
-#: The criteria a :class:`CounterweightOptimum` reports before and after (the
-#: :func:`~multicrank.motion_sweep` outputs of those names), with their units.
-CRITERIA: dict[str, str] = {"delta": "", "free_force_1": "N", "free_moment_1": "N·m", "max_bearing_load": "N"}
 # The objectives that are δ's, whose optimum only the counterweights' resultant fixes.
 _DELTA_OBJECTIVES = ("delta", "gravity_effect", "delta_over_speed_range")
 # The objectives that are the frame's: the motion_sweep output each minimises (at rpm held
@@ -57,297 +52,6 @@ _DELTA_OBJECTIVES = ("delta", "gravity_effect", "delta_over_speed_range")
 _FRAME_OBJECTIVES = {"bearing_load": "max_bearing_load", "shaking_force": "free_force_1"}
 # Each constraint (the parameter) and the motion_sweep output it bounds from above.
 _CONSTRAINTS = {"max_bearing_load": "max_bearing_load", "max_free_force": "free_force_1"}
-
-
-@dataclass(frozen=True)
-class CounterweightOptimum:
-    """The result of :func:`optimize_counterweights`.
-
-    Attributes
-    ----------
-    throws : tuple of tuple of int
-        The cylinders (indices from 0) of each throw: those whose crank pins coincide.
-    throw_angles : ndarray
-        Each throw's pin angle α + γ [rad] in [0, 2π), at φ = 0 from the horizontal.
-    counterweights : ndarray
-        The optimum first moment m_p r_p of each throw's counterweights [kg·m].
-    counterweights_before : ndarray
-        The same of the machine as given [kg·m].
-    objective : float
-        The objective at the optimum (δ [dimensionless], or a force [N]).
-    objective_before : float
-        The objective of the machine as given.
-    objective_name : str
-        Which objective: "delta", "gravity_effect", "delta_over_speed_range",
-        "bearing_load" or "shaking_force".
-    delta, delta_before : float
-        δ with gravity at ``rpm``, after and before [dimensionless]; NaN where that
-        machine stalls there (the machine as given, made to run by the counterweights; or
-        an optimum of "bearing_load" or "shaking_force", which weigh no δ).
-    max_bearing_load, max_bearing_load_before : float
-        The largest load on any main bearing over the working cycle [N], after and before
-        (:func:`~multicrank.bearing_loads` at ``rpm`` held constant, 720 angles).
-    free_force_1, free_force_1_before : float
-        The first-order free force [N], after and before: the largest magnitude over a
-        revolution of the first-order shaking force, forward + backward of
-        :func:`~multicrank.shaking_forces` at ``rpm`` held constant.
-    free_moment_1, free_moment_1_before : float
-        The first-order free moment about z = 0 [N·m], after and before, alike.
-    max_bearing_load_limit, max_free_force_limit : float or None
-        The constraints the optimum keeps [N] (``max_bearing_load`` ≤ the one,
-        ``free_force_1`` ≤ the other); None where not given.
-    rpm : float
-        The mean speed [1/min] of ``delta`` (and of the "delta" and "gravity_effect"
-        objectives), and the constant speed of the frame's criteria, objectives and
-        constraints.
-    machine, machine_before : Machine
-        The machine with the optimum counterweights, and as given.
-    success : bool
-        Whether the optimiser says it converged.
-    message : str
-        The optimiser's word on why it stopped.
-    nit, nfev : int
-        Generations, and designs evaluated (one per design and speed: a steady state, or
-        the frame's outputs at ``rpm``, or both in one).
-    result : scipy.optimize.OptimizeResult
-        The optimiser's whole result.
-    """
-
-    throws: tuple[tuple[int, ...], ...]
-    throw_angles: np.ndarray
-    counterweights: np.ndarray
-    counterweights_before: np.ndarray
-    objective: float
-    objective_before: float
-    objective_name: str
-    delta: float
-    delta_before: float
-    max_bearing_load: float
-    max_bearing_load_before: float
-    free_force_1: float
-    free_force_1_before: float
-    free_moment_1: float
-    free_moment_1_before: float
-    max_bearing_load_limit: float | None
-    max_free_force_limit: float | None
-    rpm: float
-    machine: Machine
-    machine_before: Machine
-    success: bool
-    message: str
-    nit: int
-    nfev: int
-    result: Any = field(repr=False)
-
-    @property
-    def improvement(self) -> float:
-        """1 − objective/objective_before: the fraction of the objective the optimum removes."""
-        return 1.0 - self.objective / self.objective_before if self.objective_before else 0.0
-
-    def criteria(self) -> Any:
-        """Every criterion before and after, as a table.
-
-        Returns
-        -------
-        pandas.DataFrame
-            Indexed by ``criterion``: "delta" (δ with gravity at ``rpm``),
-            "free_force_1" (the first-order free force [N]), "free_moment_1" (the
-            first-order free moment about z = 0 [N·m]) and "max_bearing_load" (the largest
-            main-bearing load over the cycle [N]), the last three at ``rpm`` held constant;
-            columns ``before`` (the machine as given), ``after`` (the optimum) and ``unit``
-            ("" for δ).
-        """
-        import pandas as pd
-
-        return pd.DataFrame(
-            {
-                "before": [float(getattr(self, f"{name}_before")) for name in CRITERIA],
-                "after": [float(getattr(self, name)) for name in CRITERIA],
-                "unit": list(CRITERIA.values()),
-            },
-            index=pd.Index(list(CRITERIA), name="criterion"),
-        )
-
-    def to_frame(self) -> Any:
-        """The optimum per throw, as a table.
-
-        Returns
-        -------
-        pandas.DataFrame
-            One row per throw: ``throw`` (from 1), ``cylinders`` (from 1, "+"-joined),
-            ``angle_deg`` (its pin angle [°]), ``counterweight_before`` and
-            ``counterweight`` (first moments [kg·m]).
-        """
-        import pandas as pd
-
-        return pd.DataFrame(
-            {
-                "throw": np.arange(1, len(self.throws) + 1),
-                "cylinders": ["+".join(str(j + 1) for j in throw) for throw in self.throws],
-                "angle_deg": np.degrees(self.throw_angles),
-                "counterweight_before": self.counterweights_before,
-                "counterweight": self.counterweights,
-            }
-        )
-
-    def __repr__(self) -> str:
-        moments = ", ".join(f"{m:.4g}" for m in self.counterweights)
-        return (
-            f"CounterweightOptimum({self.objective_name}: {self.objective_before:.6g} → {self.objective:.6g}, "
-            f"counterweights [{moments}] kg·m, success={self.success})"
-        )
-
-
-def _radius(cylinder: Any) -> float:
-    """Where a cylinder's counterweight sits [m]: its own radius, or the crank's."""
-    return cylinder.counterweight_radius if cylinder.counterweight_radius > 0 else cylinder.crank_radius
-
-
-def _as_bounds(bounds: Any, machine: Machine, throws: tuple[tuple[int, ...], ...]) -> np.ndarray:
-    """(low, high) [kg·m] per throw: given once for all, or per throw; by default from 0 to
-    twice the throw's own first moment of crank web, rod and piston at the crank radius."""
-    if bounds is None:
-        own = np.array(
-            [
-                sum(
-                    c.crank_mass * c.crank_cg_radius + (c.rod_mass + c.piston_mass) * c.crank_radius
-                    for c in (machine.cylinders[j] for j in throw)
-                )
-                for throw in throws
-            ]
-        )
-        if not np.all(own > 0):
-            raise MechanismError(
-                "bounds is required: a throw of this machine has no crank, rod or piston mass to scale the "
-                "counterweights by; give bounds=(low, high) in kg·m"
-            )
-        return np.stack([np.zeros_like(own), 2 * own], axis=1)
-    array = as_real_array(bounds, "bounds").astype(float)
-    if array.shape == (2,):
-        array = np.tile(array, (len(throws), 1))
-    if array.shape != (len(throws), 2):
-        raise MechanismError(
-            f"bounds must be (low, high) in kg·m, or one such pair per throw ({len(throws)}), got shape {array.shape}"
-        )
-    if not (np.all(np.isfinite(array)) and np.all(array[:, 0] >= 0) and np.all(array[:, 0] < array[:, 1])):
-        raise MechanismError(f"bounds = {array.tolist()} is out of range; allowed: finite 0 <= low < high [kg·m]")
-    return array
-
-
-def _nearest_alike(found: np.ndarray, before: np.ndarray, angles: np.ndarray, limits: np.ndarray) -> np.ndarray:
-    """The counterweights within ``limits`` nearest ``before`` that run as ``found`` does.
-
-    The counterweights act only through their resultant R = Σ_t x_t e^{iθ_t} (θ_t the pins'
-    angles): every x with the same R is the same machine in motion, and a machine with more
-    than two throws (or two opposed) has a whole set of them. Of that set, the one that
-    changes the machine as given least (least squares, by SLSQP) is the answer a designer
-    can use.
-    """
-    from scipy.optimize import minimize  # type: ignore[import-untyped,unused-ignore]
-
-    resultant = np.stack([np.cos(angles), np.sin(angles)])
-    # The independent rows of R = A x (a crank whose pins are all in line has one).
-    left, singular, _ = np.linalg.svd(resultant, full_matrices=False)
-    rows = (left[:, singular > 1e-9 * singular[0]].T) @ resultant
-    if rows.shape[0] == len(found):
-        return found  # R fixes x
-    target = rows @ found
-    nearest = minimize(
-        lambda x: float(np.sum((x - before) ** 2)),
-        np.clip(before, limits[:, 0], limits[:, 1]),
-        jac=lambda x: 2 * (x - before),
-        method="SLSQP",
-        bounds=limits,
-        constraints=[{"type": "eq", "fun": lambda x: rows @ x - target, "jac": lambda x: rows}],
-        options={"ftol": 1e-15, "maxiter": 200},
-    )
-    moved = np.clip(nearest.x, limits[:, 0], limits[:, 1])
-    scale = np.abs(found).max() + np.abs(before).max()
-    # Kept where it keeps R to rounding (else the optimiser's own point stands).
-    return moved if nearest.success and np.abs(rows @ moved - target).max() <= 1e-12 * scale else found
-
-
-def _as_limit(value: Any, name: str) -> float | None:
-    """A constraint: None, or a finite force >= 0 [N]."""
-    if value is None:
-        return None
-    limit = as_scalar(value, name)
-    if not (math.isfinite(limit) and limit >= 0):
-        raise MechanismError(f"{name} = {limit} is out of range; allowed: a finite force >= 0 [N], or None")
-    return limit
-
-
-# What each constraint bounds, in words.
-_BOUNDED = {
-    "max_bearing_load": "main-bearing load (largest over the cycle)",
-    "max_free_force": "first-order free force",
-}
-
-
-def _unmet(
-    limits: dict[str, float], closest: dict[str, float], least: dict[str, float], bounds: np.ndarray, tried: int
-) -> MechanismError:
-    """The error where no design tried keeps the constraints: each named, with the smallest
-    value any design reached (one constraint), or the values of the design closest to keeping
-    them (several: each alone may be kept)."""
-    pairs = ", ".join(f"({low:g}, {high:g})" for low, high in bounds)
-    kept = " and ".join(f"{name} <= {limit:g} N" for name, limit in limits.items())
-    if len(limits) == 1:
-        (name,) = limits
-        found = f": the lowest {_BOUNDED[name]} of the {tried} designs tried is {least[name]:.6g} N"
-    else:
-        values = " and ".join(f"a {_BOUNDED[name]} of {closest[name]:.6g} N" for name in limits)
-        found = f" together: the closest of the {tried} designs tried has {values}"
-    return MechanismError(
-        f"no counterweights within bounds = [{pairs}] kg·m keep {kept}{found} "
-        f"(raise {' or '.join(limits)}, or widen the bounds)"
-    )
-
-
-def _nothing_runs(
-    machine: Machine, objective: str, rpm: float, limits: np.ndarray, constrained: bool = False
-) -> MechanismError:
-    """The error when every design the optimiser tried (of those that keep the constraints)
-    stalls: a StallError naming the speed, with the machine's own stall (where and from which
-    speed it runs) where it has one."""
-    from ..motion.steady import StallError, steady_state
-
-    speed = rpm
-    if objective == "delta_over_speed_range" and machine.rpm_range is not None:
-        where, speed = f"over rpm_range = {machine.rpm_range}", machine.rpm_range[0]
-    else:
-        where = f"at rpm = {rpm:g}"
-    pairs = ", ".join(f"({low:g}, {high:g})" for low, high in limits)
-    kept = " that keeps the constraints" if constrained else ""
-    message = f"no counterweights within bounds = [{pairs}] kg·m run {where}: every design tried{kept} stalls"
-    try:
-        steady_state(machine, rpm=speed)
-    except StallError as error:
-        if error.min_rpm is not None:
-            message += f"; the machine as given runs from min_rpm = {error.min_rpm:g}"
-        return StallError(f"{message} (raise the speed)", angle=error.angle, min_rpm=error.min_rpm)
-    return StallError(f"{message} (raise the speed or widen the bounds)", angle=math.nan)
-
-
-def _polish(result: Any, scores: Callable[[np.ndarray], Any], limits: np.ndarray) -> None:
-    """Polish differential evolution's best point by L-BFGS-B, as SciPy's ``polish=True``
-    does (``result`` updated in place where it improves), but with a design that ``scores``
-    +∞ (a stall, or one that breaks a constraint) scoring a finite penalty above every value
-    found: the finite differences beside it then stay finite (SciPy's own polish takes
-    +∞ − +∞). The penalty is more than ten times the best value (which is >= 0), so a
-    polished point that beats the best is one that runs and keeps the constraints."""
-    from scipy.optimize import minimize  # type: ignore[import-untyped,unused-ignore]
-
-    penalty = max(10.0 * float(result.fun), 4.0)
-
-    def finite(x: np.ndarray) -> float:
-        value = float(scores(x))
-        return value if math.isfinite(value) else penalty
-
-    polished = minimize(finite, np.array(result.x, dtype=float), method="L-BFGS-B", bounds=limits)
-    result.nfev += polished.nfev
-    if polished.fun < result.fun and np.all(np.isfinite(polished.x)):
-        result.x, result.fun, result.jac = polished.x, float(polished.fun), polished.jac
 
 
 def optimize_counterweights(
@@ -425,12 +129,12 @@ def optimize_counterweights(
 
     Notes
     -----
-    Only a throw's total first moment is a design variable (the pins of its cylinders
-    coincide); it is spread equally over its cylinders, each at its own
-    ``counterweight_radius`` (or the crank radius where that is 0). Cylinders whose pins
-    point the same way are one throw here even where they sit apart along the shaft (an
-    in-line four's cylinders 1 and 4): their counterweights have equal first moments, no
-    restriction for δ or the free force, but one for the bearing loads and the free moments.
+    Only a throw's total first moment is a design variable (a throw: the cylinders at one
+    place along the shaft whose pins coincide, as a V's two banks on one pin); it is spread
+    equally over its cylinders, each at its own ``counterweight_radius`` (or the crank
+    radius where that is 0). Throws apart along the shaft are apart here even where their
+    pins point the same way (an in-line four's cylinders 1 and 4): δ and the free force see
+    only their sum, the bearing loads and the free moments each one.
     The counterweights' moments of inertia are the shaft's (``shaft_inertia``), unchanged
     here. The machine as given is a member of the first generation, so that within the
     bounds (and the constraints, where it keeps them) the optimum is never worse than it; a

@@ -36,6 +36,7 @@ from ..machine.machine import Machine
 from .shaft import Shaft
 
 __all__ = [
+    "MERIT_UNITS",
     "CylinderOrders",
     "cylinder_orders",
     "first_mode_merit",

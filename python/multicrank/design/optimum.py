@@ -1,0 +1,157 @@
+"""The result of :func:`~multicrank.optimize_counterweights`: the optimum per throw and every
+criterion before and after (:class:`CounterweightOptimum`)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from ..machine.machine import Machine
+
+__all__ = ["CRITERIA", "CounterweightOptimum"]
+
+#: The criteria a :class:`CounterweightOptimum` reports before and after (the
+#: :func:`~multicrank.motion_sweep` outputs of those names), with their units.
+CRITERIA: dict[str, str] = {"delta": "", "free_force_1": "N", "free_moment_1": "N·m", "max_bearing_load": "N"}
+
+
+@dataclass(frozen=True)
+class CounterweightOptimum:
+    """The result of :func:`optimize_counterweights`.
+
+    Attributes
+    ----------
+    throws : tuple of tuple of int
+        The cylinders (indices from 0) of each throw: those at one place along the shaft
+        whose crank pins coincide.
+    throw_angles : ndarray
+        Each throw's pin angle α + γ [rad] in [0, 2π), at φ = 0 from the horizontal.
+    counterweights : ndarray
+        The optimum first moment m_p r_p of each throw's counterweights [kg·m].
+    counterweights_before : ndarray
+        The same of the machine as given [kg·m].
+    objective : float
+        The objective at the optimum (δ [dimensionless], or a force [N]).
+    objective_before : float
+        The objective of the machine as given.
+    objective_name : str
+        Which objective: "delta", "gravity_effect", "delta_over_speed_range",
+        "bearing_load" or "shaking_force".
+    delta, delta_before : float
+        δ with gravity at ``rpm``, after and before [dimensionless]; NaN where that
+        machine stalls there (the machine as given, made to run by the counterweights; or
+        an optimum of "bearing_load" or "shaking_force", which weigh no δ).
+    max_bearing_load, max_bearing_load_before : float
+        The largest load on any main bearing over the working cycle [N], after and before
+        (:func:`~multicrank.bearing_loads` at ``rpm`` held constant, 720 angles).
+    free_force_1, free_force_1_before : float
+        The first-order free force [N], after and before: the largest magnitude over a
+        revolution of the first-order shaking force, forward + backward of
+        :func:`~multicrank.shaking_forces` at ``rpm`` held constant.
+    free_moment_1, free_moment_1_before : float
+        The first-order free moment about z = 0 [N·m], after and before, alike.
+    max_bearing_load_limit, max_free_force_limit : float or None
+        The constraints the optimum keeps [N] (``max_bearing_load`` ≤ the one,
+        ``free_force_1`` ≤ the other); None where not given.
+    rpm : float
+        The mean speed [1/min] of ``delta`` (and of the "delta" and "gravity_effect"
+        objectives), and the constant speed of the frame's criteria, objectives and
+        constraints.
+    machine, machine_before : Machine
+        The machine with the optimum counterweights, and as given.
+    success : bool
+        Whether the optimiser says it converged.
+    message : str
+        The optimiser's word on why it stopped.
+    nit, nfev : int
+        Generations, and designs evaluated (one per design and speed: a steady state, or
+        the frame's outputs at ``rpm``, or both in one).
+    result : scipy.optimize.OptimizeResult
+        The optimiser's whole result.
+    """
+
+    throws: tuple[tuple[int, ...], ...]
+    throw_angles: np.ndarray
+    counterweights: np.ndarray
+    counterweights_before: np.ndarray
+    objective: float
+    objective_before: float
+    objective_name: str
+    delta: float
+    delta_before: float
+    max_bearing_load: float
+    max_bearing_load_before: float
+    free_force_1: float
+    free_force_1_before: float
+    free_moment_1: float
+    free_moment_1_before: float
+    max_bearing_load_limit: float | None
+    max_free_force_limit: float | None
+    rpm: float
+    machine: Machine
+    machine_before: Machine
+    success: bool
+    message: str
+    nit: int
+    nfev: int
+    result: Any = field(repr=False)
+
+    @property
+    def improvement(self) -> float:
+        """1 − objective/objective_before: the fraction of the objective the optimum removes."""
+        return 1.0 - self.objective / self.objective_before if self.objective_before else 0.0
+
+    def criteria(self) -> Any:
+        """Every criterion before and after, as a table.
+
+        Returns
+        -------
+        pandas.DataFrame
+            Indexed by ``criterion``: "delta" (δ with gravity at ``rpm``),
+            "free_force_1" (the first-order free force [N]), "free_moment_1" (the
+            first-order free moment about z = 0 [N·m]) and "max_bearing_load" (the largest
+            main-bearing load over the cycle [N]), the last three at ``rpm`` held constant;
+            columns ``before`` (the machine as given), ``after`` (the optimum) and ``unit``
+            ("" for δ).
+        """
+        import pandas as pd
+
+        return pd.DataFrame(
+            {
+                "before": [float(getattr(self, f"{name}_before")) for name in CRITERIA],
+                "after": [float(getattr(self, name)) for name in CRITERIA],
+                "unit": list(CRITERIA.values()),
+            },
+            index=pd.Index(list(CRITERIA), name="criterion"),
+        )
+
+    def to_frame(self) -> Any:
+        """The optimum per throw, as a table.
+
+        Returns
+        -------
+        pandas.DataFrame
+            One row per throw: ``throw`` (from 1), ``cylinders`` (from 1, "+"-joined),
+            ``angle_deg`` (its pin angle [°]), ``counterweight_before`` and
+            ``counterweight`` (first moments [kg·m]).
+        """
+        import pandas as pd
+
+        return pd.DataFrame(
+            {
+                "throw": np.arange(1, len(self.throws) + 1),
+                "cylinders": ["+".join(str(j + 1) for j in throw) for throw in self.throws],
+                "angle_deg": np.degrees(self.throw_angles),
+                "counterweight_before": self.counterweights_before,
+                "counterweight": self.counterweights,
+            }
+        )
+
+    def __repr__(self) -> str:
+        moments = ", ".join(f"{m:.4g}" for m in self.counterweights)
+        return (
+            f"CounterweightOptimum({self.objective_name}: {self.objective_before:.6g} → {self.objective:.6g}, "
+            f"counterweights [{moments}] kg·m, success={self.success})"
+        )
