@@ -54,7 +54,9 @@ class DesignResults:
     ``as_given``); ``optimum``, :func:`~multicrank.optimize_counterweights`'s
     result (a ``CounterweightOptimum``); ``forces``, :func:`counterweight_forces` of the
     optimum (None: made from ``optimum`` when asked); ``resonances``, for a machine with a
-    shaft, its torsional resonances (:func:`~multicrank.report.torsion.resonances`)."""
+    shaft, its torsional resonances (:func:`~multicrank.report.torsion.resonances`);
+    ``kept``, where the optimum for δ loads the bearings more than as built, the optimum for
+    δ that keeps the largest bearing load no higher than as built (None otherwise)."""
 
     machine: Machine
     rpm: float
@@ -63,6 +65,7 @@ class DesignResults:
     optimum: Any
     forces: pd.DataFrame | None = None
     resonances: pd.DataFrame | None = None
+    kept: Any = None
 
 
 def design_results(settings: ReportSettings) -> DesignResults:
@@ -75,22 +78,28 @@ def design_results(settings: ReportSettings) -> DesignResults:
     rpm = running_speed(machine)
     firing = firing_orders(machine, rpm=rpm)
     optimum = optimize_counterweights(machine, rpm=rpm)
+    kept = None
+    if optimum.max_bearing_load > optimum.max_bearing_load_before * (1 + UNCHANGED):
+        kept = optimize_counterweights(machine, rpm=rpm, max_bearing_load=optimum.max_bearing_load_before)
     return DesignResults(
         machine=machine,
         rpm=rpm,
         firing=firing,
         own=next((int(row) for row in np.flatnonzero(firing["as_given"].to_numpy())), None),
         optimum=optimum,
-        forces=counterweight_forces(optimum, rpm),
+        forces=counterweight_forces(optimum, rpm, kept),
         resonances=None if machine.shaft is None else resonances(machine, rpm),
+        kept=kept,
     )
 
 
-def counterweight_forces(optimum: Any, rpm: float) -> pd.DataFrame:
+def counterweight_forces(optimum: Any, rpm: float, kept: Any = None) -> pd.DataFrame:
     """What a counterweight optimum does to the frame and the bearings at ``rpm`` [1/min]
     (constant speed): one row for the machine as given and one for the optimum's machine
-    (``CounterweightOptimum.machine_before`` and ``.machine``), with ``design`` ("as given",
-    "optimum"), ``first_order_force`` [N] and ``first_order_moment`` [N·m] (the largest
+    (``CounterweightOptimum.machine_before`` and ``.machine``) and, given ``kept`` (the
+    optimum for δ under ``max_bearing_load``), one for its machine; with ``design`` ("as
+    given", "optimum", "bearings kept"), ``delta`` (δ with gravity at the optimum's speed),
+    ``first_order_force`` [N] and ``first_order_moment`` [N·m] (the largest
     magnitude the first order's force and moment about z = 0 reach over a cycle: forward +
     backward of :func:`~multicrank.shaking_forces`), ``max_bearing_load`` [N] (the largest load
     of any main bearing over a working cycle, gravity included: :func:`~multicrank.bearing_loads`)
@@ -99,12 +108,16 @@ def counterweight_forces(optimum: Any, rpm: float) -> pd.DataFrame:
     from ..forces.shaking import shaking_forces
 
     rows = []
-    for design, machine in (("as given", optimum.machine_before), ("optimum", optimum.machine)):
+    designs = [("as given", optimum.machine_before, optimum.delta_before), ("optimum", optimum.machine, optimum.delta)]
+    if kept is not None:
+        designs.append(("bearings kept", kept.machine, kept.delta))
+    for design, machine, delta in designs:
         first = shaking_forces(machine, rpm, max_order=1).orders.loc[1.0]
         largest = bearing_loads(machine, rpm).magnitude.max(axis=1)
         rows.append(
             {
                 "design": design,
+                "delta": float(delta),
                 "first_order_force": float(first["force_forward"] + first["force_backward"]),
                 "first_order_moment": float(first["moment_forward"] + first["moment_backward"]),
                 "max_bearing_load": float(largest.max()),
@@ -355,23 +368,53 @@ def counterweight_forces_sentence(forces: pd.DataFrame) -> str:
 
 def _counterweight_forces_html(results: DesignResults) -> str:
     """The first-order force and moment and the largest bearing load, as given and with the
-    optimum counterweights, and the sentence on them."""
+    optimum counterweights (and with the optimum that keeps the bearing loads as built, where
+    there is one), and the sentence on them."""
     from .forces import number
 
     forces = counterweight_forces_table(results)
     before, after = forces.iloc[0], forces.iloc[1]
+    kept = forces.iloc[2] if len(forces) > 2 else None
+    rows = {"delta": ("δ with gravity", "–"), **_FORCE_ROWS}
+
+    def shown(column: str, value: float) -> str:
+        return _delta(value) if column == "delta" else number(value)
+
     body = "".join(
-        f"<tr><th>{name} [{unit}]</th><td>{number(before[column])}</td><td>{number(after[column])}</td>"
-        f"<td>{_change(float(before[column]), float(after[column]))}</td></tr>"
-        for column, (name, unit) in _FORCE_ROWS.items()
+        f"<tr><th>{name} [{unit}]</th><td>{shown(column, before[column])}</td><td>{shown(column, after[column])}</td>"
+        f"<td>{_change(float(before[column]), float(after[column]))}</td>"
+        + (
+            ""
+            if kept is None
+            else f"<td>{shown(column, kept[column])}</td><td>{_change(float(before[column]), float(kept[column]))}</td>"
+        )
+        + "</tr>"
+        for column, (name, unit) in rows.items()
     )
+    header = "<th>as given</th><th>optimum for δ</th><th>change</th>"
+    where = f"bearing {int(before['bearing'])} as given, bearing {int(after['bearing'])} with the optimum"
+    trade = ""
+    if kept is not None:
+        header += "<th>optimum for δ, bearings as built</th><th>change</th>"
+        where += f", bearing {int(kept['bearing'])} with the second"
+        change = _change(float(before["delta"]), float(kept["delta"]))
+        held = (
+            f" Held to the bearing load as built ({number(before['max_bearing_load'])} N at most: "
+            "<code>mc.optimize_counterweights(max_bearing_load=…)</code>, the last two columns)"
+        )
+        trade = (
+            f"{held}, no counterweights make δ smaller than as built: the counterweights as built are the best for δ "
+            "that the bearings allow."
+            if change == "unchanged" or float(kept["delta"]) >= float(before["delta"])
+            else f"{held}, the least δ is {_delta(kept['delta'])} ({change} against as built; the unconstrained "
+            f"optimum reaches {_delta(after['delta'])})."
+        )
     return f"""
 <p>What the optimum counterweights do at {results.rpm:g} rpm (constant speed) to the frame and the bearings: the
 largest magnitude the first order's shaking force and moment reach over a cycle (forward + backward,
 <code>mc.shaking_forces</code>) and the largest load of any main bearing over a working cycle, gravity included
-(bearing {int(before["bearing"])} as given, bearing {int(after["bearing"])} with the optimum;
-<code>mc.bearing_loads</code>). {counterweight_forces_sentence(forces)}</p>
-<table><tr><th></th><th>as given</th><th>optimum</th><th>change</th></tr>{body}</table>"""
+({where}; <code>mc.bearing_loads</code>). {counterweight_forces_sentence(forces)}{trade}</p>
+<table><tr><th></th>{header}</tr>{body}</table>"""
 
 
 def design_html(results: DesignResults, figures: dict[str, str]) -> str:
