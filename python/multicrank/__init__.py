@@ -77,6 +77,7 @@ _LAZY = {
     "BearingLoads": "forces.bearings",
     "Shaft": "torsion.shaft",
     "torsional_merit": "torsion.merit",
+    "TorsionalModel": "torsion.handoff",
 }
 
 
@@ -117,6 +118,7 @@ __all__ = [
     "ShakingForces",
     "StallError",
     "SteadyState",
+    "TorsionalModel",
     "Transient",
     "UniformGrid",
     "__version__",

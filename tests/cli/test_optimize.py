@@ -52,6 +52,40 @@ def csv_frame(result: Result, index: str) -> pd.DataFrame:
 
 # ------------------------------------------------------------------------------------- firing
 
+SHAFT_4 = """# four throws and a flywheel
+[shaft]
+inertia = [0.02, 0.02, 0.02, 0.02, 0.3]
+stiffness = [3e5, 3e5, 3e5, 4e5]
+cylinder_nodes = [0, 1, 2, 3]
+"""
+
+
+def test_firing_with_a_shaft_ranks_by_the_torsional_merit(tmp_path):
+    path = tmp_path / "shaft.toml"
+    path.write_text(SHAFT_4, encoding="utf-8")
+    args = ("firing", "--machine", "inline-4", "--shaft", str(path), "--rank-by", "torsional_merit")
+    frame = csv_frame(invoke(*args, "--format", "csv"), "rank")
+    shaft = mc.Shaft([0.02] * 4 + [0.3], [3e5, 3e5, 3e5, 4e5], cylinder_nodes=[0, 1, 2, 3])
+    expected = mc.firing_orders(INLINE_4, shaft=shaft, rank_by="torsional_merit")
+    assert frame["firing"].tolist() == expected["firing"].tolist()
+    for column in ("torsional_merit", "free_moment_2", "max_bearing_load"):
+        np.testing.assert_allclose(frame[column], expected[column], rtol=1e-10, err_msg=column)
+    assert frame["pareto"].tolist() == expected["pareto"].tolist()
+    data = json.loads(invoke(*args, "--format", "json").stdout)
+    assert data["rank_by"] == "torsional_merit" and data["units"]["torsional_merit"] == "N·m"
+    table = invoke(*args).stdout
+    assert "ranked by the torsional merit [N·m]" in table and "on the Pareto front" in table
+    assert "torsional_merit [N·m]: the largest excitation of the shaft's first mode" in table
+
+
+def test_firing_shaft_mistakes_are_one_line_naming_the_option(tmp_path):
+    assert "--rank-by" in refused("firing", "--machine", "inline-4", "--rank-by", "torsional_merit", "--no-progress")
+    assert "--shaft" in refused("firing", "--machine", "inline-4", "--shaft", str(tmp_path / "none.toml"))
+    three = tmp_path / "three.toml"
+    three.write_text(SHAFT_4.replace("[0, 1, 2, 3]", "[0, 1, 2]"), encoding="utf-8")
+    line = refused("firing", "--machine", "inline-4", "--shaft", str(three))
+    assert "--shaft" in line and "cylinder_nodes" in line
+
 
 def test_firing_csv_is_the_api_ranking():
     result = invoke("firing", "--machine", "inline-4", "--format", "csv")

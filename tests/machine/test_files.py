@@ -14,7 +14,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import multicrank as mc
-from multicrank.machine.files import CYLINDER_KEYS, LAYOUT_KEYS, MACHINE_KEYS, PRESSURE_KEYS
+from multicrank.machine.files import CYLINDER_KEYS, LAYOUT_KEYS, MACHINE_KEYS, PRESSURE_KEYS, SHAFT_KEYS
 from multicrank.pressure import EXAMPLE_COMPRESSOR_CSV
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -392,7 +392,7 @@ def test_files_that_are_not_there_or_not_files(tmp_path):
 
 
 def every_key():
-    keys = set(MACHINE_KEYS) | set(CYLINDER_KEYS) | set(LAYOUT_KEYS)
+    keys = set(MACHINE_KEYS) | set(CYLINDER_KEYS) | set(LAYOUT_KEYS) | set(SHAFT_KEYS)
     for table in PRESSURE_KEYS.values():
         keys |= set(table)
     return sorted(keys)

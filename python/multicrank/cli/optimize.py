@@ -94,9 +94,37 @@ def _degrees_text(phases: tuple[float, ...]) -> str:
     return " ".join(f"{round(math.degrees(a), 2) + 0.0:g}" for a in phases)
 
 
-@click.command("firing", short_help="The firing orders the machine's crank allows, ranked by δ with gravity.")
+#: The criteria of ``optimize firing`` (multicrank.firing_orders' rank_by), in words.
+FIRING_CRITERIA: dict[str, str] = {
+    "delta": "δ with gravity",
+    "free_moment_1": "the first-order free moment [N·m]",
+    "free_moment_2": "the second-order free moment [N·m]",
+    "max_bearing_load": "the largest main-bearing load [N]",
+    "torsional_merit": "the torsional merit [N·m] (needs a shaft)",
+}
+
+
+@click.command("firing", short_help="The firing orders the machine's crank allows, judged by every criterion.")
 @machine_option
 @_rpm_option
+@click.option(
+    "--shaft",
+    "shaft_path",
+    type=click.Path(dir_okay=False),
+    default=None,
+    metavar="FILE.toml",
+    help="A TOML file with a [shaft] table (or a machine file with one): the shaft as a torsional chain, for "
+    "the torsional merit [default: the machine file's own [shaft], if any].",
+)
+@click.option(
+    "--rank-by",
+    type=click.Choice(list(FIRING_CRITERIA)),
+    default="delta",
+    show_default=True,
+    help="The criterion the rows are sorted by (smallest first): "
+    + "; ".join(f"{name}: {what}" for name, what in FIRING_CRITERIA.items())
+    + ".",
+)
 @click.option(
     "--max-order",
     type=click.IntRange(min=1),
@@ -119,20 +147,27 @@ def _degrees_text(phases: tuple[float, ...]) -> str:
 def firing_command(
     machine: Machine,
     rpm: float | None,
+    shaft_path: str | None,
+    rank_by: str,
     max_order: int,
     max_candidates: int,
     fmt: str,
     out_path: str | None,
     progress: bool,
 ) -> None:
-    """The distinct firing orders the machine's crank allows, ranked by δ with gravity.
+    """The distinct firing orders the machine's crank allows, judged by every criterion.
 
     A four-stroke crank fixes each cylinder's phase only modulo 360° (the cam decides the
     revolution it fires on); a two-stroke one is its throws' angles, in any arrangement.
-    Candidates that run alike (the same motion, shifted) are counted once. Each is solved at
-    --rpm with the balance load: δ with and without gravity, gravity_effect = δ/δ without
-    gravity − 1, stalled, near_stall (δ > 0.5: it nearly stops each cycle), and the torque
-    order with the largest amplitude [N·m].
+    Candidates that run alike (the same motion, shifted) are counted once, unless the frame or
+    the shaft tells them apart. Each is solved at --rpm with the balance load: δ with and
+    without gravity, gravity_effect = δ/δ without gravity − 1, stalled, near_stall (δ > 0.5:
+    it nearly stops each cycle), and the torque order with the largest amplitude [N·m]; at
+    --rpm held constant, the first- and second-order free moments [N·m] and the largest
+    main-bearing load [N]; with a shaft (--shaft, or the machine file's [shaft]) the
+    torsional merit [N·m], the largest excitation of its first mode by an order resonating in
+    the machine's speed range. pareto marks the rows no other row beats on every criterion;
+    --rank-by sorts by one.
 
     firing lists the cylinders (numbered from 1) in the order they fire, "+" joining those
     that fire together; the phases α_j [deg] are in the machine's cylinder order (csv: one
@@ -140,9 +175,21 @@ def firing_command(
     tried goes above the table (csv: to stderr; json: "exhaustive").
     """
     from ..design.firing import firing_orders
+    from ..torsion.shaft import Shaft
 
     speed = _speed(machine, rpm, "--rpm")
-    table = firing_orders(machine, rpm=speed, max_order=max_order, max_candidates=max_candidates, progress=progress)
+    if shaft_path is not None:
+        try:
+            machine = machine.replace(shaft=Shaft.from_toml(shaft_path))
+        except MechanismError as error:
+            raise UserError(f"--shaft {shaft_path}: {error}") from None
+    if rank_by == "torsional_merit" and machine.shaft is None:
+        raise UserError(
+            f"--rank-by torsional_merit needs a shaft: give --shaft FILE.toml (machine {machine.name!r} has none)"
+        )
+    table = firing_orders(
+        machine, rpm=speed, rank_by=rank_by, max_order=max_order, max_candidates=max_candidates, progress=progress
+    )
     attrs = dict(table.attrs)
     frame = table.drop(columns=["machine", "phases"])
     frame.index = range(1, len(frame) + 1)
@@ -162,11 +209,20 @@ def firing_command(
         tried = f"not exhaustive: {allowed}, only the first {max_candidates:,} tried (raise --max-candidates)"
     summary = [
         f"{machine.name}: {_count(len(machine), 'cylinder')}, {machine.strokes}-stroke, at {attrs['rpm']:g} rpm "
-        f"(balance load): {_count(attrs['distinct'], 'distinct firing order')}, ranked by δ with gravity",
+        f"(balance load): {_count(attrs['distinct'], 'distinct firing order')}, ranked by "
+        f"{FIRING_CRITERIA[rank_by].replace(' (needs a shaft)', '')}; {int(table['pareto'].sum())} on the Pareto front",
         tried,
         "δ = (ω_max − ω_min)/ω_mean; gravity_effect = δ/δ without gravity − 1; phases_deg: α_j [deg] in the "
         f"machine's cylinder order; largest_order: the torque order ν ≤ {max_order} of the largest amplitude [N·m]",
+        f"at {attrs['rpm']:g} rpm held constant: free_moment_1, free_moment_2 [N·m] (inertial), max_bearing_load [N] "
+        "(gas, inertia and weights); pareto: no other row at least as good on every criterion and better on one",
     ]
+    if attrs["speed_range"] is not None:
+        low, high = attrs["speed_range"]
+        summary.append(
+            f"torsional_merit [N·m]: the largest excitation of the shaft's first mode by an order ≤ {max_order} "
+            f"resonating in {low:g}–{high:g} rpm (mc.torsional_merit)"
+        )
     near = int(table["near_stall"].sum())
     if near:
         summary.append(f"note: {_count(near, 'firing order')} near_stall: {_near_stall_note()}")
@@ -181,7 +237,18 @@ def firing_command(
         distinct=attrs["distinct"],
         exhaustive=attrs["exhaustive"],
         max_order=max_order,
-        units=dict(rpm="1/min", phases_deg="deg", largest_order="per revolution", largest_order_amplitude="N·m"),
+        rank_by=rank_by,
+        speed_range=attrs["speed_range"],
+        units=dict(
+            rpm="1/min",
+            phases_deg="deg",
+            largest_order="per revolution",
+            largest_order_amplitude="N·m",
+            free_moment_1="N·m",
+            free_moment_2="N·m",
+            max_bearing_load="N",
+            torsional_merit="N·m",
+        ),
     )
     _write(frame, fmt, out_path, summary=summary, json_meta=meta)
 

@@ -58,9 +58,9 @@ def _largest_orders(machine: Machine, phases: np.ndarray, rpm: float, highest: i
 
     Every part of the torque (gas, inertia at the mean speed, gravity) is a sum over
     cylinders of a function of φ + α_j: each cylinder's orders are found once, at phase 0,
-    and moved to α_j by the shift theorem (:func:`~multicrank.torsion.merit.cylinder_orders`).
+    and moved to α_j by the shift theorem (:func:`~multicrank.motion.orders.cylinder_orders`).
     """
-    from ..torsion.merit import cylinder_orders
+    from ..motion.orders import cylinder_orders
 
     harmonics = cylinder_orders(machine, highest)
     omega = np.full(harmonics.orders.shape, rpm * math.pi / 30)
@@ -141,11 +141,11 @@ def firing_orders(
         ``largest_order`` (the order 0 < ν ≤ max_order of the largest amplitude of the total
         torque — gas, inertia at the mean speed and gravity — on the shaft; half orders for
         four strokes) and ``largest_order_amplitude`` [N·m]; the frame's criteria at
-        ``rpm`` held constant, inertial: ``free_moment_1`` and ``free_moment_2`` [N·m] (the
+        ``rpm`` held constant: ``free_moment_1`` and ``free_moment_2`` [N·m] (inertial: the
         largest magnitude over the cycle of the first- and second-order shaking moment
         vector, pitch and yaw together, about z = 0: :func:`~multicrank.shaking_forces`),
         ``max_bearing_load`` [N] (the largest load on any main bearing over the working
-        cycle, :func:`~multicrank.bearing_loads` at 720 angles); with a shaft
+        cycle, gas, inertia and weights: :func:`~multicrank.bearing_loads` at 720 angles); with a shaft
         ``torsional_merit`` [N·m] (the largest ``excitation`` of the shaft's first mode,
         :func:`~multicrank.torsional_merit`, over the orders up to ``max_order`` whose
         resonance speed lies in the machine's ``rpm_range``, ends included — or from 0 to
@@ -224,10 +224,11 @@ def firing_orders(
     import pandas as pd
 
     from ..motion.sweep import motion_sweep
-    from ..torsion.merit import first_mode_merit, machine_shaft
+    from ..torsion.merit import first_mode_merit
+    from ..torsion.shaft import shaft_of
 
     machine = as_instance(machine, Machine, "machine")
-    chosen_shaft = None if shaft is None and machine.shaft is None else machine_shaft(machine, shaft)
+    chosen_shaft = None if shaft is None and machine.shaft is None else shaft_of(machine, shaft)
     criteria = CRITERIA if chosen_shaft is not None else CRITERIA[:-1]
     order_by = as_option(rank_by, "rank_by", CRITERIA)
     if order_by not in criteria:

@@ -30,16 +30,19 @@ __all__ = [
     "LAYOUT_KEYS",
     "MACHINE_KEYS",
     "PRESSURE_KEYS",
+    "SHAFT_KEYS",
     "MachineFile",
     "PressureSpec",
     "read_machine_file",
+    "read_shaft_file",
 ]
 
 # The keys of each table and what they hold: "number", "integer", "string", "boolean",
-# "numbers" (an array of numbers), "column" (an integer or a string), "table", "tables"
-# (a table or an array of tables), "layout" (a string or a table), "banks" (an array of
-# arrays of numbers). Keys ending in _deg are angles in degrees. docs/machine-files.md
-# documents every one with its unit (tests/machine/test_files.py checks that it does).
+# "numbers" (an array of numbers), "integers" (an array of integers), "column" (an integer or
+# a string), "table", "tables" (a table or an array of tables), "layout" (a string or a
+# table), "banks" (an array of arrays of numbers). Keys ending in _deg are angles in degrees.
+# docs/machine-files.md documents every one with its unit (tests/machine/test_files.py checks
+# that it does).
 
 #: The top level: the machine.
 MACHINE_KEYS = {
@@ -56,6 +59,7 @@ MACHINE_KEYS = {
     "firing_deg": "numbers",
     "cylinder_spacing": "number",
     "main_bearings": "numbers",
+    "shaft": "table",
     "cylinder": "tables",
 }
 _MACHINE_REQUIRED = ("shaft_inertia", "cylinder")
@@ -83,6 +87,10 @@ CYLINDER_KEYS = {
 _CYLINDER_REQUIRED = ("crank_radius", "rod_length", "piston_mass", "rod_mass", "rod_cg")
 #: Keys of a cylinder that a layout sets.
 _PLACED_BY_LAYOUT = ("phase_deg", "inclination_deg")
+
+#: The ``[shaft]`` table: the :class:`~multicrank.Shaft` as a torsional chain (no angles in it).
+SHAFT_KEYS = {"inertia": "numbers", "stiffness": "numbers", "cylinder_nodes": "integers", "damping": "numbers"}
+_SHAFT_REQUIRED = ("inertia", "stiffness", "cylinder_nodes")
 
 #: A ``layout = {...}`` table (a layout of one's own).
 LAYOUT_KEYS = {"name": "string", "note": "string", "throws_deg": "numbers", "banks_deg": "banks", "strokes": "integer"}
@@ -148,6 +156,7 @@ _KINDS = {
     "string": "a string",
     "boolean": "true or false",
     "numbers": "an array of numbers",
+    "integers": "an array of integers",
     "column": "a column number or name",
     "table": "a table",
     "tables": "a table or an array of tables",
@@ -208,6 +217,8 @@ class MachineFile:
     layout: Layout | None = None
     firing: list[float] | None = None
     cylinder_spacing: float | None = None
+    #: The ``[shaft]`` table's :class:`~multicrank.Shaft` keywords, where the file has one.
+    shaft: dict[str, Any] | None = None
 
     @property
     def strokes(self) -> int | None:
@@ -278,6 +289,8 @@ def read_machine_file(path: str | os.PathLike[str]) -> MachineFile:
         file.cylinder_spacing = top.get("cylinder_spacing")
     if "main_bearings" in data:
         file.fields["main_bearings"] = top.numbers("main_bearings")
+    if "shaft" in data:
+        file.shaft = _shaft(file, data["shaft"])
     cylinders = data["cylinder"]
     if file.layout is not None:
         if not isinstance(cylinders, dict):
@@ -292,6 +305,22 @@ def read_machine_file(path: str | os.PathLike[str]) -> MachineFile:
         if not cylinders:
             raise file.error("cylinder", "an empty array: a machine needs at least one [[cylinder]]")
         file.cylinders = [_cylinder(file, f"cylinder[{j}]", table, placed=False) for j, table in enumerate(cylinders)]
+    return file
+
+
+def read_shaft_file(path: str | os.PathLike[str]) -> MachineFile:
+    """A file's ``[shaft]`` table, read and checked (:meth:`multicrank.Shaft.from_toml`): a
+    machine file (one with ``cylinder`` or ``shaft_inertia``) is read whole, as
+    :func:`read_machine_file` reads it; any other file holds the ``[shaft]`` table alone."""
+    data = read_toml(path, "a shaft or machine file")
+    if "cylinder" in data or "shaft_inertia" in data:
+        file = read_machine_file(path)
+    else:
+        file = MachineFile(path=Path(os.fspath(path)), fields={}, cylinders=[])
+        _Table(file, "", data, {"shaft": "table"}, ("shaft",))
+        file.shaft = _shaft(file, data["shaft"])
+    if file.shaft is None:
+        raise file.error("shaft", "missing required table [shaft] (the shaft as a torsional chain)")
     return file
 
 
@@ -340,6 +369,7 @@ def _is(kind: str, value: Any) -> bool:
         "string": lambda v: isinstance(v, str),
         "boolean": lambda v: isinstance(v, bool),
         "numbers": lambda v: isinstance(v, list) and all(_is("number", x) for x in v),
+        "integers": lambda v: isinstance(v, list) and all(_is("integer", x) for x in v),
         "column": lambda v: _is("integer", v) or isinstance(v, str),
         "table": lambda v: isinstance(v, dict),
         "tables": lambda v: isinstance(v, dict) or (isinstance(v, list) and all(isinstance(x, dict) for x in v)),
@@ -359,6 +389,16 @@ def _toml_type(value: Any) -> str:
         dict: "a table",
     }
     return next((text for kind, text in names.items() if type(value) is kind), type(value).__name__)
+
+
+def _shaft(file: MachineFile, data: Any) -> dict[str, Any]:
+    """The ``[shaft]`` table's keywords of :class:`~multicrank.Shaft`, which checks their ranges."""
+    table = _Table(file, "shaft", data, SHAFT_KEYS, _SHAFT_REQUIRED)
+    return {
+        name: table.numbers(name) if kind == "numbers" else list(data[name])
+        for name, kind in SHAFT_KEYS.items()
+        if name in data
+    }
 
 
 def _layout(file: MachineFile, value: Any) -> Layout:

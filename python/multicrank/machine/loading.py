@@ -11,8 +11,9 @@ import os
 from typing import TYPE_CHECKING
 
 from ..gravity.layouts import Layout
+from ..torsion.shaft import Shaft, shaft_of_file
 from .cylinder import Cylinder
-from .files import read_machine_file
+from .files import MachineFile, read_machine_file
 
 if TYPE_CHECKING:
     from .machine import Machine
@@ -75,8 +76,17 @@ def from_toml(cls: type[Machine], path: str | os.PathLike[str]) -> Machine:
                                             shaft (z₀ the template's ``axial_position``)
     ``main_bearings``          m            the main bearings' axial positions, increasing
                                             (default: n + 1 interleaving the n throws)
+    ``shaft``                  table        the shaft as a torsional chain, ``[shaft]`` below
+                                            (optional; :class:`~multicrank.Shaft`)
     ``cylinder``               table(s)     required; ``[cylinder]`` (one cylinder, or the
                                             layout's template) or ``[[cylinder]]`` (one each)
+    **[shaft]**
+    ``inertia``                kg·m²        required; J_i of each node along the chain
+    ``stiffness``              N·m/rad      required; k_i of the section between nodes i
+                                            and i + 1 (one fewer than the nodes)
+    ``cylinder_nodes``         integers     required; each cylinder's node, in the file's
+                                            cylinder order (with a layout: the layout's)
+    ``damping``                N·m·s/rad    c_i of each section (optional)
     **[cylinder]**
     ``crank_radius``           m            required; r
     ``rod_length``             m            required; l
@@ -162,14 +172,31 @@ def from_toml(cls: type[Machine], path: str | os.PathLike[str]) -> Machine:
                 diagram = pressure.diagram(cylinder, "head" if end == "pressure" else "crank", cycle)
                 cylinder = cylinder.replace(**{end: diagram})
         cylinders.append(cylinder)
+    fields = dict(file.fields)
+    if file.shaft is not None:
+        count = len(cylinders) if file.layout is None else sum(len(bank) for bank in file.layout.banks)
+        fields["shaft"] = _shaft(file, count)
     if file.layout is not None:
         # A bad cylinder_spacing or main_bearings is named by its own message.
         with file.context("firing_deg" if file.firing is not None else ""):
             return cls.from_layout(
-                file.layout, cylinders[0], firing=file.firing, cylinder_spacing=file.cylinder_spacing, **file.fields
+                file.layout, cylinders[0], firing=file.firing, cylinder_spacing=file.cylinder_spacing, **fields
             )
     with file.context(""):
-        return cls(cylinders, **file.fields)
+        return cls(cylinders, **fields)
+
+
+def _shaft(file: MachineFile, cylinders: int) -> Shaft:
+    """The file's :class:`~multicrank.Shaft` (as ``Shaft.from_toml`` reads it), with one node
+    per cylinder of the machine's ``cylinders``."""
+    shaft = shaft_of_file(file)
+    if len(shaft.cylinder_nodes) != cylinders:
+        order = "the layout's order" if file.layout is not None else "the order of the [[cylinder]] tables"
+        given = len(shaft.cylinder_nodes)
+        raise file.error(
+            "shaft.cylinder_nodes", f"must hold one node per cylinder, in {order}: {cylinders} cylinders, got {given}"
+        )
+    return shaft
 
 
 def _layout_strokes(layout: Layout | None) -> int:

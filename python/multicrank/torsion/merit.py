@@ -25,7 +25,6 @@ that (:func:`~multicrank.to_opentorsion`).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -33,23 +32,14 @@ import numpy as np
 from .._native import MechanismError
 from .._validation import as_count, as_instance, as_speed_range
 from ..machine.machine import Machine
-from .shaft import Shaft
+from ..motion.orders import CylinderOrders, cylinder_orders
+from .shaft import Shaft, shaft_of
 
-__all__ = [
-    "MERIT_UNITS",
-    "CylinderOrders",
-    "cylinder_orders",
-    "first_mode_merit",
-    "machine_shaft",
-    "mode_excitation",
-    "torsional_merit",
-]
+__all__ = ["MERIT_UNITS", "first_mode_merit", "mode_excitation", "torsional_merit"]
 
 #: Firing angles within this many radians (times the order) are in phase: the layouts'
 #: phases are exact to ~1e-13 rad.
 IN_PHASE = 1e-9
-#: The speed [1/min] at which each cylinder's inertia torque is found; it scales as ω².
-_REFERENCE_RPM = 1000.0
 #: The columns of :func:`torsional_merit`, with their units.
 MERIT_UNITS = {
     "mode": "",
@@ -60,84 +50,6 @@ MERIT_UNITS = {
     "excitation": "N·m",
     "major": "",
 }
-
-
-@dataclass(frozen=True)
-class CylinderOrders:
-    """The order harmonics of each cylinder's own tangential torque, at its phase 0.
-
-    ``orders`` ν > 0 [1/rev] up to the highest asked (halves for four strokes); ``gas`` and
-    ``gravity`` (cylinders × orders, complex [N·m]) those torques' harmonics c_ν (the torque
-    Σ_ν Re(c_ν e^{iνθ}) of the cylinder's own angle θ); ``inertial`` the inertia torque's per
-    (rad/s)², which scales as ω².
-    """
-
-    orders: np.ndarray
-    gas: np.ndarray
-    gravity: np.ndarray
-    inertial: np.ndarray
-
-    def at(
-        self, phases: np.ndarray, omega: np.ndarray, parts: tuple[str, ...] = ("gas", "inertia", "gravity")
-    ) -> np.ndarray:
-        """T_ν,j of every cylinder at its phase α_j (``phases``, (…, cylinders) [rad]) and
-        every order at its speed ``omega`` [rad/s] ((…, orders), broadcast against the
-        phases' leading axes): (…, cylinders, orders), of the torques named in ``parts``."""
-        coefficient = np.zeros_like(self.gas)
-        if "gas" in parts:
-            coefficient = coefficient + self.gas
-        if "gravity" in parts:
-            coefficient = coefficient + self.gravity
-        if "inertia" in parts:
-            coefficient = coefficient + self.inertial * np.square(omega)[..., None, :]
-        return coefficient * np.exp(1j * phases[..., :, None] * self.orders)
-
-
-def cylinder_orders(machine: Machine, highest: int) -> CylinderOrders:
-    """The :class:`CylinderOrders` of ``machine`` up to order ``highest``, each cylinder alone
-    at phase 0 (cylinders alike but for their phase and place share one computation), from
-    :func:`~multicrank.torque_orders`; kept on the machine for the next call."""
-    from ..motion.orders import torque_orders
-
-    cache = machine.__dict__.setdefault("_torsion_orders", {})
-    if highest in cache:
-        return cache[highest]
-    omega_squared = (_REFERENCE_RPM * math.pi / 30) ** 2
-    found: dict[Any, tuple[np.ndarray, ...]] = {}
-    rows = []
-    for cylinder in machine.cylinders:
-        template = cylinder.replace(phase=0.0, axial_position=0.0)
-        if template not in found:
-            alone = machine.replace(cylinders=[template], main_bearings=None, shaft=None)
-            table = torque_orders(alone, _REFERENCE_RPM, max_order=highest)
-            table = table[table.index > 0]
-            harmonic = {
-                part: table[f"{part}_cos"].to_numpy() - 1j * table[f"{part}_sin"].to_numpy()
-                for part in ("gas", "inertia", "gravity")
-            }
-            found[template] = (
-                table.index.to_numpy(dtype=float),
-                harmonic["gas"],
-                harmonic["gravity"],
-                harmonic["inertia"] / omega_squared,
-            )
-        rows.append(found[template])
-    result = CylinderOrders(rows[0][0], *(np.array([row[i] for row in rows]) for i in (1, 2, 3)))
-    cache[highest] = result
-    return result
-
-
-def machine_shaft(machine: Machine, shaft: Any) -> Shaft:
-    """The shaft to use: ``shaft`` where given (checked against the machine), else the
-    machine's own; refused by name where there is neither."""
-    if shaft is None:
-        if machine.shaft is None:
-            raise MechanismError(
-                f"shaft is required: machine {machine.name!r} has none (give shaft=mc.Shaft(...) or "
-                "Machine(shaft=...), or a [shaft] section in its machine file)"
-            )
-        return machine.shaft
-    return machine.replace(shaft=as_instance(shaft, Shaft, "shaft")).shaft  # type: ignore[return-value]
 
 
 def cylinder_amplitudes(shaft: Shaft, shapes: np.ndarray) -> np.ndarray:
@@ -259,7 +171,7 @@ def torsional_merit(
     import pandas as pd
 
     machine = as_instance(machine, Machine, "machine")
-    chosen = machine_shaft(machine, shaft)
+    chosen = shaft_of(machine, shaft)
     elastic = len(chosen.inertia) - 1
     count = as_count(modes, "modes", minimum=1)
     if count > elastic:

@@ -7,20 +7,30 @@ tridiagonal stiffness matrix of the n − 1 shaft sections k_i [N·m/rad] betwee
 i + 1 (K_ii = k_{i−1} + k_i, K_{i,i+1} = −k_i), has modes θ = a e^{iωt} with K a = ω² J a. SciPy's
 generalized symmetric eigen solver (``scipy.linalg.eigh(K, J)``) gives them; the first, ω = 0,
 turns the shaft as a rigid body, and the elastic modes 1, 2, … follow.
+
+A shaft comes from numbers (:class:`Shaft`), from a machine file's ``[shaft]`` table
+(:meth:`Shaft.from_toml`) or from an openTorsion model (:meth:`Shaft.from_opentorsion`);
+:func:`~multicrank.to_opentorsion` hands a machine and its shaft back to openTorsion.
 """
 
 from __future__ import annotations
 
 import math
+import operator
+import os
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from .._native import MechanismError
-from .._validation import MAGNITUDE_LIMIT, as_real_array
+from .._optional import require
+from .._validation import MAGNITUDE_LIMIT, as_instance, as_real_array
 
-__all__ = ["Shaft", "ShaftModes"]
+if TYPE_CHECKING:
+    from ..machine.files import MachineFile
+
+__all__ = ["Shaft", "ShaftModes", "shaft_of", "shaft_of_file"]
 
 
 def _positive_list(values: Any, name: str, unit: str) -> tuple[float, ...]:
@@ -131,6 +141,150 @@ class Shaft:
         object.__setattr__(self, "cylinder_nodes", tuple(int(n) for n in nodes))
         object.__setattr__(self, "damping", dampings)
 
+    @classmethod
+    def from_opentorsion(cls, assembly: Any, *, cylinder_nodes: Any) -> Shaft:
+        """The shaft of an openTorsion model (the ``torsion`` extra).
+
+        Parameters
+        ----------
+        assembly : opentorsion.Assembly
+            A chain: shaft elements (``opentorsion.Shaft``) each joining two neighbouring
+            nodes i and i + 1 (in any order in the list), one per section, every node
+            0 … n − 1 on it, and disks (``opentorsion.Disk``) at its nodes.
+        cylinder_nodes : sequence of int
+            The node of each cylinder, as for :class:`Shaft`.
+
+        Returns
+        -------
+        Shaft
+            ``inertia`` J_i [kg·m²]: the disks' I at node i plus the inertia each shaft element
+            lumps there — half of its own, the sum of its mass matrix's row (openTorsion gives
+            an element a consistent mass matrix m·[[2, 1], [1, 2]], of total 6 m: ρ I_p L for
+            one given by its geometry, 6 I for one given ``k`` and ``I``); ``stiffness`` the
+            elements' k [N·m/rad]; ``damping`` their c [N·m·s/rad], None where every c is 0.
+
+        Raises
+        ------
+        MechanismError
+            For what a chain of inertias and stiffnesses cannot hold, naming it: gear or
+            elastic-gear elements, a disk's stiffness k or damping c to ground, an element
+            that joins nodes not neighbours (a branched model), two on one section, a node
+            that no element reaches (a broken chain), a node without inertia; and for what
+            :class:`Shaft` refuses (a stiffness ≤ 0, a bad ``cylinder_nodes``), naming it.
+        OptionalDependencyError
+            Without openTorsion.
+
+        Notes
+        -----
+        The element inertias are *lumped* at their ends, where openTorsion's matrix is
+        consistent (the total inertia, the rigid body's, is the same): for elements with
+        inertia the natural frequencies here differ from openTorsion's, typically lower —
+        slightly where the disks outweigh the elements (a crankshaft's throws and flywheel),
+        more where they do not (split such an element into several). For massless elements
+        (``I=0``, the default with ``k``) the two models are the same.
+
+        Examples
+        --------
+        >>> import opentorsion as ot
+        >>> import multicrank as mc
+        >>> model = ot.Assembly([ot.Shaft(0, 1, k=2.0e4)], disk_elements=[ot.Disk(0, I=1.0), ot.Disk(1, I=1.0)])
+        >>> shaft = mc.Shaft.from_opentorsion(model, cylinder_nodes=[0])
+        >>> shaft.inertia, shaft.stiffness, shaft.damping
+        ((1.0, 1.0), (20000.0,), None)
+        """
+        opentorsion = require("opentorsion", "torsion")
+        if not isinstance(assembly, opentorsion.Assembly):
+            raise MechanismError(f"assembly must be an opentorsion.Assembly, got {type(assembly).__name__}")
+        for attribute, kind in (("gear_elements", "Gear"), ("elastic_gear_elements", "ElasticGear")):
+            if getattr(assembly, attribute, None):
+                raise MechanismError(
+                    f"assembly holds {attribute} (opentorsion.{kind}): a Shaft is one chain of inertias and "
+                    "stiffnesses, without gears"
+                )
+        count = _node(getattr(assembly, "dofs", None), "assembly.dofs", None)
+        inertia = np.zeros(count)
+        stiffness: list[float | None] = [None] * max(count - 1, 0)
+        damping = [0.0] * max(count - 1, 0)
+        for index, element in enumerate(assembly.shaft_elements or ()):
+            ends = sorted(
+                _node(getattr(element, end, None), f"assembly.shaft_elements[{index}].{end}", count)
+                for end in ("nl", "nr")
+            )
+            section = ends[0]
+            if ends[1] != section + 1:
+                raise MechanismError(
+                    f"assembly.shaft_elements[{index}] joins nodes {ends[0]} and {ends[1]}: a Shaft's section i "
+                    "joins node i to node i + 1 (a branched or looped model cannot be one chain)"
+                )
+            if stiffness[section] is not None:
+                raise MechanismError(
+                    f"assembly.shaft_elements[{index}] is a second element between nodes {section} and "
+                    f"{section + 1}: a Shaft holds one per section"
+                )
+            stiffness[section] = _number(element.k, f"assembly.shaft_elements[{index}].k")
+            damping[section] = _number(element.c, f"assembly.shaft_elements[{index}].c")
+            # Lumped: each end takes its row of the element's mass matrix (half the element).
+            inertia[ends] += np.asarray(element.M(), dtype=float).sum(axis=1)
+        for index, disk in enumerate(assembly.disk_elements or ()):
+            where = f"assembly.disk_elements[{index}]"
+            at = _node(getattr(disk, "node", None), f"{where}.node", count)
+            for name, meaning in (("k", "a stiffness"), ("c", "a damping")):
+                value = _number(getattr(disk, name, 0.0), f"{where}.{name}")
+                if value != 0:
+                    raise MechanismError(
+                        f"{where}.{name} = {value!r}: {meaning} to ground at node {at}; a Shaft is a free chain, "
+                        "without one"
+                    )
+            inertia[at] += _number(disk.I, f"{where}.I")
+        broken = [i for i, k in enumerate(stiffness) if k is None]
+        if broken:
+            raise MechanismError(
+                f"assembly has no shaft element between nodes {broken[0]} and {broken[0] + 1}: the chain is broken"
+            )
+        empty = np.flatnonzero(inertia == 0)
+        if empty.size:
+            raise MechanismError(
+                f"assembly: node {empty[0]} has no inertia (no disk there, and no element with inertia ends there)"
+            )
+        try:
+            return cls(
+                inertia,
+                stiffness,
+                cylinder_nodes=cylinder_nodes,
+                damping=damping if any(c != 0 for c in damping) else None,
+            )
+        except MechanismError as error:
+            message = str(error)
+            raise MechanismError(message if message.startswith("cylinder_nodes") else f"assembly: {message}") from None
+
+    @classmethod
+    def from_toml(cls, path: str | os.PathLike[str]) -> Shaft:
+        """The shaft of a TOML file's ``[shaft]`` table (docs/machine-files.md).
+
+        Parameters
+        ----------
+        path : str or os.PathLike
+            A file holding a ``[shaft]`` table, alone or in a whole machine file (which is
+            then read and checked as one).
+
+        Returns
+        -------
+        Shaft
+            ``inertia`` [kg·m²], ``stiffness`` [N·m/rad], ``cylinder_nodes`` and ``damping``
+            [N·m·s/rad] as the table gives them.
+
+        Raises
+        ------
+        MechanismError
+            Naming the file and the key: a file that cannot be read or is not TOML, no
+            ``[shaft]`` table, an unknown or missing key, a value of the wrong type or out of
+            range.
+        """
+        # The machine files' reader: one place for the [shaft] table's keys and types.
+        from ..machine.files import read_shaft_file
+
+        return shaft_of_file(read_shaft_file(path))
+
     def stiffness_matrix(self) -> np.ndarray:
         """The chain's stiffness matrix.
 
@@ -170,3 +324,53 @@ class Shaft:
         first = np.argmax(np.abs(shapes) >= size * (1 - 1e-9), axis=0)
         scale = size * np.sign(shapes[first, np.arange(shapes.shape[1])])
         return ShaftModes(np.sqrt(omega_squared) / (2 * math.pi), shapes / scale)
+
+
+def shaft_of_file(file: MachineFile) -> Shaft:
+    """The :class:`Shaft` of a machine file's ``[shaft]`` table, read and type-checked
+    (``file.shaft``, :mod:`multicrank.machine.files`): its ranges checked by the Shaft, a bad
+    one named with the file and the table (``Shaft.from_toml``, ``Machine.from_toml``)."""
+    assert file.shaft is not None  # the callers ask only a file that has one
+    with file.context("shaft"):
+        return Shaft(**file.shaft)
+
+
+def _node(value: Any, name: str, count: int | None) -> int:
+    """A node index of an openTorsion model: an integer 0 <= value < count (a count ≥ 1 where
+    ``count`` is None)."""
+    try:
+        node = operator.index(value)
+    except TypeError:
+        raise MechanismError(f"{name} must be an integer, got {value!r}") from None
+    if isinstance(value, (bool, np.bool_)) or node < (0 if count is not None else 1):
+        raise MechanismError(f"{name} = {value!r} is out of range")
+    if count is not None and node >= count:
+        raise MechanismError(f"{name} = {node} is out of range; allowed: 0 <= node < {count}")
+    return node
+
+
+def _number(value: Any, name: str) -> float:
+    """A finite real number of an openTorsion element (not a bool, not complex)."""
+    if isinstance(value, (bool, np.bool_, complex, np.complexfloating)):
+        raise MechanismError(f"{name} must be a real number, got {value!r}")
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        raise MechanismError(f"{name} must be a real number, got {value!r}") from None
+    if not math.isfinite(number):
+        raise MechanismError(f"{name} = {value!r} is not a finite real number")
+    return number
+
+
+def shaft_of(machine: Any, shaft: Any) -> Shaft:
+    """The shaft a torsional question of ``machine`` (a :class:`~multicrank.Machine`) uses:
+    ``shaft`` where given (checked against the machine: one node per cylinder), else the
+    machine's own; refused by name where there is neither."""
+    if shaft is None:
+        if machine.shaft is None:
+            raise MechanismError(
+                f"shaft is required: machine {machine.name!r} has none (give shaft=mc.Shaft(...) or "
+                "Machine(shaft=...), or a [shaft] section in its machine file)"
+            )
+        return machine.shaft
+    return machine.replace(shaft=as_instance(shaft, Shaft, "shaft")).shaft
