@@ -27,15 +27,18 @@ DATA = Path(__file__).resolve().parent / "data" / "pickles-0.1.0.pickle"
 
 def unplaced(machine: mc.Machine) -> mc.Machine:
     """A preset as 0.1 knew it: no cylinder placed along the shaft (0.1 had no axial_position;
-    its pickles read 0), the bearings by default."""
-    return machine.replace(cylinders=[c.replace(axial_position=0.0) for c in machine.cylinders], main_bearings=None)
+    its pickles read 0), the bearings by default, no torsional shaft (0.1 had none: its
+    pickles read None)."""
+    return machine.replace(
+        cylinders=[c.replace(axial_position=0.0) for c in machine.cylinders], main_bearings=None, shaft=None
+    )
 
 
 def built_now() -> dict[str, object]:
     """The objects of the 0.1.0 pickle, as the current code builds them."""
     compressor = MACHINES["slow-compressor"]
     return {
-        "machine:slow-compressor": compressor,
+        "machine:slow-compressor": compressor.replace(shaft=None),  # 0.1 had no torsional shaft
         # 0.1 numbered the in-line four's cylinders by their phases (0°, 180°, 360°, 540°); the
         # layout is now the textbook crank numbered along the shaft (firing 1-3-4-2): the
         # same cylinders, in 0.1's order.
@@ -247,6 +250,7 @@ INSTANCES = {
     "SteadyState": lambda: mc.steady_state(MACHINES["inline-4"], points=37),
     "SymbolicGravity": lambda: _symbolic("gravity"),
     "SymbolicInertia": lambda: _symbolic("reduced_inertia"),
+    "TorsionalModel": lambda: mc.to_opentorsion(MACHINES["inline-6"], max_order=2),
     "Transient": lambda: mc.simulate(MACHINES["inline-4"], np.linspace(0.0, 0.05, 11), rpm0=1500.0, load="balance"),
     "UniformGrid": lambda: mc.uniform_grid(100),
 }
@@ -318,7 +322,7 @@ def same(a: object, b: object, where: str = "value") -> None:
         assert str(a) == str(b), where
         same(a.args, b.args, f"{where}.args")
         same(vars(a), vars(b), f"{where}.__dict__")
-    elif type(a).__module__.startswith("multicrank"):
+    elif type(a).__module__.startswith(("multicrank", "opentorsion")):  # openTorsion's, in a TorsionalModel
         if "__getstate__" in {name for cls in type(a).__mro__[:-1] for name in vars(cls)}:
             same(a.__getstate__(), b.__getstate__(), f"{where}.__getstate__()")  # what it says it is
             return
