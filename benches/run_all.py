@@ -3,9 +3,10 @@
     python benches/run_all.py [--criterion]
 
 Runs benches/python/bench_kernels.py, bench_sweep.py, bench_machine.py, bench_motion.py,
-bench_routes.py, bench_forces.py, bench_motion_sweep.py and bench_design_aid.py (release build of the installed
-package; each refuses a debug build) and, with --criterion, the criterion benches
-of the Rust kernels, then writes BENCHMARKS.md at the repository root.
+bench_routes.py, bench_forces.py, bench_motion_sweep.py, bench_design_aid.py and
+bench_torsion.py (release build of the installed package; each refuses a debug build) and,
+with --criterion, the criterion benches of the Rust kernels, then writes BENCHMARKS.md at the
+repository root.
 OPENBLAS_NUM_THREADS=1 keeps numpy's BLAS threads from spinning on the cores being timed.
 To compare two builds' criterion figures instead, see benches/compare_builds.py.
 """
@@ -94,6 +95,16 @@ DESIGN_AID_NOTE = (
     "counterweights (40 timed)."
 )
 
+TORSION_HEADING = "## Every criterion and the torsional merit: `mc.firing_orders(shaft=...)`, `mc.torsional_merit`"
+TORSION_NOTE = (
+    "Wall times of the whole calls with a shaft, all cores: every candidate's δ class, free moments, "
+    "bearing loads and torsional merit, and the Pareto marks. The per-machine path: "
+    "`mc.steady_state`, `mc.shaking_forces`, `mc.bearing_loads` and `mc.torsional_merit` of each "
+    "candidate machine, timed on 40 and scaled to the candidates made. `torsional_merit` of a "
+    "14-node shaft: the first call makes each cylinder's orders (kept on the machine), later calls "
+    "reuse them; the last column is a copy of the machine each time."
+)
+
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
@@ -107,6 +118,7 @@ def main() -> None:
     forces = run(sys.executable, "benches/python/bench_forces.py", "--markdown")
     motion_sweep = run(sys.executable, "benches/python/bench_motion_sweep.py", "--markdown")
     design_aid = run(sys.executable, "benches/python/bench_design_aid.py", "--markdown")
+    torsion = run(sys.executable, "benches/python/bench_torsion.py", "--markdown")
     cpu = next(
         (
             line.split(":", 1)[1].strip()
@@ -172,6 +184,12 @@ def main() -> None:
         design_aid.strip(),
         "",
         DESIGN_AID_NOTE,
+        "",
+        TORSION_HEADING,
+        "",
+        torsion.strip(),
+        "",
+        TORSION_NOTE,
         "",
     ]
     if args.criterion:

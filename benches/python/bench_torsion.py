@@ -159,9 +159,7 @@ def main() -> None:
             f"| {r['seconds']:.2f} | {r['baseline']:.1f} | {r['baseline'] / r['seconds']:.0f}× |"
         )
     print()
-    print(
-        "| torsional_merit, slow-diesel-12 | shaft nodes | first call (ms) | later calls (ms) | orders made afresh (ms) |"
-    )
+    print("| torsional_merit, slow-diesel-12 | shaft nodes | first call (ms) | later calls (ms) | orders afresh (ms) |")
     print("|---|---:|---:|---:|---:|")
     print(
         f"| modes 2, orders ≤ 12 | {merit['nodes']} | {1e3 * merit['first']:.2f} | {1e3 * merit['later']:.3f} "

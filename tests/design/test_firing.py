@@ -144,13 +144,19 @@ def test_the_two_stroke_candidates_are_complete_and_distinct(k):
 
 
 def test_alike_throws_arrange_one_way():
-    # Alike cylinders in line: every arrangement of the throws is the same machine.
+    # Alike cylinders in line, unplaced: every arrangement of the throws is the same machine.
     inline = mc.Machine.from_layout("inline-3-2t", TWO_STROKE, shaft_inertia=0.25, strokes=2, rpm=RPM)
     table = mc.firing_orders(inline)
     assert table.attrs["candidates"] == table.attrs["distinct"] == 1
-    # Twelve alike throws: one arrangement, found without visiting 11! permutations.
-    diesel = mc.presets.MACHINES["slow-diesel-12"]
+    # Twelve alike throws taken off their places: one arrangement, found without visiting 11!
+    # permutations. Placed along the shaft the frame tells every arrangement apart: 11! of
+    # them (the first turned to its angle), the first max_candidates made.
+    placed = mc.presets.MACHINES["slow-diesel-12"]
+    diesel = placed.replace(cylinders=[c.replace(axial_position=0.0) for c in placed.cylinders])
     assert mc.firing_orders(diesel).attrs["candidates"] == 1
+    table = mc.firing_orders(placed, max_candidates=30)
+    assert table.attrs["candidates"] == math.factorial(11) and not table.attrs["exhaustive"]
+    assert len(table) > 1 and table["as_given"].sum() == 1
     # A cross-plane V8's throws each carry one cylinder of each bank: alike too.
     v8 = mc.Machine.from_layout("v8-cross", TWO_STROKE, shaft_inertia=0.25, strokes=2, rpm=RPM)
     check_against(mc.firing_orders(v8), every_arrangement(v8))

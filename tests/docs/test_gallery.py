@@ -51,7 +51,7 @@ def run(name: str) -> dict:
 
 
 def test_the_gallery_has_its_examples():
-    assert len(SCRIPTS) == 11
+    assert len(SCRIPTS) == 12
     for name in SCRIPTS:
         text = (GALLERY / name).read_text(encoding="utf-8")
         assert text.startswith('"""\n'), f"{name}: the module docstring (title and summary) comes first"
@@ -188,7 +188,11 @@ def test_design_aid_says_what_its_figure_shows():
     space = run("plot_09_design_aid.py")
     table, best = space["table"], space["best"]
     # the six's even firing, as built, first; the worst eleven times rougher
-    assert table["firing"].iloc[0] == "1-5-3-6-2-4" and table.attrs["distinct"] == 6
+    assert table["firing"].iloc[0] == "1-5-3-6-2-4" and table.attrs["distinct"] == 10
+    # "1-5-4-6-2-3, the same motion on a rigid shaft ... loads the main bearings 9 % more"
+    assert table["firing"].iloc[1] == "1-5-4-6-2-3" and table["delta"].iloc[1] == table["delta"].iloc[0]
+    assert "+" not in table["firing"].iloc[1] and all("+" in f for f in table["firing"].iloc[2:])
+    assert 0.085 < table["max_bearing_load"].iloc[1] / table["max_bearing_load"].iloc[0] - 1 < 0.095
     assert math.isclose(space["as_built"].delta, table["delta"].iloc[0], rel_tol=1e-9)
     assert 10 < space["gain"][0] < 12
     assert (table["gravity_effect"].abs() < 1e-7).all()  # "the same to 10⁻⁷"
@@ -256,3 +260,28 @@ def test_the_compressors_least_delta_counterweight_loads_its_bearings():
     first = mc.shaking_forces(space["compressor"]).orders.loc[1]
     free = first["force_forward"] + first["force_backward"]
     assert math.isclose(built["free_force_1"], free, rel_tol=1e-9)
+
+
+def test_the_marine_six_trades_free_moments_for_torsional_merit():
+    space = run("plot_12_torsional_merit.py")
+    table, shaft = space["table"], space["shaft"]
+    # "5! = 120 arrangements", 52 distinct, one δ
+    assert table.attrs["candidates"] == 120 and table.attrs["distinct"] == 52
+    assert space["delta_spread"] < 1e-12
+    # "first mode, at 2.3 Hz, meets the sixth order ... just below the speed range (23 rpm)"
+    first = shaft.modes().natural_frequency[0]
+    assert 2.3 < first < 2.4 and 22.5 < 60 * first / 6 < 25.0
+    # "vanishes in two arrangements only, and those excite the first mode two to three times
+    # as much as the quietest ones, which leave some 30 MN·m"
+    zero = table[table["free_moment_1"] == 0]
+    assert len(zero) == 2
+    quietest = table["torsional_merit"].min()
+    assert 2 < zero["torsional_merit"].min() / quietest and zero["torsional_merit"].max() / quietest < 3
+    assert 25e6 < table.loc[table["torsional_merit"].idxmin(), "free_moment_1"] < 35e6
+    # the truck six: whole orders untouched, one torsional merit for every row
+    truck = space["truck_table"]
+    assert np.ptp(truck["torsional_merit"]) <= 1e-9 * truck["torsional_merit"].max()
+    # the bank factor follows |2 cos(νΘ/2)| for every order drawn
+    for order, values in space["factor"].items():
+        np.testing.assert_allclose(values, np.abs(2 * np.cos(order * space["banks"] / 2)), atol=1e-9)
+

@@ -124,7 +124,15 @@ def _candidates(machine: Machine, limit: int) -> tuple[np.ndarray, int]:
     inclinations = np.array([c.inclination for c in machine.cylinders])
     members, angles = throws(machine)
     kinds = _kinds(machine)
-    throw_kinds = [tuple(sorted(kinds[j] for j in cylinders)) for cylinders in members]
+    # Alike throws at other places along the shaft are not interchangeable: the frame's moments,
+    # the bearings' loads and the shaft's modes tell which angle sits where. Where the machine
+    # is placed each throw's place is part of its kind; unplaced, alike throws are one.
+    place = machine.throw_index
+    placed = len(machine.throws) > 1
+    throw_kinds = [
+        (*sorted(kinds[j] for j in cylinders), *((-1 - place[cylinders[0]],) if placed else ()))
+        for cylinders in members
+    ]
     spacing = np.diff(np.sort(angles), append=angles.min() + 2 * math.pi)
     # Turning a regular crank by its spacing maps it onto itself: the first throw keeps its
     # angle. Another set of angles is arranged every way.
