@@ -22,9 +22,9 @@ from __future__ import annotations
 
 import argparse
 import os
-import platform
 import time
-from pathlib import Path
+
+from timing import cpu_name
 
 BASELINE_MACHINES = 40
 
@@ -115,14 +115,7 @@ def main() -> None:
         raise SystemExit(f"bench_design_aid: refusing a {mc.build_profile} build; install the release wheel")
     rows = [measure(name, machine) for name, machine in machines().items()]
     if args.markdown:
-        cpu = next(
-            (
-                line.split(":", 1)[1].strip()
-                for line in Path("/proc/cpuinfo").read_text().splitlines()
-                if line.startswith("model name")
-            ),
-            platform.processor() or platform.machine(),
-        )
+        cpu = cpu_name()
         print(f"CPU: {cpu}, {os.cpu_count()} cores, all used")
         print()
         print(

@@ -35,7 +35,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from timing import child_rows
+from timing import child_rows, cpu_name
 
 BASELINE_DESIGNS = 48
 
@@ -167,14 +167,7 @@ def main() -> None:
     results = {}
     for threads in ("1", str(os.cpu_count())):
         results[threads] = child_rows(__file__, threads=threads)
-    cpu = next(
-        (
-            line.split(":", 1)[1].strip()
-            for line in Path("/proc/cpuinfo").read_text().splitlines()
-            if line.startswith("model name")
-        ),
-        "?",
-    )
+    cpu = cpu_name()
     print(f"CPU: {cpu}; inline-4 preset; baseline: replace + each machine's own steady state/flywheel, same child")
     head = "| sweep | designs | threads | designs/s | per-machine path (designs/s) | ratio |"
     print(head if args.markdown else head.replace("|", " "))

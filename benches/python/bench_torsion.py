@@ -23,9 +23,9 @@ from __future__ import annotations
 import argparse
 import copy
 import os
-import platform
 import time
-from pathlib import Path
+
+from timing import cpu_name
 
 SAMPLE = 40
 REPEATS = 200
@@ -138,14 +138,7 @@ def main() -> None:
             print(row)
         print(merit)
         return
-    cpu = next(
-        (
-            line.split(":", 1)[1].strip()
-            for line in Path("/proc/cpuinfo").read_text().splitlines()
-            if line.startswith("model name")
-        ),
-        platform.processor() or platform.machine(),
-    )
+    cpu = cpu_name()
     print(f"CPU: {cpu}, {os.cpu_count()} cores, all used")
     print()
     print(

@@ -4,9 +4,11 @@ from __future__ import annotations
 
 import json
 import os
+import platform
 import subprocess
 import sys
 import time
+from pathlib import Path
 from typing import Any
 
 
@@ -45,3 +47,11 @@ def per_thread_count(script: str, points: int, repeat: int) -> dict[str, list]:
     all cores, and return each child's JSON rows by thread count."""
     arguments = ("--points", str(points), "--repeat", str(repeat))
     return {threads: child_rows(script, *arguments, threads=threads) for threads in ("1", str(os.cpu_count()))}
+
+
+def cpu_name() -> str:
+    """The processor's model name, as the benches' tables print it."""
+    cpuinfo = Path("/proc/cpuinfo")
+    lines = cpuinfo.read_text().splitlines() if cpuinfo.exists() else []
+    found = (line.split(":", 1)[1].strip() for line in lines if line.startswith("model name"))
+    return next(found, platform.processor() or platform.machine() or "?")
