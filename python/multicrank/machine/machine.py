@@ -211,7 +211,7 @@ class Machine(MachineDescription, MachineDynamics, MachineGas):
         if main_bearings is not None:
             members = [[j for j, t in enumerate(self.throw_index) if t == index] for index in range(len(self.throws))]
             self.main_bearings = as_bearings(main_bearings, self.throws, members)
-        self.shaft: Shaft | None = None if shaft is None else _shaft_of(shaft, len(cylinders))
+        self.shaft: Shaft | None = None if shaft is None else _as_shaft(shaft, len(cylinders))
         self._units = unit_columns(cylinders)
         self._sealed = True
 
@@ -540,7 +540,7 @@ class Machine(MachineDescription, MachineDynamics, MachineGas):
         return Machine(fields.pop("cylinders"), **fields)
 
 
-def _shaft_of(value: Any, cylinders: int) -> Shaft:
+def _as_shaft(value: Any, cylinders: int) -> Shaft:
     """A machine's shaft: a :class:`~multicrank.Shaft` with one node per cylinder."""
     if not isinstance(value, Shaft):
         raise MechanismError(f"shaft must be a multicrank.Shaft, got {type(value).__name__}")
