@@ -118,13 +118,13 @@ plt.show()
 # %%
 # **The firing order** decides the six's δ by a factor of eleven: the even firing it is
 # built with (1-5-3-6-2-4) runs smoothest, and so does 1-5-4-6-2-3, the same motion on a
-# rigid shaft (a row of its own because it loads the main bearings 9 % more: the design aid
-# weighs the frame and the shaft too, :doc:`plot_12_torsional_merit`). Every other order
-# the crank allows fires two cylinders together ("+") and leaves gaps in the cycle.
-# Gravity has no say: the
-# red and blue bars are the same to 10⁻⁷. Every candidate of a four-stroke crank has the
-# same crank, hence the same gravity and inertia torques, and only the gas torque is
-# timed differently — beside which an engine's gravity torque is small.
+# rigid shaft (a row of its own because it loads the main bearings 9 % more: the design
+# aid weighs the frame and the shaft too, :doc:`plot_12_torsional_merit`). Every other
+# order the crank allows fires two cylinders together ("+") and leaves gaps in the
+# cycle. Gravity has no say: the red and blue bars are the same to 10⁻⁷. Every candidate
+# of a four-stroke crank has the same crank, hence the same gravity and inertia torques,
+# and only the gas torque is timed differently — beside which an engine's gravity torque
+# is small.
 #
 # **The counterweight** is the opposite case: without gravity δ does not depend on it at
 # all (the dashed line is flat), with gravity it moves δ by a fifth. The optimum, 24.6

@@ -1,26 +1,27 @@
 """
 Firing orders by torsional merit, free moments and δ; a V's bank factor
-======================================================================
+=======================================================================
 
 An engine designer chooses a firing order by more than the speed fluctuation δ: by the
 free moments it leaves on the foundation and the torsional vibration it excites in the
 shaft. ``mc.firing_orders`` weighs them all, and marks the firing orders that no other
-beats on every criterion at once (the Pareto front). Here a six-cylinder marine two-stroke,
-whose choice is the classic one between free moments and torsional vibration; the truck six,
-whose cam can change only the half orders; and the V-bank factor of two cylinders on a pin.
+beats on every criterion at once (the Pareto front). Here a six-cylinder marine
+two-stroke, whose choice is the classic one between free moments and torsional
+vibration; the truck six, whose cam can change only the half orders; and the V-bank
+factor of two cylinders on a pin.
 """
 
 # %%
 # A marine six: free moments against torsional vibration
 # --------------------------------------------------------
 # Six cylinders of the built-in slow-speed diesel (960 mm bore, 90 rpm) on a two-stroke
-# crank with throws 60° apart, 1.7 m from throw to throw. Which throw gets which angle is
-# the firing order: 5! = 120 arrangements (turning the whole crank is the same engine,
-# later). Its shaft: six throws with their running gear, the turning wheel, and the
-# propeller with its entrained water on a long intermediate shaft; its first mode, at
-# 2.3 Hz, meets the sixth order — the major one, all six cylinders in phase — just below
-# the speed range (23 rpm), so that within it only minor orders resonate, and the firing
-# order decides how much of them cancels.
+# crank with throws 60° apart, 1.7 m from throw to throw. Which throw gets which angle
+# is the firing order: 5! = 120 arrangements (turning the whole crank is the same
+# engine, later). Its shaft: six throws with their running gear, the turning wheel, and
+# the propeller with its entrained water on a long intermediate shaft; its first mode,
+# at 2.3 Hz, meets the sixth order — the major one, all six cylinders in phase — just
+# below the speed range (23 rpm), so that within it only minor orders resonate, and the
+# firing order decides how much of them cancels.
 import matplotlib.pyplot as plt
 import numpy as np
 
@@ -39,14 +40,22 @@ six = mc.Machine.from_layout(
 )
 shaft = mc.Shaft(
     [1.2e5] * 6 + [1.5e5, 6.0e5],  # kg·m²: six throws, turning wheel, propeller
-    [9.0e8] * 5 + [7.0e8, 0.95e8],  # N·m/rad: the crank's journals, then the intermediate shaft
+    [9.0e8] * 5
+    + [7.0e8, 0.95e8],  # N·m/rad: the crank's journals, then the intermediate shaft
     cylinder_nodes=[0, 1, 2, 3, 4, 5],
 )
 print(f"natural frequencies: {np.round(shaft.modes().natural_frequency[:3], 2)} Hz")
 table = mc.firing_orders(six, shaft=shaft)
 print(f"{table.attrs['candidates']} arrangements, {table.attrs['distinct']} distinct, "
       f"{table['pareto'].sum()} on the Pareto front")  # fmt: skip
-columns = ["firing", "delta", "free_moment_1", "free_moment_2", "torsional_merit", "pareto"]
+columns = [
+    "firing",
+    "delta",
+    "free_moment_1",
+    "free_moment_2",
+    "torsional_merit",
+    "pareto",
+]
 print(table.loc[table["pareto"], columns].to_string(float_format="{:.4g}".format))
 
 # %%
@@ -54,14 +63,17 @@ print(table.loc[table["pareto"], columns].to_string(float_format="{:.4g}".format
 # matter to the motion. What it changes is where the forces act along the shaft — the
 # first- and second-order free moments — and how the cylinders' torques add up on the
 # shaft's modes. The first order's moment vanishes in two arrangements only, and those
-# excite the first mode two to three times as much as the quietest ones, which leave some
-# 30 MN·m of first-order moment for the foundation (or a balancer) to take.
+# excite the first mode two to three times as much as the quietest ones, which leave
+# some 30 MN·m of first-order moment for the foundation (or a balancer) to take.
 delta_spread = np.ptp(table["delta"]) / table["delta"].mean()
 print(f"δ spread over the rows: {delta_spread:.1e}")
 no_first = table[table["free_moment_1"] == 0]
-print(f"no first-order moment: {len(no_first)} rows, torsional merit "
-      f"{no_first['torsional_merit'].min():.3g}–{no_first['torsional_merit'].max():.3g} N·m; "
-      f"the least merit of all: {table['torsional_merit'].min():.3g} N·m")  # fmt: skip
+merits = no_first["torsional_merit"]
+print(
+    f"no first-order moment: {len(no_first)} rows, torsional merit "
+    f"{merits.min():.3g}–{merits.max():.3g} N·m; "
+    f"the least merit of all: {table['torsional_merit'].min():.3g} N·m"
+)
 quietest = table.loc[table["torsional_merit"].idxmin()]
 merit = mc.torsional_merit(quietest["machine"], shaft, rpm_range=six.rpm_range)
 print(f"{quietest['firing']}: the resonances in the speed range")
@@ -70,12 +82,12 @@ print(merit.to_string(float_format="{:.4g}".format))
 # %%
 # The truck six: the cam changes only the half orders
 # ---------------------------------------------------
-# The built-in truck diesel carries its own shaft (``Machine.shaft``: damper, six throws,
-# flywheel; first mode 167 Hz). Its four-stroke crank fixes each phase modulo 360°, so a
-# firing order moves a cylinder's torque by a whole revolution: every whole order ν is
-# untouched (e^{iν·2π} = 1), and only the half orders change. The major sixth order meets
-# the first mode at 1670 rpm, in the speed range, and sets the torsional merit of every
-# row alike: here δ decides.
+# The built-in truck diesel carries its own shaft (``Machine.shaft``: damper, six
+# throws, flywheel; first mode 167 Hz). Its four-stroke crank fixes each phase modulo
+# 360°, so a firing order moves a cylinder's torque by a whole revolution: every whole
+# order ν is untouched (e^{iν·2π} = 1), and only the half orders change. The major sixth
+# order meets the first mode at 1670 rpm, in the speed range, and sets the torsional
+# merit of every row alike: here δ decides.
 truck = mc.presets.MACHINES["inline-6"]
 truck_table = mc.firing_orders(truck)
 print(truck_table[["firing", "delta", "max_bearing_load", "torsional_merit", "pareto"]]
@@ -85,11 +97,16 @@ print(truck_table[["firing", "delta", "max_bearing_load", "torsional_merit", "pa
 # A V's bank factor
 # -----------------
 # Two cylinders on one crank pin, their banks Θ apart, fire Θ apart in crank angle: for
-# order ν their vectors make the angle νΘ, and add to |2 cos(νΘ/2)| times one cylinder's.
-# ``mc.torsional_merit`` has no formula for it: the factor comes out of the phases. (A
-# four-stroke pair may as well fire 360° + Θ apart, the cam's choice: then each odd half
-# order's vectors turn by a further half turn, and its factor is |2 sin(νΘ/2)|.)
-template = mc.presets.MACHINES["inline-4"].cylinders[0].replace(pressure=None, axial_position=0.0)
+# order ν their vectors make the angle νΘ, and add to |2 cos(νΘ/2)| times one
+# cylinder's. ``mc.torsional_merit`` has no formula for it: the factor comes out of the
+# phases. (A four-stroke pair may as well fire 360° + Θ apart, the cam's choice: then
+# each odd half order's vectors turn by a further half turn, and its factor is |2
+# sin(νΘ/2)|.)
+template = (
+    mc.presets.MACHINES["inline-4"]
+    .cylinders[0]
+    .replace(pressure=None, axial_position=0.0)
+)
 banks = np.radians(np.linspace(30.0, 180.0, 61))
 orders = (1.0, 1.5, 2.0, 3.0)
 factor = {order: [] for order in orders}
@@ -102,15 +119,31 @@ for bank in banks:
         strokes=4,
         rpm=3000.0,
     )
-    pair = mc.torsional_merit(vee, mc.Shaft([0.02, 0.3], [3e5], cylinder_nodes=[0, 0]), modes=1, max_order=3)
+    pair = mc.torsional_merit(
+        vee, mc.Shaft([0.02, 0.3], [3e5], cylinder_nodes=[0, 0]), modes=1, max_order=3
+    )
     for order in orders:
-        factor[order].append(float(pair.loc[pair["order"] == order, "vector_sum"].iloc[0]))
+        factor[order].append(
+            float(pair.loc[pair["order"] == order, "vector_sum"].iloc[0])
+        )
 
 figure, (left, right) = plt.subplots(1, 2, figsize=(9.5, 4.4), layout="constrained")
 other = table[~table["pareto"]]
 front = table[table["pareto"]]
-left.scatter(other["free_moment_1"] / 1e6, other["torsional_merit"] / 1e3, s=18, color="0.6", label="dominated")
-left.scatter(front["free_moment_1"] / 1e6, front["torsional_merit"] / 1e3, s=30, color="C3", label="Pareto front")
+left.scatter(
+    other["free_moment_1"] / 1e6,
+    other["torsional_merit"] / 1e3,
+    s=18,
+    color="0.6",
+    label="dominated",
+)
+left.scatter(
+    front["free_moment_1"] / 1e6,
+    front["torsional_merit"] / 1e3,
+    s=30,
+    color="C3",
+    label="Pareto front",
+)
 left.scatter(
     table["free_moment_1"].iloc[0] / 1e6,
     table["torsional_merit"].iloc[0] / 1e3,
@@ -125,8 +158,21 @@ left.set_title("marine six: 52 firing orders, one δ")
 left.legend(loc="upper right", fontsize=8)
 left.grid(linewidth=0.4, alpha=0.5)
 for order, color in zip(orders, ("C0", "C1", "C2", "C4"), strict=True):
-    right.plot(np.degrees(banks), factor[order], color=color, lw=2.5, alpha=0.5, label=f"order {order:g}")
-    right.plot(np.degrees(banks), np.abs(2 * np.cos(order * banks / 2)), ":", color="black", lw=0.8)
+    right.plot(
+        np.degrees(banks),
+        factor[order],
+        color=color,
+        lw=2.5,
+        alpha=0.5,
+        label=f"order {order:g}",
+    )
+    right.plot(
+        np.degrees(banks),
+        np.abs(2 * np.cos(order * banks / 2)),
+        ":",
+        color="black",
+        lw=0.8,
+    )
 right.set_xlabel("bank angle Θ [°]")
 right.set_ylabel("vector sum of the pair")
 right.set_title("two cylinders on a pin: |2 cos(νΘ/2)| (dotted)")
@@ -139,9 +185,9 @@ plt.show()
 # means less torsional vibration in the speed range, moving left a smaller first-order
 # moment on the foundation; the red ones are the Pareto front, where one is bought only
 # with the other (with the second-order moment and the bearing loads weighed too: a red
-# point that looks beaten here is better on one of those). **Right**: the pair's vector sum over the bank angle for four orders,
-# on the dotted |2 cos(νΘ/2)|: a 90° V's pair cancels its second order, a 60° V's its
-# third, and at 180° (one pin, opposed) the odd orders cancel and the even ones add. The
-# forced response — how large the vibration
-# is with the shaft's damping — is openTorsion's to compute:
-# ``mc.to_opentorsion(six, shaft=shaft)`` hands it the shaft and every cylinder's orders.
+# point that looks beaten here is better on one of those). **Right**: the pair's vector
+# sum over the bank angle for four orders, on the dotted |2 cos(νΘ/2)|: a 90° V's pair
+# cancels its second order, a 60° V's its third, and at 180° (one pin, opposed) the odd
+# orders cancel and the even ones add. The forced response — how large the vibration is
+# with the shaft's damping — is openTorsion's to compute: ``mc.to_opentorsion(six,
+# shaft=shaft)`` hands it the shaft and every cylinder's orders.

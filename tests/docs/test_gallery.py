@@ -284,4 +284,3 @@ def test_the_marine_six_trades_free_moments_for_torsional_merit():
     # the bank factor follows |2 cos(νΘ/2)| for every order drawn
     for order, values in space["factor"].items():
         np.testing.assert_allclose(values, np.abs(2 * np.cos(order * space["banks"] / 2)), atol=1e-9)
-
