@@ -45,7 +45,8 @@ def inline4(tmp_path_factory) -> Path:
 def read_csv(path: Path) -> pd.DataFrame:
     # Parsed by Python's float, exact on any pandas (before 3.0 its parser may be an ulp off).
     frame = pd.read_csv(path, dtype=str, keep_default_na=False)
-    text = ("firing", "phases_deg", "fires_at_deg", "cylinders", "as_given", "stalled", "near_stall", "pareto")
+    text = ("firing", "phases_deg", "fires_at_deg", "cylinders", "as_given", "stalled", "near_stall", "pareto", "major")
+    text += ("in_range",)
     numbers = [c for c in frame if c not in text]
     return frame.astype({c: float for c in numbers})
 
@@ -137,6 +138,27 @@ def test_design_section_of_the_default_machine(compressor):
     weights, optimum, _ = check_counterweights(compressor, machine)
     assert len(weights) == 1 and weights["cylinders"].tolist() == ["1"]
     assert optimum.delta <= optimum.delta_before
+
+
+def test_the_default_machine_s_shaft_gets_a_campbell_diagram(compressor):
+    """The slow compressor carries a shaft: the section draws its Campbell diagram and lists the
+    strongest resonances in the speed range, as mc.torsional_merit gives them."""
+    machine = MACHINES[DEFAULT_MACHINE_NAME]
+    assert machine.shaft is not None
+    table = read_csv(compressor / "design_campbell.csv")
+    expected = mc.torsional_merit(machine, modes=2, max_order=12)
+    for column in ("mode", "order", "natural_frequency", "resonance_rpm", "vector_sum", "excitation"):
+        np.testing.assert_allclose(table[column], expected[column], rtol=1e-12, err_msg=column)
+    low, high = machine.rpm_range
+    inside = expected["resonance_rpm"].between(low, high)
+    assert table["in_range"].tolist() == [str(v) for v in inside]
+    assert (compressor / "design_campbell.png").stat().st_size > 10_000
+    text = section(compressor)
+    assert "<h3>Torsional vibration</h3>" in text and 'alt="Campbell diagram of the shaft"' in text
+    strongest = expected[inside].sort_values("excitation", ascending=False).iloc[0]
+    assert f"<td>{strongest['resonance_rpm']:.4g}</td>" in text
+    shown = text.count("(major)</td>")  # one cylinder: every order is major
+    assert shown == min(8, int(inside.sum()))
 
 
 def test_design_section_of_a_four_cylinder_machine(inline4):
