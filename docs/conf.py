@@ -109,6 +109,7 @@ RESULT_CLASSES = (
     "CounterweightOptimum",
     "ShakingForces",
     "BearingLoads",
+    "TorsionalModel",
 )
 numpydoc_validation_exclude = {rf"^multicrank\.(symbolic\.)?{name}$" for name in RESULT_CLASSES}
 

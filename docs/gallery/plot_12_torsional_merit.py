@@ -97,11 +97,11 @@ print(truck_table[["firing", "delta", "max_bearing_load", "torsional_merit", "pa
 # A V's bank factor
 # -----------------
 # Two cylinders on one crank pin, their banks Θ apart, fire Θ apart in crank angle: for
-# order ν their vectors make the angle νΘ, and add to |2 cos(νΘ/2)| times one
+# order ν their vectors make the angle νΘ, and add to 2·abs(cos(νΘ/2)) times one
 # cylinder's. ``mc.torsional_merit`` has no formula for it: the factor comes out of the
 # phases. (A four-stroke pair may as well fire 360° + Θ apart, the cam's choice: then
-# each odd half order's vectors turn by a further half turn, and its factor is |2
-# sin(νΘ/2)|.)
+# each odd half order's vectors turn by a further half turn, and its factor is
+# 2·abs(sin(νΘ/2)).)
 template = (
     mc.presets.MACHINES["inline-4"]
     .cylinders[0]
@@ -175,7 +175,7 @@ for order, color in zip(orders, ("C0", "C1", "C2", "C4"), strict=True):
     )
 right.set_xlabel("bank angle Θ [°]")
 right.set_ylabel("vector sum of the pair")
-right.set_title("two cylinders on a pin: |2 cos(νΘ/2)| (dotted)")
+right.set_title("two cylinders on a pin: 2·abs(cos(νΘ/2)) (dotted)")
 right.legend(loc="lower left", fontsize=8)
 right.grid(linewidth=0.4, alpha=0.5)
 plt.show()
@@ -186,8 +186,8 @@ plt.show()
 # moment on the foundation; the red ones are the Pareto front, where one is bought only
 # with the other (with the second-order moment and the bearing loads weighed too: a red
 # point that looks beaten here is better on one of those). **Right**: the pair's vector
-# sum over the bank angle for four orders, on the dotted |2 cos(νΘ/2)|: a 90° V's pair
-# cancels its second order, a 60° V's its third, and at 180° (one pin, opposed) the odd
-# orders cancel and the even ones add. The forced response — how large the vibration is
-# with the shaft's damping — is openTorsion's to compute: ``mc.to_opentorsion(six,
+# sum over the bank angle for four orders, on the dotted 2·abs(cos(νΘ/2)): a 90° V's
+# pair cancels its second order, a 60° V's its third, and at 180° (one pin, opposed) the
+# odd orders cancel and the even ones add. The forced response — how large the vibration
+# is with the shaft's damping — is openTorsion's to compute: ``mc.to_opentorsion(six,
 # shaft=shaft)`` hands it the shaft and every cylinder's orders.

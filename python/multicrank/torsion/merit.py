@@ -6,16 +6,16 @@ torque does on the mode per cycle of order ν is proportional to the product of 
 torque harmonic and the mode's amplitude at its node, so at a resonance — where the speed
 makes ν·ω equal the mode's natural frequency — the mode is driven by
 
-    E_ν = |Σ_j a_j T_ν,j|,
+    E_ν = abs(Σ_j a_j T_ν,j),
 
 T_ν,j the complex order-ν harmonic of cylinder j's own tangential torque (gas, inertia and
 gravity). Cylinders alike but for their phase α_j have T_ν,j = T_ν e^{iνα_j} (the shift
-theorem), so that E_ν = |T_ν|·|Σ_j a_j e^{iνθ_j}|, θ_j = (−α_j) mod Φ the crank angle at
+theorem), so that E_ν = abs(T_ν)·abs(Σ_j a_j e^{iνθ_j}), θ_j = (−α_j) mod Φ the crank angle at
 which cylinder j fires: the *phase-vector sum* of the order. Where every cylinder fires in
 phase for an order (νθ_j equal modulo 2π) the order is *major*: its vectors add whatever the
 mode shape does to their lengths. A V's two banks on one pin, Θ apart, fire Θ apart in crank
-angle: their vectors for order ν make the angle νΘ, and the pair sums to |2 cos(νΘ/2)| times
-one cylinder's — the V-bank combination factor, which falls out of the phases here.
+angle: their vectors for order ν make the angle νΘ, and the pair sums to abs(2 cos(νΘ/2))
+times one cylinder's — the V-bank combination factor, which falls out of the phases here.
 
 What it stops short of: damping, and the forced response it limits (the size of the
 vibration at resonance, the stresses in the shaft). Hand the model to a torsional tool for
@@ -67,7 +67,7 @@ def firing_angles(phases: np.ndarray, cycle: float) -> np.ndarray:
 def mode_excitation(
     harmonics: CylinderOrders, amplitude: np.ndarray, phases: np.ndarray, resonance: np.ndarray
 ) -> np.ndarray:
-    """E = |Σ_j a_j T_ν,j| of each candidate (rows of ``phases``, (candidates, cylinders)
+    """E = abs(Σ_j a_j T_ν,j) of each candidate (rows of ``phases``, (candidates, cylinders)
     [rad]), mode (rows of ``amplitude``, (modes, cylinders)) and order, the inertia torque at
     each mode's and order's ``resonance`` speed ((modes, orders) [1/min]): (candidates,
     modes, orders) [N·m]."""
@@ -124,8 +124,8 @@ def torsional_merit(
     pandas.DataFrame
         One row per (mode, order), by mode then order: ``mode`` (1 = the first elastic
         mode), ``order`` ν [1/rev], ``natural_frequency`` f [Hz], ``resonance_rpm`` = 60 f/ν
-        [1/min] (where order ν meets the mode), ``vector_sum`` |Σ_j a_j e^{iνθ_j}|
-        [dimensionless], ``excitation`` |Σ_j a_j T_ν,j| [N·m] and ``major`` (every cylinder
+        [1/min] (where order ν meets the mode), ``vector_sum`` abs(Σ_j a_j e^{iνθ_j})
+        [dimensionless], ``excitation`` abs(Σ_j a_j T_ν,j) [N·m] and ``major`` (every cylinder
         fires in phase for that order). a_j is the mode's amplitude at cylinder j's node,
         scaled so that the largest magnitude over the cylinders' nodes is 1; θ_j = (−α_j) mod
         Φ its firing angle; T_ν,j the complex order-ν harmonic of its own tangential torque —
@@ -139,12 +139,13 @@ def torsional_merit(
 
     Notes
     -----
-    This is the classical method of the phase-vector sums (docs/theory.md, "Torsional
-    merit"): a mode is driven at resonance by the work its order's torques do on it, which
-    grows with E_ν. It ranks firing orders and tells major orders from minor ones; it does
-    not give the size of the vibration, which damping limits — hand the model to openTorsion
-    (:func:`~multicrank.to_opentorsion`) for the forced response. The node inertias are used
-    as given: add each cylinder's running gear to its node.
+    This is the classical method of the phase-vector sums (docs/theory.md,
+    "Torsional merit of a firing order"): a mode is driven at resonance by the work its
+    order's torques do on it, which grows with E_ν. It ranks firing orders and tells major
+    orders from minor ones; it does not give the size of the vibration, which damping
+    limits — hand the model to openTorsion (:func:`~multicrank.to_opentorsion`) for the
+    forced response. The node inertias are used as given: add each cylinder's running gear
+    to its node.
 
     Examples
     --------
