@@ -29,7 +29,9 @@ class MachineDescription:
         strokes: int
         g: float
         rpm: float | None
-        _units: dict[str, np.ndarray]
+
+        @property
+        def _units(self) -> dict[str, np.ndarray]: ...  # made on first use
 
         def __len__(self) -> int: ...
 

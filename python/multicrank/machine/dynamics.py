@@ -43,7 +43,9 @@ class MachineDynamics:
     if TYPE_CHECKING:  # the fields Machine sets
         shaft_inertia: float
         g: float
-        _units: dict[str, np.ndarray]
+
+        @property
+        def _units(self) -> dict[str, np.ndarray]: ...  # made on first use
 
         def __len__(self) -> int: ...
 

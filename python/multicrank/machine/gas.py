@@ -27,7 +27,9 @@ class MachineGas:
 
     if TYPE_CHECKING:  # the fields Machine sets
         cylinders: tuple[Cylinder, ...]
-        _units: dict[str, np.ndarray]
+
+        @property
+        def _units(self) -> dict[str, np.ndarray]: ...  # made on first use
 
         @property
         def cycle(self) -> float: ...

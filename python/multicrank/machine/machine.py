@@ -15,6 +15,7 @@ or bound here: the description in `description`, the quantities of the equation 
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 from collections.abc import Sequence
 from typing import Any
@@ -45,7 +46,7 @@ from .shaft import throws as _throws
 __all__ = ["Machine"]
 
 #: What a machine keeps of its own computations (never pickled, copied or compared).
-_DERIVED = ("_native", "_native_lock", "_torsion_orders")
+_DERIVED = ("_native", "_native_lock", "_torsion_orders", "_units")
 
 #: A machine's fields, as :meth:`Machine.replace` takes them.
 _MACHINE_FIELDS = (
@@ -212,7 +213,6 @@ class Machine(MachineDescription, MachineDynamics, MachineGas):
             members = [[j for j, t in enumerate(self.throw_index) if t == index] for index in range(len(self.throws))]
             self.main_bearings = as_bearings(main_bearings, self.throws, members)
         self.shaft: Shaft | None = None if shaft is None else _as_shaft(shaft, len(cylinders))
-        self._units = unit_columns(cylinders)
         self._sealed = True
 
     # -- construction --------------------------------------------------------------------
@@ -420,6 +420,14 @@ class Machine(MachineDescription, MachineDynamics, MachineGas):
     from_toml = classmethod(_from_toml)
 
     # -- what a machine is ----------------------------------------------------------------
+    # -- what a machine is ----------------------------------------------------------------
+    @functools.cached_property
+    def _units(self) -> dict[str, np.ndarray]:
+        """The cylinders as the core's unit columns, made on first use (a machine that is only
+        a row of a table — a firing order's, a sweep's variant — never needs them) and kept:
+        cached_property writes the instance's dict, past the sealed __setattr__."""
+        return unit_columns(self.cylinders)
+
     @property
     def cycle(self) -> float:
         """Φ [rad]: the crank angle of one working cycle, π·strokes."""
