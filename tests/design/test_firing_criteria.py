@@ -9,8 +9,11 @@ import math
 
 import numpy as np
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
 
 import multicrank as mc
+from multicrank.design import criteria
 
 INLINE_4 = mc.presets.MACHINES["inline-4"]
 SHAFT_4 = mc.Shaft([0.02, 0.02, 0.02, 0.02, 0.3], [3e5, 3e5, 3e5, 4e5], cylinder_nodes=[0, 1, 2, 3])
@@ -49,6 +52,21 @@ def brute_pareto(rows: list[list[float]]) -> list[bool]:
                 dominated = True
         front.append(not dominated)
     return front
+
+
+@given(
+    rows=st.integers(0, 40).flatmap(
+        lambda n: st.lists(st.lists(st.integers(0, 3), min_size=3, max_size=3), min_size=n, max_size=n)
+    ),
+    block=st.integers(1, 8),
+)
+def test_pareto_marks_match_a_pairwise_comparison_of_any_scores(rows, block):
+    """Ties, repeated rows and fronts larger than a block (small values in few columns make
+    all three common); blocks of one row up to more than the rows."""
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(criteria, "_BLOCK", block)
+        found = criteria.pareto_front(np.array(rows, dtype=np.int64).reshape(len(rows), 3))
+    assert found.tolist() == (brute_pareto(rows) if rows else [])
 
 
 @pytest.mark.parametrize("case", ["inline-4", "v6-2t"])

@@ -32,7 +32,7 @@ CRITERIA = ("delta", "free_moment_1", "free_moment_2", "max_bearing_load", "tors
 FRAME_CRITERIA = ("free_moment_1", "free_moment_2", "max_bearing_load")
 #: Values closer than this fraction of the criterion's largest finite value are equal.
 AGREE = 1e-8
-#: Rows compared at once by :func:`pareto_front` (a block's array is rows × BLOCK × criteria).
+#: Rows compared at once by :func:`pareto_front` (an array of BLOCK × BLOCK × criteria).
 _BLOCK = 512
 
 
@@ -64,12 +64,34 @@ def ticks(values: np.ndarray) -> np.ndarray:
 def pareto_front(scores: np.ndarray) -> np.ndarray:
     """Whether each row of ``scores`` (rows × criteria, integers from :func:`ticks`, smaller is
     better) is on the Pareto front: no other row is at least as good on every criterion and
-    better on one."""
+    better on one.
+
+    A row's dominator comes before it in lexicographic order, and whatever dominates a
+    dominated row dominates every row that row dominates; so in that order each block of rows
+    need only be compared with the front found so far and with itself. That is rows × front
+    comparisons, not rows²: 32 768 firing orders with a handful on the front take a fraction
+    of a second instead of most of a minute.
+    """
     scores = np.asarray(scores)
-    dominated = np.zeros(len(scores), dtype=bool)
-    for start in range(0, len(scores), _BLOCK):
-        block = scores[start : start + _BLOCK]  # the rows that may be dominated
-        no_worse = np.all(scores[None, :, :] <= block[:, None, :], axis=2)
-        better = np.any(scores[None, :, :] < block[:, None, :], axis=2)
-        dominated[start : start + _BLOCK] = np.any(no_worse & better, axis=1)
-    return ~dominated
+    front = np.empty(0, dtype=np.intp)  # rows of scores, in the order found
+    order = np.lexsort(scores.T[::-1])  # first criterion first, ties by the next
+    for start in range(0, len(order), _BLOCK):
+        block = order[start : start + _BLOCK]
+        block = block[~_dominated(scores[block], scores[front])]
+        block = block[~_dominated(scores[block], scores[block])]
+        front = np.concatenate([front, block])
+    on_front = np.zeros(len(scores), dtype=bool)
+    on_front[front] = True
+    return on_front
+
+
+def _dominated(rows: np.ndarray, by: np.ndarray) -> np.ndarray:
+    """Whether each of ``rows`` is dominated by one of ``by`` (both rows × criteria), compared
+    :data:`_BLOCK` of ``by`` at a time so that the array stays small."""
+    dominated = np.zeros(len(rows), dtype=bool)
+    for start in range(0, len(by), _BLOCK):
+        others = by[None, start : start + _BLOCK, :]
+        no_worse = np.all(others <= rows[:, None, :], axis=2)
+        better = np.any(others < rows[:, None, :], axis=2)
+        dominated |= np.any(no_worse & better, axis=1)
+    return dominated
