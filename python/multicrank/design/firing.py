@@ -22,6 +22,7 @@ thousands of candidates apart is one set look-up each, not a comparison of every
 from __future__ import annotations
 
 import math
+from itertools import pairwise
 from typing import Any
 
 import numpy as np
@@ -42,14 +43,20 @@ DEFAULT_MAX_CANDIDATES = 4096
 MOTION_COLUMNS = ("delta", "delta_without_gravity", "gravity_effect", "stalled", "near_stall")
 
 
-def _firing_sequence(phases: np.ndarray, cycle: float) -> str:
-    """The cylinders (numbered from 1) in the order they fire, from cylinder 1, those firing
-    together joined by "+" (a cylinder fires at θ = (φ + α) mod Φ = 0, so at
-    φ = (−α) mod Φ)."""
+def _firing_sequences(phases: np.ndarray, cycle: float) -> list[str]:
+    """For each row of ``phases``, the cylinders (numbered from 1) in the order they fire,
+    from cylinder 1, those firing together joined by "+" (a cylinder fires at
+    θ = (φ + α) mod Φ = 0, so at φ = (−α) mod Φ)."""
     period = round(cycle / _RESOLUTION)
-    when = (np.round(np.mod(phases[0] - phases, cycle) / _RESOLUTION).astype(np.int64)) % period
-    groups = ["+".join(str(int(j) + 1) for j in np.flatnonzero(when == instant)) for instant in np.unique(when)]
-    return "-".join(groups)
+    when = np.round(np.mod(phases[:, :1] - phases, cycle) / _RESOLUTION).astype(np.int64) % period
+    order = np.argsort(when, axis=1, kind="stable")  # by instant, then by cylinder
+    sequences = []
+    for instants, cylinders in zip(when.tolist(), order.tolist(), strict=True):
+        text = str(cylinders[0] + 1)
+        for before, j in pairwise(cylinders):
+            text += ("+" if instants[j] == instants[before] else "-") + str(j + 1)
+        sequences.append(text)
+    return sequences
 
 
 def _largest_orders(machine: Machine, phases: np.ndarray, rpm: float, highest: int) -> tuple[np.ndarray, np.ndarray]:
@@ -265,7 +272,7 @@ def firing_orders(
     largest, amplitude = _largest_orders(machine, phases, speed, highest)
     table = pd.DataFrame(
         {
-            "firing": [_firing_sequence(p, machine.cycle) for p in phases],
+            "firing": _firing_sequences(phases, machine.cycle),
             "as_given": kept == 0,  # candidate 0 is the machine's own phases
             "phases": [tuple(p.tolist()) for p in phases],
             **motion,
