@@ -253,13 +253,6 @@ def firing_command(
     _write(frame, fmt, out_path, summary=summary, json_meta=meta)
 
 
-def _limit(value: float | None, option: str) -> float | None:
-    """--max-bearing-load / --max-free-force N: finite, >= 0 [N]."""
-    if value is not None and not (math.isfinite(value) and value >= 0):
-        raise MechanismError(f"{option} {value:g} is out of range; allowed: a finite force >= 0 [N]")
-    return value
-
-
 def _bounds(value: tuple[float, float] | None) -> tuple[float, float] | None:
     """--bounds LOW HIGH: finite, 0 <= LOW < HIGH [kg·m]."""
     if value is None:
@@ -345,10 +338,6 @@ def counterweights_command(
     """
     speed = _speed(machine, rpm, "--rpm")
     limits = _bounds(bounds)
-    given = {
-        "max_bearing_load": _limit(max_bearing_load, "--max-bearing-load"),
-        "max_free_force": _limit(max_free_force, "--max-free-force"),
-    }
 
     from ..design.counterweights import optimize_counterweights
 
@@ -358,13 +347,14 @@ def counterweights_command(
             objective=objective,
             bounds=limits,
             rpm=speed,
-            **given,
+            max_bearing_load=max_bearing_load,
+            max_free_force=max_free_force,
             seed=seed,
             maxiter=maxiter,
             progress=progress,
         )
     except MechanismError as error:
-        # A constraint nothing keeps: named by the option the user typed.
+        # A constraint refused or nothing keeps: named by the option the user typed.
         unmet = re.compile(r"\b(" + "|".join(_LIMIT_OPTIONS) + r")\b")
         if not unmet.search(str(error)):
             raise
@@ -379,6 +369,7 @@ def counterweights_command(
         f"({_percent(found.improvement)} lower)",
     ]
     summary += [f"{CRITERIA[name]}: {row.before:.6g} as given → {row.after:.6g}" for name, row in criteria.iterrows()]
+    given = {name: getattr(found, f"{name}_limit") for name in _LIMIT_OPTIONS}
     kept = [f"{option} {given[name]:g} N" for name, option in _LIMIT_OPTIONS.items() if given[name] is not None]
     if kept:
         summary.append("kept: " + ", ".join(kept))
