@@ -12,6 +12,7 @@ from typing import Any
 
 import numpy as np
 
+from .._validation import has_gas
 from ..machine.machine import Machine
 from ._crank import throws
 
@@ -38,7 +39,7 @@ def _gas_kinds(machine: Machine) -> list[int | None]:
     kinds: list[int | None] = []
     known: list[tuple[Any, ...]] = []
     for cylinder in machine.cylinders:
-        if cylinder.bore == 0 or (cylinder.pressure is None and cylinder.pressure_crank_end is None):
+        if not has_gas(cylinder):
             kinds.append(None)
             continue
         key = (

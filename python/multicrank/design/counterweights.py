@@ -385,9 +385,6 @@ def optimize_counterweights(
         values = np.abs(criteria[measured].to_numpy(dtype=float))
         objective_before, objective_after = (float(v) if math.isfinite(v) else math.inf for v in values)
 
-    def pair(name: str) -> dict[str, float]:
-        return {f"{name}_before": float(criteria[name].iloc[0]), name: float(criteria[name].iloc[1])}
-
     return CounterweightOptimum(
         throws=throws,
         throw_angles=angles,
@@ -396,10 +393,8 @@ def optimize_counterweights(
         objective=objective_after,
         objective_before=objective_before,
         objective_name=objective,
-        **pair("delta"),
-        **pair("max_bearing_load"),
-        **pair("free_force_1"),
-        **pair("free_moment_1"),
+        **{f"{name}_before": float(criteria[name].iloc[0]) for name in CRITERIA},
+        **{name: float(criteria[name].iloc[1]) for name in CRITERIA},
         max_bearing_load_limit=given["max_bearing_load"],
         max_free_force_limit=given["max_free_force"],
         rpm=speed,

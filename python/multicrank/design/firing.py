@@ -231,7 +231,7 @@ def firing_orders(
     import pandas as pd
 
     from ..motion.sweep import motion_sweep
-    from ..torsion.merit import first_mode_merit
+    from ..torsion.merit import first_mode_merit, speed_window
     from ..torsion.shaft import shaft_of
 
     machine = as_instance(machine, Machine, "machine")
@@ -254,7 +254,7 @@ def firing_orders(
     # each) are one row only where those agree too.
     groups = _groups(machine, found)
     values = frame_criteria(machine, found, speed, progress)
-    speeds = machine.rpm_range if machine.rpm_range is not None else (0.0, speed)
+    speeds = speed_window(machine, speed)
     if chosen_shaft is not None:
         values["torsional_merit"] = first_mode_merit(machine, chosen_shaft, found, highest, speeds)
     key = np.column_stack([groups, *(ticks(values[name]) for name in criteria[1:])])

@@ -24,6 +24,7 @@ import numpy as np
 
 from .._native import MechanismError
 from .._validation import (
+    as_instance,
     as_scalar,
     as_speed,
     as_strokes,
@@ -420,7 +421,6 @@ class Machine(MachineDescription, MachineDynamics, MachineGas):
     from_toml = classmethod(_from_toml)
 
     # -- what a machine is ----------------------------------------------------------------
-    # -- what a machine is ----------------------------------------------------------------
     @functools.cached_property
     def _units(self) -> dict[str, np.ndarray]:
         """The cylinders as the core's unit columns, made on first use (a machine that is only
@@ -550,8 +550,7 @@ class Machine(MachineDescription, MachineDynamics, MachineGas):
 
 def _as_shaft(value: Any, cylinders: int) -> Shaft:
     """A machine's shaft: a :class:`~multicrank.Shaft` with one node per cylinder."""
-    if not isinstance(value, Shaft):
-        raise MechanismError(f"shaft must be a multicrank.Shaft, got {type(value).__name__}")
+    value = as_instance(value, Shaft, "shaft")
     if len(value.cylinder_nodes) != cylinders:
         raise MechanismError(
             f"shaft.cylinder_nodes holds {len(value.cylinder_nodes)} nodes; the machine has {cylinders} cylinders "

@@ -12,6 +12,7 @@ import numpy as np
 import pandas as pd
 
 from ..machine.machine import Machine
+from ..torsion.merit import speed_window, torsional_merit
 
 __all__ = ["MODES", "ORDERS", "RESONANCE_ROWS", "campbell_figure", "resonances", "torsion_html"]
 
@@ -23,17 +24,10 @@ ORDERS = 12
 RESONANCE_ROWS = 8
 
 
-def speed_window(machine: Machine, rpm: float) -> tuple[float, float]:
-    """The speeds whose resonances count: the machine's ``rpm_range``, else up to ``rpm``."""
-    return machine.rpm_range if machine.rpm_range is not None else (0.0, rpm)
-
-
 def resonances(machine: Machine, rpm: float) -> pd.DataFrame:
     """:func:`~multicrank.torsional_merit` of the machine's shaft (modes 1…:data:`MODES` that
     it has, orders up to :data:`ORDERS`), every row, with ``in_range``: whether the resonance
     lies in the machine's speed range (ends included)."""
-    from ..torsion.merit import torsional_merit
-
     assert machine.shaft is not None
     modes = min(MODES, len(machine.shaft.inertia) - 1)
     table = torsional_merit(machine, modes=modes, max_order=ORDERS)

@@ -35,7 +35,7 @@ from ..machine.machine import Machine
 from ..motion.orders import CylinderOrders, cylinder_orders
 from .shaft import Shaft, shaft_of
 
-__all__ = ["MERIT_UNITS", "first_mode_merit", "mode_excitation", "torsional_merit"]
+__all__ = ["MERIT_UNITS", "first_mode_merit", "mode_excitation", "speed_window", "torsional_merit"]
 
 #: Firing angles within this many radians (times the order) are in phase: the layouts'
 #: phases are exact to ~1e-13 rad.
@@ -50,6 +50,12 @@ MERIT_UNITS = {
     "excitation": "N·m",
     "major": "",
 }
+
+
+def speed_window(machine: Machine, rpm: float) -> tuple[float, float]:
+    """The speeds [1/min] whose resonances count against a firing order: the machine's
+    ``rpm_range``, else from 0 up to ``rpm``."""
+    return machine.rpm_range if machine.rpm_range is not None else (0.0, rpm)
 
 
 def cylinder_amplitudes(shaft: Shaft, shapes: np.ndarray) -> np.ndarray:

@@ -16,7 +16,6 @@ A shaft comes from numbers (:class:`Shaft`), from a machine file's ``[shaft]`` t
 from __future__ import annotations
 
 import math
-import operator
 import os
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
@@ -25,7 +24,7 @@ import numpy as np
 
 from .._native import MechanismError
 from .._optional import require
-from .._validation import MAGNITUDE_LIMIT, as_instance, as_real_array
+from .._validation import MAGNITUDE_LIMIT, as_count, as_instance, as_real_array, as_scalar
 
 if TYPE_CHECKING:
     from ..machine.files import MachineFile
@@ -336,27 +335,16 @@ def shaft_of_file(file: MachineFile) -> Shaft:
 
 
 def _node(value: Any, name: str, count: int | None) -> int:
-    """A node index of an openTorsion model: an integer 0 <= value < count (a count ≥ 1 where
-    ``count`` is None)."""
-    try:
-        node = operator.index(value)
-    except TypeError:
-        raise MechanismError(f"{name} must be an integer, got {value!r}") from None
-    if isinstance(value, (bool, np.bool_)) or node < (0 if count is not None else 1):
-        raise MechanismError(f"{name} = {value!r} is out of range")
-    if count is not None and node >= count:
-        raise MechanismError(f"{name} = {node} is out of range; allowed: 0 <= node < {count}")
-    return node
+    """A node index of an openTorsion model, 0 <= value < count (a count ≥ 1 where ``count``
+    is None)."""
+    if count is None:
+        return as_count(value, name, minimum=1)
+    return as_count(value, name, minimum=0, maximum=count - 1)
 
 
 def _number(value: Any, name: str) -> float:
-    """A finite real number of an openTorsion element (not a bool, not complex)."""
-    if isinstance(value, (bool, np.bool_, complex, np.complexfloating)):
-        raise MechanismError(f"{name} must be a real number, got {value!r}")
-    try:
-        number = float(value)
-    except (TypeError, ValueError):
-        raise MechanismError(f"{name} must be a real number, got {value!r}") from None
+    """A finite real number of an openTorsion element."""
+    number = as_scalar(value, name)
     if not math.isfinite(number):
         raise MechanismError(f"{name} = {value!r} is not a finite real number")
     return number
