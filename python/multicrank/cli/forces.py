@@ -67,10 +67,12 @@ def forces_command(
     order's harmonic of force_vertical (positive upward) and force_horizontal (positive toward
     a cylinder at inclination 0) [N]; force_forward and force_backward [N], the parts of the
     plane force that turn with the crank and against it; and moment_pitch and moment_yaw
-    [N·m], the moments of the vertical and horizontal forces about the axial origin z = 0
-    (cylinders are placed along the shaft by axial_position, or cylinder_spacing with a
-    layout, in the machine file). Counterweights can cancel only the forward first order; the
-    rest needs balance shafts.
+    [N·m], the moments of the vertical and horizontal forces about the engine centre, midway
+    between the outermost cylinders, so that no number depends on where z = 0 is (cylinders
+    are placed along the shaft by axial_position, or cylinder_spacing with a layout, in the
+    machine file). The moment of an order that also leaves a free force depends on the point
+    it is taken about: read the two side by side. Counterweights can cancel only the forward
+    first order; the rest needs balance shafts.
 
     --format csv and json give every column of multicrank.shaking_forces(...).orders: the
     phases [rad] as well (an order's component is amplitude·cos(nφ − phase)) and
@@ -96,7 +98,7 @@ def forces_command(
             out_path,
             summary=_header(machine, result),
             json_meta={},
-            footer=_balancing(orders) + bearing_lines,
+            footer=_reference(orders) + _balancing(orders) + bearing_lines,
         )
         return
     meta = dict(
@@ -105,7 +107,8 @@ def forces_command(
         omega=result.omega,
         steady=result.steady,
         max_order=result.max_order,
-        units=dict(orders.attrs["units"], order="1/revolution"),
+        reference_position=result.reference_position,
+        units=dict(orders.attrs["units"], order="1/revolution", reference_position="m"),
         **bearing_meta,
     )
     write_result(orders, fmt, out_path, summary=[], json_meta=meta)
@@ -142,7 +145,7 @@ def _header(machine: Machine, result: ShakingForces) -> list[str]:
         *_wrapped(
             "the amplitude of each order (per revolution) of −Σ m·a: vertical upward, horizontal toward a "
             "cylinder at γ = 0, forward and backward the parts that turn with and against the crank; the "
-            "moments about z = 0"
+            "moments about the engine centre z_ref, midway between the outermost cylinders"
         ),
     ]
     if len(machine) > 1 and all(c.axial_position == 0 for c in machine.cylinders):
@@ -162,6 +165,24 @@ def _readable(orders: pd.DataFrame) -> pd.DataFrame:
     shown.index = [f"{n:g}" for n in orders.index]
     shown.index.name = "order"
     return shown
+
+
+def _reference(orders: pd.DataFrame) -> list[str]:
+    """A line below the table naming the orders whose moment depends on the point it is
+    taken about (those that leave a free force as well), with that point; none where no
+    order has both."""
+    both = [
+        f"{n:g}"
+        for n, row in orders.iterrows()
+        if row["force_forward"] + row["force_backward"] > 0 and row["moment_forward"] + row["moment_backward"] > 0
+    ]
+    if not both:
+        return []
+    which = f"order {both[0]} leaves" if len(both) == 1 else f"orders {', '.join(both)} leave"
+    return _wrapped(
+        f"{which} a free force as well as a moment: such a moment depends on the point it is taken about, "
+        f"here the engine centre z_ref = {orders.attrs['reference_position']:.6g} m"
+    )
 
 
 def _balancing(orders: pd.DataFrame) -> list[str]:

@@ -10,7 +10,8 @@ with g = 1, so
 
 and at a constant speed ω the order-n amplitude is n² ω² times that of S_e. With e vertical S_e′ is the
 paper's Q; with e horizontal it is the same kernel with every cylinder's inclination turned by
-90°; each unit's S_e weighted by its axial position z gives the moments about z = 0. The two
+90°; each unit's S_e weighted by its lever z − z_ref gives the moments about the engine centre
+z_ref = (z_min + z_max)/2, the midpoint of the outermost cylinders. The two
 masses that replace a rod keep its mass and centre of gravity, so all this is exact — the Rust
 core computes it from the exact series of its gravity kernels (:class:`ShakingForces` asks it).
 """
@@ -80,10 +81,10 @@ class ShakingForces:
         speed; steps of ½ for a four-stroke machine in steady running, whose speed repeats
         once per working cycle); for each of ``force_vertical`` [N] (positive upward),
         ``force_horizontal`` [N] (positive toward a cylinder at inclination γ = 0),
-        ``moment_pitch`` [N·m] (Σ z·F_v of every unit at its axial position z: the vertical
-        forces' moment about the horizontal axis through z = 0) and ``moment_yaw`` [N·m]
-        (Σ z·F_h) the amplitude √(a² + b²) of its harmonic, and its phase ``…_phase`` [rad]
-        (the component is amplitude·cos(νφ − phase) at order ν); then ``force_forward`` and
+        ``moment_pitch`` [N·m] (Σ (z − z_ref)·F_v of every unit at its axial position z: the vertical
+        forces' moment about the horizontal axis through the engine centre z_ref) and
+        ``moment_yaw`` [N·m] (Σ (z − z_ref)·F_h) the amplitude √(a² + b²) of its harmonic, and
+        its phase ``…_phase`` [rad] (the component is amplitude·cos(νφ − phase) at order ν); then ``force_forward`` and
         ``force_backward`` [N], the magnitudes of the parts of F_h + i·F_v that turn with the
         crank (e^{+iνφ}) and against it (e^{−iνφ}), and ``moment_forward`` and
         ``moment_backward`` [N·m] of M_yaw + i·M_pitch alike. A lone rotating unbalance m·e
@@ -113,6 +114,14 @@ class ShakingForces:
     COLUMNS: ClassVar[dict[str, str]] = {name: _order_unit(name) for name in SHAKING_ORDER_COLUMNS}
 
     @property
+    def reference_position(self) -> float:
+        """The engine centre z_ref = (z_min + z_max)/2 [m] the moments are taken about: the
+        midpoint of the outermost cylinders' axial positions. The moment of an order that
+        also leaves a free force F depends on this point (about z₀ it is M + (z_ref − z₀)·F);
+        that of an order with no free force (a couple) does not."""
+        return motion_machine(self.machine).shaking_reference()
+
+    @property
     def orders(self) -> Any:
         """The table of orders (see the class's attributes): a pandas DataFrame."""
         if not self._table:
@@ -121,7 +130,13 @@ class ShakingForces:
             index = pd.Index(self._orders, name="order")
             frame = pd.DataFrame({name: self._found[name] for name in self.COLUMNS}, index=index)
             frame.attrs.update(
-                {"rpm": self.rpm, "omega": self.omega, "steady": self.steady, "units": dict(self.COLUMNS)}
+                {
+                    "rpm": self.rpm,
+                    "omega": self.omega,
+                    "steady": self.steady,
+                    "reference_position": self.reference_position,
+                    "units": dict(self.COLUMNS),
+                }
             )
             self._table.append(frame)
         return self._table[0].copy()
@@ -187,7 +202,8 @@ def shaking_forces(machine: Machine, rpm: Any = None, *, max_order: Any = 12, st
     ----------
     machine : Machine
         The machine: its cylinders' masses, geometry, phases, inclinations and axial
-        positions (``Cylinder.axial_position`` [m]; the moments are about z = 0).
+        positions (``Cylinder.axial_position`` [m]; the moments are about the engine centre
+        z_ref = (z_min + z_max)/2, so that no number moves with the origin of z).
     rpm : float, optional
         The speed n [1/min] (constant, or the steady state's mean); default the machine's
         own ``rpm``.

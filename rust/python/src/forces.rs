@@ -32,6 +32,11 @@ impl ShakingCache {
         }
     }
 
+    /// The engine centre the moments are taken about (m).
+    pub(crate) fn reference(&self) -> f64 {
+        core::engine_centre(&self.axial_position)
+    }
+
     /// The shaking forces of `units` (the owning machine's, the same at every call).
     fn forces(&self, units: &[core::PhysicalCylinder]) -> core::Result<&core::ShakingForces> {
         if let Some(forces) = self.forces.get() {

@@ -528,6 +528,12 @@ impl MotionMachine {
         Ok(dict)
     }
 
+    /// shaking_reference() -> float: the engine centre z_ref (m) the shaking moments are taken
+    /// about, `core::forces::engine_centre` of the units' axial positions.
+    fn shaking_reference(&self) -> f64 {
+        self.shaking.reference()
+    }
+
     /// shaking_orders(omega, max_order) -> {column: array}: the shaking forces and moments by
     /// order 1 … max_order at the constant speed `omega` (rad/s), the columns
     /// `core::ORDER_COLUMNS` (N, N·m, rad).

@@ -8,7 +8,8 @@
 //! and at constant speed its order-n amplitude is n² ω² |S_e,n|. S_e is the paper's U with
 //! g = 1 and U1, U2 the first moments (kg·m): with e vertical S_e′ is the paper's Q, with e
 //! horizontal the same kernel with every inclination turned by +90°, and each unit's S_e
-//! weighted by its axial position z gives the moments about z = 0. The two-mass rod keeps
+//! weighted by its lever z − z_ref gives the moments about the engine centre z_ref, the
+//! midpoint of the outermost units (`engine_centre`). The two-mass rod keeps
 //! the rod's mass and centre of gravity, so this is exact with the kernels and their exact
 //! series; no new kinematics.
 
@@ -16,5 +17,5 @@ mod bearings;
 mod shaking;
 
 pub use bearings::{bearing_loads, frame_torque, BearingLayout};
-pub use shaking::{ShakingForces, ShakingOrders, ORDER_COLUMNS};
+pub use shaking::{engine_centre, ShakingForces, ShakingOrders, ORDER_COLUMNS};
 pub(crate) use shaking::{FORCE_FORWARD, MOMENT_FORWARD};

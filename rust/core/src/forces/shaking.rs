@@ -16,8 +16,11 @@ use crate::parallel::Parallelism;
 
 /// The components, in the order every array here holds them: the vertical force (positive
 /// upward), the horizontal force (positive toward a cylinder at γ = 0), the moment of the
-/// vertical force about the horizontal axis through z = 0 (Σ z F_v: "pitch") and that of the
-/// horizontal force about the vertical axis (Σ z F_h: "yaw"); forces in N, moments in N·m.
+/// vertical force about the horizontal axis through the engine centre z_ref
+/// (Σ (z − z_ref) F_v: "pitch") and that of the horizontal force about the vertical axis
+/// through it (Σ (z − z_ref) F_h: "yaw"); forces in N, moments in N·m. z_ref =
+/// (z_min + z_max)/2 is the midpoint of the outermost units ([`engine_centre`]), so that
+/// moving every unit along the shaft by the same distance changes no moment.
 const COMPONENTS: [&str; 4] = [
     "force_vertical",
     "force_horizontal",
@@ -62,6 +65,24 @@ pub struct ShakingForces {
     scales: [f64; 4],
 }
 
+/// The engine centre z_ref = (z_min + z_max)/2 [m] of units at `axial_position`: the point
+/// on the shaft the shaking moments are taken about (the textbooks' and the marine guides'
+/// reference). A moment of an order that leaves no net force is the same about every point;
+/// one whose order also leaves a net force depends on the point, and this one does not move
+/// with the origin of z. 0 for no units.
+pub fn engine_centre(axial_position: &[f64]) -> f64 {
+    let (low, high) = axial_position
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &z| {
+            (lo.min(z), hi.max(z))
+        });
+    if low <= high {
+        0.5 * (low + high)
+    } else {
+        0.0
+    }
+}
+
 /// An order whose amplitude is below this fraction of n ω² times its component's scale is
 /// exactly 0: what cancels between units (an in-line six's first and second orders, a
 /// boxer's forces) comes out of the exact series at ~1e-16 of that scale; 1e-13 is far above
@@ -70,7 +91,7 @@ pub const RESOLUTION: f64 = 1e-13;
 
 impl ShakingForces {
     /// The shaking forces of `units` at the axial positions `axial_position` (m, one per
-    /// unit, any finite real: the moments are about z = 0).
+    /// unit, any finite real: the moments are about the engine centre, [`engine_centre`]).
     pub fn new(units: &[PhysicalCylinder], axial_position: &[f64]) -> Result<Self> {
         if units.is_empty() {
             return Err(MechanismError::Empty {
@@ -95,11 +116,12 @@ impl ShakingForces {
             ..unit
         };
         let horizontal: Vec<EngineUnit> = first_moments.iter().map(turned).collect();
+        let centre = engine_centre(axial_position);
         let by_position = |units: &[EngineUnit]| -> Vec<EngineUnit> {
             units
                 .iter()
                 .zip(axial_position)
-                .map(|(u, &z)| weighted(*u, z))
+                .map(|(u, &z)| weighted(*u, z - centre))
                 .collect()
         };
         let (pitch, yaw) = (by_position(&first_moments), by_position(&horizontal));
