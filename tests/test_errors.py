@@ -69,6 +69,7 @@ KINDS: dict[str, set[str]] = {
     "positive_list_or_none": {"none"},
     "count": set(),  # an integer >= some minimum
     "option": set(),  # one of a few strings
+    "option_or_none": {"none"},  # one of a few strings, or None for none
     "phases": {"none"},
     "threshold": {"none", "huge"},  # huge means serial
     "label": {"text"},
@@ -337,6 +338,7 @@ MACHINE_KINDS = {
     "delta_target": (None, "positive_or_none"),
     "main_bearings": (None, "positions_or_none"),
     "shaft": (None, "shaft_or_none"),
+    "load_law": (None, "option_or_none"),  # "propeller" needs the rpm, 600 here
 }
 REGISTRY.update(
     {
@@ -365,6 +367,7 @@ REGISTRY.update(
             },
         ),
         "Machine.engine": (MACHINE.engine, {"rpm": (None, "positive_or_none")}),
+        "Machine.load_factor": (MACHINE.load_factor, {"rpm": (30.0, "positive")}),
         "Machine.replace": (MACHINE.replace, {"shaft_inertia": (0.6, "positive"), "name": ("y", "label")}),
         "Cylinder.replace": (CYLINDER.replace, {"crank_radius": (0.04, "positive"), "bore": (0.1, "real")}),
         "Layout": (

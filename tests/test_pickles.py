@@ -104,6 +104,12 @@ def test_an_old_machine_computes_what_the_fresh_one_does(old, key):
     assert loaded.engine() == fresh.engine()
 
 
+@pytest.mark.parametrize("key", MACHINE_KEYS)
+def test_an_old_machine_states_no_load_law(old, key):
+    """0.1 knew no load law: its machines read None, their diagrams as given at every speed."""
+    assert old[key].load_law is None and old[key].load_factor(30.0) == 1.0
+
+
 def test_an_old_diagram_with_its_interpolant_loads_as_a_new_one(old):
     """0.1's diagrams pickled their SciPy interpolant (slot _poly); it loads, and the diagram is
     rebuilt from its table: read-only arrays, the same values and slopes as a fresh one."""

@@ -60,6 +60,7 @@ MACHINE_KEYS = {
     "cylinder_spacing": "number",
     "main_bearings": "numbers",
     "shaft": "table",
+    "load_law": "string",
     "cylinder": "tables",
 }
 _MACHINE_REQUIRED = ("shaft_inertia", "cylinder")
@@ -264,7 +265,7 @@ def read_machine_file(path: str | os.PathLike[str]) -> MachineFile:
         raise file.error("engine", _OLD_FORMAT)
     top = _Table(file, "", data, MACHINE_KEYS, _MACHINE_REQUIRED)
     file.fields = {"name": top.get("name", name.stem)}
-    for key in ("note", "shaft_inertia", "strokes", "g", "rpm"):
+    for key in ("note", "shaft_inertia", "strokes", "g", "rpm", "load_law"):
         if key in data:
             file.fields[key] = top.get(key)
     if "rpm_range" in data:

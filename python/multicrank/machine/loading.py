@@ -78,6 +78,9 @@ def from_toml(cls: type[Machine], path: str | os.PathLike[str]) -> Machine:
                                             (default: n + 1 interleaving the n throws)
     ``shaft``                  table        the shaft as a torsional chain, ``[shaft]`` below
                                             (optional; :class:`~multicrank.Shaft`)
+    ``load_law``               text         "propeller": the gauge pressures scale as
+                                            (n/rpm)², rpm the rated speed (optional;
+                                            :attr:`Machine.load_law`)
     ``cylinder``               table(s)     required; ``[cylinder]`` (one cylinder, or the
                                             layout's template) or ``[[cylinder]]`` (one each)
     **[shaft]**

@@ -25,11 +25,14 @@ import numpy as np
 from .._native import MechanismError
 from .._validation import (
     as_instance,
+    as_omega,
+    as_option,
     as_scalar,
     as_speed,
     as_strokes,
     check_fields,
     check_magnitude,
+    omega_from_rpm,
 )
 from .._validation import as_speed_range as _speed_range
 from ..gravity.layouts import Layout, as_layout
@@ -44,7 +47,11 @@ from .phases import chosen_firing, even_firing
 from .shaft import as_bearings, default_bearings
 from .shaft import throws as _throws
 
-__all__ = ["Machine"]
+__all__ = ["LOAD_LAWS", "Machine", "load_factor", "rated_omega"]
+
+#: The load laws a machine may state (``Machine.load_law``): how its indicator diagrams follow
+#: its speed. "propeller": a fixed-pitch propeller's, the gauge pressures as (n/n_r)².
+LOAD_LAWS = ("propeller",)
 
 #: What a machine keeps of its own computations (never pickled, copied or compared).
 _DERIVED = ("_native", "_native_lock", "_torsion_orders", "_units")
@@ -62,6 +69,7 @@ _MACHINE_FIELDS = (
     "delta_target",
     "main_bearings",
     "shaft",
+    "load_law",
 )
 
 
@@ -84,7 +92,7 @@ class Machine(MachineDescription, MachineDynamics, MachineGas):
         A label.
     rpm : float, optional
         The running speed n [1/min], > 0, where the machine has one: the default speed of
-        :meth:`engine` (and of the report). Descriptive; nothing else depends on it.
+        :meth:`engine` (and of the report), and the rated speed n_r of ``load_law``.
     rpm_range : (float, float), optional
         The speeds (low, high) [1/min] the machine runs at, 0 < low < high; ``rpm``, where
         given too, must lie inside.
@@ -106,14 +114,31 @@ class Machine(MachineDescription, MachineDynamics, MachineGas):
         (:func:`~multicrank.torsional_merit`, :func:`~multicrank.firing_orders`,
         :func:`~multicrank.to_opentorsion`); its ``cylinder_nodes`` must name one node per
         cylinder. The rigid machine's motion does not depend on it.
+    load_law : {None, "propeller"}, default None
+        How the load, and with it the indicator diagrams, follows the speed. None: the
+        diagrams as given at every speed. "propeller" (a fixed-pitch propeller, whose torque
+        grows as n²): the diagrams are those at the rated speed n_r = ``rpm`` (required), and
+        at a speed n every gauge pressure is scaled by :meth:`load_factor` (n/n_r)², that is
+        p_abs(n) = p_ref + (p_abs − p_ref)·(n/n_r)² with p_ref the crankcase (ambient)
+        pressure the diagrams are gauge to (above n_r the law extrapolates, > 1). The answers
+        at a speed use it: :func:`~multicrank.torque_orders`,
+        :func:`~multicrank.to_opentorsion`, :func:`~multicrank.torsional_merit` (each
+        resonance at its own speed), the largest order and the torsional merit of
+        :func:`~multicrank.firing_orders`, and, with ``load="balance"``,
+        :func:`~multicrank.steady_state`, :func:`~multicrank.flywheel_inertia` and the steady
+        outputs of :func:`~multicrank.motion_sweep` at their mean speed. The rest take the
+        diagrams as given: :meth:`gas_torque` and :meth:`piston_forces` (no speed), a load
+        that fixes the speed itself (a :class:`~multicrank.PowerLawLoad`, a callable),
+        :func:`~multicrank.simulate`, and the forces on the frame
+        (:func:`~multicrank.bearing_loads`, the frame's outputs of a motion sweep).
 
     Attributes
     ----------
     cylinders : tuple of Cylinder
         The cylinders, in the order given.
-    shaft_inertia, strokes, g, name, rpm, rpm_range, note, delta_target, main_bearings, shaft
-        The parameters as given (``rpm``, ``rpm_range``, ``delta_target``,
-        ``main_bearings`` and ``shaft`` None where not given; ``main_bearings`` a tuple of floats). A
+    shaft_inertia, strokes, g, name, rpm, rpm_range, note, delta_target, main_bearings, shaft, load_law
+        The parameters as given (``rpm``, ``rpm_range``, ``delta_target``, ``main_bearings``,
+        ``shaft`` and ``load_law`` None where not given; ``main_bearings`` a tuple of floats). A
         machine is immutable (setting a field raises ``FrozenInstanceError``, an
         ``AttributeError``): :meth:`replace` makes a changed copy.
 
@@ -148,11 +173,12 @@ class Machine(MachineDescription, MachineDynamics, MachineGas):
     δ_g = 0.06003
     """
 
-    # A machine pickled before delta_target, main_bearings or shaft existed has none in its
-    # __dict__: it reads None.
+    # A machine pickled before delta_target, main_bearings, shaft or load_law existed has none
+    # in its __dict__: it reads None.
     delta_target: float | None = None
     main_bearings: tuple[float, ...] | None = None
     shaft: Shaft | None = None
+    load_law: str | None = None
 
     def __init__(
         self,
@@ -168,6 +194,7 @@ class Machine(MachineDescription, MachineDynamics, MachineGas):
         delta_target: float | None = None,
         main_bearings: Sequence[float] | None = None,
         shaft: Shaft | None = None,
+        load_law: str | None = None,
     ) -> None:
         if isinstance(cylinders, Cylinder) or not isinstance(cylinders, Sequence):
             raise MechanismError("cylinders must be a sequence of multicrank.Cylinder")
@@ -214,6 +241,7 @@ class Machine(MachineDescription, MachineDynamics, MachineGas):
             members = [[j for j, t in enumerate(self.throw_index) if t == index] for index in range(len(self.throws))]
             self.main_bearings = as_bearings(main_bearings, self.throws, members)
         self.shaft: Shaft | None = None if shaft is None else _as_shaft(shaft, len(cylinders))
+        self.load_law: str | None = None if load_law is None else _load_law(load_law, self.rpm)
         self._sealed = True
 
     # -- construction --------------------------------------------------------------------
@@ -235,6 +263,7 @@ class Machine(MachineDescription, MachineDynamics, MachineGas):
         cylinder_spacing: float | None = None,
         main_bearings: Sequence[float] | None = None,
         shaft: Shaft | None = None,
+        load_law: str | None = None,
     ) -> Machine:
         """A machine of a layout with one cylinder template on every bank.
 
@@ -282,6 +311,8 @@ class Machine(MachineDescription, MachineDynamics, MachineGas):
         shaft : Shaft, optional
             The shaft as a torsional chain, its ``cylinder_nodes`` in the layout's cylinder
             order, as for :class:`Machine`.
+        load_law : {None, "propeller"}, optional
+            How the indicator diagrams follow the speed, as for :class:`Machine`.
 
         Returns
         -------
@@ -414,6 +445,7 @@ class Machine(MachineDescription, MachineDynamics, MachineGas):
             delta_target=delta_target,
             main_bearings=main_bearings,
             shaft=shaft,
+            load_law=load_law,
         )
 
     # A class method that builds ``cls``: bound from its module, where the type checker
@@ -473,6 +505,30 @@ class Machine(MachineDescription, MachineDynamics, MachineGas):
             return self.main_bearings
         return default_bearings(self.throws, max(c.crank_radius for c in self.cylinders))
 
+    def load_factor(self, rpm: Any) -> float:
+        """The factor :attr:`load_law` puts on the gauge pressures at the speed n.
+
+        Parameters
+        ----------
+        rpm : float
+            The speed n [1/min], > 0.
+
+        Returns
+        -------
+        float
+            (n/n_r)² under the propeller law (n_r the machine's ``rpm``); 1 without a law.
+
+        Examples
+        --------
+        >>> import multicrank as mc
+        >>> ship = mc.presets.MACHINES["slow-diesel-12"]
+        >>> ship.load_law, ship.rpm, round(ship.load_factor(30.0), 6)
+        ('propeller', 90.0, 0.111111)
+        >>> mc.presets.MACHINES["inline-4"].load_factor(30.0)
+        1.0
+        """
+        return float(load_factor(as_omega(rpm, "rpm"), rated_omega(self)))
+
     def __len__(self) -> int:
         return len(self.cylinders)
 
@@ -518,10 +574,12 @@ class Machine(MachineDescription, MachineDynamics, MachineGas):
         ----------
         **changes
             New values of ``cylinders``, ``shaft_inertia``, ``strokes``, ``g``, ``name``,
-            ``rpm``, ``rpm_range``, ``note``, ``delta_target``, ``main_bearings`` or ``shaft``
-            (as for :class:`Machine`); ``rpm=None``, ``rpm_range=None``, ``delta_target=None``,
-            ``main_bearings=None`` or ``shaft=None`` removes them. New ``cylinders`` keep the
-            given ``main_bearings`` and ``shaft``, which must still fit them.
+            ``rpm``, ``rpm_range``, ``note``, ``delta_target``, ``main_bearings``, ``shaft``
+            or ``load_law`` (as for :class:`Machine`); ``rpm=None``, ``rpm_range=None``,
+            ``delta_target=None``, ``main_bearings=None``, ``shaft=None`` or
+            ``load_law=None`` removes them. New ``cylinders`` keep the given ``main_bearings``
+            and ``shaft``, which must still fit them; a machine with a ``load_law`` keeps its
+            ``rpm`` (its rated speed) unless the law goes too.
 
         Returns
         -------
@@ -557,6 +615,32 @@ def _as_shaft(value: Any, cylinders: int) -> Shaft:
             "(one node per cylinder, in the machine's order)"
         )
     return value
+
+
+def _load_law(value: Any, rpm: float | None) -> str:
+    """A machine's load law: one of :data:`LOAD_LAWS`, with the rated speed it scales from."""
+    law = as_option(value, "load_law", LOAD_LAWS)
+    if rpm is None:
+        raise MechanismError(
+            f"load_law = {law!r} needs the rated speed: the machine's rpm [1/min], from which the gauge pressures "
+            "scale as (n/rpm)²; give rpm=..."
+        )
+    return law
+
+
+def rated_omega(machine: Machine) -> float | None:
+    """ω_r [rad/s] of the machine's load law, its rated speed (``rpm``); None without a law."""
+    if machine.load_law is None:
+        return None
+    assert machine.rpm is not None  # a law needs it (Machine checks)
+    return float(omega_from_rpm(machine.rpm))
+
+
+def load_factor(omega: Any, rated: float | None) -> Any:
+    """The factor on the gauge pressures at ω [rad/s] (a number or an array) under the
+    propeller law of rated speed ω_r = ``rated`` [rad/s]: (ω/ω_r)²; 1 without a law
+    (``rated`` None). The one place of the law's rule (:attr:`Machine.load_law`)."""
+    return 1.0 if rated is None else (omega / rated) ** 2
 
 
 def _delta_target(value: Any) -> float:

@@ -2,7 +2,8 @@
 :mod:`~multicrank.motion.flywheel`: the inputs they share validated (load and drive, the mean
 speed, the stall criterion), the route the load asks for chosen ("balance" and the square law:
 the Rust core; any other: shooting), and a callable drive under "balance" as the core takes it
-(:func:`drive_table`).
+(:func:`drive_table`), and the machine whose diagrams its load law gives at the mean speed
+(:func:`at_load`).
 """
 
 from __future__ import annotations
@@ -14,7 +15,7 @@ import numpy as np
 
 from .._native import MechanismError
 from .._validation import as_omega, as_scalar
-from ..machine.machine import Machine
+from ..machine.machine import Machine, load_factor, rated_omega
 from .loads import BALANCE, AppliedTorques, Torque
 
 __all__ = [
@@ -23,6 +24,7 @@ __all__ = [
     "SOLVED",
     "Rules",
     "as_min_speed_ratio",
+    "at_load",
     "drive_table",
     "mean_speed",
     "resolve_rules",
@@ -116,6 +118,31 @@ def drive_table(machine: Machine, rules: Rules, omega_mean: float) -> tuple[np.n
     from ..machine.native import sampled
 
     return sampled(lambda theta: drive(theta, omega_mean), machine.cycle, "drive", "torque", "N·m")
+
+
+def at_load(machine: Machine, omega_mean: float | None) -> Machine:
+    """The machine with the diagrams its :attr:`~multicrank.Machine.load_law` gives at the mean
+    speed ω_m = ``omega_mean`` [rad/s]: every gauge pressure times the law's factor, as a
+    motion sweep's ``pressure_scale`` scales them
+    (:func:`~multicrank.motion.variants.scaled_pressure`; a diagram the cylinders share scaled
+    once), and the law removed. ``machine`` itself without a law, at its rated speed, or where
+    the load fixes the speed itself (``omega_mean`` None: the diagrams as given)."""
+    factor = 1.0 if omega_mean is None else load_factor(omega_mean, rated_omega(machine))
+    if factor == 1.0:
+        return machine
+    from .variants import scaled_pressure  # the sweep's machinery, imported when first needed
+
+    scaled: dict[int, Any] = {}
+
+    def scale(pressure: Any) -> Any:
+        if id(pressure) not in scaled:
+            scaled[id(pressure)] = scaled_pressure(pressure, factor)
+        return scaled[id(pressure)]
+
+    cylinders = [
+        c.replace(pressure=scale(c.pressure), pressure_crank_end=scale(c.pressure_crank_end)) for c in machine.cylinders
+    ]
+    return machine.replace(cylinders=cylinders, load_law=None)
 
 
 def resolve_rules(load: Any, drive: Any) -> Rules:

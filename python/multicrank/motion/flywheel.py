@@ -20,6 +20,7 @@ from ._periodic import (
     METHODS,
     SOLVED,
     as_min_speed_ratio,
+    at_load,
     drive_table,
     mean_speed,
     resolve_rules,
@@ -137,7 +138,9 @@ def flywheel_inertia(
         The target δ [dimensionless], ≥ 1e-9.
     rpm : float, optional
         The mean speed [1/min] with ``load="balance"``; default the machine's own ``rpm``
-        (refused when it has none). Refused with other loads, which fix the speed.
+        (refused when it has none). Refused with other loads, which fix the speed. Under the
+        machine's ``load_law`` the gauge pressures are the law's at this speed, as for
+        :func:`steady_state`.
     load : "balance", float, PowerLawLoad or callable, default "balance"
         The resisting torque [N·m], as for :func:`steady_state`.
     drive : float, PowerLawLoad or callable, optional
@@ -177,6 +180,7 @@ def flywheel_inertia(
     omega_mean = mean_speed(rpm, rules.route, machine)
     gravity = as_flag(gravity, "gravity")
     ratio = as_min_speed_ratio(min_speed_ratio)
+    machine = at_load(machine, omega_mean)  # "balance" under a load law: the diagrams of its speed
     if rules.route == "general":  # a load or drive that depends on the speed: shooting
         return _inertia(flywheel_for(machine, rules.torques.net, target, gravity, ratio), target, rules.route)
     # The core: "balance" beside any drive (a callable held at ω_m and sampled, one that does

@@ -24,6 +24,9 @@ for the gas torque, the inertia torque −½ J'(φ) ω² at the mean speed, the 
   centres, as ``machine.native.sampled`` makes it), whose coefficients are found the
   same way: for a smooth pressure they are its own to rounding; a kink inside one of those
   panels is smoothed there.
+- **Load law**: under a machine's :attr:`~multicrank.Machine.load_law` the gauge pressures at
+  the speed n are those given times (n/n_r)² (the propeller law); the gas torque is linear in
+  them, so its coefficients are those of the diagrams as given times that factor, exactly.
 
 The Rust core computes the coefficients (``_native.machine_torque_orders`` on the machine's
 native ``MotionMachine``); here they are checked, rounded
@@ -32,6 +35,7 @@ native ``MotionMachine``); here they are checked, rounded
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 from typing import Any
@@ -49,7 +53,7 @@ from .._validation import (
     as_option,
     rpm_from_omega,
 )
-from ..machine.machine import Machine
+from ..machine.machine import Machine, load_factor, rated_omega
 from ..machine.native import motion_machine
 from ..torsion.shaft import shaft_of
 
@@ -77,8 +81,10 @@ def torque_orders(machine: Machine, rpm: float, *, max_order: int = 12, gravity:
     machine : Machine
         The machine.
     rpm : float
-        The mean speed n [1/min], > 0: the inertia torque is −½ J'(φ) ω² at ω = π n/30
-        (the gas and gravity torques do not depend on it).
+        The mean speed n [1/min], > 0: the inertia torque is −½ J'(φ) ω² at ω = π n/30; the
+        gravity torque does not depend on it, and the gas torque only under the machine's
+        ``load_law`` (the propeller law: its gauge pressures, and so its gas torque, times
+        (n/n_r)², n_r the machine's ``rpm``).
     max_order : int
         The highest order ν, ≥ 1. Every order from 0 in steps of 1 (two-stroke) or ½
         (four-stroke) up to it is listed.
@@ -129,6 +135,9 @@ def torque_orders(machine: Machine, rpm: float, *, max_order: int = 12, gravity:
     found = machine_torque_orders(motion_machine(machine), omega, highest, gravity)
     orders = np.asarray(found["order"])
     parts = {name: (np.asarray(found[f"{name}_cos"]), np.asarray(found[f"{name}_sin"])) for name in ORDER_PARTS[:3]}
+    # The load law's gas: the torque is linear in the pressures, so its orders scale as they do.
+    factor = load_factor(omega, rated_omega(machine))
+    parts["gas"] = (parts["gas"][0] * factor, parts["gas"][1] * factor)
     parts["total"] = (
         parts["gas"][0] + parts["inertia"][0] + parts["gravity"][0],
         parts["gas"][1] + parts["inertia"][1] + parts["gravity"][1],
@@ -160,24 +169,41 @@ class CylinderOrders:
 
     ``orders`` ν > 0 [1/rev] up to the highest asked (halves for four strokes); ``gas`` and
     ``gravity`` (cylinders × orders, complex [N·m]) those torques' harmonics c_ν (the torque
-    Σ_ν Re(c_ν e^{iνθ}) of the cylinder's own angle θ); ``inertial`` the inertia torque's per
-    (rad/s)², which scales as ω².
+    Σ_ν Re(c_ν e^{iνθ}) of the cylinder's own angle θ), ``gas`` of the diagrams as given;
+    ``inertial`` the inertia torque's per (rad/s)², which scales as ω². ``rated_omega``: ω_r
+    [rad/s] of the machine's load law (:attr:`~multicrank.Machine.load_law`), under which
+    :meth:`at` scales the gas by (ω/ω_r)² at each speed; None without one.
     """
 
     orders: np.ndarray
     gas: np.ndarray
     gravity: np.ndarray
     inertial: np.ndarray
+    rated_omega: float | None = None
+
+    def only(self, keep: np.ndarray) -> CylinderOrders:
+        """The same harmonics of the orders ``keep`` selects (an index or a mask over
+        :attr:`orders`), the load law kept."""
+        return dataclasses.replace(
+            self,
+            orders=self.orders[keep],
+            gas=self.gas[:, keep],
+            gravity=self.gravity[:, keep],
+            inertial=self.inertial[:, keep],
+        )
 
     def at(
         self, phases: np.ndarray, omega: np.ndarray, parts: tuple[str, ...] = ("gas", "inertia", "gravity")
     ) -> np.ndarray:
         """T_ν,j of every cylinder at its phase α_j (``phases``, (…, cylinders) [rad]) and
         every order at its speed ``omega`` [rad/s] ((…, orders), broadcast against the
-        phases' leading axes): (…, cylinders, orders), of the torques named in ``parts``."""
+        phases' leading axes): (…, cylinders, orders), of the torques named in ``parts``; the
+        gas scaled by the load law at each order's speed."""
         coefficient = np.zeros_like(self.gas)
         if "gas" in parts:
-            coefficient = coefficient + self.gas
+            # The load law's factor at each order's speed (1 without a law).
+            scale = np.broadcast_to(load_factor(np.asarray(omega, dtype=float), self.rated_omega), np.shape(omega))
+            coefficient = coefficient + self.gas * scale[..., None, :]
         if "gravity" in parts:
             coefficient = coefficient + self.gravity
         if "inertia" in parts:
@@ -188,8 +214,9 @@ class CylinderOrders:
 def cylinder_orders(machine: Machine, highest: int, *, mean: bool = False) -> CylinderOrders:
     """The :class:`CylinderOrders` of ``machine`` up to order ``highest`` (and order 0, the
     mean, where ``mean``), each cylinder alone at phase 0 (cylinders alike but for their phase
-    and place share one computation), from :func:`torque_orders`; kept on the machine for the
-    next call (``Machine._torsion_orders``, never pickled)."""
+    and place share one computation), from :func:`torque_orders`, the gas of the diagrams as
+    given and the machine's load law beside it; kept on the machine for the next call
+    (``Machine._torsion_orders``, never pickled)."""
     cache = machine.__dict__.setdefault("_torsion_orders", {})
     if (highest, mean) in cache:
         return cache[highest, mean]
@@ -199,7 +226,7 @@ def cylinder_orders(machine: Machine, highest: int, *, mean: bool = False) -> Cy
     for cylinder in machine.cylinders:
         template = cylinder.replace(phase=0.0, axial_position=0.0)
         if template not in found:
-            alone = machine.replace(cylinders=[template], main_bearings=None, shaft=None)
+            alone = machine.replace(cylinders=[template], main_bearings=None, shaft=None, load_law=None)
             table = torque_orders(alone, _REFERENCE_RPM, max_order=highest)
             table = table if mean else table[table.index > 0]
             harmonic = {
@@ -213,7 +240,8 @@ def cylinder_orders(machine: Machine, highest: int, *, mean: bool = False) -> Cy
                 harmonic["inertia"] / omega_squared,
             )
         rows.append(found[template])
-    result = CylinderOrders(rows[0][0], *(np.array([row[i] for row in rows]) for i in (1, 2, 3)))
+    gas, gravity, inertial = (np.array([row[i] for row in rows]) for i in (1, 2, 3))
+    result = CylinderOrders(rows[0][0], gas, gravity, inertial, rated_omega=rated_omega(machine))
     cache[highest, mean] = result
     return result
 

@@ -49,6 +49,7 @@ from ._periodic import (
     METHODS,
     Rules,
     as_min_speed_ratio,
+    at_load,
     drive_table,
     mean_speed,
     resolve_rules,
@@ -120,7 +121,10 @@ def steady_state(
     -------
     SteadyState
         ω(φ), the torques and δ over one working cycle, with δ without gravity and of the
-        machine coasting (gas, drive and load removed).
+        machine coasting (gas, drive and load removed). Under the machine's ``load_law`` the
+        "balance" load runs its gauge pressures times the law's factor at the mean speed
+        (:meth:`Machine.load_factor`, (n/n_r)² for the propeller law), and the result's gas
+        torque is theirs; ``machine`` is the one given.
 
     Raises
     ------
@@ -168,10 +172,13 @@ def steady_state(
     ratio = as_min_speed_ratio(min_speed_ratio)
     count = _as_points(points)
 
+    # Under a load law, "balance" runs the diagrams of its mean speed; the other loads fix the
+    # speed themselves, and take the diagrams as given.
+    loaded = at_load(machine, omega)
     if rules.route == "general":
-        numbers, later = _shooting_solution(machine, rules, gravity, ratio, count)
+        numbers, later = _shooting_solution(loaded, rules, gravity, ratio, count)
     else:
-        numbers, later = _native_solution(machine, rules, omega, gravity, ratio, count)
+        numbers, later = _native_solution(loaded, rules, omega, gravity, ratio, count)
     return SteadyState(
         machine=machine,
         load_rule=_describe(load, rules),

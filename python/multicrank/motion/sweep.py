@@ -38,7 +38,7 @@ from .._validation import (
     rpm_from_omega,
     warn_renamed,
 )
-from ..machine.machine import Machine
+from ..machine.machine import Machine, load_factor, rated_omega
 from ..machine.native import motion_machine
 from ..sweeps.chunks import in_memory, is_dask, to_parquet
 from ..sweeps.designs import (
@@ -171,6 +171,10 @@ def _solve_chunk(
         designs = {name: contiguous(frame[name].to_numpy(dtype=np.float64)) for name in names}
         if "rpm" in designs:
             designs["omega"] = contiguous(omega_from_rpm(designs.pop("rpm")))
+            if machine.load_law is not None:
+                # The load law's diagrams at each design's speed, as steady_state runs them.
+                factor = load_factor(designs["omega"], rated_omega(machine))
+                designs["pressure_scale"] = contiguous(designs.get("pressure_scale", 1.0) * factor)
         computed = [o for o in outputs if o != "near_stall"]
         omega = None if machine.rpm is None else omega_from_rpm(machine.rpm)
         try:
@@ -363,7 +367,10 @@ def motion_sweep(
     speed extremes and (with ``delta_target=``) the flywheel, one row per design.
 
     Every row is what :func:`steady_state` (with gravity) and :func:`flywheel_inertia` give
-    for that design's machine (:class:`MachineGrid` says how a design changes the machine).
+    for that design's machine (:class:`MachineGrid` says how a design changes the machine):
+    under the machine's ``load_law`` their outputs run, with "balance", the law's gauge
+    pressures at each design's speed (times its ``pressure_scale``); the frame's outputs take
+    the diagrams as given.
 
     Parameters
     ----------
