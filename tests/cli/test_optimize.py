@@ -74,8 +74,14 @@ def test_firing_with_a_shaft_ranks_by_the_torsional_merit(tmp_path):
     data = json.loads(invoke(*args, "--format", "json").stdout)
     assert data["rank_by"] == "torsional_merit" and data["units"]["torsional_merit"] == "N·m"
     table = invoke(*args).stdout
-    assert "ranked by the torsional merit [N·m]" in table and "on the Pareto front" in table
-    assert "torsional_merit [N·m]: the largest excitation of the shaft's first mode" in table
+    assert "ranked by the first mode's largest excitation [N·m]" in table and "on the Pareto front" in table
+    assert "torsional_major, torsional_minor [N·m/√(kg·m²)] the largest modal excitation" in table
+    # the minor orders' part, over two modes, is a ranking of its own
+    minor = csv_frame(invoke(*args[:-1], "torsional_minor", "--modes", "2", "--format", "csv"), "rank")
+    expected = mc.firing_orders(INLINE_4, shaft=shaft, rank_by="torsional_minor", modes=2)
+    assert minor["firing"].tolist() == expected["firing"].tolist()
+    np.testing.assert_allclose(minor["torsional_minor"], expected["torsional_minor"], rtol=1e-10)
+    assert list(minor["torsional_minor"]) == sorted(minor["torsional_minor"])
 
 
 def test_firing_shaft_mistakes_are_one_line_naming_the_option(tmp_path):
@@ -270,7 +276,7 @@ def test_counterweights_table_prints_every_criterion_and_the_limit():
     for label, name in (
         ("δ with gravity", "delta"),
         ("first-order free force [N]", "free_force_1"),
-        ("first-order free moment about z = 0 [N·m]", "free_moment_1"),
+        ("first-order free moment about the engine centre [N·m]", "free_moment_1"),
         ("largest main-bearing load [N]", "max_bearing_load"),
     ):
         before, after = getattr(found, f"{name}_before"), getattr(found, name)
@@ -327,6 +333,9 @@ def test_a_limit_nothing_meets_is_one_line_naming_the_option():
         (["counterweights", "--max-bearing-load"], "--max-bearing-load"),
         (["counterweights", "--max-free-force", "-1"], "--max-free-force"),
         (["counterweights", "--max-free-force", "nan"], "--max-free-force"),
+        (["counterweights", "--max-free-moment", "-1"], "--max-free-moment"),
+        (["firing", "--machine", "inline-4", "--rank-by", "torsional_minor"], "--rank-by"),
+        (["firing", "--modes", "0"], "--modes"),
         (["tune"], "tune"),
     ],
 )
@@ -393,3 +402,25 @@ def test_help():
         assert option in counterweights
     for option in ("bearing_load", "shaking_force", "--max-bearing-load N", "--max-free-force N", "newtons"):
         assert option in counterweights
+
+
+def test_counterweights_free_moment_limit_and_a_bound_of_the_search():
+    """--max-free-moment reaches the library and is said among what is kept; an optimum on a
+    bound of the search (the boxer compressor's least δ, its first throw) is said to be."""
+    data = json.loads(
+        invoke(
+            "counterweights", "--machine", "marine-2t-twin", *FAST, "--objective", "bearing_load",
+            "--max-free-moment", "5000", "--format", "json",
+        ).stdout
+    )  # fmt: skip
+    found = mc.optimize_counterweights(TWIN, objective="bearing_load", max_free_moment=5000.0, seed=7, maxiter=3)
+    assert data["max_free_moment_limit"] == 5000.0 and data["units"]["max_free_moment_limit"] == "N·m"
+    assert data["free_moment_1"] == pytest.approx(found.free_moment_1, rel=1e-12) and found.free_moment_1 <= 5000.0
+    assert data["at_bound"] == list(found.at_bound)
+    table = invoke("counterweights", "--machine", "marine-2t-twin", *FAST, "--max-free-moment", "5000").stdout
+    assert "kept: --max-free-moment 5000 N·m" in table
+    boxer = mc.optimize_counterweights(MACHINES["boxer-compressor"], seed=7, maxiter=3)
+    assert boxer.at_bound == (True, False)
+    said = invoke("counterweights", "--machine", "boxer-compressor", *FAST).stdout
+    assert "at a bound of the search: throw 1 (" in said
+    assert "at a bound of the search" not in table

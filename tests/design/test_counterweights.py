@@ -51,7 +51,15 @@ def test_one_throw_beats_a_dense_grid_and_is_its_machine():
     assert moment(best.machine, 0) == pytest.approx(best.counterweights[0], rel=1e-12)
     assert best.counterweights_before[0] == pytest.approx(moment(COMPRESSOR, 0), rel=1e-12)
     frame = best.to_frame()
-    assert list(frame.columns) == ["throw", "cylinders", "angle_deg", "counterweight_before", "counterweight"]
+    assert list(frame.columns) == [
+        "throw",
+        "cylinders",
+        "angle_deg",
+        "counterweight_before",
+        "counterweight",
+        "at_bound",
+    ]
+    assert best.at_bound == (False,) and not frame["at_bound"].any()
     assert frame["angle_deg"].iloc[0] == pytest.approx(90.0)
     assert 0 < best.improvement < 1 and best.success and best.nfev > best.nit
 
@@ -341,3 +349,66 @@ def test_a_limit_nothing_meets_is_refused_by_name_with_the_least_found():
     assert not ((both["max_bearing_load"] <= 11100.0) & (both["free_force_1"] <= 1300.0)).any()
     with pytest.raises(mc.MechanismError, match=r"max_bearing_load <= 11100 N and max_free_force <= 1300 N together"):
         mc.optimize_counterweights(COMPRESSOR, max_bearing_load=11100.0, max_free_force=1300.0, maxiter=20)
+
+
+def placed(layout: str) -> mc.Machine:
+    """The in-line four's cylinder on another four-stroke crank, throws 0.1 m apart."""
+    return mc.Machine.from_layout(
+        layout,
+        INLINE_4.cylinders[0],
+        shaft_inertia=INLINE_4.shaft_inertia,
+        rpm=INLINE_4.rpm,
+        strokes=4,
+        cylinder_spacing=0.1,
+    )
+
+
+def test_a_limit_on_the_free_moment_keeps_the_frame_from_rocking():
+    """The in-line three's least bearing load comes with counterweights unequal along the
+    shaft, which rock the frame more than as built (its first-order couple grows); with
+    max_free_moment at the couple as built the optimum keeps it, checked by mc.shaking_forces
+    of the returned machine, and says what it keeps."""
+    three = placed("inline-3-4t")
+    free = mc.optimize_counterweights(three, objective="bearing_load", maxiter=40)
+    as_built = first_order(three, free.rpm, "moment")
+    assert free.free_moment_1_before == pytest.approx(as_built, rel=1e-12)
+    assert free.free_moment_1 > as_built * (1 + 1e-3)  # the limit below bites
+    kept = mc.optimize_counterweights(three, objective="bearing_load", max_free_moment=as_built, maxiter=40)
+    assert first_order(kept.machine, kept.rpm, "moment") <= as_built * (1 + 1e-9)
+    assert kept.free_moment_1 == pytest.approx(first_order(kept.machine, kept.rpm, "moment"), rel=1e-12)
+    assert kept.max_free_moment_limit == as_built and kept.max_free_force_limit is None
+    assert free.max_bearing_load <= kept.max_bearing_load < kept.max_bearing_load_before
+    with pytest.raises(mc.MechanismError, match=r"max_free_moment = -1.0 is out of range.*N·m"):
+        mc.optimize_counterweights(three, max_free_moment=-1.0)
+    with pytest.raises(mc.MechanismError, match=r"max_free_moment <= 0\.001 N·m: the lowest first-order free moment"):
+        mc.optimize_counterweights(three, max_free_moment=1e-3, maxiter=10)
+
+
+def test_an_optimum_on_a_bound_of_the_search_says_so():
+    """A 360° twin's least δ wants more counterweight than the default bounds allow (twice the
+    throw's own first moment): both throws end on the upper bound, and the optimum, its
+    table and its repr say so; bounds wide enough (its least δ is near 77 times the default
+    bound) let it inside."""
+    twin = placed("inline-2-4t")
+    found = mc.optimize_counterweights(twin)
+    high = 2 * sum(
+        c.crank_mass * c.crank_cg_radius + (c.rod_mass + c.piston_mass) * c.crank_radius for c in twin.cylinders[:1]
+    )
+    np.testing.assert_allclose(found.counterweights, [high, high], rtol=1e-6)
+    assert found.at_bound == (True, True)
+    assert found.to_frame()["at_bound"].tolist() == [True, True]
+    assert "throws 1, 2 at a bound of the search" in repr(found)
+    wide = mc.optimize_counterweights(twin, bounds=(0.0, 200 * high))
+    assert wide.at_bound == (False, False) and "bound" not in repr(wide)
+    assert wide.delta < found.delta
+
+
+def test_an_optimum_equals_its_pickle_and_not_another():
+    import pickle
+
+    found = mc.optimize_counterweights(COMPRESSOR, maxiter=20)
+    again = pickle.loads(pickle.dumps(found))
+    assert again == found and not (again != found)
+    other = mc.optimize_counterweights(COMPRESSOR, maxiter=20, objective="shaking_force")
+    assert other != found
+    assert found != "an optimum"

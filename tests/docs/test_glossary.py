@@ -15,7 +15,7 @@ import pytest
 
 import multicrank as mc
 from multicrank._validation import renamed
-from multicrank.design.criteria import CRITERIA
+from multicrank.design.criteria import RANKINGS
 from multicrank.forces.shaking import COMPONENTS as CURVE_COLUMNS
 from multicrank.motion.variants import machine_columns
 from multicrank.report.settings import ReportSettings
@@ -70,7 +70,7 @@ def required() -> dict[str, set[str]]:
         "ShakingForces.curves columns": set(CURVE_COLUMNS),
         "BearingLoads.summary columns": set(mc.bearing_loads(machine).summary.columns),
         "torsional_merit columns": set(MERIT_UNITS),
-        "firing_orders criteria": {*CRITERIA, "pareto"},
+        "firing_orders criteria": {*RANKINGS, "pareto"},
     }
 
 

@@ -46,7 +46,7 @@ def read_csv(path: Path) -> pd.DataFrame:
     # Parsed by Python's float, exact on any pandas (before 3.0 its parser may be an ulp off).
     frame = pd.read_csv(path, dtype=str, keep_default_na=False)
     text = ("firing", "phases_deg", "fires_at_deg", "cylinders", "as_given", "stalled", "near_stall", "pareto", "major")
-    text += ("in_range",)
+    text += ("in_range", "at_running_speed", "at_bound")
     numbers = [c for c in frame if c not in text]
     return frame.astype({c: float for c in numbers})
 
@@ -78,7 +78,7 @@ def check_firing(out: Path, machine: mc.Machine) -> tuple[pd.DataFrame, pd.DataF
         "free_moment_1",
         "free_moment_2",
         "max_bearing_load",
-        *(["torsional_merit"] if machine.shaft is not None else []),
+        *(["torsional_major", "torsional_minor", "torsional_merit"] if machine.shaft is not None else []),
         "pareto",
     ]
     best = min(FIRING_ROWS, len(expected))
@@ -89,7 +89,18 @@ def check_firing(out: Path, machine: mc.Machine) -> tuple[pd.DataFrame, pd.DataF
     assert set(table["rank"].astype(int) - 1) >= set(np.flatnonzero(expected["pareto"]))
     assert table["pareto"].tolist() == [str(p) for p in rows["pareto"]]
     numbers = ["delta", "delta_without_gravity", "gravity_effect", "largest_order", "largest_order_amplitude"]
-    numbers += [c for c in ("free_moment_1", "free_moment_2", "max_bearing_load", "torsional_merit") if c in table]
+    numbers += [
+        c
+        for c in (
+            "free_moment_1",
+            "free_moment_2",
+            "max_bearing_load",
+            "torsional_major",
+            "torsional_minor",
+            "torsional_merit",
+        )
+        if c in table
+    ]
     for name in numbers:
         np.testing.assert_allclose(table[name], rows[name], rtol=1e-12, err_msg=name)
     phases = [np.radians([float(a) for a in text.split()]) for text in table["phases_deg"]]
@@ -111,8 +122,17 @@ def check_counterweights(out: Path, machine: mc.Machine) -> tuple[pd.DataFrame, 
     optimum = mc.optimize_counterweights(machine)
     table = read_csv(out / "design_counterweights.csv")
     expected = optimum.to_frame()
-    assert list(table.columns) == ["throw", "cylinders", "angle_deg", "counterweight_before", "counterweight"]
+    assert list(table.columns) == [
+        "throw",
+        "cylinders",
+        "angle_deg",
+        "counterweight_before",
+        "counterweight",
+        "at_bound",
+    ]
     assert table["cylinders"].tolist() == expected["cylinders"].astype(str).tolist()
+    assert table["at_bound"].tolist() == [str(b) for b in optimum.at_bound]
+    assert ("at a bound of the search" in section(out)) == any(optimum.at_bound)
     for name in ("throw", "angle_deg", "counterweight_before", "counterweight"):
         np.testing.assert_allclose(table[name], expected[name], rtol=1e-12, atol=1e-15, err_msg=name)
     np.testing.assert_allclose(table["counterweight_before"], optimum.counterweights_before, rtol=1e-12)
@@ -147,7 +167,15 @@ def test_the_default_machine_s_shaft_gets_a_campbell_diagram(compressor):
     assert machine.shaft is not None
     table = read_csv(compressor / "design_campbell.csv")
     expected = mc.torsional_merit(machine, modes=2, max_order=12)
-    for column in ("mode", "order", "natural_frequency", "resonance_rpm", "vector_sum", "excitation"):
+    for column in (
+        "mode",
+        "order",
+        "natural_frequency",
+        "resonance_rpm",
+        "vector_sum",
+        "excitation",
+        "modal_excitation",
+    ):
         np.testing.assert_allclose(table[column], expected[column], rtol=1e-12, err_msg=column)
     low, high = machine.rpm_range
     inside = expected["resonance_rpm"].between(low, high)
@@ -155,8 +183,12 @@ def test_the_default_machine_s_shaft_gets_a_campbell_diagram(compressor):
     assert (compressor / "design_campbell.png").stat().st_size > 10_000
     text = section(compressor)
     assert "<h3>Torsional vibration</h3>" in text and 'alt="Campbell diagram of the shaft"' in text
-    strongest = expected[inside].sort_values("excitation", ascending=False).iloc[0]
-    assert f"<td>{strongest['resonance_rpm']:.4g}</td>" in text
+    strongest = expected[inside].sort_values("modal_excitation", ascending=False).iloc[0]
+    assert f"<td>{strongest['resonance_rpm']:.4g}" in text
+    # Its order 9 meets mode 1 at 119.8 1/min, the machine running at 120: pointed out.
+    running = expected[expected["at_running_speed"]]
+    assert [(int(m), float(o)) for m, o in zip(running["mode"], running["order"], strict=True)] == [(1, 9.0)]
+    assert "A resonance at the running speed" in text and "mode 1, order 9 at 119.8 1/min" in text
     shown = text.count("(major)</td>")  # one cylinder: every order is major
     assert shown == min(8, int(inside.sum()))
 
@@ -188,10 +220,13 @@ def test_the_machines_own_row_is_shown_below_the_best_where_it_ranks_lower():
     assert last >= FIRING_ROWS
     machine = six["machine"].iloc[last]
     shown = firing_table(DesignResults(machine=machine, rpm=machine.rpm, firing=six, own=last, optimum=None))
-    assert shown["rank"].tolist() == [1, 2, 3, last + 1]
-    assert shown["as_given"].tolist() == [False, False, False, True]
-    assert shown["firing"].tolist() == six["firing"].iloc[[0, 1, 2, last]].tolist()
-    np.testing.assert_allclose(shown["delta"], six["delta"].iloc[[0, 1, 2, last]], rtol=0)
+    # the best three, the rest of the Pareto front (up to ten rows in all), then the machine's own
+    front = [int(i) for i in np.flatnonzero(six["pareto"]) if i >= FIRING_ROWS][: 10 - FIRING_ROWS]
+    rows = [*range(FIRING_ROWS), *front, *([] if last in front else [last])]
+    assert shown["rank"].tolist() == [i + 1 for i in rows]
+    assert shown["as_given"].tolist() == [i == last for i in rows]
+    assert shown["firing"].tolist() == six["firing"].iloc[rows].tolist()
+    np.testing.assert_allclose(shown["delta"], six["delta"].iloc[rows], rtol=0)
 
 
 def test_two_rows_of_one_name_differ_by_when_each_cylinder_fires():

@@ -38,11 +38,17 @@ OBJECTIVES: dict[str, str] = {
 CRITERIA: dict[str, str] = {
     "delta": "δ with gravity",
     "free_force_1": "first-order free force [N]",
-    "free_moment_1": "first-order free moment about z = 0 [N·m]",
+    "free_moment_1": "first-order free moment about the engine centre [N·m]",
     "max_bearing_load": "largest main-bearing load [N]",
 }
 #: The constraints' options, by the library's parameter.
-_LIMIT_OPTIONS = {"max_bearing_load": "--max-bearing-load", "max_free_force": "--max-free-force"}
+_LIMIT_OPTIONS = {
+    "max_bearing_load": "--max-bearing-load",
+    "max_free_force": "--max-free-force",
+    "max_free_moment": "--max-free-moment",
+}
+#: The unit of each constraint.
+_LIMIT_UNITS = {"max_bearing_load": "N", "max_free_force": "N", "max_free_moment": "N·m"}
 
 _rpm_option = click.option(
     "--rpm",
@@ -100,8 +106,12 @@ FIRING_CRITERIA: dict[str, str] = {
     "free_moment_1": "the first-order free moment [N·m]",
     "free_moment_2": "the second-order free moment [N·m]",
     "max_bearing_load": "the largest main-bearing load [N]",
-    "torsional_merit": "the torsional merit [N·m] (needs a shaft)",
+    "torsional_major": "the largest modal excitation by a major order [N·m/√(kg·m²)] (needs a shaft)",
+    "torsional_minor": "the largest modal excitation by a minor order [N·m/√(kg·m²)] (needs a shaft)",
+    "torsional_merit": "the first mode's largest excitation [N·m] (needs a shaft)",
 }
+#: The criteria that need a shaft.
+_SHAFT_RANKINGS = ("torsional_major", "torsional_minor", "torsional_merit")
 
 
 @click.command("firing", short_help="The firing orders the machine's crank allows, judged by every criterion.")
@@ -131,7 +141,15 @@ FIRING_CRITERIA: dict[str, str] = {
     default=12,
     show_default=True,
     metavar="ORDER",
-    help="The highest torque order ν (per revolution) for largest_order.",
+    help="The highest torque order ν (per revolution) for largest_order and the torsional criteria.",
+)
+@click.option(
+    "--modes",
+    type=click.IntRange(min=1),
+    default=2,
+    show_default=True,
+    metavar="COUNT",
+    help="With a shaft: how many of its elastic modes, from the lowest, the torsional criteria weigh.",
 )
 @click.option(
     "--max-candidates",
@@ -150,6 +168,7 @@ def firing_command(
     shaft_path: str | None,
     rank_by: str,
     max_order: int,
+    modes: int,
     max_candidates: int,
     fmt: str,
     out_path: str | None,
@@ -164,10 +183,13 @@ def firing_command(
     without gravity, gravity_effect = δ/δ without gravity − 1, stalled, near_stall (δ > 0.5:
     it nearly stops each cycle), and the torque order with the largest amplitude [N·m]; at
     --rpm held constant, the first- and second-order free moments [N·m] and the largest
-    main-bearing load [N]; with a shaft (--shaft, or the machine file's [shaft]) the
-    torsional merit [N·m], the largest excitation of its first mode by an order resonating in
-    the machine's speed range. pareto marks the rows no other row beats on every criterion;
-    --rank-by sorts by one.
+    main-bearing load [N]; with a shaft (--shaft, or the machine file's [shaft]), of the
+    resonances of its --modes lowest modes in the machine's speed range, torsional_major and
+    torsional_minor [N·m/√(kg·m²)], the largest modal excitation (mass-normalised mode shape,
+    comparable between modes) by a major order (every cylinder in phase: the same for every
+    firing order) and by a minor one (which the firing order decides), and torsional_merit
+    [N·m], the first mode's largest classical excitation. pareto marks the rows no other row
+    beats on every criterion (torsional_merit is none); --rank-by sorts by one.
 
     firing lists the cylinders (numbered from 1) in the order they fire, "+" joining those
     that fire together; the phases α_j [deg] are in the machine's cylinder order (csv: one
@@ -183,12 +205,18 @@ def firing_command(
             machine = machine.replace(shaft=Shaft.from_toml(shaft_path))
         except MechanismError as error:
             raise UserError(f"--shaft {shaft_path}: {error}") from None
-    if rank_by == "torsional_merit" and machine.shaft is None:
+    if rank_by in _SHAFT_RANKINGS and machine.shaft is None:
         raise UserError(
-            f"--rank-by torsional_merit needs a shaft: give --shaft FILE.toml (machine {machine.name!r} has none)"
+            f"--rank-by {rank_by} needs a shaft: give --shaft FILE.toml (machine {machine.name!r} has none)"
         )
     table = firing_orders(
-        machine, rpm=speed, rank_by=rank_by, max_order=max_order, max_candidates=max_candidates, progress=progress
+        machine,
+        rpm=speed,
+        rank_by=rank_by,
+        max_order=max_order,
+        modes=modes,
+        max_candidates=max_candidates,
+        progress=progress,
     )
     attrs = dict(table.attrs)
     frame = table.drop(columns=["machine", "phases"])
@@ -220,8 +248,10 @@ def firing_command(
     if attrs["speed_range"] is not None:
         low, high = attrs["speed_range"]
         summary.append(
-            f"torsional_merit [N·m]: the largest excitation of the shaft's first mode by an order ≤ {max_order} "
-            f"resonating in {low:g}–{high:g} rpm (mc.torsional_merit)"
+            f"of the resonances of modes ≤ {modes} and orders ≤ {max_order} in {low:g}–{high:g} rpm "
+            "(mc.torsional_merit): torsional_major, torsional_minor [N·m/√(kg·m²)] the largest modal excitation "
+            "by a major (every cylinder in phase) and a minor order; torsional_merit [N·m] the first mode's "
+            "largest excitation"
         )
     near = int(table["near_stall"].sum())
     if near:
@@ -237,6 +267,7 @@ def firing_command(
         distinct=attrs["distinct"],
         exhaustive=attrs["exhaustive"],
         max_order=max_order,
+        modes=modes,
         rank_by=rank_by,
         speed_range=attrs["speed_range"],
         units=dict(
@@ -247,6 +278,8 @@ def firing_command(
             free_moment_1="N·m",
             free_moment_2="N·m",
             max_bearing_load="N",
+            torsional_major="N·m/√(kg·m²)",
+            torsional_minor="N·m/√(kg·m²)",
             torsional_merit="N·m",
         ),
     )
@@ -300,6 +333,14 @@ def _bounds(value: tuple[float, float] | None) -> tuple[float, float] | None:
     help="A constraint: the optimum's first-order free force at --rpm is at most N [newtons].",
 )
 @click.option(
+    "--max-free-moment",
+    type=float,
+    default=None,
+    metavar="NM",
+    help="A constraint: the optimum's first-order free moment about the engine centre at --rpm is at most NM "
+    "[N·m] (counterweights that differ along the shaft rock the frame).",
+)
+@click.option(
     "--seed", type=click.IntRange(min=0), default=0, show_default=True, metavar="SEED", help="The optimiser's seed."
 )
 @click.option(
@@ -320,6 +361,7 @@ def counterweights_command(
     rpm: float | None,
     max_bearing_load: float | None,
     max_free_force: float | None,
+    max_free_moment: float | None,
     seed: int,
     maxiter: int,
     fmt: str,
@@ -328,13 +370,16 @@ def counterweights_command(
 ) -> None:
     """The counterweight of each throw (its first moment m·r [kg·m], opposite the crank pin)
     that minimises an objective, by SciPy's differential evolution (each generation one motion
-    sweep), polished — within --max-bearing-load and --max-free-force where given.
+    sweep), polished — within --max-bearing-load, --max-free-force and --max-free-moment where
+    given.
 
     Prints one row per throw: the cylinders on it, its angle [deg], the counterweight as
     given and the optimum [kg·m]; above the table the objective before and after, every
     criterion before and after (δ with gravity, the first-order free force and moment, the
     largest main-bearing load, the last three at --rpm held constant), the constraints and
     whether the optimiser converged (csv: to stderr; json: an object with these and the rows).
+    A throw whose optimum lies on a bound of the search is marked "at a bound of the search":
+    widen --bounds to see past it.
     """
     speed = _speed(machine, rpm, "--rpm")
     limits = _bounds(bounds)
@@ -349,6 +394,7 @@ def counterweights_command(
             rpm=speed,
             max_bearing_load=max_bearing_load,
             max_free_force=max_free_force,
+            max_free_moment=max_free_moment,
             seed=seed,
             maxiter=maxiter,
             progress=progress,
@@ -370,9 +416,19 @@ def counterweights_command(
     ]
     summary += [f"{CRITERIA[name]}: {row.before:.6g} as given → {row.after:.6g}" for name, row in criteria.iterrows()]
     given = {name: getattr(found, f"{name}_limit") for name in _LIMIT_OPTIONS}
-    kept = [f"{option} {given[name]:g} N" for name, option in _LIMIT_OPTIONS.items() if given[name] is not None]
+    kept = [
+        f"{option} {given[name]:g} {_LIMIT_UNITS[name]}"
+        for name, option in _LIMIT_OPTIONS.items()
+        if given[name] is not None
+    ]
     if kept:
         summary.append("kept: " + ", ".join(kept))
+    if any(found.at_bound):
+        throws = [str(t) for t, on in zip(frame.index, found.at_bound, strict=True) if on]
+        summary.append(
+            f"at a bound of the search: throw{'s' if len(throws) > 1 else ''} {', '.join(throws)} (the optimum would "
+            "go further; widen --bounds, or take the bound as a limit of the design)"
+        )
     summary.append(f"{converged}: {found.message} ({found.nit} generations, {found.nfev} evaluations, seed {seed})")
     from ..motion.steady import NEAR_STALL_DELTA
 
@@ -390,6 +446,8 @@ def counterweights_command(
         **{key: float(getattr(found, key)) for name in criteria.index for key in (f"{name}_before", name)},
         max_bearing_load_limit=given["max_bearing_load"],
         max_free_force_limit=given["max_free_force"],
+        max_free_moment_limit=given["max_free_moment"],
+        at_bound=list(found.at_bound),
         rpm=float(found.rpm),
         success=bool(found.success),
         message=str(found.message),
@@ -406,6 +464,7 @@ def counterweights_command(
             **{key: unit for name, unit in criteria["unit"].items() if unit for key in (f"{name}_before", name)},
             max_bearing_load_limit="N",
             max_free_force_limit="N",
+            max_free_moment_limit="N·m",
         ),
     )
     _write(frame, fmt, out_path, summary=summary, json_meta=meta)

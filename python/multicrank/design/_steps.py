@@ -14,7 +14,10 @@ from .._native import MechanismError
 from .._validation import as_real_array, as_scalar
 from ..machine.machine import Machine
 
-__all__ = ["_as_bounds", "_as_limit", "_nearest_alike", "_nothing_runs", "_polish", "_radius", "_unmet"]
+__all__ = ["_as_bounds", "_as_limit", "_at_bound", "_nearest_alike", "_nothing_runs", "_polish", "_radius", "_unmet"]
+
+#: An optimum within this fraction of its throw's search width of a bound lies on it.
+AT_BOUND = 1e-6
 
 
 def _radius(cylinder: Any) -> float:
@@ -86,21 +89,31 @@ def _nearest_alike(found: np.ndarray, before: np.ndarray, angles: np.ndarray, li
     return moved if nearest.success and np.abs(rows @ moved - target).max() <= 1e-12 * scale else found
 
 
+def _at_bound(found: np.ndarray, limits: np.ndarray) -> tuple[bool, ...]:
+    """Per throw, whether ``found`` lies on a bound of the search (within :data:`AT_BOUND`
+    of the width ``high − low``)."""
+    reach = AT_BOUND * (limits[:, 1] - limits[:, 0])
+    near = (np.abs(found - limits[:, 0]) <= reach) | (np.abs(limits[:, 1] - found) <= reach)
+    return tuple(bool(b) for b in near)
+
+
+# What each constraint bounds, in words, and its unit.
+_BOUNDED = {
+    "max_bearing_load": ("main-bearing load (largest over the cycle)", "N"),
+    "max_free_force": ("first-order free force", "N"),
+    "max_free_moment": ("first-order free moment", "N·m"),
+}
+
+
 def _as_limit(value: Any, name: str) -> float | None:
-    """A constraint: None, or a finite force >= 0 [N]."""
+    """A constraint: None, or a finite force [N] (or moment [N·m]) >= 0."""
     if value is None:
         return None
     limit = as_scalar(value, name)
     if not (math.isfinite(limit) and limit >= 0):
-        raise MechanismError(f"{name} = {limit} is out of range; allowed: a finite force >= 0 [N], or None")
+        what, unit = _BOUNDED[name]
+        raise MechanismError(f"{name} = {limit} is out of range; allowed: a finite {what} >= 0 [{unit}], or None")
     return limit
-
-
-# What each constraint bounds, in words.
-_BOUNDED = {
-    "max_bearing_load": "main-bearing load (largest over the cycle)",
-    "max_free_force": "first-order free force",
-}
 
 
 def _unmet(
@@ -110,12 +123,13 @@ def _unmet(
     value any design reached (one constraint), or the values of the design closest to keeping
     them (several: each alone may be kept)."""
     pairs = ", ".join(f"({low:g}, {high:g})" for low, high in bounds)
-    kept = " and ".join(f"{name} <= {limit:g} N" for name, limit in limits.items())
+    kept = " and ".join(f"{name} <= {limit:g} {_BOUNDED[name][1]}" for name, limit in limits.items())
     if len(limits) == 1:
         (name,) = limits
-        found = f": the lowest {_BOUNDED[name]} of the {tried} designs tried is {least[name]:.6g} N"
+        what, unit = _BOUNDED[name]
+        found = f": the lowest {what} of the {tried} designs tried is {least[name]:.6g} {unit}"
     else:
-        values = " and ".join(f"a {_BOUNDED[name]} of {closest[name]:.6g} N" for name in limits)
+        values = " and ".join(f"a {_BOUNDED[n][0]} of {closest[n]:.6g} {_BOUNDED[n][1]}" for n in limits)
         found = f" together: the closest of the {tried} designs tried has {values}"
     return MechanismError(
         f"no counterweights within bounds = [{pairs}] kg·m keep {kept}{found} "

@@ -1,5 +1,6 @@
 """The counterweights per throw that keep δ with gravity lowest, or the main-bearing loads or
-the first-order free force, within limits on those (:func:`optimize_counterweights`).
+the first-order free force, within limits on those and on the first-order free moment
+(:func:`optimize_counterweights`).
 
 A counterweight enters the machine's motion only through gravity: its first moment m_p r_p,
 opposite its crank pin, turns with the pin and adds −g m_p r_p cos(φ + pin angle) to the
@@ -12,7 +13,8 @@ throw [kg·m], spread equally over the throw's cylinders, each at its own counte
 (the crank radius where it has none).
 
 The optimiser is SciPy's differential evolution — bounded, global, reproducible from its
-seed, limits on the bearing load and the free force kept by its own constraint handling —
+seed, limits on the bearing load, the free force and the free moment kept by its own
+constraint handling —
 evaluating each generation as one :func:`~multicrank.motion_sweep` of
 ``"counterweight_mass[j]"`` columns, then polished by L-BFGS-B.
 """
@@ -36,7 +38,7 @@ from .._validation import (
 )
 from ..machine.machine import Machine
 from ._crank import throws as crank_throws
-from ._steps import _as_bounds, _as_limit, _nearest_alike, _nothing_runs, _polish, _radius, _unmet
+from ._steps import _as_bounds, _as_limit, _at_bound, _nearest_alike, _nothing_runs, _polish, _radius, _unmet
 from .optimum import CRITERIA, CounterweightOptimum
 
 __all__ = ["CRITERIA", "OBJECTIVES", "CounterweightOptimum", "optimize_counterweights"]
@@ -51,7 +53,11 @@ _DELTA_OBJECTIVES = ("delta", "gravity_effect", "delta_over_speed_range")
 # constant; no steady state solved, so none stalls).
 _FRAME_OBJECTIVES = {"bearing_load": "max_bearing_load", "shaking_force": "free_force_1"}
 # Each constraint (the parameter) and the motion_sweep output it bounds from above.
-_CONSTRAINTS = {"max_bearing_load": "max_bearing_load", "max_free_force": "free_force_1"}
+_CONSTRAINTS = {
+    "max_bearing_load": "max_bearing_load",
+    "max_free_force": "free_force_1",
+    "max_free_moment": "free_moment_1",
+}
 
 
 def optimize_counterweights(
@@ -62,12 +68,14 @@ def optimize_counterweights(
     rpm: Any = None,
     max_bearing_load: Any = None,
     max_free_force: Any = None,
+    max_free_moment: Any = None,
     seed: Any = 0,
     maxiter: Any = 200,
     progress: Any = False,
 ) -> CounterweightOptimum:
     """The counterweights (first moments per throw, opposite the pin) that minimise δ with
-    gravity, the main-bearing loads or the first-order free force, within limits on those.
+    gravity, the main-bearing loads or the first-order free force, within limits on those and
+    on the first-order free moment.
 
     Parameters
     ----------
@@ -96,6 +104,12 @@ def optimize_counterweights(
     max_free_force : float, optional
         A constraint: the optimum's first-order free force (as for "shaking_force", at
         ``rpm``) is at most this [N], finite, >= 0.
+    max_free_moment : float, optional
+        A constraint: the optimum's first-order free moment about the engine centre
+        (``free_moment_1``: the largest magnitude over a revolution of the first-order
+        shaking moment, pitch and yaw together, at ``rpm`` held constant) is at most this
+        [N·m], finite, >= 0. Counterweights that differ along the shaft make a moment of
+        their own: bound it where the optimum must not rock the frame.
     seed : int, default 0
         The optimiser's seed: the same seed, the same result.
     maxiter : int, default 200
@@ -112,9 +126,10 @@ def optimize_counterweights(
         (``delta``), the largest main-bearing load (``max_bearing_load`` [N]), the
         first-order free force (``free_force_1`` [N]) and moment (``free_moment_1`` [N·m]),
         each with ``…_before``, and all in ``criteria()`` — the constraints
-        (``max_bearing_load_limit``, ``max_free_force_limit``), the optimised ``machine``
-        and the optimiser's convergence (``success``, ``message``, ``nit``, ``nfev``,
-        ``result``).
+        (``max_bearing_load_limit``, ``max_free_force_limit``, ``max_free_moment_limit``),
+        ``at_bound`` (per throw, whether its optimum lies on a bound of the search: widen
+        ``bounds`` to see past it), the optimised ``machine`` and the optimiser's
+        convergence (``success``, ``message``, ``nit``, ``nfev``, ``result``).
 
     Raises
     ------
@@ -189,7 +204,8 @@ def optimize_counterweights(
         raise MechanismError(f"rpm is required: machine {machine.name!r} has no rpm of its own")
     speed = as_speed(machine.rpm if rpm is None else rpm, "rpm")
     given = {name: _as_limit(value, name) for name, value in (("max_bearing_load", max_bearing_load),
-                                                              ("max_free_force", max_free_force))}  # fmt: skip
+                                                              ("max_free_force", max_free_force),
+                                                              ("max_free_moment", max_free_moment))}  # fmt: skip
     limits_of = {name: limit for name, limit in given.items() if limit is not None}
     seed = as_count(seed, "seed", minimum=0)
     generations = as_count(maxiter, "maxiter", minimum=1)
@@ -397,6 +413,8 @@ def optimize_counterweights(
         **{name: float(criteria[name].iloc[1]) for name in CRITERIA},
         max_bearing_load_limit=given["max_bearing_load"],
         max_free_force_limit=given["max_free_force"],
+        max_free_moment_limit=given["max_free_moment"],
+        at_bound=_at_bound(best, limits),
         rpm=speed,
         machine=optimum,
         machine_before=machine,

@@ -6,13 +6,18 @@ excites. Every criterion here is smaller-is-better:
 
 - ``delta``: δ with gravity of the steady state ("balance" load) [dimensionless];
 - ``free_moment_1``, ``free_moment_2`` [N·m]: the largest magnitude over a cycle of the first-
-  and second-order shaking moment vector (pitch and yaw together, about z = 0), inertial, at
-  the table's constant speed (:func:`~multicrank.shaking_forces`);
+  and second-order shaking moment vector (pitch and yaw together, about the engine centre
+  z_ref = (z_min + z_max)/2), inertial, at the table's constant speed (:func:`~multicrank.shaking_forces`);
 - ``max_bearing_load`` [N]: the largest load on any main bearing over the working cycle at
   that speed (:func:`~multicrank.bearing_loads` at 720 angles);
-- ``torsional_merit`` [N·m], with a shaft: the largest excitation of its first mode over the
-  orders whose resonance lies in the machine's speed range
-  (:func:`~multicrank.torsional_merit`).
+- ``torsional_major`` and ``torsional_minor`` [N·m/√(kg·m²)], with a shaft: the largest
+  ``modal_excitation`` (:func:`~multicrank.torsional_merit`) over the shaft's modes asked and
+  the resonances in the machine's speed range, of the major orders (every cylinder in phase:
+  no firing order changes them) and of the minor ones (which the firing order decides).
+
+``torsional_merit`` (the largest classical excitation of the first mode alone) is a column
+of the firing orders and a ``rank_by``, but no criterion of the Pareto front: with a major
+order resonating it is the same for every firing order.
 
 Values that agree to :data:`AGREE` of the criterion's largest are equal: they are the same
 number but for rounding (mirror-image cranks give the same moments by different sums).
@@ -24,10 +29,23 @@ import numpy as np
 
 from ..machine.machine import Machine
 
-__all__ = ["AGREE", "CRITERIA", "FRAME_CRITERIA", "frame_criteria", "pareto_front", "ticks"]
+__all__ = [
+    "AGREE",
+    "CRITERIA",
+    "FRAME_CRITERIA",
+    "RANKINGS",
+    "SHAFT_CRITERIA",
+    "frame_criteria",
+    "pareto_front",
+    "ticks",
+]
 
-#: The criteria of the design aid, all smaller-is-better.
-CRITERIA = ("delta", "free_moment_1", "free_moment_2", "max_bearing_load", "torsional_merit")
+#: The criteria of the design aid, all smaller-is-better (the last two need a shaft).
+CRITERIA = ("delta", "free_moment_1", "free_moment_2", "max_bearing_load", "torsional_major", "torsional_minor")
+#: What firing_orders may rank by: the criteria, and the first mode's classical merit.
+RANKINGS = (*CRITERIA, "torsional_merit")
+#: The criteria that need a shaft.
+SHAFT_CRITERIA = ("torsional_major", "torsional_minor")
 #: Those the motion sweep's frame outputs give.
 FRAME_CRITERIA = ("free_moment_1", "free_moment_2", "max_bearing_load")
 #: Values closer than this fraction of the criterion's largest finite value are equal.

@@ -31,7 +31,7 @@ from .._native import MechanismError
 from .._validation import as_count, as_flag, as_instance, as_option, as_speed
 from ..machine.machine import Machine
 from ._candidates import _RESOLUTION, _candidates, _groups
-from .criteria import CRITERIA, frame_criteria, pareto_front, ticks
+from .criteria import AGREE, CRITERIA, RANKINGS, SHAFT_CRITERIA, frame_criteria, pareto_front, ticks
 
 __all__ = ["firing_orders"]
 
@@ -96,6 +96,7 @@ def firing_orders(
     rank_by: Any = "delta",
     rpm: Any = None,
     max_order: Any = 12,
+    modes: Any = 2,
     max_candidates: Any = DEFAULT_MAX_CANDIDATES,
     progress: Any = False,
 ) -> Any:
@@ -106,7 +107,8 @@ def firing_orders(
     shaft (the same motion, shifted in φ) share one steady state ("balance" load, at ``rpm``,
     solved by :func:`~multicrank.motion_sweep`, the candidates its designs: columns
     ``"phase[j]"``); they are one row where their free moments, bearing loads and torsional
-    merit agree too, and separate rows where those tell them apart. Every candidate's frame
+    merit agree too, and separate rows where those (or, with a shaft, the vector sum of any
+    order in any mode asked) tell them apart. Every candidate's frame
     criteria come from one motion sweep of its frame outputs.
 
     Parameters
@@ -116,16 +118,21 @@ def firing_orders(
         phases are one candidate.
     shaft : Shaft, optional
         The shaft as a torsional chain; default the machine's own (``Machine.shaft``). With
-        one, the table has ``torsional_merit``.
-    rank_by : {"delta", "free_moment_1", "free_moment_2", "max_bearing_load", "torsional_merit"}, default "delta"
-        The criterion the rows are sorted by (smallest first; ties keep the candidates'
-        order, the machine as given first); "torsional_merit" needs a shaft.
+        one, the table has ``torsional_major``, ``torsional_minor`` and ``torsional_merit``.
+    rank_by : str, default "delta"
+        The column the rows are sorted by (smallest first; ties keep the candidates' order,
+        the machine as given first): "delta", "free_moment_1", "free_moment_2",
+        "max_bearing_load", or with a shaft "torsional_major", "torsional_minor" or
+        "torsional_merit".
     rpm : float, optional
         The speed n [1/min] of the table: the mean speed of the steady states and the
         constant speed of the frame criteria; default the machine's own ``rpm``.
     max_order : int, default 12
-        The highest order ν (per revolution) that ``largest_order`` and ``torsional_merit``
-        consider.
+        The highest order ν (per revolution) that ``largest_order`` and the torsional
+        criteria consider.
+    modes : int, default 2
+        With a shaft: how many of its elastic modes, from the lowest, the torsional criteria
+        weigh (at most its nodes − 1; fewer where it has fewer).
     max_candidates : int, default 4096
         At most this many candidates are made (in a fixed order, the machine's own first);
         where the crank allows more, the table says so (``attrs["exhaustive"]`` False). Each
@@ -150,14 +157,18 @@ def firing_orders(
         four strokes) and ``largest_order_amplitude`` [N·m]; the frame's criteria at
         ``rpm`` held constant: ``free_moment_1`` and ``free_moment_2`` [N·m] (inertial: the
         largest magnitude over the cycle of the first- and second-order shaking moment
-        vector, pitch and yaw together, about z = 0: :func:`~multicrank.shaking_forces`),
+        vector, pitch and yaw together, about the engine centre z_ref: :func:`~multicrank.shaking_forces`),
         ``max_bearing_load`` [N] (the largest load on any main bearing over the working
-        cycle, gas, inertia and weights: :func:`~multicrank.bearing_loads` at 720 angles); with a shaft
-        ``torsional_merit`` [N·m] (the largest ``excitation`` of the shaft's first mode,
-        :func:`~multicrank.torsional_merit`, over the orders up to ``max_order`` whose
-        resonance speed lies in the machine's ``rpm_range``, ends included — or from 0 to
-        ``rpm`` where it has none; 0 where no order resonates there); ``pareto`` (no other row
-        is at least as good on every criterion and better on one); and ``machine`` (the
+        cycle, gas, inertia and weights: :func:`~multicrank.bearing_loads` at 720 angles); with a
+        shaft, of the resonances (mode ≤ ``modes``, order ≤ ``max_order``) whose speed lies in
+        the machine's ``rpm_range``, ends included — or from 0 to ``rpm`` where it has none —
+        ``torsional_major`` and ``torsional_minor`` [N·m/√(kg·m²)] (the largest
+        ``modal_excitation`` of :func:`~multicrank.torsional_merit`, comparable between modes,
+        of the major orders — every cylinder in phase, which no firing order changes — and of
+        the minor ones, which the firing order decides) and ``torsional_merit`` [N·m] (the
+        largest classical ``excitation`` of the first mode, kept for comparison; not a
+        criterion of the front), each 0 where no such order resonates there; ``pareto`` (no
+        other row is at least as good on every criterion and better on one); and ``machine`` (the
         candidate's :class:`~multicrank.Machine`). ``attrs``: ``candidates`` (how many
         assignments the crank allows), ``distinct`` (the rows), ``exhaustive`` (whether
         every candidate was made), ``rpm``, ``rank_by``, ``criteria`` (the criteria
@@ -231,18 +242,19 @@ def firing_orders(
     import pandas as pd
 
     from ..motion.sweep import motion_sweep
-    from ..torsion.merit import first_mode_merit, speed_window
+    from ..torsion.merit import firing_criteria, speed_window
     from ..torsion.shaft import shaft_of
 
     machine = as_instance(machine, Machine, "machine")
     chosen_shaft = None if shaft is None and machine.shaft is None else shaft_of(machine, shaft)
-    criteria = CRITERIA if chosen_shaft is not None else CRITERIA[:-1]
-    order_by = as_option(rank_by, "rank_by", CRITERIA)
-    if order_by not in criteria:
+    criteria = CRITERIA if chosen_shaft is not None else tuple(c for c in CRITERIA if c not in SHAFT_CRITERIA)
+    order_by = as_option(rank_by, "rank_by", RANKINGS)
+    if chosen_shaft is None and order_by not in criteria:
         raise MechanismError(
-            f"rank_by='torsional_merit' needs a shaft: give shaft=mc.Shaft(...); machine {machine.name!r} has none"
+            f"rank_by={order_by!r} needs a shaft: give shaft=mc.Shaft(...); machine {machine.name!r} has none"
         )
     highest = as_count(max_order, "max_order", minimum=1)
+    mode_count = as_count(modes, "modes", minimum=1)
     limit = as_count(max_candidates, "max_candidates", minimum=1)
     progress = as_flag(progress, "progress")
     if rpm is None and machine.rpm is None:
@@ -255,9 +267,17 @@ def firing_orders(
     groups = _groups(machine, found)
     values = frame_criteria(machine, found, speed, progress)
     speeds = speed_window(machine, speed)
+    shown = list(criteria[1:])
+    sums: list[np.ndarray] = []
     if chosen_shaft is not None:
-        values["torsional_merit"] = first_mode_merit(machine, chosen_shaft, found, highest, speeds)
-    key = np.column_stack([groups, *(ticks(values[name]) for name in criteria[1:])])
+        torsion = firing_criteria(machine, chosen_shaft, found, highest, speeds, mode_count)
+        values.update(torsional_major=torsion.major, torsional_minor=torsion.minor, torsional_merit=torsion.merit)
+        shown.append("torsional_merit")
+        # Every order's vector sum in every mode, in steps of AGREE of the most it can be
+        # (Σ_j abs(a_j) <= the cylinders): firings that excite any order differently are apart.
+        flat = torsion.vector_sums.reshape(len(found), -1)
+        sums = list(np.rint(flat / (AGREE * found.shape[1])).astype(np.int64).T)
+    key = np.column_stack([groups, *(ticks(values[name]) for name in shown), *sums])
     _, first = np.unique(key, axis=0, return_index=True)
     kept = np.sort(first)  # candidate 0, the machine as given, first
     phases = found[kept]
@@ -278,7 +298,7 @@ def firing_orders(
             **motion,
             "largest_order": largest,
             "largest_order_amplitude": amplitude,
-            **{name: values[name][kept] for name in criteria[1:]},
+            **{name: values[name][kept] for name in shown},
         }
     )
     scores = np.column_stack([ticks(table[name].to_numpy()) for name in criteria])
@@ -286,7 +306,7 @@ def firing_orders(
     table["machine"] = pd.Series(_candidate_machines(machine, phases), dtype=object)
     # Sorted by the rounded criterion, so that values equal but for rounding keep the
     # candidates' order (the machine as given first); NaN (stalled) last.
-    table = table.iloc[np.argsort(scores[:, criteria.index(order_by)], kind="stable")].reset_index(drop=True)
+    table = table.iloc[np.argsort(ticks(table[order_by].to_numpy()), kind="stable")].reset_index(drop=True)
     table.attrs.update(
         candidates=total,
         distinct=len(table),

@@ -3,7 +3,7 @@ criterion before and after (:class:`CounterweightOptimum`)."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from typing import Any
 
 import numpy as np
@@ -17,7 +17,7 @@ __all__ = ["CRITERIA", "CounterweightOptimum"]
 CRITERIA: dict[str, str] = {"delta": "", "free_force_1": "N", "free_moment_1": "N·m", "max_bearing_load": "N"}
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class CounterweightOptimum:
     """The result of :func:`optimize_counterweights`.
 
@@ -51,10 +51,16 @@ class CounterweightOptimum:
         revolution of the first-order shaking force, forward + backward of
         :func:`~multicrank.shaking_forces` at ``rpm`` held constant.
     free_moment_1, free_moment_1_before : float
-        The first-order free moment about z = 0 [N·m], after and before, alike.
-    max_bearing_load_limit, max_free_force_limit : float or None
-        The constraints the optimum keeps [N] (``max_bearing_load`` ≤ the one,
-        ``free_force_1`` ≤ the other); None where not given.
+        The first-order free moment about the engine centre z_ref [N·m], after and before, alike.
+    max_bearing_load_limit, max_free_force_limit, max_free_moment_limit : float or None
+        The constraints the optimum keeps (``max_bearing_load`` ≤ the first [N],
+        ``free_force_1`` ≤ the second [N], ``free_moment_1`` ≤ the third [N·m]); None where
+        not given.
+    at_bound : tuple of bool
+        Per throw, whether its optimum lies on a bound of the search (within 1e-6 of the
+        search width ``high − low`` of ``low`` or ``high``): the optimiser would have gone
+        further, so the objective there is the bounds' as much as the machine's. Widen
+        ``bounds`` (or accept the bound as a design limit). ``repr`` says so.
     rpm : float
         The mean speed [1/min] of ``delta`` (and of the "delta" and "gravity_effect"
         objectives), and the constant speed of the frame's criteria, objectives and
@@ -89,6 +95,8 @@ class CounterweightOptimum:
     free_moment_1_before: float
     max_bearing_load_limit: float | None
     max_free_force_limit: float | None
+    max_free_moment_limit: float | None
+    at_bound: tuple[bool, ...]
     rpm: float
     machine: Machine
     machine_before: Machine
@@ -97,6 +105,26 @@ class CounterweightOptimum:
     nit: int
     nfev: int
     result: Any = field(repr=False)
+
+    def __eq__(self, other: object) -> bool:
+        """Equal where every field is (arrays element by element, NaN equal to NaN); the
+        optimiser's raw ``result`` is not compared."""
+        if not isinstance(other, CounterweightOptimum):
+            return NotImplemented
+        for item in fields(self):
+            if item.name == "result":
+                continue
+            mine, theirs = getattr(self, item.name), getattr(other, item.name)
+            if isinstance(mine, np.ndarray) or isinstance(theirs, np.ndarray):
+                if not np.array_equal(np.asarray(mine), np.asarray(theirs), equal_nan=True):
+                    return False
+            elif isinstance(mine, float) and isinstance(theirs, float) and mine != mine and theirs != theirs:
+                continue
+            elif mine != theirs:
+                return False
+        return True
+
+    __hash__ = None  # type: ignore[assignment]  # mutable arrays inside: unhashable, as numpy's
 
     @property
     def improvement(self) -> float:
@@ -111,7 +139,7 @@ class CounterweightOptimum:
         pandas.DataFrame
             Indexed by ``criterion``: "delta" (δ with gravity at ``rpm``),
             "free_force_1" (the first-order free force [N]), "free_moment_1" (the
-            first-order free moment about z = 0 [N·m]) and "max_bearing_load" (the largest
+            first-order free moment about the engine centre [N·m]) and "max_bearing_load" (the largest
             main-bearing load over the cycle [N]), the last three at ``rpm`` held constant;
             columns ``before`` (the machine as given), ``after`` (the optimum) and ``unit``
             ("" for δ).
@@ -135,7 +163,8 @@ class CounterweightOptimum:
         pandas.DataFrame
             One row per throw: ``throw`` (from 1), ``cylinders`` (from 1, "+"-joined),
             ``angle_deg`` (its pin angle [°]), ``counterweight_before`` and
-            ``counterweight`` (first moments [kg·m]).
+            ``counterweight`` (first moments [kg·m]) and ``at_bound`` (whether the optimum
+            lies on a bound of the search).
         """
         import pandas as pd
 
@@ -146,12 +175,17 @@ class CounterweightOptimum:
                 "angle_deg": np.degrees(self.throw_angles),
                 "counterweight_before": self.counterweights_before,
                 "counterweight": self.counterweights,
+                "at_bound": list(self.at_bound),
             }
         )
 
     def __repr__(self) -> str:
         moments = ", ".join(f"{m:.4g}" for m in self.counterweights)
+        bound = ""
+        if any(self.at_bound):
+            throws = ", ".join(str(t + 1) for t, on in enumerate(self.at_bound) if on)
+            bound = f", throw{'s' if sum(self.at_bound) > 1 else ''} {throws} at a bound of the search"
         return (
             f"CounterweightOptimum({self.objective_name}: {self.objective_before:.6g} → {self.objective:.6g}, "
-            f"counterweights [{moments}] kg·m, success={self.success})"
+            f"counterweights [{moments}] kg·m{bound}, success={self.success})"
         )

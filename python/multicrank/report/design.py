@@ -100,7 +100,7 @@ def counterweight_forces(optimum: Any, rpm: float, kept: Any = None) -> pd.DataF
     optimum for δ under ``max_bearing_load``), one for its machine; with ``design`` ("as
     given", "optimum", "bearings kept"), ``delta`` (δ with gravity at the optimum's speed),
     ``first_order_force`` [N] and ``first_order_moment`` [N·m] (the largest
-    magnitude the first order's force and moment about z = 0 reach over a cycle: forward +
+    magnitude the first order's force and moment about the engine centre reach over a cycle: forward +
     backward of :func:`~multicrank.shaking_forces`), ``max_bearing_load`` [N] (the largest load
     of any main bearing over a working cycle, gravity included: :func:`~multicrank.bearing_loads`)
     and ``bearing``, the bearing that takes it."""
@@ -234,7 +234,7 @@ def _firing_html(results: DesignResults) -> str:
     from .forces import number
 
     marked = ' class="own"'
-    merit = "torsional_merit" in table.columns
+    merit = "torsional_minor" in table.columns
     records: Iterable[Any] = table.itertuples()  # the columns of firing_table
     body = "".join(
         f"<tr{marked if r.as_given else ''}><td>{r.rank}</td><td>{html.escape(str(r.firing))}"
@@ -243,15 +243,18 @@ def _firing_html(results: DesignResults) -> str:
         f"<td>{_delta(r.delta_without_gravity)}{_near_stall_mark(r.delta_without_gravity)}</td>"
         f"<td>{_percent(r.gravity_effect)}</td>"
         f"<td>{number(r.free_moment_1)}</td><td>{number(r.free_moment_2)}</td><td>{number(r.max_bearing_load)}</td>"
-        + (f"<td>{number(r.torsional_merit)}</td>" if merit else "")
+        + (f"<td>{number(r.torsional_major)}</td><td>{number(r.torsional_minor)}</td>" if merit else "")
         + f"<td>{'✓' if r.pareto else ''}</td></tr>"
         for r in records
     )
-    criteria = "δ, the free moments, the largest bearing load" + (" and the torsional merit" if merit else "")
-    merit_header = "<th>torsional merit [N·m]</th>" if merit else ""
+    criteria = "δ, the free moments, the largest bearing load" + (
+        " and the torsional excitations by major and minor orders" if merit else ""
+    )
+    merit_header = "<th>torsional, major [N·m/√(kg·m²)]</th><th>torsional, minor [N·m/√(kg·m²)]</th>" if merit else ""
     merit_text = (
-        "; with the machine's shaft, the torsional merit: the largest excitation of its first mode by an order that "
-        "resonates in the speed range (below)"
+        "; with the machine's shaft, the largest modal excitation (comparable between modes) of its first modes by "
+        "an order that resonates in the speed range (below), apart for the major orders, in which every cylinder "
+        "fires in phase and which no firing order changes, and the minor ones, which the firing order decides"
         if merit
         else ""
     )
@@ -262,9 +265,9 @@ def _firing_html(results: DesignResults) -> str:
 they fire from cylinder 1 (the direction of rotation), "+" for those firing together; beside it the crank
 angle at which each cylinder fires, in cylinder order, from cylinder 1's firing. Beside δ, what an engine designer
 weighs too, each at {results.rpm:g} rpm held constant: the first- and second-order free moments on the frame (the
-largest the order's moment vector reaches over a cycle, about z = 0) and the largest main-bearing load over the
-working cycle{merit_text}. A row marked Pareto is one no other row beats on every one of {criteria} at once: the
-choice is among those. Firings that run alike on a rigid shaft (one δ) are separate rows where those differ.</p>
+largest the order's moment vector reaches over a cycle, about the engine centre) and the largest main-bearing load
+over the working cycle{merit_text}. A row marked Pareto is one no other row beats on every one of {criteria} at once:
+the choice is among those. Firings that run alike on a rigid shaft (one δ) are separate rows where those differ.</p>
 <table><tr><th>rank</th><th>firing</th><th>fires at [°], cylinder 1, 2, …</th><th>δ with gravity</th>
 <th>δ without gravity</th><th>gravity changes δ by</th><th>free moment, 1st order [N·m]</th>
 <th>free moment, 2nd order [N·m]</th><th>largest bearing load [N]</th>{merit_header}<th>Pareto</th></tr>{body}</table>
@@ -277,7 +280,8 @@ def _counterweight_html(results: DesignResults) -> str:
     body = "".join(
         f"<tr><td>{r.throw}</td><td>{html.escape(str(r.cylinders))}</td><td>{r.angle_deg:g}°</td>"
         f"<td>{r.counterweight_before:.4g}</td><td>{r.counterweight:.4g}</td>"
-        f"<td>{r.counterweight - r.counterweight_before:+.3g}</td></tr>"
+        f"<td>{r.counterweight - r.counterweight_before:+.3g}</td>"
+        f"<td>{'<b>at a bound of the search</b>' if r.at_bound else ''}</td></tr>"
         for r in records
     )
     work = f"{counted(optimum.nit, 'generation')}, {counted(optimum.nfev, 'evaluation')}"
@@ -294,6 +298,14 @@ def _counterweight_html(results: DesignResults) -> str:
         (f"{objective} smaller by", f"<b>{100 * optimum.improvement:.3g} %</b>"),
         ("converged", converged),
     ]
+    if any(optimum.at_bound):
+        summary.append(
+            (
+                "at a bound of the search",
+                "<b>yes</b>: the optimiser would go further than the bounds allow, so the optimum is the bounds' as "
+                "much as the machine's (widen <code>bounds</code>, or take them as a limit of the design)",
+            )
+        )
     verdict = (
         f" Here no counterweights within the bounds make δ smaller by {100 * NEGLIGIBLE:g} % or more: they are not "
         "worth changing for δ."
@@ -308,7 +320,7 @@ at {optimum.rpm:g} rpm smallest, the rest of the machine as given (<code>mc.opti
 differential evolution over the library's default bounds, then polished). A counterweight also balances the
 rotating masses: it changes the shaking forces and the bearing loads, which δ does not see (below).{verdict}</p>
 <table><tr><th>throw</th><th>cylinders</th><th>pin angle</th><th>as given [kg·m]</th><th>optimum [kg·m]</th>
-<th>change [kg·m]</th></tr>{body}</table>
+<th>change [kg·m]</th><th></th></tr>{body}</table>
 <table>{summary_body}</table>
 {_near_stall_legend(optimum.delta_before, optimum.delta)}
 {_counterweight_forces_html(results)}"""
@@ -320,7 +332,7 @@ UNCHANGED = 1e-9
 #: The before/after rows: the column of :func:`counterweight_forces`, its name and unit.
 _FORCE_ROWS = {
     "first_order_force": ("first-order force on the frame", "N"),
-    "first_order_moment": ("first-order moment on the frame about z = 0", "N·m"),
+    "first_order_moment": ("first-order moment on the frame about the engine centre", "N·m"),
     "max_bearing_load": ("largest main-bearing load", "N"),
 }
 

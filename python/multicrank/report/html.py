@@ -72,6 +72,7 @@ td.diff { background: #fdd; }
 tr.own td { background: #e8f0fe; font-weight: bold; }
 caption { caption-side: top; font-weight: bold; text-align: left; padding-bottom: .3em; }
 .note { color: #555; font-size: .9em; }
+.warning { background: #fff4e0; border-left: 4px solid #e66100; padding: .3em .6em; }
 .tables { display: flex; flex-wrap: wrap; gap: 2em; }
 """
 

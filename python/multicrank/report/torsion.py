@@ -1,7 +1,8 @@
 """The report's torsional part of "What to change", for a machine with a shaft
 (``Machine.shaft``): a Campbell diagram — the shaft's natural frequencies against the firing
-orders over the speeds — and the resonances in the machine's speed range with their
-excitation (:func:`multicrank.torsional_merit`)."""
+orders over the speeds — and the resonances in the machine's speed range with their modal
+excitation, comparable between modes (:func:`multicrank.torsional_merit`), those at the
+running speed pointed out."""
 
 from __future__ import annotations
 
@@ -39,7 +40,8 @@ def resonances(machine: Machine, rpm: float) -> pd.DataFrame:
 def campbell_figure(machine: Machine, rpm: float, merit: pd.DataFrame) -> tuple[Any, pd.DataFrame]:
     """The Campbell diagram: frequency [Hz] against speed [1/min], a ray f = ν·n/60 per order
     (major orders bold), a line per natural frequency, the speed range shaded and each
-    resonance in it marked by a circle whose area grows with its excitation."""
+    resonance in it marked by a circle whose area grows with its modal excitation (comparable
+    between modes), one at the running speed filled. Every label stays inside the axes."""
     from .plotting import pyplot
 
     plt = pyplot()
@@ -61,25 +63,40 @@ def campbell_figure(machine: Machine, rpm: float, merit: pd.DataFrame) -> tuple[
             zorder=2,
         )
         if order == int(order):  # the half orders' rays unlabelled: the labels would crowd
+            # At the ray's end on the frame, set inward from it so that it stays inside the axes.
             end = min(top_speed, top_frequency * 60 / order)
-            ax.annotate(f"{order:g}", (end, order * end / 60), fontsize=7, xytext=(1, 1), textcoords="offset points",
-                        color="tab:red" if major else "0.3")  # fmt: skip
+            on_top = end < top_speed
+            ax.annotate(f"{order:g}", (end, order * end / 60), fontsize=7, textcoords="offset points",
+                        xytext=(-2, -2), ha="right" if not on_top else "center", va="top",
+                        color="tab:red" if major else "0.3", annotation_clip=True)  # fmt: skip
     for mode, frequency in frequencies.items():
         ax.axhline(frequency, color="tab:blue", lw=1.2, ls="--", zorder=2)
         ax.annotate(f"mode {mode}: {frequency:.4g} Hz", (0.99 * top_speed, frequency), fontsize=8, xytext=(0, 3),
                     textcoords="offset points", color="tab:blue", ha="right")  # fmt: skip
     inside = merit[merit["in_range"]]
     if len(inside):
-        largest = float(inside["excitation"].max()) or 1.0
+        largest = float(inside["modal_excitation"].max()) or 1.0
         ax.scatter(
             inside["resonance_rpm"],
             inside["order"] * inside["resonance_rpm"] / 60,
-            s=20 + 280 * inside["excitation"] / largest,
+            s=20 + 280 * inside["modal_excitation"] / largest,
             facecolors="none",
             edgecolors="black",
             zorder=3,
-            label="resonance in range (area ∝ excitation)",
+            label="resonance in range (area ∝ modal excitation)",
         )
+        running = inside[inside["at_running_speed"]]
+        if len(running):
+            ax.scatter(
+                running["resonance_rpm"],
+                running["order"] * running["resonance_rpm"] / 60,
+                s=20 + 280 * running["modal_excitation"] / largest,
+                color="tab:orange",
+                edgecolors="black",
+                zorder=4,
+                label="within ±5 % of the running speed",
+            )
+    ax.axvline(rpm, color="tab:orange", lw=0.8, ls=":", zorder=1)
     ax.plot([], [], color="tab:red", lw=1.6, label="major order")
     ax.plot([], [], color="0.55", lw=0.7, label="minor order")
     ax.set_xlim(0, top_speed)
@@ -94,22 +111,24 @@ def campbell_figure(machine: Machine, rpm: float, merit: pd.DataFrame) -> tuple[
 
 def torsion_html(machine: Machine, rpm: float, merit: pd.DataFrame, figures: dict[str, str]) -> str:
     """The torsional part of "What to change": the Campbell diagram and the strongest
-    resonances in the speed range, largest excitation first."""
+    resonances in the speed range, largest modal excitation first, and those within ±5 % of
+    the running speed named."""
     from .forces import number
 
     low, high = speed_window(machine, rpm)
-    ranked = merit[merit["in_range"]].sort_values("excitation", ascending=False, kind="stable")
+    ranked = merit[merit["in_range"]].sort_values("modal_excitation", ascending=False, kind="stable")
     inside = ranked.head(RESONANCE_ROWS)
     if len(inside):
         records: Iterable[Any] = inside.itertuples()  # torsional_merit's columns
         body = "".join(
             f"<tr><td>{r.mode}</td><td>{r.order:g}{' (major)' if r.major else ''}</td>"
-            f"<td>{r.resonance_rpm:.4g}</td><td>{r.vector_sum:.3g}</td><td>{number(r.excitation)}</td></tr>"
+            f"<td>{r.resonance_rpm:.4g}{' <b>(at the running speed)</b>' if r.at_running_speed else ''}</td>"
+            f"<td>{r.vector_sum:.3g}</td><td>{number(r.excitation)}</td><td>{number(r.modal_excitation)}</td></tr>"
             for r in records
         )
         table = (
             "<table><tr><th>mode</th><th>order</th><th>resonance [1/min]</th><th>vector sum</th>"
-            f"<th>excitation [N·m]</th></tr>{body}</table>"
+            f"<th>excitation [N·m]</th><th>modal excitation [N·m/√(kg·m²)]</th></tr>{body}</table>"
         )
         if len(ranked) > len(inside):
             table += (
@@ -118,6 +137,16 @@ def torsion_html(machine: Machine, rpm: float, merit: pd.DataFrame, figures: dic
             )
     else:
         table = f"<p>No order up to {ORDERS} meets a mode of the shaft in the speed range.</p>"
+    running = merit[merit["at_running_speed"]]
+    if len(running):
+        named = "; ".join(
+            f"mode {r.mode}, order {r.order:g} at {r.resonance_rpm:.4g} 1/min" for r in running.itertuples()
+        )
+        table += (
+            f'<p class="warning"><b>A resonance at the running speed</b> ({rpm:g} 1/min, within ±5 %): {named}. '
+            "The machine runs on it: move the mode (the shaft, a flywheel, a coupling), damp it, or show by a "
+            "forced-response calculation that its stresses are within the limits.</p>"
+        )
     frequencies = ", ".join(f"{f:.4g} Hz" for f in merit.groupby("mode")["natural_frequency"].first())
     image = f'<img src="{figures["design_campbell"]}" alt="Campbell diagram of the shaft">'
     return f"""
@@ -125,8 +154,10 @@ def torsion_html(machine: Machine, rpm: float, merit: pd.DataFrame, figures: dic
 <p>The shaft (<code>Machine.shaft</code>: {len(machine.shaft.inertia) if machine.shaft else 0} nodes) has its
 first elastic modes at {frequencies}. An order ν meets a mode of frequency f at n = 60·f/ν: each circle in the
 diagram is such a resonance within the speed range ({low:g}–{high:g} 1/min), larger the more the firing drives it
-(the excitation |Σ a_j T_ν,j| of <code>mc.torsional_merit</code>: each cylinder's torque harmonic weighted by the
-mode's swing at its throw). Major orders (every cylinder in phase) are red. This ranks; the size of the vibration
-needs the damping: <code>mc.to_opentorsion</code> hands the model on.</p>
+(the modal excitation abs(Σ φ_j T_ν,j) of <code>mc.torsional_merit</code>: each cylinder's torque harmonic weighted
+by the mass-normalised mode's swing at its throw, so that modes compare; the classical excitation with the
+swings relative to the largest throw's is listed beside it). Major orders (every cylinder in phase) are red; the
+dotted line is the running speed, and a filled circle a resonance within ±5 % of it. This ranks; the size of the
+vibration needs the damping: <code>mc.to_opentorsion</code> hands the model on.</p>
 {image}
 {table}"""

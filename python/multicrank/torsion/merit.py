@@ -25,6 +25,7 @@ that (:func:`~multicrank.to_opentorsion`).
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -35,11 +36,29 @@ from ..machine.machine import Machine
 from ..motion.orders import CylinderOrders, cylinder_orders
 from .shaft import Shaft, shaft_of
 
-__all__ = ["MERIT_UNITS", "first_mode_merit", "mode_excitation", "speed_window", "torsional_merit"]
+__all__ = [
+    "AT_RUNNING_SPEED",
+    "MERIT_UNITS",
+    "ON_NODE",
+    "TorsionalCriteria",
+    "firing_criteria",
+    "mode_excitation",
+    "speed_window",
+    "torsional_merit",
+]
 
 #: Firing angles within this many radians (times the order) are in phase: the layouts'
 #: phases are exact to ~1e-13 rad.
 IN_PHASE = 1e-9
+#: A cylinder whose amplitude in a mode is at most this fraction of the mode's largest over
+#: all nodes sits on a node of the mode: it contributes exactly 0 (what an eigen solver gives
+#: there is rounding, and rounding divided by rounding is no amplitude).
+ON_NODE = 1e-9
+#: A resonance within this fraction of the machine's own speed is at its running speed.
+AT_RUNNING_SPEED = 0.05
+#: Candidates whose excitations are computed at once (an array of this many × modes ×
+#: cylinders × orders complex numbers).
+_CHUNK = 1024
 #: The columns of :func:`torsional_merit`, with their units.
 MERIT_UNITS = {
     "mode": "",
@@ -48,7 +67,9 @@ MERIT_UNITS = {
     "resonance_rpm": "1/min",
     "vector_sum": "",
     "excitation": "N·m",
+    "modal_excitation": "N·m/√(kg·m²)",
     "major": "",
+    "at_running_speed": "",
 }
 
 
@@ -58,16 +79,31 @@ def speed_window(machine: Machine, rpm: float) -> tuple[float, float]:
     return machine.rpm_range if machine.rpm_range is not None else (0.0, rpm)
 
 
-def cylinder_amplitudes(shaft: Shaft, shapes: np.ndarray) -> np.ndarray:
-    """Each mode's amplitude at each cylinder's node, scaled so that the largest magnitude
-    over the cylinders' nodes is 1: (modes, cylinders)."""
+def cylinder_amplitudes(shaft: Shaft, shapes: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Each mode's amplitude at each cylinder's node, (modes, cylinders) twice: scaled so that
+    the largest magnitude over the cylinders' nodes is 1 (the classical relative amplitudes
+    a_j), and mass-normalised (φ_j of the shape with φᵀJφ = 1 [1/√(kg·m²)]). A cylinder at
+    most :data:`ON_NODE` of the mode's largest amplitude over all nodes is exactly 0 in both;
+    a mode with every cylinder on a node has a_j = 0 for all."""
+    shapes = np.asarray(shapes, dtype=float)  # (nodes, modes)
+    norm = np.sqrt(np.einsum("n,nm,nm->m", np.asarray(shaft.inertia, dtype=float), shapes, shapes))
     at = shapes[list(shaft.cylinder_nodes), :].T
-    return at / np.abs(at).max(axis=1, keepdims=True)
+    at = np.where(np.abs(at) <= ON_NODE * np.abs(shapes).max(axis=0)[:, None], 0.0, at)
+    largest = np.abs(at).max(axis=1, keepdims=True)
+    relative = np.divide(at, largest, out=np.zeros_like(at), where=largest > 0)
+    return relative, at / norm[:, None]
 
 
 def firing_angles(phases: np.ndarray, cycle: float) -> np.ndarray:
     """θ_j = (−α_j) mod Φ [rad]: the crank angle at which each cylinder fires."""
     return np.mod(-np.asarray(phases, dtype=float), cycle)
+
+
+def in_phase(theta: np.ndarray, orders: np.ndarray) -> np.ndarray:
+    """Whether every cylinder fires in phase for each order (νθ_j the same angle modulo 2π, to
+    rounding scaled by the order): the major orders, (…, orders) of θ (…, cylinders)."""
+    turn = np.remainder(orders * (theta[..., :, None] - theta[..., :1, None]) + math.pi, 2 * math.pi) - math.pi
+    return np.all(np.abs(turn) <= IN_PHASE * np.maximum(orders, 1.0), axis=-2)
 
 
 def mode_excitation(
@@ -76,28 +112,63 @@ def mode_excitation(
     """E = abs(Σ_j a_j T_ν,j) of each candidate (rows of ``phases``, (candidates, cylinders)
     [rad]), mode (rows of ``amplitude``, (modes, cylinders)) and order, the inertia torque at
     each mode's and order's ``resonance`` speed ((modes, orders) [1/min]): (candidates,
-    modes, orders) [N·m]."""
-    torque = harmonics.at(phases[:, None, :], resonance[None, :, :] * math.pi / 30)  # (n, modes, j, orders)
-    return np.abs(np.einsum("mj,nmjo->nmo", amplitude, torque))
+    modes, orders) [N·m] (times the amplitudes' unit)."""
+    omega = resonance * math.pi / 30
+    found = []
+    for start in range(0, len(phases), _CHUNK):
+        torque = harmonics.at(phases[start : start + _CHUNK, None, :], omega[None, :, :])  # (n, modes, j, orders)
+        found.append(np.abs(np.einsum("mj,nmjo->nmo", amplitude, torque)))
+    return np.concatenate(found) if found else np.zeros((0, *resonance.shape))
 
 
-def first_mode_merit(
-    machine: Machine, shaft: Shaft, phases: np.ndarray, highest: int, speeds: tuple[float, float]
-) -> np.ndarray:
-    """The torsional merit of each candidate (rows of ``phases`` [rad]): the largest
-    excitation of the shaft's first mode over the orders up to ``highest`` whose resonance
-    speed lies in ``speeds`` (low, high) [1/min], ends included; 0 where none does."""
+@dataclass(frozen=True)
+class TorsionalCriteria:
+    """The torsional criteria of candidates (:func:`firing_criteria`), one value per
+    candidate: ``merit`` (the largest classical ``excitation`` of the first mode) and
+    ``major``/``minor`` (the largest ``modal_excitation`` over every mode asked, of the
+    major resp. minor orders) of the resonances in the speed range [N·m, N·m/√(kg·m²)], 0
+    where none; and ``vector_sums`` (candidates, modes, orders), every order's."""
+
+    merit: np.ndarray
+    major: np.ndarray
+    minor: np.ndarray
+    vector_sums: np.ndarray
+
+
+def firing_criteria(
+    machine: Machine, shaft: Shaft, phases: np.ndarray, highest: int, speeds: tuple[float, float], modes: int
+) -> TorsionalCriteria:
+    """The :class:`TorsionalCriteria` of each candidate (rows of ``phases`` [rad]) on the
+    shaft's lowest ``modes`` elastic modes (at most its nodes − 1), orders up to ``highest``,
+    resonances whose speed lies in ``speeds`` (low, high) [1/min], ends included."""
+    count = min(modes, len(shaft.inertia) - 1)
     found = shaft.modes()
-    amplitude = cylinder_amplitudes(shaft, found.shapes[:, :1])
+    relative, modal = cylinder_amplitudes(shaft, found.shapes[:, :count])
     harmonics = cylinder_orders(machine, highest)
-    resonance = 60.0 * found.natural_frequency[0] / harmonics.orders
+    orders = harmonics.orders
+    resonance = 60.0 * found.natural_frequency[:count, None] / orders[None, :]  # (modes, orders)
     inside = (resonance >= speeds[0]) & (resonance <= speeds[1])
+    theta = firing_angles(phases, machine.cycle)
+    vectors = np.exp(1j * orders * theta[:, :, None])  # (candidates, cylinders, orders)
+    vector_sums = np.abs(np.einsum("mj,njo->nmo", relative, vectors))
+    none = np.zeros(len(phases))
     if not inside.any():
-        return np.zeros(len(phases))
-    chosen = CylinderOrders(
-        harmonics.orders[inside], *(part[:, inside] for part in (harmonics.gas, harmonics.gravity, harmonics.inertial))
-    )
-    return mode_excitation(chosen, amplitude, phases, resonance[None, inside])[:, 0, :].max(axis=1)
+        return TorsionalCriteria(none, none, none, vector_sums)
+    used = inside.any(axis=0)  # the orders that resonate in some mode
+    chosen = harmonics.only(used)
+    modal_excitation = mode_excitation(chosen, modal, phases, resonance[:, used])
+    counted = inside[None, :, used]
+    major = in_phase(theta, orders[used])[:, None, :]  # (candidates, 1, orders)
+
+    def largest(mask: np.ndarray) -> np.ndarray:
+        return np.where(mask, modal_excitation, 0.0).max(axis=(1, 2))
+
+    first = inside[0, used]
+    merit = none
+    if first.any():
+        classical = mode_excitation(chosen.only(first), relative[:1], phases, resonance[:1, used][:, first])
+        merit = classical[:, 0, :].max(axis=1)
+    return TorsionalCriteria(merit, largest(counted & major), largest(counted & ~major), vector_sums)
 
 
 def torsional_merit(
@@ -131,11 +202,20 @@ def torsional_merit(
         One row per (mode, order), by mode then order: ``mode`` (1 = the first elastic
         mode), ``order`` ν [1/rev], ``natural_frequency`` f [Hz], ``resonance_rpm`` = 60 f/ν
         [1/min] (where order ν meets the mode), ``vector_sum`` abs(Σ_j a_j e^{iνθ_j})
-        [dimensionless], ``excitation`` abs(Σ_j a_j T_ν,j) [N·m] and ``major`` (every cylinder
-        fires in phase for that order). a_j is the mode's amplitude at cylinder j's node,
-        scaled so that the largest magnitude over the cylinders' nodes is 1; θ_j = (−α_j) mod
-        Φ its firing angle; T_ν,j the complex order-ν harmonic of its own tangential torque —
-        gas, gravity and inertia, the inertia torque taken at the row's ``resonance_rpm``.
+        [dimensionless], ``excitation`` abs(Σ_j a_j T_ν,j) [N·m], ``modal_excitation``
+        abs(Σ_j φ_j T_ν,j) [N·m/√(kg·m²)], ``major`` (every cylinder fires in phase for that
+        order) and ``at_running_speed`` (the resonance lies within ±5 % of the machine's own
+        ``rpm``: the machine runs on it; False without an ``rpm``). a_j is the mode's
+        amplitude at cylinder j's node, scaled so that the largest magnitude over the
+        cylinders' nodes is 1 (a lone cylinder has a_j = 1 wherever it sits): the classical
+        relative amplitudes, which compare firing orders within one mode. φ_j is the same
+        amplitude of the mass-normalised shape (φᵀJφ = 1), so that ``modal_excitation``
+        compares modes too: at resonance the mode's modal amplitude is modal_excitation /
+        (2 ζ ω_m²) for a modal damping ratio ζ. A cylinder whose amplitude is at most 1e-9
+        of the mode's largest over all nodes sits on a node of it and counts exactly 0.
+        θ_j = (−α_j) mod Φ is cylinder j's firing angle; T_ν,j the complex order-ν harmonic
+        of its own tangential torque — gas, gravity and inertia, the inertia torque taken
+        at the row's ``resonance_rpm`` (and the gas too, by the machine's ``load_law``).
         ``attrs``: ``units``, ``machine`` (its name), ``strokes``.
 
     Raises
@@ -190,18 +270,21 @@ def torsional_merit(
 
     found = chosen.modes()
     frequency = found.natural_frequency[:count]
-    amplitude = cylinder_amplitudes(chosen, found.shapes[:, :count])  # (modes, cylinders)
+    relative, modal = cylinder_amplitudes(chosen, found.shapes[:, :count])  # (modes, cylinders)
     harmonics = cylinder_orders(machine, highest)
     orders = harmonics.orders
     phases = np.array([c.phase for c in machine.cylinders])
     theta = firing_angles(phases, machine.cycle)
     resonance = 60.0 * frequency[:, None] / orders[None, :]  # (modes, orders) [1/min]
     vectors = np.exp(1j * orders[:, None] * theta[None, :])  # (orders, cylinders)
-    vector_sum = np.abs(amplitude @ vectors.T)  # (modes, orders)
-    excitation = mode_excitation(harmonics, amplitude, phases[None, :], resonance)[0]
-    # In phase: every νθ_j the same angle modulo 2π (to rounding, scaled by the order).
-    turn = np.remainder(orders[:, None] * (theta[None, :] - theta[:1]) + math.pi, 2 * math.pi) - math.pi
-    major = np.all(np.abs(turn) <= IN_PHASE * np.maximum(orders[:, None], 1.0), axis=1)
+    vector_sum = np.abs(relative @ vectors.T)  # (modes, orders)
+    excitation = mode_excitation(harmonics, relative, phases[None, :], resonance)[0]
+    modal_excitation = mode_excitation(harmonics, modal, phases[None, :], resonance)[0]
+    major = in_phase(theta, orders)
+    rated = machine.rpm
+    at_running = np.zeros(resonance.shape, dtype=bool)
+    if rated is not None:
+        at_running = np.abs(resonance - rated) <= AT_RUNNING_SPEED * rated
 
     table = pd.DataFrame(
         {
@@ -211,7 +294,9 @@ def torsional_merit(
             "resonance_rpm": resonance.ravel(),
             "vector_sum": vector_sum.ravel(),
             "excitation": excitation.ravel(),
+            "modal_excitation": modal_excitation.ravel(),
             "major": np.tile(major, count),
+            "at_running_speed": at_running.ravel(),
         }
     )
     if window is not None:
