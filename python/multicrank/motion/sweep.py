@@ -400,8 +400,8 @@ def motion_sweep(
         the frame's, at each design's speed (its ``rpm``, else the machine's) held constant,
         whatever the load: ``free_force_1``, ``free_force_2`` [N] and ``free_moment_1``,
         ``free_moment_2`` [N·m] (the largest magnitude over a cycle of the first- and
-        second-order shaking force and moment: forward + backward of
-        :func:`~multicrank.shaking_forces`) and ``max_bearing_load`` [N] (the largest load on
+        second-order shaking force and moment, the moment about the engine centre: forward +
+        backward of :func:`~multicrank.shaking_forces`) and ``max_bearing_load`` [N] (the largest load on
         any main bearing over the working cycle, :func:`~multicrank.bearing_loads` at 720
         angles). Default: all of the steady state's, and the flywheel's with ``delta_target``
         (the frame's only when named). Only what is asked is

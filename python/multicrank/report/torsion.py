@@ -96,7 +96,7 @@ def campbell_figure(machine: Machine, rpm: float, merit: pd.DataFrame) -> tuple[
                 zorder=4,
                 label="within ±5 % of the running speed",
             )
-    ax.axvline(rpm, color="tab:orange", lw=0.8, ls=":", zorder=1)
+    ax.axvline(rpm, color="tab:orange", lw=0.8, ls=":", zorder=1, label=f"running speed {rpm:g} 1/min")
     ax.plot([], [], color="tab:red", lw=1.6, label="major order")
     ax.plot([], [], color="0.55", lw=0.7, label="minor order")
     ax.set_xlim(0, top_speed)
@@ -104,7 +104,7 @@ def campbell_figure(machine: Machine, rpm: float, merit: pd.DataFrame) -> tuple[
     ax.set_xlabel("speed n [1/min]")
     ax.set_ylabel("frequency [Hz]")
     ax.set_title(f"Campbell diagram: {machine.name}, orders up to {ORDERS} (rays labelled at whole orders)", fontsize=9)
-    ax.legend(loc="upper left", fontsize=7)
+    ax.legend(loc="best", fontsize=7, framealpha=0.9)
     fig.tight_layout()
     return fig, merit
 
