@@ -152,6 +152,19 @@ def _quiet(function: Callable[..., Any]) -> Callable[..., Any]:
     return call
 
 
+def _polar(bearing: Any) -> Any:
+    """BearingLoads.polar of MACHINE's loads, its figure closed (``ax``, where to draw, is
+    matplotlib's own)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    ax = mc.bearing_loads(MACHINE, phi=[0.0, 1.0]).polar(bearing)
+    plt.close(ax.figure)
+    return ax
+
+
 def _machine_to_opentorsion(
     orders: Any, shaft: Any, rpm: Any, max_order: Any, part: Any, mean: Any, dofs: Any, node: Any
 ) -> Any:
@@ -468,6 +481,8 @@ REGISTRY.update(
                 "gravity": (True, "flag"),
             },
         ),
+        # a bearing's number, 0 <= bearing < bearings (a bool is refused too: test_errors_examples)
+        "BearingLoads.polar": (_polar, {"bearing": (1, "count")}),
         "Shaft": (
             mc.Shaft,
             {

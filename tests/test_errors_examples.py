@@ -57,6 +57,11 @@ from tests.test_errors import CYLINDER, DESIGN, ENGINE, GRID_RESULT, MACHINE
         (lambda: mc.DesignGrid(crank_ratio=0.3, inclination="up", u1=1, u2=0), "inclination"),
         (lambda: mc.DesignGrid(crank_ratio=0.3, inclination=0, u1=1, u2=0, strokes=[2, 3]), "strokes"),
         (lambda: mc.UniformGrid("ten", 0.0, 0.1), "count"),
+        # no angles: empty loads whose summary and polar diagram failed in numpy
+        (lambda: mc.bearing_loads(MACHINE, phi=[]), "phi"),
+        # True is an int to Python, not a bearing's number (it drew bearing 1)
+        (lambda: mc.bearing_loads(MACHINE, phi=[0.0, 1.0]).polar(True), "bearing"),
+        (lambda: mc.bearing_loads(MACHINE, phi=[0.0, 1.0]).polar(np.False_), "bearing"),
     ],
 )
 def test_issue_examples(call, parameter):

@@ -8,11 +8,14 @@ written here. Then statics: at rest the bearings carry every weight."""
 from __future__ import annotations
 
 import math
+import time
+import tracemalloc
 
 import numpy as np
 import pytest
 
 import multicrank as mc
+import multicrank._validation as validation
 from multicrank.presets import MACHINES
 
 TURN = 1440  # samples per revolution of the spectral derivatives
@@ -240,6 +243,60 @@ def test_bad_arguments_are_refused_by_name():
             mc.bearing_loads(machine, **kwargs)
     with pytest.raises(mc.MechanismError, match="machine"):
         mc.bearing_loads("inline-4")
+
+
+def test_no_angles_and_a_bool_for_a_bearing_are_refused_by_name():
+    """phi=[] gave empty loads whose summary and polar diagram failed in numpy, naming
+    nothing; polar(True) passed the bearing check (True is an int) and drew bearing 1."""
+    machine = MACHINES["boxer-compressor"]
+    for empty in ([], np.empty(0), ()):
+        with pytest.raises(mc.MechanismError, match=r"^phi must not be empty"):
+            mc.bearing_loads(machine, phi=empty)
+    loads = mc.bearing_loads(machine, phi=[0.0, 1.0])
+    for flag in (True, False, np.True_):
+        with pytest.raises(mc.MechanismError, match=r"^bearing must be an integer 0 <= bearing < 3, got "):
+            loads.polar(flag)
+    for other in (1.0, "1", None):
+        with pytest.raises(mc.MechanismError, match=r"^bearing"):
+            loads.polar(other)
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    ax = loads.polar(np.int64(2))
+    plt.close(ax.figure)
+    assert ax.get_title().startswith("bearing 2 ")
+
+
+def test_too_many_angles_are_refused_before_anything_of_their_size_is_made(monkeypatch):
+    """bearing_loads(phi=<10⁹ zeros>) was refused after 53 s, once the extension found it
+    could not have the loads' memory. The angles are counted against the memory the call
+    takes — speeds, accelerations, each cylinder's gas force and the two loads of every
+    bearing, per angle — by the project's one limit (_validation.check_size), up front."""
+    machine = MACHINES["boxer-compressor"]
+    per_angle = 2 + len(machine.cylinders) + 2 * len(machine.bearings)
+    # Beyond any machine's memory (a view: the angles themselves take none).
+    start = time.perf_counter()
+    with pytest.raises(mc.MechanismError, match=r"^phi = 10000000000000 angles for 3 bearings asks for "):
+        mc.bearing_loads(machine, phi=np.broadcast_to(0.0, (10**13,)))
+    assert time.perf_counter() - start < 5.0  # a guard against the work, not a measurement
+    # A pretend machine whose memory holds the loads of 1000 angles, and not of 1001.
+    monkeypatch.setattr(validation, "allocatable_bytes", lambda: 1000 * per_angle * 8)
+    assert mc.bearing_loads(machine, phi=np.linspace(0.0, 1.0, 1000)).vertical.shape == (3, 1000)
+    with pytest.raises(mc.MechanismError, match=r"^phi = 1001 angles for 3 bearings .* more than can be allocated"):
+        mc.bearing_loads(machine, phi=np.linspace(0.0, 1.0, 1001))
+    # Nothing of the angles' size is allocated before the refusal (numpy's allocations are
+    # traced): 10⁷ angles as a view, 80 MB as one array of them.
+    angles = np.broadcast_to(0.0, (10**7,))
+    tracemalloc.start()
+    try:
+        with pytest.raises(mc.MechanismError, match=r"^phi = 10000000 angles"):
+            mc.bearing_loads(machine, phi=angles)
+        _, peak = tracemalloc.get_traced_memory()
+    finally:
+        tracemalloc.stop()
+    assert peak < 10**6, peak
 
 
 @pytest.mark.parametrize("name", ["slow-compressor", "inline-4", "genset-v12"])

@@ -17,7 +17,7 @@ from typing import Any
 import numpy as np
 
 from .._native import MechanismError, machine_bearing_loads
-from .._validation import as_flag, as_instance, as_real_array, contiguous, rpm_from_omega
+from .._validation import as_flag, as_instance, as_real_array, check_size, contiguous, rpm_from_omega
 from ..machine.machine import Machine
 from ..machine.native import motion_machine
 from .shaking import speed_of
@@ -156,7 +156,10 @@ class BearingLoads:
         import matplotlib.pyplot as plt
 
         count = len(self.positions)
-        if not (isinstance(bearing, int | np.integer) and 0 <= bearing < count):
+        if isinstance(bearing, bool | np.bool_) or not isinstance(bearing, int | np.integer):
+            # True is an int to Python, not a bearing's number.
+            raise MechanismError(f"bearing must be an integer 0 <= bearing < {count}, got {bearing!r}")
+        if not 0 <= bearing < count:
             raise MechanismError(f"bearing = {bearing!r} is out of range; allowed: 0 <= bearing < {count}")
         if ax is None:
             _, ax = plt.subplots(figsize=(4.5, 4.5), layout="constrained")
@@ -263,13 +266,7 @@ def _loads(
         state = steady_state(machine, rpm=rpm_from_omega(omega), gravity=gravity, points=DEFAULT_POINTS + 1)
         angles, speeds, accelerations = state.phi[:-1], state.omega[:-1], state.acceleration[:-1]
     else:
-        angles = (
-            machine.cycle * np.arange(DEFAULT_POINTS) / DEFAULT_POINTS
-            if phi is None
-            else as_real_array(phi, "phi").astype(float)
-        )
-        if angles.ndim != 1:
-            raise MechanismError(f"phi must be 1-D, got shape {angles.shape}")
+        angles = machine.cycle * np.arange(DEFAULT_POINTS) / DEFAULT_POINTS if phi is None else _as_phi(phi, machine)
         speeds, accelerations = np.full(angles.shape, omega), np.zeros(angles.shape)
     angles, speeds, accelerations = (contiguous(np.asarray(a, dtype=float)) for a in (angles, speeds, accelerations))
     horizontal, vertical = machine_bearing_loads(
@@ -284,3 +281,18 @@ def _loads(
     )
     shape = (len(positions), angles.size)
     return angles, horizontal.reshape(shape), vertical.reshape(shape)
+
+
+def _as_phi(phi: Any, machine: Machine) -> np.ndarray:
+    """The angles a user gave, checked before anything of their size is made: 1-D, at least
+    one, and no more than memory holds of what the loads at them take — the speeds and
+    accelerations, each cylinder's gas force (the core's) and the two loads of every bearing
+    (:func:`~multicrank._validation.check_size`)."""
+    angles = as_real_array(phi, "phi")
+    if angles.ndim != 1:
+        raise MechanismError(f"phi must be 1-D, got shape {angles.shape}")
+    if angles.size == 0:
+        raise MechanismError("phi must not be empty: give at least one crank angle [rad] (or None for the default)")
+    per_angle = 2 + len(machine.cylinders) + 2 * len(machine.bearings)
+    check_size("phi", f"{angles.size} angles for {len(machine.bearings)} bearings", angles.size * per_angle)
+    return angles
