@@ -25,7 +25,6 @@ import multicrank as mc
 from multicrank.pressure import (
     EXAMPLE_COMPRESSOR_CSV,
     INTERPOLATIONS,
-    PRESSURE_FLOOR,
     PRESSURE_UNITS,
     STANDARD_ATMOSPHERE,
     IndicatorDiagram,
@@ -156,28 +155,47 @@ def test_closure_within_tolerance_is_made_exact():
 
 
 @pytest.mark.parametrize("kind", INTERPOLATIONS)
-def test_subnormal_pressures_are_zero_without_overflow(kind):
+def test_subnormal_pressures_are_kept_without_overflow(kind):
     # The table hypothesis found: zeros and one subnormal value. PCHIP's slopes divide by the
-    # differences (1/2.2e-309 overflows); warnings are errors here. Physically it is p ≡ 0.
+    # differences (1/2.2e-309 overflows); warnings are errors here. Such a pressure is not 0
+    # (1e-30 Pa and below once were, which dropped the gas of a machine scaled by 1e-100): it
+    # is interpolated as the same table in bar is, to a subnormal double's rounding.
     angle = np.array([0.0, 1.0, 2.5, 4.0, TAU])
-    pressure = np.array([0.0, 2.2e-309, 0.0, 0.0, 0.0])
-    diagram = IndicatorDiagram(angle, pressure, cycle=TAU, kind=kind)
+    diagram = IndicatorDiagram(angle, [0.0, 2.2e-309, 0.0, 0.0, 0.0], cycle=TAU, kind=kind)
+    in_bar = IndicatorDiagram(angle, [0.0, 2.2, 0.0, 0.0, 0.0], cycle=TAU, kind=kind)
     theta = np.linspace(-TAU, 2 * TAU, 1001)
-    assert np.all(diagram(theta) == 0.0) and np.all(diagram.derivative(theta) == 0.0)
-    assert diagram.mean_pressure() == 0.0
-    assert np.all(diagram.pressure == 0.0) and pressure[1] == 2.2e-309  # the caller's array is kept
-    # Beside a real pressure, a subnormal value is 0 as well; PCHIP's interpolant stays within
-    # the neighbouring nodes (no overshoot), as it does for a table with that 0 written out.
+    assert diagram.pressure[1] == 2.2e-309 and diagram(angle[1]) == 2.2e-309
+    np.testing.assert_allclose(diagram(theta), in_bar(theta) * 1e-309, rtol=0, atol=1e-322)
+    np.testing.assert_allclose(diagram.derivative(theta), in_bar.derivative(theta) * 1e-309, rtol=0, atol=1e-321)
+    assert diagram.mean_pressure() == pytest.approx(in_bar.mean_pressure() * 1e-309, rel=1e-12)
+    # Beside a real pressure, a subnormal value stays (to its rounding beside 1e7); PCHIP's
+    # interpolant stays within the neighbouring nodes (no overshoot).
     pressure = np.array([1e7, 2.2e-309, -5e-324, 3e5, 1e7])
     diagram = IndicatorDiagram(angle, pressure, cycle=TAU, kind=kind)
-    np.testing.assert_array_equal(diagram(angle), [1e7, 0.0, 0.0, 3e5, 1e7])
+    np.testing.assert_allclose(diagram(angle), pressure, rtol=1e-15, atol=1e-316)
+    assert diagram(angle[1]) > 0
     if kind != "periodic-cubic":
         between = np.linspace(angle[1], angle[2], 101)
-        np.testing.assert_array_equal(diagram(between), 0.0)
-    # Just above the floor, a value is kept as given.
-    tiny = 2 * PRESSURE_FLOOR
-    diagram = IndicatorDiagram(angle, [0.0, tiny, 0.0, 0.0, 0.0], cycle=TAU, kind=kind)
-    assert diagram.pressure[1] == tiny and diagram(angle[1]) == tiny
+        assert np.all(np.abs(diagram(between)) <= 2.2e-309 + 1e-316)
+
+
+@pytest.mark.parametrize("kind", INTERPOLATIONS)
+@settings(max_examples=25, deadline=None)
+@given(power=st.integers(-900, 75))
+def test_a_table_times_a_power_of_two_is_the_diagram_times_it(kind, power):
+    """Interpolation is homogeneous in p: the table times 2^k gives the diagram times 2^k,
+    bit for bit, from 2^75 (~4e22, the table's peak near 1e30 Pa) down to 2^-900 (~1e-271),
+    where every value is still a normal double. With pressures below 1e-30 Pa taken as 0, a
+    table scaled down that far was the zero diagram."""
+    angle, pressure = smooth_table()
+    factor = 2.0**power
+    diagram = IndicatorDiagram(angle, pressure, cycle=TAU, kind=kind)
+    scaled = IndicatorDiagram(angle, pressure * factor, cycle=TAU, kind=kind)
+    theta = np.linspace(-1.0, TAU + 1.0, 997)
+    np.testing.assert_array_equal(scaled.pressure, pressure * factor)
+    np.testing.assert_array_equal(scaled(theta), diagram(theta) * factor)
+    np.testing.assert_array_equal(scaled.derivative(theta), diagram.derivative(theta) * factor)
+    assert scaled.mean_pressure() == diagram.mean_pressure() * factor
 
 
 def test_mean_pressure_and_indicated_work_in_closed_form():
@@ -782,3 +800,39 @@ def test_the_packages_tables_and_machines_do_not_warn():
         IndicatorDiagram.from_csv(EXAMPLE_COMPRESSOR_CSV, pressure_unit="bar", absolute=True)
         for path in mc.presets.MACHINE_FILES.values():
             mc.Machine.from_toml(path)
+
+
+# -- a machine scaled down: the motion is homogeneous in masses, inertias and pressures ------------
+
+MASSES = ("piston_mass", "rod_mass", "rod_inertia", "crank_mass", "counterweight_mass")
+
+
+def _scaled_machine(machine: mc.Machine, factor: float) -> mc.Machine:
+    """Every mass, inertia and pressure of ``machine`` times ``factor`` (lengths, g and the
+    speed as they are)."""
+
+    def cylinder(c: mc.Cylinder) -> mc.Cylinder:
+        changes = {name: getattr(c, name) * factor for name in MASSES}
+        for end in ("pressure", "pressure_crank_end"):
+            if getattr(c, end) is not None:
+                changes[end] = getattr(c, end).scaled(factor)
+        return c.replace(**changes)
+
+    return machine.replace(
+        cylinders=[cylinder(c) for c in machine.cylinders], shaft_inertia=machine.shaft_inertia * factor
+    )
+
+
+def test_a_machine_scaled_by_1e_minus_100_runs_as_it_does():
+    """J(φ)φ̈ + ½J′φ̇² = M_gas − dU/dφ − M_load is homogeneous in the masses, inertias and
+    pressures: the slow compressor with all of them 10⁻¹⁰⁰ times smaller has the same δ. Its
+    pressures, ~10⁻⁹⁵ Pa, were taken as 0 (below the former 1e-30 Pa floor): δ was 71 % off."""
+    machine = mc.presets.MACHINES["slow-compressor"]
+    small = _scaled_machine(machine, 1e-100)
+    assert small.cylinders[0].pressure.pressure.max() == pytest.approx(
+        machine.cylinders[0].pressure.pressure.max() * 1e-100
+    )
+    state, scaled = mc.steady_state(machine), mc.steady_state(small)
+    assert scaled.delta == pytest.approx(state.delta, rel=1e-9)
+    assert scaled.delta_without_gravity == pytest.approx(state.delta_without_gravity, rel=1e-9)
+    assert scaled.mean_load_torque == pytest.approx(state.mean_load_torque * 1e-100, rel=1e-9)

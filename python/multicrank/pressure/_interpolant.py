@@ -12,11 +12,6 @@ from .._native import MechanismError
 from .._validation import MAGNITUDE_LIMIT, as_real_array
 from ._cycle import cycle_name
 
-#: Pressures of smaller magnitude [Pa] are taken as exactly 0 by :class:`IndicatorDiagram`: a
-#: gauge pressure of 1e-30 Pa is zero for any machine, and values down in the subnormal range
-#: (below ~2.2e-308) would make the interpolation's slopes overflow (PCHIP divides by them).
-PRESSURE_FLOOR = 1e-30
-
 # A table must span one cycle to this fraction of the cycle (6e-6 rad for 2π): loose
 # enough for angles printed with six digits, tight enough to catch a missing point.
 _SPAN_TOLERANCE = 1e-6
@@ -33,9 +28,11 @@ def _degrees(angle: float) -> str:
 
 
 def checked_table(angle: Any, pressure: Any, cycle: float, tolerance: float) -> tuple[np.ndarray, np.ndarray]:
-    """The diagram's table (θ [rad], p [Pa]) checked, its end set to one cycle after its start,
-    pressures below :data:`PRESSURE_FLOOR` flushed to 0 and its last pressure set to its first;
-    read-only. Raises :class:`MechanismError` naming the parameter (the constructor's checks)."""
+    """The diagram's table (θ [rad], p [Pa]) checked, its end set to one cycle after its start
+    and its last pressure set to its first; read-only. Every pressure is kept as given, however
+    small: the motion is homogeneous in the masses, inertias and pressures, so a machine with
+    all of them 10⁻¹⁰⁰ times smaller has the same δ. Raises :class:`MechanismError` naming the
+    parameter (the constructor's checks)."""
     a = as_real_array(angle, "angle")
     p = as_real_array(pressure, "pressure")
     for array, name in ((a, "angle"), (p, "pressure")):
@@ -72,7 +69,7 @@ def checked_table(angle: Any, pressure: Any, cycle: float, tolerance: float) -> 
     a[-1] = a[0] + cycle
     if not a[-1] > a[-2]:
         raise MechanismError(f"angle must increase strictly: angle[{a.size - 2}] = {a[-2]:.10g} is at the cycle's end")
-    p = np.where(np.abs(p) < PRESSURE_FLOOR, 0.0, p)
+    p = p.copy()
     scale = float(np.max(np.abs(p)))
     mismatch = abs(float(p[-1] - p[0]))
     if mismatch > tolerance * scale:
@@ -89,7 +86,31 @@ def checked_table(angle: Any, pressure: Any, cycle: float, tolerance: float) -> 
 
 
 def interpolant(a: np.ndarray, p: np.ndarray, cycle: float, kind: str) -> Any:
-    """A scipy PPoly over [a[0], a[0] + Φ], periodic in value (and slope, but for "linear")."""
+    """A scipy PPoly over [a[0], a[0] + Φ], periodic in value (and slope, but for "linear").
+
+    It is built on the table divided by a power of two that brings max|p| into [0.5, 1) —
+    exact, and every interpolation here is homogeneous in p — and its coefficients multiplied
+    back: a table of 10⁻⁹⁵ Pa, or one whose values are down among the subnormal doubles
+    (2.2·10⁻³⁰⁹), is interpolated as a table of bar is, its values at the nodes exact (to a
+    subnormal double's rounding, for a value below 2⁻¹⁰²² of the largest). On the table as
+    given, PCHIP's harmonic mean of slopes that small overflowed.
+    """
+    largest = float(np.max(np.abs(p)))
+    if largest == 0.0:
+        return _interpolant(a, p, cycle, kind)
+    exponent = math.frexp(largest)[1]
+    poly = _interpolant(a, np.ldexp(p, -exponent), cycle, kind)
+    coefficients = np.ldexp(poly.c, exponent)
+    if not np.all(np.isfinite(coefficients)):
+        raise MechanismError(
+            "angle: the table's points are too close together to interpolate its pressures (a slope between "
+            "two of them overflows)"
+        )
+    return type(poly).construct_fast(coefficients, poly.x, poly.extrapolate)
+
+
+def _interpolant(a: np.ndarray, p: np.ndarray, cycle: float, kind: str) -> Any:
+    """:func:`interpolant` of a table as it is: max|p| is 0 or in [0.5, 1)."""
     interpolate = _scipy_interpolate()
     if kind == "periodic-cubic":
         return interpolate.CubicSpline(a, p, bc_type="periodic")
@@ -101,5 +122,8 @@ def interpolant(a: np.ndarray, p: np.ndarray, cycle: float, kind: str) -> Any:
     k = min(3, n - 1)
     extended_a = np.concatenate((a[n - 1 - k : n - 1] - cycle, a, a[1 : 1 + k] + cycle))
     extended_p = np.concatenate((p[n - 1 - k : n - 1], p, p[1 : 1 + k]))
-    full = interpolate.PchipInterpolator(extended_a, extended_p)
+    # A slope of ~10⁻³⁰⁸ (two pressures that differ by a subnormal amount) overflows PCHIP's
+    # harmonic mean w/m to ±inf, whose limit, a slope of 0 there, is the right one.
+    with np.errstate(over="ignore"):
+        full = interpolate.PchipInterpolator(extended_a, extended_p)
     return interpolate.PPoly(full.c[:, k : k + n - 1].copy(), a)

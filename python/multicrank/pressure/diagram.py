@@ -43,7 +43,7 @@ from ._cycle import (
     cycle_name,
     gauss,
 )
-from ._interpolant import _SPAN_TOLERANCE, PRESSURE_FLOOR, _degrees, checked_table, interpolant
+from ._interpolant import _SPAN_TOLERANCE, _degrees, checked_table, interpolant
 from .synthetic import Volume
 from .synthetic import compressor as _compressor
 from .synthetic import engine as _engine
@@ -55,7 +55,6 @@ __all__ = [
     "EXAMPLE_COMPRESSOR_CSV",
     "INTERPOLATIONS",
     "PLAUSIBLE_PRESSURES",
-    "PRESSURE_FLOOR",
     "PRESSURE_UNITS",
     "STANDARD_ATMOSPHERE",
     "IndicatorDiagram",
@@ -87,9 +86,10 @@ class IndicatorDiagram:
     pressure : array_like, shape (N,)
         Gauge pressure p [Pa] at those angles (absolute minus the crankcase pressure; the
         crankcase side is 0). Finite, at most 1e30 Pa in magnitude (``MAGNITUDE_LIMIT``, where
-        the torques' products would overflow). A magnitude below ``PRESSURE_FLOOR`` = 1e-30 Pa is taken
-        as exactly 0 (physically it is; and a subnormal value such as 2.2e-309 would overflow
-        the interpolation's slopes): ``diagram.pressure`` holds the table so flushed.
+        the torques' products would overflow). However small a pressure is, it is kept as
+        given (``diagram.pressure``), never taken as 0: the motion is homogeneous in the
+        masses, inertias and pressures, so a machine with all of them 10⁻¹⁰⁰ times smaller has
+        the same δ.
     cycle : float
         The working cycle Φ [rad]: ``2*math.pi`` (two-stroke) or ``4*math.pi`` (four-stroke).
     kind : {"periodic-cubic", "pchip", "linear"}, default "periodic-cubic"
