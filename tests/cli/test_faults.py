@@ -240,3 +240,59 @@ def test_sweep_motion_offers_no_constant_load_and_refuses_one_clearly(tmp_path):
     assert refused(["sweep", "motion", "--config", str(config)]) == (
         f"Error: --config {config}: load = 7; it is a string as --load takes it"
     )
+
+
+# Each command with a former option name (the target δ's --delta) and the quick arguments
+# to reach its check; then the values its check refuses.
+RENAMED = {
+    "motion": (["motion", "--machine", "slow-compressor", "--rpm", "100", "--no-progress"], ["5", "nan", "0", "1"]),
+    "sweep motion": (
+        ["sweep", "motion", "--machine", "slow-compressor", "--rpm", "100", "--no-progress"],
+        ["0", "nan", "1e-12"],
+    ),
+}
+NOTE = "note: --delta is now --delta-target (the old name goes in 0.3)"
+
+
+@pytest.mark.parametrize("command", RENAMED)
+def test_a_bad_value_under_a_former_name_is_one_line(command):
+    """`--delta 5` printed the note on --delta's new name and then the error: two lines. A
+    bad value is its one line, naming the option as typed, under either name."""
+    args, bad = RENAMED[command]
+    for value in bad:
+        old = refused([*args, "--delta", value])
+        assert old.startswith(f"Error: --delta = {float(value)} is out of range; allowed: "), old
+        new = refused([*args, "--delta-target", value])
+        assert new.startswith(f"Error: --delta-target = {float(value)} is out of range; allowed: "), new
+
+
+@pytest.mark.parametrize("command", RENAMED)
+def test_a_former_name_with_another_mistake_is_one_line(command):
+    """A good value under the former name and a mistake elsewhere: the mistake alone (the
+    note comes once a command has run)."""
+    args, _ = RENAMED[command]
+    assert "rpm = -5.0 is out of range" in refused([*args, "--delta", "0.04", "--rpm", "-5"])
+    result = CliRunner().invoke(cli.main, [*args, "--delta", "0.04", "--format", "json"])
+    assert result.exit_code == 0, result.output
+    assert result.stderr.splitlines() == [NOTE]
+
+
+def test_the_former_names_in_a_sweeps_config_and_outputs_with_a_mistake_are_one_line(tmp_path):
+    """delta in --config and the outputs of 0.1 say so once the sweep has run: with a mistake
+    (a bad target δ, an unknown output) the mistake is the one line."""
+    config = tmp_path / "motion.toml"
+    config.write_text("delta = 0.0\n")
+    sweep = ["sweep", "motion", "--machine", "slow-compressor", "--rpm", "100", "--no-progress"]
+    line = refused([*sweep, "--config", str(config)])
+    assert line.startswith(f"Error: --config {config}: delta = 0.0 is out of range; allowed: delta >= 1e-9"), line
+    config.write_text("delta = 0.04\n")
+    assert refused([*sweep, "--config", str(config), "--outputs", "nosuch"]).startswith("Error: outputs ")
+    assert refused([*sweep, "--outputs", "delta_gravity_only,nosuch"]).startswith("Error: outputs ")
+    result = CliRunner().invoke(
+        cli.main, [*sweep, "--config", str(config), "--outputs", "delta_gravity_only,flywheel_inertia"]
+    )
+    assert result.exit_code == 0, result.output
+    assert result.stderr.splitlines() == [
+        "note: delta in --config is now delta_target (the old name goes in 0.3)",
+        "note: the output delta_gravity_only is now delta_coasting (the old name goes in 0.3)",
+    ]

@@ -4,6 +4,7 @@ line and exit status 2, and the ``--machine`` option that most commands share.""
 from __future__ import annotations
 
 import os
+from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -16,7 +17,7 @@ from ..presets import DEFAULT_MACHINE_NAME, MACHINES
 if TYPE_CHECKING:
     from ..machine.machine import Machine
 
-__all__ = ["INTERRUPTED", "MissingExtra", "UserError", "machine_option", "main", "renamed_option"]
+__all__ = ["INTERRUPTED", "MissingExtra", "UserError", "machine_option", "main", "note_renamed", "renamed_option"]
 
 
 class MissingExtra(click.ClickException):
@@ -37,11 +38,30 @@ class UserError(click.ClickException):
 INTERRUPTED = 130
 
 
+#: Where the notes on former names wait (ctx.meta: shared by the contexts of one invocation).
+_NOTES = "multicrank.notes"
+
+
+def note_renamed(ctx: click.Context, text: str) -> None:
+    """A note on stderr that a former name was used (``text``: "note: --delta is now
+    --delta-target …"), said once the command has run: a command that fails on a mistake
+    says only the mistake, its one line (a bad value given under a former name included)."""
+    notes = ctx.meta.setdefault(_NOTES, [])
+    if text not in notes:
+        notes.append(text)
+
+
 class _Commands(click.Group):
     """The group: the library's errors become one line, never a traceback; Ctrl-C, whenever it
-    comes, one line and exit status 130."""
+    comes, one line and exit status 130; the notes on former names once the command has run."""
 
     def invoke(self, ctx: click.Context) -> object:
+        result = self._invoke(ctx)
+        for text in ctx.meta.pop(_NOTES, []):
+            click.echo(text, err=True)
+        return result
+
+    def _invoke(self, ctx: click.Context) -> object:
         try:
             return super().invoke(ctx)
         except OptionalDependencyError as error:
@@ -134,21 +154,34 @@ def machine_option(command: Any) -> Any:
     return _engine(_machine(command))
 
 
-def renamed_option(name: str, former: str, parameter: str, **attrs: Any) -> Any:
+def renamed_option(
+    name: str, former: str, parameter: str, *, check: Callable[[Any, str], Any] | None = None, **attrs: Any
+) -> Any:
     """The option ``name`` of a command (its argument ``parameter``; ``attrs`` as
     click.option takes them) and its former name ``former``, an option of its own, hidden: its
-    value goes to ``parameter`` with one line on stderr that names the new name; both given is
-    a mistake (exit status 2)."""
+    value goes to ``parameter`` with one line on stderr that names the new name, once the
+    command has run (:func:`note_renamed`); both given is a mistake (exit status 2).
+    ``check(value, option)``, where given, checks a value given under either name and returns
+    it, raising :class:`UserError` or the library's error that names ``option``, the name the
+    user typed: a bad value is that one line, before any work."""
     key = f"multicrank.renamed.{parameter}"
+
+    def checked(value: Any, option: str) -> Any:
+        if value is None or check is None:
+            return value
+        try:
+            return check(value, option)
+        except MechanismError as error:
+            raise UserError(str(error)) from None
 
     def remember(ctx: click.Context, param: click.Parameter, value: Any) -> None:
         if value is not None:
-            click.echo(f"note: {former} is now {name} (the old name goes in 0.3)", err=True)
-            ctx.meta[key] = value
+            ctx.meta[key] = checked(value, former)
+            note_renamed(ctx, f"note: {former} is now {name} (the old name goes in 0.3)")
 
     def take(ctx: click.Context, param: click.Parameter, value: Any) -> Any:
         if key not in ctx.meta:
-            return value
+            return checked(value, name)
         if ctx.get_parameter_source(parameter) is click.core.ParameterSource.COMMANDLINE:
             raise UserError(f"{name} and {former} are one option ({former} its former name): give it once")
         return ctx.meta.pop(key)

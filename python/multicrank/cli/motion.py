@@ -173,6 +173,14 @@ def _speed(machine: Machine, rpm: float | None, option: str) -> float:
     return as_speed(speed, option)  # the core's rule for a speed
 
 
+def _as_target(target: float, option: str) -> float:
+    """The target δ of ``option`` (--delta-target, or --delta, its former name, as typed):
+    1e-9 ≤ δ < 1, checked when the option is read."""
+    if not (math.isfinite(target) and 1e-9 <= target < 1):
+        raise UserError(f"{option} = {target} is out of range; allowed: 1e-9 <= δ < 1 (the target δ)")
+    return target
+
+
 def _without_gas(machine: Machine) -> Machine:
     """The machine with its gas pressures removed (a run-down, gravity and inertia alone)."""
     cylinders = [c.replace(pressure=None, pressure_crank_end=None) for c in machine.cylinders]
@@ -210,6 +218,7 @@ def _without_gas(machine: Machine) -> Machine:
     "--delta-target",
     "--delta",
     "target",
+    check=_as_target,
     type=float,
     default=None,
     metavar="DELTA",
@@ -263,8 +272,6 @@ def motion_command(
     balance = load_rule == "balance"
     if target is None and machine.name in MACHINE_CLASSES:
         target = SPEED_FLUCTUATION[MACHINE_CLASSES[machine.name]][1]
-    if target is not None and not (math.isfinite(target) and 1e-9 <= target < 1):
-        raise MechanismError(f"--delta-target = {target} is out of range; allowed: 1e-9 <= delta_target < 1")
     wanted: list[float | None]
     if balance:
         wanted = [_speed(machine, rpm, "--rpm") for rpm in speeds] or list(_speed_set(machine, points))

@@ -11,7 +11,7 @@ import click
 from .._native import MechanismError
 from .._text import counted
 from ..motion.columns import COLUMN_MEANINGS
-from ._group import UserError, machine_option, renamed_option
+from ._group import UserError, machine_option, note_renamed, renamed_option
 from ._output import format_option
 from .motion import parse_torque
 from .sweep import grid_axes, output_names, progress_option, read_config, resume_option
@@ -64,20 +64,36 @@ def _load_rule(text: str, where: str) -> Any:
     return rule
 
 
-def _config_delta(table: dict[str, Any], path: str | None) -> float | None:
-    """delta_target in --config (or delta, its former name, with a note on stderr): a number."""
+def _as_target(value: Any, name: str) -> float:
+    """A target δ given as ``name`` (an option as typed, or a key of --config), checked by
+    the library's rule for it (δ ≥ 1e-9) when it is read."""
+    from ..motion.flywheel import _as_delta
+
+    return _as_delta(value, name)
+
+
+def _config_delta(ctx: click.Context, table: dict[str, Any], path: str | None) -> float | None:
+    """delta_target in --config (or delta, its former name, with a note on stderr once the
+    sweep has run): a number, the target δ."""
     key = "delta_target"
     if "delta" in table:
         if key in table:
             raise MechanismError(
                 f"--config {path}: delta_target and delta are one key (delta its former name): give it once"
             )
-        click.echo("note: delta in --config is now delta_target (the old name goes in 0.3)", err=True)
         key = "delta"
     delta = table.get(key)
-    if delta is not None and (isinstance(delta, bool) or not isinstance(delta, int | float)):
+    if delta is None:
+        return None
+    if isinstance(delta, bool) or not isinstance(delta, int | float):
         raise MechanismError(f"--config {path}: {key} = {delta!r}; it is a number (the target δ)")
-    return None if delta is None else float(delta)
+    try:
+        target = _as_target(float(delta), key)
+    except MechanismError as error:
+        raise MechanismError(f"--config {path}: {error}") from None
+    if key == "delta":
+        note_renamed(ctx, "note: delta in --config is now delta_target (the old name goes in 0.3)")
+    return target
 
 
 @click.command("motion", short_help="The steady running of variants of a machine: δ with and without gravity.")
@@ -108,6 +124,7 @@ def _config_delta(table: dict[str, Any], path: str | None) -> float | None:
     "--delta-target",
     "--delta",
     "delta_target",
+    check=_as_target,
     type=float,
     default=None,
     metavar="DELTA",
@@ -176,11 +193,11 @@ def motion_sweep_command(
         raise MechanismError("no axes: give at least one, e.g. --rpm 60:300:9, as an option or in [axes] of --config")
     load_text = load if load is not None else _config_load(table, config) or BALANCE
     load_rule = _load_rule(load_text, "--load" if load is not None else f"--config {config}: load")
-    target = delta_target if delta_target is not None else _config_delta(table, config)
+    target = delta_target if delta_target is not None else _config_delta(ctx, table, config)
     chosen = output_names(outputs, "--outputs") if outputs else table.get("outputs")
     if chosen:  # the names of 0.1 still work, said on stderr
         for old in (name for name in chosen if name in RENAMED_OUTPUTS):
-            click.echo(f"note: the output {old} is now {RENAMED_OUTPUTS[old]} (the old name goes in 0.3)", err=True)
+            note_renamed(ctx, f"note: the output {old} is now {RENAMED_OUTPUTS[old]} (the old name goes in 0.3)")
         chosen = [RENAMED_OUTPUTS.get(name, name) for name in chosen]
     if out is None:
         if resume:
