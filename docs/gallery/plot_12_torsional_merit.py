@@ -53,7 +53,8 @@ columns = [
     "delta",
     "free_moment_1",
     "free_moment_2",
-    "torsional_merit",
+    "torsional_major",
+    "torsional_minor",
     "pareto",
 ]
 print(table.loc[table["pareto"], columns].to_string(float_format="{:.4g}".format))
@@ -63,18 +64,21 @@ print(table.loc[table["pareto"], columns].to_string(float_format="{:.4g}".format
 # matter to the motion. What it changes is where the forces act along the shaft — the
 # first- and second-order free moments — and how the cylinders' torques add up on the
 # shaft's modes. The first order's moment vanishes in two arrangements only, and those
-# excite the first mode two to three times as much as the quietest ones, which leave
-# some 30 MN·m of first-order moment for the foundation (or a balancer) to take.
+# excite the shaft's minor orders about twice to four times as much as the quietest one,
+# which leaves some 15 MN·m of first-order moment for the foundation (or a balancer) to
+# take. The major orders' part is the same in every row: no firing order changes it.
 delta_spread = np.ptp(table["delta"]) / table["delta"].mean()
 print(f"δ spread over the rows: {delta_spread:.1e}")
 no_first = table[table["free_moment_1"] == 0]
-merits = no_first["torsional_merit"]
+minors = no_first["torsional_minor"]
+majors = table["torsional_major"]
 print(
-    f"no first-order moment: {len(no_first)} rows, torsional merit "
-    f"{merits.min():.3g}–{merits.max():.3g} N·m; "
-    f"the least merit of all: {table['torsional_merit'].min():.3g} N·m"
+    f"no first-order moment: {len(no_first)} rows, minor orders' modal excitation "
+    f"{minors.min():.3g}–{minors.max():.3g}; "
+    f"the least of all: {table['torsional_minor'].min():.3g}; "
+    f"the major orders' in every row: {majors.min():.3g}–{majors.max():.3g}"
 )
-quietest = table.loc[table["torsional_merit"].idxmin()]
+quietest = table.loc[table["torsional_minor"].idxmin()]
 merit = mc.torsional_merit(quietest["machine"], shaft, rpm_range=six.rpm_range)
 print(f"{quietest['firing']}: the resonances in the speed range")
 print(merit.to_string(float_format="{:.4g}".format))
@@ -86,12 +90,12 @@ print(merit.to_string(float_format="{:.4g}".format))
 # throws, flywheel; first mode 167 Hz). Its four-stroke crank fixes each phase modulo
 # 360°, so a firing order moves a cylinder's torque by a whole revolution: every whole
 # order ν is untouched (e^{iν·2π} = 1), and only the half orders change. The major sixth
-# order meets the first mode at 1670 rpm, in the speed range, and sets the torsional
-# merit of every row alike: here δ decides.
+# order meets the first mode at 1670 rpm, in the speed range: ``torsional_major`` is
+# the same in every row, and the half orders' ``torsional_minor`` and δ decide.
 truck = mc.presets.MACHINES["inline-6"]
 truck_table = mc.firing_orders(truck)
-print(truck_table[["firing", "delta", "max_bearing_load", "torsional_merit", "pareto"]]
-      .to_string(float_format="{:.4g}".format))  # fmt: skip
+shown = ["firing", "delta", "max_bearing_load", "torsional_major", "torsional_minor"]
+print(truck_table[[*shown, "pareto"]].to_string(float_format="{:.4g}".format))
 
 # %%
 # A V's bank factor
@@ -132,29 +136,29 @@ other = table[~table["pareto"]]
 front = table[table["pareto"]]
 left.scatter(
     other["free_moment_1"] / 1e6,
-    other["torsional_merit"] / 1e3,
+    other["torsional_minor"],
     s=18,
     color="0.6",
     label="dominated",
 )
 left.scatter(
     front["free_moment_1"] / 1e6,
-    front["torsional_merit"] / 1e3,
+    front["torsional_minor"],
     s=30,
     color="C3",
     label="Pareto front",
 )
 left.scatter(
     table["free_moment_1"].iloc[0] / 1e6,
-    table["torsional_merit"].iloc[0] / 1e3,
+    table["torsional_minor"].iloc[0],
     s=120,
     facecolors="none",
     edgecolors="black",
     label="as the layout lists it",
 )
 left.set_xlabel("first-order free moment [MN·m]")
-left.set_ylabel("torsional merit [kN·m]")
-left.set_title("marine six: 52 firing orders, one δ")
+left.set_ylabel("minor orders' modal excitation [N·m/√(kg·m²)]")
+left.set_title(f"marine six: {table.attrs['distinct']} firing orders, one δ")
 left.legend(loc="upper right", fontsize=8)
 left.grid(linewidth=0.4, alpha=0.5)
 for order, color in zip(orders, ("C0", "C1", "C2", "C4"), strict=True):
@@ -182,12 +186,15 @@ plt.show()
 
 # %%
 # **Left**: every distinct firing order of the marine six, all with one δ. Moving down
-# means less torsional vibration in the speed range, moving left a smaller first-order
-# moment on the foundation; the red ones are the Pareto front, where one is bought only
-# with the other (with the second-order moment and the bearing loads weighed too: a red
-# point that looks beaten here is better on one of those). **Right**: the pair's vector
-# sum over the bank angle for four orders, on the dotted 2·abs(cos(νΘ/2)): a 90° V's
-# pair cancels its second order, a 60° V's its third, and at 180° (one pin, opposed) the
-# odd orders cancel and the even ones add. The forced response — how large the vibration
-# is with the shaft's damping — is openTorsion's to compute: ``mc.to_opentorsion(six,
-# shaft=shaft)`` hands it the shaft and every cylinder's orders.
+# means less torsional vibration in the speed range (the largest modal excitation of the
+# shaft's first two modes by a minor order resonating there: ``torsional_minor``; the
+# major orders' part, ``torsional_major``, is the same in every row), moving left a
+# smaller first-order moment on the foundation; the red ones are the Pareto front, where
+# one is bought only with the other (with the second-order moment and the bearing loads
+# weighed too: a red point that looks beaten here is better on one of those). **Right**:
+# the pair's vector sum over the bank angle for four orders, on the dotted
+# 2·abs(cos(νΘ/2)): a 90° V's pair cancels its second order, a 60° V's its third, and at
+# 180° (one pin, opposed) the odd orders cancel and the even ones add. The forced
+# response — how large the vibration is with the shaft's damping — is openTorsion's to
+# compute: ``mc.to_opentorsion(six, shaft=shaft)`` hands it the shaft and every
+# cylinder's orders.
