@@ -490,8 +490,10 @@ REGISTRY.update(
                 "stiffness": ([1e4, 2e4], "positive_list"),
                 "cylinder_nodes": ([0, 1], "node_list"),
                 "damping": (None, "positive_list_or_none"),
+                "node_damping": (None, "positive_list_or_none"),
             },
         ),
+        "Shaft.modes": (SHAFT.modes, {"count": (None, "count_or_none")}),
         "to_opentorsion": (
             mc.to_opentorsion,
             {

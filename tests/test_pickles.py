@@ -249,7 +249,7 @@ INSTANCES = {
     "PowerLawLoad": lambda: NOW["load"],
     "PressureUnitWarning": lambda: _pressure_unit_warning(),
     "ReportSettings": lambda: __import__("multicrank.report", fromlist=["ReportSettings"]).ReportSettings(),
-    "Shaft": lambda: mc.Shaft([1.0, 2.0], [1e4], cylinder_nodes=[0, 1], damping=[0.5]),
+    "Shaft": lambda: mc.Shaft([1.0, 2.0], [1e4], cylinder_nodes=[0, 1], damping=[0.5], node_damping=[0.0, 2.0]),
     "ShakingForces": lambda: mc.shaking_forces(MACHINES["inline-4"], max_order=3, steady=True),
     "Stall": _internal_stall,
     "StallError": _stall_error,

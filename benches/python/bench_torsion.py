@@ -15,6 +15,11 @@ same process.
   every later one (best of 200), against the same call on a copy of the machine each time (its
   orders made afresh).
 
+- ``mc.Shaft.modes`` of long chains (1000 and 4000 nodes, random inertias and stiffnesses
+  within a factor of 2): the lowest 5 modes and every one, wall time (best of three; every
+  mode: once) and peak memory (tracemalloc, a call of its own), against the dense generalised
+  eigen solver it replaced (``scipy.linalg.eigh(K, diag(J))``, 1000 nodes).
+
 With all cores (the core's rayon pool; two on this project's machines). Refuses a debug
 build of the extension.
 """
@@ -25,6 +30,7 @@ import argparse
 import copy
 import os
 import time
+import tracemalloc
 
 from timing import cpu_name
 
@@ -131,6 +137,45 @@ def measure_merit() -> dict:
     return dict(nodes=len(machine.shaft.inertia), first=first, later=min(later), afresh=min(afresh))
 
 
+def long_shaft(nodes: int):
+    import numpy as np
+
+    import multicrank as mc
+
+    rng = np.random.default_rng(0)
+    return mc.Shaft(rng.uniform(0.5, 2.0, nodes), rng.uniform(1e6, 2e6, nodes - 1), cylinder_nodes=[0])
+
+
+def timed(call, repeats: int) -> tuple[float, float]:
+    """(best wall time [s] of ``repeats`` calls, peak traced memory [MB] of one more)."""
+    times = []
+    for _ in range(repeats):
+        start = time.perf_counter()
+        call()
+        times.append(time.perf_counter() - start)
+    tracemalloc.start()
+    call()
+    peak = tracemalloc.get_traced_memory()[1] / 1e6
+    tracemalloc.stop()
+    return min(times), peak
+
+
+def measure_modes() -> list[dict]:
+    import numpy as np
+    from scipy.linalg import eigh
+
+    rows = []
+    for nodes in (1000, 4000):
+        shaft = long_shaft(nodes)
+        for count in (5, None):
+            seconds, peak = timed(lambda shaft=shaft, count=count: shaft.modes(count), 3 if count else 1)
+            rows.append(dict(how="Shaft.modes", nodes=nodes, modes=count or nodes - 1, seconds=seconds, peak=peak))
+    shaft = long_shaft(1000)
+    seconds, peak = timed(lambda: eigh(shaft.stiffness_matrix(), np.diag(shaft.inertia)), 1)
+    rows.append(dict(how="dense eigh (before)", nodes=1000, modes=999, seconds=seconds, peak=peak))
+    return rows
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--markdown", action="store_true", help="print Markdown tables")
@@ -142,10 +187,13 @@ def main() -> None:
         raise SystemExit(f"bench_torsion: refusing a {mc.build_profile} build; install the release wheel")
     rows = [measure_firing(v12()), measure_firing(v16()), measure_firing(v16(), max_candidates=32768, repeats=1)]
     merit = measure_merit()
+    modes = measure_modes()
     if not args.markdown:
         for row in rows:
             print(row)
         print(merit)
+        for row in modes:
+            print(row)
         return
     cpu = cpu_name()
     print(f"CPU: {cpu}, {os.cpu_count()} cores, all used")
@@ -167,6 +215,11 @@ def main() -> None:
         f"| modes 2, orders ≤ 12 | {merit['nodes']} | {1e3 * merit['first']:.2f} | {1e3 * merit['later']:.3f} "
         f"| {1e3 * merit['afresh']:.2f} |"
     )
+    print()
+    print("| long shafts | nodes | modes | wall time (s) | peak memory (MB) |")
+    print("|---|---:|---:|---:|---:|")
+    for r in modes:
+        print(f"| {r['how']} | {r['nodes']} | {r['modes']} | {r['seconds']:.3f} | {r['peak']:.1f} |")
 
 
 if __name__ == "__main__":

@@ -93,6 +93,22 @@ def test_firing_shaft_mistakes_are_one_line_naming_the_option(tmp_path):
     assert "--shaft" in line and "cylinder_nodes" in line
 
 
+def test_firing_shaft_of_a_machine_file_the_machine_refuses_is_refused(tmp_path):
+    """--shaft FILE, a whole machine file: its shaft suits the in-line four, but its machine has
+    a cylinder out of range, which Machine.from_toml refuses; so does --shaft, on one line."""
+    cylinder = "crank_radius = -0.05\nrod_length = 0.2\npiston_mass = 1.0\nrod_mass = 1.0\nrod_cg = 0.05\n"
+    bad = tmp_path / "bad.toml"
+    bad.write_text(f"shaft_inertia = 0.3\n{SHAFT_4}[[cylinder]]\n{cylinder}", encoding="utf-8")
+    with pytest.raises(mc.MechanismError) as error:
+        mc.Machine.from_toml(bad)
+    result = runner().invoke(cli.main, ["optimize", "firing", "--machine", "inline-4", "--shaft", str(bad)])
+    assert result.exit_code == 2 and isinstance(result.exception, SystemExit)
+    lines = result.stderr.strip().splitlines()
+    assert len(lines) == 1 and not result.stdout
+    assert lines[0] == f"Error: --shaft {bad}: {error.value}"
+    assert "cylinder[0]: crank_radius = -0.05 is out of range" in lines[0]
+
+
 def test_firing_csv_is_the_api_ranking():
     result = invoke("firing", "--machine", "inline-4", "--format", "csv")
     frame = csv_frame(result, "rank")

@@ -1,5 +1,6 @@
 """The machine file's [shaft] table and mc.Shaft.from_toml: what they build against the shaft
-built in code, every mistake a MechanismError naming the file and the key."""
+built in code, every mistake a MechanismError naming the file and the key, and a whole machine
+file refused by Shaft.from_toml wherever Machine.from_toml refuses it, with its message."""
 
 from __future__ import annotations
 
@@ -43,7 +44,17 @@ def test_a_shaft_table_is_the_shaft_built_in_code(tmp_path):
     assert mc.Shaft.from_toml(path) == SHAFT
     assert mc.Shaft.from_toml(write(tmp_path, SHAFT_TOML, "shaft.toml")) == SHAFT
     no_damping = SHAFT_TOML.replace("damping = [5.0, 0]", "")
-    assert mc.Shaft.from_toml(write(tmp_path, no_damping, "bare.toml")).damping is None
+    bare = mc.Shaft.from_toml(write(tmp_path, no_damping, "bare.toml"))
+    assert bare.damping is None and bare.node_damping is None
+
+
+def test_node_damping_is_the_shafts(tmp_path):
+    text = SHAFT_TOML + "node_damping = [0, 1.5, 40]       # N·m·s/rad: a propeller at node 2\n"
+    expected = mc.Shaft([0.5, 0.4, 3.0], [1e6, 2e6], cylinder_nodes=[0, 1], damping=[5.0, 0.0],
+                        node_damping=[0.0, 1.5, 40.0])  # fmt: skip
+    machine = mc.Machine.from_toml(write(tmp_path, TWO + text))
+    assert machine.shaft == expected and machine.shaft.node_damping == (0.0, 1.5, 40.0)
+    assert mc.Shaft.from_toml(write(tmp_path, text, "shaft.toml")) == expected
 
 
 def test_with_a_layout_the_nodes_follow_the_layouts_order(tmp_path):
@@ -100,6 +111,9 @@ def test_the_v8_example_carries_its_crankshaft():
         (SHAFT_TOML.replace("stiffness = [1.0e6, 2.0e6]", "stiffness = [1.0e6]"), "shaft: stiffness must hold"),
         (SHAFT_TOML.replace("cylinder_nodes = [0, 1]", "cylinder_nodes = [0, 3]"), "shaft: cylinder_nodes[1] = 3"),
         (SHAFT_TOML.replace("damping = [5.0, 0]", "damping = [-1, 0]"), "shaft: damping must hold"),
+        (SHAFT_TOML + "node_damping = 3.0\n", "shaft.node_damping: must be an array of numbers"),
+        (SHAFT_TOML + "node_damping = [1.0, 2.0]\n", "shaft: node_damping must hold 3 values"),
+        (SHAFT_TOML + "node_damping = [1.0, -2.0, 0]\n", "shaft: node_damping must hold 3 values"),
         (SHAFT_TOML.replace("cylinder_nodes = [0, 1]", "cylinder_nodes = [0, 1, 2]"), "shaft.cylinder_nodes: must"),
     ],
 )
@@ -110,9 +124,44 @@ def test_mistakes_name_the_file_and_the_key(tmp_path, shaft, key):
         mc.Machine.from_toml(path)
     message = str(error.value)
     assert message.startswith(f"{path}: ") and key in message and "\n" not in message
-    if "must hold one node per cylinder" in message:
-        return  # a machine's rule: a shaft alone may have any number of cylinders
-    # Shaft.from_toml reads the same table the same way: the same message.
+    # Shaft.from_toml reads a machine file as the machine: the same message (one node per
+    # cylinder too, a machine's rule: a shaft alone may have any number of cylinders).
+    with pytest.raises(mc.MechanismError) as again:
+        mc.Shaft.from_toml(path)
+    assert str(again.value) == message
+
+
+#: A compressor's pressure table that no clearance fits: a negative one.
+PRESSURE = (
+    "[cylinder.pressure]\ntype = 'compressor'\nsuction_pressure = 1e5\ndischarge_pressure = 4e5\n"
+    "clearance_ratio = -0.1\n"
+)
+
+
+@pytest.mark.parametrize(
+    ("change", "key"),
+    [
+        (lambda text: text.replace("crank_radius = ", "crank_radius = -", 1), "cylinder[0]: crank_radius"),
+        (lambda text: text.replace("shaft_inertia = 2.0", "shaft_inertia = 0.0"), "shaft_inertia"),
+        (lambda text: text.replace("phase_deg = 0", "phase_deg = 0\naxial_position = nan"), "cylinder[0]: axial"),
+        (
+            lambda text: text.replace("axial_position = 0.5\n", "axial_position = 0.5\n" + PRESSURE),
+            "cylinder[1].pressure",
+        ),
+        (lambda text: "rpm_range = [900.0, 600.0]\n" + text, "rpm_range"),
+        (lambda text: text.replace("cylinder_nodes = [0, 1]", "cylinder_nodes = [0, 1, 1]"), "shaft.cylinder_nodes"),
+        (lambda text: "main_bearings = [0.2, 0.1]\n" + text, "main_bearings"),
+    ],
+)
+def test_a_machine_file_the_machine_refuses_gives_no_shaft(tmp_path, change, key):
+    """The machine's own rules (a cylinder's, the machine's, a shaft's node per cylinder),
+    which no [shaft] key breaks: Machine.from_toml refuses the file, and so, with its message,
+    does Shaft.from_toml (it returned the shaft of such a file)."""
+    path = write(tmp_path, change(TWO + SHAFT_TOML))
+    with pytest.raises(mc.MechanismError) as error:
+        mc.Machine.from_toml(path)
+    message = str(error.value)
+    assert message.startswith(f"{path}: ") and key in message and "\n" not in message
     with pytest.raises(mc.MechanismError) as again:
         mc.Shaft.from_toml(path)
     assert str(again.value) == message

@@ -1,7 +1,8 @@
 """mc.Shaft.from_opentorsion: an openTorsion model read as a chain, its modes against
 openTorsion's own modal analysis (its eigen solver on its assembled matrices), the lumped
-element inertias against the lumped matrices written out here, and what a chain cannot hold
-refused by name."""
+element inertias against the lumped matrices written out here, the section and node damping
+through the round trip against openTorsion's damping matrix written out here, and what a
+chain cannot hold refused by name."""
 
 from __future__ import annotations
 
@@ -17,13 +18,14 @@ import multicrank as mc
 ot = pytest.importorskip("opentorsion")
 
 
-def chain(inertia, stiffness, *, damping=None, order=None):
+def chain(inertia, stiffness, *, damping=None, node_damping=None, order=None):
     """An openTorsion chain of disks and massless shaft elements: element i joins nodes i and
-    i + 1, listed in ``order``."""
+    i + 1, listed in ``order``; disk i has the damping to ground ``node_damping[i]``."""
     damping = damping or [0.0] * len(stiffness)
+    node_damping = node_damping or [0.0] * len(inertia)
     order = range(len(stiffness)) if order is None else order
     elements = [ot.Shaft(i, i + 1, k=stiffness[i], c=damping[i]) for i in order]
-    disks = [ot.Disk(i, I=value) for i, value in enumerate(inertia)]
+    disks = [ot.Disk(i, I=value, c=c) for i, (value, c) in enumerate(zip(inertia, node_damping, strict=True))]
     return ot.Assembly(elements, disk_elements=disks)
 
 
@@ -47,7 +49,7 @@ def test_any_chain_has_opentorsions_natural_frequencies_and_mode_shapes(inertia,
     assembly = chain(inertia, stiffness, order=order)
     shaft = mc.Shaft.from_opentorsion(assembly, cylinder_nodes=[0])
     assert shaft.inertia == pytest.approx(inertia, rel=1e-15) and shaft.stiffness == pytest.approx(stiffness)
-    assert shaft.damping is None
+    assert shaft.damping is None and shaft.node_damping is None
     modes = shaft.modes()
     expected, vectors = opentorsion_modes(assembly)
     # openTorsion's general solver (scipy's eig on K, M) is good to ~1e-12 of the largest ω².
@@ -120,6 +122,52 @@ def test_a_machines_model_reads_back_as_its_shaft():
     shaft = mc.Shaft([0.02, 0.03, 0.02, 0.6], [3e5, 2e5, 5e5], cylinder_nodes=[0, 1, 2, 2], damping=[1.0, 0.0, 2.5])
     model = mc.to_opentorsion(mc.presets.MACHINES["inline-4"], shaft=shaft, max_order=2)
     assert mc.Shaft.from_opentorsion(model.assembly, cylinder_nodes=shaft.cylinder_nodes) == shaft
+    # With node damping (a damper at the front, a brake at the back) and without section damping.
+    damped = mc.Shaft(shaft.inertia, shaft.stiffness, cylinder_nodes=[0, 1, 2, 2], node_damping=[4.0, 0.0, 0.0, 1.5])
+    model = mc.to_opentorsion(mc.presets.MACHINES["inline-4"], shaft=damped, max_order=2)
+    again = mc.Shaft.from_opentorsion(model.assembly, cylinder_nodes=damped.cylinder_nodes)
+    assert again == damped and again.node_damping == (4.0, 0.0, 0.0, 1.5) and again.damping is None
+
+
+@settings(max_examples=30, deadline=None)
+@given(
+    inertia=st.lists(st.floats(0.01, 5.0), min_size=2, max_size=8),
+    data=st.data(),
+)
+def test_any_damped_chain_round_trips_through_opentorsion(inertia, data):
+    """Shaft → openTorsion → Shaft gives the same shaft, section and node damping included,
+    and openTorsion's damping matrix is the one written out here: each section's c_i between
+    its two nodes, each node's c_i on the diagonal."""
+    n = len(inertia)
+    stiffness = data.draw(st.lists(st.floats(1e4, 1e7), min_size=n - 1, max_size=n - 1))
+    damping = data.draw(st.none() | st.lists(st.floats(0.0, 50.0), min_size=n - 1, max_size=n - 1))
+    node_damping = data.draw(st.none() | st.lists(st.floats(0.0, 50.0), min_size=n, max_size=n))
+    shaft = mc.Shaft(inertia, stiffness, cylinder_nodes=[0], damping=damping, node_damping=node_damping)
+    model = mc.to_opentorsion(mc.presets.MACHINES["slow-compressor"], shaft=shaft, max_order=1)
+    C = np.diag(np.zeros(n) if node_damping is None else np.asarray(node_damping))
+    for i, c in enumerate(damping or [0.0] * (n - 1)):
+        C[i : i + 2, i : i + 2] += c * np.array([[1.0, -1.0], [-1.0, 1.0]])
+    np.testing.assert_allclose(model.assembly.C, C, rtol=1e-15, atol=0)  # summed in another order
+    again = mc.Shaft.from_opentorsion(model.assembly, cylinder_nodes=[0])
+    # All zeros read back as None (0 everywhere), as the shaft without them is.
+    expected = mc.Shaft(
+        inertia,
+        stiffness,
+        cylinder_nodes=[0],
+        damping=damping if damping and any(damping) else None,
+        node_damping=node_damping if node_damping and any(node_damping) else None,
+    )
+    assert again == expected
+
+
+def test_the_disks_damping_is_the_nodes_summed_where_disks_share_one():
+    assembly = ot.Assembly(
+        [ot.Shaft(0, 1, k=1e5), ot.Shaft(1, 2, k=2e5)],
+        disk_elements=[ot.Disk(0, I=0.1, c=1.5), ot.Disk(2, I=0.2, c=0.25), ot.Disk(1, I=0.05), ot.Disk(2, I=0.1, c=2)],
+    )
+    shaft = mc.Shaft.from_opentorsion(assembly, cylinder_nodes=[0])
+    assert shaft.node_damping == (1.5, 0.0, 2.25) and shaft.inertia == pytest.approx((0.1, 0.05, 0.3))
+    np.testing.assert_array_equal(np.diag(assembly.C), shaft.node_damping)
 
 
 def _gears():
@@ -149,8 +197,14 @@ def _elastic_gears():
             r"disk_elements\[0\]\.k = 5000\.0: a stiffness to ground at node 0",
         ),
         (
-            lambda: ot.Assembly([ot.Shaft(0, 1, k=1e5)], disk_elements=[ot.Disk(0, I=0.1), ot.Disk(1, I=0.1, c=2.0)]),
-            r"disk_elements\[1\]\.c = 2\.0: a damping to ground at node 1",
+            lambda: ot.Assembly([ot.Shaft(0, 1, k=1e5)], disk_elements=[ot.Disk(0, I=0.1), ot.Disk(1, I=0.1, c=-2.0)]),
+            r"^assembly: node_damping must hold 2 values 0 <= c",
+        ),
+        (
+            lambda: ot.Assembly(
+                [ot.Shaft(0, 1, k=1e5)], disk_elements=[ot.Disk(0, I=0.1), ot.Disk(1, I=0.1, c=math.inf)]
+            ),
+            r"disk_elements\[1\]\.c = inf is not a finite real number",
         ),
         (
             lambda: ot.Assembly([ot.Shaft(0, 2, k=1e5)], disk_elements=[ot.Disk(i, I=0.1) for i in range(3)]),

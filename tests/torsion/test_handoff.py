@@ -81,17 +81,22 @@ def test_each_node_carries_its_own_cylinders_torque():
 
 
 def test_the_model_is_the_chain_written_out():
-    shaft = mc.Shaft([0.03, 0.02, 0.05, 0.8], [3e5, 2e5, 6e5], cylinder_nodes=[0, 0, 1, 2], damping=[1.0, 4.0, 0.5])
+    shaft = mc.Shaft(
+        [0.03, 0.02, 0.05, 0.8], [3e5, 2e5, 6e5], cylinder_nodes=[0, 0, 1, 2], damping=[1.0, 4.0, 0.5],
+        node_damping=[2.0, 0.0, 0.0, 7.0],
+    )  # fmt: skip
     model = mc.to_opentorsion(ENGINE, shaft=shaft, max_order=2)
     assert isinstance(model, tuple) and model._fields == ("assembly", "excitation")
     assembly, excitation = model
     assert isinstance(assembly, ot.Assembly) and isinstance(excitation, ot.PeriodicExcitation)
     k, c = np.array([3e5, 2e5, 6e5]), np.array([1.0, 4.0, 0.5])
     K = np.diag(np.r_[k, 0.0] + np.r_[0.0, k]) - np.diag(k, 1) - np.diag(k, -1)
-    C = np.diag(np.r_[c, 0.0] + np.r_[0.0, c]) - np.diag(c, 1) - np.diag(c, -1)
+    # The sections' damping between their nodes, the nodes' to ground on the diagonal.
+    C = np.diag(np.r_[c, 0.0] + np.r_[0.0, c] + [2.0, 0.0, 0.0, 7.0]) - np.diag(c, 1) - np.diag(c, -1)
     np.testing.assert_array_equal(assembly.M, np.diag([0.03, 0.02, 0.05, 0.8]))
     np.testing.assert_array_equal(assembly.K, K)
     np.testing.assert_array_equal(assembly.C, C)
+    assert [disk.c for disk in assembly.disk_elements] == [2.0, 0.0, 0.0, 7.0]
     # The machine's own speed (6000 1/min), orders ½ … 2 of a four-stroke engine.
     np.testing.assert_allclose(excitation.omegas, np.arange(1, 5) / 2 * 6000 * math.pi / 30, rtol=1e-15)
     np.testing.assert_array_equal(excitation.U[3], 0.0)
@@ -159,6 +164,49 @@ def test_resonant_peaks_scale_as_the_excitation_of_the_firing(order):
     _, first = peak(ENGINE, SHAFT, order, mine["resonance_rpm"])
     _, second = peak(RESHUFFLED, SHAFT, order, other["resonance_rpm"])
     assert first / second == pytest.approx(ratio, rel=0.02)
+
+
+def test_a_damped_node_takes_what_the_forced_response_says():
+    """A propeller at the end of a two-disc shaft: openTorsion's steady response of the model
+    is the 2 × 2 complex solve (K − ω²M + iωC) θ = T written out here, C the propeller's c on
+    the diagonal; at the resonance the section's twist is the smaller the larger c, inversely
+    as the elastic mode's damping φᵀCφ (φ = (1, −J_0/J_1): no net momentum)."""
+    J, k, T = (0.4, 2.0), 1e5, 50.0
+    omega = math.sqrt(k * (J[0] + J[1]) / (J[0] * J[1]))  # the elastic mode's natural frequency
+    M = np.diag(J)
+    K = k * np.array([[1.0, -1.0], [-1.0, 1.0]])
+    section = 0.05 * np.array([[1.0, -1.0], [-1.0, 1.0]])
+    swings = []
+    for c in (0.0, 20.0, 40.0):
+        shaft = mc.Shaft(list(J), [k], cylinder_nodes=[0, 0], damping=[0.05], node_damping=[0.0, c])
+        assembly = mc.to_opentorsion(mc.presets.MACHINES["marine-2t-twin"], shaft=shaft, max_order=1).assembly
+        theta, _ = assembly.ss_response(np.array([[T], [0.0]], dtype=complex), np.array([omega]))
+        C = section + np.diag([0.0, c])
+        expected = np.linalg.solve(K - omega**2 * M + 1j * omega * C, np.array([T, 0.0]))
+        np.testing.assert_allclose(theta[:, 0], expected, rtol=1e-10)
+        swings.append(abs(theta[0, 0] - theta[1, 0]))  # the section's twist
+    shape = np.array([1.0, -J[0] / J[1]])
+    modal = [shape @ (section + np.diag([0.0, c])) @ shape for c in (0.0, 20.0, 40.0)]
+    assert swings[0] > 10 * swings[1] > 10 * swings[2]  # the section's own damping alone lets it ring
+    np.testing.assert_allclose(np.array(swings[1:]) / swings[0], modal[0] / np.array(modal[1:]), rtol=0.02)
+
+
+def test_a_damper_at_the_front_lowers_the_first_modes_resonant_peak():
+    """The in-line four's 2nd order at the first mode: a damper at the free end (node 0, where
+    the mode swings most) lowers openTorsion's resonant peak of the section torque as the
+    mode's damping grows, φᵀCφ with φ its shape (numpy's eigen solution of the model's M, K)."""
+    damper = mc.Shaft(SHAFT.inertia, SHAFT.stiffness, cylinder_nodes=[0, 1, 2, 3], damping=SHAFT.damping,
+                      node_damping=[1.0, 0.0, 0.0, 0.0, 0.0])  # fmt: skip
+    row = merit_row(ENGINE, SHAFT, 2.0)
+    bare_speed, bare = peak(ENGINE, SHAFT, 2.0, row["resonance_rpm"])
+    damped_speed, damped = peak(ENGINE, damper, 2.0, row["resonance_rpm"])
+    assembly = mc.to_opentorsion(ENGINE, shaft=damper, max_order=2).assembly
+    values, vectors = np.linalg.eig(np.linalg.solve(assembly.M, assembly.K))
+    shape = vectors[:, np.argsort(values.real)[1]].real
+    plain = mc.to_opentorsion(ENGINE, shaft=SHAFT, max_order=2).assembly.C
+    assert damped < bare
+    assert damped / bare == pytest.approx((shape @ plain @ shape) / (shape @ assembly.C @ shape), rel=0.03)
+    assert damped_speed == pytest.approx(bare_speed, rel=0.01)
 
 
 def test_an_order_whose_vector_sum_vanishes_drives_nothing():

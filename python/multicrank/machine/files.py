@@ -90,7 +90,13 @@ _CYLINDER_REQUIRED = ("crank_radius", "rod_length", "piston_mass", "rod_mass", "
 _PLACED_BY_LAYOUT = ("phase_deg", "inclination_deg")
 
 #: The ``[shaft]`` table: the :class:`~multicrank.Shaft` as a torsional chain (no angles in it).
-SHAFT_KEYS = {"inertia": "numbers", "stiffness": "numbers", "cylinder_nodes": "integers", "damping": "numbers"}
+SHAFT_KEYS = {
+    "inertia": "numbers",
+    "stiffness": "numbers",
+    "cylinder_nodes": "integers",
+    "damping": "numbers",
+    "node_damping": "numbers",
+}
 _SHAFT_REQUIRED = ("inertia", "stiffness", "cylinder_nodes")
 
 #: A ``layout = {...}`` table (a layout of one's own).
@@ -309,19 +315,17 @@ def read_machine_file(path: str | os.PathLike[str]) -> MachineFile:
     return file
 
 
-def read_shaft_file(path: str | os.PathLike[str]) -> MachineFile:
-    """A file's ``[shaft]`` table, read and checked (:meth:`multicrank.Shaft.from_toml`): a
-    machine file (one with ``cylinder`` or ``shaft_inertia``) is read whole, as
-    :func:`read_machine_file` reads it; any other file holds the ``[shaft]`` table alone."""
+def read_shaft_file(path: str | os.PathLike[str]) -> MachineFile | None:
+    """A file that holds the ``[shaft]`` table alone, read and checked
+    (:meth:`multicrank.Shaft.from_toml`); None for a machine file (one with ``cylinder`` or
+    ``shaft_inertia``), which is a machine's, for :meth:`multicrank.Machine.from_toml` to read
+    and check as one."""
     data = read_toml(path, "a shaft or machine file")
     if "cylinder" in data or "shaft_inertia" in data:
-        file = read_machine_file(path)
-    else:
-        file = MachineFile(path=Path(os.fspath(path)), fields={}, cylinders=[])
-        _Table(file, "", data, {"shaft": "table"}, ("shaft",))
-        file.shaft = _shaft(file, data["shaft"])
-    if file.shaft is None:
-        raise file.error("shaft", "missing required table [shaft] (the shaft as a torsional chain)")
+        return None
+    file = MachineFile(path=Path(os.fspath(path)), fields={}, cylinders=[])
+    _Table(file, "", data, {"shaft": "table"}, ("shaft",))
+    file.shaft = _shaft(file, data["shaft"])
     return file
 
 

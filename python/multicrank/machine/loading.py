@@ -90,6 +90,8 @@ def from_toml(cls: type[Machine], path: str | os.PathLike[str]) -> Machine:
     ``cylinder_nodes``         integers     required; each cylinder's node, in the file's
                                             cylinder order (with a layout: the layout's)
     ``damping``                N·m·s/rad    c_i of each section (optional)
+    ``node_damping``           N·m·s/rad    c_i of each node, to ground: a propeller, a
+                                            damper (optional)
     **[cylinder]**
     ``crank_radius``           m            required; r
     ``rod_length``             m            required; l

@@ -2,7 +2,8 @@
 :func:`torsional_model`, which :func:`~multicrank.to_opentorsion` calls for a machine.
 
 The shaft (:class:`~multicrank.Shaft`) becomes an ``opentorsion.Assembly`` of one disk per node
-(I = J_i) and one massless shaft element per section (k_i, c_i); each cylinder's torque acts at
+(I = J_i, its damping to ground c = the node's) and one massless shaft element per section (k_i,
+c_i); each cylinder's torque acts at
 its own node, node i taking the sum over the cylinders on it. A component of angular frequency
 ν·ω_m and complex amplitude T stands, in openTorsion's convention, for Re(T e^{iνω_m t}).
 
@@ -29,9 +30,10 @@ class TorsionalModel(NamedTuple):
     Attributes
     ----------
     assembly : opentorsion.Assembly
-        The shaft: ``opentorsion.Disk(i, I=J_i)`` at each node [kg·m²] and
-        ``opentorsion.Shaft(i, i + 1, k=k_i, c=c_i)`` for each section [N·m/rad, N·m·s/rad],
-        massless (its inertia is in the nodes').
+        The shaft: ``opentorsion.Disk(i, I=J_i, c=node_damping_i)`` at each node [kg·m²,
+        N·m·s/rad] and ``opentorsion.Shaft(i, i + 1, k=k_i, c=c_i)`` for each section [N·m/rad,
+        N·m·s/rad], massless (its inertia is in the nodes'); a damping the shaft does not give
+        is 0.
     excitation : opentorsion.PeriodicExcitation
         ``omegas`` the orders' angular frequencies ν·ω_m [rad/s]; ``U[i]`` the complex
         amplitudes [N·m] of the torques of the cylinders at node i (zero where there are none).
@@ -42,13 +44,17 @@ class TorsionalModel(NamedTuple):
 
 
 def assembly_of(shaft: Shaft, opentorsion: Any) -> Any:
-    """The ``opentorsion.Assembly`` of a :class:`~multicrank.Shaft`: a disk per node, a massless
-    shaft element per section (``opentorsion`` the module)."""
+    """The ``opentorsion.Assembly`` of a :class:`~multicrank.Shaft`: a disk per node with its
+    damping to ground, a massless shaft element per section (``opentorsion`` the module)."""
     damping = shaft.damping or (0.0,) * len(shaft.stiffness)
+    node_damping = shaft.node_damping or (0.0,) * len(shaft.inertia)
     elements = [
         opentorsion.Shaft(i, i + 1, k=k, c=c) for i, (k, c) in enumerate(zip(shaft.stiffness, damping, strict=True))
     ]
-    disks = [opentorsion.Disk(i, I=inertia) for i, inertia in enumerate(shaft.inertia)]
+    disks = [
+        opentorsion.Disk(i, I=inertia, c=c)
+        for i, (inertia, c) in enumerate(zip(shaft.inertia, node_damping, strict=True))
+    ]
     return opentorsion.Assembly(elements, disk_elements=disks)
 
 
