@@ -142,7 +142,7 @@ def firing_criteria(
     shaft's lowest ``modes`` elastic modes (at most its nodes − 1), orders up to ``highest``,
     resonances whose speed lies in ``speeds`` (low, high) [1/min], ends included."""
     count = min(modes, len(shaft.inertia) - 1)
-    found = shaft.modes()
+    found = shaft.modes(count)
     relative, modal = cylinder_amplitudes(shaft, found.shapes[:, :count])
     harmonics = cylinder_orders(machine, highest)
     orders = harmonics.orders
@@ -268,7 +268,7 @@ def torsional_merit(
     highest = as_count(max_order, "max_order", minimum=1)
     window = None if rpm_range is None else as_speed_range(rpm_range)
 
-    found = chosen.modes()
+    found = chosen.modes(count)
     frequency = found.natural_frequency[:count]
     relative, modal = cylinder_amplitudes(chosen, found.shapes[:, :count])  # (modes, cylinders)
     harmonics = cylinder_orders(machine, highest)
