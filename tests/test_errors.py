@@ -574,6 +574,7 @@ REGISTRY.update(
                 "rank_by": ("delta", "option"),
                 "rpm": (None, "positive_or_none"),
                 "max_order": (3, "count"),
+                "modes": (2, "count"),
                 "max_candidates": (10, "count"),
                 "progress": (False, "flag"),
             },
@@ -598,6 +599,7 @@ REGISTRY.update(
                 # a finite force >= 0 [N]: a float may be a limit nothing meets (refused by name)
                 "max_bearing_load": (None, "positive_or_none"),
                 "max_free_force": (None, "positive_or_none"),
+                "max_free_moment": (None, "positive_or_none"),
                 "seed": (0, "count"),
                 "maxiter": (2, "count"),
                 "progress": (False, "flag"),
