@@ -68,3 +68,22 @@ def test_a_load_that_fixes_the_speed_takes_the_diagrams_as_given():
     assert (state.rpm, state.delta) == (plain.rpm, plain.delta)
     table = pd.DataFrame({"shaft_inertia": [240.0]})
     assert mc.motion_sweep(TWIN, table, outputs=["delta"], load=fan)["delta"].item() == pytest.approx(plain.delta)
+
+
+@pytest.mark.parametrize("steady", [False, True])
+def test_the_bearing_loads_below_the_rated_speed_carry_the_gas_of_its_load(steady):
+    """bearing_loads at 30 % speed (constant, and in steady running) are those of the machine
+    whose diagrams were scaled by hand; and a motion sweep's max_bearing_load over speeds is
+    each row's."""
+    rpm = 0.3 * TWIN.rpm
+    got = mc.bearing_loads(TWIN, rpm, steady=steady)
+    expected = mc.bearing_loads(by_hand(TWIN, rpm), rpm, steady=steady)
+    scale = np.abs(expected.vertical).max()
+    np.testing.assert_allclose(got.vertical, expected.vertical, rtol=0, atol=1e-9 * scale)
+    np.testing.assert_allclose(got.horizontal, expected.horizontal, rtol=0, atol=1e-9 * scale)
+    full = mc.bearing_loads(PLAIN, rpm, steady=steady)
+    assert np.abs(full.vertical - got.vertical).max() > 1e-3 * scale  # the gas does differ
+    speeds = [0.3 * TWIN.rpm, 0.7 * TWIN.rpm, TWIN.rpm]
+    swept = mc.motion_sweep(TWIN, mc.MachineGrid(TWIN, rpm=speeds), outputs=["max_bearing_load"])
+    for n, value in zip(speeds, swept["max_bearing_load"], strict=True):
+        assert value == pytest.approx(mc.bearing_loads(by_hand(TWIN, n), n).magnitude.max(), rel=1e-9)

@@ -214,6 +214,9 @@ def bearing_loads(
     gravity : bool, default True
         False leaves the weights out (g = 0).
 
+    Under the machine's ``load_law`` the gas forces are those of the law's pressures at
+    this (mean) speed.
+
     Returns
     -------
     BearingLoads
@@ -269,8 +272,10 @@ def _loads(
         angles = machine.cycle * np.arange(DEFAULT_POINTS) / DEFAULT_POINTS if phi is None else _as_phi(phi, machine)
         speeds, accelerations = np.full(angles.shape, omega), np.zeros(angles.shape)
     angles, speeds, accelerations = (contiguous(np.asarray(a, dtype=float)) for a in (angles, speeds, accelerations))
+    from ..motion._periodic import at_load
+
     horizontal, vertical = machine_bearing_loads(
-        motion_machine(machine),
+        motion_machine(at_load(machine, omega)),  # the load law's gas forces at this speed
         angles,
         speeds,
         accelerations,

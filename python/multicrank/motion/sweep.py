@@ -169,12 +169,7 @@ def _solve_chunk(
         # The core's speeds are ω [rad/s]: the rpm column [1/min] (checked by check_values) and
         # the machine's rpm converted here, once; the speed extremes back to 1/min below.
         designs = {name: contiguous(frame[name].to_numpy(dtype=np.float64)) for name in names}
-        if "rpm" in designs:
-            designs["omega"] = contiguous(omega_from_rpm(designs.pop("rpm")))
-            if machine.load_law is not None:
-                # The load law's diagrams at each design's speed, as steady_state runs them.
-                factor = load_factor(designs["omega"], rated_omega(machine))
-                designs["pressure_scale"] = contiguous(designs.get("pressure_scale", 1.0) * factor)
+        _at_speed(machine, designs)
         computed = [o for o in outputs if o != "near_stall"]
         omega = None if machine.rpm is None else omega_from_rpm(machine.rpm)
         try:
@@ -191,6 +186,18 @@ def _solve_chunk(
     return _near_stall(_solve_rows(machine, frame, outputs, load, delta), outputs)
 
 
+def _at_speed(machine: Machine, designs: dict[str, np.ndarray]) -> None:
+    """The designs' speeds as the core takes them, in place: the rpm column [1/min] (checked
+    by check_values) converted to ω [rad/s] once; under the machine's load law its diagrams
+    at each design's speed, as steady_state and bearing_loads run them (a pressure_scale)."""
+    if "rpm" not in designs:
+        return  # the machine's own speed: its rated one, the diagrams as given
+    designs["omega"] = contiguous(omega_from_rpm(designs.pop("rpm")))
+    if machine.load_law is not None:
+        factor = load_factor(designs["omega"], rated_omega(machine))
+        designs["pressure_scale"] = contiguous(designs.get("pressure_scale", 1.0) * factor)
+
+
 def _frame_columns(machine: Machine, frame: pd.DataFrame, outputs: list[str]) -> dict[str, np.ndarray]:
     """The frame's outputs of the designs of ``frame`` by the Rust core, each at the design's
     speed (its ``rpm`` column, else the machine's ``rpm``) held constant, whatever the load."""
@@ -201,8 +208,7 @@ def _frame_columns(machine: Machine, frame: pd.DataFrame, outputs: list[str]) ->
             f"outputs {outputs!r} are taken at each design's speed: give an rpm column, or a machine with rpm"
         )
     designs = {name: contiguous(frame[name].to_numpy(dtype=np.float64)) for name in names}
-    if "rpm" in designs:
-        designs["omega"] = contiguous(omega_from_rpm(designs.pop("rpm")))
+    _at_speed(machine, designs)
     omega = None if machine.rpm is None else omega_from_rpm(machine.rpm)
     try:
         return machine_frame_sweep(
@@ -369,8 +375,8 @@ def motion_sweep(
     Every row is what :func:`steady_state` (with gravity) and :func:`flywheel_inertia` give
     for that design's machine (:class:`MachineGrid` says how a design changes the machine):
     under the machine's ``load_law`` their outputs run, with "balance", the law's gauge
-    pressures at each design's speed (times its ``pressure_scale``); the frame's outputs take
-    the diagrams as given.
+    pressures at each design's speed (times its ``pressure_scale``), and so do the frame's
+    outputs (the bearing loads' gas forces).
 
     Parameters
     ----------
