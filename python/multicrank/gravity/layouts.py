@@ -40,8 +40,11 @@ class Layout:
         β_t [deg]: each throw's crank-pin angle at φ = 0 (absolute, from the horizontal),
         in their order along the shaft from the front: ``Machine.from_layout``'s
         ``cylinder_spacing`` places them so. The in-line layouts other than the four-stroke
-        4, 5, 6 and 8 (which are the textbook cranks, numbered from the front) list their
-        cylinders in the order of the regular phase set, that is in firing order.
+        4, 5, 6 and 8 (which are the textbook cranks, numbered from the front) give cylinder
+        j the phase j·T/k of the regular phase set; as cylinder j fires at φ = −α_j, they
+        fire in the reverse of that order after cylinder 1, 1-k-…-2, as
+        :func:`~multicrank.firing_orders` names them (``inline-3-4t`` 1-3-2, ``inline-6-2t``
+        1-6-5-4-3-2).
     banks : tuple of tuple of float
         Per throw, the inclinations γ [deg] of the cylinders on it (90 = upright).
     strokes : {2, 4} or None, default None

@@ -343,10 +343,13 @@ class Machine(MachineDescription, MachineDynamics, MachineGas):
         1-5-3-6-2-4, 1-6-2-5-8-3-7-4): the in-line four's pins lie at 0°, 180°, 180°, 0°
         along the shaft and the six's at 0°, 120°, 240°, 240°, 120°, 0° (mirror symmetric,
         so without first- and second-order couples), as in real engines. The other in-line
-        layouts list their cylinders in the order of the regular phase set, that is in
-        firing order: spaced, their pins follow the firing order along the shaft — for
-        three cylinders every order is the same crank up to a mirror, but for the others
-        it need not be the crank a real engine of that size has, whose couples differ.
+        layouts give cylinder j the phase j·T/k of the regular phase set; as cylinder j
+        fires at φ = −α_j, they fire in the reverse of that order after cylinder 1, 1-k-…-2,
+        as :func:`~multicrank.firing_orders` names them (``inline-3-4t`` 1-3-2,
+        ``inline-6-2t`` 1-6-5-4-3-2): spaced, after cylinder 1 their firing runs from the
+        back of the shaft forwards — for three cylinders every order is the same crank up
+        to a mirror, but for the others it need not be the crank a real engine of that
+        size has, whose couples differ.
         The V, boxer and W layouts write their throws along the shaft (``v8-cross``:
         0°, 90°, 270°, 180°). For another crank, give the cylinders one by one to
         :class:`Machine`, or a :class:`~multicrank.Layout` of one's own.
