@@ -226,3 +226,42 @@ def test_the_main_bearings_are_summed_up_below_the_orders():
     as_json = CliRunner().invoke(cli.main, ["forces", "--machine", "boxer-compressor", "--format", "json"])
     records = json.loads(as_json.output)["bearings"]
     assert [r["max"] for r in records] == pytest.approx(list(summary["max"]), rel=1e-12)
+
+
+def notations(lines: list[str]) -> list[set[str]]:
+    """For each whitespace-separated column of ``lines``, the notations its numbers are
+    written in: "exponent" (8.726e+03) or "fixed" (8726, 0.0925); 0 counts as either."""
+    columns: list[set[str]] = []
+    for line in lines:
+        for i, cell in enumerate(line.split()):
+            while len(columns) <= i:
+                columns.append(set())
+            if cell != "0":
+                float(cell)  # a number
+                columns[i].add("exponent" if "e" in cell else "fixed")
+    return columns
+
+
+@pytest.mark.parametrize("machine", ["slow-compressor", "slow-diesel-12", "inline-6", "boxer-compressor"])
+def test_every_column_of_the_tables_to_read_is_in_one_notation(machine):
+    """The orders' table and the bearings' lines: a column is fixed, with 4 significant digits,
+    or, where one of its numbers needs an exponent, all with an exponent — never 8726 above
+    1.139e+04 (the slow compressor's bearings and orders, the slow diesel's moments did)."""
+    text = invoke("--machine", machine)
+    lines = text.splitlines()
+    header = next(n for n, line in enumerate(lines) if line.split()[:2] == ["force_vertical", "[N]"])
+    orders = lines[header + 2 : lines.index("", header)]
+    start = next(i for i, line in enumerate(lines) if line.startswith("main bearings"))
+    bearings = lines[start + 2 :]
+    assert len(bearings) == len(mc.presets.MACHINES[machine].bearings)
+    for table in (orders, bearings):
+        for column, found in enumerate(notations(table)):
+            assert len(found) <= 1, (machine, column, table)
+    # fixed numbers have 4 significant digits at most (trailing zeros dropped, as %g does)
+    for line in orders:
+        for cell in line.split()[1:]:
+            if "e" not in cell and cell != "0":
+                assert len(cell.lstrip("-0.").replace(".", "")) <= 4 or float(cell).is_integer(), cell
+    summary = mc.bearing_loads(mc.presets.MACHINES[machine]).summary
+    for (_, row), line in zip(summary.iterrows(), bearings, strict=True):
+        assert float(line.split()[2]) == pytest.approx(row["max"], rel=5e-4)

@@ -294,3 +294,36 @@ def test_a_machine_file_that_cannot_be_read_is_one_line_for_every_command(tmp_pa
     line = run_failing(command, "--machine", str(path), *extra, *([] if command == "eval" else ["--no-progress"]))
     assert line.startswith(f"Error: --machine: {path}") and named in line
     assert not (tmp_path / "r").exists()
+
+
+def _notations(lines: list[str]) -> list[set[str]]:
+    """For each whitespace-separated column of ``lines``, the notations its numbers are
+    written in: "exponent" or "fixed"; 0, nan and the flags count as either."""
+    columns: list[set[str]] = []
+    for line in lines:
+        for i, cell in enumerate(line.split()):
+            while len(columns) <= i:
+                columns.append(set())
+            if cell not in ("0", "nan", "NaN", "True", "False"):
+                float(cell)
+                columns[i].add("exponent" if "e" in cell else "fixed")
+    return columns
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ("motion", "--machine", "genset-v12", "--rpm", "1500", "--rpm", "6000", "--delta-target", "1e-4"),
+        ("motion", "--machine", "inline-6"),
+        ("simulate", "--machine", "inline-4", "--duration", "0.05"),
+    ],
+)
+def test_every_column_of_the_tables_to_read_is_in_one_notation(args):
+    """A column is fixed, or all with an exponent where one of its numbers needs one — not
+    0.000723 above 4.89e-05 (the genset's δ at 1500 and 6000 rpm was)."""
+    lines = run(*args, "--no-progress").splitlines()
+    start = next(i for i, line in enumerate(lines) if line.split() and line.split()[0] in ("rpm", "time")) + 1
+    rows = lines[start:]
+    assert rows
+    for column, found in enumerate(_notations(rows)):
+        assert len(found) <= 1, (column, rows)

@@ -10,9 +10,10 @@ from typing import TYPE_CHECKING, Any
 import click
 
 from .._native import MechanismError
+from .._text import column_text
 from ._group import machine_option
 from ._output import format_option, out_option, write_result
-from .motion import _speed
+from .motion import _speed, readable
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -124,12 +125,19 @@ def bearing_summary(machine: Machine, result: ShakingForces) -> tuple[list[str],
     summary = bearing_loads(machine, result.rpm, steady=result.steady).summary
     lines = ["", "main bearings (force received from the shaft over the working cycle, gravity included):"]
     heading = ("bearing", "z [m]", "max [N]", "at φ [°]", "mean [N]", "gravity adds [N]")
-    lines.append(" ".join(f"{h:>{w}}" for h, w in zip(heading, (8, 9, 11, 9, 11, 17), strict=True)))
-    for index, row in summary.iterrows():
-        lines.append(
-            f"{index:>8} {row['position']:>9.4g} {row['max']:>11.4g} {math.degrees(row['phi_max']):>9.1f} "
-            f"{row['mean']:>11.4g} {row['gravity_adds']:>17.4g}"
-        )
+    # Each column in one notation (fixed, or all with an exponent), the angles to 0.1°.
+    columns = [
+        [f"{index}" for index in summary.index],
+        column_text(summary["position"].tolist(), DIGITS),
+        column_text(summary["max"].tolist(), DIGITS),
+        [f"{math.degrees(phi):.1f}" for phi in summary["phi_max"]],
+        column_text(summary["mean"].tolist(), DIGITS),
+        column_text(summary["gravity_adds"].tolist(), DIGITS),
+    ]
+    widths = [max(len(h), *(len(text) for text in column)) for h, column in zip(heading, columns, strict=True)]
+    lines.append(" ".join(f"{h:>{w + 1}}" for h, w in zip(heading, widths, strict=True)))
+    for row in zip(*columns, strict=True):
+        lines.append(" ".join(f"{text:>{w + 1}}" for text, w in zip(row, widths, strict=True)))
     records = [{"bearing": int(index), **{k: float(v) for k, v in row.items()}} for index, row in summary.iterrows()]
     return lines, {"bearings": records, "bearing_units": dict(summary.attrs["units"])}
 
@@ -158,9 +166,10 @@ def _header(machine: Machine, result: ShakingForces) -> list[str]:
 
 def _readable(orders: pd.DataFrame) -> pd.DataFrame:
     """The table to read: the :data:`SHOWN` columns with their units, to :data:`DIGITS`
-    significant digits, the orders as 1, 1.5, 2."""
+    significant digits in one notation per column (fixed, or all with an exponent), the
+    orders as 1, 1.5, 2."""
     units = orders.attrs["units"]
-    shown = orders.loc[:, list(SHOWN)].map(lambda v: float(f"{v:.{DIGITS}g}"))
+    shown = readable(orders.loc[:, list(SHOWN)].astype(float), DIGITS)
     shown.columns = [f"{name} [{units[name]}]" for name in SHOWN]
     shown.index = [f"{n:g}" for n in orders.index]
     shown.index.name = "order"

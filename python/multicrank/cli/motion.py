@@ -12,15 +12,33 @@ import numpy as np
 
 from .._files import write_atomically
 from .._native import MechanismError
-from .._text import counted
+from .._text import column_text, counted
 from .._validation import as_speed, omega_from_rpm, rpm_from_omega
 from ._group import UserError, machine_option, renamed_option
 from ._output import format_option, out_file, out_option, write_result, writing
 
 if TYPE_CHECKING:
+    import pandas as pd
+
     from ..machine.machine import Machine
 
-__all__ = ["motion_command", "parse_torque", "simulate_command"]
+__all__ = ["DIGITS", "motion_command", "parse_torque", "readable", "simulate_command"]
+
+#: Significant digits of the motion commands' tables to read (csv and json give 12 and 15).
+DIGITS = 6
+
+
+def readable(frame: pd.DataFrame, digits: int) -> pd.DataFrame:
+    """The table to read: every float column as text to ``digits`` significant digits, in one
+    notation per column (fixed, or all with an exponent: :func:`~multicrank._text.column_text`);
+    the other columns and the index as they are."""
+    from pandas.api.types import is_float_dtype
+
+    shown = frame.copy()
+    for name, column in frame.items():
+        if is_float_dtype(column):
+            shown[name] = column_text(column.tolist(), digits)
+    return shown
 
 
 def parse_torque(text: str, name: str, *, balance: bool) -> Any:
@@ -149,7 +167,7 @@ def simulate_command(
         f"{frame['rpm'].iloc[-1]:.6g} rpm",
         f"energy check (½Jω² + U − work, relative): {result.energy_drift:.2e}",
     ]
-    shown = frame if fmt != "table" else frame.iloc[:: max(1, len(frame) // 20)]
+    shown = frame if fmt != "table" else readable(frame.iloc[:: max(1, len(frame) // 20)], DIGITS)
     meta = dict(
         machine=machine.name,
         start_rpm=start,
@@ -347,7 +365,7 @@ def motion_command(
         machine=machine.name, load=load, drive=drive, delta_target=target, target_delta=target,
         near_stall_delta=NEAR_STALL_DELTA, units=units,
     )  # fmt: skip
-    write_result(frame, fmt, out_path, summary=summary, json_meta=meta)
+    write_result(readable(frame, DIGITS) if fmt == "table" else frame, fmt, out_path, summary=summary, json_meta=meta)
 
 
 def _speed_set(machine: Machine, points: int) -> list[float | None]:

@@ -13,7 +13,7 @@ from .._text import counted
 from ..motion.columns import COLUMN_MEANINGS
 from ._group import UserError, machine_option, note_renamed, renamed_option
 from ._output import format_option
-from .motion import parse_torque
+from .motion import DIGITS, parse_torque, readable
 from .sweep import grid_axes, output_names, progress_option, read_config, resume_option
 
 if TYPE_CHECKING:
@@ -225,7 +225,7 @@ def motion_sweep_command(
         frame = require("pyarrow.parquet", "parquet").read_table(result).to_pandas()
         click.echo(f"{heading} → {result}")
         numbers = frame.drop(columns=[*axes, "stalled", "near_stall"], errors="ignore")
-        click.echo(numbers.describe().T[["min", "mean", "max"]].to_string(float_format=lambda v: f"{v:.6g}"))
+        click.echo(readable(numbers.describe().T[["min", "mean", "max"]], DIGITS).to_string())
         note = _near_stall_note(frame)
         if note:
             click.echo(note)
@@ -242,7 +242,7 @@ def motion_sweep_command(
         summary.append(f"flywheel_inertia: the shaft inertia [kg·m²] for δ = {target:.4g} (1/{1 / target:.4g})")
     from ._output import write_result
 
-    write_result(result, fmt, None, summary=summary, json_meta=meta)
+    write_result(readable(result, DIGITS) if fmt == "table" else result, fmt, None, summary=summary, json_meta=meta)
 
 
 def _near_stall_note(frame: Any) -> str:

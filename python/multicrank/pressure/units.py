@@ -9,6 +9,8 @@ from typing import Any
 
 import numpy as np
 
+from .._text import column_text
+
 __all__ = ["ANGLE_UNITS", "PLAUSIBLE_PRESSURES", "PRESSURE_UNITS", "PressureUnitWarning", "check_pressure_unit"]
 
 #: Pressure units of :meth:`IndicatorDiagram.from_csv`: Pa per unit (psi: lbf/in², exact).
@@ -47,9 +49,15 @@ def check_pressure_unit(pressures: Any, unit: str, where: str, *, stacklevel: in
         else (f"below {low / 1e2:g} mbar, less than any machine's gas")
     )
     question = f"; did you give {likely} where {unit} is expected?" if likely else ""
+    # The peak as the table writes it and, in another unit than bar, in bar too (in bar it
+    # would be the same number twice), the two in one notation ("800000 Pa = 8 bar").
+    if unit == "bar":
+        largest = f"{column_text([written], 4)[0]} bar"
+    else:
+        as_written, in_bar = column_text([written, peak / 1e5], 4)
+        largest = f"{as_written} {unit} = {in_bar} bar"
     warnings.warn(
-        f"{where}: the largest pressure is {written:g} {unit} = {peak / 1e5:.4g} bar, {side}{question} "
-        f"(pressure_unit = {unit!r})",
+        f"{where}: the largest pressure is {largest}, {side}{question} (pressure_unit = {unit!r})",
         PressureUnitWarning,
         stacklevel=stacklevel + 1,
     )
