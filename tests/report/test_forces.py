@@ -33,6 +33,7 @@ from multicrank.report.forces import (
     forces_results,
     free_orders_sentence,
     gravity_sentence,
+    most_loaded_sentence,
     number,
 )
 
@@ -125,9 +126,11 @@ def test_the_bearing_summary_and_what_gravity_adds_are_the_librarys(report):
     np.testing.assert_allclose(table["position"], COMPRESSOR.bearings)
     said = text_of(forces_section(page_of(report)))
     most = int(np.argmax(adds))
+    # one cylinder between two bearings: the two take the same load, to rounding, and are named both
+    np.testing.assert_allclose(adds[0], adds[1], rtol=1e-9)
     assert (
-        f"adds at most {number(adds[most])} N to a bearing's load, at bearing {most}: "
-        f"{100 * adds[most] / largest[most]:.3g} % of its largest load, {number(largest[most])} N."
+        f"adds at most {number(adds[most])} N to a bearing's load, at bearings 0 and 1: "
+        f"{100 * adds[most] / largest[most]:.3g} % of their largest load, {number(largest[most])} N each."
     ) in said
     change = 100 * (largest.max() / without.magnitude.max() - 1)
     assert (
@@ -277,3 +280,54 @@ def test_counterweight_forces_of_an_unchanged_optimum():
     assert forces["first_order_force"].tolist() == [0.0, 0.0]  # the textbook: no first order
     assert forces["max_bearing_load"].iloc[0] == forces["max_bearing_load"].iloc[1]
     assert "as they are" in counterweight_forces_sentence(forces)
+
+
+def test_bearings_alike_are_all_named():
+    """The most loaded bearing, and where gravity adds most: every bearing within 1e-9 of the
+    largest is named, as a symmetric crank's mirrored bearings are alike to rounding."""
+    summary = pd.DataFrame(
+        {"max": [1000.0, 1000.0 * (1 + 1e-12), 400.0], "phi_max": np.radians([30.0, 210.0, 90.0]),
+         "max_without_gravity": [990.0, 990.0, 300.0], "gravity_adds": [20.0, 20.0, 5.0]},
+    )  # fmt: skip
+    assert most_loaded_sentence(summary) == (
+        "The most loaded bearings, alike, are bearings 0 and 1: 1,000 N each, at φ = 30° and 210°."
+    )
+    assert "adds at most 20 N to a bearing's load, at bearings 0 and 1: 2 % of their largest load, 1,000 N each." in (
+        gravity_sentence(summary)
+    )
+    summary.loc[1, "max"] = 999.0  # 1e-3 apart: no longer alike
+    assert most_loaded_sentence(summary) == "The most loaded bearing is bearing 0: 1,000 N at φ = 30°."
+    summary.loc[[0, 1, 2], "max"] = [1000.0, 999.0, 1000.0 * (1 - 1e-10)]
+    assert most_loaded_sentence(summary).startswith("The most loaded bearings, alike, are bearings 0 and 2: ")
+
+
+@pytest.mark.parametrize(
+    ("name", "named"), [("slow-compressor", "bearings 0 and 1"), ("inline-6", "bearings 1, 2, 4 and 5")]
+)
+def test_the_section_names_every_most_loaded_bearing(name, named):
+    """The one-cylinder compressor's two bearings take the same load, as do the six's four
+    bearings next to its middle pairs of throws: the section names them all, not bearing 0 alone."""
+    machine = MACHINES[name]
+    said = text_of(forces_html(forces_results(ReportSettings(machine=machine)), FIGURES))
+    summary = mc.bearing_loads(machine).summary
+    assert f"The most loaded bearings, alike, are {named}: {number(summary['max'].max())} N each" in said
+    assert "The most loaded bearing is" not in said
+
+
+@pytest.mark.parametrize("name", ["slow-compressor", "inline-6"])
+def test_the_figures_title_stands_clear_of_the_panels_titles(name):
+    """The bearing-load figure's title sits at least 8 pt above every panel's title (it sat on
+    them: -2 pt for the compressor, 3 pt for the six)."""
+    fig, _ = bearing_polar_figure(forces_results(ReportSettings(machine=MACHINES[name])))
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    title = fig.get_suptitle()
+    assert title.startswith("load each main bearing receives")
+    bottom = next(t for t in fig.texts if t.get_text() == title).get_window_extent(renderer).y0
+    panels = [ax for ax in fig.axes if ax.axison]
+    top_row = max(ax.get_position().y1 for ax in panels)
+    for ax in panels:
+        if ax.get_position().y1 == top_row:
+            gap = (bottom - ax.title.get_window_extent(renderer).y1) * 72 / fig.dpi
+            assert gap >= 8, (ax.get_title(), gap)
+    matplotlib.pyplot.close(fig)

@@ -35,6 +35,7 @@ __all__ = [
     "free_orders_sentence",
     "gravity_sentence",
     "largest_sentence",
+    "most_loaded_sentence",
     "number",
     "orders_table",
 ]
@@ -58,6 +59,8 @@ ORDER_COLUMNS: dict[str, str] = {
 
 #: Panels per row of the polar diagrams.
 POLAR_COLUMNS = 4
+#: The space [in] above and below each polar panel: between the figure's title and the panels', and between rows.
+POLAR_PAD = 0.1
 
 
 @dataclass(frozen=True)
@@ -224,24 +227,61 @@ def balancing_sentence(orders: pd.DataFrame) -> str:
     )
 
 
+#: Bearings whose numbers differ by at most this fraction of the largest are alike (a
+#: symmetric crank's mirrored bearings differ by rounding): a sentence names them all.
+TIED = 1e-9
+
+
+def _tied(values: np.ndarray) -> list[int]:
+    """The positions of ``values`` within :data:`TIED` of their largest, in order."""
+    top = float(np.max(values))
+    return [int(i) for i in np.flatnonzero(values >= top - TIED * abs(top))]
+
+
+def _bearings(summary: pd.DataFrame, which: Sequence[int]) -> str:
+    """ "bearing 2", "bearings 0 and 1", "bearings 1, 2, 4 and 5": the bearings at positions ``which``."""
+    names = [f"{summary.index[i]}" for i in which]
+    return ("bearing " if len(names) == 1 else "bearings ") + _listed(names)
+
+
+def most_loaded_sentence(summary: pd.DataFrame) -> str:
+    """Which bearing takes the largest load, how much and at which crank angle; every bearing
+    within :data:`TIED` of it where several take it alike (a symmetric crank's)."""
+    largest, phi = summary["max"].to_numpy(dtype=float), np.degrees(summary["phi_max"].to_numpy(dtype=float))
+    most = _tied(largest)
+    load = number(largest[most[0]])
+    if len(most) == 1:
+        return f"The most loaded bearing is bearing {summary.index[most[0]]}: {load} N at φ = {phi[most[0]]:.0f}°."
+    angles = [f"{angle}°" for angle in sorted({round(float(phi[i])) for i in most})]
+    return f"The most loaded bearings, alike, are {_bearings(summary, most)}: {load} N each, at φ = {_listed(angles)}."
+
+
 def gravity_sentence(summary: pd.DataFrame) -> str:
-    """What the weights add to the bearing loads: the most in N (which bearing, as % of its
+    """What the weights add to the bearing loads: the most in N (which bearings, as % of their
     largest load), the most relative to a bearing's own load where that is another bearing,
     and how the machine's largest load changes."""
     adds, largest = summary["gravity_adds"].to_numpy(dtype=float), summary["max"].to_numpy(dtype=float)
     if not (adds > 0).any():
         return "Gravity adds nothing to the bearing loads."
-    most = int(np.argmax(adds))
+    most = _tied(adds)
     share = 100 * adds / largest
+    if len(_tied(largest[most])) == len(most):  # one bearing, or alike ones of one load
+        whose = "its" if len(most) == 1 else "their"
+        of = f"{share[most[0]]:.3g} % of {whose} largest load, {number(largest[most[0]])} N"
+        of += "." if len(most) == 1 else " each."
+    else:
+        shares = _listed([f"{share[i]:.3g}" for i in most])
+        of = f"{shares} % of their largest loads, {_listed([number(largest[i]) for i in most])} N."
     text = (
-        f"Gravity (the weights of the moving parts) adds at most {number(adds[most])} N to a bearing's load, at "
-        f"bearing {summary.index[most]}: {share[most]:.3g} % of its largest load, {number(largest[most])} N."
+        f"Gravity (the weights of the moving parts) adds at most {number(adds[most[0]])} N to a bearing's load, "
+        f"at {_bearings(summary, most)}: {of}"
     )
-    relative = int(np.argmax(share))
-    if relative != most and share[relative] > share[most]:
+    relative = [i for i in _tied(share) if i not in most]
+    if relative and share[relative[0]] > share[most].max():
+        alike = "" if len(relative) == 1 else " each"
         text += (
-            f" Relative to its own load it adds most at bearing {summary.index[relative]}: {number(adds[relative])} "
-            f"N, {share[relative]:.3g} % of {number(largest[relative])} N."
+            f" Relative to its own load it adds most at {_bearings(summary, relative)}: "
+            f"{number(adds[relative[0]])} N{alike}, {share[relative[0]]:.3g} % of {number(largest[relative[0]])} N."
         )
     with_gravity, without = float(summary["max"].max()), float(summary["max_without_gravity"].max())
     change = 100 * (with_gravity / without - 1) if without else math.inf
@@ -310,8 +350,11 @@ def bearing_polar_figure(results: ForcesResults) -> tuple[Figure, pd.DataFrame]:
     fig.legend(handles=handles, loc="outside lower center", ncol=3, fontsize=8, frameon=False)
     fig.suptitle(
         f"load each main bearing receives from the shaft over a working cycle, {results.rpm:g} rpm",
-        fontsize=10,
+        fontsize=11,
     )
+    # Room between the title and the panels' own titles, and between the rows of panels: the
+    # constrained layout's default pad (3 pt) sets the title on the panels' titles.
+    fig.get_layout_engine().set(h_pad=POLAR_PAD)
     phi = np.degrees(loads.phi)
     table = pd.DataFrame(
         {
@@ -356,7 +399,6 @@ def forces_html(results: ForcesResults, figures: dict[str, str]) -> str:
         f"<td>{percent:.3g}</td></tr>"
         for (bearing, r), percent in zip(summary.iterrows(), share, strict=True)
     )
-    most = int(np.argmax(summary["max"].to_numpy()))
     cycle = "two revolutions (four-stroke)" if results.machine.strokes == 4 else "one revolution"
     return f"""
 <h2>Forces on the frame and the bearings</h2>
@@ -375,8 +417,7 @@ against it, their sum the largest the order reaches over a cycle.
 {_placement_note(results.machine)}
 <h3>Main-bearing loads</h3>
 <p>The force each main bearing receives from the shaft over {cycle}: the tip of the load vector with gravity,
-the same with g = 0 dashed, the largest load marked. The most loaded bearing is bearing {summary.index[most]}:
-{number(summary["max"].iloc[most])} N at φ = {math.degrees(summary["phi_max"].iloc[most]):.0f}°.
+the same with g = 0 dashed, the largest load marked. {most_loaded_sentence(summary)}
 {gravity_sentence(summary)}</p>
 <img src="{figures["forces_bearing_loads"]}" alt="polar diagrams of the main-bearing loads">
 <table><tr><th>bearing</th><th>z [m]</th><th>largest load [N]</th><th>at φ [°]</th><th>mean [N]</th>

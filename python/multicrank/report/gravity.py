@@ -180,8 +180,8 @@ def gravity_html(
     paper: pd.DataFrame,
     layouts: pd.DataFrame,
 ) -> str:
-    """The report's gravity sections, after the motion part: the machine and the verdict,
-    gravity significance, layouts, the curves, spectra and tables on k cranks, the paper's
+    """The report's gravity sections, after the motion part (which holds the verdict): the
+    machine, gravity significance, layouts, the curves, spectra and tables on k cranks, the paper's
     truncation error, the conventions and the errata. ``figures`` holds the embedded figures
     by name, ``tables`` the :func:`surviving_tables`, ``paper`` the :func:`paper_table_frame`
     and ``layouts`` the table of :func:`layouts_figure`."""
@@ -190,7 +190,6 @@ def gravity_html(
     sections: list[str] = []
     unit = _unit_machine(machine).design()
     delta = float(machine.engine(rpm).speed_fluctuation())
-    verdict = "may be neglected" if delta < settings.threshold else "may NOT be neglected"
     first = machine.cylinders[0]
     inline = _is_inline(machine)
     acting = "double" if any(c.pressure_crank_end is not None for c in machine.cylinders) else "single"
@@ -232,10 +231,6 @@ web and counterweight, on k in-line cranks.</p>"""
 <p>{html.escape(machine.note)}</p>
 <table>{machine_rows}</table>
 {unit_note}
-<p><b>Verdict:</b> with δ<sub>g</sub> = {delta:.3g} against the threshold {settings.threshold:.2g},
-gravity <b>{verdict}</b> in this machine's speed fluctuation at {rpm:g} rpm.
-The threshold is a tenth of 1/300, the tightest coefficient of speed fluctuation usually asked of
-machines (AC generators); pumps and compressors allow 1/20–1/50 and vehicle engines 1/100–1/200.</p>
 """)
     sections.append(f"""
 <h2>Gravity significance — when may gravity be neglected?</h2>

@@ -20,7 +20,7 @@ from ..gravity.harmonics import fourier_coefficients, lambda_coefficients
 from ..gravity.layouts import LAYOUTS
 from ..gravity.mechanism import crank_phases
 from ..machine.machine import Machine
-from .plotting import plain_log_axis, pyplot
+from .plotting import plain_log_axis, pyplot, threshold_text
 from .settings import ReportSettings, running_speed, speed_range
 
 if TYPE_CHECKING:
@@ -231,11 +231,25 @@ def significance_map(settings: ReportSettings) -> tuple[Figure, pd.DataFrame]:
         ax.set_xlabel("crank ratio λ")
         ax.set_yticks(ks)
     axes[0].set_ylabel("cranks k")
-    bar = fig.colorbar(image, ax=axes, shrink=0.9)
+    bar = fig.colorbar(image, ax=axes, shrink=0.9, pad=0.1)  # room for the threshold's label
     bar.set_label("log₁₀ δ_g  (δ_g = max U_w* − min U_w*)")
+    # The threshold, where the colours turn from blue to red: a line across the colour bar
+    # and its value beside it, pointing at it.
+    bar.ax.axhline(center, color="black", lw=2)
+    bar.ax.annotate(
+        f"threshold\n{threshold_text(settings.threshold)}",
+        (0.0, center),
+        xycoords=("axes fraction", "data"),
+        xytext=(-8, 0),
+        textcoords="offset points",
+        ha="right",
+        va="center",
+        fontsize=8,
+        arrowprops=dict(arrowstyle="->", color="black"),
+    )
     fig.suptitle(
         f"Gravity's share of the speed fluctuation δ_g, {machine.name}'s unit at {running_speed(machine):g} rpm: "
-        f"red, gravity matters; blue, negligible (δ_g < {settings.threshold:.2g})",
+        f"red, gravity matters; blue, negligible (δ_g < {threshold_text(settings.threshold)})",
         fontsize=10,
     )
     return fig, pd.DataFrame(records)
@@ -264,7 +278,7 @@ def machines_figure(settings: ReportSettings) -> tuple[Figure, pd.DataFrame]:
     ax.text(
         ax.get_xlim()[0] * 1.1,
         settings.threshold * 1.4,
-        f"threshold {settings.threshold:.2g}: below, gravity may be neglected",
+        f"threshold {threshold_text(settings.threshold)}: below, gravity may be neglected",
         fontsize=8,
     )
     ax.set_xscale("log")

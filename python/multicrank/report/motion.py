@@ -14,7 +14,7 @@ import pandas as pd
 from .._native import MechanismError
 from .._validation import as_count, rpm_from_omega
 from ..machine.machine import Machine
-from .plotting import plain_log_axis, pyplot, symmetric_limit
+from .plotting import plain_log_axis, pyplot, symmetric_limit, threshold_text
 from .prose import map_axes_sentence, neglected_region_sentence, speed_trend_sentence
 from .settings import ReportSettings, running_speed, speed_range
 
@@ -23,6 +23,8 @@ if TYPE_CHECKING:
 
 __all__ = [
     "GRAVITY_MAP_INERTIA",
+    "LISTED_ORDERS",
+    "ORDER_ROUNDING",
     "MotionResults",
     "gravity_map",
     "gravity_map_figure",
@@ -32,6 +34,7 @@ __all__ = [
     "speed_figure",
     "speed_range_figure",
     "torque_figure",
+    "verdict_html",
 ]
 
 
@@ -58,6 +61,13 @@ GRAVITY_MAP_INERTIA = (0.25, 4.0)
 #: The least half-range of the map's colours [%]: a change of δ far below it (0.02 %) shows
 #: near-white, not as saturated as one of 30 %.
 MAP_FLOOR_PERCENT = 1.0
+#: How many torque orders the page's table lists, the largest first (motion_orders.csv has all).
+LISTED_ORDERS = 8
+#: An order whose every amplitude is at most this times the table's largest is rounding:
+#: the page leaves it out with those that cancel exactly (torque_orders prints them as 0).
+ORDER_ROUNDING = 1e-12
+#: The opacity of the hatching where δ_g is below the threshold: the colours show through.
+HATCH_ALPHA = 0.3
 #: What the map computes (mc.motion_sweep's outputs); ``stalled`` comes with them.
 GRAVITY_MAP_OUTPUTS = ("delta", "delta_without_gravity", "gravity_effect")
 
@@ -248,12 +258,10 @@ def gravity_map_figure(results: MotionResults, machine: Machine, threshold: floa
     plt = pyplot()
     from matplotlib import patheffects
     from matplotlib.colors import CenteredNorm
-    from matplotlib.lines import Line2D
     from matplotlib.ticker import MaxNLocator
 
     frame = results.gravity_map
     effect = 100 * frame.pivot(index="shaft_inertia", columns="rpm", values="gravity_effect").to_numpy()
-    delta_g = frame.pivot(index="shaft_inertia", columns="rpm", values="delta_g").to_numpy()
     speeds, inertias = np.unique(frame["rpm"]), np.unique(frame["shaft_inertia"])
     # The colours cover the data (a round limit at or above its largest magnitude) and never
     # less than ±MAP_FLOOR_PERCENT, so that a change of 0.02 % shows near-white, not saturated.
@@ -272,15 +280,11 @@ def gravity_map_figure(results: MotionResults, machine: Machine, threshold: floa
         # (nearly) vertical; matplotlib may turn one by −90° (top to bottom) or past 90°.
         label.set_rotation((label.get_rotation() + 80) % 180 - 80)
         label.set_path_effects(halo)
-    handles = ax.plot(results.rpm, machine.shaft_inertia, "*", ms=15, mfc="white", mec="black",
-                      label=f"as built: {100 * results.state.gravity_effect:+.3g} %")  # fmt: skip
-    if np.nanmin(delta_g) < threshold < np.nanmax(delta_g):
-        neglected = ax.contour(speeds, inertias, delta_g, levels=[threshold], colors="black", linewidths=1.8,
-                               linestyles="--")  # fmt: skip
-        neglected.set_path_effects(halo)
-        handles.append(Line2D([], [], color="black", ls="--", label=f"δ_g = {threshold:.2g} (the report's threshold)"))
-    ax.legend(handles=handles, loc="upper left", fontsize=8, framealpha=0.9)
+    handles: list[Any] = ax.plot(results.rpm, machine.shaft_inertia, "*", ms=15, mfc="white", mec="black",
+                                 label=f"as built: {100 * results.state.gravity_effect:+.3g} %")  # fmt: skip
     ax.set_yscale("log")
+    handles += _threshold_line(ax, frame, threshold, halo)
+    ax.legend(handles=handles, loc="upper left", fontsize=8, framealpha=0.9)
     plain_log_axis(ax.yaxis)
     ax.grid(False)
     ax.set_xlabel("mean speed [rpm]")
@@ -288,6 +292,68 @@ def gravity_map_figure(results: MotionResults, machine: Machine, threshold: floa
     ax.set_title("where gravity matters: how much it changes δ, over speed × flywheel")
     ax.grid(False)
     return fig, frame
+
+
+def threshold_curve(frame: pd.DataFrame, threshold: float, points: int = 400) -> tuple[np.ndarray, np.ndarray]:
+    """The shaft inertia [kg·m²] at which δ_g = ``threshold``, at ``points`` speeds [1/min]
+    over the map of ``frame`` (gravity_map's rows): δ_g = c/(I_w n²) exactly (U* is
+    U/(I_w ω²)), c = δ_g I_w n² of the map's rows, so the curve is I_w = c/(threshold n²);
+    δ_g is below the threshold above it. Returns the speeds and those inertias (inf where
+    δ_g is 0)."""
+    constant = float(np.median(frame["delta_g"] * frame["shaft_inertia"] * frame["rpm"] ** 2))
+    speeds = np.linspace(frame["rpm"].min(), frame["rpm"].max(), points)
+    return speeds, constant / (threshold * speeds**2)
+
+
+def _threshold_line(ax: Any, frame: pd.DataFrame, threshold: float, halo: list[Any]) -> list[Any]:
+    """Draw δ_g = ``threshold`` on the map: a thick line with its label, the side where δ_g is
+    below it hatched; or, where it crosses nowhere, a note saying on which side the whole map
+    lies. Returns the legend's handles."""
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
+
+    written = threshold_text(threshold)
+    speeds, curve = threshold_curve(frame, threshold)
+    low, top = frame["shaft_inertia"].min(), frame["shaft_inertia"].max()
+    inside = (curve >= low) & (curve <= top)
+    if inside.sum() < 2:
+        below = bool((frame["delta_g"] < threshold).all())
+        note = (
+            f"δ_g < {written} everywhere on this map:\ngravity negligible by the first-order measure"
+            if below
+            else f"δ_g > {written} everywhere on this map:\nthe first-order measure never calls gravity negligible"
+        )
+        ax.text(0.98, 0.03, note, transform=ax.transAxes, ha="right", va="bottom", fontsize=8,
+                bbox=dict(boxstyle="round", facecolor="white", edgecolor="0.3", alpha=0.9))  # fmt: skip
+        return []
+    ax.fill_between(speeds, np.clip(curve, low, top), top, facecolor="none", edgecolor="black", hatch="///",
+                    linewidth=0, alpha=HATCH_ALPHA)  # fmt: skip
+    speeds, inertias = speeds[inside], curve[inside]
+    (line,) = ax.plot(speeds, inertias, color="black", lw=2.4, solid_capstyle="butt")
+    line.set_path_effects(halo)
+    # The label points at the middle of the curve as drawn (in the axes' own coordinates,
+    # the inertia axis logarithmic), from the side towards the map's centre, so that it
+    # reads on a long curve and on a short one in a corner alike.
+    middle = len(speeds) // 2
+    x, y = ax.transAxes.inverted().transform(ax.transData.transform((speeds[middle], inertias[middle])))
+    text = (0.5 + 0.6 * (x - 0.5) if abs(x - 0.5) > 0.2 else x, 0.5 + 0.6 * (y - 0.5) if abs(y - 0.5) > 0.2 else y)
+    ax.annotate(
+        f"δ_g = {written}",
+        (speeds[middle], inertias[middle]),
+        xytext=text,
+        textcoords="axes fraction",
+        ha="center",
+        va="center",
+        fontsize=9,
+        fontweight="bold",
+        bbox=dict(boxstyle="round", facecolor="white", edgecolor="black", alpha=0.9),
+        arrowprops=dict(arrowstyle="->", color="black", lw=1.2),
+    )
+    negligible = f"δ_g < {written}: gravity negligible to first order"
+    return [
+        Line2D([], [], color="black", lw=2.4, label=f"δ_g = {written}, the report's threshold"),
+        Patch(facecolor="none", edgecolor="black", hatch="///", alpha=HATCH_ALPHA, label=negligible),
+    ]
 
 
 def _gravity_map_caption(results: MotionResults, machine: Machine, threshold: float) -> str:
@@ -304,8 +370,9 @@ def _gravity_map_caption(results: MotionResults, machine: Machine, threshold: fl
         line = f"δ<sub>g</sub> is below the threshold {threshold:.2g} everywhere on the map."
     else:
         line = (
-            f"The dashed line is δ<sub>g</sub> = {threshold:.2g}, the threshold of the gravity-significance map below: "
-            "beyond it, towards higher speed and a heavier flywheel, the first-order measure calls gravity negligible."
+            f"The thick black line is δ<sub>g</sub> = {threshold_text(threshold)}, the threshold of the "
+            "gravity-significance map below: beyond it (hatched), towards higher speed and a heavier flywheel, the "
+            "first-order measure calls gravity negligible."
         )
     line += " " + neglected_region_sentence(frame, threshold)
     stalled = (
@@ -336,6 +403,37 @@ def _near_stall_html(frame: pd.DataFrame, where: str) -> str:
     count = int(near.sum())
     points = f"{count} of {len(frame)} points" if count > 1 else f"1 point of {len(frame)}"
     return f'<p class="note"><b>Near a stall</b> {where} at {points} ({speeds}): {html.escape(NEAR_STALL_NOTE)}.</p>'
+
+
+def _listed_orders(orders: pd.DataFrame) -> tuple[pd.DataFrame, str]:
+    """The rows of the page's orders table — the :data:`LISTED_ORDERS` largest by total
+    amplitude, leaving out every order whose every amplitude is 0 (or within
+    :data:`ORDER_ROUNDING` of the table's largest) — and the words that introduce them."""
+    columns = [f"{part}_amplitude" for part in ("gas", "inertia", "gravity", "total")]
+    largest = orders[columns].abs().max(axis=1)
+    kept = orders[largest > ORDER_ROUNDING * float(largest.max())]
+    top = kept.sort_values("total_amplitude", ascending=False).head(LISTED_ORDERS)
+    zero = len(orders) - len(kept)
+    if len(kept) > LISTED_ORDERS:
+        rest = f"the other {len(kept) - LISTED_ORDERS}" + (f" and the {zero} that are 0" if zero else "")
+        return top, f"The {LISTED_ORDERS} largest ({rest} are in motion_orders.csv):"
+    if not zero:
+        return top, f"Every order from 0 to {orders.index.max():g}:"
+    return top, f"The {len(kept)} that are not 0, of the {len(orders)} orders from 0 to {orders.index.max():g}:"
+
+
+def verdict_html(results: MotionResults, threshold: float) -> str:
+    """The paper's verdict on this machine: whether δ_g, its first-order measure of gravity's
+    share of δ, is below ``threshold`` at the running speed; shown beside the first table,
+    whose exact numbers it is weighed against."""
+    verdict = "may be neglected" if results.delta_g < threshold else "may NOT be neglected"
+    return (
+        f"<p><b>Verdict:</b> with δ<sub>g</sub> = {results.delta_g:.3g} against the threshold {threshold_text(threshold)}, "
+        f"gravity <b>{verdict}</b> in this machine's speed fluctuation at {results.rpm:g} rpm. "
+        "The threshold is a tenth of 1/300, the tightest coefficient of speed fluctuation usually asked of "
+        "machines (AC generators); pumps and compressors allow 1/20–1/50 and vehicle engines 1/100–1/200. "
+        "δ<sub>g</sub> is the paper's first-order measure; the rows above give the exact change of δ.</p>"
+    )
 
 
 def motion_html(results: MotionResults, machine: Machine, figures: dict[str, str], threshold: float) -> str:
@@ -375,7 +473,7 @@ def motion_html(results: MotionResults, machine: Machine, figures: dict[str, str
             ),
         ]
     fly_body = "".join(f"<tr><th>{k}</th><td>{v}</td></tr>" for k, v in fly)
-    top = results.orders.sort_values("total_amplitude", ascending=False).head(8)
+    top, orders_said = _listed_orders(results.orders)
     order_rows = "".join(
         f"<tr><td>{order:g}</td><td>{r.gas_amplitude:.4g}</td><td>{r.inertia_amplitude:.4g}</td>"
         f"<td>{r.gravity_amplitude:.4g}</td><td>{r.total_amplitude:.4g}</td></tr>"
@@ -388,6 +486,7 @@ the machine's variable reduced inertia J(φ), its gas pressure and the constant 
 mean gas torque, at the same mean speed with and without gravity. δ = (ω<sub>max</sub> − ω<sub>min</sub>)/ω<sub>m</sub>
 with ω<sub>m</sub> the time mean.</p>
 <table>{body}</table>
+{verdict_html(results, threshold)}
 <h3>The flywheel</h3>
 <table>{fly_body}</table>
 <img src="{figures["motion_speed"]}" alt="speed over the cycle with and without gravity">
@@ -404,7 +503,7 @@ does not tell which. {speed_trend_sentence(results.speeds)} The grey line is the
 {_near_stall_html(results.gravity_map, "on the map")}
 <h3>Torque orders at {results.rpm:g} rpm</h3>
 <p>Fourier amplitudes per order (harmonics per revolution; half orders in a four-stroke cycle) in N·m, for
-torsional-vibration tools: gravity and inertia exact, gas from the cycle quadrature. The eight largest:</p>
+torsional-vibration tools: gravity and inertia exact, gas from the cycle quadrature. {orders_said}</p>
 <table><tr><th>order</th><th>gas</th><th>inertia</th><th>gravity</th><th>total</th></tr>{order_rows}</table>
 <img src="{figures["motion_orders"]}" alt="torque orders">
 <p class="note">Data: motion_speed.csv, motion_torques.csv, motion_speed_range.csv, motion_gravity_map.csv,

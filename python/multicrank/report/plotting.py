@@ -9,7 +9,7 @@ from typing import Any
 
 from .._optional import require
 
-__all__ = ["plain_log_axis", "pyplot", "symmetric_limit"]
+__all__ = ["plain_log_axis", "pyplot", "symmetric_limit", "threshold_text"]
 
 
 def pyplot() -> ModuleType:
@@ -49,3 +49,10 @@ def symmetric_limit(largest: float, floor: float) -> float:
     value = max(abs(largest), floor) if math.isfinite(largest) else floor
     scale = 10.0 ** math.floor(math.log10(value))
     return next(step * scale for step in (1, 1.5, 2, 2.5, 3, 4, 5, 6, 8, 10) if step * scale >= value * (1 - 1e-12))
+
+
+def threshold_text(threshold: float) -> str:
+    """The δ_g threshold as the figures write it: "1/3000" where it is one over a whole number
+    (to 1e-9), else its 4 significant digits ("0.0004")."""
+    whole = round(1 / threshold)
+    return f"1/{whole}" if whole >= 1 and abs(whole * threshold - 1) <= 1e-9 else f"{threshold:.4g}"
