@@ -197,10 +197,8 @@ def _reference(orders: pd.DataFrame) -> list[str]:
 def _balancing(orders: pd.DataFrame) -> list[str]:
     """The lines below the table: what counterweights can cancel here, and what they cannot."""
     force, moment = orders.loc[1.0, ["force_forward", "moment_forward"]]
-    if force == 0 and moment == 0:
-        here = "here there is none"
-    else:
-        here = f"here {force:.{DIGITS}g} N and {moment:.{DIGITS}g} N·m"
+    parts = [f"{value:.{DIGITS}g} {unit}" for value, unit in ((force, "N"), (moment, "N·m")) if value]
+    here = f"here {' and '.join(parts)}" if parts else "here there is none"
     return _wrapped(
         f"counterweights turn with the crank: they can cancel only the forward first order ({here}); the "
         "backward first order and every higher order need balance shafts turning at that order"

@@ -37,7 +37,7 @@ from .._validation import (
 from .._validation import as_speed_range as _speed_range
 from ..gravity.layouts import Layout, as_layout
 from ..gravity.mechanism import STANDARD_GRAVITY
-from ..torsion.shaft import Shaft
+from ..torsion.shaft import Shaft, use_machine_loader
 from .cylinder import Cylinder, diagram_strokes, unit_columns
 from .description import MachineDescription
 from .dynamics import MachineDynamics
@@ -126,11 +126,11 @@ class Machine(MachineDescription, MachineDynamics, MachineGas):
         resonance at its own speed), the largest order and the torsional merit of
         :func:`~multicrank.firing_orders`, and, with ``load="balance"``,
         :func:`~multicrank.steady_state`, :func:`~multicrank.flywheel_inertia` and the steady
-        outputs of :func:`~multicrank.motion_sweep` at their mean speed. The rest take the
-        diagrams as given: :meth:`gas_torque` and :meth:`piston_forces` (no speed), a load
-        that fixes the speed itself (a :class:`~multicrank.PowerLawLoad`, a callable),
-        :func:`~multicrank.simulate`, and the forces on the frame
-        (:func:`~multicrank.bearing_loads`, the frame's outputs of a motion sweep).
+        outputs of :func:`~multicrank.motion_sweep` at their mean speed, and the main-bearing
+        loads (:func:`~multicrank.bearing_loads`, a motion sweep's ``max_bearing_load``).
+        The rest take the diagrams as given: :meth:`gas_torque` and :meth:`piston_forces`
+        (no speed), a load that fixes the speed itself (a :class:`~multicrank.PowerLawLoad`,
+        a callable) and :func:`~multicrank.simulate`.
 
     Attributes
     ----------
@@ -655,3 +655,7 @@ def _delta_target(value: Any) -> float:
             "fluctuation, e.g. 0.05 = 1/20 for a compressor)"
         )
     return delta
+
+
+# Shaft.from_toml of a whole machine file checks it as this machine (the one loader).
+use_machine_loader(Machine.from_toml)

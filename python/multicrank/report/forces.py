@@ -152,7 +152,8 @@ def free_orders_sentence(orders: pd.DataFrame) -> str:
     """Which orders leave a free force and which a free moment (listed orders only)."""
     listed = f"up to {orders.index.max():g}"
     parts = []
-    for kind, name, plural in (("force", "force", "forces"), ("moment", "moment about z = 0", "moments about z = 0")):
+    about = "about the engine centre"
+    for kind, name, plural in (("force", "force", "forces"), ("moment", f"moment {about}", f"moments {about}")):
         free = _free(orders, kind)
         if free.empty:
             cancel = ": the cylinders' forces cancel" if kind == "force" else ""
@@ -185,7 +186,7 @@ def largest_sentence(orders: pd.DataFrame, kind: str) -> str:
     if kind == "moment" and order in _free(orders, "force").index:
         text += (
             f" Order {order:g} also leaves a free force, so its moment depends on the point it is taken about "
-            "(here z = 0)."
+            "(here the engine centre, midway between the outermost cylinders)."
         )
     return text
 
@@ -409,7 +410,8 @@ inertia as rigid bodies, each throw shared between its two neighbouring bearings
 (<code>mc.bearing_loads</code>).</p>
 <h3>Shaking forces and moments by order</h3>
 <p>The amplitude of each order (harmonics per revolution) of the force on the frame, vertical (upward) and
-horizontal (toward a cylinder at γ = 0), and of the moments of those forces about z = 0 (pitch: of the
+horizontal (toward a cylinder at γ = 0), and of the moments of those forces about the engine centre, midway
+between the outermost cylinders (pitch: of the
 vertical ones, yaw: of the horizontal ones); forward and backward are the parts that turn with the crank and
 against it, their sum the largest the order reaches over a cycle.
 {said}</p>

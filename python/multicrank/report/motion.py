@@ -428,7 +428,8 @@ def verdict_html(results: MotionResults, threshold: float) -> str:
     whose exact numbers it is weighed against."""
     verdict = "may be neglected" if results.delta_g < threshold else "may NOT be neglected"
     return (
-        f"<p><b>Verdict:</b> with δ<sub>g</sub> = {results.delta_g:.3g} against the threshold {threshold_text(threshold)}, "
+        f"<p><b>Verdict:</b> with δ<sub>g</sub> = {results.delta_g:.3g} against the threshold "
+        f"{threshold_text(threshold)}, "
         f"gravity <b>{verdict}</b> in this machine's speed fluctuation at {results.rpm:g} rpm. "
         "The threshold is a tenth of 1/300, the tightest coefficient of speed fluctuation usually asked of "
         "machines (AC generators); pumps and compressors allow 1/20–1/50 and vehicle engines 1/100–1/200. "

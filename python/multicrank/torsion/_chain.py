@@ -43,7 +43,6 @@ one step per node).
 from __future__ import annotations
 
 import numpy as np
-from scipy.linalg import eigh_tridiagonal  # type: ignore[import-untyped,unused-ignore]
 
 __all__ = ["chain_modes"]
 
@@ -127,6 +126,9 @@ def _guard(pivot: np.ndarray) -> np.ndarray:
 
 def _eigenvalues(k: np.ndarray, J: np.ndarray, count: int) -> np.ndarray:
     """Ω² of elastic modes 1 … count (scaled chain), each to a few units in its last digit."""
+    # SciPy on first use: importing multicrank (or its pressures) does not import it.
+    from scipy.linalg import eigh_tridiagonal  # type: ignore[import-untyped,unused-ignore]
+
     n = J.size
     # The tridiagonal J^{-1/2} K J^{-1/2}: its estimates and their absolute accuracy.
     diagonal = (np.r_[k, 0.0] + np.r_[0.0, k]) / J

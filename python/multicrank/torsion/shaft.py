@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import math
 import os
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
@@ -33,6 +34,18 @@ if TYPE_CHECKING:
     from ..machine.files import MachineFile
 
 __all__ = ["Shaft", "ShaftModes", "shaft_of", "shaft_of_file"]
+
+# The one loader of a whole machine file, Machine.from_toml, handed over by machine.machine
+# when it is defined (use_machine_loader): it builds this module's Shafts, so this module
+# cannot import it without a circle; Shaft.from_toml of a machine file checks it through it.
+_machine_loader: Callable[[Any], Any] | None = None
+
+
+def use_machine_loader(load: Callable[[Any], Any]) -> None:
+    """Set the reader of whole machine files that :meth:`Shaft.from_toml` checks them by
+    (``Machine.from_toml``; machine.machine calls this once)."""
+    global _machine_loader
+    _machine_loader = load
 
 
 def _positive_list(values: Any, name: str, unit: str) -> tuple[float, ...]:
@@ -315,9 +328,9 @@ class Shaft:
         file = read_shaft_file(path)
         if file is not None:
             return shaft_of_file(file)
-        from ..machine.machine import Machine  # the one loader of a machine file
-
-        shaft = Machine.from_toml(path).shaft
+        if _machine_loader is None:  # pragma: no cover - the package's import sets it
+            raise MechanismError(f"{os.fspath(path)}: a machine file needs multicrank.Machine loaded")
+        shaft = _machine_loader(path).shaft
         if shaft is None:
             raise MechanismError(
                 f"{os.fspath(path)}: shaft: missing required table [shaft] (the shaft as a torsional chain)"
