@@ -74,28 +74,17 @@ def campbell_figure(machine: Machine, rpm: float, merit: pd.DataFrame) -> tuple[
         ax.annotate(f"mode {mode}: {frequency:.4g} Hz", (0.99 * top_speed, frequency), fontsize=8, xytext=(0, 3),
                     textcoords="offset points", color="tab:blue", ha="right")  # fmt: skip
     inside = merit[merit["in_range"]]
-    if len(inside):
-        largest = float(inside["modal_excitation"].max()) or 1.0
-        ax.scatter(
-            inside["resonance_rpm"],
-            inside["order"] * inside["resonance_rpm"] / 60,
-            s=20 + 280 * inside["modal_excitation"] / largest,
-            facecolors="none",
-            edgecolors="black",
-            zorder=3,
-            label="resonance in range (area ∝ modal excitation)",
-        )
-        running = inside[inside["at_running_speed"]]
-        if len(running):
-            ax.scatter(
-                running["resonance_rpm"],
-                running["order"] * running["resonance_rpm"] / 60,
-                s=20 + 280 * running["modal_excitation"] / largest,
-                color="tab:orange",
-                edgecolors="black",
-                zorder=4,
-                label="within ±5 % of the running speed",
-            )
+    largest = float(inside["modal_excitation"].max()) if len(inside) else 1.0
+
+    def circles(rows: pd.DataFrame, **style: Any) -> None:
+        """A circle at each resonance of ``rows``, its area growing with the modal excitation."""
+        if len(rows):
+            speed = rows["resonance_rpm"]
+            size = 20 + 280 * rows["modal_excitation"] / (largest or 1.0)
+            ax.scatter(speed, rows["order"] * speed / 60, s=size, edgecolors="black", **style)
+
+    circles(inside, facecolors="none", zorder=3, label="resonance in range (area ∝ modal excitation)")
+    circles(inside[inside["at_running_speed"]], color="tab:orange", zorder=4, label="within ±5 % of the running speed")
     ax.axvline(rpm, color="tab:orange", lw=0.8, ls=":", zorder=1, label=f"running speed {rpm:g} 1/min")
     ax.plot([], [], color="tab:red", lw=1.6, label="major order")
     ax.plot([], [], color="0.55", lw=0.7, label="minor order")
