@@ -63,22 +63,33 @@ print(f"first-order balance: {first_order:.2f} kg·m")
 # %%
 # The figure
 # ----------
-# Left, the six's firing orders, best first: δ with gravity and without, side by side.
-# Right, the compressor's δ over the first moment of its counterweight.
+# Left, the six's firing orders, best first, one bar pair per motion (the rows of one
+# δ, apart only by the frame and the shaft, together, named by the first and counted):
+# δ with gravity and without, side by side. Right, the compressor's δ over the first
+# moment of its counterweight.
 figure, (left, right) = plt.subplots(
     1, 2, figsize=(9.5, 4.4), layout="constrained", width_ratios=(1.1, 1)
 )
-rows = np.arange(len(table))
+motions = table.groupby("delta", sort=False).agg(
+    firing=("firing", "first"),
+    rows=("firing", "size"),
+    delta_without_gravity=("delta_without_gravity", "first"),
+)
+bars = np.arange(len(motions))
 width = 0.38
-left.bar(rows - width / 2, table["delta"], width, color="C3", label="with gravity")
+left.bar(bars - width / 2, motions.index, width, color="C3", label="with gravity")
 left.bar(
-    rows + width / 2,
-    table["delta_without_gravity"],
+    bars + width / 2,
+    motions["delta_without_gravity"],
     width,
     color="C0",
     label="without gravity",
 )
-left.set_xticks(rows, table["firing"], rotation=30, ha="right", fontsize=9)
+names = [
+    f"{firing} (+{count - 1})" if count > 1 else firing
+    for firing, count in zip(motions["firing"], motions["rows"], strict=True)
+]
+left.set_xticks(bars, names, rotation=30, ha="right", fontsize=9)
 left.set_ylabel("δ at 1900 rpm")
 left.set_title("inline-6: the firing orders its crank allows")
 left.annotate(
@@ -117,12 +128,13 @@ plt.show()
 
 # %%
 # **The firing order** decides the six's δ by a factor of eleven: the even firing it is
-# built with (1-5-3-6-2-4) runs smoothest, and so does 1-5-4-6-2-3, the same motion on a
-# rigid shaft (a row of its own because it loads the main bearings 9 % more: the design
-# aid weighs the frame and the shaft too, :doc:`plot_12_torsional_merit`). Every other
-# order the crank allows fires two cylinders together ("+") and leaves gaps in the
-# cycle. Gravity has no say: the red and blue bars are the same to 10⁻⁷. Every candidate
-# of a four-stroke crank has the same crank, hence the same gravity and inertia torques,
+# built with (1-5-3-6-2-4) runs smoothest, and so do 1-5-4-6-2-3, 1-2-3-6-5-4 and
+# 1-2-4-6-5-3, the same motion on a rigid shaft (rows of their own because they load the
+# main bearings 9 % more and drive the shaft's half orders otherwise: the design aid
+# weighs the frame and the shaft too, :doc:`plot_12_torsional_merit`). Every other order
+# the crank allows fires two cylinders together ("+") and leaves gaps in the cycle.
+# Gravity has no say: the red and blue bars are the same to 10⁻⁷. Every candidate of a
+# four-stroke crank has the same crank, hence the same gravity and inertia torques,
 # and only the gas torque is timed differently — beside which an engine's gravity torque
 # is small.
 #

@@ -188,11 +188,16 @@ def test_design_aid_says_what_its_figure_shows():
     space = run("plot_09_design_aid.py")
     table, best = space["table"], space["best"]
     # the six's even firing, as built, first; the worst eleven times rougher
-    assert table["firing"].iloc[0] == "1-5-3-6-2-4" and table.attrs["distinct"] == 10
-    # "1-5-4-6-2-3, the same motion on a rigid shaft ... loads the main bearings 9 % more"
-    assert table["firing"].iloc[1] == "1-5-4-6-2-3" and table["delta"].iloc[1] == table["delta"].iloc[0]
-    assert "+" not in table["firing"].iloc[1] and all("+" in f for f in table["firing"].iloc[2:])
-    assert 0.085 < table["max_bearing_load"].iloc[1] / table["max_bearing_load"].iloc[0] - 1 < 0.095
+    # (every one of the 32 apart: on the shaft with its damper and flywheel each drives the
+    # half orders otherwise)
+    assert table["firing"].iloc[0] == "1-5-3-6-2-4" and table.attrs["distinct"] == 32
+    # "1-5-4-6-2-3, 1-2-3-6-5-4 and 1-2-4-6-5-3, the same motion on a rigid shaft ... load the
+    # main bearings 9 % more"
+    alike = ["1-5-4-6-2-3", "1-2-3-6-5-4", "1-2-4-6-5-3"]
+    assert table["firing"].iloc[1:4].tolist() == alike and (table["delta"].iloc[1:4] == table["delta"].iloc[0]).all()
+    assert all("+" in f for f in table["firing"].iloc[4:])
+    more = table["max_bearing_load"].iloc[1:4] / table["max_bearing_load"].iloc[0] - 1
+    assert ((0.085 < more) & (more < 0.095)).all()
     assert math.isclose(space["as_built"].delta, table["delta"].iloc[0], rel_tol=1e-9)
     assert 10 < space["gain"][0] < 12
     assert (table["gravity_effect"].abs() < 1e-7).all()  # "the same to 10⁻⁷"
