@@ -69,7 +69,12 @@ MOTION_SWEEP_OUTPUTS: list[str]
 FRAME_OUTPUTS: list[str]
 SHAKING_ORDER_COLUMNS: list[str]
 
-class MechanismError(ValueError): ...
+class MechanismError(ValueError):
+    """A bad value, by name: the message names the parameter and its allowed range, and
+    ``parameter`` names it as data (None on the class, and where an error names none). A
+    design row's error also carries ``row`` (from 0) and ``reason`` (its own message)."""
+
+    parameter: str | None
 
 _Table = tuple[_Array, _Array] | None
 

@@ -82,6 +82,25 @@ impl Reach {
     }
 }
 
+impl MechanismError {
+    /// The public name of the parameter the error is about, as its message names it: the
+    /// speed `omega_mean` of a stall, `delta` of an unreachable flywheel target, and for a
+    /// design row its own error's parameter. None for an error that names no parameter
+    /// (no variant today).
+    pub fn parameter(&self) -> Option<&'static str> {
+        match self {
+            Self::OutOfRange { parameter, .. }
+            | Self::InvalidChoice { parameter, .. }
+            | Self::Empty { parameter }
+            | Self::LengthMismatch { parameter, .. }
+            | Self::TooLarge { parameter, .. } => Some(parameter),
+            Self::Stall { .. } => Some("omega_mean"),
+            Self::Unreachable { .. } => Some("delta"),
+            Self::InRow { error, .. } => error.parameter(),
+        }
+    }
+}
+
 impl fmt::Display for MechanismError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
@@ -255,4 +274,66 @@ pub(crate) fn try_filled<T: Clone>(
     let mut vec = try_with_capacity(parameter, value, len)?;
     vec.resize(len as usize, item);
     Ok(vec)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_error_names_its_parameter() {
+        let range = MechanismError::OutOfRange {
+            parameter: "crank_ratio",
+            value: 2.0,
+            allowed: "0 <= crank_ratio < 1",
+        };
+        assert_eq!(range.parameter(), Some("crank_ratio"));
+        let choice = MechanismError::InvalidChoice {
+            parameter: "acting",
+            value: "triple".into(),
+            allowed: "single, double",
+        };
+        assert_eq!(choice.parameter(), Some("acting"));
+        assert_eq!(
+            MechanismError::Empty {
+                parameter: "phases"
+            }
+            .parameter(),
+            Some("phases")
+        );
+        let length = MechanismError::LengthMismatch {
+            parameter: "bore",
+            expected: 2,
+            found: 3,
+        };
+        assert_eq!(length.parameter(), Some("bore"));
+        let large = MechanismError::TooLarge {
+            parameter: "phi",
+            value: "1e20".into(),
+            elements: 1 << 70,
+            item_bytes: 8,
+        };
+        assert_eq!(large.parameter(), Some("phi"));
+        let stall = MechanismError::Stall {
+            angle: 1.0,
+            omega_mean: 2.0,
+            min_omega: None,
+        };
+        assert_eq!(stall.parameter(), Some("omega_mean"));
+        let unreachable = MechanismError::Unreachable {
+            delta: 1e-9,
+            reach: Reach::NeverFalls,
+            closest: f64::NAN,
+        };
+        assert_eq!(unreachable.parameter(), Some("delta"));
+        // A design row's error is its own error's, however deep.
+        let row = MechanismError::InRow {
+            row: 3,
+            error: Box::new(MechanismError::InRow {
+                row: 1,
+                error: Box::new(length),
+            }),
+        };
+        assert_eq!(row.parameter(), Some("bore"));
+    }
 }

@@ -13,7 +13,7 @@ use pyo3::exceptions::{PyMemoryError, PyTypeError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::error::{to_py_err, MechanismError};
+use crate::error::{refused, to_py_err};
 
 /// The crank angles of an evaluation: points, or a uniform grid (start, step, count).
 #[derive(FromPyObject)]
@@ -251,8 +251,7 @@ pub(crate) fn drive_table(
     table
         .as_ref()
         .map(|(x, c)| {
-            polynomial(x, c, cycle)
-                .map_err(|error| MechanismError::new_err(format!("drive: {error}")))
+            polynomial(x, c, cycle).map_err(|error| refused("drive", format!("drive: {error}")))
         })
         .transpose()
 }
@@ -295,7 +294,7 @@ pub(crate) fn gas_tables(
                 return Ok(None);
             };
             let named = |error: core::MechanismError| {
-                MechanismError::new_err(format!("{end} of cylinder {j}: {error}"))
+                refused(end, format!("{end} of cylinder {j}: {error}"))
             };
             let diagram = polynomial(x, c, cycle).map_err(named)?;
             Ok(Some(match diagrams.iter().position(|d| *d == diagram) {

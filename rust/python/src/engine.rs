@@ -7,7 +7,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::conversion::{filled, named, EngineColumns, OutputSize, PhiArg};
-use crate::error::{to_py_err, MechanismError};
+use crate::error::to_py_err;
 use crate::evaluation::{evaluation, Evaluation};
 use crate::parallel::parallelism;
 
@@ -25,10 +25,12 @@ pub(crate) fn engine_evaluate<'py>(
 ) -> PyResult<Bound<'py, PyArray1<f64>>> {
     let evaluation = match evaluation(quantity)? {
         Evaluation::Series(core::SeriesKind::Paper) => {
-            return Err(MechanismError::new_err(
-                "quantity = \"paper\" is not allowed for an engine; allowed: \
-                 \"potential_energy\", \"generalized_force\", \"force_derivative\", \"series\"",
-            ))
+            return Err(to_py_err(core::MechanismError::InvalidChoice {
+                parameter: "quantity",
+                value: "\"paper\"".into(),
+                allowed: "\"potential_energy\", \"generalized_force\", \"force_derivative\", \
+                          \"series\" (\"paper\" is not for an engine)",
+            }))
         }
         other => other,
     };

@@ -9,16 +9,18 @@ use pyo3::types::PyDict;
 use crate::conversion::{
     designs, filled, named, DimensionlessDesigns, OutputSize, PhiArg, PhysicalArrays,
 };
-use crate::error::{to_py_err, MechanismError};
+use crate::error::to_py_err;
 use crate::parallel::parallelism;
 
 pub(crate) fn series_kind(method: &str) -> PyResult<core::SeriesKind> {
     match method {
         "exact" | "series" => Ok(core::SeriesKind::Exact),
         "paper" => Ok(core::SeriesKind::Paper),
-        other => Err(MechanismError::new_err(format!(
-            "method = {other:?} is not allowed; allowed: \"exact\", \"series\", \"paper\""
-        ))),
+        other => Err(to_py_err(core::MechanismError::InvalidChoice {
+            parameter: "method",
+            value: format!("{other:?}"),
+            allowed: "\"exact\", \"series\", \"paper\"",
+        })),
     }
 }
 
@@ -36,10 +38,12 @@ pub(crate) fn evaluation(quantity: &str) -> PyResult<Evaluation> {
         "force_derivative" => Evaluation::Closed(core::Quantity::ForceDerivative),
         "series" | "paper" => Evaluation::Series(series_kind(quantity)?),
         other => {
-            return Err(MechanismError::new_err(format!(
-                "quantity = {other:?} is not allowed; allowed: \"potential_energy\", \
-                 \"generalized_force\", \"force_derivative\", \"series\", \"paper\""
-            )))
+            return Err(to_py_err(core::MechanismError::InvalidChoice {
+                parameter: "quantity",
+                value: format!("{other:?}"),
+                allowed: "\"potential_energy\", \"generalized_force\", \"force_derivative\", \
+                          \"series\", \"paper\"",
+            }))
         }
     })
 }

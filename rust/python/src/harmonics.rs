@@ -7,7 +7,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::conversion::{designs, named, DimensionlessDesigns};
-use crate::error::{to_py_err, MechanismError};
+use crate::error::to_py_err;
 use crate::parallel::parallelism;
 
 /// lambda_coefficients(crank_ratio, n_max, method, parallel_threshold=None) -> flat
@@ -25,9 +25,11 @@ pub(crate) fn lambda_coefficients<'py>(
         "exact" => false,
         "paper" => true,
         other => {
-            return Err(MechanismError::new_err(format!(
-                "method = {other:?} is not allowed; allowed: \"exact\", \"paper\""
-            )))
+            return Err(to_py_err(core::MechanismError::InvalidChoice {
+                parameter: "method",
+                value: format!("{other:?}"),
+                allowed: "\"exact\", \"paper\"",
+            }))
         }
     };
     let lambdas = crank_ratio.as_slice()?;

@@ -70,6 +70,7 @@ mod _native {
 
     #[pymodule_init]
     fn init(m: &Bound<'_, PyModule>) -> PyResult<()> {
+        crate::error::add_default_parameter(m.py())?;
         m.add("MechanismError", m.py().get_type::<MechanismError>())?;
         m.add("__version__", env!("CARGO_PKG_VERSION"))?;
         m.add(

@@ -7,7 +7,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::conversion::{empty_array, filled, named, MachineColumns, OutputSize, PhiArg};
-use crate::error::{to_py_err, MechanismError};
+use crate::error::to_py_err;
 use crate::parallel::parallelism;
 
 /// machine_evaluate(quantity, units, g, phi, parallel_threshold=None) -> flat array:
@@ -32,10 +32,11 @@ pub(crate) fn machine_evaluate<'py>(
         "travel" => per_unit(core::Kinematics::Travel),
         "velocity" => per_unit(core::Kinematics::Velocity),
         other => {
-            return Err(MechanismError::new_err(format!(
-                "quantity = {other:?} is not allowed; allowed: \"potential_energy\", \
-                 \"gravity_torque\", \"travel\", \"velocity\""
-            )))
+            return Err(to_py_err(core::MechanismError::InvalidChoice {
+                parameter: "quantity",
+                value: format!("{other:?}"),
+                allowed: "\"potential_energy\", \"gravity_torque\", \"travel\", \"velocity\"",
+            }))
         }
     };
     let gravity_torque = quantity == "gravity_torque";

@@ -20,13 +20,11 @@ use crate::parallel::parallelism;
 /// of the exception: a stall its `angle` (rad), `omega_mean` and `min_omega` (rad/s, None
 /// where no speed runs); an unreachable flywheel target its `delta`, `reach` ("never_falls",
 /// "massless" or "stalls") and `closest` (the δ nearest to it that the machine reaches, NaN
-/// where none is known); a bad design its `row` (from 0), with the attributes of its own
-/// error beside.
+/// where none is known); a bad design its `row` (from 0) and `reason` (as `to_py_err` sets
+/// them), with the attributes of its own error beside. Every one carries its `parameter`.
 pub(crate) fn motion_err(py: Python<'_>, error: core::MechanismError) -> PyErr {
-    let mut row = None;
     let mut inner = &error;
-    if let core::MechanismError::InRow { row: at, error } = &error {
-        row = Some(*at);
+    if let core::MechanismError::InRow { error, .. } = &error {
         inner = error;
     }
     let stall = match *inner {
@@ -59,9 +57,6 @@ pub(crate) fn motion_err(py: Python<'_>, error: core::MechanismError) -> PyErr {
             .and_then(|()| value.setattr("delta", delta))
             .and_then(|()| value.setattr("reach", reach))
             .and_then(|()| value.setattr("closest", closest));
-    }
-    if let Some(row) = row {
-        set = set.and_then(|()| value.setattr("row", row));
     }
     match set {
         Ok(()) => err,
