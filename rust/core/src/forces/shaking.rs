@@ -65,7 +65,7 @@ pub struct ShakingForces {
     scales: [f64; 4],
 }
 
-/// The engine centre z_ref = (z_min + z_max)/2 [m] of units at `axial_position`: the point
+/// The engine centre z_ref = (z_min + z_max)/2 (m) of units at `axial_position`: the point
 /// on the shaft the shaking moments are taken about (the textbooks' and the marine guides'
 /// reference). A moment of an order that leaves no net force is the same about every point;
 /// one whose order also leaves a net force depends on the point, and this one does not move
