@@ -272,7 +272,7 @@ def test_the_first_order_free_force_of_one_slider_crank_is_the_textbook_s():
     omega = COMPRESSOR.rpm * math.pi / 30
     best_moment = rotating + 0.5 * r * reciprocating
     least = 0.5 * r * omega**2 * reciprocating
-    found = mc.optimize_counterweights(COMPRESSOR, objective="shaking_force", bounds=(0.0, 40.0), maxiter=30)
+    found = mc.optimize_counterweights(COMPRESSOR, objective="free_force_1", bounds=(0.0, 40.0), maxiter=30)
     assert found.counterweights[0] == pytest.approx(best_moment, rel=1e-6)
     assert found.objective == found.free_force_1 == pytest.approx(least, rel=1e-6)
     built = c.counterweight_mass * c.counterweight_radius
@@ -282,7 +282,7 @@ def test_the_first_order_free_force_of_one_slider_crank_is_the_textbook_s():
 
 
 def test_the_least_bearing_load_and_every_criterion_before_and_after():
-    found = mc.optimize_counterweights(BOXER, objective="bearing_load", maxiter=30, seed=1)
+    found = mc.optimize_counterweights(BOXER, objective="max_bearing_load", maxiter=30, seed=1)
     assert found.objective == found.max_bearing_load
     assert found.max_bearing_load == pytest.approx(largest_bearing_load(found.machine, found.rpm), rel=1e-12)
     assert found.max_bearing_load < found.max_bearing_load_before
@@ -323,8 +323,8 @@ def test_a_limit_on_the_speed_range_objective_holds_at_rpm():
 
 
 def test_the_same_seed_gives_the_same_constrained_result():
-    first = mc.optimize_counterweights(BOXER, objective="shaking_force", max_bearing_load=15e3, seed=5, maxiter=20)
-    again = mc.optimize_counterweights(BOXER, objective="shaking_force", max_bearing_load=15e3, seed=5, maxiter=20)
+    first = mc.optimize_counterweights(BOXER, objective="free_force_1", max_bearing_load=15e3, seed=5, maxiter=20)
+    again = mc.optimize_counterweights(BOXER, objective="free_force_1", max_bearing_load=15e3, seed=5, maxiter=20)
     np.testing.assert_array_equal(first.counterweights, again.counterweights)
     assert first.criteria().equals(again.criteria())
 
@@ -369,11 +369,11 @@ def test_a_limit_on_the_free_moment_keeps_the_frame_from_rocking():
     max_free_moment at the couple as built the optimum keeps it, checked by mc.shaking_forces
     of the returned machine, and says what it keeps."""
     three = placed("inline-3-4t")
-    free = mc.optimize_counterweights(three, objective="bearing_load", maxiter=40)
+    free = mc.optimize_counterweights(three, objective="max_bearing_load", maxiter=40)
     as_built = first_order(three, free.rpm, "moment")
     assert free.free_moment_1_before == pytest.approx(as_built, rel=1e-12)
     assert free.free_moment_1 > as_built * (1 + 1e-3)  # the limit below bites
-    kept = mc.optimize_counterweights(three, objective="bearing_load", max_free_moment=as_built, maxiter=40)
+    kept = mc.optimize_counterweights(three, objective="max_bearing_load", max_free_moment=as_built, maxiter=40)
     assert first_order(kept.machine, kept.rpm, "moment") <= as_built * (1 + 1e-9)
     assert kept.free_moment_1 == pytest.approx(first_order(kept.machine, kept.rpm, "moment"), rel=1e-12)
     assert kept.max_free_moment_limit == as_built and kept.max_free_force_limit is None
@@ -409,6 +409,6 @@ def test_an_optimum_equals_its_pickle_and_not_another():
     found = mc.optimize_counterweights(COMPRESSOR, maxiter=20)
     again = pickle.loads(pickle.dumps(found))
     assert again == found and not (again != found)
-    other = mc.optimize_counterweights(COMPRESSOR, maxiter=20, objective="shaking_force")
+    other = mc.optimize_counterweights(COMPRESSOR, maxiter=20, objective="free_force_1")
     assert other != found
     assert found != "an optimum"

@@ -156,7 +156,7 @@ def test_the_counterweight_optimum_before_and_after(report):
     added = (optimum.counterweights[0] - optimum.counterweights_before[0]) * omega**2
     textbook = abs(first["force_forward"] - added) + first["force_backward"]
     assert table["design"].tolist() == ["as given", "optimum", "bearings kept"]
-    assert table["first_order_force"].tolist()[:2] == pytest.approx(
+    assert table["free_force_1"].tolist()[:2] == pytest.approx(
         [first["force_forward"] + first["force_backward"], textbook], rel=1e-9
     )
     # The third row: the least δ whose largest bearing load is no more than as built's.
@@ -164,7 +164,7 @@ def test_the_counterweight_optimum_before_and_after(report):
     machines = (optimum.machine_before, optimum.machine, kept.machine)
     for row, machine in zip(table.itertuples(), machines, strict=True):
         assert row.max_bearing_load == pytest.approx(mc.bearing_loads(machine).magnitude.max(), rel=1e-12)
-        assert row.first_order_moment == 0  # one cylinder: the engine centre is its own place
+        assert row.free_moment_1 == 0  # one cylinder: the engine centre is its own place
         assert row.delta == pytest.approx(mc.steady_state(machine).delta, rel=1e-9)
     assert table["max_bearing_load"].iloc[2] <= table["max_bearing_load"].iloc[0]
     before, now = table["max_bearing_load"].iloc[:2]
@@ -172,11 +172,11 @@ def test_the_counterweight_optimum_before_and_after(report):
     design = page_of(report)[page_of(report).index("<h2>What to change</h2>") :]
     said = text_of(design)
     assert (
-        f"The optimum for δ makes the largest main-bearing load ({number(before)} → {number(now)} N, "
+        f"The optimum for δ makes the largest main-bearing load over the cycle ({number(before)} → {number(now)} N, "
         f"{100 * (now / before - 1):+.3g} %) larger: δ does not see it"
     ) in said
-    old, new = table["first_order_force"].iloc[:2]
-    assert f"It makes the first-order force on the frame ({number(old)} → {number(new)} N, " in said
+    old, new = table["free_force_1"].iloc[:2]
+    assert f"It makes the first-order free force ({number(old)} → {number(new)} N, " in said
     assert f"<td>{number(before)}</td><td>{number(now)}</td><td>{100 * (now / before - 1):+.3g} %</td>" in design
     assert "the counterweights as built are the best for δ that the bearings allow" in said
 
@@ -234,20 +234,20 @@ def test_the_sentences_follow_the_numbers():
 
 
 def test_the_optimum_sentence_says_what_changed():
-    rows = {"first_order_force": [100.0, 100.0], "first_order_moment": [0.0, 0.0], "max_bearing_load": [500.0, 500.0]}
+    rows = {"free_force_1": [100.0, 100.0], "free_moment_1": [0.0, 0.0], "max_bearing_load": [500.0, 500.0]}
     same = pd.DataFrame({"design": ["as given", "optimum"], **rows, "bearing": [0, 0]})
     assert counterweight_forces_sentence(same) == (
         "The optimum leaves the first-order force and moment and the largest bearing load as they are."
     )
     worse = same.copy()
-    worse.loc[1, ["first_order_moment", "max_bearing_load"]] = [30.0, 400.0]
+    worse.loc[1, ["free_moment_1", "max_bearing_load"]] = [30.0, 400.0]
     sentence = counterweight_forces_sentence(worse)
     assert sentence.startswith(
-        "<b>The optimum for δ makes the first-order moment on the frame about the engine centre (0 → 30 N·m) "
+        "<b>The optimum for δ makes the first-order free moment about the engine centre (0 → 30 N·m) "
         "larger</b>: "
         "δ does not see it; check that the frame's mounts can take it"
     )
-    assert sentence.endswith("It makes the largest main-bearing load (500 → 400 N, -20 %) smaller.")
+    assert sentence.endswith("It makes the largest main-bearing load over the cycle (500 → 400 N, -20 %) smaller.")
     tiny = same.copy()
     tiny.loc[1, "max_bearing_load"] = 500.0 * (1 + UNCHANGED / 2)
     assert "as they are" in counterweight_forces_sentence(tiny)
@@ -278,7 +278,7 @@ def test_counterweight_forces_of_an_unchanged_optimum():
     optimum = mc.optimize_counterweights(four)
     np.testing.assert_array_equal(optimum.counterweights, optimum.counterweights_before)
     forces = counterweight_forces(optimum, four.rpm)
-    assert forces["first_order_force"].tolist() == [0.0, 0.0]  # the textbook: no first order
+    assert forces["free_force_1"].tolist() == [0.0, 0.0]  # the textbook: no first order
     assert forces["max_bearing_load"].iloc[0] == forces["max_bearing_load"].iloc[1]
     assert "as they are" in counterweight_forces_sentence(forces)
 

@@ -13,7 +13,9 @@ import click
 
 from .._native import MechanismError
 from .._text import counted
-from ._group import UserError, machine_option
+from ..design.counterweights import OBJECTIVES, RENAMED_OBJECTIVES
+from ..design.criteria import RANKINGS, SHAFT_CRITERIA, VOCABULARY
+from ._group import UserError, machine_option, note_renamed
 from ._output import format_option, out_option, write_result
 from .motion import _speed
 
@@ -24,23 +26,6 @@ if TYPE_CHECKING:
 
 __all__ = ["counterweights_command", "firing_command", "optimize_command"]
 
-#: The objectives of ``optimize counterweights`` (multicrank.optimize_counterweights'
-#: ``objective``), with what each is for --help.
-OBJECTIVES: dict[str, str] = {
-    "delta": "δ with gravity at --rpm",
-    "gravity_effect": "the absolute value of δ/δ without gravity − 1 at --rpm: δ insensitive to gravity",
-    "delta_over_speed_range": "the largest δ over the machine's speed range",
-    "bearing_load": "the largest main-bearing load over the cycle [N] at --rpm held constant",
-    "shaking_force": "the first-order free force [N] at --rpm held constant",
-}
-#: The criteria ``optimize counterweights`` prints before and after
-#: (CounterweightOptimum.criteria()), in words.
-CRITERIA: dict[str, str] = {
-    "delta": "δ with gravity",
-    "free_force_1": "first-order free force [N]",
-    "free_moment_1": "first-order free moment about the engine centre [N·m]",
-    "max_bearing_load": "largest main-bearing load [N]",
-}
 #: The constraints' options, by the library's parameter.
 _LIMIT_OPTIONS = {
     "max_bearing_load": "--max-bearing-load",
@@ -100,18 +85,10 @@ def _degrees_text(phases: tuple[float, ...]) -> str:
     return " ".join(f"{round(math.degrees(a), 2) + 0.0:g}" for a in phases)
 
 
-#: The criteria of ``optimize firing`` (multicrank.firing_orders' rank_by), in words.
-FIRING_CRITERIA: dict[str, str] = {
-    "delta": "δ with gravity",
-    "free_moment_1": "the first-order free moment [N·m]",
-    "free_moment_2": "the second-order free moment [N·m]",
-    "max_bearing_load": "the largest main-bearing load [N]",
-    "torsional_major": "the largest modal excitation by a major order [N·m/√(kg·m²)] (needs a shaft)",
-    "torsional_minor": "the largest modal excitation by a minor order [N·m/√(kg·m²)] (needs a shaft)",
-    "torsional_merit": "the first mode's largest excitation [N·m] (needs a shaft)",
-}
-#: The criteria that need a shaft.
-_SHAFT_RANKINGS = ("torsional_major", "torsional_minor", "torsional_merit")
+def _ranking(name: str) -> str:
+    """A firing_orders ``rank_by`` for --help: its words and unit (the one vocabulary), and
+    whether it needs a shaft."""
+    return VOCABULARY[name].label + (" (needs a shaft)" if name in SHAFT_CRITERIA else "")
 
 
 @click.command("firing", short_help="The firing orders the machine's crank allows, judged by every criterion.")
@@ -128,11 +105,11 @@ _SHAFT_RANKINGS = ("torsional_major", "torsional_minor", "torsional_merit")
 )
 @click.option(
     "--rank-by",
-    type=click.Choice(list(FIRING_CRITERIA)),
+    type=click.Choice(list(RANKINGS)),
     default="delta",
     show_default=True,
     help="The criterion the rows are sorted by (smallest first): "
-    + "; ".join(f"{name}: {what}" for name, what in FIRING_CRITERIA.items())
+    + "; ".join(f"{name}: {_ranking(name)}" for name in RANKINGS)
     + ".",
 )
 @click.option(
@@ -205,7 +182,7 @@ def firing_command(
             machine = machine.replace(shaft=Shaft.from_toml(shaft_path))
         except MechanismError as error:
             raise UserError(f"--shaft {shaft_path}: {error}") from None
-    if rank_by in _SHAFT_RANKINGS and machine.shaft is None:
+    if rank_by in SHAFT_CRITERIA and machine.shaft is None:
         raise UserError(
             f"--rank-by {rank_by} needs a shaft: give --shaft FILE.toml (machine {machine.name!r} has none)"
         )
@@ -238,7 +215,7 @@ def firing_command(
     summary = [
         f"{machine.name}: {_count(len(machine), 'cylinder')}, {machine.strokes}-stroke, at {attrs['rpm']:g} rpm "
         f"(balance load): {_count(attrs['distinct'], 'distinct firing order')}, ranked by "
-        f"{FIRING_CRITERIA[rank_by].replace(' (needs a shaft)', '')}; {int(table['pareto'].sum())} on the Pareto front",
+        f"{VOCABULARY[rank_by].label}; {int(table['pareto'].sum())} on the Pareto front",
         tried,
         "δ = (ω_max − ω_min)/ω_mean; gravity_effect = δ/δ without gravity − 1; phases_deg: α_j [deg] in the "
         f"machine's cylinder order; largest_order: the torque order ν ≤ {max_order} of the largest amplitude [N·m]",
@@ -303,10 +280,13 @@ def _bounds(value: tuple[float, float] | None) -> tuple[float, float] | None:
 @machine_option
 @click.option(
     "--objective",
-    type=click.Choice(list(OBJECTIVES)),
+    type=click.Choice([*OBJECTIVES, *RENAMED_OBJECTIVES]),
     default="delta",
     show_default=True,
-    help="What to minimise: " + "; ".join(f"{name}: {what}" for name, what in OBJECTIVES.items()) + ".",
+    help="What to minimise: "
+    + "; ".join(f"{name}: {VOCABULARY[name].label}" for name in OBJECTIVES)
+    + " (the last two at --rpm held constant; bearing_load and shaking_force, their names of 0.1, are "
+    "deprecated).",
 )
 @click.option(
     "--bounds",
@@ -383,6 +363,13 @@ def counterweights_command(
     """
     speed = _speed(machine, rpm, "--rpm")
     limits = _bounds(bounds)
+    if objective in RENAMED_OBJECTIVES:  # a name of 0.1: the criterion it is, said once the command has run
+        renamed = RENAMED_OBJECTIVES[objective]
+        note_renamed(
+            click.get_current_context(),
+            f"note: --objective {objective} is now --objective {renamed} (the old name goes in 0.3)",
+        )
+        objective = renamed
 
     from ..design.counterweights import optimize_counterweights
 
@@ -414,7 +401,10 @@ def counterweights_command(
         f"{found.objective_name}: {found.objective_before:.6g} as given → {found.objective:.6g} "
         f"({_percent(found.improvement)} lower)",
     ]
-    summary += [f"{CRITERIA[name]}: {row.before:.6g} as given → {row.after:.6g}" for name, row in criteria.iterrows()]
+    summary += [
+        f"{VOCABULARY[str(name)].label}: {row.before:.6g} as given → {row.after:.6g}"
+        for name, row in criteria.iterrows()
+    ]
     given = {name: getattr(found, f"{name}_limit") for name in _LIMIT_OPTIONS}
     kept = [
         f"{option} {given[name]:g} {_LIMIT_UNITS[name]}"

@@ -35,23 +35,28 @@ from .._validation import (
     as_option,
     as_speed,
     omega_from_rpm,
+    warn_renamed,
 )
 from ..machine.machine import Machine
 from ._crank import throws as crank_throws
 from ._steps import _as_bounds, _as_limit, _at_bound, _nearest_alike, _nothing_runs, _polish, _radius, _unmet
-from .optimum import CRITERIA, CounterweightOptimum
+from .criteria import COUNTERWEIGHT_CRITERIA
+from .optimum import CounterweightOptimum
 
-__all__ = ["CRITERIA", "OBJECTIVES", "CounterweightOptimum", "optimize_counterweights"]
+__all__ = ["OBJECTIVES", "RENAMED_OBJECTIVES", "CounterweightOptimum", "optimize_counterweights"]
 
-#: The objectives :func:`optimize_counterweights` minimises, by name.
-OBJECTIVES: tuple[str, ...] = ("delta", "gravity_effect", "delta_over_speed_range", "bearing_load", "shaking_force")
+#: The objectives :func:`optimize_counterweights` minimises, named as the criteria they are
+#: (:data:`~multicrank.design.criteria.VOCABULARY`).
+OBJECTIVES: tuple[str, ...] = ("delta", "gravity_effect", "delta_over_speed_range", "max_bearing_load", "free_force_1")
+#: The objectives' names of 0.1, deprecated (they go in 0.3): the criterion each is.
+RENAMED_OBJECTIVES = {"bearing_load": "max_bearing_load", "shaking_force": "free_force_1"}
 #: Speeds at which "delta_over_speed_range" evaluates δ, evenly over the machine's rpm_range.
 SPEEDS_IN_RANGE = 9
 # The objectives that are δ's, whose optimum only the counterweights' resultant fixes.
 _DELTA_OBJECTIVES = ("delta", "gravity_effect", "delta_over_speed_range")
-# The objectives that are the frame's: the motion_sweep output each minimises (at rpm held
+# The objectives that are the frame's, each the motion_sweep output it minimises (at rpm held
 # constant; no steady state solved, so none stalls).
-_FRAME_OBJECTIVES = {"bearing_load": "max_bearing_load", "shaking_force": "free_force_1"}
+_FRAME_OBJECTIVES = ("max_bearing_load", "free_force_1")
 # Each constraint (the parameter) and the motion_sweep output it bounds from above.
 _CONSTRAINTS = {
     "max_bearing_load": "max_bearing_load",
@@ -81,16 +86,18 @@ def optimize_counterweights(
     ----------
     machine : Machine
         The machine: everything but its counterweights stays as given.
-    objective : {"delta", "gravity_effect", "delta_over_speed_range", "bearing_load", "shaking_force"}, default "delta"
-        What to minimise: "delta", δ with gravity at ``rpm`` [dimensionless];
+    objective : str, default "delta"
+        What to minimise, one of :data:`OBJECTIVES` (each named as the criterion it is):
+        "delta", δ with gravity at ``rpm`` [dimensionless];
         "gravity_effect", the size of gravity's effect on δ, the absolute value of δ/δ₀ − 1
         (δ₀ with g = 0), so that the machine runs as if gravity were not there;
         "delta_over_speed_range", the largest δ at 9 speeds evenly over the machine's
-        ``rpm_range``; "bearing_load", the largest load on any main bearing over the working
+        ``rpm_range``; "max_bearing_load", the largest load on any main bearing over the working
         cycle [N] (:func:`~multicrank.bearing_loads` at ``rpm`` held constant, 720 angles);
-        "shaking_force", the first-order free force [N], inertial, at ``rpm`` held constant
+        "free_force_1", the first-order free force [N], inertial, at ``rpm`` held constant
         (the largest magnitude of the first-order shaking force over a revolution: forward +
-        backward of :func:`~multicrank.shaking_forces`).
+        backward of :func:`~multicrank.shaking_forces`). The names of 0.1, "bearing_load"
+        and "shaking_force", still work with a DeprecationWarning (they go in 0.3).
     bounds : (low, high) or sequence of them, optional
         The first moment m_p r_p [kg·m] of each throw's counterweights: one pair for every
         throw, or one per throw. Default: from 0 to twice the throw's own first moment of
@@ -100,9 +107,9 @@ def optimize_counterweights(
         bearing loads and free forces; default the machine's own ``rpm``.
     max_bearing_load : float, optional
         A constraint: the optimum's largest main-bearing load over the cycle (as for
-        "bearing_load", at ``rpm``) is at most this [N], finite, >= 0.
+        "max_bearing_load", at ``rpm``) is at most this [N], finite, >= 0.
     max_free_force : float, optional
-        A constraint: the optimum's first-order free force (as for "shaking_force", at
+        A constraint: the optimum's first-order free force (as for "free_force_1", at
         ``rpm``) is at most this [N], finite, >= 0.
     max_free_moment : float, optional
         A constraint: the optimum's first-order free moment about the engine centre
@@ -165,10 +172,10 @@ def optimize_counterweights(
 
     δ and the first-order free force depend on the counterweights only through their
     resultant Σ m_p r_p e^{iθ} over the throws (θ the pin angles); for the δ objectives and
-    "shaking_force", of all those that run alike, the one nearest the machine as given
+    "free_force_1", of all those that run alike, the one nearest the machine as given
     (least squares) is returned, unless it breaks a constraint. The main-bearing loads and
     the free moments depend on where along the shaft each counterweight sits: for
-    "bearing_load" the optimiser's own point is returned. Counterweights turn with the
+    "max_bearing_load" the optimiser's own point is returned. Counterweights turn with the
     crank, so they cancel only the forward part of the first-order free force (the rotating
     masses and half the reciprocating first order): its backward half and the higher orders
     remain (:func:`~multicrank.shaking_forces` of ``optimum.machine`` has every order).
@@ -199,6 +206,9 @@ def optimize_counterweights(
     from ..motion.variants import machine_variant
 
     machine = as_instance(machine, Machine, "machine")
+    if isinstance(objective, str) and objective in RENAMED_OBJECTIVES:
+        warn_renamed(f"objective={objective!r}", f"objective={RENAMED_OBJECTIVES[objective]!r}")
+        objective = RENAMED_OBJECTIVES[objective]
     objective = as_option(objective, "objective", OBJECTIVES)
     if rpm is None and machine.rpm is None:
         raise MechanismError(f"rpm is required: machine {machine.name!r} has no rpm of its own")
@@ -242,7 +252,7 @@ def optimize_counterweights(
     # What each evaluation asks of motion_sweep: the objective's output (δ, or gravity's
     # effect, at each speed; or the frame's at rpm) and the outputs the constraints bound
     # (the frame's, at rpm): one sweep, or two where δ is taken over the speed range.
-    measured = _FRAME_OBJECTIVES.get(objective, "gravity_effect" if objective == "gravity_effect" else "delta")
+    measured = objective if objective in (*_FRAME_OBJECTIVES, "gravity_effect") else "delta"
     steady = [] if objective in _FRAME_OBJECTIVES else list(dict.fromkeys(["delta", measured]))
     bounded = [_CONSTRAINTS[name] for name in limits_of]
     framed = list(dict.fromkeys([*([measured] if objective in _FRAME_OBJECTIVES else []), *bounded]))
@@ -367,7 +377,7 @@ def optimize_counterweights(
 
     _polish(result, polished_scores, limits)
     best = np.asarray(result.x, dtype=float)
-    if objective not in _FRAME_OBJECTIVES or objective == "shaking_force":
+    if objective not in _FRAME_OBJECTIVES or objective == "free_force_1":
         # Only the resultant fixes δ and the free force: move along the designs alike to the
         # nearest the machine as given, unless that breaks a constraint (the bearing loads
         # are not alike along them).
@@ -389,7 +399,7 @@ def optimize_counterweights(
             "rpm": [speed, speed],
         }
     )
-    reported = [*CRITERIA, *(["gravity_effect"] if objective == "gravity_effect" else [])]
+    reported = [*COUNTERWEIGHT_CRITERIA, *(["gravity_effect"] if objective == "gravity_effect" else [])]
     criteria = motion_sweep(machine, table, outputs=reported)
     evaluations += len(criteria)
     if objective == "delta_over_speed_range":
@@ -409,8 +419,8 @@ def optimize_counterweights(
         objective=objective_after,
         objective_before=objective_before,
         objective_name=objective,
-        **{f"{name}_before": float(criteria[name].iloc[0]) for name in CRITERIA},
-        **{name: float(criteria[name].iloc[1]) for name in CRITERIA},
+        **{f"{name}_before": float(criteria[name].iloc[0]) for name in COUNTERWEIGHT_CRITERIA},
+        **{name: float(criteria[name].iloc[1]) for name in COUNTERWEIGHT_CRITERIA},
         max_bearing_load_limit=given["max_bearing_load"],
         max_free_force_limit=given["max_free_force"],
         max_free_moment_limit=given["max_free_moment"],

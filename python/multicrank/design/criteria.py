@@ -25,27 +25,68 @@ number but for rounding (mirror-image cranks give the same moments by different 
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from ..machine.machine import Machine
 
 __all__ = [
     "AGREE",
-    "CRITERIA",
+    "COUNTERWEIGHT_CRITERIA",
+    "FIRING_CRITERIA",
     "FRAME_CRITERIA",
     "RANKINGS",
     "SHAFT_CRITERIA",
+    "VOCABULARY",
+    "Criterion",
     "frame_criteria",
     "pareto_front",
     "ticks",
 ]
 
-#: The criteria of the design aid, all smaller-is-better (the last two need a shaft).
-CRITERIA = ("delta", "free_moment_1", "free_moment_2", "max_bearing_load", "torsional_major", "torsional_minor")
-#: What firing_orders may rank by: the criteria, and the first mode's classical merit.
-RANKINGS = (*CRITERIA, "torsional_merit")
+
+@dataclass(frozen=True)
+class Criterion:
+    """A criterion of the design aid: its ``name`` (a column of the firing orders, a field of
+    a counterweight optimum, an output of :func:`~multicrank.motion_sweep`), its ``unit`` ("" for
+    a number without one) and ``words``, what it is, as the command line and the report say it."""
+
+    name: str
+    unit: str
+    words: str
+
+    @property
+    def label(self) -> str:
+        """The words with the unit in brackets, where there is one."""
+        return f"{self.words} [{self.unit}]" if self.unit else self.words
+
+
+#: Every criterion the design aid weighs, once: all smaller-is-better.
+VOCABULARY: dict[str, Criterion] = {
+    c.name: c
+    for c in (
+        Criterion("delta", "", "δ with gravity"),
+        Criterion("gravity_effect", "", "the size of gravity's effect on δ, abs(δ/δ without gravity − 1)"),
+        Criterion("delta_over_speed_range", "", "the largest δ over the machine's speed range"),
+        Criterion("free_force_1", "N", "first-order free force"),
+        Criterion("free_moment_1", "N·m", "first-order free moment about the engine centre"),
+        Criterion("free_moment_2", "N·m", "second-order free moment about the engine centre"),
+        Criterion("max_bearing_load", "N", "largest main-bearing load over the cycle"),
+        Criterion("torsional_major", "N·m/√(kg·m²)", "largest modal excitation by a major order"),
+        Criterion("torsional_minor", "N·m/√(kg·m²)", "largest modal excitation by a minor order"),
+        Criterion("torsional_merit", "N·m", "the first mode's largest excitation"),
+    )
+}
+#: The criteria of the firing orders' Pareto front, all smaller-is-better (the last two need
+#: a shaft).
+FIRING_CRITERIA = ("delta", "free_moment_1", "free_moment_2", "max_bearing_load", "torsional_major", "torsional_minor")
+#: What firing_orders may rank by: its criteria, and the first mode's classical merit.
+RANKINGS = (*FIRING_CRITERIA, "torsional_merit")
 #: The criteria that need a shaft.
-SHAFT_CRITERIA = ("torsional_major", "torsional_minor")
+SHAFT_CRITERIA = ("torsional_major", "torsional_minor", "torsional_merit")
+#: The criteria a counterweight optimum reports before and after.
+COUNTERWEIGHT_CRITERIA = ("delta", "free_force_1", "free_moment_1", "max_bearing_load")
 #: Those the motion sweep's frame outputs give.
 FRAME_CRITERIA = ("free_moment_1", "free_moment_2", "max_bearing_load")
 #: Values closer than this fraction of the criterion's largest finite value are equal.

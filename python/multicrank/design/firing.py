@@ -31,7 +31,7 @@ from .._native import MechanismError
 from .._validation import as_count, as_flag, as_instance, as_option, as_speed
 from ..machine.machine import Machine
 from ._candidates import _RESOLUTION, _candidates, _groups
-from .criteria import AGREE, CRITERIA, RANKINGS, SHAFT_CRITERIA, frame_criteria, pareto_front, ticks
+from .criteria import AGREE, FIRING_CRITERIA, RANKINGS, SHAFT_CRITERIA, frame_criteria, pareto_front, ticks
 
 __all__ = ["firing_orders"]
 
@@ -247,9 +247,9 @@ def firing_orders(
 
     machine = as_instance(machine, Machine, "machine")
     chosen_shaft = None if shaft is None and machine.shaft is None else shaft_of(machine, shaft)
-    criteria = CRITERIA if chosen_shaft is not None else tuple(c for c in CRITERIA if c not in SHAFT_CRITERIA)
+    criteria = tuple(c for c in FIRING_CRITERIA if chosen_shaft is not None or c not in SHAFT_CRITERIA)
     order_by = as_option(rank_by, "rank_by", RANKINGS)
-    if chosen_shaft is None and order_by not in criteria:
+    if chosen_shaft is None and order_by in SHAFT_CRITERIA:
         raise MechanismError(
             f"rank_by={order_by!r} needs a shaft: give shaft=mc.Shaft(...); machine {machine.name!r} has none"
         )

@@ -9,12 +9,9 @@ from typing import Any
 import numpy as np
 
 from ..machine.machine import Machine
+from .criteria import COUNTERWEIGHT_CRITERIA, VOCABULARY
 
-__all__ = ["CRITERIA", "CounterweightOptimum"]
-
-#: The criteria a :class:`CounterweightOptimum` reports before and after (the
-#: :func:`~multicrank.motion_sweep` outputs of those names), with their units.
-CRITERIA: dict[str, str] = {"delta": "", "free_force_1": "N", "free_moment_1": "N·m", "max_bearing_load": "N"}
+__all__ = ["CounterweightOptimum"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -38,11 +35,11 @@ class CounterweightOptimum:
         The objective of the machine as given.
     objective_name : str
         Which objective: "delta", "gravity_effect", "delta_over_speed_range",
-        "bearing_load" or "shaking_force".
+        "max_bearing_load" or "free_force_1".
     delta, delta_before : float
         δ with gravity at ``rpm``, after and before [dimensionless]; NaN where that
         machine stalls there (the machine as given, made to run by the counterweights; or
-        an optimum of "bearing_load" or "shaking_force", which weigh no δ).
+        an optimum of "max_bearing_load" or "free_force_1", which weigh no δ).
     max_bearing_load, max_bearing_load_before : float
         The largest load on any main bearing over the working cycle [N], after and before
         (:func:`~multicrank.bearing_loads` at ``rpm`` held constant, 720 angles).
@@ -148,11 +145,11 @@ class CounterweightOptimum:
 
         return pd.DataFrame(
             {
-                "before": [float(getattr(self, f"{name}_before")) for name in CRITERIA],
-                "after": [float(getattr(self, name)) for name in CRITERIA],
-                "unit": list(CRITERIA.values()),
+                "before": [float(getattr(self, f"{name}_before")) for name in COUNTERWEIGHT_CRITERIA],
+                "after": [float(getattr(self, name)) for name in COUNTERWEIGHT_CRITERIA],
+                "unit": [VOCABULARY[name].unit for name in COUNTERWEIGHT_CRITERIA],
             },
-            index=pd.Index(list(CRITERIA), name="criterion"),
+            index=pd.Index(list(COUNTERWEIGHT_CRITERIA), name="criterion"),
         )
 
     def to_frame(self) -> Any:

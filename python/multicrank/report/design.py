@@ -17,6 +17,7 @@ import numpy as np
 import pandas as pd
 
 from .._text import counted
+from ..design.criteria import COUNTERWEIGHT_CRITERIA, VOCABULARY
 from ..machine.machine import Machine
 from .settings import ReportSettings, running_speed
 from .torsion import resonances, torsion_html
@@ -98,29 +99,25 @@ def counterweight_forces(optimum: Any, rpm: float, kept: Any = None) -> pd.DataF
     (constant speed): one row for the machine as given and one for the optimum's machine
     (``CounterweightOptimum.machine_before`` and ``.machine``) and, given ``kept`` (the
     optimum for δ under ``max_bearing_load``), one for its machine; with ``design`` ("as
-    given", "optimum", "bearings kept"), ``delta`` (δ with gravity at the optimum's speed),
-    ``first_order_force`` [N] and ``first_order_moment`` [N·m] (the largest
-    magnitude the first order's force and moment about the engine centre reach over a cycle: forward +
-    backward of :func:`~multicrank.shaking_forces`), ``max_bearing_load`` [N] (the largest load
-    of any main bearing over a working cycle, gravity included: :func:`~multicrank.bearing_loads`)
-    and ``bearing``, the bearing that takes it."""
+    given", "optimum", "bearings kept"), the optimum's criteria (the design aid's one
+    vocabulary): ``delta`` (δ with gravity at the optimum's speed), ``free_force_1`` [N] and
+    ``free_moment_1`` [N·m] (the largest magnitude the first order's force and moment about
+    the engine centre reach over a cycle), ``max_bearing_load`` [N] (the largest load of any
+    main bearing over a working cycle, gravity included), and ``bearing``, the bearing that
+    takes it (:func:`~multicrank.bearing_loads`)."""
     from ..forces.bearings import bearing_loads
-    from ..forces.shaking import shaking_forces
 
     rows = []
-    designs = [("as given", optimum.machine_before, optimum.delta_before), ("optimum", optimum.machine, optimum.delta)]
+    designs = [("as given", optimum, "_before"), ("optimum", optimum, "")]
     if kept is not None:
-        designs.append(("bearings kept", kept.machine, kept.delta))
-    for design, machine, delta in designs:
-        first = shaking_forces(machine, rpm, max_order=1).orders.loc[1.0]
+        designs.append(("bearings kept", kept, ""))
+    for design, found, side in designs:
+        machine = found.machine_before if side else found.machine
         largest = bearing_loads(machine, rpm).magnitude.max(axis=1)
         rows.append(
             {
                 "design": design,
-                "delta": float(delta),
-                "first_order_force": float(first["force_forward"] + first["force_backward"]),
-                "first_order_moment": float(first["moment_forward"] + first["moment_backward"]),
-                "max_bearing_load": float(largest.max()),
+                **{name: float(getattr(found, name + side)) for name in COUNTERWEIGHT_CRITERIA},
                 "bearing": int(np.argmax(largest)),
             }
         )
@@ -329,11 +326,10 @@ rotating masses: it changes the shaking forces and the bearing loads, which δ d
 #: Relative changes below this are "unchanged" in the before/after of the counterweight optimum.
 UNCHANGED = 1e-9
 
-#: The before/after rows: the column of :func:`counterweight_forces`, its name and unit.
+#: The before/after rows: the criteria of :func:`counterweight_forces` but δ, in the design
+#: aid's words and units.
 _FORCE_ROWS = {
-    "first_order_force": ("first-order force on the frame", "N"),
-    "first_order_moment": ("first-order moment on the frame about the engine centre", "N·m"),
-    "max_bearing_load": ("largest main-bearing load", "N"),
+    name: (VOCABULARY[name].words, VOCABULARY[name].unit) for name in COUNTERWEIGHT_CRITERIA if name != "delta"
 }
 
 
