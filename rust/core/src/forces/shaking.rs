@@ -402,12 +402,40 @@ mod tests {
         assert!(close(column("force_backward")[0], 0.0));
         assert!(close(column("force_vertical")[0], me_w2));
         assert!(close(column("force_horizontal")[0], me_w2));
-        assert!(close(column("moment_forward")[0], 0.5 * me_w2));
+        // Alone, the unit is the engine centre: its force has no lever about it.
+        assert!(close(column("moment_forward")[0], 0.0));
         // F_v = m e ω² sin(φ + 1.4) = m e ω² cos(φ − (π/2 − 1.4)).
         let phase = column("force_vertical_phase")[0];
         assert!((phase - (FRAC_PI_2 - 1.4)).abs() < 1e-12, "{phase}");
         for n in 1..4 {
             assert!(close(column("force_vertical")[n], 0.0), "order {}", n + 1);
+        }
+    }
+
+    #[test]
+    fn the_moments_are_about_the_midpoint_of_the_outermost_units() {
+        assert_eq!(engine_centre(&[0.3, -0.1, 0.9, 0.2]), 0.4);
+        assert_eq!(engine_centre(&[]), 0.0);
+        // Two alike unbalances 0.4 m apart with their pins together: no couple about the
+        // centre wherever the pair sits; pins opposed: the couple m e ω² · 0.4 m.
+        let unbalance = |phase: f64| PhysicalCylinder {
+            crank_mass: 2.0,
+            crank_cg_radius: 0.04,
+            ..unit(phase, FRAC_PI_2)
+        };
+        let omega = 100.0;
+        let me_w2 = 2.0 * 0.04 * omega * omega;
+        for origin in [0.0, 3.0, -11.0] {
+            let at = [origin, origin + 0.4];
+            for (phase, couple) in [(0.0, 0.0), (std::f64::consts::PI, 0.4 * me_w2)] {
+                let forces = ShakingForces::new(&[unbalance(0.0), unbalance(phase)], &at).unwrap();
+                let table = forces.orders(2).unwrap().at(omega, 2).unwrap();
+                let moment = table[MOMENT_FORWARD][0] + table[MOMENT_FORWARD + 1][0];
+                assert!(
+                    (moment - couple).abs() <= 1e-12 * me_w2,
+                    "{origin} {phase}: {moment}"
+                );
+            }
         }
     }
 
