@@ -186,8 +186,8 @@ def optimize_counterweights(
     >>> compressor = mc.presets.MACHINES["slow-compressor"]
     >>> best = mc.optimize_counterweights(compressor)
     >>> best.to_frame().round(2)
-       throw cylinders  angle_deg  counterweight_before  counterweight
-    0      1         1       90.0                   3.6          24.62
+       throw cylinders  angle_deg  counterweight_before  counterweight  at_bound
+    0      1         1       90.0                   3.6          24.62     False
     >>> round(best.delta_before, 5), round(best.delta, 5)
     (0.02953, 0.02526)
 
