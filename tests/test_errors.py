@@ -14,6 +14,7 @@ tests/test_errors_examples.py.
 
 from __future__ import annotations
 
+import ast
 import functools
 import inspect
 import math
@@ -610,6 +611,22 @@ REGISTRY.update(
 
 CASES = [(name, parameter) for name, (_, params) in REGISTRY.items() for parameter in params]
 
+# Refusals that may name another parameter than the one given a bad value (each refusal
+# names one, as data: ``error.parameter``), and why: two values checked together, where the
+# refusal names the other (the one whose rule it states), and a former name checked as the
+# name it now has.
+ALSO_NAMED: dict[tuple[str, str], set[str]] = {
+    # rod_length > crank_radius: a crank as long as its rod is refused as rod_length's
+    ("dimensionless_moments", "crank_radius"): {"rod_length"},
+    ("Cylinder", "crank_radius"): {"rod_length"},
+    ("Cylinder.replace", "crank_radius"): {"rod_length"},
+    # a load that fixes the speed itself refuses the rpm given beside it
+    ("steady_state", "load"): {"rpm"},
+    ("flywheel_inertia", "load"): {"rpm"},
+    # delta, delta_target's name of 0.1, is checked as delta_target
+    ("motion_sweep", "delta"): {"delta_target"},
+}
+
 # Public callables not in the registry, and why.
 OWNED_ELSEWHERE = {
     # results, made by steady_state, flywheel_inertia, simulate, optimize_counterweights,
@@ -667,7 +684,111 @@ def test_bad_values_raise_mechanism_error_naming_the_parameter(name, parameter, 
     except mc.MechanismError as error:
         if category in WRONG_TYPE:
             assert parameter in str(error), f"{name}({parameter}={value!r}): {error}"
+        # Every refusal names its parameter as data, the one the registry was given a bad value for.
+        named = {parameter} | ALSO_NAMED.get((name, parameter), set())
+        assert error.parameter in named, f"{name}({parameter}={value!r}): parameter {error.parameter!r}: {error}"
     except Exception as error:  # pragma: no cover - the failure being tested for
         pytest.fail(f"{name}({parameter}={value!r}) raised {type(error).__name__}: {error}")
     else:
         assert category in KINDS[kind], f"{name}({parameter}={value!r}) was accepted"
+
+
+# --------------------------------------------------------------------- no message is parsed
+PACKAGE = Path(mc.__file__).resolve().parent
+#: What reads a text: a method of str, a regular expression's search, a comparison.
+TEXT_READERS = {
+    *(name for name in dir(str) if not name.startswith("_")),
+    "search", "match", "fullmatch", "sub", "subn", "findall", "finditer",
+}  # fmt: skip
+
+
+def _error_names(function: ast.AST) -> set[str]:
+    """The names an error is bound to in ``function``: ``except … as name`` and parameters
+    annotated as an error or exception."""
+    names = {node.name for node in ast.walk(function) if isinstance(node, ast.ExceptHandler) and node.name}
+    if isinstance(function, ast.FunctionDef | ast.AsyncFunctionDef):
+        for argument in [*function.args.args, *function.args.kwonlyargs, *function.args.posonlyargs]:
+            annotation = ast.unparse(argument.annotation) if argument.annotation else ""
+            if "Error" in annotation or "Exception" in annotation:
+                names.add(argument.arg)
+    return names
+
+
+def _is_message(node: ast.AST, errors: set[str], texts: set[str]) -> bool:
+    """Whether ``node`` is an error's message: ``str(error)``, ``repr(error)``, ``error.args``
+    (or a part of it), an f-string of the error alone, or a name in ``texts`` bound to one."""
+    if isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id in ("str", "repr"):
+        return len(node.args) == 1 and isinstance(node.args[0], ast.Name) and node.args[0].id in errors
+    if isinstance(node, ast.Attribute) and node.attr == "args":
+        return isinstance(node.value, ast.Name) and node.value.id in errors
+    if isinstance(node, ast.Subscript):
+        return _is_message(node.value, errors, texts)
+    if isinstance(node, ast.JoinedStr) and len(node.values) == 1:
+        value = node.values[0]
+        return isinstance(value, ast.FormattedValue) and isinstance(value.value, ast.Name) and value.value.id in errors
+    return isinstance(node, ast.Name) and node.id in texts
+
+
+def _message_reads(tree: ast.AST) -> list[str]:
+    """Where a module reads an error's message (:func:`_is_message`) — searches, slices or
+    compares it, or hands it to a regular expression —: anything but showing it."""
+    found = []
+    for function in ast.walk(tree):
+        if not isinstance(function, ast.FunctionDef | ast.AsyncFunctionDef | ast.Module):
+            continue
+        errors = _error_names(function)
+        texts: set[str] = set()
+        for node in ast.walk(function):  # the names bound to a message
+            if isinstance(node, ast.Assign | ast.NamedExpr) and _is_message(node.value, errors, texts):
+                targets = node.targets if isinstance(node, ast.Assign) else [node.target]
+                texts |= {target.id for target in targets if isinstance(target, ast.Name)}
+        for node in ast.walk(function):
+            if isinstance(node, ast.Attribute) and node.attr in TEXT_READERS:
+                read = _is_message(node.value, errors, texts)
+            elif isinstance(node, ast.Subscript):
+                read = _is_message(node.value, errors, texts)
+            elif isinstance(node, ast.Compare):
+                read = any(_is_message(n, errors, texts) for n in [node.left, *node.comparators])
+            elif isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and node.func.attr in TEXT_READERS:
+                read = any(_is_message(argument, errors, texts) for argument in node.args)
+            else:
+                read = False
+            if read:
+                found.append(f"line {node.lineno}: {ast.unparse(node)}")
+    return sorted(set(found))  # a function's nodes are the module's too
+
+
+def test_no_module_parses_an_error_message():
+    """Which parameter an error is about is its data (``error.parameter``): no module of the
+    package searches, slices or compares an error's message to find out (the command line
+    re-parsed it to name the option, as did Shaft.from_opentorsion and the motion sweep's
+    row errors)."""
+    reads = {}
+    for path in sorted(PACKAGE.rglob("*.py")):
+        found = _message_reads(ast.parse(path.read_text(encoding="utf-8")))
+        if found:
+            reads[str(path.relative_to(PACKAGE))] = found
+    assert not reads, reads
+
+
+@pytest.mark.parametrize(
+    "source",
+    [
+        "def f():\n    try: g()\n    except E as error:\n        text = str(error)\n        return text.endswith('')",
+        "def f():\n    try: g()\n    except E as error:\n        return pattern.sub(h, str(error))",
+        "def f(error: MechanismError):\n    return str(error).removeprefix('design 0: ')",
+        "def f():\n    try: g()\n    except E as error:\n        return 'max_order' in error.args[0]",
+    ],
+)
+def test_the_message_check_sees_a_parse(source):
+    """The check above finds what the package did before errors carried their parameter."""
+    assert _message_reads(ast.parse(source))
+
+
+def test_the_message_check_lets_a_message_be_shown():
+    source = (
+        "def f():\n    try: g()\n    except E as error:\n"
+        "        raise UserError(f'--shaft {path}: {error}') from None\n"
+        "    except F as error:\n        raise refused('assembly', str(error))\n"
+    )
+    assert not _message_reads(ast.parse(source))

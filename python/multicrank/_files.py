@@ -19,7 +19,7 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import IO, Any
 
-from ._native import MechanismError
+from ._validation import refused
 
 __all__ = ["TEMPORARY_SUFFIX", "atomic_directory", "atomic_write", "read_toml", "write_atomically"]
 
@@ -157,18 +157,18 @@ def read_toml(path: str | os.PathLike[str], what: str, *, label: str | None = No
     try:
         name = Path(os.fspath(path))
     except TypeError:
-        raise MechanismError(f"path must be a file path (str or os.PathLike), got {type(path).__name__}") from None
+        raise refused("path", f"path must be a file path (str or os.PathLike), got {type(path).__name__}") from None
     where = str(name) if label is None else label
     try:
         with open(name, "rb") as handle:
             return tomllib.load(handle)
     except FileNotFoundError:
-        raise MechanismError(f"{where}: no such file") from None
+        raise refused("path", f"{where}: no such file") from None
     except IsADirectoryError:
-        raise MechanismError(f"{where}: is a directory, not {what}") from None
+        raise refused("path", f"{where}: is a directory, not {what}") from None
     except tomllib.TOMLDecodeError as error:
-        raise MechanismError(f"{where}: not a valid TOML file: {error}") from None
+        raise refused("path", f"{where}: not a valid TOML file: {error}") from None
     except UnicodeDecodeError as error:
-        raise MechanismError(f"{where}: not a UTF-8 text file: {error.reason}") from None
+        raise refused("path", f"{where}: not a UTF-8 text file: {error.reason}") from None
     except OSError as error:
-        raise MechanismError(f"{where}: cannot be read: {error.strerror or error}") from None
+        raise refused("path", f"{where}: cannot be read: {error.strerror or error}") from None

@@ -1,8 +1,10 @@
 """Coercion, validation and broadcasting shared by the fast API and the numpy reference.
 
 Everything that reaches the Rust kernels leaves here as a contiguous float64 array, and every kind
-of bad input leaves here as a :class:`MechanismError` that names the parameter. It depends on nothing
-of the package but the extension, so every other module can use it without an import circle.
+of bad input leaves here as a :class:`MechanismError` that names the parameter, in its message and
+as data (its ``parameter``: :func:`refused`, the package's one way to make one). It depends on
+nothing of the package but the extension, so every other module can use it without an import
+circle.
 """
 
 from __future__ import annotations
@@ -13,6 +15,8 @@ import operator
 import os
 import sys
 import warnings
+from collections.abc import Iterator
+from contextlib import contextmanager
 from typing import Any, TypeVar
 
 import numpy as np
@@ -56,7 +60,10 @@ __all__ = [
     "has_gas",
     "omega_from_rpm",
     "one_of",
+    "part_of",
+    "refused",
     "renamed",
+    "reworded",
     "rpm_from_omega",
     "warn_renamed",
 ]
@@ -71,16 +78,48 @@ INDEX_MAX = 2**63 - 1
 COUNT_MAX = 2**64 - 1
 
 
+def refused(parameter: str, message: str) -> MechanismError:
+    """The package's one way to make a :class:`MechanismError`: ``message`` (which starts with
+    the parameter's name, or the context it is re-raised with) and ``parameter``, the name as
+    data (the exception's ``parameter``), so that a caller tells which value was wrong without
+    reading the message. ``raise refused("rpm", f"rpm = {rpm} is out of range; ...")``."""
+    error = MechanismError(message)
+    error.parameter = parameter
+    return error
+
+
+def reworded(error: MechanismError, message: str) -> MechanismError:
+    """``error`` re-raised with its context (``message``: "design 3 (rpm = 0): …", "--shaft
+    FILE: …"): a :class:`MechanismError` about the same parameter as ``error``."""
+    again = MechanismError(message)
+    again.parameter = error.parameter
+    return again
+
+
+@contextmanager
+def part_of(parameter: str) -> Iterator[None]:
+    """The refusals inside, of a part of ``parameter`` (``banks[2]``, a grid's axis, an element
+    of an openTorsion model), as refusals of ``parameter``: their message as it is, their
+    ``parameter`` this one."""
+    try:
+        yield
+    except MechanismError as error:
+        if error.parameter == parameter:
+            raise
+        raise refused(parameter, str(error)) from None
+
+
 def as_real_array(value: Any, name: str) -> np.ndarray:
     """`value` as a float64 ndarray; strings, complex, bool, object and None are rejected."""
     try:
         array = np.asarray(value)
     except Exception as exc:  # ragged nested lists and the like
-        raise MechanismError(f"{name} must be a real number or an array of real numbers: {exc}") from None
+        raise refused(name, f"{name} must be a real number or an array of real numbers: {exc}") from None
     if array.dtype.kind not in _NUMERIC_KINDS:
-        raise MechanismError(
+        raise refused(
+            name,
             f"{name} must be a real number or an array of real numbers, got dtype {array.dtype}"
-            f" ({type(value).__name__})"
+            f" ({type(value).__name__})",
         )
     return array.astype(np.float64, copy=False)
 
@@ -90,7 +129,7 @@ def as_array(values: Any, what: str) -> np.ndarray:
     try:
         return np.asarray(values)
     except (ValueError, TypeError) as exc:
-        raise MechanismError(f"{what} must be a scalar or a 1-D sequence: {exc}") from None
+        raise refused(what, f"{what} must be a scalar or a 1-D sequence: {exc}") from None
 
 
 #: The largest magnitude of a machine's physical quantities in SI units — lengths [m], masses
@@ -106,9 +145,10 @@ def check_magnitude(value: float, name: str, unit: str) -> float:
     then a :class:`MechanismError` naming ``name`` and the allowed range (NaN and inf are
     left to the caller's own check, which words them)."""
     if math.isfinite(value) and abs(value) > MAGNITUDE_LIMIT:
-        raise MechanismError(
+        raise refused(
+            name,
             f"{name} = {value:g} is out of range; allowed: |{name}| <= {MAGNITUDE_LIMIT:g} [{unit}] (beyond it, "
-            "products of the machine's quantities overflow)"
+            "products of the machine's quantities overflow)",
         )
     return value
 
@@ -125,9 +165,9 @@ def as_returned(
     try:
         array = np.asarray(value)
     except Exception as exc:  # ragged nested lists and the like
-        raise MechanismError(f"{name} must return {wanted} per point: {exc}") from None
+        raise refused(name, f"{name} must return {wanted} per point: {exc}") from None
     if array.dtype.kind not in _NUMERIC_KINDS:
-        raise MechanismError(f"{name} must return {wanted} per point, got dtype {array.dtype} ({type(value).__name__})")
+        raise refused(name, f"{name} must return {wanted} per point, got dtype {array.dtype} ({type(value).__name__})")
     if array.shape != shape:
         try:
             fits = broadcast and np.broadcast_shapes(array.shape, shape) == shape
@@ -135,20 +175,22 @@ def as_returned(
             fits = False
         if not fits:
             allowed = "an array that broadcasts to it" if broadcast else "an array of that shape, one per point"
-            raise MechanismError(
+            raise refused(
+                name,
                 f"{name} returned shape {array.shape} when called with shape {shape}; it must return {wanted} "
-                f"as {allowed} (a vectorised callable)"
+                f"as {allowed} (a vectorised callable)",
             )
         array = np.broadcast_to(array, shape)
     values = array.astype(np.float64)
     bad = np.flatnonzero(~np.isfinite(values))
     if bad.size:
-        raise MechanismError(f"{name} returned a non-finite {quantity} ({values.flat[bad[0]]}) [{unit}]")
+        raise refused(name, f"{name} returned a non-finite {quantity} ({values.flat[bad[0]]}) [{unit}]")
     huge = np.flatnonzero(np.abs(values) > MAGNITUDE_LIMIT)
     if huge.size:
-        raise MechanismError(
+        raise refused(
+            name,
             f"{name} returned a {quantity} of {values.flat[huge[0]]:g} [{unit}], out of range; allowed: "
-            f"|{quantity}| <= {MAGNITUDE_LIMIT:g} [{unit}]"
+            f"|{quantity}| <= {MAGNITUDE_LIMIT:g} [{unit}]",
         )
     return values
 
@@ -169,9 +211,10 @@ def check_size(parameter: str, value: Any, count: int, *, item_bytes: int = 8) -
     before anything is allocated or computed. Python integers: the product never overflows."""
     size = count * item_bytes
     if size > allocatable_bytes():
-        raise MechanismError(
+        raise refused(
+            parameter,
             f"{parameter} = {value} asks for {count} values ({size} bytes), more than can be "
-            f"allocated (this machine has {allocatable_bytes()} bytes of memory)"
+            f"allocated (this machine has {allocatable_bytes()} bytes of memory)",
         )
     return count
 
@@ -193,13 +236,13 @@ def as_angles(phi: Any, name: str = "phi") -> np.ndarray:
 def as_work_size(value: Any, name: str) -> int:
     """A parallel threshold: a work size ≥ 0 (huge values, clamped to 2⁶³ − 1, mean serial)."""
     if isinstance(value, (bool, np.bool_)):
-        raise MechanismError(f"{name} must be an integer >= 0, got {value!r}")
+        raise refused(name, f"{name} must be an integer >= 0, got {value!r}")
     try:
         count = operator.index(value)
     except TypeError:
-        raise MechanismError(f"{name} must be an integer >= 0, got {value!r}") from None
+        raise refused(name, f"{name} must be an integer >= 0, got {value!r}") from None
     if count < 0:
-        raise MechanismError(f"{name} = {count} is out of range; allowed: an integer >= 0")
+        raise refused(name, f"{name} = {count} is out of range; allowed: an integer >= 0")
     return min(count, INDEX_MAX)
 
 
@@ -212,7 +255,7 @@ def as_scalar(value: Any, name: str) -> float:
     """One real number (its range is checked where it is used)."""
     array = as_real_array(value, name)
     if array.ndim != 0:
-        raise MechanismError(f"{name} must be a single real number, got shape {array.shape}")
+        raise refused(name, f"{name} must be a single real number, got shape {array.shape}")
     return float(array)
 
 
@@ -228,7 +271,7 @@ def as_design(value: Any, name: str, *, low: float | None = None, high: float | 
         inside &= array < high
     if not np.all(inside):
         bad = array[~inside].flat[0]
-        raise MechanismError(f"{name} = {bad} is out of range; allowed: {_range_text(name, low, high)}")
+        raise refused(name, f"{name} = {bad} is out of range; allowed: {_range_text(name, low, high)}")
     return array
 
 
@@ -246,7 +289,7 @@ def as_nonnegative(value: Any, name: str) -> float:
     """One finite real number >= 0 (a standard deviation, a tolerance)."""
     scalar = as_scalar(value, name)
     if not (math.isfinite(scalar) and scalar >= 0):
-        raise MechanismError(f"{name} = {scalar} is out of range; allowed: a finite real >= 0")
+        raise refused(name, f"{name} = {scalar} is out of range; allowed: a finite real >= 0")
     return scalar
 
 
@@ -256,11 +299,11 @@ def as_phases(phases: Any) -> np.ndarray:
         return np.zeros(1)
     array = as_real_array(phases, "phases")
     if array.ndim != 1:
-        raise MechanismError(f"phases must be a 1-D array of angles, got shape {array.shape}")
+        raise refused("phases", f"phases must be a 1-D array of angles, got shape {array.shape}")
     if array.size == 0:
-        raise MechanismError("phases must not be empty")
+        raise refused("phases", "phases must not be empty")
     if not np.all(np.isfinite(array)):
-        raise MechanismError("phases must be finite angles in radians")
+        raise refused("phases", "phases must be finite angles in radians")
     return contiguous(array)
 
 
@@ -272,30 +315,30 @@ def as_count(value: Any, name: str, *, minimum: int, maximum: int = COUNT_MAX) -
     """
     allowed = f"an integer >= {minimum}" if maximum == COUNT_MAX else f"an integer {minimum} <= {name} <= {maximum}"
     if isinstance(value, (bool, np.bool_)):
-        raise MechanismError(f"{name} must be {allowed}, got {value!r}")
+        raise refused(name, f"{name} must be {allowed}, got {value!r}")
     try:
         count = operator.index(value)
     except TypeError:
-        raise MechanismError(f"{name} must be {allowed}, got {value!r}") from None
+        raise refused(name, f"{name} must be {allowed}, got {value!r}") from None
     if count < minimum:
-        raise MechanismError(f"{name} = {count} is out of range; allowed: {allowed}")
+        raise refused(name, f"{name} = {count} is out of range; allowed: {allowed}")
     if count > maximum:
         limit = "" if maximum != COUNT_MAX else f" (at most {maximum})"
-        raise MechanismError(f"{name} = {count} is out of range; allowed: {allowed}{limit}")
+        raise refused(name, f"{name} = {count} is out of range; allowed: {allowed}{limit}")
     return count
 
 
 def as_flag(value: Any, name: str) -> bool:
     """True or False (numpy's bools too); anything else, truthy or not, is refused."""
     if not isinstance(value, (bool, np.bool_)):
-        raise MechanismError(f"{name} must be True or False, got {value!r}")
+        raise refused(name, f"{name} must be True or False, got {value!r}")
     return bool(value)
 
 
 def as_label(value: Any, name: str) -> str:
     """A text label (a name shown in tables and reprs)."""
     if not isinstance(value, str):
-        raise MechanismError(f"{name} must be a string, got {type(value).__name__} {value!r}")
+        raise refused(name, f"{name} must be a string, got {type(value).__name__} {value!r}")
     return value
 
 
@@ -303,7 +346,7 @@ def as_option(value: Any, name: str, allowed: tuple[str, ...]) -> str:
     """One of the option strings in `allowed`."""
     if not isinstance(value, str) or value not in allowed:
         choices = ", ".join(repr(a) for a in allowed)
-        raise MechanismError(f"{name} = {value!r} is not allowed; allowed: {choices}")
+        raise refused(name, f"{name} = {value!r} is not allowed; allowed: {choices}")
     return value
 
 
@@ -311,7 +354,7 @@ def as_strokes(value: Any) -> int:
     """The number of strokes of the working cycle: 2 or 4."""
     strokes = as_count(value, "strokes", minimum=1)
     if strokes not in (2, 4):
-        raise MechanismError(f"strokes = {strokes} is not allowed; allowed: 2 or 4")
+        raise refused("strokes", f"strokes = {strokes} is not allowed; allowed: 2 or 4")
     return strokes
 
 
@@ -321,7 +364,7 @@ def broadcast_shape(what: str, columns: dict[str, np.ndarray]) -> tuple[int, ...
         return np.broadcast_shapes(*(a.shape for a in columns.values()))
     except ValueError:
         shapes = ", ".join(f"{k} {v.shape}" for k, v in columns.items())
-        raise MechanismError(f"{what} do not broadcast together: {shapes}") from None
+        raise refused(what, f"{what} do not broadcast together: {shapes}") from None
 
 
 def broadcast_designs(
@@ -389,7 +432,7 @@ def as_omega(value: Any, name: str = "rpm") -> float:
     omega = omega_from_rpm(speed)
     if not _within_limits(omega):
         low, high = RPM_LIMITS
-        raise MechanismError(f"{name} = {speed} is out of range; allowed: {low:g} <= {name} <= {high:g} [1/min]")
+        raise refused(name, f"{name} = {speed} is out of range; allowed: {low:g} <= {name} <= {high:g} [1/min]")
     return omega
 
 
@@ -414,12 +457,13 @@ def as_speed_range(value: Any) -> tuple[float, float]:
     """A machine's ``rpm_range``: (low, high) [1/min] with 0 < low < high, within :data:`SPEED_LIMITS`."""
     bounds = as_real_array(value, "rpm_range")
     if bounds.shape != (2,):
-        raise MechanismError(f"rpm_range must be two speeds (low, high) [1/min], got shape {bounds.shape}")
+        raise refused("rpm_range", f"rpm_range must be two speeds (low, high) [1/min], got shape {bounds.shape}")
     low, high = (float(b) for b in bounds)
     if not (low < high and _within_limits(omega_from_rpm(low)) and _within_limits(omega_from_rpm(high))):
-        raise MechanismError(
+        raise refused(
+            "rpm_range",
             f"rpm_range = ({low:g}, {high:g}) is out of range; allowed: {RPM_LIMITS[0]:g} <= low < high "
-            f"<= {RPM_LIMITS[1]:g} [1/min]"
+            f"<= {RPM_LIMITS[1]:g} [1/min]",
         )
     return low, high
 
@@ -439,7 +483,7 @@ def check_fields(given: Any, known: tuple[str, ...], what: str, *, elsewhere: tu
             f" ({', '.join(unknown)}: a field of each cylinder; change it through cylinders="
             f"[c.replace({unknown[0]}=...) for c in machine.cylinders])"
         )
-    raise MechanismError(f"unknown {what} field(s) {', '.join(unknown)}{hint}; known: {', '.join(known)}")
+    raise refused(unknown[0], f"unknown {what} field(s) {', '.join(unknown)}{hint}; known: {', '.join(known)}")
 
 
 def one_of(first: tuple[str, Any], second: tuple[str, Any]) -> tuple[str, Any]:
@@ -448,7 +492,8 @@ def one_of(first: tuple[str, Any], second: tuple[str, Any]) -> tuple[str, Any]:
     given = [(name, value) for name, value in (first, second) if value is not None]
     if len(given) != 1:
         told = "both" if given else "neither"
-        raise MechanismError(f"give exactly one of {first[0]} and {second[0]}, got {told}")
+        # Both: the second, the other way to give it, is the one too many; neither: the first.
+        raise refused(second[0] if given else first[0], f"give exactly one of {first[0]} and {second[0]}, got {told}")
     return given[0]
 
 
@@ -460,7 +505,7 @@ def as_instance(value: Any, kind: type[Kind], name: str) -> Kind:
     "machine")``): anything else has none of its methods, and is refused by name. The class
     is the caller's to give, so that this module imports none of them."""
     if not isinstance(value, kind):
-        raise MechanismError(f"{name} must be a multicrank.{kind.__name__}, got {type(value).__name__}")
+        raise refused(name, f"{name} must be a multicrank.{kind.__name__}, got {type(value).__name__}")
     return value
 
 

@@ -28,8 +28,7 @@ from collections.abc import Iterator, Mapping
 from pathlib import Path
 from typing import Any
 
-from ._native import MechanismError
-from ._validation import warn_renamed
+from ._validation import refused, warn_renamed
 from .gravity.layouts import LAYOUTS, Layout, layout_engine
 from .machine.classes import SPEED_FLUCTUATION
 from .machine.machine import Machine
@@ -173,9 +172,10 @@ def machine_by_name_or_file(spec: str | os.PathLike[str]) -> Machine:
     if isinstance(spec, str) and spec in MACHINES:
         return MACHINES[spec]
     if not isinstance(spec, str | os.PathLike):
-        raise MechanismError(f"machine = {spec!r}: give a built-in machine's name or a machine file's path")
+        raise refused("machine", f"machine = {spec!r}: give a built-in machine's name or a machine file's path")
     if os.path.exists(spec):
         return load_machine(spec)
-    raise MechanismError(
-        f"machine = {str(spec)!r} is neither a built-in machine ({', '.join(MACHINES)}) nor a machine file (TOML)"
+    raise refused(
+        "machine",
+        f"machine = {str(spec)!r} is neither a built-in machine ({', '.join(MACHINES)}) nor a machine file (TOML)",
     )

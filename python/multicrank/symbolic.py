@@ -24,9 +24,8 @@ from typing import Any
 
 import numpy as np
 
-from ._native import MechanismError
 from ._optional import require
-from ._validation import as_count, as_scalar
+from ._validation import as_count, as_scalar, refused
 
 __all__ = ["MAX_UNITS", "SymbolicGravity", "SymbolicInertia", "gravity", "reduced_inertia"]
 
@@ -57,8 +56,9 @@ def _crank(
     """(phases α_j, inclinations γ_j or None) from exactly one of the three ways to give a crank."""
     given = [name for name, value in (("phases", phases), ("cranks", cranks), ("layout", layout)) if value is not None]
     if len(given) != 1:
-        raise MechanismError(
-            f"give exactly one of phases, cranks and layout, got {', '.join(given) if given else 'none'}"
+        raise refused(
+            given[0] if given else "phases",
+            f"give exactly one of phases, cranks and layout, got {', '.join(given) if given else 'none'}",
         )
     if layout is not None:
         from .gravity.layouts import as_layout
@@ -66,8 +66,8 @@ def _crank(
         chosen = as_layout(layout)
         units = sum(len(bank) for bank in chosen.banks)
         if units > MAX_UNITS:
-            raise MechanismError(
-                f"layout {chosen.name!r} has {units} cylinders; allowed: at most {MAX_UNITS} (MAX_UNITS)"
+            raise refused(
+                "layout", f"layout {chosen.name!r} has {units} cylinders; allowed: at most {MAX_UNITS} (MAX_UNITS)"
             )
         alphas, gammas = [], []
         for beta, bank in zip(chosen.throws, chosen.banks, strict=True):
@@ -91,25 +91,25 @@ def _phases(phases: Any, sp: Any) -> list[Any]:
     each a finite real number or a real SymPy expression (one with symbols is taken as it is)."""
     allowed = f"a 1-D sequence of 1 to {MAX_UNITS} finite real angles [rad] (numbers or SymPy expressions)"
     if isinstance(phases, np.ndarray) and phases.ndim != 1:
-        raise MechanismError(f"phases must be {allowed}, got an array of shape {phases.shape}")
+        raise refused("phases", f"phases must be {allowed}, got an array of shape {phases.shape}")
     if isinstance(phases, (str, bytes, Mapping, sp.Basic)) or not isinstance(phases, (Sequence, np.ndarray)):
-        raise MechanismError(f"phases must be {allowed}, got {type(phases).__name__}")
+        raise refused("phases", f"phases must be {allowed}, got {type(phases).__name__}")
     items = list(phases)
     if not items:
-        raise MechanismError("phases must hold at least one phase [rad]")
+        raise refused("phases", "phases must hold at least one phase [rad]")
     if len(items) > MAX_UNITS:
-        raise MechanismError(f"phases holds {len(items)} angles; allowed: {allowed}")
+        raise refused("phases", f"phases holds {len(items)} angles; allowed: {allowed}")
     for j, angle in enumerate(items):
         name = f"phases[{j}]"
         if isinstance(angle, sp.Basic):
             if angle.is_number and not (angle.is_real and angle.is_finite):
-                raise MechanismError(f"{name} = {angle} is out of range; allowed: {allowed}")
+                raise refused(name, f"{name} = {angle} is out of range; allowed: {allowed}")
             if not angle.is_number and angle.is_real is False:
-                raise MechanismError(f"{name} = {angle} is not real; allowed: {allowed}")
+                raise refused(name, f"{name} = {angle} is not real; allowed: {allowed}")
             continue
         value = as_scalar(angle, name)
         if not math.isfinite(value):
-            raise MechanismError(f"{name} = {value} is out of range; allowed: {allowed}")
+            raise refused(name, f"{name} = {value} is out of range; allowed: {allowed}")
     return items
 
 

@@ -286,8 +286,8 @@ def test_the_former_names_in_a_sweeps_config_and_outputs_with_a_mistake_are_one_
     line = refused([*sweep, "--config", str(config)])
     assert line.startswith(f"Error: --config {config}: delta = 0.0 is out of range; allowed: delta >= 1e-9"), line
     config.write_text("delta = 0.04\n")
-    assert refused([*sweep, "--config", str(config), "--outputs", "nosuch"]).startswith("Error: outputs ")
-    assert refused([*sweep, "--outputs", "delta_gravity_only,nosuch"]).startswith("Error: outputs ")
+    assert refused([*sweep, "--config", str(config), "--outputs", "nosuch"]).startswith("Error: --outputs: outputs ")
+    assert refused([*sweep, "--outputs", "delta_gravity_only,nosuch"]).startswith("Error: --outputs: outputs ")
     result = CliRunner().invoke(
         cli.main, [*sweep, "--config", str(config), "--outputs", "delta_gravity_only,flywheel_inertia"]
     )

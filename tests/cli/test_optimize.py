@@ -311,13 +311,15 @@ def test_counterweights_table_prints_every_criterion_and_the_limit():
 def test_a_limit_nothing_meets_is_one_line_naming_the_option():
     line = refused("counterweights", "--machine", "slow-compressor", "--max-bearing-load", "1000", "--maxiter", "3",
                    "--no-progress")  # fmt: skip
-    assert line.startswith("Error: no counterweights within bounds")
-    assert "--max-bearing-load <= 1000 N" in line and "(raise --max-bearing-load, or widen the bounds)" in line
+    # Named by the option (the refusal's parameter, max_bearing_load), in the library's words.
+    assert line.startswith("Error: --max-bearing-load: no counterweights within bounds")
+    assert "max_bearing_load <= 1000 N" in line and "(raise max_bearing_load, or widen the bounds)" in line
     both = refused(
         "counterweights", "--machine", "slow-compressor", "--max-bearing-load", "1000", "--max-free-force", "1",
         "--maxiter", "3", "--no-progress",
     )  # fmt: skip
-    assert "--max-bearing-load <= 1000 N and --max-free-force <= 1 N together" in both
+    assert both.startswith("Error: --max-bearing-load: ")
+    assert "max_bearing_load <= 1000 N and max_free_force <= 1 N together" in both
 
 
 # ------------------------------------------------------------------------- mistakes and help

@@ -4,7 +4,8 @@ line and exit status 2, and the ``--machine`` option that most commands share.""
 from __future__ import annotations
 
 import os
-from collections.abc import Callable
+from collections.abc import Callable, Iterator, Mapping
+from contextlib import contextmanager
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -17,7 +18,16 @@ from ..presets import DEFAULT_MACHINE_NAME, MACHINES
 if TYPE_CHECKING:
     from ..machine.machine import Machine
 
-__all__ = ["INTERRUPTED", "MissingExtra", "UserError", "machine_option", "main", "note_renamed", "renamed_option"]
+__all__ = [
+    "INTERRUPTED",
+    "MissingExtra",
+    "UserError",
+    "machine_option",
+    "main",
+    "note_renamed",
+    "options_named",
+    "renamed_option",
+]
 
 
 class MissingExtra(click.ClickException):
@@ -31,6 +41,23 @@ class UserError(click.ClickException):
     stderr, exit status 2 (as a usage error)."""
 
     exit_code = 2
+
+
+@contextmanager
+def options_named(options: Mapping[str, str]) -> Iterator[None]:
+    """The library's refusals inside, named by the option the user typed: ``options`` maps
+    a parameter of the library (``"max_order"``) to the command's option (``"--max-order"``),
+    and a :class:`MechanismError` whose ``parameter`` it maps is the one line ``--max-order:
+    <message>`` (a :class:`UserError`); any other goes on as it is. The error's parameter
+    decides, never its message. A ``with`` block, or a command's decorator (innermost, on the
+    function click calls)."""
+    try:
+        yield
+    except MechanismError as error:
+        option = options.get(error.parameter) if error.parameter is not None else None
+        if option is None:
+            raise
+        raise UserError(f"{option}: {error}") from None
 
 
 #: The exit status of a command stopped by Ctrl-C: 128 + SIGINT, as a shell reports a

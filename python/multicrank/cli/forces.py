@@ -9,9 +9,8 @@ from typing import TYPE_CHECKING, Any
 
 import click
 
-from .._native import MechanismError
 from .._text import column_text
-from ._group import machine_option
+from ._group import machine_option, options_named
 from ._output import format_option, out_option, write_result
 from .motion import _speed, readable
 
@@ -29,6 +28,9 @@ SHOWN = ("force_vertical", "force_horizontal", "force_forward", "force_backward"
 
 #: Significant digits of the table to read (csv and json give 12 and 15).
 DIGITS = 4
+
+#: The options of the library's parameters, for its refusals (:func:`~._group.options_named`).
+OPTIONS = {"rpm": "--rpm", "max_order": "--max-order"}
 
 
 @click.command("forces", short_help="Shaking forces and moments on the frame, by order.")
@@ -58,6 +60,7 @@ DIGITS = 4
 )
 @format_option
 @out_option
+@options_named(OPTIONS)
 def forces_command(
     machine: Machine, rpm: float | None, max_order: int, steady: bool, fmt: str, out_path: str | None
 ) -> None:
@@ -83,13 +86,7 @@ def forces_command(
     from ..forces.shaking import shaking_forces
 
     speed = _speed(machine, rpm, "--rpm")
-    try:
-        result = shaking_forces(machine, speed, max_order=max_order, steady=steady)
-    except MechanismError as error:
-        message = str(error)
-        if message.startswith("max_order"):  # the option's name, as the user typed it
-            raise MechanismError(message.replace("max_order", "--max-order")) from None
-        raise
+    result = shaking_forces(machine, speed, max_order=max_order, steady=steady)
     orders = result.orders
     bearing_lines, bearing_meta = bearing_summary(machine, result)
     if fmt == "table":

@@ -12,6 +12,7 @@ import numpy as np
 
 from .._native import MechanismError
 from .._text import counted
+from .._validation import refused
 from ..gravity.evaluation import generalized_force, potential_energy
 from ..gravity.mechanism import crank_phases
 from ._group import UserError, machine_option
@@ -88,7 +89,7 @@ def eval_command(
         evaluated = _inline_variant(machine, cranks, strokes, acting, inclination)
         speed = evaluated.rpm if rpm is None else rpm
         if speed is None:
-            raise MechanismError(f"machine {evaluated.name!r} has no running speed: give --rpm")
+            raise refused("--rpm", f"machine {evaluated.name!r} has no running speed: give --rpm")
         try:
             design = evaluated.design(speed)  # the paper's machine: the in-line functions
         except MechanismError:

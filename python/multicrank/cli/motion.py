@@ -13,7 +13,7 @@ import numpy as np
 from .._files import write_atomically
 from .._native import MechanismError
 from .._text import column_text, counted
-from .._validation import as_speed, omega_from_rpm, rpm_from_omega
+from .._validation import as_speed, omega_from_rpm, refused, rpm_from_omega
 from ._group import UserError, machine_option, renamed_option
 from ._output import format_option, out_file, out_option, write_result, writing
 
@@ -51,24 +51,25 @@ def parse_torque(text: str, name: str, *, balance: bool) -> Any:
     if value.startswith("power:"):
         parts = value.split(":")[1:]
         if len(parts) not in (2, 3):
-            raise MechanismError(f"--{name} = {text!r}: write power:TORQUE:RPM or power:TORQUE:RPM:EXPONENT")
+            raise refused(f"--{name}", f"--{name} = {text!r}: write power:TORQUE:RPM or power:TORQUE:RPM:EXPONENT")
         try:
             numbers = [float(p) for p in parts]
         except ValueError:
-            raise MechanismError(f"--{name} = {text!r}: TORQUE, RPM and EXPONENT must be numbers") from None
+            raise refused(f"--{name}", f"--{name} = {text!r}: TORQUE, RPM and EXPONENT must be numbers") from None
         torque, rpm = numbers[0], numbers[1]
         if not (math.isfinite(rpm) and rpm > 0):
-            raise MechanismError(f"--{name} = {text!r}: RPM must be > 0 [1/min]")
+            raise refused(f"--{name}", f"--{name} = {text!r}: RPM must be > 0 [1/min]")
         return PowerLawLoad(torque, rpm=rpm, exponent=numbers[2]) if len(numbers) > 2 else PowerLawLoad(torque, rpm=rpm)
     try:
         number = float(value)
     except ValueError:
         allowed = "'balance', " if balance else ""
-        raise MechanismError(
-            f"--{name} = {text!r} is not understood; allowed: {allowed}a torque in N·m, or power:TORQUE:RPM[:EXPONENT]"
+        raise refused(
+            f"--{name}",
+            f"--{name} = {text!r} is not understood; allowed: {allowed}a torque in N·m, or power:TORQUE:RPM[:EXPONENT]",
         ) from None
     if not math.isfinite(number):
-        raise MechanismError(f"--{name} = {text!r} must be finite [N·m]")
+        raise refused(f"--{name}", f"--{name} = {text!r} must be finite [N·m]")
     return number
 
 
@@ -145,7 +146,7 @@ def simulate_command(
         if duration is None:
             duration = 20 * machine.cycle / omega_from_rpm(start)
         if not (math.isfinite(duration) and duration > 0):
-            raise MechanismError(f"--duration = {duration} is out of range; allowed: > 0 [s]")
+            raise refused("--duration", f"--duration = {duration} is out of range; allowed: > 0 [s]")
         t_eval = np.linspace(0.0, duration, samples)
         result = simulate(
             machine,
@@ -187,7 +188,7 @@ def _speed(machine: Machine, rpm: float | None, option: str) -> float:
     """The speed [1/min] asked for, or the machine's own; checked by the core's rule."""
     speed = machine.rpm if rpm is None else rpm
     if speed is None:
-        raise MechanismError(f"machine {machine.name!r} has no running speed: give {option}")
+        raise refused(option, f"machine {machine.name!r} has no running speed: give {option}")
     return as_speed(speed, option)  # the core's rule for a speed
 
 
@@ -295,7 +296,7 @@ def motion_command(
         wanted = [_speed(machine, rpm, "--rpm") for rpm in speeds] or list(_speed_set(machine, points))
     else:
         if speeds:
-            raise MechanismError(f"--rpm: the load {load!r} fixes the speed; give --rpm only with --load balance")
+            raise refused("--rpm", f"--rpm: the load {load!r} fixes the speed; give --rpm only with --load balance")
         wanted = [None]
     rows = []
     first = None
@@ -333,7 +334,7 @@ def motion_command(
     frame = pd.DataFrame(rows).set_index("rpm")
     if cycle_path is not None:
         if first is None:
-            raise MechanismError("--cycle: the machine stalls at every speed asked for; nothing to write")
+            raise refused("--cycle", "--cycle: the machine stalls at every speed asked for; nothing to write")
         cycle = first.to_pandas()
         cycle.insert(0, "phi_deg", np.degrees(cycle.index.to_numpy()))
         cycle["omega_without_gravity"] = steady_state(

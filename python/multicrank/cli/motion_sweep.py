@@ -10,8 +10,9 @@ import click
 
 from .._native import MechanismError
 from .._text import counted
+from .._validation import refused
 from ..motion.columns import COLUMN_MEANINGS
-from ._group import UserError, machine_option, note_renamed, renamed_option
+from ._group import UserError, machine_option, note_renamed, options_named, renamed_option
 from ._output import format_option
 from .motion import DIGITS, parse_torque, readable
 from .sweep import grid_axes, output_names, progress_option, read_config, resume_option
@@ -45,7 +46,7 @@ def _config_load(table: dict[str, Any], path: str | None) -> str | None:
     if load is None:
         return None
     if not isinstance(load, str):
-        raise MechanismError(f"--config {path}: load = {load!r}; it is a string as --load takes it")
+        raise refused("--config", f"--config {path}: load = {load!r}; it is a string as --load takes it")
     return load
 
 
@@ -56,10 +57,11 @@ def _load_rule(text: str, where: str) -> Any:
     is what balance is."""
     rule = parse_torque(text, "load", balance=True)
     if isinstance(rule, float):
-        raise MechanismError(
+        raise refused(
+            where,
             f"{where} = {text!r}: a constant torque is not a load a motion sweep takes (without a drive it "
             "runs steadily only if it equals the mean gas torque: that is balance); give balance or "
-            "power:TORQUE:RPM[:EXPONENT]"
+            "power:TORQUE:RPM[:EXPONENT]",
         )
     return rule
 
@@ -78,19 +80,19 @@ def _config_delta(ctx: click.Context, table: dict[str, Any], path: str | None) -
     key = "delta_target"
     if "delta" in table:
         if key in table:
-            raise MechanismError(
-                f"--config {path}: delta_target and delta are one key (delta its former name): give it once"
+            raise refused(
+                "--config", f"--config {path}: delta_target and delta are one key (delta its former name): give it once"
             )
         key = "delta"
     delta = table.get(key)
     if delta is None:
         return None
     if isinstance(delta, bool) or not isinstance(delta, int | float):
-        raise MechanismError(f"--config {path}: {key} = {delta!r}; it is a number (the target δ)")
+        raise refused("--config", f"--config {path}: {key} = {delta!r}; it is a number (the target δ)")
     try:
         target = _as_target(float(delta), key)
     except MechanismError as error:
-        raise MechanismError(f"--config {path}: {error}") from None
+        raise refused("--config", f"--config {path}: {error}") from None
     if key == "delta":
         note_renamed(ctx, "note: delta in --config is now delta_target (the old name goes in 0.3)")
     return target
@@ -188,9 +190,10 @@ def motion_sweep_command(
     from ..motion.variants import MachineGrid
 
     table = read_config(config, _CONFIG_KEYS, _AXES)
-    axes = grid_axes(axis_options, table.get("axes", {}), _AXES)
+    sources: dict[str, str] = {}
+    axes = grid_axes(axis_options, table.get("axes", {}), _AXES, sources)
     if not axes:
-        raise MechanismError("no axes: give at least one, e.g. --rpm 60:300:9, as an option or in [axes] of --config")
+        raise refused("axes", "no axes: give at least one, e.g. --rpm 60:300:9, as an option or in [axes] of --config")
     load_text = load if load is not None else _config_load(table, config) or BALANCE
     load_rule = _load_rule(load_text, "--load" if load is not None else f"--config {config}: load")
     target = delta_target if delta_target is not None else _config_delta(ctx, table, config)
@@ -201,16 +204,18 @@ def motion_sweep_command(
         chosen = [RENAMED_OUTPUTS.get(name, name) for name in chosen]
     if out is None:
         if resume:
-            raise MechanismError("--resume needs --out, the Parquet file of the interrupted sweep")
+            raise refused("--resume", "--resume needs --out, the Parquet file of the interrupted sweep")
     elif ctx.get_parameter_source("fmt") is click.core.ParameterSource.COMMANDLINE:
-        raise MechanismError("--format is for a printed result; with --out the result is written as Parquet")
-    grid = MachineGrid(machine, **axes)
+        raise refused("--format", "--format is for a printed result; with --out the result is written as Parquet")
+    options = {**sources, "outputs": "--outputs", "delta_target": "--delta-target", "out": "--out"}
     started = time.perf_counter()
     try:
-        result = motion_sweep(
-            machine, grid, outputs=chosen, load=load_rule, delta_target=target, out=out, resume=resume,
-            chunk_size=chunk_size, progress=progress,
-        )  # fmt: skip
+        with options_named(options):
+            grid = MachineGrid(machine, **axes)
+            result = motion_sweep(
+                machine, grid, outputs=chosen, load=load_rule, delta_target=target, out=out, resume=resume,
+                chunk_size=chunk_size, progress=progress,
+            )  # fmt: skip
     except OSError as error:  # a full disk, a directory that went away: the kept parts stay
         raise UserError(f"--out {out}: {error.strerror or error}; finished chunks are kept for --resume") from None
     except KeyboardInterrupt:  # the group says it and exits with status 130

@@ -6,16 +6,16 @@ and ``optimize counterweights`` (the counterweight per throw that minimises an o
 from __future__ import annotations
 
 import math
-import re
 from typing import TYPE_CHECKING, Any
 
 import click
 
 from .._native import MechanismError
 from .._text import counted
+from .._validation import refused
 from ..design.counterweights import OBJECTIVES, RENAMED_OBJECTIVES
 from ..design.criteria import RANKINGS, SHAFT_CRITERIA, VOCABULARY
-from ._group import UserError, machine_option, note_renamed
+from ._group import UserError, machine_option, note_renamed, options_named
 from ._output import format_option, out_option, write_result
 from .motion import _speed
 
@@ -31,6 +31,23 @@ _LIMIT_OPTIONS = {
     "max_bearing_load": "--max-bearing-load",
     "max_free_force": "--max-free-force",
     "max_free_moment": "--max-free-moment",
+}
+#: Each command's options by the library's parameter, for its refusals (:func:`~._group.options_named`):
+#: a constraint refused, or one that no counterweights keep, is named by the option the user typed.
+FIRING_OPTIONS = {
+    "rpm": "--rpm",
+    "rank_by": "--rank-by",
+    "max_order": "--max-order",
+    "modes": "--modes",
+    "max_candidates": "--max-candidates",
+}
+COUNTERWEIGHT_OPTIONS = {
+    "rpm": "--rpm",
+    "objective": "--objective",
+    "bounds": "--bounds",
+    **_LIMIT_OPTIONS,
+    "seed": "--seed",
+    "maxiter": "--maxiter",
 }
 #: The unit of each constraint.
 _LIMIT_UNITS = {"max_bearing_load": "N", "max_free_force": "N", "max_free_moment": "N·m"}
@@ -139,6 +156,7 @@ def _ranking(name: str) -> str:
 @format_option
 @out_option
 @_progress_option
+@options_named(FIRING_OPTIONS)
 def firing_command(
     machine: Machine,
     rpm: float | None,
@@ -269,7 +287,7 @@ def _bounds(value: tuple[float, float] | None) -> tuple[float, float] | None:
         return None
     low, high = value
     if not (math.isfinite(low) and math.isfinite(high) and 0 <= low < high):
-        raise MechanismError(f"--bounds {low:g} {high:g} is out of range; allowed: finite 0 <= LOW < HIGH [kg·m]")
+        raise refused("--bounds", f"--bounds {low:g} {high:g} is out of range; allowed: finite 0 <= LOW < HIGH [kg·m]")
     return (low, high)
 
 
@@ -334,6 +352,7 @@ def _bounds(value: tuple[float, float] | None) -> tuple[float, float] | None:
 @format_option
 @out_option
 @_progress_option
+@options_named(COUNTERWEIGHT_OPTIONS)
 def counterweights_command(
     machine: Machine,
     objective: str,
@@ -373,25 +392,18 @@ def counterweights_command(
 
     from ..design.counterweights import optimize_counterweights
 
-    try:
-        found = optimize_counterweights(
-            machine,
-            objective=objective,
-            bounds=limits,
-            rpm=speed,
-            max_bearing_load=max_bearing_load,
-            max_free_force=max_free_force,
-            max_free_moment=max_free_moment,
-            seed=seed,
-            maxiter=maxiter,
-            progress=progress,
-        )
-    except MechanismError as error:
-        # A constraint refused or nothing keeps: named by the option the user typed.
-        unmet = re.compile(r"\b(" + "|".join(_LIMIT_OPTIONS) + r")\b")
-        if not unmet.search(str(error)):
-            raise
-        raise UserError(unmet.sub(lambda name: _LIMIT_OPTIONS[name.group(1)], str(error))) from None
+    found = optimize_counterweights(
+        machine,
+        objective=objective,
+        bounds=limits,
+        rpm=speed,
+        max_bearing_load=max_bearing_load,
+        max_free_force=max_free_force,
+        max_free_moment=max_free_moment,
+        seed=seed,
+        maxiter=maxiter,
+        progress=progress,
+    )
     frame = found.to_frame().set_index("throw")
     converged = "converged" if found.success else "NOT converged"
     criteria = found.criteria()

@@ -16,7 +16,8 @@ import numpy as np
 from .._files import read_toml
 from .._native import SWEEP_OUTPUTS, MechanismError
 from .._optional import require
-from ._group import UserError
+from .._validation import refused
+from ._group import UserError, options_named
 
 __all__ = [
     "design_axes",
@@ -58,16 +59,14 @@ def parse_axis(text: str, kind: Any, name: str = "axis") -> list[Any]:
             if kind is int and len(parts) == 2:
                 start, stop = int(parts[0]), int(parts[1])
                 if stop < start:
-                    raise MechanismError(f"{name} = {text!r}: an integer range start:stop needs start <= stop")
+                    raise refused(name, f"{name} = {text!r}: an integer range start:stop needs start <= stop")
                 values = list(range(start, stop + 1))
             elif len(parts) != 3:
-                raise MechanismError(f"{name} = {text!r}: a range is start:stop:count")
+                raise refused(name, f"{name} = {text!r}: a range is start:stop:count")
             else:
                 first, last, count = float(parts[0]), float(parts[1]), int(parts[2])
                 if count < 1 or not (math.isfinite(first) and math.isfinite(last)):
-                    raise MechanismError(
-                        f"{name} = {text!r}: a range start:stop:count needs finite ends and count >= 1"
-                    )
+                    raise refused(name, f"{name} = {text!r}: a range start:stop:count needs finite ends and count >= 1")
                 points = np.linspace(first, last, count).tolist()
                 values = [round(v) for v in points] if kind is int else points
         else:
@@ -76,17 +75,24 @@ def parse_axis(text: str, kind: Any, name: str = "axis") -> list[Any]:
     except MechanismError:  # a ValueError too: said above, as it is
         raise
     except ValueError:
-        raise MechanismError(
-            f"{name} = {text!r} is not understood; give {label} list a,b,c or a range start:stop:count"
+        raise refused(
+            name, f"{name} = {text!r} is not understood; give {label} list a,b,c or a range start:stop:count"
         ) from None
     if not values:
-        raise MechanismError(f"{name} = {text!r} gives no values")
+        raise refused(name, f"{name} = {text!r} gives no values")
     return values
 
 
-def grid_axes(options: dict[str, Any], config: dict[str, Any], known: dict[str, tuple[str, Any]]) -> dict[str, Any]:
+def grid_axes(
+    options: dict[str, Any],
+    config: dict[str, Any],
+    known: dict[str, tuple[str, Any]],
+    sources: dict[str, str] | None = None,
+) -> dict[str, Any]:
     """The grid's axes of ``known`` (option name: (grid column, kind)): each from its option
-    or, where none is given, from [axes] of --config; inclinations from degrees to radians."""
+    or, where none is given, from [axes] of --config; inclinations from degrees to radians.
+    ``sources``, where given, is filled with where each column came from (``--rpm``, ``[axes]
+    rpm``), for the library's refusals to name it (:func:`~._group.options_named`)."""
     axes = {}
     for name, (column, kind) in known.items():
         value = options.get(name)
@@ -98,7 +104,7 @@ def grid_axes(options: dict[str, Any], config: dict[str, Any], known: dict[str, 
         if isinstance(value, list):
             values = [_config_value(item, kind, where) for item in value]
             if not values:
-                raise MechanismError(f"{where} is an empty list")
+                raise refused(where, f"{where} is an empty list")
         elif isinstance(value, str):
             values = parse_axis(value, float if kind == "degrees" else kind, where)
         else:
@@ -106,6 +112,8 @@ def grid_axes(options: dict[str, Any], config: dict[str, Any], known: dict[str, 
         if kind == "degrees":
             values = np.radians(values).tolist()
         axes[column] = values if len(values) > 1 else values[0]
+        if sources is not None:
+            sources[column] = where
     return axes
 
 
@@ -119,7 +127,7 @@ def _config_value(value: Any, kind: Any, where: str) -> Any:
     else:
         ok = isinstance(value, int | float) and not isinstance(value, bool)
     if not ok:
-        raise MechanismError(f"{where}: {value!r} is not {wanted}")
+        raise refused(where, f"{where}: {value!r} is not {wanted}")
     return value
 
 
@@ -131,19 +139,19 @@ def read_config(path: str | None, keys: tuple[str, ...], axes: Any) -> dict[str,
     table = read_toml(path, "a sweep configuration", label=f"--config {path}")
     unknown = sorted(set(table) - set(keys))
     if unknown:
-        raise MechanismError(f"--config {path}: unknown keys {unknown}; it takes {list(keys)}")
+        raise refused("--config", f"--config {path}: unknown keys {unknown}; it takes {list(keys)}")
     known = table.get("axes", {})
     if not isinstance(known, dict):
-        raise MechanismError(f"--config {path}: axes must be a table [axes], not {type(known).__name__}")
+        raise refused("--config", f"--config {path}: axes must be a table [axes], not {type(known).__name__}")
     unknown = sorted(set(known) - set(axes))
     if unknown:
-        raise MechanismError(f"--config {path}: unknown axes {unknown}; the axes are {list(axes)}")
+        raise refused("--config", f"--config {path}: unknown axes {unknown}; the axes are {list(axes)}")
     outputs = table.get("outputs")
     if isinstance(outputs, str):
         table["outputs"] = output_names(outputs, f"--config {path}: outputs")
     elif outputs is not None:
         if not isinstance(outputs, list) or not outputs or not all(isinstance(name, str) for name in outputs):
-            raise MechanismError(f"--config {path}: outputs = {outputs!r}; it is a list of output names")
+            raise refused("--config", f"--config {path}: outputs = {outputs!r}; it is a list of output names")
     return table
 
 
@@ -152,7 +160,7 @@ def _sweep_config(path: str | None) -> dict[str, Any]:
     table = read_config(path, ("axes", "phi", "outputs"), design_axes())
     phi = table.get("phi")
     if phi is not None and (isinstance(phi, bool) or not isinstance(phi, int) or phi < 1):
-        raise MechanismError(f"--config {path}: phi = {phi!r}; it is a positive integer (points per revolution)")
+        raise refused("--config", f"--config {path}: phi = {phi!r}; it is a positive integer (points per revolution)")
     return table
 
 
@@ -160,7 +168,7 @@ def output_names(text: str, where: str) -> list[str]:
     """The output names of a comma-separated list (--outputs, or outputs in --config)."""
     names = [name.strip() for name in text.split(",") if name.strip()]
     if not names:
-        raise MechanismError(f"{where} = {text!r} names no outputs")
+        raise refused(where, f"{where} = {text!r} names no outputs")
     return names
 
 
@@ -258,7 +266,8 @@ def sweep_command(
     from ..sweeps.driver import sweep
 
     table = _sweep_config(config)
-    axes = grid_axes(axis_options, table.get("axes", {}), design_axes())
+    sources: dict[str, str] = {}
+    axes = grid_axes(axis_options, table.get("axes", {}), design_axes(), sources)
     axes.setdefault("u2", 0.0)
     missing = [name for name in DESIGN_COLUMNS if name not in axes]
     if missing:
@@ -267,13 +276,14 @@ def sweep_command(
     chosen = output_names(outputs, "--outputs") if outputs else table.get("outputs", list(SWEEP_OUTPUTS))
     unknown = [name for name in chosen if name not in SWEEP_OUTPUTS]
     if unknown:
-        raise MechanismError(f"outputs: unknown {unknown}; the outputs are {list(SWEEP_OUTPUTS)}")
-    grid = DesignGrid(**axes)
+        raise refused("outputs", f"outputs: unknown {unknown}; the outputs are {list(SWEEP_OUTPUTS)}")
     started = time.perf_counter()
     try:
-        path = sweep(grid, phi=phi, outputs=chosen, out=out, resume=resume, progress=progress, chunk_size=chunk_size)
-    except MechanismError as error:
-        raise click.UsageError(str(error)) from None
+        with options_named({**sources, "outputs": "--outputs", "phi": "--phi", "out": "--out", "resume": "--resume"}):
+            grid = DesignGrid(**axes)
+            path = sweep(
+                grid, phi=phi, outputs=chosen, out=out, resume=resume, progress=progress, chunk_size=chunk_size
+            )
     except OSError as error:  # a full disk, a directory that went away: the kept parts stay
         raise UserError(f"--out {out}: {error.strerror or error}; finished chunks are kept for --resume") from None
     except KeyboardInterrupt:  # the group says it and exits with status 130

@@ -11,7 +11,7 @@ from typing import Any
 import numpy as np
 
 from .._native import MechanismError
-from .._validation import as_real_array, as_scalar
+from .._validation import as_real_array, as_scalar, refused
 from ..machine.machine import Machine
 
 __all__ = ["_as_bounds", "_as_limit", "_at_bound", "_nearest_alike", "_nothing_runs", "_polish", "_radius", "_unmet"]
@@ -39,20 +39,22 @@ def _as_bounds(bounds: Any, machine: Machine, throws: tuple[tuple[int, ...], ...
             ]
         )
         if not np.all(own > 0):
-            raise MechanismError(
+            raise refused(
+                "bounds",
                 "bounds is required: a throw of this machine has no crank, rod or piston mass to scale the "
-                "counterweights by; give bounds=(low, high) in kg·m"
+                "counterweights by; give bounds=(low, high) in kg·m",
             )
         return np.stack([np.zeros_like(own), 2 * own], axis=1)
     array = as_real_array(bounds, "bounds").astype(float)
     if array.shape == (2,):
         array = np.tile(array, (len(throws), 1))
     if array.shape != (len(throws), 2):
-        raise MechanismError(
-            f"bounds must be (low, high) in kg·m, or one such pair per throw ({len(throws)}), got shape {array.shape}"
+        raise refused(
+            "bounds",
+            f"bounds must be (low, high) in kg·m, or one such pair per throw ({len(throws)}), got shape {array.shape}",
         )
     if not (np.all(np.isfinite(array)) and np.all(array[:, 0] >= 0) and np.all(array[:, 0] < array[:, 1])):
-        raise MechanismError(f"bounds = {array.tolist()} is out of range; allowed: finite 0 <= low < high [kg·m]")
+        raise refused("bounds", f"bounds = {array.tolist()} is out of range; allowed: finite 0 <= low < high [kg·m]")
     return array
 
 
@@ -112,7 +114,7 @@ def _as_limit(value: Any, name: str) -> float | None:
     limit = as_scalar(value, name)
     if not (math.isfinite(limit) and limit >= 0):
         what, unit = _BOUNDED[name]
-        raise MechanismError(f"{name} = {limit} is out of range; allowed: a finite {what} >= 0 [{unit}], or None")
+        raise refused(name, f"{name} = {limit} is out of range; allowed: a finite {what} >= 0 [{unit}], or None")
     return limit
 
 
@@ -131,9 +133,10 @@ def _unmet(
     else:
         values = " and ".join(f"a {_BOUNDED[n][0]} of {closest[n]:.6g} {_BOUNDED[n][1]}" for n in limits)
         found = f" together: the closest of the {tried} designs tried has {values}"
-    return MechanismError(
+    return refused(
+        next(iter(limits)),
         f"no counterweights within bounds = [{pairs}] kg·m keep {kept}{found} "
-        f"(raise {' or '.join(limits)}, or widen the bounds)"
+        f"(raise {' or '.join(limits)}, or widen the bounds)",
     )
 
 

@@ -27,7 +27,6 @@ from typing import Any
 
 import numpy as np
 
-from .._native import MechanismError
 from .._validation import (
     as_count,
     as_flag,
@@ -35,6 +34,7 @@ from .._validation import (
     as_option,
     as_speed,
     omega_from_rpm,
+    refused,
     warn_renamed,
 )
 from ..machine.machine import Machine
@@ -211,7 +211,7 @@ def optimize_counterweights(
         objective = RENAMED_OBJECTIVES[objective]
     objective = as_option(objective, "objective", OBJECTIVES)
     if rpm is None and machine.rpm is None:
-        raise MechanismError(f"rpm is required: machine {machine.name!r} has no rpm of its own")
+        raise refused("rpm", f"rpm is required: machine {machine.name!r} has no rpm of its own")
     speed = as_speed(machine.rpm if rpm is None else rpm, "rpm")
     given = {name: _as_limit(value, name) for name, value in (("max_bearing_load", max_bearing_load),
                                                               ("max_free_force", max_free_force),
@@ -224,8 +224,9 @@ def optimize_counterweights(
     limits = _as_bounds(bounds, machine, throws)
     if objective == "delta_over_speed_range":
         if machine.rpm_range is None:
-            raise MechanismError(
-                f"objective='delta_over_speed_range' needs the machine's rpm_range; machine {machine.name!r} has none"
+            raise refused(
+                "objective",
+                f"objective='delta_over_speed_range' needs the machine's rpm_range; machine {machine.name!r} has none",
             )
         speeds = np.linspace(*machine.rpm_range, SPEEDS_IN_RANGE)
     else:

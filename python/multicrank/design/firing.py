@@ -27,8 +27,7 @@ from typing import Any
 
 import numpy as np
 
-from .._native import MechanismError
-from .._validation import as_count, as_flag, as_instance, as_option, as_speed
+from .._validation import as_count, as_flag, as_instance, as_option, as_speed, refused
 from ..machine.machine import Machine
 from ._candidates import _RESOLUTION, _candidates, _groups
 from .criteria import AGREE, FIRING_CRITERIA, RANKINGS, SHAFT_CRITERIA, frame_criteria, pareto_front, ticks
@@ -250,15 +249,16 @@ def firing_orders(
     criteria = tuple(c for c in FIRING_CRITERIA if chosen_shaft is not None or c not in SHAFT_CRITERIA)
     order_by = as_option(rank_by, "rank_by", RANKINGS)
     if chosen_shaft is None and order_by in SHAFT_CRITERIA:
-        raise MechanismError(
-            f"rank_by={order_by!r} needs a shaft: give shaft=mc.Shaft(...); machine {machine.name!r} has none"
+        raise refused(
+            "rank_by",
+            f"rank_by={order_by!r} needs a shaft: give shaft=mc.Shaft(...); machine {machine.name!r} has none",
         )
     highest = as_count(max_order, "max_order", minimum=1)
     mode_count = as_count(modes, "modes", minimum=1)
     limit = as_count(max_candidates, "max_candidates", minimum=1)
     progress = as_flag(progress, "progress")
     if rpm is None and machine.rpm is None:
-        raise MechanismError(f"rpm is required: machine {machine.name!r} has no rpm of its own")
+        raise refused("rpm", f"rpm is required: machine {machine.name!r} has no rpm of its own")
     speed = as_speed(machine.rpm if rpm is None else rpm, "rpm")
     found, total = _candidates(machine, limit)
 

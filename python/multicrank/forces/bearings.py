@@ -16,8 +16,8 @@ from typing import Any
 
 import numpy as np
 
-from .._native import MechanismError, machine_bearing_loads
-from .._validation import as_flag, as_instance, as_real_array, check_size, contiguous, rpm_from_omega
+from .._native import machine_bearing_loads
+from .._validation import as_flag, as_instance, as_real_array, check_size, contiguous, refused, rpm_from_omega
 from ..machine.machine import Machine
 from ..machine.native import motion_machine
 from .shaking import speed_of
@@ -158,9 +158,9 @@ class BearingLoads:
         count = len(self.positions)
         if isinstance(bearing, bool | np.bool_) or not isinstance(bearing, int | np.integer):
             # True is an int to Python, not a bearing's number.
-            raise MechanismError(f"bearing must be an integer 0 <= bearing < {count}, got {bearing!r}")
+            raise refused("bearing", f"bearing must be an integer 0 <= bearing < {count}, got {bearing!r}")
         if not 0 <= bearing < count:
-            raise MechanismError(f"bearing = {bearing!r} is out of range; allowed: 0 <= bearing < {count}")
+            raise refused("bearing", f"bearing = {bearing!r} is out of range; allowed: 0 <= bearing < {count}")
         if ax is None:
             _, ax = plt.subplots(figsize=(4.5, 4.5), layout="constrained")
         h, v = self.horizontal[bearing], self.vertical[bearing]
@@ -251,7 +251,7 @@ def bearing_loads(
     omega = speed_of(machine, rpm)
     steady, gravity = as_flag(steady, "steady"), as_flag(gravity, "gravity")
     if steady and phi is not None:
-        raise MechanismError("phi: in steady running the loads are on the steady state's own angles; give None")
+        raise refused("phi", "phi: in steady running the loads are on the steady state's own angles; give None")
     positions = np.asarray(machine.bearings, dtype=float)
     angles, horizontal, vertical = _loads(machine, omega, steady, phi, gravity, positions)
     return BearingLoads(machine, rpm_from_omega(omega), omega, steady, gravity, angles, positions, vertical, horizontal)
@@ -295,9 +295,9 @@ def _as_phi(phi: Any, machine: Machine) -> np.ndarray:
     (:func:`~multicrank._validation.check_size`)."""
     angles = as_real_array(phi, "phi")
     if angles.ndim != 1:
-        raise MechanismError(f"phi must be 1-D, got shape {angles.shape}")
+        raise refused("phi", f"phi must be 1-D, got shape {angles.shape}")
     if angles.size == 0:
-        raise MechanismError("phi must not be empty: give at least one crank angle [rad] (or None for the default)")
+        raise refused("phi", "phi must not be empty: give at least one crank angle [rad] (or None for the default)")
     per_angle = 2 + len(machine.cylinders) + 2 * len(machine.bearings)
     check_size("phi", f"{angles.size} angles for {len(machine.bearings)} bearings", angles.size * per_angle)
     return angles

@@ -23,8 +23,17 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from .._native import SHAKING_ORDER_COLUMNS, MechanismError
-from .._validation import as_count, as_flag, as_instance, as_omega, as_real_array, contiguous, rpm_from_omega
+from .._native import SHAKING_ORDER_COLUMNS
+from .._validation import (
+    as_count,
+    as_flag,
+    as_instance,
+    as_omega,
+    as_real_array,
+    contiguous,
+    refused,
+    rpm_from_omega,
+)
 from ..machine.machine import Machine
 from ..machine.native import motion_machine
 
@@ -167,14 +176,14 @@ class ShakingForces:
 
         if self.steady:
             if phi is not None:
-                raise MechanismError(
-                    "phi: in steady running the curves are on the steady state's own angles; give phi = None"
+                raise refused(
+                    "phi", "phi: in steady running the curves are on the steady state's own angles; give phi = None"
                 )
             angles, speeds, accelerations = self._state.phi, self._state.omega, self._state.acceleration
         else:
             given = np.linspace(0.0, 2 * np.pi, CURVE_POINTS) if phi is None else as_real_array(phi, "phi")
             if given.ndim != 1:
-                raise MechanismError(f"phi must be 1-D, got shape {given.shape}")
+                raise refused("phi", f"phi must be 1-D, got shape {given.shape}")
             angles = given.astype(float)
             speeds, accelerations = np.full(angles.shape, self.omega), np.zeros(angles.shape)
         angles = contiguous(np.asarray(angles, dtype=float))
@@ -190,7 +199,7 @@ def speed_of(machine: Machine, rpm: Any) -> float:
     machine's own ``rpm`` (refused by name where it has none)."""
     if rpm is None:
         if machine.rpm is None:
-            raise MechanismError(f"machine {machine.name!r} has no rpm: give rpm, the speed [1/min]")
+            raise refused("rpm", f"machine {machine.name!r} has no rpm: give rpm, the speed [1/min]")
         rpm = machine.rpm
     return as_omega(rpm, "rpm")
 

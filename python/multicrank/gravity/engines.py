@@ -17,13 +17,12 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .._native import MechanismError
 from .._native import engine_evaluate as _native_engine_evaluate
 from .._native import engine_extrema as _native_engine_extrema
 from .._native import engine_fourier as _native_engine_fourier
 from .._native import engine_leading_harmonic as _native_engine_leading_harmonic
 from .._text import counted
-from .._validation import as_count, as_design, as_label, as_option, check_size, contiguous, finish
+from .._validation import as_count, as_design, as_label, as_option, check_size, contiguous, finish, part_of, refused
 from .extrema import EnergyExtrema
 from .grids import as_phi
 from .mechanism import crank_phases
@@ -97,16 +96,18 @@ class Engine:
         name = as_label(name, "name")
         for key, column in columns.items():
             if column.ndim > 1:
-                raise MechanismError(f"{key} must be a scalar or 1-D (one entry per unit), got shape {column.shape}")
+                raise refused(key, f"{key} must be a scalar or 1-D (one entry per unit), got shape {column.shape}")
         lengths = {key: column.shape[0] for key, column in columns.items() if column.ndim == 1}
         sizes = set(lengths.values()) - {1}
         if len(sizes) > 1:
             listed = ", ".join(f"{key} has {n}" for key, n in lengths.items())
-            raise MechanismError(f"engine columns do not broadcast to one length (the number of units): {listed}")
+            sized = [key for key, n in lengths.items() if n != 1]
+            mismatched = next(key for key in sized if lengths[key] != lengths[sized[0]])
+            raise refused(mismatched, f"engine columns do not broadcast to one length (the number of units): {listed}")
         length = sizes.pop() if sizes else 1
         if length == 0:
-            empty = ", ".join(key for key, n in lengths.items() if n == 0)
-            raise MechanismError(f"{empty}: an engine needs at least one unit, got an empty column")
+            empty = [key for key, n in lengths.items() if n == 0]
+            raise refused(empty[0], f"{', '.join(empty)}: an engine needs at least one unit, got an empty column")
         self._columns = {k: contiguous(np.broadcast_to(v, (length,))).copy() for k, v in columns.items()}
         for column in self._columns.values():
             column.setflags(write=False)
@@ -237,7 +238,9 @@ class Engine:
         columns = {k: changes.pop(k, v) for k, v in self._columns.items()}
         name = changes.pop("name", self.name)
         if changes:
-            raise MechanismError(f"unknown engine field(s) {', '.join(changes)}; known: {', '.join(_FIELDS)}")
+            raise refused(
+                next(iter(changes)), f"unknown engine field(s) {', '.join(changes)}; known: {', '.join(_FIELDS)}"
+            )
         return Engine(**columns, name=name)
 
     # -- description --------------------------------------------------------------------
@@ -429,19 +432,20 @@ def as_throws(throws: Any, banks: Any) -> tuple[np.ndarray, list[np.ndarray]]:
     layouts keep them in degrees, :meth:`Engine.from_throws` takes radians."""
     beta = as_design(throws, "throws")
     if beta.ndim != 1:
-        raise MechanismError(f"throws must be a 1-D array of angles, got shape {beta.shape}")
+        raise refused("throws", f"throws must be a 1-D array of angles, got shape {beta.shape}")
     if isinstance(banks, (str, bytes, Mapping)) or not isinstance(banks, (Sequence, np.ndarray)):
-        raise MechanismError(
-            f"banks must be a sequence with one array of inclinations per throw, got {type(banks).__name__}"
+        raise refused(
+            "banks", f"banks must be a sequence with one array of inclinations per throw, got {type(banks).__name__}"
         )
     if len(banks) != len(beta):
-        raise MechanismError(f"throws has {len(beta)} entries but banks {len(banks)}")
+        raise refused("banks", f"banks has {len(banks)} entries but throws {len(beta)}: one per throw")
     checked = []
     for t, gammas in enumerate(banks):
-        gamma = as_design(gammas, f"banks[{t}]")
+        with part_of("banks"):
+            gamma = as_design(gammas, f"banks[{t}]")
         if gamma.ndim > 1:
-            raise MechanismError(f"banks[{t}] must be a 1-D array of inclinations, got shape {gamma.shape}")
+            raise refused("banks", f"banks[{t}] must be a 1-D array of inclinations, got shape {gamma.shape}")
         checked.append(gamma.reshape(-1))
     if not sum(g.size for g in checked):
-        raise MechanismError("banks hold no cylinder: an engine needs at least one unit")
+        raise refused("banks", "banks hold no cylinder: an engine needs at least one unit")
     return beta, checked

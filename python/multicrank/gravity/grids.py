@@ -20,8 +20,7 @@ from typing import Any
 
 import numpy as np
 
-from .._native import MechanismError
-from .._validation import as_angles, as_count, as_real_array, check_size, contiguous
+from .._validation import as_angles, as_count, as_real_array, check_size, contiguous, refused
 
 __all__ = ["UniformGrid", "as_phi", "grid_of", "uniform_grid"]
 
@@ -154,20 +153,20 @@ def uniform_grid(count: int, start: float = 0.0, stop: float = 2 * math.pi, *, e
     count = as_count(count, "count", minimum=1)
     bounds = [_finite_angle(start, "start"), _finite_angle(stop, "stop")]
     if not isinstance(endpoint, (bool, np.bool_)):
-        raise MechanismError(f"endpoint must be True or False, got {endpoint!r}")
+        raise refused("endpoint", f"endpoint must be True or False, got {endpoint!r}")
     intervals = count - 1 if endpoint else count
     step = (bounds[1] - bounds[0]) / intervals if intervals else 0.0
     if not math.isfinite(step):
-        raise MechanismError(f"stop - start = {bounds[1] - bounds[0]} is out of range; allowed: a finite span")
+        raise refused("stop", f"stop - start = {bounds[1] - bounds[0]} is out of range; allowed: a finite span")
     return UniformGrid(count, bounds[0], step)
 
 
 def _finite_angle(value: Any, name: str) -> float:
     array = as_real_array(value, name)
     if array.ndim != 0:
-        raise MechanismError(f"{name} must be a single angle [rad], got shape {array.shape}")
+        raise refused(name, f"{name} must be a single angle [rad], got shape {array.shape}")
     if not math.isfinite(array):
-        raise MechanismError(f"{name} = {float(array)} is out of range; allowed: a finite angle [rad]")
+        raise refused(name, f"{name} = {float(array)} is out of range; allowed: a finite angle [rad]")
     return float(array)
 
 

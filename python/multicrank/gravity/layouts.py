@@ -15,7 +15,7 @@ from typing import Any
 
 import numpy as np
 
-from .._native import MechanismError
+from .._validation import refused
 from .engines import Engine, as_throws
 from .mechanism import crank_phases
 
@@ -71,9 +71,9 @@ class Layout:
     def __post_init__(self) -> None:
         for label in ("name", "note"):
             if not isinstance(getattr(self, label), str):
-                raise MechanismError(f"{label} must be a string, got {type(getattr(self, label)).__name__}")
+                raise refused(label, f"{label} must be a string, got {type(getattr(self, label)).__name__}")
         if self.strokes is not None and not (type(self.strokes) is int and self.strokes in (2, 4)):
-            raise MechanismError(f"strokes = {self.strokes!r} is not allowed; allowed: 2, 4 or None")
+            raise refused("strokes", f"strokes = {self.strokes!r} is not allowed; allowed: 2, 4 or None")
         # The checks of Engine.from_throws (by the same names), without building an engine;
         # what they accept is kept as plain floats, so that a layout is hashable and prints
         # as written.
@@ -193,8 +193,8 @@ def as_layout(layout: Layout | str, name: str = "layout") -> Layout:
         return layout
     if isinstance(layout, str) and layout in LAYOUTS:
         return LAYOUTS[layout]
-    raise MechanismError(
-        f"{name} = {layout!r} is not a known layout; known: {', '.join(LAYOUTS)} (or a multicrank.Layout)"
+    raise refused(
+        name, f"{name} = {layout!r} is not a known layout; known: {', '.join(LAYOUTS)} (or a multicrank.Layout)"
     )
 
 

@@ -9,9 +9,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .._native import MechanismError
 from .._native import engine_sensitivity as _native_engine_sensitivity
-from .._validation import as_count, as_nonnegative, check_size
+from .._validation import as_count, as_nonnegative, check_size, refused
 
 if TYPE_CHECKING:  # pandas is imported where a table is made, not with multicrank
     import pandas as pd
@@ -123,8 +122,8 @@ def perturbed(
     δ_g: nominal 1.24e-08, 95th percentile 1.21e-04
     """
     if not isinstance(rng, np.random.Generator):
-        raise MechanismError(
-            f"rng must be a numpy.random.Generator (np.random.default_rng(seed)), got {type(rng).__name__}"
+        raise refused(
+            "rng", f"rng must be a numpy.random.Generator (np.random.default_rng(seed)), got {type(rng).__name__}"
         )
     u1_rel, u2_rel, phase = _scatter(u1_rel, u2_rel, phase)
     size = len(self)

@@ -17,11 +17,10 @@ from typing import Any
 
 import numpy as np
 
-from .._native import MechanismError
 from .._native import machine_evaluate as _native_machine_evaluate
 from .._native import piston_forces as _native_piston_forces
 from .._native import two_mass_rod_inertia as _native_two_mass_rod_inertia
-from .._validation import as_option, as_real_array, as_scalar, check_fields, check_magnitude, contiguous
+from .._validation import as_option, as_real_array, as_scalar, check_fields, check_magnitude, contiguous, refused
 from ..pressure.diagram import IndicatorDiagram
 
 __all__ = ["CYLINDER_FIELDS", "UNIT_FIELDS", "Cylinder", "Pressure", "diagram_strokes", "unit_columns"]
@@ -177,21 +176,27 @@ class Cylinder:
             object.__setattr__(self, "rod_inertia", self._two_mass_rod_inertia())
         position = check_magnitude(as_scalar(self.axial_position, "axial_position"), "axial_position", "m")
         if not math.isfinite(position):
-            raise MechanismError(f"axial_position = {position} is out of range; allowed: any finite real [m]")
+            raise refused(
+                "axial_position", f"axial_position = {position} is out of range; allowed: any finite real [m]"
+            )
         object.__setattr__(self, "axial_position", position)
         if not (math.isfinite(self.bore) and self.bore >= 0):
-            raise MechanismError(f"bore = {self.bore} is out of range; allowed: bore >= 0 [m]")
+            raise refused("bore", f"bore = {self.bore} is out of range; allowed: bore >= 0 [m]")
         if not (math.isfinite(self.piston_rod_diameter) and 0 <= self.piston_rod_diameter):
-            raise MechanismError(f"piston_rod_diameter = {self.piston_rod_diameter} is out of range; allowed: >= 0 [m]")
+            raise refused(
+                "piston_rod_diameter",
+                f"piston_rod_diameter = {self.piston_rod_diameter} is out of range; allowed: >= 0 [m]",
+            )
         if self.piston_rod_diameter > 0 and self.piston_rod_diameter >= self.bore:
-            raise MechanismError(
+            raise refused(
+                "piston_rod_diameter",
                 f"piston_rod_diameter = {self.piston_rod_diameter} is out of range; "
-                f"allowed: less than bore = {self.bore}"
+                f"allowed: less than bore = {self.bore}",
             )
         for name in ("pressure", "pressure_crank_end"):
             value = getattr(self, name)
             if value is not None and not callable(value):
-                raise MechanismError(f"{name} must be None or a callable of the cycle angle [rad] -> Pa")
+                raise refused(name, f"{name} must be None or a callable of the cycle angle [rad] -> Pa")
         # Geometry and masses: the core's rules, checked now rather than at first use.
         _native_machine_evaluate("travel", unit_columns([self]), 0.0, np.zeros(0))
 
@@ -257,7 +262,7 @@ class Cylinder:
         end = as_option(end, "end", ("head", "crank"))
         clearance = as_scalar(clearance_volume, "clearance_volume")
         if not (math.isfinite(clearance) and clearance > 0):
-            raise MechanismError(f"clearance_volume = {clearance} is out of range; allowed: > 0 [m³]")
+            raise refused("clearance_volume", f"clearance_volume = {clearance} is out of range; allowed: > 0 [m³]")
         angles = as_real_array(theta, "theta")
         own = dict(unit_columns([self]), phase=np.zeros(1))
         travel = _native_machine_evaluate("travel", own, 0.0, contiguous(angles).reshape(-1)).reshape(angles.shape)
@@ -285,9 +290,11 @@ class Cylinder:
         """V_c [m³] from exactly one of clearance_volume, clearance_ratio, compression_ratio."""
         named = {name: value for name, value in given.items() if value is not None}
         if len(named) != 1:
-            raise MechanismError(f"give exactly one of {', '.join(given)} (got {', '.join(named) or 'none'})")
+            raise refused(
+                next(iter(given)), f"give exactly one of {', '.join(given)} (got {', '.join(named) or 'none'})"
+            )
         if not self.bore > 0:
-            raise MechanismError(f"bore = {self.bore}: a synthetic cycle needs a piston (bore > 0) [m]")
+            raise refused("bore", f"bore = {self.bore}: a synthetic cycle needs a piston (bore > 0) [m]")
         ((name, value),) = named.items()
         value = as_scalar(value, name)
         swept = self.swept_volume(end)
@@ -302,7 +309,7 @@ class Cylinder:
             "clearance_ratio": "> 0 (V_c over the swept volume)",
             "compression_ratio": "> 1 ((V_s + V_c)/V_c)",
         }
-        raise MechanismError(f"{name} = {value} is out of range; allowed: {allowed[name]}")
+        raise refused(name, f"{name} = {value} is out of range; allowed: {allowed[name]}")
 
     def compressor_diagram(
         self,

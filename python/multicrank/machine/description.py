@@ -10,10 +10,9 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .._native import MechanismError
 from .._native import machine_engine as _native_machine_engine
 from .._text import counted
-from .._validation import as_omega, as_scalar
+from .._validation import as_omega, as_scalar, refused
 from ..gravity.engines import Engine
 
 __all__ = ["MachineDescription"]
@@ -66,7 +65,7 @@ class MachineDescription:
         """
         if rpm is None:
             if self.rpm is None:
-                raise MechanismError(f"rpm is required: machine {self.name!r} has no running speed (rpm) of its own")
+                raise refused("rpm", f"rpm is required: machine {self.name!r} has no running speed (rpm) of its own")
             rpm = self.rpm
         speed = as_scalar(rpm, "rpm")
         columns = _native_machine_engine(self._units, self.g, self.shaft_inertia, as_omega(speed, "rpm"))
@@ -113,9 +112,10 @@ class MachineDescription:
         for field in ("crank_ratio", "inclination", "u1", "u2"):
             column = getattr(engine, field)
             if not np.all(column == column[0]):
-                raise MechanismError(
+                raise refused(
+                    field,
                     f"machine {self.name!r} has cylinders that differ in {field}: the in-line design (one "
-                    f"crank_ratio, inclination, u1, u2 for all) is for machines of identical cylinders; use engine()"
+                    f"crank_ratio, inclination, u1, u2 for all) is for machines of identical cylinders; use engine()",
                 )
             shared[field] = float(column[0])
         return {**shared, "phases": engine.phase.copy()}

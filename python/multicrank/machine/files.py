@@ -21,6 +21,7 @@ from typing import Any
 
 from .._files import read_toml
 from .._native import MechanismError
+from .._validation import refused
 from ..gravity.layouts import Layout, as_layout
 from ..pressure.diagram import PRESSURE_UNITS, IndicatorDiagram, check_pressure_unit
 from .classes import SPEED_FLUCTUATION
@@ -198,9 +199,10 @@ class PressureSpec:
         if self.type == "compressor":
             return cylinder.compressor_diagram(end=end, cycle=cycle, **{how: value}, **self.arguments)
         if end == "crank":
-            raise MechanismError(
+            raise refused(
+                "path",
                 "type = 'engine' is not offered for the crank end: the engine cycle fires at the head end's "
-                "outer dead centre; give a table (type = 'table') for a double-acting engine's crank end"
+                "outer dead centre; give a table (type = 'table') for a double-acting engine's crank end",
             )
         return cylinder.engine_diagram(cycle=cycle, **{how: value}, **self.arguments)
 
@@ -235,7 +237,7 @@ class MachineFile:
 
     def error(self, key: str, message: str) -> MechanismError:
         """A :class:`MechanismError` that names this file and ``key``."""
-        return MechanismError(f"{self.path}: {key}: {message}" if key else f"{self.path}: {message}")
+        return refused("path", f"{self.path}: {key}: {message}" if key else f"{self.path}: {message}")
 
     @contextmanager
     def context(self, key: str) -> Iterator[None]:

@@ -15,7 +15,7 @@ import numpy as np
 from .._native import MechanismError
 from .._native import machine_gas_torque as _native_machine_gas_torque
 from .._native import piston_forces as _native_piston_forces
-from .._validation import as_real_array, as_returned, as_threshold, contiguous
+from .._validation import as_real_array, as_returned, as_threshold, contiguous, refused
 from .cylinder import Cylinder, Pressure
 
 __all__ = ["MachineGas"]
@@ -113,5 +113,5 @@ def _pressure(
     except MechanismError:
         raise
     except Exception as error:
-        raise MechanismError(f"{name} failed at the cycle angles given: {error}") from error
+        raise refused(name, f"{name} failed at the cycle angles given: {error}") from error
     return as_returned(values, name, quantity, unit, theta.shape)

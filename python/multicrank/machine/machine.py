@@ -22,7 +22,6 @@ from typing import Any
 
 import numpy as np
 
-from .._native import MechanismError
 from .._validation import (
     as_instance,
     as_omega,
@@ -33,6 +32,7 @@ from .._validation import (
     check_fields,
     check_magnitude,
     omega_from_rpm,
+    refused,
 )
 from .._validation import as_speed_range as _speed_range
 from ..gravity.layouts import Layout, as_layout
@@ -197,24 +197,26 @@ class Machine(MachineDescription, MachineDynamics, MachineGas):
         load_law: str | None = None,
     ) -> None:
         if isinstance(cylinders, Cylinder) or not isinstance(cylinders, Sequence):
-            raise MechanismError("cylinders must be a sequence of multicrank.Cylinder")
+            raise refused("cylinders", "cylinders must be a sequence of multicrank.Cylinder")
         cylinders = tuple(cylinders)
         if not cylinders:
-            raise MechanismError("cylinders must not be empty: a machine needs at least one cylinder")
+            raise refused("cylinders", "cylinders must not be empty: a machine needs at least one cylinder")
         if not all(isinstance(c, Cylinder) for c in cylinders):
-            raise MechanismError("cylinders must all be multicrank.Cylinder")
+            raise refused("cylinders", "cylinders must all be multicrank.Cylinder")
         self.cylinders: tuple[Cylinder, ...] = cylinders
         self.shaft_inertia = check_magnitude(as_scalar(shaft_inertia, "shaft_inertia"), "shaft_inertia", "kg·m²")
         if not (math.isfinite(self.shaft_inertia) and self.shaft_inertia > 0):
-            raise MechanismError(f"shaft_inertia = {self.shaft_inertia} is out of range; allowed: shaft_inertia > 0")
+            raise refused(
+                "shaft_inertia", f"shaft_inertia = {self.shaft_inertia} is out of range; allowed: shaft_inertia > 0"
+            )
         self.strokes = as_strokes(strokes)
         self.g = check_magnitude(as_scalar(g, "g"), "g", "m/s²")
         if not math.isfinite(self.g):
-            raise MechanismError(f"g = {self.g} is out of range; allowed: any finite real")
+            raise refused("g", f"g = {self.g} is out of range; allowed: any finite real")
         if not isinstance(name, str):
-            raise MechanismError(f"name must be a str, got {type(name).__name__}")
+            raise refused("name", f"name must be a str, got {type(name).__name__}")
         if not isinstance(note, str):
-            raise MechanismError(f"note must be a str, got {type(note).__name__}")
+            raise refused("note", f"note must be a str, got {type(note).__name__}")
         self.name = name
         self.note = note
         self.rpm: float | None = None if rpm is None else as_speed(rpm, "rpm")
@@ -222,18 +224,20 @@ class Machine(MachineDescription, MachineDynamics, MachineGas):
         if self.rpm is not None and self.rpm_range is not None:
             low, high = self.rpm_range
             if not low <= self.rpm <= high:
-                raise MechanismError(
-                    f"rpm = {self.rpm:g} is out of range; allowed: inside rpm_range = ({low:g}, {high:g}) [1/min]"
+                raise refused(
+                    "rpm",
+                    f"rpm = {self.rpm:g} is out of range; allowed: inside rpm_range = ({low:g}, {high:g}) [1/min]",
                 )
         for j, cylinder in enumerate(cylinders):
             for end in ("pressure", "pressure_crank_end"):
                 period = getattr(getattr(cylinder, end), "cycle", None)
                 if isinstance(period, float) and period > self.cycle * (1 + 1e-9):
                     # A 2π diagram repeats over a 4π cycle; a 4π one over a 2π cycle would be cut in half.
-                    raise MechanismError(
+                    raise refused(
+                        "cylinders",
                         f"cylinders[{j}].{end} is a {round(period / math.pi)}-stroke indicator diagram (cycle "
                         f"{period:.6g} rad), longer than this {self.strokes}-stroke machine's cycle; give strokes="
-                        f"{round(period / math.pi)} or a diagram of the machine's cycle"
+                        f"{round(period / math.pi)} or a diagram of the machine's cycle",
                     )
         self.delta_target: float | None = None if delta_target is None else _delta_target(delta_target)
         self.main_bearings: tuple[float, ...] | None = None
@@ -381,34 +385,36 @@ class Machine(MachineDescription, MachineDynamics, MachineGas):
         """
         layout = as_layout(layout)
         if not isinstance(cylinder, Cylinder):
-            raise MechanismError(
-                f"cylinder must be a multicrank.Cylinder (the template), got {type(cylinder).__name__}"
+            raise refused(
+                "cylinder", f"cylinder must be a multicrank.Cylinder (the template), got {type(cylinder).__name__}"
             )
         if len(layout.throws) != len(layout.banks):
-            raise MechanismError(
-                f"layout {layout.name!r} has {len(layout.throws)} throws but {len(layout.banks)} banks entries"
+            raise refused(
+                "layout",
+                f"layout {layout.name!r} has {len(layout.throws)} throws but {len(layout.banks)} banks entries",
             )
         if strokes is None:
             strokes = layout.strokes or diagram_strokes(cylinder) or 2
         cycle_strokes = as_strokes(strokes)
         if layout.strokes is not None and cycle_strokes != layout.strokes:
-            raise MechanismError(
+            raise refused(
+                "strokes",
                 f"strokes = {cycle_strokes} contradicts layout {layout.name!r}, whose throws are the "
-                f"{layout.strokes}-stroke phase set"
+                f"{layout.strokes}-stroke phase set",
             )
         written: list[float] = []  # β − γ [deg], as the layout writes it
         inclinations: list[float] = []
         first: list[bool] = []
         for beta, gammas in zip(layout.throws, layout.banks, strict=True):
             if not len(gammas):
-                raise MechanismError(f"layout {layout.name!r} has a throw at {beta:g}° without a cylinder")
+                raise refused("layout", f"layout {layout.name!r} has a throw at {beta:g}° without a cylinder")
             for index, gamma in enumerate(gammas):
                 written.append(float(beta) - float(gamma))
                 inclinations.append(float(gamma))
                 first.append(index == 0)
         crank = np.asarray(written)
         if not np.all(np.isfinite(crank)) or not np.all(np.isfinite(inclinations)):
-            raise MechanismError(f"layout {layout.name!r} has a throw or bank angle that is not finite")
+            raise refused("layout", f"layout {layout.name!r} has a throw or bank angle that is not finite")
         if firing is None:
             phases = even_firing(crank, cycle_strokes)
         else:
@@ -419,9 +425,10 @@ class Machine(MachineDescription, MachineDynamics, MachineGas):
         else:
             spacing = check_magnitude(as_scalar(cylinder_spacing, "cylinder_spacing"), "cylinder_spacing", "m")
             if not (math.isfinite(spacing) and spacing > 0):
-                raise MechanismError(
+                raise refused(
+                    "cylinder_spacing",
                     f"cylinder_spacing = {spacing} is out of range; allowed: cylinder_spacing > 0 [m] (the distance "
-                    "between neighbouring throws along the shaft)"
+                    "between neighbouring throws along the shaft)",
                 )
             # Throw t of the layout: the count of first cylinders up to and including this one, less one.
             throw_of = np.cumsum(first) - 1
@@ -613,9 +620,10 @@ def _as_shaft(value: Any, cylinders: int) -> Shaft:
     """A machine's shaft: a :class:`~multicrank.Shaft` with one node per cylinder."""
     value = as_instance(value, Shaft, "shaft")
     if len(value.cylinder_nodes) != cylinders:
-        raise MechanismError(
+        raise refused(
+            "shaft",
             f"shaft.cylinder_nodes holds {len(value.cylinder_nodes)} nodes; the machine has {cylinders} cylinders "
-            "(one node per cylinder, in the machine's order)"
+            "(one node per cylinder, in the machine's order)",
         )
     return value
 
@@ -624,9 +632,10 @@ def _load_law(value: Any, rpm: float | None) -> str:
     """A machine's load law: one of :data:`LOAD_LAWS`, with the rated speed it scales from."""
     law = as_option(value, "load_law", LOAD_LAWS)
     if rpm is None:
-        raise MechanismError(
+        raise refused(
+            "load_law",
             f"load_law = {law!r} needs the rated speed: the machine's rpm [1/min], from which the gauge pressures "
-            "scale as (n/rpm)²; give rpm=..."
+            "scale as (n/rpm)²; give rpm=...",
         )
     return law
 
@@ -650,9 +659,10 @@ def _delta_target(value: Any) -> float:
     """A target coefficient of speed fluctuation: a finite number > 0."""
     delta = as_scalar(value, "delta_target")
     if not (math.isfinite(delta) and delta > 0):
-        raise MechanismError(
+        raise refused(
+            "delta_target",
             f"delta_target = {delta} is out of range; allowed: delta_target > 0 (a coefficient of speed "
-            "fluctuation, e.g. 0.05 = 1/20 for a compressor)"
+            "fluctuation, e.g. 0.05 = 1/20 for a compressor)",
         )
     return delta
 

@@ -11,8 +11,7 @@ from typing import Any
 
 import numpy as np
 
-from .._native import MechanismError
-from .._validation import as_real_array
+from .._validation import as_real_array, refused
 
 __all__ = ["MAX_FIRING_SEARCH", "chosen_firing", "even_firing"]
 
@@ -28,9 +27,10 @@ def even_firing(crank: np.ndarray, strokes: int) -> list[float]:
         return [math.radians(a) for a in np.mod(crank, 360.0)]
     count = crank.size
     if count > MAX_FIRING_SEARCH:
-        raise MechanismError(
+        raise refused(
+            "firing",
             f"firing: the even-firing search covers up to {MAX_FIRING_SEARCH} cylinders of a four-stroke machine, "
-            f"this layout has {count}; give firing= (the phases in rad) explicitly"
+            f"this layout has {count}; give firing= (the phases in rad) explicitly",
         )
     moved = (np.arange(2**count)[:, None] >> np.arange(count)[None, :]) & 1  # row i: which cylinders get +360°
     candidates = np.mod(crank[None, :] + 360.0 * moved, 720.0)
@@ -48,17 +48,19 @@ def chosen_firing(firing: Any, crank: np.ndarray, strokes: int) -> list[float]:
     """The given phases [rad], checked against the crank (β − γ [deg] plus whole turns)."""
     phases = as_real_array(firing, "firing")
     if phases.shape != crank.shape:
-        raise MechanismError(
+        raise refused(
+            "firing",
             f"firing must hold one phase [rad] per cylinder ({crank.size}, in the layout's order), "
-            f"got shape {phases.shape}"
+            f"got shape {phases.shape}",
         )
     turns = (phases - np.radians(crank)) / (2 * math.pi)
     whole = np.round(turns)
     for j, (turn, nearest) in enumerate(zip(turns, whole, strict=True)):
         if not (math.isfinite(turn) and abs(turn - nearest) <= 1e-9):
-            raise MechanismError(
+            raise refused(
+                "firing",
                 f"firing[{j}] = {phases[j]!r} rad is not a phase the crank allows: cylinder {j} is at "
-                f"β − γ = {crank[j]:g}° plus whole turns (360°)"
+                f"β − γ = {crank[j]:g}° plus whole turns (360°)",
             )
     cycle = 180.0 * strokes
     return [math.radians(a) for a in np.mod(crank + 360.0 * whole, cycle)]

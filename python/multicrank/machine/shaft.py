@@ -15,8 +15,7 @@ from typing import Any
 
 import numpy as np
 
-from .._native import MechanismError
-from .._validation import MAGNITUDE_LIMIT, as_real_array
+from .._validation import MAGNITUDE_LIMIT, as_real_array, refused
 
 __all__ = ["SAME_POSITION", "as_bearings", "default_bearings", "throws"]
 
@@ -79,18 +78,22 @@ def as_bearings(value: Any, places: Sequence[float], members: Sequence[Sequence[
     allowed = "allowed: at least two finite axial positions [m], strictly increasing, every throw strictly between two"
     bearings = as_real_array(value, "main_bearings")
     if bearings.ndim != 1 or bearings.size < 2:
-        raise MechanismError(
+        raise refused(
+            "main_bearings",
             f"main_bearings must be a sequence of at least two axial positions [m], got shape {bearings.shape}; "
-            f"{allowed}"
+            f"{allowed}",
         )
     for i, z in enumerate(bearings):
         if not (math.isfinite(z) and abs(z) <= MAGNITUDE_LIMIT):
-            raise MechanismError(f"main_bearings[{i}] = {z:g} is out of range; {allowed}, |z| <= {MAGNITUDE_LIMIT:g}")
+            raise refused(
+                "main_bearings", f"main_bearings[{i}] = {z:g} is out of range; {allowed}, |z| <= {MAGNITUDE_LIMIT:g}"
+            )
     for i in range(1, bearings.size):
         if not bearings[i] > bearings[i - 1]:
-            raise MechanismError(
+            raise refused(
+                "main_bearings",
                 f"main_bearings[{i}] = {bearings[i]:g} m is not beyond main_bearings[{i - 1}] = "
-                f"{bearings[i - 1]:g} m; {allowed}"
+                f"{bearings[i - 1]:g} m; {allowed}",
             )
     result = tuple(float(z) for z in bearings)
     for z, cylinders in zip(places, members, strict=True):
@@ -98,16 +101,19 @@ def as_bearings(value: Any, places: Sequence[float], members: Sequence[Sequence[
         where = f"the throw at z = {z:g} m ({which})"
         at = [i for i, b in enumerate(result) if _close(z, b)]
         if at:
-            raise MechanismError(
+            raise refused(
+                "main_bearings",
                 f"main_bearings[{at[0]}] = {result[at[0]]:g} m is at {where}: a throw lies between two "
-                f"bearings, not on one; {allowed}"
+                f"bearings, not on one; {allowed}",
             )
         if z < result[0]:
-            raise MechanismError(
-                f"main_bearings: {where} is overhung, before the first bearing at {result[0]:g} m; {allowed}"
+            raise refused(
+                "main_bearings",
+                f"main_bearings: {where} is overhung, before the first bearing at {result[0]:g} m; {allowed}",
             )
         if z > result[-1]:
-            raise MechanismError(
-                f"main_bearings: {where} is overhung, beyond the last bearing at {result[-1]:g} m; {allowed}"
+            raise refused(
+                "main_bearings",
+                f"main_bearings: {where} is overhung, beyond the last bearing at {result[-1]:g} m; {allowed}",
             )
     return result

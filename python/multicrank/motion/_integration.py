@@ -18,9 +18,8 @@ from typing import Any
 
 import numpy as np
 
-from .._native import MechanismError
 from .._shaft import inertia_torque
-from .._validation import as_scalar, has_gas
+from .._validation import as_scalar, has_gas, refused
 from ..machine.machine import Machine
 from .loads import Torque
 
@@ -137,7 +136,7 @@ def _integrate(
         if bar is not None:
             bar.close()
     if ode.status < 0:
-        raise MechanismError(f"the integration failed: {ode.message}")
+        raise refused("method", f"the integration failed: {ode.message}")
     time, state = np.asarray(ode.t, dtype=float), np.asarray(ode.y, dtype=float)
     stalled = ode.status == 1 and len(ode.t_events[0]) > 0
     stall_time = None
@@ -166,7 +165,7 @@ def _tolerances(rtol: Any, atol: Any) -> dict[str, float]:
     # Below the floor solve_ivp would raise rtol itself, with a warning; at 1 or more it would
     # accept an error as large as the state.
     if not (math.isfinite(relative) and _RTOL_FLOOR <= relative < 1):
-        raise MechanismError(f"rtol = {relative} is out of range; allowed: {_RTOL_FLOOR:.3g} <= rtol < 1")
+        raise refused("rtol", f"rtol = {relative} is out of range; allowed: {_RTOL_FLOOR:.3g} <= rtol < 1")
     if not (math.isfinite(absolute) and absolute >= _ATOL_FLOOR):
-        raise MechanismError(f"atol = {absolute} is out of range; allowed: atol >= {_ATOL_FLOOR:g}, finite")
+        raise refused("atol", f"atol = {absolute} is out of range; allowed: atol >= {_ATOL_FLOOR:g}, finite")
     return {"rtol": relative, "atol": absolute}

@@ -13,8 +13,7 @@ from typing import Any
 
 import numpy as np
 
-from .._native import MechanismError
-from .._validation import as_omega, as_scalar
+from .._validation import as_omega, as_scalar, refused
 from ..machine.machine import Machine, load_factor, rated_omega
 from .loads import BALANCE, AppliedTorques, Torque
 
@@ -39,7 +38,9 @@ def as_min_speed_ratio(value: Any) -> float:
     # Below 1e-9 the crawl over a dead centre takes longer than any run (and 1/ratio² leaves
     # the range of a double on the way): such a machine has stalled by any measure.
     if not 1e-9 <= ratio < 1.0:
-        raise MechanismError(f"min_speed_ratio = {ratio} is out of range; allowed: 1e-9 <= min_speed_ratio < 1")
+        raise refused(
+            "min_speed_ratio", f"min_speed_ratio = {ratio} is out of range; allowed: 1e-9 <= min_speed_ratio < 1"
+        )
     return ratio
 
 
@@ -50,16 +51,18 @@ def mean_speed(value: Any, route: str, machine: Machine) -> float | None:
     speed."""
     if route != BALANCE:
         if value is not None:
-            raise MechanismError(
+            raise refused(
+                "rpm",
                 f"rpm = {value!r} is not allowed with this load: a {route} load fixes the mean speed itself "
-                "(it is a result); pass rpm only with load='balance'"
+                "(it is a result); pass rpm only with load='balance'",
             )
         return None
     if value is None:
         if machine.rpm is None:
-            raise MechanismError(
+            raise refused(
+                "rpm",
                 f"rpm is required with load='balance': the mean speed [1/min] to run at (machine {machine.name!r} "
-                "has no rpm of its own)"
+                "has no rpm of its own)",
             )
         value = machine.rpm
     return as_omega(value, "rpm")
@@ -155,15 +158,17 @@ def resolve_rules(load: Any, drive: Any) -> Rules:
     assert not isinstance(load_, str)
     if isinstance(load_, Torque) and load_.kind == "power-law" and load_.value.exponent == 2 and constant_drive:
         if load_.value.coefficient == 0:
-            raise MechanismError(
+            raise refused(
+                "load",
                 "load = PowerLawLoad(torque=0, ...) takes no torque: nothing holds the speed; "
-                "use load='balance' with rpm"
+                "use load='balance' with rpm",
             )
         return Rules("square-law", torques)
     if (load_ is None or load_.kind == "constant") and constant_drive:
-        raise MechanismError(
+        raise refused(
+            "load",
             f"load = {load!r} is a constant torque and so is the drive: the machine has no periodic steady state "
             "unless the load equals the cycle mean of gas and drive exactly — that is load='balance' (with rpm); "
-            "or give a load that grows with speed (mc.PowerLawLoad, or a callable f(phi, omega))"
+            "or give a load that grows with speed (mc.PowerLawLoad, or a callable f(phi, omega))",
         )
     return Rules("general", torques)

@@ -26,6 +26,7 @@ from typing import Any
 import numpy as np
 
 from .._native import MechanismError
+from .._validation import refused
 from ..machine.machine import Machine
 from ..machine.native import motion_machine, sampled
 
@@ -107,16 +108,18 @@ def quasi_static_speed(shaft: ShaftCycle, applied: Callable[[np.ndarray, Any], n
     low, high = 1e-6, 1.0
     at_rest = mean_torque(shaft, applied, low)
     if not at_rest > 0:
-        raise MechanismError(
+        raise refused(
+            name,
             f"{name}: the mean torque of gas and drive does not exceed the load's even at rest "
-            f"({at_rest:.6g} N·m): the machine cannot run forward"
+            f"({at_rest:.6g} N·m): the machine cannot run forward",
         )
     while mean_torque(shaft, applied, high) > 0:
         high *= 4.0
         if high > 1e9:
-            raise MechanismError(
+            raise refused(
+                name,
                 f"{name}: the load never balances the mean torque of gas and drive (up to 10⁹ rad/s): "
-                "no periodic steady state; a constant load needs load='balance' and rpm"
+                "no periodic steady state; a constant load needs load='balance' and rpm",
             )
     return float(optimize.brentq(lambda w: mean_torque(shaft, applied, w), low, high, rtol=1e-12))
 
@@ -320,14 +323,14 @@ class Shooting:
                 if self.residual(high) < 0:
                     break
             else:
-                raise MechanismError("load: no periodic solution found (the machine keeps gaining energy)")
+                raise refused("load", "load: no periodic solution found (the machine keeps gaining energy)")
         else:
             for _ in range(60):
                 high, low = low, low / 1.5
                 if self.residual(low) > 0:
                     break
             else:
-                raise MechanismError("load: no periodic solution found (the machine keeps losing energy)")
+                raise refused("load", "load: no periodic solution found (the machine keeps losing energy)")
         E0, root = optimize.brentq(self.residual, low, high, xtol=1e-300, rtol=max(self.rtol, 1e-15), full_output=True)
         run = self._run(E0, dense=True)
         if run.status == 1:
@@ -378,16 +381,18 @@ def unreachable(delta: float, reach: str, closest: float) -> MechanismError:
     "never_falls", "massless" or "stalls", as the core's error carries it) and ``closest``,
     the δ nearest to it that the machine reaches."""
     if reach == "massless":
-        return MechanismError(
+        return refused(
+            "delta",
             f"delta = {delta} is unreachable: even a massless shaft keeps δ below it (about "
-            f"{closest:.4g}: the rods' and pistons' own inertia limits the fluctuation)"
+            f"{closest:.4g}: the rods' and pistons' own inertia limits the fluctuation)",
         )
     if reach == "stalls":
-        return MechanismError(
+        return refused(
+            "delta",
             f"delta = {delta} is unreachable at this speed: the machine stalls (ω_min < min_speed_ratio·ω_m) "
-            f"before its fluctuation grows that large; the largest δ that runs is about {closest:.4g}"
+            f"before its fluctuation grows that large; the largest δ that runs is about {closest:.4g}",
         )
-    return MechanismError(f"delta = {delta} is not reached by any shaft_inertia (δ never falls that low)")
+    return refused("delta", f"delta = {delta} is not reached by any shaft_inertia (δ never falls that low)")
 
 
 def inertia_for(delta_at: Callable[[float], float], delta: float, start: float) -> float:

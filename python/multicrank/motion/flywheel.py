@@ -12,7 +12,7 @@ from dataclasses import dataclass
 from typing import Any, ClassVar
 
 from .._native import MechanismError
-from .._validation import as_flag, as_instance, as_scalar, rpm_from_omega
+from .._validation import as_flag, as_instance, as_scalar, refused, rpm_from_omega
 from ..machine.machine import Machine
 from ..machine.native import motion_machine
 from ._periodic import (
@@ -108,8 +108,8 @@ def _as_delta(value: Any, name: str = "delta") -> float:
     # Below 1e-9 a δ is within the rounding of the speeds it is found from (the steady state
     # is solved to ~1e-10 of ω): no flywheel can be sized for it.
     if not (math.isfinite(delta) and delta >= 1e-9):
-        raise MechanismError(
-            f"{name} = {delta} is out of range; allowed: {name} >= 1e-9 (the coefficient of speed fluctuation)"
+        raise refused(
+            name, f"{name} = {delta} is out of range; allowed: {name} >= 1e-9 (the coefficient of speed fluctuation)"
         )
     return delta
 

@@ -34,6 +34,7 @@ from .._validation import (
     as_returned,
     as_scalar,
     one_of,
+    refused,
     renamed,
     rpm_from_omega,
     warn_renamed,
@@ -109,8 +110,8 @@ class PowerLawLoad:
         name, value = one_of(("rpm", rpm), ("speed", speed))
         exponent = as_scalar(exponent, "exponent")
         if not (math.isfinite(torque) and 0 <= torque <= MAGNITUDE_LIMIT):
-            raise MechanismError(
-                f"torque = {torque} is out of range; allowed: 0 <= torque <= {MAGNITUDE_LIMIT:g} [N·m]"
+            raise refused(
+                "torque", f"torque = {torque} is out of range; allowed: 0 <= torque <= {MAGNITUDE_LIMIT:g} [N·m]"
             )
         if name == "rpm":
             nominal = as_scalar(value, "rpm")
@@ -120,10 +121,12 @@ class PowerLawLoad:
             low, high = SPEED_LIMITS
             if not (math.isfinite(omega) and low <= omega <= high):
                 # the speeds the package takes (a speed of 1e200 rad/s overflowed in the coefficient)
-                raise MechanismError(f"speed = {omega} is out of range; allowed: {low:g} <= speed <= {high:g} [rad/s]")
+                raise refused(
+                    "speed", f"speed = {omega} is out of range; allowed: {low:g} <= speed <= {high:g} [rad/s]"
+                )
             nominal = rpm_from_omega(omega)
         if not (math.isfinite(exponent) and exponent >= 0):
-            raise MechanismError(f"exponent = {exponent} is out of range; allowed: exponent >= 0")
+            raise refused("exponent", f"exponent = {exponent} is out of range; allowed: exponent >= 0")
         object.__setattr__(self, "torque", torque)
         object.__setattr__(self, "rpm", nominal)
         object.__setattr__(self, "exponent", exponent)
@@ -199,9 +202,10 @@ class Torque:
         except MechanismError:
             raise
         except Exception as error:
-            raise MechanismError(
+            raise refused(
+                self.name,
                 f"{self.name} failed: {type(error).__name__}: {error}; it must be a vectorised callable "
-                f"f(phi [rad], omega [rad/s]) -> torque [N·m] returning an array that broadcasts to their shape"
+                f"f(phi [rad], omega [rad/s]) -> torque [N·m] returning an array that broadcasts to their shape",
             ) from error
         return as_returned(values, self.name, "torque", "N·m", shape, broadcast=True).copy()
 
@@ -218,9 +222,10 @@ def as_torque(value: Any, name: str, *, balance: bool = False) -> Torque | str |
         if balance and value == BALANCE:
             return BALANCE
         allowed = f"{BALANCE!r}, " if balance else ""
-        raise MechanismError(
+        raise refused(
+            name,
             f"{name} = {value!r} is not understood; allowed: {allowed}a number [N·m], a "
-            f"multicrank.PowerLawLoad or a callable f(phi, omega) -> N·m"
+            f"multicrank.PowerLawLoad or a callable f(phi, omega) -> N·m",
         )
     if isinstance(value, PowerLawLoad):
         return Torque("power-law", value, name)
@@ -228,8 +233,8 @@ def as_torque(value: Any, name: str, *, balance: bool = False) -> Torque | str |
         return Torque("callable", value, name)
     number = as_scalar(value, name)
     if not (math.isfinite(number) and abs(number) <= MAGNITUDE_LIMIT):
-        raise MechanismError(
-            f"{name} = {number} is out of range; allowed: a finite torque, |{name}| <= {MAGNITUDE_LIMIT:g} [N·m]"
+        raise refused(
+            name, f"{name} = {number} is out of range; allowed: a finite torque, |{name}| <= {MAGNITUDE_LIMIT:g} [N·m]"
         )
     return Torque("constant", number, name)
 

@@ -42,7 +42,7 @@ from typing import Any
 
 import numpy as np
 
-from .._native import MechanismError, machine_torque_orders
+from .._native import machine_torque_orders
 from .._optional import require
 from .._validation import (
     SPEED_LIMITS,
@@ -51,6 +51,7 @@ from .._validation import (
     as_instance,
     as_omega,
     as_option,
+    refused,
     rpm_from_omega,
 )
 from ..machine.machine import Machine, load_factor, rated_omega
@@ -344,26 +345,29 @@ def to_opentorsion(
     if isinstance(orders, Machine):
         for name, value in (("dofs", dofs), ("node", node)):
             if value is not None:
-                raise MechanismError(
+                raise refused(
+                    name,
                     f"{name} does not apply to a machine: its shaft gives the nodes, each cylinder at its own "
-                    "(shaft.cylinder_nodes)"
+                    "(shaft.cylinder_nodes)",
                 )
         return _machine_model(orders, shaft, rpm, 12 if max_order is None else max_order, part, mean)
     if not isinstance(orders, pd.DataFrame) or "omega" not in orders.attrs or orders.index.name != "order":
-        raise MechanismError(
-            "orders must be a table of mc.torque_orders (indexed by order, with its attrs) or a multicrank.Machine"
+        raise refused(
+            "orders",
+            "orders must be a table of mc.torque_orders (indexed by order, with its attrs) or a multicrank.Machine",
         )
     for name, value in (("shaft", shaft), ("rpm", rpm), ("max_order", max_order)):
         if value is not None:
-            raise MechanismError(
+            raise refused(
+                name,
                 f"{name} applies to a machine only: a table of torque_orders holds its own speed and orders "
-                "and acts at one node (give dofs and node)"
+                "and acts at one node (give dofs and node)",
             )
     chosen = as_option(part, "part", ORDER_PARTS)
     count = as_count(dofs, "dofs", minimum=1)
     at = as_count(node, "node", minimum=0)
     if at >= count:
-        raise MechanismError(f"node = {at} is out of range; allowed: 0 <= node < dofs = {count}")
+        raise refused("node", f"node = {at} is out of range; allowed: 0 <= node < dofs = {count}")
     with_mean = as_flag(mean, "mean")
     omega, index, amplitude, phase = _checked_orders(orders, chosen)
     keep = index > 0 if not with_mean else np.ones(len(orders), dtype=bool)
@@ -381,8 +385,8 @@ def _machine_model(machine: Machine, shaft: Any, rpm: Any, max_order: Any, part:
     chosen = shaft_of(machine, shaft)
     if rpm is None:
         if machine.rpm is None:
-            raise MechanismError(
-                f"rpm is required: machine {machine.name!r} has none (give rpm=... [1/min], or Machine(rpm=...))"
+            raise refused(
+                "rpm", f"rpm is required: machine {machine.name!r} has none (give rpm=... [1/min], or Machine(rpm=...))"
             )
         rpm = machine.rpm
     omega = as_omega(rpm, "rpm")
@@ -409,22 +413,23 @@ def _checked_orders(orders: Any, part: str) -> tuple[float, np.ndarray, np.ndarr
     columns = (f"{part}_amplitude", f"{part}_phase")
     missing = [c for c in columns if c not in orders.columns]
     if missing:
-        raise MechanismError(f"{where} lacks the column(s) {', '.join(missing)}")
+        raise refused("orders", f"{where} lacks the column(s) {', '.join(missing)}")
     try:
         omega = float(orders.attrs["omega"])
     except (TypeError, ValueError):
-        raise MechanismError(f"{where}: attrs['omega'] = {orders.attrs['omega']!r} is not a speed [rad/s]") from None
+        raise refused("orders", f"{where}: attrs['omega'] = {orders.attrs['omega']!r} is not a speed [rad/s]") from None
     low, high = SPEED_LIMITS
     if not (math.isfinite(omega) and low <= omega <= high):
-        raise MechanismError(
-            f"{where}: attrs['omega'] = {omega!r} is out of range; allowed: {low:g} <= omega <= {high:g} [rad/s]"
+        raise refused(
+            "orders",
+            f"{where}: attrs['omega'] = {omega!r} is out of range; allowed: {low:g} <= omega <= {high:g} [rad/s]",
         )
     values = {"order": orders.index, **{c: orders[c] for c in columns}}
     arrays: dict[str, np.ndarray] = {}
     for name, column in values.items():
         array = np.asarray(column)
         if array.dtype.kind not in "iuf":
-            raise MechanismError(f"{where}: {name} must hold real numbers, got dtype {array.dtype}")
+            raise refused("orders", f"{where}: {name} must hold real numbers, got dtype {array.dtype}")
         arrays[name] = array.astype(np.float64)
     rules: dict[str, tuple[bool, str]] = {  # (whether it is at least 0, what is allowed)
         "order": (True, "finite orders >= 0"),
@@ -436,7 +441,7 @@ def _checked_orders(orders: Any, part: str) -> tuple[float, np.ndarray, np.ndarr
         bad = np.flatnonzero(~(np.isfinite(array) & ((array >= 0) if nonnegative else True)))
         if bad.size:
             at = "" if name == "order" else f" at order {orders.index[bad[0]]}"
-            raise MechanismError(
-                f"{where}: {name} = {float(arrays[name][bad[0]])!r}{at} is out of range; allowed: {allowed}"
+            raise refused(
+                "orders", f"{where}: {name} = {float(arrays[name][bad[0]])!r}{at} is out of range; allowed: {allowed}"
             )
     return omega, arrays["order"], arrays[columns[0]], arrays[columns[1]]

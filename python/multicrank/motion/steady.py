@@ -234,6 +234,7 @@ def _native_solution(
                     "N·m, not positive: nothing drives it against a square-law load, which brings it to rest, "
                     f"near φ = {math.degrees(angle):.4g}°; it has no steady running (min_speed_ratio = {ratio:g})",
                     angle=angle,
+                    parameter="load",
                 ) from None
         raise _native_stall(angle, omega, getattr(error, "min_omega", None), ratio) from None
     numbers: dict[str, Any] = {name: float(getattr(found, name)) for name in _NUMBERS}
@@ -267,6 +268,7 @@ def _native_stall(angle: float, omega: float | None, min_omega: float | None, ra
             f"the machine stalls with this load: its speed would fall below min_speed_ratio·ω_m near φ = "
             f"{math.degrees(angle):.4g}°; it has no steady running (min_speed_ratio = {ratio:g})",
             angle=angle,
+            parameter="load" if omega is None else "rpm",
         )
     rpm, min_rpm = rpm_from_omega(omega), rpm_from_omega(min_omega)
     return StallError(
@@ -292,6 +294,7 @@ def _shooting_solution(machine: Machine, rules: Rules, gravity: bool, ratio: flo
             f"the machine stalls with this load: {error}, near φ = {math.degrees(angle):.4g}°; it has no "
             f"steady running (min_speed_ratio = {ratio:g})",
             angle=angle,
+            parameter="load",
         ) from None
     mean = solution.omega_mean
     delta_without = solution.delta

@@ -59,6 +59,9 @@ class StallError(MechanismError):
         The crank angle φ [rad] of the speed minimum.
     min_rpm : float, optional
         For ``load="balance"``: the lowest mean speed [1/min] that runs.
+    parameter : str, default "rpm"
+        The parameter the refusal is about (the exception's ``parameter``): "rpm", the
+        mean speed asked for, or "load" where the load fixes the speed itself.
 
     Attributes
     ----------
@@ -68,6 +71,10 @@ class StallError(MechanismError):
         For ``load="balance"``: the lowest mean speed [1/min] that runs, i.e. whose speed
         minimum is ``min_speed_ratio`` times the mean speed. None for other loads, which fix
         the speed themselves.
+    parameter : str
+        "rpm" (the speed the machine does not run at) or "load" (a load under which it has
+        no steady running at all), as every :class:`~multicrank.MechanismError` names its
+        parameter.
 
     Examples
     --------
@@ -80,8 +87,9 @@ class StallError(MechanismError):
     stalls; runs from 8.4 rpm
     """
 
-    def __init__(self, message: str, *, angle: float, min_rpm: float | None = None) -> None:
+    def __init__(self, message: str, *, angle: float, min_rpm: float | None = None, parameter: str = "rpm") -> None:
         super().__init__(message)
+        self.parameter = parameter
         self.angle = float(angle)
         self.min_rpm = None if min_rpm is None else float(min_rpm)
 

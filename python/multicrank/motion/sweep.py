@@ -35,6 +35,8 @@ from .._validation import (
     contiguous,
     omega_from_rpm,
     one_of,
+    refused,
+    reworded,
     rpm_from_omega,
     warn_renamed,
 )
@@ -100,12 +102,13 @@ def _as_outputs(outputs: Any, delta: float | None) -> tuple[str, ...]:
         asked = as_outputs(outputs, MOTION_SWEEP_OUTPUTS)
     flywheel = [o for o in asked if o in _FLYWHEEL]
     if flywheel and delta is None:
-        raise MechanismError(
-            f"outputs {flywheel!r} need delta_target=, the coefficient of speed fluctuation to size for"
+        raise refused(
+            "outputs", f"outputs {flywheel!r} need delta_target=, the coefficient of speed fluctuation to size for"
         )
     if delta is not None and not flywheel:
-        raise MechanismError(
-            "delta_target= is given but outputs name no flywheel_inertia: ask for it, or leave delta_target out"
+        raise refused(
+            "delta_target",
+            "delta_target= is given but outputs name no flywheel_inertia: ask for it, or leave delta_target out",
         )
     if any(o in _STEADY for o in asked):
         asked = (*asked, "stalled")
@@ -129,10 +132,11 @@ def _digest(value: Any, what: str, resume: bool) -> str:
     except Exception as error:  # a lambda pressure or load: no fingerprint, so no resume
         if not resume:
             return f"unpicklable-{uuid.uuid4().hex}"
-        raise MechanismError(
+        raise refused(
+            what,
             f"{what} cannot be pickled ({error}), so a resume could not tell its sweep from another: give "
             f"{what} as picklable objects (IndicatorDiagram, PowerLawLoad, module-level functions), or sweep "
-            "without resume=True"
+            "without resume=True",
         ) from None
 
 
@@ -204,8 +208,9 @@ def _frame_columns(machine: Machine, frame: pd.DataFrame, outputs: list[str]) ->
     known = machine_columns(machine)
     names = [c for c in frame.columns if c in known]
     if "rpm" not in names and machine.rpm is None:
-        raise MechanismError(
-            f"outputs {outputs!r} are taken at each design's speed: give an rpm column, or a machine with rpm"
+        raise refused(
+            "outputs",
+            f"outputs {outputs!r} are taken at each design's speed: give an rpm column, or a machine with rpm",
         )
     designs = {name: contiguous(frame[name].to_numpy(dtype=np.float64)) for name in names}
     _at_speed(machine, designs)
@@ -237,11 +242,10 @@ def _refused_design(machine: Machine, frame: pd.DataFrame, names: list[str], err
     design = {name: frame[name].iloc[row] for name in names}
     try:
         row_variant(machine, design, label)
-    except MechanismError as refused:
-        return refused
+    except MechanismError as own:
+        return own
     values = ", ".join(f"{k} = {v:g}" for k, v in design.items())
-    reason = str(error).removeprefix(f"design {row}: ")
-    return MechanismError(f"design {label} ({values}): {reason}")
+    return reworded(error, f"design {label} ({values}): {getattr(error, 'reason', error)}")
 
 
 def _solve_rows(
@@ -321,13 +325,14 @@ def _check_speed(names: Iterable[str], machine: Machine, route: str) -> None:
     none with a load that fixes the speed."""
     names = list(names)
     if route == BALANCE and "rpm" not in names and machine.rpm is None:
-        raise MechanismError(
+        raise refused(
+            "rpm",
             f"rpm is required with load='balance': give the designs an rpm column [1/min], or the machine "
-            f"{machine.name!r} an rpm of its own"
+            f"{machine.name!r} an rpm of its own",
         )
     if route != BALANCE and "rpm" in names:
-        raise MechanismError(
-            f"the designs' rpm column is not allowed with this load: a {route} load fixes the mean speed itself"
+        raise refused(
+            "rpm", f"the designs' rpm column is not allowed with this load: a {route} load fixes the mean speed itself"
         )
 
 
@@ -493,25 +498,27 @@ def motion_sweep(
     passthrough = as_passthrough(passthrough)
     path = None if out is None else as_out(out)
     if resume and path is None:
-        raise MechanismError("resume=True needs out= (the Parquet file of the interrupted sweep)")
+        raise refused("resume", "resume=True needs out= (the Parquet file of the interrupted sweep)")
 
     if isinstance(designs, MachineGrid):
         if designs.machine != machine:
-            raise MechanismError(
-                "designs is a MachineGrid of another machine than machine: make the grid of the machine you sweep"
+            raise refused(
+                "designs",
+                "designs is a MachineGrid of another machine than machine: make the grid of the machine you sweep",
             )
         _check_names(machine, [*designs.axes, *designs.constants], passthrough, outputs)
         names: list[str] = [*designs.axes, *designs.constants]
     elif is_dask(designs):
         if path is not None:
-            raise MechanismError("out= is not available for dask input: write with dask's to_parquet")
+            raise refused("out", "out= is not available for dask input: write with dask's to_parquet")
         _check_names(machine, list(designs.columns), passthrough, outputs)
         _check_speed(designs.columns, machine, rules.route)
         return designs.map_partitions(_solve_partition, machine, outputs, load, target, meta=_meta(designs, outputs))
     else:
         if not isinstance(designs, pd.DataFrame):
-            raise MechanismError(
-                f"designs must be a MachineGrid, a pandas DataFrame or a dask DataFrame, got {type(designs).__name__}"
+            raise refused(
+                "designs",
+                f"designs must be a MachineGrid, a pandas DataFrame or a dask DataFrame, got {type(designs).__name__}",
             )
         designs = as_frame(designs)
         _check_names(machine, designs.columns, passthrough, outputs)

@@ -26,7 +26,6 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from .._native import MechanismError
 from .._shaft import inertia_torque
 from .._validation import (
     RPM_LIMITS,
@@ -38,6 +37,7 @@ from .._validation import (
     as_scalar,
     omega_from_rpm,
     one_of,
+    refused,
     renamed,
     rpm_from_omega,
     warn_renamed,
@@ -297,18 +297,20 @@ def simulate(
     # max_step, at most 10⁷ revolutions at the start speed, over the run.
     span = float(times[-1] - times[0])
     if not step_limit >= span * 1e-8 or not step_limit > 0:
-        raise MechanismError(
+        raise refused(
+            "max_step",
             f"max_step = {step_limit} is out of range; allowed: max_step > 0 [s] and at least 1e-8 of the run "
-            f"({span:g} s), i.e. at most 10⁸ steps"
+            f"({span:g} s), i.e. at most 10⁸ steps",
         )
     revolutions = omega_start * span / (2 * math.pi)
     if revolutions > 1e7:
-        raise MechanismError(
+        raise refused(
+            start_name,
             f"{start_name}: a start speed of {omega_start:g} rad/s over the run's {span:g} s is {revolutions:.3g} "
-            "revolutions; at most 10⁷ in one run (shorten t_eval)"
+            "revolutions; at most 10⁷ in one run (shorten t_eval)",
         )
     if not isinstance(method, str) or method not in METHODS:
-        raise MechanismError(f"method = {method!r} is not allowed; allowed: {', '.join(map(repr, METHODS))}")
+        raise refused("method", f"method = {method!r} is not allowed; allowed: {', '.join(map(repr, METHODS))}")
     gravity = as_flag(gravity, "gravity")
     progress = as_flag(progress, "progress")
     torques = AppliedTorques.of(load, drive)
@@ -370,21 +372,22 @@ def _transient(model: _Model, solution: _Solution, method: str) -> Transient:
 def _as_times(t_eval: Any) -> np.ndarray:
     times = as_real_array(t_eval, "t_eval")
     if times.ndim != 1:
-        raise MechanismError(f"t_eval must be a 1-D array of times [s], got shape {times.shape}")
+        raise refused("t_eval", f"t_eval must be a 1-D array of times [s], got shape {times.shape}")
     if times.size < 2:
-        raise MechanismError(f"t_eval must hold at least 2 times [s] (the start and an end), got {times.size}")
+        raise refused("t_eval", f"t_eval must hold at least 2 times [s] (the start and an end), got {times.size}")
     if not np.all(np.isfinite(times)):
         bad = int(np.flatnonzero(~np.isfinite(times))[0])
-        raise MechanismError(f"t_eval[{bad}] = {times[bad]} is not finite; t_eval must be finite times [s]")
+        raise refused("t_eval", f"t_eval[{bad}] = {times[bad]} is not finite; t_eval must be finite times [s]")
     if times[0] < 0:
-        raise MechanismError(
-            f"t_eval[0] = {times[0]} is out of range; allowed: t_eval[0] >= 0 [s] (the run starts there)"
+        raise refused(
+            "t_eval", f"t_eval[0] = {times[0]} is out of range; allowed: t_eval[0] >= 0 [s] (the run starts there)"
         )
     steps = np.diff(times)
     if not np.all(steps > 0):
         i = int(np.flatnonzero(~(steps > 0))[0])
-        raise MechanismError(
-            f"t_eval must increase strictly: t_eval[{i + 1}] = {times[i + 1]!r} follows t_eval[{i}] = {times[i]!r}"
+        raise refused(
+            "t_eval",
+            f"t_eval must increase strictly: t_eval[{i + 1}] = {times[i + 1]!r} follows t_eval[{i}] = {times[i]!r}",
         )
     return np.array(times, dtype=float)
 
@@ -392,7 +395,7 @@ def _as_times(t_eval: Any) -> np.ndarray:
 def _finite(value: Any, name: str) -> float:
     x = as_scalar(value, name)
     if not math.isfinite(x):
-        raise MechanismError(f"{name} = {x} is out of range; allowed: a finite number")
+        raise refused(name, f"{name} = {x} is out of range; allowed: a finite number")
     return x
 
 
@@ -403,9 +406,10 @@ def _start_speed(rpm0: Any, omega0: Any) -> tuple[str, float]:
     speed = _finite(value, name)
     unit = "rad/s" if name == "omega0" else "1/min"
     if speed < 0:
-        raise MechanismError(
+        raise refused(
+            name,
             f"{name} = {speed} is out of range; allowed: {name} >= 0 [{unit}] (gas pressure per cycle angle "
-            "assumes forward rotation)"
+            "assumes forward rotation)",
         )
     # From rest, or at a speed within the machines' limits (the core's SPEED_LIMITS, in rad/s):
     # a start speed of 1e-159 rad/s is no rest and no speed, and the integrator's step control
@@ -413,9 +417,10 @@ def _start_speed(rpm0: Any, omega0: Any) -> tuple[str, float]:
     omega = speed if name == "omega0" else float(omega_from_rpm(speed))
     low, high = RPM_LIMITS if name == "rpm0" else SPEED_LIMITS
     if omega != 0 and not SPEED_LIMITS[0] <= omega <= SPEED_LIMITS[1]:
-        raise MechanismError(
+        raise refused(
+            name,
             f"{name} = {speed} is out of range; allowed: {name} = 0 (from rest) or {low:g} <= {name} <= {high:g} "
-            f"[{unit}]"
+            f"[{unit}]",
         )
     if name == "omega0":
         warn_renamed("simulate(omega0=ω [rad/s])", "rpm0=n [1/min]", stacklevel=4)
@@ -429,7 +434,7 @@ def _balance_speed(balance_rpm: Any, balance_speed: Any, balance: bool) -> float
         return None
     name, value = one_of(("balance_rpm", balance_rpm), ("balance_speed", balance_speed))
     if not balance:
-        raise MechanismError(f"{name} applies to load='balance' only")
+        raise refused(name, f"{name} applies to load='balance' only")
     speed = _finite(value, name)
     if name == "balance_speed":
         warn_renamed("simulate(balance_speed=ω [rad/s])", "balance_rpm=n [1/min]", stacklevel=4)

@@ -25,7 +25,7 @@ import numpy as np
 
 from .._native import MechanismError
 from .._text import counted
-from .._validation import SPEED_LIMITS, as_instance, as_real_array, as_speed, omega_from_rpm
+from .._validation import SPEED_LIMITS, as_instance, as_real_array, as_speed, omega_from_rpm, refused, reworded
 from ..machine.cylinder import Cylinder, Pressure
 from ..machine.machine import Machine
 from ..pressure.diagram import IndicatorDiagram
@@ -146,9 +146,10 @@ def machine_variant(machine: Machine, design: Mapping[str, Any]) -> Machine:
         if parsed is not None:
             field, index = parsed
             if index >= len(machine.cylinders):
-                raise MechanismError(
+                raise refused(
+                    "designs",
                     f"the column {name!r} sets cylinder {index}, but machine {machine.name!r} has "
-                    f"{len(machine.cylinders)} (numbered from 0)"
+                    f"{len(machine.cylinders)} (numbered from 0)",
                 )
             own.setdefault(index, {})[field] = float(value)
     if fields or scale is not None or own:
@@ -177,11 +178,11 @@ def check_values(name: str, values: Any, rows: Any = None) -> np.ndarray:
         try:
             if name == "rpm":
                 as_speed(value, "rpm")  # raises, with the speeds' own range
-            raise MechanismError(f"{name} = {value} is out of range; allowed: a finite number")
+            raise refused(name, f"{name} = {value} is out of range; allowed: a finite number")
         except MechanismError as error:
             if rows is None:
                 raise
-            raise MechanismError(f"design {rows[bad[0]]} ({name} = {value:g}): {error}") from None
+            raise reworded(error, f"design {rows[bad[0]]} ({name} = {value:g}): {error}") from None
     return array
 
 
@@ -192,7 +193,7 @@ def row_variant(machine: Machine, design: Mapping[str, Any], row: Any) -> Machin
     except MechanismError as error:
         known = machine_columns(machine)
         values = ", ".join(f"{k} = {v:g}" for k, v in design.items() if k in known)
-        raise MechanismError(f"design {row} ({values}): {error}") from None
+        raise reworded(error, f"design {row} ({values}): {error}") from None
 
 
 class MachineGrid(ProductGrid):

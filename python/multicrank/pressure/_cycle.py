@@ -8,8 +8,7 @@ from typing import Any
 
 import numpy as np
 
-from .._native import MechanismError
-from .._validation import as_scalar
+from .._validation import as_scalar, refused
 
 #: The interpolations an :class:`~multicrank.IndicatorDiagram` offers (its ``kind``).
 INTERPOLATIONS = ("periodic-cubic", "pchip", "linear")
@@ -31,18 +30,18 @@ def as_cycle(value: Any, name: str = "cycle") -> float:
     hint = ""
     if x in (2.0, 4.0):
         hint = f" (an angle in rad, not the number of strokes: cycle = {int(x)}*math.pi)"
-    raise MechanismError(f"{name} = {x!r} is not allowed; allowed: 2π (two-stroke) or 4π (four-stroke) [rad]{hint}")
+    raise refused(name, f"{name} = {x!r} is not allowed; allowed: 2π (two-stroke) or 4π (four-stroke) [rad]{hint}")
 
 
 def as_finite(value: Any, name: str, *, above: float | None = None, at_least: float | None = None) -> float:
     """One finite real number, > above or ≥ at_least where given."""
     x = as_scalar(value, name)
     if not math.isfinite(x):
-        raise MechanismError(f"{name} = {x} is out of range; allowed: a finite number")
+        raise refused(name, f"{name} = {x} is out of range; allowed: a finite number")
     if above is not None and not x > above:
-        raise MechanismError(f"{name} = {x} is out of range; allowed: {name} > {above}")
+        raise refused(name, f"{name} = {x} is out of range; allowed: {name} > {above}")
     if at_least is not None and not x >= at_least:
-        raise MechanismError(f"{name} = {x} is out of range; allowed: {name} >= {at_least}")
+        raise refused(name, f"{name} = {x} is out of range; allowed: {name} >= {at_least}")
     return x
 
 

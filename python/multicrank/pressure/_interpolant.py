@@ -8,8 +8,7 @@ from typing import Any
 
 import numpy as np
 
-from .._native import MechanismError
-from .._validation import MAGNITUDE_LIMIT, as_real_array
+from .._validation import MAGNITUDE_LIMIT, as_real_array, refused
 from ._cycle import cycle_name
 
 # A table must span one cycle to this fraction of the cycle (6e-6 rad for 2π): loose
@@ -37,47 +36,52 @@ def checked_table(angle: Any, pressure: Any, cycle: float, tolerance: float) -> 
     p = as_real_array(pressure, "pressure")
     for array, name in ((a, "angle"), (p, "pressure")):
         if array.ndim != 1:
-            raise MechanismError(f"{name} must be a 1-D array, got shape {array.shape}")
+            raise refused(name, f"{name} must be a 1-D array, got shape {array.shape}")
     if a.size != p.size:
-        raise MechanismError(f"angle and pressure must have the same length, got {a.size} and {p.size}")
+        raise refused("angle", f"angle and pressure must have the same length, got {a.size} and {p.size}")
     if a.size < 4:
-        raise MechanismError(f"angle must hold at least 4 points (the first repeated at the end), got {a.size}")
+        raise refused("angle", f"angle must hold at least 4 points (the first repeated at the end), got {a.size}")
     for array, name, unit in ((a, "angle", "rad"), (p, "pressure", "Pa")):
         bad = np.flatnonzero(~np.isfinite(array))
         if bad.size:
-            raise MechanismError(f"{name}[{bad[0]}] = {array[bad[0]]} is not finite; {name} must be finite [{unit}]")
+            raise refused(name, f"{name}[{bad[0]}] = {array[bad[0]]} is not finite; {name} must be finite [{unit}]")
     huge = np.flatnonzero(np.abs(p) > MAGNITUDE_LIMIT)
     if huge.size:
-        raise MechanismError(
-            f"pressure[{huge[0]}] = {p[huge[0]]:g} is out of range; allowed: |pressure| <= {MAGNITUDE_LIMIT:g} [Pa]"
+        raise refused(
+            "pressure",
+            f"pressure[{huge[0]}] = {p[huge[0]]:g} is out of range; allowed: |pressure| <= {MAGNITUDE_LIMIT:g} [Pa]",
         )
     steps = np.diff(a)
     bad = np.flatnonzero(~(steps > 0))
     if bad.size:
         i = bad[0]
-        raise MechanismError(
-            f"angle must increase strictly: angle[{i + 1}] = {a[i + 1]:.10g} follows angle[{i}] = {a[i]:.10g}"
+        raise refused(
+            "angle", f"angle must increase strictly: angle[{i + 1}] = {a[i + 1]:.10g} follows angle[{i}] = {a[i]:.10g}"
         )
     span = a[-1] - a[0]
     if abs(span - cycle) > _SPAN_TOLERANCE * cycle:
-        raise MechanismError(
+        raise refused(
+            "angle",
             f"angle must cover exactly one cycle: it spans {span:.10g} rad ({_degrees(span)}) from {a[0]:.10g}, "
             f"but cycle = {cycle_name(cycle)} = {cycle:.10g} rad ({_degrees(cycle)}); the last angle must be the "
-            f"first plus the cycle, the first point repeated at the end"
+            f"first plus the cycle, the first point repeated at the end",
         )
     a = a.copy()
     a[-1] = a[0] + cycle
     if not a[-1] > a[-2]:
-        raise MechanismError(f"angle must increase strictly: angle[{a.size - 2}] = {a[-2]:.10g} is at the cycle's end")
+        raise refused(
+            "angle", f"angle must increase strictly: angle[{a.size - 2}] = {a[-2]:.10g} is at the cycle's end"
+        )
     p = p.copy()
     scale = float(np.max(np.abs(p)))
     mismatch = abs(float(p[-1] - p[0]))
     if mismatch > tolerance * scale:
-        raise MechanismError(
+        raise refused(
+            "pressure",
             f"pressure does not close over the cycle: p = {p[0]:.10g} Pa at angle {a[0]:.10g} rad but "
             f"{p[-1]:.10g} Pa at angle {a[-1]:.10g} rad (one cycle later), a mismatch of {mismatch:.6g} Pa = "
             f"{mismatch / scale:.3g} of max|p|, above closure_tolerance = {tolerance}; the first and last "
-            f"points are the same state of the cycle (raise closure_tolerance to accept the data as it is)"
+            f"points are the same state of the cycle (raise closure_tolerance to accept the data as it is)",
         )
     p[-1] = p[0]
     a.flags.writeable = False
@@ -102,9 +106,10 @@ def interpolant(a: np.ndarray, p: np.ndarray, cycle: float, kind: str) -> Any:
     poly = _interpolant(a, np.ldexp(p, -exponent), cycle, kind)
     coefficients = np.ldexp(poly.c, exponent)
     if not np.all(np.isfinite(coefficients)):
-        raise MechanismError(
+        raise refused(
+            "angle",
             "angle: the table's points are too close together to interpolate its pressures (a slope between "
-            "two of them overflows)"
+            "two of them overflows)",
         )
     return type(poly).construct_fast(coefficients, poly.x, poly.extrapolate)
 

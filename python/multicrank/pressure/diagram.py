@@ -32,7 +32,7 @@ from typing import Any
 import numpy as np
 
 from .._native import MechanismError
-from .._validation import as_angles, as_count, as_flag, as_option
+from .._validation import as_angles, as_count, as_flag, as_option, refused
 from ._cycle import (
     FOUR_STROKE,
     INTERPOLATIONS,
@@ -426,13 +426,13 @@ class IndicatorDiagram:
         for value, name in ((angle_column, "angle_column"), (pressure_column, "pressure_column")):
             columns[name] = value if isinstance(value, str) else as_count(value, name, minimum=0)
         if columns["angle_column"] == columns["pressure_column"]:
-            raise MechanismError(f"angle_column and pressure_column must differ, both are {angle_column!r}")
+            raise refused("angle_column", f"angle_column and pressure_column must differ, both are {angle_column!r}")
         if delimiter is not None and not (isinstance(delimiter, str) and len(delimiter) == 1):
-            raise MechanismError(f"delimiter must be one character or None, got {delimiter!r}")
+            raise refused("delimiter", f"delimiter must be one character or None, got {delimiter!r}")
         try:
             name = os.fspath(path)
         except TypeError:
-            raise MechanismError(f"path must be a file path (str or os.PathLike), got {type(path).__name__}") from None
+            raise refused("path", f"path must be a file path (str or os.PathLike), got {type(path).__name__}") from None
         angles, pressures = read_columns(name, delimiter, columns, absolute=absolute)
         angles = angles * ANGLE_UNITS[angle_unit]
         pressures = pressures * PRESSURE_UNITS[pressure_unit]
@@ -444,15 +444,16 @@ class IndicatorDiagram:
                 if abs(span - candidate) <= _SPAN_TOLERANCE * candidate:
                     cycle = candidate
             if cycle is None:
-                raise MechanismError(
+                raise refused(
+                    "cycle",
                     f"{name}: cannot infer the cycle: the angles span {_degrees(span)} ({span:.10g} rad, angle_unit = "
                     f"{angle_unit!r}), neither 360° nor 720°; a table covers one cycle with its first point repeated "
-                    f"at the end (or pass cycle=)"
+                    f"at the end (or pass cycle=)",
                 )
         try:
             diagram = cls(angles, pressures, cycle=cycle, kind=kind, closure_tolerance=closure_tolerance)
         except MechanismError as error:
-            raise MechanismError(f"{name}: {error}") from None
+            raise refused("path", f"{name}: {error}") from None
         # After the table's own checks: a table refused for a fault of its own says that alone.
         check_pressure_unit(pressures + (reference if absolute else 0.0), pressure_unit, name, stacklevel=2)
         return diagram

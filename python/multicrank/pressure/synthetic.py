@@ -17,8 +17,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .._native import MechanismError
-from .._validation import as_count, as_flag, as_option, as_real_array
+from .._validation import as_count, as_flag, as_option, as_real_array, refused
 from ._cycle import (
     FOUR_STROKE,
     INTERPOLATIONS,
@@ -50,16 +49,17 @@ class Volume:
 
     def __init__(self, volume: Any, cycle: float, samples: int) -> None:
         if not callable(volume):
-            raise MechanismError(f"volume must be a callable θ [rad] -> V [m³], got {type(volume).__name__}")
+            raise refused("volume", f"volume must be a callable θ [rad] -> V [m³], got {type(volume).__name__}")
         self._function: Callable[[np.ndarray], Any] = volume
         self.cycle = cycle
         self.grid = np.arange(samples) * (cycle / samples)
         self.values = self(self.grid)
         ends = self(np.array([0.0, cycle]))
         if abs(ends[1] - ends[0]) > 1e-9 * float(np.max(self.values)):
-            raise MechanismError(
+            raise refused(
+                "volume",
                 f"volume must be periodic over the cycle {cycle_name(cycle)}: "
-                f"V(0) = {ends[0]:.10g} m³ but V({cycle:.10g}) = {ends[1]:.10g} m³"
+                f"V(0) = {ends[0]:.10g} m³ but V({cycle:.10g}) = {ends[1]:.10g} m³",
             )
 
     def __call__(self, theta: np.ndarray) -> np.ndarray:
@@ -68,14 +68,14 @@ class Volume:
             try:
                 result = np.broadcast_to(result, theta.shape)
             except ValueError:
-                raise MechanismError(
-                    f"volume(θ) must return an array of θ's shape {theta.shape}, got shape {result.shape}"
+                raise refused(
+                    "volume", f"volume(θ) must return an array of θ's shape {theta.shape}, got shape {result.shape}"
                 ) from None
         bad = ~(np.isfinite(result) & (result > 0))
         if np.any(bad):
             where = np.flatnonzero(bad.ravel())[0]
             at, value = theta.ravel()[where], result.ravel()[where]
-            raise MechanismError(f"volume(θ) must be finite and positive [m³]; volume({at:.10g}) = {value:.10g}")
+            raise refused("volume", f"volume(θ) must be finite and positive [m³]; volume({at:.10g}) = {value:.10g}")
         return result
 
     def wrapped(self, theta: np.ndarray) -> np.ndarray:
@@ -91,7 +91,7 @@ class Volume:
         """
         rise = np.sign(np.roll(self.values, -1) - self.values)  # rise[i]: from sample i to i + 1
         if not np.any(rise):
-            raise MechanismError("volume must vary over the cycle; it is constant (no stroke)")
+            raise refused("volume", "volume must vary over the cycle; it is constant (no stroke)")
         # A flat step keeps the direction before it.
         nonzero = np.flatnonzero(rise)
         fill = np.searchsorted(nonzero, np.arange(rise.size), side="right") - 1  # -1: wrap to the last
@@ -222,10 +222,13 @@ def compressor(
     p_s = as_finite(suction_pressure, "suction_pressure") + shift
     p_d = as_finite(discharge_pressure, "discharge_pressure") + shift
     if not p_s > 0:
-        raise MechanismError(f"suction_pressure = {suction_pressure} must be above vacuum (absolute {p_s} Pa > 0)")
+        raise refused(
+            "suction_pressure", f"suction_pressure = {suction_pressure} must be above vacuum (absolute {p_s} Pa > 0)"
+        )
     if not p_d > p_s:
-        raise MechanismError(
-            f"discharge_pressure = {discharge_pressure} must exceed suction_pressure = {suction_pressure}"
+        raise refused(
+            "discharge_pressure",
+            f"discharge_pressure = {discharge_pressure} must exceed suction_pressure = {suction_pressure}",
         )
     kind = as_option(kind, "kind", INTERPOLATIONS)
     vol = Volume(volume, cycle, samples=max(points, 720))
@@ -241,18 +244,20 @@ def compressor(
         if minima[j]:  # expanding: re-expansion until suction opens at V_a·ratio
             target = start * ratio
             if not target < end:
-                raise MechanismError(
+                raise refused(
+                    "volume",
                     f"volume: the re-expansion of the clearance volume {start:.10g} m³ from discharge_pressure "
                     f"reaches suction_pressure only at {target:.10g} m³, beyond the largest volume {end:.10g} m³: "
-                    f"the clearance is too large for this pressure ratio (the compressor delivers nothing)"
+                    f"the clearance is too large for this pressure ratio (the compressor delivers nothing)",
                 )
         else:  # shrinking: compression until discharge opens at V_b/ratio
             target = start / ratio
             if not target > end:
-                raise MechanismError(
+                raise refused(
+                    "volume",
                     f"volume: compression from the largest volume {start:.10g} m³ reaches discharge_pressure "
                     f"only at {target:.10g} m³, below the smallest volume {end:.10g} m³ (the compressor "
-                    "delivers nothing)"
+                    "delivers nothing)",
                 )
         events.append(vol.crossing(target, ends[j], ends[j + 1]))
     theta = _table_angles(cycle, points, events)
@@ -371,7 +376,9 @@ def engine(
     reference = as_finite(reference_pressure, "reference_pressure")
     p_gas = as_finite(intake_pressure, "intake_pressure") + (0.0 if absolute else reference)
     if not p_gas > 0:
-        raise MechanismError(f"intake_pressure = {intake_pressure} must be above vacuum (absolute {p_gas} Pa > 0)")
+        raise refused(
+            "intake_pressure", f"intake_pressure = {intake_pressure} must be above vacuum (absolute {p_gas} Pa > 0)"
+        )
     heat = as_finite(heat_release, "heat_release", at_least=0.0)
     theta0 = as_finite(start_of_combustion, "start_of_combustion")
     duration = as_finite(combustion_duration, "combustion_duration", above=0.0)
@@ -387,41 +394,47 @@ def engine(
     angles, _, minima = vol.dead_centres()
     revolutions = round(cycle / TWO_STROKE)
     if angles.size != 2 * revolutions:
-        raise MechanismError(
+        raise refused(
+            "volume",
             f"volume must have one minimum and one maximum per revolution; it has {int(np.sum(minima))} minima "
-            f"and {int(np.sum(~minima))} maxima over the cycle {cycle_name(cycle)}"
+            f"and {int(np.sum(~minima))} maxima over the cycle {cycle_name(cycle)}",
         )
     first = np.flatnonzero(minima)
     off = np.min(np.abs(np.remainder(angles[first] + 0.5 * cycle, cycle) - 0.5 * cycle))
     if off > 1e-5 * cycle:
-        raise MechanismError(
+        raise refused(
+            "volume",
             "volume must be smallest at θ = 0 (outer dead centre, the firing dead centre); "
-            f"its minimum nearest θ = 0 is {off:.10g} rad away"
+            f"its minimum nearest θ = 0 is {off:.10g} rad away",
         )
     inner = angles[~minima]
     bdc_first, bdc_last = float(inner[0]), float(inner[-1])
     if not opening < bdc_first:
-        raise MechanismError(
+        raise refused(
+            "exhaust_opening",
             f"exhaust_opening = {opening} is out of range; allowed: 0 < exhaust_opening < {bdc_first!r} "
-            f"(the inner dead centre ending the expansion)"
+            f"(the inner dead centre ending the expansion)",
         )
     if not bdc_last + closing < cycle:
-        raise MechanismError(
+        raise refused(
+            "intake_closing",
             f"intake_closing = {closing} is out of range; allowed: 0 <= intake_closing < {cycle - bdc_last!r} "
-            f"(before the firing dead centre)"
+            f"(before the firing dead centre)",
         )
     t_open = bdc_first - opening  # exhaust opens (t ≥ 0)
     t_close = bdc_last + closing - cycle  # intake closes (t < 0: before the firing dead centre)
     if not theta0 >= t_close:
-        raise MechanismError(
+        raise refused(
+            "start_of_combustion",
             f"start_of_combustion = {theta0} is out of range; allowed: start_of_combustion >= {t_close!r} "
-            f"(intake closing, relative to the firing dead centre)"
+            f"(intake closing, relative to the firing dead centre)",
         )
     if not theta0 + duration <= t_open:
-        raise MechanismError(
+        raise refused(
+            "combustion_duration",
             f"combustion_duration = {duration} is out of range: combustion would end at {theta0 + duration!r} "
             f"rad, after the exhaust opens at {t_open!r} rad; allowed: start_of_combustion + "
-            f"combustion_duration <= {t_open!r}"
+            f"combustion_duration <= {t_open!r}",
         )
 
     events = [t_open, bdc_first, bdc_last, bdc_last + closing, theta0, theta0 + duration]

@@ -14,7 +14,7 @@ from typing import Any
 
 import numpy as np
 
-from .._native import MechanismError
+from .._validation import refused
 
 __all__ = ["read_columns"]
 
@@ -71,7 +71,7 @@ def read_columns(
             for key, column in columns.items():  # the first line is a header
                 if isinstance(column, str):
                     if column not in first:
-                        raise MechanismError(f"{name}, line {number}: {key} = {column!r} is not in the header {first}")
+                        raise refused(key, f"{name}, line {number}: {key} = {column!r} is not in the header {first}")
                     index[key] = first.index(column)
             lines = lines[1:]
     texts = _columns(name, lines, separator, index)
@@ -84,20 +84,22 @@ def read_columns(
         _field_error(name, lines[bad[0]], separator, index, texts, values, int(bad[0]))
     if falls.size:
         row = falls[0]
-        raise MechanismError(
+        raise refused(
+            "path",
             f"{name}, line {lines[row][0]}, column {index['angle_column']} (angle_column): the angle "
             f"{float(angles[row])!r} does not increase on line {lines[row - 1][0]}'s {float(angles[row - 1])!r}; the "
-            "angles must increase strictly"
+            "angles must increase strictly",
         )
     if angles.size < 4:
-        raise MechanismError(f"{name}: {angles.size} data row(s); an indicator diagram needs at least 4")
+        raise refused("path", f"{name}: {angles.size} data row(s); an indicator diagram needs at least 4")
     below = np.flatnonzero(pressures < 0) if absolute else np.zeros(0, dtype=np.intp)
     if below.size:
         row = int(below[0])
-        raise MechanismError(
+        raise refused(
+            "path",
             f"{name}, line {lines[row][0]}, column {index['pressure_column']} (pressure_column): "
             f"{texts['pressure_column'].iloc[row]!r} is a negative absolute pressure (below vacuum); with "
-            "absolute=True every pressure must be >= 0 (gauge pressures are read with absolute=False)"
+            "absolute=True every pressure must be >= 0 (gauge pressures are read with absolute=False)",
         )
     return angles, pressures
 
@@ -108,15 +110,15 @@ def _text(name: str) -> str:
         with open(name, encoding="utf-8", newline="") as handle:
             return handle.read()
     except FileNotFoundError:
-        raise MechanismError(f"path = {name!r}: no such file") from None
+        raise refused("path", f"path = {name!r}: no such file") from None
     except IsADirectoryError:
-        raise MechanismError(f"path = {name!r} is a directory, not a CSV file") from None
+        raise refused("path", f"path = {name!r} is a directory, not a CSV file") from None
     except UnicodeDecodeError as error:
-        raise MechanismError(
-            f"path = {name!r} is not a UTF-8 text file: {error.reason} at byte {error.start}"
+        raise refused(
+            "path", f"path = {name!r} is not a UTF-8 text file: {error.reason} at byte {error.start}"
         ) from None
     except OSError as error:
-        raise MechanismError(f"path = {name!r} cannot be read: {error.strerror or error}") from None
+        raise refused("path", f"path = {name!r} cannot be read: {error.strerror or error}") from None
 
 
 def _read(name: str, text: str, separator: str | None, **options: Any) -> Any:
@@ -134,7 +136,7 @@ def _read(name: str, text: str, separator: str | None, **options: Any) -> Any:
             **options,
         )
     except pd.errors.ParserError as error:
-        raise MechanismError(f"{name}: not a table of (angle, pressure) rows: {error}") from None
+        raise refused("path", f"{name}: not a table of (angle, pressure) rows: {error}") from None
 
 
 def _fields(name: str, line: str, separator: str | None) -> list[str]:
@@ -189,8 +191,8 @@ def _field_error(
         column, text = index[key], texts[key]
         if text is None or (text.iloc[row] == "" and len(_fields(name, content, separator)) <= column):
             count = len(_fields(name, content, separator))
-            raise MechanismError(f"{name}, line {number}: {count} column(s), but {key} = {column} (counted from 0)")
+            raise refused(key, f"{name}, line {number}: {count} column(s), but {key} = {column} (counted from 0)")
         if not np.isfinite(values[key][row]):
             field = text.iloc[row]
             what = "a finite number" if _are_numbers([field]) and not math.isfinite(float(field)) else "a number"
-            raise MechanismError(f"{name}, line {number}, column {column} ({key}): {field!r} is not {what}")
+            raise refused("path", f"{name}, line {number}, column {column} ({key}): {field!r} is not {what}")

@@ -15,8 +15,8 @@ from typing import TYPE_CHECKING
 import pandas as pd
 
 from .._files import TEMPORARY_SUFFIX, atomic_directory, write_atomically
-from .._native import MechanismError
 from .._optional import require
+from .._validation import refused
 from .design import counterweight_forces_table, counterweight_table, design_html, design_results, firing_table
 from .forces import bearing_polar_figure, bearing_summary_table, forces_html, forces_results, orders_table
 from .gravity import (
@@ -128,22 +128,23 @@ def replaceable_folder(out: str | Path, where: str | None = None) -> Path:
     target = Path(out).resolve()
     where = where or f"out = {str(out)!r}"
     if target == Path.cwd() or target in Path.cwd().parents:
-        raise MechanismError(f"{where} is the current folder or holds it; the report replaces its folder whole")
+        raise refused("out", f"{where} is the current folder or holds it; the report replaces its folder whole")
     if not target.exists():
         above = next(folder for folder in target.parents if folder.exists())  # "/" at least
         if not above.is_dir():
-            raise MechanismError(f"{where}: {above} is a file, not a folder")
+            raise refused("out", f"{where}: {above} is a file, not a folder")
         return target
     if not target.is_dir():
-        raise MechanismError(f"{where} is a file, not a folder")
+        raise refused("out", f"{where} is a file, not a folder")
     # A temporary file that a killed run of an earlier version left inside it is a report's too.
     entries = [e for e in target.iterdir() if not (e.name.startswith(".") and e.name.endswith(TEMPORARY_SUFFIX))]
     others = [e.name for e in entries if not (e.is_file() and e.suffix.lower() in _REPORT_SUFFIXES)]
     if others or (entries and not (target / "index.html").is_file()):
         shown = ", ".join(sorted(others)[:3]) or "no index.html"
-        raise MechanismError(
+        raise refused(
+            "out",
             f"{where} holds other files than a report's ({shown}); the report replaces its folder whole: "
-            "give a new or empty folder, or a former report's"
+            "give a new or empty folder, or a former report's",
         )
     return target
 

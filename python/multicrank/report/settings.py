@@ -8,8 +8,7 @@ import functools
 from dataclasses import dataclass, field
 from typing import Any, ClassVar
 
-from .._native import MechanismError
-from .._validation import renamed, warn_renamed
+from .._validation import refused, renamed, warn_renamed
 from ..machine.machine import Machine
 from ..presets import DEFAULT_MACHINE_NAME, MACHINES
 
@@ -66,7 +65,7 @@ def _init(self: ReportSettings, *args: Any, delta: Any = _UNSET, **kwargs: Any) 
         position = [f.name for f in dataclasses.fields(ReportSettings)].index("delta_target")
         given = kwargs.get("delta_target", args[position] if len(args) > position else None)
         if delta is not None and given is not None:
-            raise MechanismError("give delta_target or delta (its name of 0.1), not both")
+            raise refused("delta_target", "give delta_target or delta (its name of 0.1), not both")
         warn_renamed("ReportSettings(delta=)", "delta_target=")
         if delta is not None:
             kwargs["delta_target"] = delta
@@ -79,9 +78,10 @@ ReportSettings.__init__ = _init  # type: ignore[method-assign]
 def running_speed(machine: Machine) -> float:
     """The machine's running speed [rpm], which the report's gravity analysis needs."""
     if machine.rpm is None:
-        raise MechanismError(
+        raise refused(
+            "rpm",
             f"machine {machine.name!r} has no running speed: the report judges gravity at the machine's rpm; "
-            "give rpm (in a machine file: rpm = ...)"
+            "give rpm (in a machine file: rpm = ...)",
         )
     return machine.rpm
 

@@ -23,7 +23,7 @@ import numpy as np
 import pandas as pd
 
 from .._native import MechanismError
-from .._validation import INDEX_MAX, as_design, check_size
+from .._validation import INDEX_MAX, as_design, check_size, part_of, refused, reworded
 from .._validation import as_array as _as_array
 from ..gravity.mechanism import crank_phases
 from .outputs import SWEEP_OUTPUTS, to_xarray
@@ -57,16 +57,17 @@ def as_frame(designs: Any) -> pd.DataFrame:
         for name, values in designs.items():
             array = _as_array(values, f"designs column {name!r}")
             if array.ndim != 1:
-                raise MechanismError(f"designs column {name!r} must be 1-D, got shape {array.shape}")
+                raise refused("designs", f"designs column {name!r} must be 1-D, got shape {array.shape}")
             columns[name] = array
         lengths = {len(v) for v in columns.values()}
         if len(lengths) > 1:
             sizes = ", ".join(f"{k} {len(v)}" for k, v in columns.items())
-            raise MechanismError(f"designs columns must have equal lengths, got {sizes}")
+            raise refused("designs", f"designs columns must have equal lengths, got {sizes}")
         return pd.DataFrame(columns)
-    raise MechanismError(
+    raise refused(
+        "designs",
         "designs must be a pandas DataFrame, a mapping of equal-length 1-D columns, a "
-        f"DesignGrid or a dask DataFrame, got {type(designs).__name__}"
+        f"DesignGrid or a dask DataFrame, got {type(designs).__name__}",
     )
 
 
@@ -77,11 +78,13 @@ def as_passthrough(passthrough: Any) -> tuple[str, ...]:
     if isinstance(passthrough, str):
         return (passthrough,)
     if not isinstance(passthrough, Iterable) or isinstance(passthrough, (bytes, Mapping)):
-        raise MechanismError(f"passthrough must be a column name or a list of them, got {type(passthrough).__name__}")
+        raise refused(
+            "passthrough", f"passthrough must be a column name or a list of them, got {type(passthrough).__name__}"
+        )
     names = tuple(passthrough)
     bad = [n for n in names if not isinstance(n, str)]
     if bad:
-        raise MechanismError(f"passthrough must hold column names (strings), got {bad[0]!r}")
+        raise refused("passthrough", f"passthrough must hold column names (strings), got {bad[0]!r}")
     return names
 
 
@@ -107,28 +110,31 @@ def check_columns(
     names = list(columns)
     duplicated = sorted({str(n) for n in names if names.count(n) > 1})
     if duplicated:
-        raise MechanismError(f"designs have the column(s) {', '.join(duplicated)} more than once")
+        raise refused("designs", f"designs have the column(s) {', '.join(duplicated)} more than once")
     missing = [c for c in required if c not in names]
     if missing:
-        raise MechanismError(
+        raise refused(
+            "designs",
             f"designs lack the column(s) {', '.join(missing)}; required: {', '.join(required)} "
-            f"(optional: {', '.join(c for c in known if c not in required)})"
+            f"(optional: {', '.join(c for c in known if c not in required)})",
         )
     clash = [n for n in passthrough if n in known or n in outputs]
     if clash:
-        raise MechanismError(
-            f"passthrough names {', '.join(map(repr, clash))}: {what} columns and outputs are not passed through"
+        raise refused(
+            "passthrough",
+            f"passthrough names {', '.join(map(repr, clash))}: {what} columns and outputs are not passed through",
         )
     absent = [n for n in passthrough if n not in names]
     if absent:
-        raise MechanismError(f"passthrough names {', '.join(map(repr, absent))}, which the designs do not have")
+        raise refused("passthrough", f"passthrough names {', '.join(map(repr, absent))}, which the designs do not have")
     unknown = [n for n in names if n not in known and n not in passthrough]
     if unknown:
         first = unknown[0]
-        raise MechanismError(
+        raise refused(
+            "designs",
             f"designs have the unknown column(s) {', '.join(map(repr, unknown))}{suggestion(first, known)}; "
             f"known: {', '.join(known)}. Carry other columns through the sweep with "
-            f"passthrough=[{first!r}, ...]"
+            f"passthrough=[{first!r}, ...]",
         )
 
 
@@ -137,14 +143,14 @@ def _integer_column(values: Any, name: str, allowed: tuple[int, ...] | None, min
     if array.dtype.kind == "f" and np.all(np.isfinite(array)) and np.all(array == np.round(array)):
         array = array.astype(np.int64)
     if array.dtype.kind not in "iu":
-        raise MechanismError(f"designs column {name!r} must hold integers, got dtype {array.dtype}")
+        raise refused(name, f"designs column {name!r} must hold integers, got dtype {array.dtype}")
     if array.size and array.min() < minimum:
-        raise MechanismError(f"{name} = {array.min()} is out of range; allowed: an integer >= {minimum}")
+        raise refused(name, f"{name} = {array.min()} is out of range; allowed: an integer >= {minimum}")
     if array.size and array.max() > INDEX_MAX:
-        raise MechanismError(f"{name} = {array.max()} is out of range; allowed: an integer >= {minimum}")
+        raise refused(name, f"{name} = {array.max()} is out of range; allowed: an integer >= {minimum}")
     if allowed is not None and array.size and not np.isin(array, allowed).all():
         bad = array[~np.isin(array, allowed)][0]
-        raise MechanismError(f"{name} = {bad} is not allowed; allowed: {' or '.join(map(str, allowed))}")
+        raise refused(name, f"{name} = {bad} is not allowed; allowed: {' or '.join(map(str, allowed))}")
     return array.astype(np.int64)
 
 
@@ -153,7 +159,7 @@ def _double_acting(values: Any) -> np.ndarray:
     acting = np.asarray(_as_array(values, "acting"), dtype=object)
     bad = ~np.isin(acting, ["single", "double"])
     if bad.any():
-        raise MechanismError(f"acting = {acting[bad][0]!r} is not allowed; allowed: 'single', 'double'")
+        raise refused("acting", f"acting = {acting[bad][0]!r} is not allowed; allowed: 'single', 'double'")
     return acting == "double"
 
 
@@ -190,7 +196,7 @@ def _table_column(name: str, frame: pd.DataFrame) -> np.ndarray:
                 good = middle
         value = values[bad - 1]
         shown = f"{value:g}" if isinstance(value, (float, np.floating)) else repr(value)
-        raise MechanismError(f"design {frame.index[bad - 1]} ({name} = {shown}): {error}") from None
+        raise reworded(error, f"design {frame.index[bad - 1]} ({name} = {shown}): {error}") from None
 
 
 def machine_columns(frame: pd.DataFrame) -> dict[str, np.ndarray]:
@@ -238,32 +244,36 @@ class ProductGrid:
 
     def __init__(self, **axes: Any) -> None:
         if not axes:
-            raise MechanismError(f"{self.GRID} needs at least one axis")
+            raise refused("axes", f"{self.GRID} needs at least one axis")
         known = self._known()
         unknown = [name for name in axes if name not in known]
         if unknown:
-            raise MechanismError(
+            raise refused(
+                unknown[0],
                 f"grid axis {unknown[0]!r} is not {self.COLUMN}{suggestion(unknown[0], known)}; "
-                f"known: {', '.join(known)}"
+                f"known: {', '.join(known)}",
             )
         self.axes = {}
         self.constants = {}
         for name, values in axes.items():
-            array = _as_array(list(values) if isinstance(values, range) else values, f"grid axis {name!r}")
+            with part_of(name):
+                array = _as_array(list(values) if isinstance(values, range) else values, f"grid axis {name!r}")
             if array.ndim == 0:
                 self._check_values(name, array.reshape(1))  # validated now, not chunks into a sweep
                 self.constants[name] = array.item()
                 continue
             if array.ndim != 1 or array.size == 0:
-                raise MechanismError(
-                    f"grid axis {name!r} must be a scalar or a non-empty 1-D sequence, got shape {array.shape}"
+                raise refused(
+                    name, f"grid axis {name!r} must be a scalar or a non-empty 1-D sequence, got shape {array.shape}"
                 )
             self._check_values(name, array)
             self.axes[name] = array
         self.shape = tuple(len(v) for v in self.axes.values())
         if math.prod(self.shape) > INDEX_MAX:
             sizes = " × ".join(f"{len(v)} {k}" for k, v in self.axes.items())
-            raise MechanismError(f"the grid's axes make {math.prod(self.shape)} designs ({sizes}); at most {INDEX_MAX}")
+            raise refused(
+                "axes", f"the grid's axes make {math.prod(self.shape)} designs ({sizes}); at most {INDEX_MAX}"
+            )
 
     def _known(self) -> tuple[str, ...]:
         """The column names an axis of this grid may have (``KNOWN``, unless the grid says

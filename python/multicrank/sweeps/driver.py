@@ -17,10 +17,9 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from .._native import MechanismError
 from .._native import sweep as _native_sweep
 from .._native import sweep_engines as _native_sweep_engines
-from .._validation import as_count, as_flag, as_option, as_real_array, check_size, contiguous
+from .._validation import as_count, as_flag, as_option, as_real_array, check_size, contiguous, refused
 from ..gravity.engines import Engine
 from ..gravity.evaluation import generalized_force
 from .chunks import in_memory, is_dask, progress_bar, to_parquet
@@ -64,14 +63,15 @@ def _as_phi(phi: Any) -> np.ndarray:
         try:
             return np.arange(count) * (2 * np.pi / count)
         except (ValueError, MemoryError):
-            raise MechanismError(
-                f"phi = {count} points cannot be allocated; allowed: a grid that fits in memory"
+            raise refused(
+                "phi", f"phi = {count} points cannot be allocated; allowed: a grid that fits in memory"
             ) from None
     array = as_real_array(phi, "phi")
     if array.ndim != 1 or array.size == 0:
-        raise MechanismError(
+        raise refused(
+            "phi",
             f"phi must be a positive int (a uniform grid over one revolution) or a non-empty 1-D array, got shape "
-            f"{array.shape}"
+            f"{array.shape}",
         )
     return contiguous(array)
 
@@ -218,16 +218,16 @@ def sweep(
     passthrough = as_passthrough(passthrough)
     path = None if out is None else as_out(out)
     if resume and path is None:
-        raise MechanismError("resume=True needs out= (the Parquet file of the interrupted sweep)")
+        raise refused("resume", "resume=True needs out= (the Parquet file of the interrupted sweep)")
 
     if _is_engine_list(designs):
         if path is not None or curves or passthrough:
-            raise MechanismError("out=, curves= and passthrough= take tabular designs, not a list of engines")
+            raise refused("out", "out=, curves= and passthrough= take tabular designs, not a list of engines")
         return _sweep_engines(list(designs), phi, outputs, progress)
 
     if is_dask(designs):
         if path is not None or curves:
-            raise MechanismError("out= and curves= are not available for dask input: write with dask's to_parquet")
+            raise refused("out", "out= and curves= are not available for dask input: write with dask's to_parquet")
         check_columns(list(designs.columns), passthrough, outputs)
         meta = designs._meta.copy()
         for name in outputs:
@@ -240,7 +240,7 @@ def sweep(
     validate_designs(designs, passthrough, outputs)
     if path is not None:
         if curves:
-            raise MechanismError("curves= cannot be combined with out=")
+            raise refused("curves", "curves= cannot be combined with out=")
         return _sweep_to_parquet(designs, path, phi, outputs, chunk_size, resume, progress)
 
     total, rows = design_rows(designs)

@@ -14,9 +14,9 @@ import numpy as np
 import pandas as pd
 
 from .._native import SWEEP_OUTPUTS as _NATIVE_SWEEP_OUTPUTS
-from .._native import MechanismError
 from .._optional import require
 from .._validation import as_array as _as_array
+from .._validation import refused
 
 __all__ = ["SWEEP_OUTPUTS", "as_outputs", "to_xarray"]
 
@@ -29,19 +29,20 @@ def as_outputs(outputs: Any, allowed: tuple[str, ...] = SWEEP_OUTPUTS) -> tuple[
     if isinstance(outputs, str):
         outputs = (outputs,)
     elif isinstance(outputs, (bytes, Mapping)) or not isinstance(outputs, Iterable):
-        raise MechanismError(
+        raise refused(
+            "outputs",
             f"outputs must be an output name or a list of them, got {type(outputs).__name__}; "
-            f"allowed: {', '.join(allowed)}"
+            f"allowed: {', '.join(allowed)}",
         )
     outputs = tuple(outputs)
     unknown = [o for o in outputs if not isinstance(o, str) or o not in allowed]
     if unknown:
-        raise MechanismError(f"outputs {unknown!r} are unknown; allowed: {', '.join(allowed)}")
+        raise refused("outputs", f"outputs {unknown!r} are unknown; allowed: {', '.join(allowed)}")
     if not outputs:
-        raise MechanismError(f"outputs must name at least one output; allowed: {', '.join(allowed)}")
+        raise refused("outputs", f"outputs must name at least one output; allowed: {', '.join(allowed)}")
     repeated = sorted({o for o in outputs if outputs.count(o) > 1})
     if repeated:
-        raise MechanismError(f"outputs names {', '.join(repeated)} more than once")
+        raise refused("outputs", f"outputs names {', '.join(repeated)} more than once")
     return outputs
 
 
@@ -84,34 +85,35 @@ def to_xarray(result: pd.DataFrame, axes: Mapping[str, Any] | None = None) -> An
     xr = require("xarray", "xarray")
 
     if not isinstance(result, pd.DataFrame):
-        raise MechanismError(f"result must be the pandas DataFrame of a grid sweep, got {type(result).__name__}")
+        raise refused("result", f"result must be the pandas DataFrame of a grid sweep, got {type(result).__name__}")
     if axes is None:
         axes = result.attrs.get("grid_axes")
         if not axes:
-            raise MechanismError("result does not come from a design grid: pass axes={name: values, ...}")
+            raise refused("result", "result does not come from a design grid: pass axes={name: values, ...}")
     if not isinstance(axes, Mapping) or not axes:
-        raise MechanismError(f"axes must be a non-empty mapping {{name: values, ...}}, got {type(axes).__name__}")
+        raise refused("axes", f"axes must be a non-empty mapping {{name: values, ...}}, got {type(axes).__name__}")
     arrays: dict[str, np.ndarray] = {}
     for name, values in axes.items():
         if not isinstance(name, str):
-            raise MechanismError(f"axes must be keyed by column names (strings), got {name!r}")
+            raise refused("axes", f"axes must be keyed by column names (strings), got {name!r}")
         array = _as_array(values, f"axes[{name!r}]")
         if array.ndim != 1 or array.size == 0:
-            raise MechanismError(f"axes[{name!r}] must be a non-empty 1-D sequence, got shape {array.shape}")
+            raise refused("axes", f"axes[{name!r}] must be a non-empty 1-D sequence, got shape {array.shape}")
         arrays[name] = array
     shape = tuple(len(v) for v in arrays.values())
     if math.prod(shape) != len(result):
-        raise MechanismError(f"result has {len(result)} rows, the axes make {math.prod(shape)}")
+        raise refused("result", f"result has {len(result)} rows, the axes make {math.prod(shape)}")
     for i, (name, array) in enumerate(arrays.items()):
         if name not in result.columns:
-            raise MechanismError(f"axes[{name!r}]: result has no column {name!r}")
+            raise refused("axes", f"axes[{name!r}]: result has no column {name!r}")
         along = [1] * len(shape)
         along[i] = shape[i]
         expected = np.broadcast_to(array.reshape(along), shape).reshape(-1)
         if not np.array_equal(result[name].to_numpy(), expected):
-            raise MechanismError(
+            raise refused(
+                "axes",
                 f"axes[{name!r}]: result's column {name!r} does not run over this axis in grid order (C order, "
-                "the first axis slowest); pass the rows of the whole grid, in its order"
+                "the first axis slowest); pass the rows of the whole grid, in its order",
             )
     # A motion sweep names its outputs in attrs; a gravity sweep's are SWEEP_OUTPUTS.
     named = result.attrs.get("sweep_outputs", SWEEP_OUTPUTS)

@@ -30,8 +30,9 @@ import numpy as np
 import pandas as pd
 
 from .._files import TEMPORARY_SUFFIX, atomic_write, write_atomically
-from .._native import MechanismError, __version__
+from .._native import __version__
 from .._optional import require
+from .._validation import refused
 from .designs import ProductGrid, as_frame
 
 __all__ = ["PartStore", "as_out", "designs_digest", "fingerprint"]
@@ -99,16 +100,16 @@ def as_out(out: Any) -> Path:
     """The ``out=`` of a sweep, checked before any work: a path (str or os.PathLike) that is
     not an existing directory, and whose parts directory is not taken by a file."""
     if isinstance(out, (bytes, bytearray)) or not isinstance(out, (str, os.PathLike)):
-        raise MechanismError(f"out must be the path of a Parquet file (str or os.PathLike), got {type(out).__name__}")
+        raise refused("out", f"out must be the path of a Parquet file (str or os.PathLike), got {type(out).__name__}")
     try:
         path = Path(out)
     except TypeError as exc:  # an os.PathLike whose __fspath__ gives bytes
-        raise MechanismError(f"out must be the path of a Parquet file: {exc}") from None
+        raise refused("out", f"out must be the path of a Parquet file: {exc}") from None
     if path.is_dir():
-        raise MechanismError(f"out = {str(out)!r} is an existing directory; allowed: the path of a Parquet file")
+        raise refused("out", f"out = {str(out)!r} is an existing directory; allowed: the path of a Parquet file")
     parts = _parts_of(path)
     if parts.exists() and not parts.is_dir():
-        raise MechanismError(f"out = {str(out)!r}: {parts} exists and is not a directory of a sweep's parts")
+        raise refused("out", f"out = {str(out)!r}: {parts} exists and is not a directory of a sweep's parts")
     return path
 
 
@@ -150,14 +151,15 @@ class PartStore:
                 elif (found := self._read_manifest(manifest_file)) != manifest and (
                     manifest_file.exists() or any(self.parts.glob("part-*"))
                 ):
-                    raise MechanismError(
+                    raise refused(
+                        "resume",
                         f"cannot resume: {self.parts} belongs to a different sweep ({_differences(found, manifest)} "
-                        "differ); run without resume to start afresh"
+                        "differ); run without resume to start afresh",
                     )
             self.parts.mkdir(parents=True, exist_ok=True)
             write_atomically(manifest_file, json.dumps(manifest, sort_keys=True).encode())
         except OSError as exc:
-            raise MechanismError(f"out = {str(out)!r}: cannot write its parts to {self.parts}: {exc}") from None
+            raise refused("out", f"out = {str(out)!r}: cannot write its parts to {self.parts}: {exc}") from None
 
     @staticmethod
     def _read_manifest(path: Path) -> Any:
@@ -220,9 +222,10 @@ class PartStore:
                     data = path.read_bytes()
                     if _sha256(data) != checksum:
                         path.unlink()
-                        raise MechanismError(
+                        raise refused(
+                            "out",
                             f"sweep part {path.name} of {self.out} was damaged on disk (its bytes do not match its "
-                            "checksum); it has been removed: run the same sweep with resume=True to compute it again"
+                            "checksum); it has been removed: run the same sweep with resume=True to compute it again",
                         )
                     table = self._pq.read_table(self._pa.BufferReader(data))
                     if writer is None:

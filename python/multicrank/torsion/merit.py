@@ -30,8 +30,7 @@ from typing import Any
 
 import numpy as np
 
-from .._native import MechanismError
-from .._validation import as_count, as_instance, as_speed_range
+from .._validation import as_count, as_instance, as_speed_range, refused
 from ..machine.machine import Machine
 from ..motion.orders import CylinderOrders, cylinder_orders
 from .shaft import Shaft, shaft_of
@@ -262,8 +261,8 @@ def torsional_merit(
     elastic = len(chosen.inertia) - 1
     count = as_count(modes, "modes", minimum=1)
     if count > elastic:
-        raise MechanismError(
-            f"modes = {count} is out of range; allowed: 1 <= modes <= {elastic} (the shaft's nodes − 1)"
+        raise refused(
+            "modes", f"modes = {count} is out of range; allowed: 1 <= modes <= {elastic} (the shaft's nodes − 1)"
         )
     highest = as_count(max_order, "max_order", minimum=1)
     window = None if rpm_range is None else as_speed_range(rpm_range)

@@ -27,7 +27,7 @@ import numpy as np
 
 from .._native import MechanismError
 from .._optional import require
-from .._validation import MAGNITUDE_LIMIT, as_count, as_instance, as_real_array, as_scalar
+from .._validation import MAGNITUDE_LIMIT, as_count, as_instance, as_real_array, as_scalar, part_of, refused
 from ._chain import chain_modes
 
 if TYPE_CHECKING:
@@ -51,11 +51,12 @@ def use_machine_loader(load: Callable[[Any], Any]) -> None:
 def _positive_list(values: Any, name: str, unit: str) -> tuple[float, ...]:
     array = as_real_array(values, name).astype(float)
     if array.ndim != 1:
-        raise MechanismError(f"{name} must be a 1-D sequence [{unit}], got shape {array.shape}")
+        raise refused(name, f"{name} must be a 1-D sequence [{unit}], got shape {array.shape}")
     bad = np.flatnonzero(~((array > 0) & (array <= MAGNITUDE_LIMIT)))  # NaN fails too
     if bad.size:
-        raise MechanismError(
-            f"{name}[{bad[0]}] = {array[bad[0]]} is out of range; allowed: 0 < {name} <= {MAGNITUDE_LIMIT:g} [{unit}]"
+        raise refused(
+            name,
+            f"{name}[{bad[0]}] = {array[bad[0]]} is out of range; allowed: 0 < {name} <= {MAGNITUDE_LIMIT:g} [{unit}]",
         )
     return tuple(float(v) for v in array)
 
@@ -67,8 +68,8 @@ def _damping_list(values: Any, name: str, count: int, where: str) -> tuple[float
         return None
     array = as_real_array(values, name).astype(float)
     if array.shape != (count,) or not np.all((array >= 0) & (array <= MAGNITUDE_LIMIT)):  # NaN fails too
-        raise MechanismError(
-            f"{name} must hold {count} values 0 <= c <= {MAGNITUDE_LIMIT:g} [N·m·s/rad], one per {where}"
+        raise refused(
+            name, f"{name} must hold {count} values 0 <= c <= {MAGNITUDE_LIMIT:g} [N·m·s/rad], one per {where}"
         )
     return tuple(float(v) for v in array)
 
@@ -149,22 +150,26 @@ class Shaft:
     ) -> None:
         inertias = _positive_list(inertia, "inertia", "kg·m²")
         if len(inertias) < 2:
-            raise MechanismError(f"inertia must hold at least two nodes, got {len(inertias)}")
+            raise refused("inertia", f"inertia must hold at least two nodes, got {len(inertias)}")
         stiffnesses = _positive_list(stiffness, "stiffness", "N·m/rad")
         if len(stiffnesses) != len(inertias) - 1:
-            raise MechanismError(
-                f"stiffness must hold one fewer value than inertia ({len(inertias) - 1}), got {len(stiffnesses)}"
+            raise refused(
+                "stiffness",
+                f"stiffness must hold one fewer value than inertia ({len(inertias) - 1}), got {len(stiffnesses)}",
             )
         try:
             nodes = np.asarray(cylinder_nodes)
         except (ValueError, TypeError):  # ragged
             nodes = np.asarray(None)
         if nodes.ndim != 1 or nodes.size == 0 or nodes.dtype.kind not in "iu":
-            raise MechanismError(f"cylinder_nodes must be a non-empty 1-D sequence of integers, got {cylinder_nodes!r}")
+            raise refused(
+                "cylinder_nodes", f"cylinder_nodes must be a non-empty 1-D sequence of integers, got {cylinder_nodes!r}"
+            )
         bad = np.flatnonzero((nodes < 0) | (nodes >= len(inertias)))
         if bad.size:
-            raise MechanismError(
-                f"cylinder_nodes[{bad[0]}] = {nodes[bad[0]]} is out of range; allowed: 0 <= node < {len(inertias)}"
+            raise refused(
+                "cylinder_nodes",
+                f"cylinder_nodes[{bad[0]}] = {nodes[bad[0]]} is out of range; allowed: 0 <= node < {len(inertias)}",
             )
         dampings = _damping_list(damping, "damping", len(stiffnesses), "shaft section")
         node_dampings = _damping_list(node_damping, "node_damping", len(inertias), "node")
@@ -231,12 +236,13 @@ class Shaft:
         """
         opentorsion = require("opentorsion", "torsion")
         if not isinstance(assembly, opentorsion.Assembly):
-            raise MechanismError(f"assembly must be an opentorsion.Assembly, got {type(assembly).__name__}")
+            raise refused("assembly", f"assembly must be an opentorsion.Assembly, got {type(assembly).__name__}")
         for attribute, kind in (("gear_elements", "Gear"), ("elastic_gear_elements", "ElasticGear")):
             if getattr(assembly, attribute, None):
-                raise MechanismError(
+                raise refused(
+                    "assembly",
                     f"assembly holds {attribute} (opentorsion.{kind}): a Shaft is one chain of inertias and "
-                    "stiffnesses, without gears"
+                    "stiffnesses, without gears",
                 )
         count = _node(getattr(assembly, "dofs", None), "assembly.dofs", None)
         inertia = np.zeros(count)
@@ -250,14 +256,16 @@ class Shaft:
             )
             section = ends[0]
             if ends[1] != section + 1:
-                raise MechanismError(
+                raise refused(
+                    "assembly",
                     f"assembly.shaft_elements[{index}] joins nodes {ends[0]} and {ends[1]}: a Shaft's section i "
-                    "joins node i to node i + 1 (a branched or looped model cannot be one chain)"
+                    "joins node i to node i + 1 (a branched or looped model cannot be one chain)",
                 )
             if stiffness[section] is not None:
-                raise MechanismError(
+                raise refused(
+                    "assembly",
                     f"assembly.shaft_elements[{index}] is a second element between nodes {section} and "
-                    f"{section + 1}: a Shaft holds one per section"
+                    f"{section + 1}: a Shaft holds one per section",
                 )
             stiffness[section] = _number(element.k, f"assembly.shaft_elements[{index}].k")
             damping[section] = _number(element.c, f"assembly.shaft_elements[{index}].c")
@@ -268,21 +276,24 @@ class Shaft:
             at = _node(getattr(disk, "node", None), f"{where}.node", count)
             grounded = _number(getattr(disk, "k", 0.0), f"{where}.k")
             if grounded != 0:
-                raise MechanismError(
+                raise refused(
+                    "assembly",
                     f"{where}.k = {grounded!r}: a stiffness to ground at node {at}; a Shaft is a free chain, "
-                    "without one"
+                    "without one",
                 )
             inertia[at] += _number(disk.I, f"{where}.I")
             node_damping[at] += _number(getattr(disk, "c", 0.0), f"{where}.c")
         broken = [i for i, k in enumerate(stiffness) if k is None]
         if broken:
-            raise MechanismError(
-                f"assembly has no shaft element between nodes {broken[0]} and {broken[0] + 1}: the chain is broken"
+            raise refused(
+                "assembly",
+                f"assembly has no shaft element between nodes {broken[0]} and {broken[0] + 1}: the chain is broken",
             )
         empty = np.flatnonzero(inertia == 0)
         if empty.size:
-            raise MechanismError(
-                f"assembly: node {empty[0]} has no inertia (no disk there, and no element with inertia ends there)"
+            raise refused(
+                "assembly",
+                f"assembly: node {empty[0]} has no inertia (no disk there, and no element with inertia ends there)",
             )
         try:
             return cls(
@@ -292,9 +303,10 @@ class Shaft:
                 damping=damping if any(c != 0 for c in damping) else None,
                 node_damping=node_damping if any(c != 0 for c in node_damping) else None,
             )
-        except MechanismError as error:
-            message = str(error)
-            raise MechanismError(message if message.startswith("cylinder_nodes") else f"assembly: {message}") from None
+        except MechanismError as error:  # the model's numbers are the assembly's; cylinder_nodes is its own
+            if error.parameter == "cylinder_nodes":
+                raise
+            raise refused("assembly", f"assembly: {error}") from None
 
     @classmethod
     def from_toml(cls, path: str | os.PathLike[str]) -> Shaft:
@@ -329,11 +341,11 @@ class Shaft:
         if file is not None:
             return shaft_of_file(file)
         if _machine_loader is None:  # pragma: no cover - the package's import sets it
-            raise MechanismError(f"{os.fspath(path)}: a machine file needs multicrank.Machine loaded")
+            raise refused("path", f"{os.fspath(path)}: a machine file needs multicrank.Machine loaded")
         shaft = _machine_loader(path).shaft
         if shaft is None:
-            raise MechanismError(
-                f"{os.fspath(path)}: shaft: missing required table [shaft] (the shaft as a torsional chain)"
+            raise refused(
+                "path", f"{os.fspath(path)}: shaft: missing required table [shaft] (the shaft as a torsional chain)"
             )
         return shaft
 
@@ -417,17 +429,20 @@ def shaft_of_file(file: MachineFile) -> Shaft:
 
 def _node(value: Any, name: str, count: int | None) -> int:
     """A node index of an openTorsion model, 0 <= value < count (a count ≥ 1 where ``count``
-    is None)."""
-    if count is None:
-        return as_count(value, name, minimum=1)
-    return as_count(value, name, minimum=0, maximum=count - 1)
+    is None); refused as the ``assembly``'s, its message naming ``name``."""
+    with part_of("assembly"):
+        if count is None:
+            return as_count(value, name, minimum=1)
+        return as_count(value, name, minimum=0, maximum=count - 1)
 
 
 def _number(value: Any, name: str) -> float:
-    """A finite real number of an openTorsion element."""
-    number = as_scalar(value, name)
+    """A finite real number of an openTorsion element; refused as the ``assembly``'s, its
+    message naming ``name``."""
+    with part_of("assembly"):
+        number = as_scalar(value, name)
     if not math.isfinite(number):
-        raise MechanismError(f"{name} = {value!r} is not a finite real number")
+        raise refused("assembly", f"{name} = {value!r} is not a finite real number")
     return number
 
 
@@ -437,9 +452,10 @@ def shaft_of(machine: Any, shaft: Any) -> Shaft:
     machine's own; refused by name where there is neither."""
     if shaft is None:
         if machine.shaft is None:
-            raise MechanismError(
+            raise refused(
+                "shaft",
                 f"shaft is required: machine {machine.name!r} has none (give shaft=mc.Shaft(...) or "
-                "Machine(shaft=...), or a [shaft] section in its machine file)"
+                "Machine(shaft=...), or a [shaft] section in its machine file)",
             )
         return machine.shaft
     return machine.replace(shaft=as_instance(shaft, Shaft, "shaft")).shaft
