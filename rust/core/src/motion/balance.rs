@@ -12,36 +12,13 @@ use std::sync::Arc;
 use crate::error::Result;
 
 use super::cycle::Cycle;
-use super::extrema::{brent, brent_from, grading, local_minima, refine_extremum, Dip, GRADE_REACH};
-use super::quadrature::Panels;
+use super::extrema::{brent, brent_from, grading, local_minima, refine_extrema, Dip, GRADE_REACH};
+use super::margin::{Graded, Mesh};
 use super::solution::{message, Curves, Periodic, PeriodicSolver, Solution};
 
 /// Refinements of the time mesh before the answer is taken, at most: each grades for the s
 /// found on the last, until the mesh no longer grows.
 const MESH_ROUNDS: usize = 16;
-
-/// The rule on which t_Φ = ∫₀^Φ √(J/2E) dφ is taken: the base panels graded towards E's
-/// near-zeros, and there K̃ (J) and J − I_w (kg·m²), nodes then edges.
-#[derive(Debug, Clone)]
-struct Graded {
-    panels: Panels,
-    lifted: Vec<f64>,
-    rest: Vec<f64>,
-}
-
-/// A time mesh: the base panels and tables or a graded one.
-#[derive(Clone, Copy)]
-struct Mesh<'m> {
-    panels: &'m Panels,
-    lifted: &'m [f64],
-    rest: &'m [f64],
-}
-
-impl Mesh<'_> {
-    fn nodes(&self) -> usize {
-        self.panels.phi.len()
-    }
-}
 
 /// K̃ on the cycle's tables, and the root in s (docs/theory.md, "Steady running").
 #[derive(Debug, Clone)]
@@ -55,8 +32,11 @@ pub(crate) struct Balance {
     /// K'' = (M_gas − U′)′ at the base nodes (N·m/rad), by central differences of the exact
     /// torque: how sharply E = s + K̃ may dip.
     curvature: Vec<f64>,
-    /// max |K''| over the nodes (N·m/rad).
-    sharpest: f64,
+    /// max |K''| over the nodes (N·m/rad), times (1.5 widest half-widths)²: E's nearest
+    /// complex zero is far enough from every base panel where 2s is at least this (J).
+    grade_below: f64,
+    /// min and max of J − I_w over the samples (kg·m²).
+    rest_bounds: (f64, f64),
     /// min K (J): over the samples, then (`dips`) between them.
     k_min: f64,
     /// Where (rad).
@@ -112,7 +92,14 @@ impl Balance {
             gas,
             load,
             inertia: cycle.inertia,
-            sharpest: curvature.iter().fold(0.0, |m, c| f64::max(m, c.abs())),
+            grade_below: curvature.iter().fold(0.0, |m, c| f64::max(m, c.abs()))
+                * (GRADE_REACH * cycle.panels.widest_half()).powi(2),
+            rest_bounds: cycle
+                .rest
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(low, high), &r| {
+                    (low.min(r), high.max(r))
+                }),
             curvature,
             k_min,
             lowest: at(lowest),
@@ -159,14 +146,7 @@ impl Balance {
     }
 
     fn view<'m>(&'m self, graded: &'m Option<Graded>) -> Mesh<'m> {
-        graded.as_ref().map_or_else(
-            || self.base(),
-            |g| Mesh {
-                panels: &g.panels,
-                lifted: &g.lifted,
-                rest: &g.rest,
-            },
-        )
+        graded.as_ref().map_or_else(|| self.base(), Graded::view)
     }
 
     /// K̃(φ) (J) at any angles in [0, Φ].
@@ -196,13 +176,11 @@ impl Balance {
     fn dips(&mut self) -> Result<&[Dip]> {
         if self.dips.is_none() {
             let cycle = self.cycle.cycle();
-            let mut dips = local_minima(
-                &self.cycle.panels,
-                &self.lifted,
-                &self.curvature,
-                |phi| self.slope_at(phi),
-                |phi| Ok(self.lifted_at(&[phi.rem_euclid(cycle)])?[0]),
-            )?;
+            let mut dips =
+                local_minima(&self.cycle.panels, &self.lifted, &self.curvature, |phi| {
+                    let value = self.lifted_at(&[phi.rem_euclid(cycle)])?[0];
+                    Ok((value, self.slope_at(phi)?))
+                })?;
             let deepest = dips
                 .iter()
                 .copied()
@@ -226,8 +204,7 @@ impl Balance {
     /// complex zero, at least √(2s/max|K''|) from the real axis, is far enough from all of
     /// them; else the base panels graded towards E's minima, located exactly.
     fn mesh(&mut self, s: f64) -> Result<Option<Graded>> {
-        let half = self.cycle.panels.widest_half();
-        if 2.0 * s >= self.sharpest * (GRADE_REACH * half).powi(2) {
+        if 2.0 * s >= self.grade_below {
             return Ok(None);
         }
         let lifted: Vec<Dip> = self
@@ -249,33 +226,6 @@ impl Balance {
             rest: self.cycle.rest_at(&everywhere)?,
             panels,
         }))
-    }
-
-    /// t_Φ(s) = ∫₀^Φ √(J/2(s + K̃)) dφ on a mesh.
-    fn period(&self, mesh: Mesh<'_>, s: f64) -> f64 {
-        let term = |w: f64, rest: f64, k: f64| w * (0.5 * (self.inertia + rest) / (s + k)).sqrt();
-        let n = mesh.nodes();
-        let (w, rest, k) = (
-            &mesh.panels.weights[..n],
-            &mesh.rest[..n],
-            &mesh.lifted[..n],
-        );
-        // LANES running sums added at the end: the same sum in the same order every time,
-        // and one the compiler keeps in vector registers (a single running sum of doubles
-        // it may not reorder); the period is taken a dozen times per solve.
-        let mut lanes = [0.0; LANES];
-        let whole = n / LANES * LANES;
-        for ((w, rest), k) in w[..whole]
-            .chunks_exact(LANES)
-            .zip(rest[..whole].chunks_exact(LANES))
-            .zip(k[..whole].chunks_exact(LANES))
-        {
-            for lane in 0..LANES {
-                lanes[lane] += term(w[lane], rest[lane], k[lane]);
-            }
-        }
-        let tail: f64 = (whole..n).map(|i| term(w[i], rest[i], k[i])).sum();
-        lanes.iter().sum::<f64>() + tail
     }
 
     /// The energy method at the mean speed `omega_mean` (rad/s): a [`PeriodicSolver`].
@@ -308,7 +258,7 @@ impl Balance {
 
     /// ω(φ) = √(2E/J) with E = s + K̃(φ) evaluated exactly, and t(φ) = ∫₀^φ dφ/ω with each
     /// panel's interpolant of 1/ω through the mesh's nodes integrated exactly
-    /// ([`Panels::running_at`]), at `phi` (rad, in [0, Φ]; an angle on an edge is taken on
+    /// ([`Panels::running_at`](super::quadrature::Panels::running_at)), at `phi` (rad, in [0, Φ]; an angle on an edge is taken on
     /// the panel that starts there).
     fn curves(&self, mesh: Mesh<'_>, s: f64, phi: &[f64]) -> Result<Curves> {
         let lifted = self.lifted_at(phi)?;
@@ -336,19 +286,37 @@ impl Balance {
         // least J): if the mean speed there is already above the one asked for, the solution
         // has a smaller s, and stalls. Only that: a solution above s_low is judged by its own
         // ω_min (`finish`), so that a speed just above the lowest that runs does run.
-        let rest_min = cycle.rest.iter().fold(f64::INFINITY, |a, &r| a.min(r));
+        let (rest_min, rest_max) = self.rest_bounds;
         let s_low = 0.5 * (self.inertia + rest_min) * (ratio * omega_mean).powi(2);
         // At s_high, ω² = 2(s + K̃)/J ≥ ω_m² everywhere: the mean speed is at least ω_m.
-        let j_max = cycle.rest.iter().fold(f64::NEG_INFINITY, |a, &r| a.max(r)) + self.inertia;
+        let j_max = rest_max + self.inertia;
         let s_high = 0.5 * j_max * omega_mean * omega_mean * 1.01;
         let mut graded = self.mesh(s_high)?;
         let mut s = s_high;
-        let period =
-            |this: &Self, graded: &Option<Graded>, s: f64| this.period(this.view(graded), s);
-        // Evaluations of the excess, and of them Brent's.
+        // t_Φ at the root, where Newton's method took it there.
+        let mut period_at_root = None;
+        let period = |this: &Self, graded: &Option<Graded>, s: f64| {
+            this.view(graded).period(this.inertia, s)
+        };
+        // Evaluations of the excess, and of them the root finder's.
         let (nfev, nit) = (Cell::new(0), Cell::new(0));
         for _ in 0..MESH_ROUNDS {
             let size = self.view(&graded).nodes();
+            let newton = self.view(&graded).newton(self.inertia, target, s_low);
+            nfev.set(nfev.get() + newton.evaluations);
+            nit.set(nit.get() + newton.evaluations.saturating_sub(1));
+            if let Some((root, at_root)) = newton.root {
+                s = root;
+                period_at_root = Some(at_root);
+                let k_min = self.k_min;
+                let finer = self.mesh(s)?;
+                if self.view(&finer).nodes() <= size && self.k_min == k_min {
+                    break;
+                }
+                graded = finer;
+                continue;
+            }
+            period_at_root = None;
             let excess = |s: f64| -> Result<f64> {
                 nfev.set(nfev.get() + 1);
                 Ok((target / period(self, &graded, s)).powi(2) - 1.0)
@@ -395,7 +363,7 @@ impl Balance {
             }
             graded = finer;
         }
-        let solved = self.finish(self.view(&graded), s, ratio)?;
+        let solved = self.finish(self.view(&graded), s, ratio, period_at_root)?;
         Ok((solved.counted(nfev.get(), nit.get()), graded))
     }
 
@@ -403,7 +371,7 @@ impl Balance {
     /// search for the lowest running speed goes through stalls.
     fn at_margin(&mut self, s: f64) -> Result<Solution> {
         let graded = self.mesh(s)?;
-        self.finish(self.view(&graded), s, 0.0)
+        self.finish(self.view(&graded), s, 0.0, None)
     }
 
     /// The lowest mean speed (rad/s) whose solution keeps ω_min ≥ `ratio`·ω_m (the stall
@@ -470,17 +438,15 @@ impl Balance {
             .zip(&cycle.rest)
             .map(|(k, rest)| k - half_square * rest)
             .collect();
-        let value = |phi: f64| -> Result<f64> {
+        let exact = |phi: f64| -> Result<(f64, f64)> {
             let folded = [phi.rem_euclid(cycle.cycle())];
-            Ok(self.lifted_at(&folded)?[0] - half_square * cycle.rest_at(&folded)?[0])
+            let (rest, slope) = cycle.inertia_at(&folded)?;
+            Ok((
+                self.lifted_at(&folded)?[0] - half_square * rest[0],
+                self.slope_at(phi)? - half_square * slope[0],
+            ))
         };
-        let slope = |phi: f64| -> Result<f64> {
-            let folded = [phi.rem_euclid(cycle.cycle())];
-            Ok(self.slope_at(phi)? - half_square * cycle.inertia_at(&folded)?.1[0])
-        };
-        let panels = &cycle.panels;
-        let (_, top) = refine_extremum(panels, &diagram, true, slope, value)?;
-        let (_, bottom) = refine_extremum(panels, &diagram, false, slope, value)?;
+        let [(_, top), (_, bottom)] = refine_extrema(&cycle.panels, &diagram, exact)?;
         let (most, least) = diagram
             .iter()
             .fold((f64::NEG_INFINITY, f64::INFINITY), |(a, b), &d| {
@@ -489,18 +455,20 @@ impl Balance {
         Ok(top.max(most) - bottom.min(least))
     }
 
-    /// t_Φ, ω_m and the extremes of ω for E = s + K̃ on a mesh.
-    fn finish(&self, mesh: Mesh<'_>, s: f64, ratio: f64) -> Result<Solution> {
+    /// t_Φ, ω_m and the extremes of ω for E = s + K̃ on a mesh (t_Φ = `period` where it
+    /// was taken at this s already).
+    fn finish(&self, mesh: Mesh<'_>, s: f64, ratio: f64, period: Option<f64>) -> Result<Solution> {
         let cycle = &self.cycle;
         let panels = mesh.panels;
         let n = mesh.nodes();
-        let omega: Vec<f64> = mesh
+        // ω² at the samples: its extremes are ω's, and the square root is taken only of them.
+        let square: Vec<f64> = mesh
             .rest
             .iter()
             .zip(mesh.lifted)
-            .map(|(rest, k)| (2.0 * (s + k).max(0.0) / (self.inertia + rest)).sqrt())
+            .map(|(rest, k)| 2.0 * (s + k).max(0.0) / (self.inertia + rest))
             .collect();
-        if let Some(i) = omega.iter().position(|&w| w <= 0.0) {
+        if let Some(i) = square.iter().position(|&w| w <= 0.0) {
             let angle = if i < n {
                 panels.phi[i]
             } else {
@@ -508,23 +476,14 @@ impl Balance {
             };
             return Ok(Solution::stalled(angle, message::STOPS));
         }
-        let period = panels.integral(&omega[..n].iter().map(|w| 1.0 / w).collect::<Vec<_>>());
+        let period = period.unwrap_or_else(|| {
+            let inverse = square[..n].iter().map(|w| 1.0 / w.sqrt());
+            panels.weights.iter().zip(inverse).map(|(w, f)| w * f).sum()
+        });
         let omega_mean = cycle.cycle() / period;
-        let speed = |phi: f64| Ok(self.speed_and_torque(s, phi)?.0);
-        let (phi_max, omega_max) = refine_extremum(
-            panels,
-            &omega,
-            true,
-            |phi| self.speed_and_torque(s, phi).map(|x| x.1),
-            speed,
-        )?;
-        let (phi_min, omega_min) = refine_extremum(
-            panels,
-            &omega,
-            false,
-            |phi| self.speed_and_torque(s, phi).map(|x| x.1),
-            speed,
-        )?;
+        let [(phi_max, top), (phi_min, bottom)] =
+            refine_extrema(panels, &square, |phi| self.speed_squared(s, phi))?;
+        let (omega_max, omega_min) = (top.sqrt(), bottom.sqrt());
         let solution = Periodic {
             omega_mean,
             period,
@@ -545,23 +504,18 @@ impl Balance {
         })
     }
 
-    /// ω(φ) exactly and the net torque J φ̈ = M_gas − U′ − M_load − ½J′ω², whose sign is
-    /// that of dω/dφ and whose roots are the extremes of ω.
-    fn speed_and_torque(&self, s: f64, phi: f64) -> Result<(f64, f64)> {
+    /// ω(φ)² = 2E/J and its slope 2Jφ̈/J exactly, with the net torque J φ̈ = M_gas − U′ −
+    /// M_load − ½J′ω², whose roots are the extremes of ω.
+    fn speed_squared(&self, s: f64, phi: f64) -> Result<(f64, f64)> {
         let folded = [phi.rem_euclid(self.cycle.cycle())];
         let energy = s + self.lifted_at(&folded)?[0];
         let (rest, slope) = self.cycle.inertia_at(&folded)?;
         let j = self.inertia + rest[0];
         let torque = self.cycle.torque_at(&folded, self.gas)?[0] - self.load;
-        Ok((
-            (2.0 * energy.max(0.0) / j).sqrt(),
-            torque - slope[0] * energy / j,
-        ))
+        let square = 2.0 * energy.max(0.0) / j;
+        Ok((square, 2.0 * (torque - slope[0] * energy / j) / j))
     }
 }
-
-/// The running sums of the period's quadrature.
-const LANES: usize = 8;
 
 /// The energy method of a [`Balance`] at a mean speed ω_m (rad/s): the steady state of any
 /// shaft inertia there ([`Balance::at_speed`]). Each solve works on a fresh copy of the

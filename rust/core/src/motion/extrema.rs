@@ -5,6 +5,7 @@
 
 use crate::error::Result;
 
+use super::interpolant::polish;
 use super::quadrature::Panels;
 
 /// Brent's method: a root of `f` in [a, b] where f(a) and f(b) differ in sign (or one is 0),
@@ -125,8 +126,8 @@ pub(crate) struct Dip {
 }
 
 /// Every local minimum of the samples of E (`energy`, nodes then edges; E'' = `curvature`
-/// at the nodes) located exactly: the root of the exact slope E′ (`slope`, any angle)
-/// between the samples beside it, by Brent's method to rounding, and E there (`value`);
+/// at the nodes) located exactly, as [`refine_extrema`] locates an extremum: the root of
+/// the slope E′ between the samples beside it and E there (`exact`: E and E′ at any angle);
 /// the sample itself where that is no lower (a minimum at a kink of E′).
 ///
 /// The grading must be centred on the minimum itself, with its own d: graded towards a
@@ -136,10 +137,10 @@ pub(crate) fn local_minima(
     panels: &Panels,
     energy: &[f64],
     curvature: &[f64],
-    mut slope: impl FnMut(f64) -> Result<f64>,
-    mut value: impl FnMut(f64) -> Result<f64>,
+    mut exact: impl FnMut(f64) -> Result<(f64, f64)>,
 ) -> Result<Vec<Dip>> {
     let samples = panels.in_angle_order(energy);
+    let scale = samples.iter().fold(0.0_f64, |m, s| m.max(s.1.abs()));
     // The curvature of an edge is that of its panel's first node.
     let mut bend = Vec::with_capacity(samples.len());
     for panel in curvature.chunks_exact(panels.order) {
@@ -154,7 +155,7 @@ pub(crate) fn local_minima(
             continue;
         }
         let (angle, value) =
-            refine_sample(panels.cycle(), &samples, i, false, &mut slope, &mut value)?;
+            refine_at(panels, energy, Some(&samples), i, false, scale, &mut exact)?;
         dips.push(Dip {
             angle: angle.rem_euclid(panels.cycle()),
             value,
@@ -195,38 +196,130 @@ pub(crate) fn grading(panels: &Panels, dips: impl IntoIterator<Item = Dip>) -> V
     extra
 }
 
-/// The angle and value of the largest (`largest`) or smallest of a function known at the
-/// nodes then edges of `panels` (`values`): the best sample, then the root of its slope
-/// (`slope`, any angle) between it and a neighbour sample (Brent's method, to rounding),
-/// where the function is evaluated exactly (`value`). Kept only where better than the
-/// sample (an extremum at a kink of the slope has no root there).
-pub(crate) fn refine_extremum(
+/// The angles and values of the largest and the smallest of a function known at the nodes
+/// then edges of `panels` (`values`), each located as the best sample (the first of equal
+/// ones in angle order), then the root of the function's slope between it and a neighbour
+/// sample, where the function is evaluated exactly (`exact`: its value and slope at any
+/// angle). Kept only where better than the sample (an extremum at a kink of the slope has
+/// no root there).
+///
+/// The root is found on the panel's interpolant of the samples and polished by Newton's
+/// steps on the exact slope ([`polish`]): an exact evaluation or two. Where that does not
+/// settle (a kink, an extremum the interpolant does not resolve), Brent's method on the
+/// exact slope ([`refine_sample`]).
+pub(crate) fn refine_extrema(
     panels: &Panels,
     values: &[f64],
-    largest: bool,
-    slope: impl FnMut(f64) -> Result<f64>,
-    value: impl FnMut(f64) -> Result<f64>,
-) -> Result<(f64, f64)> {
-    let samples = panels.in_angle_order(values);
-    let sign = if largest { 1.0 } else { -1.0 };
-    let mut best = 0;
-    for (i, sample) in samples.iter().enumerate() {
-        if sign * sample.1 > sign * samples[best].1 {
-            best = i;
+    mut exact: impl FnMut(f64) -> Result<(f64, f64)>,
+) -> Result<[(f64, f64); 2]> {
+    let (most, least) = bounds(&values[..panels.phi.len() + panels.count()]);
+    let scale = most.abs().max(least.abs());
+    let top = first_at(panels, values, most);
+    let bottom = first_at(panels, values, least);
+    Ok([
+        refine_at(panels, values, None, top, true, scale, &mut exact)?,
+        refine_at(panels, values, None, bottom, false, scale, &mut exact)?,
+    ])
+}
+
+/// (max, min) of `values`, NaNs left out: in lanes, without a chain through every sample.
+fn bounds(values: &[f64]) -> (f64, f64) {
+    const WIDE: usize = 8;
+    let (mut most, mut least) = ([f64::NEG_INFINITY; WIDE], [f64::INFINITY; WIDE]);
+    let chunks = values.chunks_exact(WIDE);
+    let tail = chunks.remainder();
+    for chunk in chunks {
+        for lane in 0..WIDE {
+            most[lane] = most[lane].max(chunk[lane]);
+            least[lane] = least[lane].min(chunk[lane]);
         }
     }
-    refine_sample(panels.cycle(), &samples, best, largest, slope, value)
+    let most = tail
+        .iter()
+        .chain(&most)
+        .fold(f64::NEG_INFINITY, |a, &v| a.max(v));
+    let least = tail
+        .iter()
+        .chain(&least)
+        .fold(f64::INFINITY, |a, &v| a.min(v));
+    (most, least)
+}
+
+/// The index in angle order ([`Panels::in_angle_order`]) of the first sample equal to
+/// `target` (0 where none is, or where the first sample is NaN: nothing compares better
+/// than it).
+fn first_at(panels: &Panels, values: &[f64], target: f64) -> usize {
+    let (n, order) = (panels.phi.len(), panels.order);
+    if values[n].is_nan() {
+        return 0;
+    }
+    for p in 0..panels.count() {
+        let first = p * (order + 1);
+        if values[n + p] == target {
+            return first;
+        }
+        if let Some(r) = values[p * order..(p + 1) * order]
+            .iter()
+            .position(|&v| v == target)
+        {
+            return first + 1 + r;
+        }
+    }
+    0
+}
+
+/// The extremum next to sample `index` (angle order) of `values` (nodes then edges):
+/// [`polish`], else [`refine_sample`] on `samples` (`values` in angle order, made here
+/// where not given); the sample itself where the root found is no better.
+fn refine_at(
+    panels: &Panels,
+    values: &[f64],
+    samples: Option<&[(f64, f64)]>,
+    index: usize,
+    largest: bool,
+    scale: f64,
+    exact: &mut impl FnMut(f64) -> Result<(f64, f64)>,
+) -> Result<(f64, f64)> {
+    let sign = if largest { 1.0 } else { -1.0 };
+    let (angle, at_best) = sample(panels, values, index);
+    if let Some((root, found)) = polish(panels, values, index, largest, scale, exact)? {
+        return Ok(if sign * found > sign * at_best {
+            (root, found)
+        } else {
+            (angle, at_best)
+        });
+    }
+    let made;
+    let samples = match samples {
+        Some(samples) => samples,
+        None => {
+            made = panels.in_angle_order(values);
+            &made
+        }
+    };
+    refine_sample(panels.cycle(), samples, index, largest, exact)
+}
+
+/// Sample `index` in angle order ([`Panels::in_angle_order`]): (angle, value).
+fn sample(panels: &Panels, values: &[f64], index: usize) -> (f64, f64) {
+    let (n, order) = (panels.phi.len(), panels.order);
+    let (p, r) = (index / (order + 1), index % (order + 1));
+    if r == 0 {
+        (panels.edges[p], values[n + p])
+    } else {
+        let i = p * order + r - 1;
+        (panels.phi[i], values[i])
+    }
 }
 
 /// The extremum next to sample `best` of `samples` ((angle, value) in angle order over the
-/// cycle `cycle`, the last followed by the first), located as [`refine_extremum`] does.
+/// cycle `cycle`, the last followed by the first), located as [`refine_extrema`] does.
 fn refine_sample(
     cycle: f64,
     samples: &[(f64, f64)],
     best: usize,
     largest: bool,
-    mut slope: impl FnMut(f64) -> Result<f64>,
-    mut value: impl FnMut(f64) -> Result<f64>,
+    exact: &mut impl FnMut(f64) -> Result<(f64, f64)>,
 ) -> Result<(f64, f64)> {
     let sign = if largest { 1.0 } else { -1.0 };
     let count = samples.len();
@@ -241,7 +334,7 @@ fn refine_sample(
     let after = if after < angle { after + cycle } else { after };
     // The function rises (for a maximum) up to the root: its slope, times sign, goes from
     // positive to negative.
-    let mut rate = |phi: f64| -> Result<f64> { Ok(sign * slope(phi)?) };
+    let mut rate = |phi: f64| -> Result<f64> { Ok(sign * exact(phi)?.1) };
     // Start at the vertex of the parabola through the best sample and its neighbours (a
     // smooth extremum is there to a small fraction of the spacing) and bracket the root
     // with a step of NARROW_BRACKET of the span the way the slope points: a root to rounding
@@ -285,7 +378,7 @@ fn refine_sample(
         brent_from(&mut rate, low, high, 0.0, 4.0 * f64::EPSILON)?
     };
     if let Some(root) = found {
-        let found = value(root)?;
+        let found = exact(root)?.0;
         if sign * found > sign * at_best {
             return Ok((root, found));
         }

@@ -23,6 +23,8 @@ mod extrema;
 mod flywheel;
 mod frame_sweep;
 mod gas;
+mod interpolant;
+mod margin;
 mod orders;
 mod quadrature;
 mod solution;

@@ -88,7 +88,8 @@ pub(crate) struct Solution {
     /// as a function of the margin s, each a quadrature of the period over the cycle);
     /// 0 for the closed form, which finds no root.
     pub nfev: usize,
-    /// Of those, the root finder's own (Brent's method's iterations; the rest bracket the
+    /// Of those, the root finder's own (Newton's steps after the first evaluation, or
+    /// Brent's method's iterations where the bracket is searched; the rest bracket the
     /// root).
     pub nit: usize,
     /// The numbers where it converged.

@@ -12,7 +12,7 @@
 use crate::error::{MechanismError, Result};
 
 use super::cycle::Cycle;
-use super::extrema::{grading, local_minima, refine_extremum};
+use super::extrema::{grading, local_minima, refine_extrema};
 use super::quadrature::{Antiderivative, Panels};
 use super::solution::{message, Curves, Periodic, PeriodicSolver, Solution};
 
@@ -160,18 +160,17 @@ impl<'c> ClosedForm<'c> {
             .collect())
     }
 
-    /// ω(φ) and J ω dω/dφ = M_gas + M_drive − U′ − cω² − ½J′ω² (N·m) at one angle: its
-    /// roots are the extremes of ω.
-    fn speed_and_torque(&self, phi: f64) -> Result<(f64, f64)> {
+    /// ω(φ) and dω/dφ at one angle, from J ω dω/dφ = M_gas + M_drive − U′ − cω² − ½J′ω²
+    /// (N·m), whose roots are the extremes of ω.
+    fn speed_and_slope(&self, phi: f64) -> Result<(f64, f64)> {
         let folded = [phi.rem_euclid(self.cycle.cycle())];
         let energy = self.energy_at(&folded)?[0];
         let (rest, slope) = self.cycle.inertia_at(&folded)?;
         let j = self.cycle.inertia + rest[0];
         let torque = self.cycle.torque_at(&folded, true)?[0] + self.drive;
-        Ok((
-            (2.0 * energy.max(0.0) / j).sqrt(),
-            torque - (2.0 * self.coefficient + slope[0]) * energy / j,
-        ))
+        let omega = (2.0 * energy.max(0.0) / j).sqrt();
+        let torque = torque - (2.0 * self.coefficient + slope[0]) * energy / j;
+        Ok((omega, torque / (j * omega)))
     }
 
     /// The periodic solution (stalled where E reaches zero or ω_min < `ratio`·ω_m), with ω
@@ -198,14 +197,10 @@ impl<'c> ClosedForm<'c> {
             let torque = cycle.torque_at(&folded, true)?[0] + self.drive;
             Ok(torque - 2.0 * self.coefficient * energy / j)
         };
-        let energy_value = |p: f64| Ok(self.energy_at(&[p.rem_euclid(cycle.cycle())])?[0]);
-        let dips = local_minima(
-            base,
-            &self.energy,
-            &self.curvature,
-            energy_slope,
-            energy_value,
-        )?;
+        let dips = local_minima(base, &self.energy, &self.curvature, |p| {
+            let value = self.energy_at(&[p.rem_euclid(cycle.cycle())])?[0];
+            Ok((value, energy_slope(p)?))
+        })?;
         let extra = grading(base, dips);
         let graded;
         let (panels, energy, rest): (&Panels, Vec<f64>, Vec<f64>) = if extra.is_empty() {
@@ -236,10 +231,8 @@ impl<'c> ClosedForm<'c> {
         let inverse: Vec<f64> = omega[..n].iter().map(|w| 1.0 / w).collect();
         let period = panels.integral(&inverse);
         let omega_mean = cycle.cycle() / period;
-        let torque = |p: f64| self.speed_and_torque(p).map(|x| x.1);
-        let speed = |p: f64| self.speed_and_torque(p).map(|x| x.0);
-        let (phi_max, omega_max) = refine_extremum(panels, &omega, true, torque, speed)?;
-        let (phi_min, omega_min) = refine_extremum(panels, &omega, false, torque, speed)?;
+        let [(phi_max, omega_max), (phi_min, omega_min)] =
+            refine_extrema(panels, &omega, |p| self.speed_and_slope(p))?;
         let solution = Periodic {
             omega_mean,
             period,
