@@ -214,9 +214,6 @@ def bearing_loads(
     gravity : bool, default True
         False leaves the weights out (g = 0).
 
-    Under the machine's ``load_law`` the gas forces are those of the law's pressures at
-    this (mean) speed.
-
     Returns
     -------
     BearingLoads
@@ -237,7 +234,8 @@ def bearing_loads(
     piston and the crank pin; Newton–Euler for both gives the pin's force on the rod, whose
     reaction, with the web's and counterweight's inertia and the weights, loads the throw. A
     throw at z_t between bearings at z_a < z_t < z_b puts (z_b − z_t)/(z_b − z_a) of its load on
-    a and the rest on b (docs/theory.md, "Main-bearing loads").
+    a and the rest on b (docs/theory.md, "Main-bearing loads"). Under the machine's
+    ``load_law`` the gas forces are those of the law's pressures at this (mean) speed.
 
     Examples
     --------
