@@ -22,7 +22,7 @@ def test_the_python_speed_limits_are_the_cores():
     with pytest.raises(
         mc.MechanismError, match=r"rpm = 200000000.0 is out of range; allowed: 1e-06 <= rpm <= 1e\+08 \[1/min\]"
     ):
-        _validation.as_speed(2e8, "rpm")
+        _validation.as_rpm(2e8, "rpm")
     # Both ends are the core's: what Python takes, the core takes, and the next speed out is
     # refused by both.
     machine = mc.presets.DEFAULT_MACHINE
@@ -64,3 +64,45 @@ def test_every_speed_of_a_user_is_checked_by_the_one_rule():
         )  # fmt: skip
     with pytest.raises(mc.MechanismError, match=allowed.format("rpm")):
         machine.engine(rpm=1e9)
+
+
+def test_every_question_of_a_machine_without_a_speed_is_refused_by_one_rule():
+    """The speed asked, or the machine's own ``rpm``: one rule (_validation.running_omega), so a
+    machine without one is refused alike by every question that defaults to its speed — by the
+    parameter ``rpm``, as data, and in the same words."""
+    from multicrank.report.settings import running_speed
+
+    machine = mc.presets.MACHINES["slow-compressor"].replace(rpm=None, rpm_range=None)
+    questions = {
+        "shaking_forces": lambda: mc.shaking_forces(machine),
+        "bearing_loads": lambda: mc.bearing_loads(machine),
+        "steady_state": lambda: mc.steady_state(machine),
+        "flywheel_inertia": lambda: mc.flywheel_inertia(machine, delta=0.01),
+        "Machine.engine": lambda: machine.engine(),
+        "to_opentorsion": lambda: mc.to_opentorsion(machine, max_order=2),
+        "firing_orders": lambda: mc.firing_orders(machine),
+        "optimize_counterweights": lambda: mc.optimize_counterweights(machine, maxiter=1, progress=False),
+        "the report": lambda: running_speed(machine),
+    }
+    messages = {}
+    for name, question in questions.items():
+        with pytest.raises(mc.MechanismError) as caught:
+            question()
+        assert caught.value.parameter == "rpm", name
+        messages[name] = str(caught.value)
+    assert set(messages.values()) == {
+        "rpm is required: machine 'slow-compressor' has no running speed (rpm) of its own"
+    }, messages
+
+
+def test_the_speed_asked_is_converted_once_and_given_back_as_asked():
+    """running_omega: ω = πn/30 of the speed asked, or of the machine's own; running_rpm: that
+    speed as given [1/min], checked by the same rule."""
+    machine = mc.presets.MACHINES["slow-compressor"]
+    assert _validation.running_omega(machine, None) == 120 * math.pi / 30
+    assert _validation.running_omega(machine, 300) == 300 * math.pi / 30
+    assert _validation.running_rpm(machine, None) == 120.0
+    assert _validation.running_rpm(machine, 7) == 7
+    with pytest.raises(mc.MechanismError, match=r"^--rpm = 0\.0 is out of range") as caught:
+        _validation.running_rpm(machine, 0.0, "--rpm")
+    assert caught.value.parameter == "--rpm"

@@ -2,9 +2,10 @@
 
 Everything that reaches the Rust kernels leaves here as a contiguous float64 array, and every kind
 of bad input leaves here as a :class:`MechanismError` that names the parameter, in its message and
-as data (its ``parameter``: :func:`refused`, the package's one way to make one). It depends on
-nothing of the package but the extension, so every other module can use it without an import
-circle.
+as data (its ``parameter``: :func:`refused`, the package's one way to make one). It holds the one
+rule for a speed asked of a machine (:func:`running_omega`) and its one conversion
+(:func:`omega_from_rpm`). It depends on nothing of the package but the extension, so every other
+module can use it without an import circle.
 """
 
 from __future__ import annotations
@@ -43,9 +44,9 @@ __all__ = [
     "as_phases",
     "as_real_array",
     "as_returned",
+    "as_rpm",
+    "as_rpm_range",
     "as_scalar",
-    "as_speed",
-    "as_speed_range",
     "as_strokes",
     "as_threshold",
     "as_work_size",
@@ -65,6 +66,8 @@ __all__ = [
     "renamed",
     "reworded",
     "rpm_from_omega",
+    "running_omega",
+    "running_rpm",
     "warn_renamed",
 ]
 
@@ -446,14 +449,39 @@ def as_omega_array(values: np.ndarray, name: str = "rpm") -> np.ndarray:
     return omega
 
 
-def as_speed(value: Any, name: str = "rpm") -> float:
-    """A speed [1/min] as the user gave it, checked by :func:`as_omega` (the core's rule)."""
+def as_rpm(value: Any, name: str = "rpm") -> float:
+    """A speed n [1/min] as the user gave it (not converted), checked by :func:`as_omega`
+    (the core's rule): for a speed that is shown or handed on in 1/min, a table's ``rpm``
+    column."""
     speed = as_scalar(value, name)
     as_omega(speed, name)
     return speed
 
 
-def as_speed_range(value: Any) -> tuple[float, float]:
+def _asked(machine: Any, rpm: Any, name: str) -> Any:
+    """The one rule for a speed asked of a machine: ``rpm`` [1/min], or where it is None the
+    machine's own ``rpm``; refused by ``name`` where it has none."""
+    if rpm is not None:
+        return rpm
+    if machine.rpm is None:
+        raise refused(name, f"{name} is required: machine {machine.name!r} has no running speed (rpm) of its own")
+    return machine.rpm
+
+
+def running_omega(machine: Any, rpm: Any, name: str = "rpm") -> float:
+    """ω [rad/s] of the speed asked of a machine (a :class:`~multicrank.Machine`): ``rpm``
+    [1/min], or where it is None the machine's own ``rpm``, refused by ``name`` where it has
+    none; checked by the core's rule and converted once (:func:`as_omega`)."""
+    return as_omega(_asked(machine, rpm, name), name)
+
+
+def running_rpm(machine: Any, rpm: Any, name: str = "rpm") -> float:
+    """:func:`running_omega`'s speed as given, in 1/min (checked, not converted): for a speed
+    that is shown or handed on in 1/min, a table's ``rpm`` column."""
+    return as_rpm(_asked(machine, rpm, name), name)
+
+
+def as_rpm_range(value: Any) -> tuple[float, float]:
     """A machine's ``rpm_range``: (low, high) [1/min] with 0 < low < high, within :data:`SPEED_LIMITS`."""
     bounds = as_real_array(value, "rpm_range")
     if bounds.shape != (2,):

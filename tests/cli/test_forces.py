@@ -305,3 +305,29 @@ phase_deg = {second}
     else:
         assert orders.loc[1, "moment_forward"] == orders.loc[1, "moment_backward"] == 0
         assert f"here {force:.4g} N);" in below and "free force as well as a moment" not in below
+
+
+def test_steady_forces_and_bearing_loads_share_one_steady_state(monkeypatch):
+    """--steady: the orders and the bearing lines are of one steady state, solved once (the
+    bearings' "gravity adds" asks one more, of the machine with g = 0); the bearing lines are
+    still mc.bearing_loads' own steady summary, which solves its own."""
+    from multicrank.motion import steady
+
+    solved = []
+    route = steady._native_solution
+
+    def counted(machine, rules, omega, gravity, ratio, points):
+        solved.append(gravity)
+        return route(machine, rules, omega, gravity, ratio, points)
+
+    monkeypatch.setattr(steady, "_native_solution", counted)
+    out = CliRunner().invoke(
+        cli.main, ["forces", "--machine", "inline-4", "--max-order", "2", "--steady", "--format", "json"]
+    )
+    assert out.exit_code == 0, out.output
+    assert solved == [True, False]
+    monkeypatch.undo()
+    summary = mc.bearing_loads(mc.presets.MACHINES["inline-4"], steady=True).summary
+    records = json.loads(out.output)["bearings"]
+    assert [r["max"] for r in records] == pytest.approx(list(summary["max"]), rel=1e-12)
+    assert [r["gravity_adds"] for r in records] == pytest.approx(list(summary["gravity_adds"]), rel=1e-12)

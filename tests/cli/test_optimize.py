@@ -390,7 +390,7 @@ def test_a_machine_without_a_speed_asks_for_rpm(tmp_path, command):
     )
     assert (
         refused(command, "--machine", str(path), "--no-progress")
-        == "Error: machine 'bare' has no running speed: give --rpm"
+        == "Error: --rpm: rpm is required: machine 'bare' has no running speed (rpm) of its own"
     )
 
 

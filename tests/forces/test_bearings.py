@@ -336,3 +336,20 @@ def test_the_loads_do_not_depend_on_the_thread_count():
         mc.set_parallel_threshold(before)
     np.testing.assert_array_equal(serial.horizontal, parallel.horizontal)
     np.testing.assert_array_equal(serial.vertical, parallel.vertical)
+
+
+@pytest.mark.parametrize("name", ["slow-compressor", "inline-4"])  # a two-stroke cycle and a four-stroke one
+@pytest.mark.parametrize("steady", [False, True])
+def test_the_loads_beside_the_shaking_forces_are_bearing_loads_own(name, steady):
+    """bearing_loads_beside (the command line's forces): at the ω of the shaking forces and,
+    steady, on their steady state (every 2·turns-th of its 1440 angles per revolution) — the
+    loads bearing_loads gives at that speed from a steady state of its own, to the last bit."""
+    from multicrank.forces.bearings import bearing_loads_beside
+
+    machine = MACHINES[name]
+    forces = mc.shaking_forces(machine, max_order=2, steady=steady)
+    beside = bearing_loads_beside(forces)
+    own = mc.bearing_loads(machine, steady=steady)
+    assert (beside.rpm, beside.omega, beside.steady) == (own.rpm, own.omega, own.steady)
+    for field in ("phi", "positions", "vertical", "horizontal"):
+        np.testing.assert_array_equal(getattr(beside, field), getattr(own, field), err_msg=field)

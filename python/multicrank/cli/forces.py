@@ -12,7 +12,7 @@ import click
 from .._text import column_text
 from ._group import machine_option, options_named
 from ._output import format_option, out_option, write_result
-from .motion import _speed, readable
+from .motion import readable
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -85,8 +85,8 @@ def forces_command(
     """
     from ..forces.shaking import shaking_forces
 
-    speed = _speed(machine, rpm, "--rpm")
-    result = shaking_forces(machine, speed, max_order=max_order, steady=steady)
+    # The speed is the library's to default and check, once; its refusals name the option.
+    result = shaking_forces(machine, rpm, max_order=max_order, steady=steady)
     orders = result.orders
     bearing_lines, bearing_meta = bearing_summary(machine, result)
     if fmt == "table":
@@ -114,12 +114,14 @@ def forces_command(
 
 def bearing_summary(machine: Machine, result: ShakingForces) -> tuple[list[str], dict[str, Any]]:
     """What the command adds about the main bearings (:func:`~multicrank.bearing_loads` at
-    the same speed, steady or constant): lines below the table to read — per bearing its
-    position, largest load and where it acts, mean load and what gravity adds — and a
-    ``bearings`` entry of json's metadata (one record per bearing, the summary's columns)."""
-    from ..forces.bearings import bearing_loads
+    the same speed, steady or constant, and in steady running of the same steady state as
+    the orders: :func:`~multicrank.forces.bearings.bearing_loads_beside`): lines below the
+    table to read — per bearing its position, largest load and where it acts, mean load and
+    what gravity adds — and a ``bearings`` entry of json's metadata (one record per bearing,
+    the summary's columns)."""
+    from ..forces.bearings import bearing_loads_beside
 
-    summary = bearing_loads(machine, result.rpm, steady=result.steady).summary
+    summary = bearing_loads_beside(result).summary
     lines = ["", "main bearings (force received from the shaft over the working cycle, gravity included):"]
     heading = ("bearing", "z [m]", "max [N]", "at φ [°]", "mean [N]", "gravity adds [N]")
     # Each column in one notation (fixed, or all with an exponent), the angles to 0.1°.

@@ -12,7 +12,7 @@ import numpy as np
 
 from .._native import MechanismError
 from .._text import counted
-from .._validation import refused
+from .._validation import running_rpm
 from ..gravity.evaluation import generalized_force, potential_energy
 from ..gravity.mechanism import crank_phases
 from ._group import UserError, machine_option
@@ -87,9 +87,7 @@ def eval_command(
     """
     try:
         evaluated = _inline_variant(machine, cranks, strokes, acting, inclination)
-        speed = evaluated.rpm if rpm is None else rpm
-        if speed is None:
-            raise refused("--rpm", f"machine {evaluated.name!r} has no running speed: give --rpm")
+        speed = running_rpm(evaluated, rpm, "--rpm")
         try:
             design = evaluated.design(speed)  # the paper's machine: the in-line functions
         except MechanismError:

@@ -13,7 +13,7 @@ import numpy as np
 from .._files import write_atomically
 from .._native import MechanismError
 from .._text import column_text, counted
-from .._validation import as_speed, omega_from_rpm, refused, rpm_from_omega
+from .._validation import omega_from_rpm, refused, rpm_from_omega, running_rpm
 from ._group import UserError, machine_option, renamed_option
 from ._output import format_option, out_file, out_option, write_result, writing
 
@@ -185,11 +185,9 @@ def simulate_command(
 
 
 def _speed(machine: Machine, rpm: float | None, option: str) -> float:
-    """The speed [1/min] asked for, or the machine's own; checked by the core's rule."""
-    speed = machine.rpm if rpm is None else rpm
-    if speed is None:
-        raise refused(option, f"machine {machine.name!r} has no running speed: give {option}")
-    return as_speed(speed, option)  # the core's rule for a speed
+    """The speed [1/min] asked for with ``option``, or the machine's own; checked by the
+    core's rule, a refusal naming ``option`` (:func:`~multicrank._validation.running_rpm`)."""
+    return running_rpm(machine, rpm, option)
 
 
 def _as_target(target: float, option: str) -> float:

@@ -17,7 +17,6 @@ from ..design.counterweights import OBJECTIVES, RENAMED_OBJECTIVES
 from ..design.criteria import RANKINGS, SHAFT_CRITERIA, VOCABULARY
 from ._group import UserError, machine_option, note_renamed, options_named
 from ._output import format_option, out_option, write_result
-from .motion import _speed
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -194,7 +193,6 @@ def firing_command(
     from ..design.firing import firing_orders
     from ..torsion.shaft import Shaft
 
-    speed = _speed(machine, rpm, "--rpm")
     if shaft_path is not None:
         try:
             machine = machine.replace(shaft=Shaft.from_toml(shaft_path))
@@ -206,7 +204,7 @@ def firing_command(
         )
     table = firing_orders(
         machine,
-        rpm=speed,
+        rpm=rpm,
         rank_by=rank_by,
         max_order=max_order,
         modes=modes,
@@ -380,7 +378,6 @@ def counterweights_command(
     A throw whose optimum lies on a bound of the search is marked "at a bound of the search":
     widen --bounds to see past it.
     """
-    speed = _speed(machine, rpm, "--rpm")
     limits = _bounds(bounds)
     if objective in RENAMED_OBJECTIVES:  # a name of 0.1: the criterion it is, said once the command has run
         renamed = RENAMED_OBJECTIVES[objective]
@@ -396,7 +393,7 @@ def counterweights_command(
         machine,
         objective=objective,
         bounds=limits,
-        rpm=speed,
+        rpm=rpm,
         max_bearing_load=max_bearing_load,
         max_free_force=max_free_force,
         max_free_moment=max_free_moment,

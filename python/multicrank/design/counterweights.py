@@ -32,9 +32,9 @@ from .._validation import (
     as_flag,
     as_instance,
     as_option,
-    as_speed,
     omega_from_rpm,
     refused,
+    running_rpm,
     warn_renamed,
 )
 from ..machine.machine import Machine
@@ -210,9 +210,7 @@ def optimize_counterweights(
         warn_renamed(f"objective={objective!r}", f"objective={RENAMED_OBJECTIVES[objective]!r}")
         objective = RENAMED_OBJECTIVES[objective]
     objective = as_option(objective, "objective", OBJECTIVES)
-    if rpm is None and machine.rpm is None:
-        raise refused("rpm", f"rpm is required: machine {machine.name!r} has no rpm of its own")
-    speed = as_speed(machine.rpm if rpm is None else rpm, "rpm")
+    speed = running_rpm(machine, rpm)
     given = {name: _as_limit(value, name) for name, value in (("max_bearing_load", max_bearing_load),
                                                               ("max_free_force", max_free_force),
                                                               ("max_free_moment", max_free_moment))}  # fmt: skip

@@ -21,13 +21,12 @@ thousands of candidates apart is one set look-up each, not a comparison of every
 
 from __future__ import annotations
 
-import math
 from itertools import pairwise
 from typing import Any
 
 import numpy as np
 
-from .._validation import as_count, as_flag, as_instance, as_option, as_speed, refused
+from .._validation import as_count, as_flag, as_instance, as_option, omega_from_rpm, refused, running_rpm
 from ..machine.machine import Machine
 from ._candidates import _RESOLUTION, _candidates, _groups
 from .criteria import AGREE, FIRING_CRITERIA, RANKINGS, SHAFT_CRITERIA, frame_criteria, pareto_front, ticks
@@ -69,7 +68,7 @@ def _largest_orders(machine: Machine, phases: np.ndarray, rpm: float, highest: i
     from ..motion.orders import cylinder_orders
 
     harmonics = cylinder_orders(machine, highest)
-    omega = np.full(harmonics.orders.shape, rpm * math.pi / 30)
+    omega = np.full(harmonics.orders.shape, omega_from_rpm(rpm))
     amplitude = np.abs(harmonics.at(phases, omega).sum(axis=1))
     largest = np.argmax(amplitude, axis=1)
     return harmonics.orders[largest], amplitude[np.arange(len(phases)), largest]
@@ -257,9 +256,7 @@ def firing_orders(
     mode_count = as_count(modes, "modes", minimum=1)
     limit = as_count(max_candidates, "max_candidates", minimum=1)
     progress = as_flag(progress, "progress")
-    if rpm is None and machine.rpm is None:
-        raise refused("rpm", f"rpm is required: machine {machine.name!r} has no rpm of its own")
-    speed = as_speed(machine.rpm if rpm is None else rpm, "rpm")
+    speed = running_rpm(machine, rpm)
     found, total = _candidates(machine, limit)
 
     # Every candidate's criteria; candidates alike on a rigid shaft (one δ, one steady state

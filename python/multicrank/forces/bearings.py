@@ -12,15 +12,27 @@ arguments are checked and the result is laid out.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from .._native import machine_bearing_loads
-from .._validation import as_flag, as_instance, as_real_array, check_size, contiguous, refused, rpm_from_omega
+from .._validation import (
+    as_flag,
+    as_instance,
+    as_real_array,
+    check_size,
+    contiguous,
+    refused,
+    rpm_from_omega,
+    running_omega,
+)
 from ..machine.machine import Machine
 from ..machine.native import motion_machine
-from .shaking import speed_of
+
+if TYPE_CHECKING:
+    from ..motion.steady_result import SteadyState
+    from .shaking import ShakingForces
 
 __all__ = ["BearingLoads", "bearing_loads"]
 
@@ -246,26 +258,53 @@ def bearing_loads(
     (3, 720)
     """
     machine = as_instance(machine, Machine, "machine")
-    omega = speed_of(machine, rpm)
+    omega = running_omega(machine, rpm)
     steady, gravity = as_flag(steady, "steady"), as_flag(gravity, "gravity")
     if steady and phi is not None:
         raise refused("phi", "phi: in steady running the loads are on the steady state's own angles; give None")
+    return _bearing_loads(machine, omega, steady, phi, gravity)
+
+
+def bearing_loads_beside(forces: ShakingForces) -> BearingLoads:
+    """:func:`bearing_loads` of the machine of ``forces`` (a :class:`~multicrank.ShakingForces`)
+    at its speed, steady or constant, gravity included: the same ω [rad/s] and, in steady
+    running, the same steady state — on every ``2·turns``-th of its angles, the 720 of one
+    working cycle that :func:`bearing_loads` takes —, so that the two of one call chain (the
+    command line's ``forces``) solve one steady state and convert no speed again."""
+    return _bearing_loads(forces.machine, forces.omega, forces.steady, None, True, state=forces._state)
+
+
+def _bearing_loads(
+    machine: Machine, omega: float, steady: bool, phi: Any, gravity: bool, state: SteadyState | None = None
+) -> BearingLoads:
+    """The loads of checked input, ω [rad/s] (in steady running: of ``state`` where given, the
+    machine's steady state at that mean speed with gravity, else one solved here)."""
     positions = np.asarray(machine.bearings, dtype=float)
-    angles, horizontal, vertical = _loads(machine, omega, steady, phi, gravity, positions)
+    angles, horizontal, vertical = _loads(machine, omega, steady, phi, gravity, positions, state)
     return BearingLoads(machine, rpm_from_omega(omega), omega, steady, gravity, angles, positions, vertical, horizontal)
 
 
 def _loads(
-    machine: Machine, omega: float, steady: bool, phi: Any, gravity: bool, positions: np.ndarray
+    machine: Machine,
+    omega: float,
+    steady: bool,
+    phi: Any,
+    gravity: bool,
+    positions: np.ndarray,
+    state: SteadyState | None = None,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(φ, horizontal, vertical) of one pass of the core: at the constant speed ω [rad/s] at
-    the angles ``phi`` (None: the default ones), or in steady running at that mean speed; the
-    bearings at ``positions`` [m] (``machine.bearings``)."""
+    the angles ``phi`` (None: the default ones), or in steady running at that mean speed (of
+    ``state`` where given: :data:`DEFAULT_POINTS` of its uniform angles); the bearings at
+    ``positions`` [m] (``machine.bearings``)."""
     if steady:
-        from ..motion.steady import steady_state
+        if state is None:
+            from ..motion.steady import balanced_state
 
-        state = steady_state(machine, rpm=rpm_from_omega(omega), gravity=gravity, points=DEFAULT_POINTS + 1)
-        angles, speeds, accelerations = state.phi[:-1], state.omega[:-1], state.acceleration[:-1]
+            state = balanced_state(machine, omega, gravity=gravity, points=DEFAULT_POINTS + 1)
+        step, left = divmod(state.phi.size - 1, DEFAULT_POINTS)
+        assert step >= 1 and left == 0, "a steady state of DEFAULT_POINTS·k + 1 points"
+        angles, speeds, accelerations = (a[:-1:step] for a in (state.phi, state.omega, state.acceleration))
     else:
         angles = machine.cycle * np.arange(DEFAULT_POINTS) / DEFAULT_POINTS if phi is None else _as_phi(phi, machine)
         speeds, accelerations = np.full(angles.shape, omega), np.zeros(angles.shape)

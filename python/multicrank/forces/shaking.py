@@ -28,11 +28,11 @@ from .._validation import (
     as_count,
     as_flag,
     as_instance,
-    as_omega,
     as_real_array,
     contiguous,
     refused,
     rpm_from_omega,
+    running_omega,
 )
 from ..machine.machine import Machine
 from ..machine.native import motion_machine
@@ -194,16 +194,6 @@ class ShakingForces:
         return frame
 
 
-def speed_of(machine: Machine, rpm: Any) -> float:
-    """ω [rad/s] of the speed ``rpm`` [1/min] asked of the frame's forces, default the
-    machine's own ``rpm`` (refused by name where it has none)."""
-    if rpm is None:
-        if machine.rpm is None:
-            raise refused("rpm", f"machine {machine.name!r} has no rpm: give rpm, the speed [1/min]")
-        rpm = machine.rpm
-    return as_omega(rpm, "rpm")
-
-
 def shaking_forces(machine: Machine, rpm: Any = None, *, max_order: Any = 12, steady: Any = False) -> ShakingForces:
     """The forces and moments the machine's moving parts shake its frame with, by order.
 
@@ -256,7 +246,7 @@ def shaking_forces(machine: Machine, rpm: Any = None, *, max_order: Any = 12, st
     2.0            315.9           315.9
     """
     machine = as_instance(machine, Machine, "machine")
-    omega = speed_of(machine, rpm)
+    omega = running_omega(machine, rpm)
     steady = as_flag(steady, "steady")
     highest = as_count(max_order, "max_order", minimum=1, maximum=STEADY_SAMPLES // 4 if steady else 2048)
     native = motion_machine(machine)
@@ -264,10 +254,10 @@ def shaking_forces(machine: Machine, rpm: Any = None, *, max_order: Any = 12, st
         found = native.shaking_orders(omega, highest)
         orders = np.arange(1, highest + 1, dtype=float)
         return ShakingForces(machine, rpm_from_omega(omega), omega, highest, False, dict(found), orders)
-    from ..motion.steady import steady_state
+    from ..motion.steady import balanced_state
 
     turns = machine.strokes // 2  # revolutions per working cycle
-    state = steady_state(machine, rpm=rpm_from_omega(omega), points=STEADY_SAMPLES * turns + 1)
+    state = balanced_state(machine, omega, points=STEADY_SAMPLES * turns + 1)
     speeds, accelerations = (contiguous(np.asarray(a[:-1], dtype=float)) for a in (state.omega, state.acceleration))
     found = native.shaking_orders_in_motion(speeds, accelerations, highest * turns)
     orders = np.arange(1, highest * turns + 1, dtype=float) / turns

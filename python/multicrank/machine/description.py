@@ -12,7 +12,7 @@ import numpy as np
 
 from .._native import machine_engine as _native_machine_engine
 from .._text import counted
-from .._validation import as_omega, as_scalar, refused
+from .._validation import refused, rpm_from_omega, running_omega
 from ..gravity.engines import Engine
 
 __all__ = ["MachineDescription"]
@@ -63,13 +63,9 @@ class MachineDescription:
         MechanismError
             When no ``rpm`` is given and the machine has none.
         """
-        if rpm is None:
-            if self.rpm is None:
-                raise refused("rpm", f"rpm is required: machine {self.name!r} has no running speed (rpm) of its own")
-            rpm = self.rpm
-        speed = as_scalar(rpm, "rpm")
-        columns = _native_machine_engine(self._units, self.g, self.shaft_inertia, as_omega(speed, "rpm"))
-        return Engine(**columns, name=f"{self.name} at {speed:g} rpm")
+        omega = running_omega(self, rpm)
+        columns = _native_machine_engine(self._units, self.g, self.shaft_inertia, omega)
+        return Engine(**columns, name=f"{self.name} at {rpm_from_omega(omega):g} rpm")
 
     def design(self, rpm: float | None = None) -> dict[str, Any]:
         """The keywords of the in-line functions for this machine at a speed.

@@ -26,15 +26,15 @@ from .._validation import (
     as_instance,
     as_omega,
     as_option,
+    as_rpm,
     as_scalar,
-    as_speed,
     as_strokes,
     check_fields,
     check_magnitude,
     omega_from_rpm,
     refused,
 )
-from .._validation import as_speed_range as _speed_range
+from .._validation import as_rpm_range as _speed_range
 from ..gravity.layouts import Layout, as_layout
 from ..gravity.mechanism import STANDARD_GRAVITY
 from ..torsion.shaft import Shaft, use_machine_loader
@@ -219,7 +219,7 @@ class Machine(MachineDescription, MachineDynamics, MachineGas):
             raise refused("note", f"note must be a str, got {type(note).__name__}")
         self.name = name
         self.note = note
-        self.rpm: float | None = None if rpm is None else as_speed(rpm, "rpm")
+        self.rpm: float | None = None if rpm is None else as_rpm(rpm, "rpm")
         self.rpm_range: tuple[float, float] | None = None if rpm_range is None else _speed_range(rpm_range)
         if self.rpm is not None and self.rpm_range is not None:
             low, high = self.rpm_range

@@ -13,7 +13,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validation import as_omega, as_scalar, refused
+from .._validation import as_scalar, refused, running_omega
 from ..machine.machine import Machine, load_factor, rated_omega
 from .loads import BALANCE, AppliedTorques, Torque
 
@@ -57,15 +57,7 @@ def mean_speed(value: Any, route: str, machine: Machine) -> float | None:
                 "(it is a result); pass rpm only with load='balance'",
             )
         return None
-    if value is None:
-        if machine.rpm is None:
-            raise refused(
-                "rpm",
-                f"rpm is required with load='balance': the mean speed [1/min] to run at (machine {machine.name!r} "
-                "has no rpm of its own)",
-            )
-        value = machine.rpm
-    return as_omega(value, "rpm")
+    return running_omega(machine, value)
 
 
 #: How each route is solved (:attr:`SteadyState.method`), and what that is in words.

@@ -51,8 +51,10 @@ from .._validation import (
     as_instance,
     as_omega,
     as_option,
+    omega_from_rpm,
     refused,
     rpm_from_omega,
+    running_omega,
 )
 from ..machine.machine import Machine, load_factor, rated_omega
 from ..machine.native import motion_machine
@@ -221,7 +223,7 @@ def cylinder_orders(machine: Machine, highest: int, *, mean: bool = False) -> Cy
     cache = machine.__dict__.setdefault("_torsion_orders", {})
     if (highest, mean) in cache:
         return cache[highest, mean]
-    omega_squared = (_REFERENCE_RPM * math.pi / 30) ** 2
+    omega_squared = omega_from_rpm(_REFERENCE_RPM) ** 2
     found: dict[Any, tuple[np.ndarray, ...]] = {}
     rows = []
     for cylinder in machine.cylinders:
@@ -383,13 +385,7 @@ def _machine_model(machine: Machine, shaft: Any, rpm: Any, max_order: Any, part:
     (:func:`cylinder_orders`), handed to :func:`~multicrank.torsion.handoff.torsional_model`
     with the shaft."""
     chosen = shaft_of(machine, shaft)
-    if rpm is None:
-        if machine.rpm is None:
-            raise refused(
-                "rpm", f"rpm is required: machine {machine.name!r} has none (give rpm=... [1/min], or Machine(rpm=...))"
-            )
-        rpm = machine.rpm
-    omega = as_omega(rpm, "rpm")
+    omega = running_omega(machine, rpm)
     highest = as_count(max_order, "max_order", minimum=1)
     column = as_option(part, "part", ORDER_PARTS)
     with_mean = as_flag(mean, "mean")

@@ -171,7 +171,22 @@ def steady_state(
     gravity = as_flag(gravity, "gravity")
     ratio = as_min_speed_ratio(min_speed_ratio)
     count = _as_points(points)
+    return _solved(machine, rules, load, omega, gravity, ratio, count)
 
+
+def balanced_state(machine: Machine, omega: float, *, gravity: bool = True, points: int) -> SteadyState:
+    """:func:`steady_state` under the "balance" load at the mean speed ω [rad/s] (already
+    checked: a caller's own speed, converted once where the user gave it), at the default
+    ``min_speed_ratio``, with ``points`` points: what the frame's forces ask of the steady
+    running (:func:`~multicrank.shaking_forces`, :func:`~multicrank.bearing_loads`)."""
+    rules = resolve_rules(BALANCE, None)
+    return _solved(machine, rules, BALANCE, omega, gravity, as_min_speed_ratio(DEFAULT_MIN_SPEED_RATIO), points)
+
+
+def _solved(
+    machine: Machine, rules: Rules, load: Any, omega: float | None, gravity: bool, ratio: float, count: int
+) -> SteadyState:
+    """The steady state of checked input (ω_m [rad/s], None where the load fixes it)."""
     # Under a load law, "balance" runs the diagrams of its mean speed; the other loads fix the
     # speed themselves, and take the diagrams as given.
     loaded = at_load(machine, omega)

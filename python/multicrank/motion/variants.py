@@ -25,7 +25,7 @@ import numpy as np
 
 from .._native import MechanismError
 from .._text import counted
-from .._validation import SPEED_LIMITS, as_instance, as_real_array, as_speed, omega_from_rpm, refused, reworded
+from .._validation import SPEED_LIMITS, as_instance, as_real_array, as_rpm, omega_from_rpm, refused, reworded
 from ..machine.cylinder import Cylinder, Pressure
 from ..machine.machine import Machine
 from ..pressure.diagram import IndicatorDiagram
@@ -177,7 +177,7 @@ def check_values(name: str, values: Any, rows: Any = None) -> np.ndarray:
         value = array.flat[bad[0]]
         try:
             if name == "rpm":
-                as_speed(value, "rpm")  # raises, with the speeds' own range
+                as_rpm(value, "rpm")  # raises, with the speeds' own range
             raise refused(name, f"{name} = {value} is out of range; allowed: a finite number")
         except MechanismError as error:
             if rows is None:

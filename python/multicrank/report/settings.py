@@ -8,7 +8,7 @@ import functools
 from dataclasses import dataclass, field
 from typing import Any, ClassVar
 
-from .._validation import refused, renamed, warn_renamed
+from .._validation import refused, renamed, running_rpm, warn_renamed
 from ..machine.machine import Machine
 from ..presets import DEFAULT_MACHINE_NAME, MACHINES
 
@@ -76,14 +76,9 @@ ReportSettings.__init__ = _init  # type: ignore[method-assign]
 
 
 def running_speed(machine: Machine) -> float:
-    """The machine's running speed [rpm], which the report's gravity analysis needs."""
-    if machine.rpm is None:
-        raise refused(
-            "rpm",
-            f"machine {machine.name!r} has no running speed: the report judges gravity at the machine's rpm; "
-            "give rpm (in a machine file: rpm = ...)",
-        )
-    return machine.rpm
+    """The machine's running speed [rpm], at which the report judges gravity (refused by name
+    where it has none: :func:`~multicrank._validation.running_rpm`)."""
+    return running_rpm(machine, None)
 
 
 def speed_range(machine: Machine) -> tuple[float, float]:

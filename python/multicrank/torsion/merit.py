@@ -30,7 +30,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validation import as_count, as_instance, as_speed_range, refused
+from .._validation import as_count, as_instance, as_rpm_range, omega_from_rpm, refused
 from ..machine.machine import Machine
 from ..motion.orders import CylinderOrders, cylinder_orders
 from .shaft import Shaft, shaft_of
@@ -112,7 +112,7 @@ def mode_excitation(
     [rad]), mode (rows of ``amplitude``, (modes, cylinders)) and order, the inertia torque at
     each mode's and order's ``resonance`` speed ((modes, orders) [1/min]): (candidates,
     modes, orders) [N·m] (times the amplitudes' unit)."""
-    omega = resonance * math.pi / 30
+    omega = omega_from_rpm(resonance)
     found = []
     for start in range(0, len(phases), _CHUNK):
         torque = harmonics.at(phases[start : start + _CHUNK, None, :], omega[None, :, :])  # (n, modes, j, orders)
@@ -265,7 +265,7 @@ def torsional_merit(
             "modes", f"modes = {count} is out of range; allowed: 1 <= modes <= {elastic} (the shaft's nodes − 1)"
         )
     highest = as_count(max_order, "max_order", minimum=1)
-    window = None if rpm_range is None else as_speed_range(rpm_range)
+    window = None if rpm_range is None else as_rpm_range(rpm_range)
 
     found = chosen.modes(count)
     frequency = found.natural_frequency[:count]
