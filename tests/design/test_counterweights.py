@@ -257,7 +257,9 @@ def test_alike_counterweights_that_break_a_limit_are_not_returned():
     assert largest_bearing_load(free.machine, free.rpm) > 12e3
     kept = mc.optimize_counterweights(BOXER, max_bearing_load=12e3, maxiter=40, seed=1)
     assert largest_bearing_load(kept.machine, kept.rpm) <= 12e3
-    assert free.delta <= kept.delta <= free.delta * (1 + 1e-6)
+    # the optimiser converges on δ's spread to 1e-7 of it (its tol): the free optimum is the
+    # least δ to that
+    assert free.delta <= kept.delta * (1 + 1e-7) and kept.delta <= free.delta * (1 + 1e-6)
 
 
 def test_the_first_order_free_force_of_one_slider_crank_is_the_textbook_s():
