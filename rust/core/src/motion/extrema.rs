@@ -197,8 +197,8 @@ pub(crate) fn grading(panels: &Panels, dips: impl IntoIterator<Item = Dip>) -> V
 }
 
 /// The angles and values of the largest and the smallest of a function known at the nodes
-/// then edges of `panels` (`values`), each located as the best sample (the first of equal
-/// ones in angle order), then the root of the function's slope between it and a neighbour
+/// then edges of `panels` (`values`), each located as the best sample (the first in angle
+/// order of those within [`TIE_ULPS`] of it), then the root of the function's slope between it and a neighbour
 /// sample, where the function is evaluated exactly (`exact`: its value and slope at any
 /// angle). Kept only where better than the sample (an extremum at a kink of the slope has
 /// no root there).
@@ -214,8 +214,12 @@ pub(crate) fn refine_extrema(
 ) -> Result<[(f64, f64); 2]> {
     let (most, least) = bounds(&values[..panels.phi.len() + panels.count()]);
     let scale = most.abs().max(least.abs());
-    let top = first_at(panels, values, most);
-    let bottom = first_at(panels, values, least);
+    // Extremes equal to rounding (a machine whose cycle repeats within itself: a twin's
+    // halves, a V12's twelfths) are told apart by rounding alone: the first of them in
+    // angle order is taken.
+    let tie = TIE_ULPS * f64::EPSILON * scale;
+    let top = first_at(panels, values, |v| v >= most - tie);
+    let bottom = first_at(panels, values, |v| v <= least + tie);
     Ok([
         refine_at(panels, values, None, top, true, scale, &mut exact)?,
         refine_at(panels, values, None, bottom, false, scale, &mut exact)?,
@@ -245,22 +249,25 @@ fn bounds(values: &[f64]) -> (f64, f64) {
     (most, least)
 }
 
-/// The index in angle order ([`Panels::in_angle_order`]) of the first sample equal to
-/// `target` (0 where none is, or where the first sample is NaN: nothing compares better
-/// than it).
-fn first_at(panels: &Panels, values: &[f64], target: f64) -> usize {
+/// Samples within this many ulps of the largest |sample| of the best are as good as it.
+const TIE_ULPS: f64 = 16.0;
+
+/// The index in angle order ([`Panels::in_angle_order`]) of the first sample that is
+/// `best` (0 where none is, or where the first sample is NaN: nothing compares better than
+/// it).
+fn first_at(panels: &Panels, values: &[f64], best: impl Fn(f64) -> bool) -> usize {
     let (n, order) = (panels.phi.len(), panels.order);
     if values[n].is_nan() {
         return 0;
     }
     for p in 0..panels.count() {
         let first = p * (order + 1);
-        if values[n + p] == target {
+        if best(values[n + p]) {
             return first;
         }
         if let Some(r) = values[p * order..(p + 1) * order]
             .iter()
-            .position(|&v| v == target)
+            .position(|&v| best(v))
         {
             return first + 1 + r;
         }

@@ -6,18 +6,20 @@
 //! φ = 0 is G(φ + α_j) − G(α_j) with G(x) = ∫₀^x F(θ) s'(θ) dθ the indicator work of that
 //! unit's cylinder alone at phase 0 (continued beyond a cycle by G(x + Φ) = G(x) + G(Φ)).
 //! Units that differ only in phase, inclination and masses share one G. G is integrated on
-//! panels cut at every breakpoint of the cylinder's tables: there the pressure is one
-//! polynomial and F·s' analytic, so a few Gauss points integrate it to rounding, and so
-//! they do any part [edge, x] of a panel — G is exact at every x, not only at the nodes.
+//! panels cut at every breakpoint of the cylinder's tables (`work`): there the pressure is
+//! one polynomial and F·s' analytic, so the polynomial through F·s′ at a few Gauss nodes is
+//! it to rounding, and integrated exactly from the panel's edge it gives G at every x, not
+//! only at the nodes — made once per cylinder, a G at any x is then a sum of a dozen terms.
 
 use std::f64::consts::PI;
 use std::sync::Arc;
 
-use crate::dynamics::{Dynamics, PhysicalCylinder};
+use crate::dynamics::PhysicalCylinder;
 use crate::error::{check, MechanismError, Result};
-use crate::parallel::Parallelism;
 
-use super::quadrature::{breaks, gauss_legendre};
+mod work;
+
+pub(crate) use work::GasWork;
 
 /// A periodic piecewise polynomial in SciPy's `PPoly` convention: on [x_i, x_{i+1})
 /// p(θ) = Σ_k c_ki (θ − x_i)^(K−1−k), taken modulo the cycle Φ = x_m − x_0 (θ is first
@@ -374,243 +376,6 @@ fn cylinder_force(cylinder: &GasCylinder, diagrams: &[PiecewisePolynomial], thet
     }
     let pressure = |end: Option<usize>| end.map(|d| diagrams[d].value(theta));
     cylinder.net_force(pressure(cylinder.head), pressure(cylinder.crank_end))
-}
-
-/// F of one cylinder at phase 0 at every θ (rad), θ taken modulo the cycle.
-fn one_cylinder_forces(
-    cylinder: GasCylinder,
-    diagrams: &[PiecewisePolynomial],
-    cycle: f64,
-    theta: &[f64],
-) -> Vec<f64> {
-    theta
-        .iter()
-        .map(|&t| cylinder_force(&cylinder, diagrams, periodic(t, cycle)))
-        .collect()
-}
-
-/// Gauss points per panel of an indicator rule: with the pressure one polynomial of K
-/// coefficients on the panel, 2n − 1 ≥ (K − 1) + 4 leaves s' to be approximated to degree
-/// 4 on a panel at most π/64 wide, whose error (≤ (π/128)⁵/5! relative) the Gauss rule's
-/// own error bound, (n!)⁴ h^(2n+1)/((2n+1)((2n)!)³)·max|f^(2n)|, shrinks to rounding.
-/// At least n = 4 points, whatever the pressure's degree.
-fn indicator_order(pressure_order: usize) -> usize {
-    (pressure_order + 4).div_ceil(2).max(4)
-}
-
-/// The widest panel of an indicator rule (rad) (a table interval wider than this is split).
-const INDICATOR_WIDTH: f64 = PI / 64.0;
-
-/// G(x) = ∫₀^x F(θ) s'(θ) dθ of one cylinder at phase 0 (J), for any real x.
-#[derive(Debug, Clone)]
-struct Indicator {
-    unit: Dynamics,
-    gas: GasCylinder,
-    cycle: f64,
-    edges: Vec<f64>,
-    /// G at the edges.
-    at_edges: Vec<f64>,
-    nodes: Vec<f64>,
-    weights: Vec<f64>,
-}
-
-impl Indicator {
-    fn new(
-        unit: &PhysicalCylinder,
-        gas: GasCylinder,
-        diagrams: &[PiecewisePolynomial],
-        cycle: f64,
-    ) -> Result<Self> {
-        let alone = PhysicalCylinder {
-            phase: 0.0,
-            ..*unit
-        };
-        let dynamics = Dynamics::new(&[alone], 0.0)?;
-        let tables: Vec<&PiecewisePolynomial> = [gas.head, gas.crank_end]
-            .into_iter()
-            .flatten()
-            .map(|d| &diagrams[d])
-            .collect();
-        let mut angles: Vec<f64> = (0..=(cycle / PI).round() as usize)
-            .map(|k| k as f64 * PI)
-            .collect();
-        for table in &tables {
-            angles.extend(table.breakpoints().iter().map(|x| x.rem_euclid(cycle)));
-        }
-        let order = tables.iter().map(|t| t.order()).max().unwrap_or(1);
-        let (nodes, weights) = gauss_legendre(indicator_order(order));
-        let mut edges = Vec::new();
-        for pair in breaks(angles, cycle).windows(2) {
-            let width = pair[1] - pair[0];
-            let count = (width / INDICATOR_WIDTH).ceil().max(1.0) as usize;
-            let step = width / count as f64;
-            edges.extend((0..count).map(|k| pair[0] + step * k as f64));
-        }
-        edges.push(cycle);
-        let mut indicator = Self {
-            unit: dynamics,
-            gas,
-            cycle,
-            edges,
-            at_edges: Vec::new(),
-            nodes,
-            weights,
-        };
-        let starts = &indicator.edges[..indicator.edges.len() - 1];
-        let ends = &indicator.edges[1..];
-        let pieces = indicator.pieces(starts, ends, diagrams)?;
-        let mut running = Vec::with_capacity(pieces.len() + 1);
-        let mut total = 0.0;
-        running.push(0.0);
-        for piece in pieces {
-            total += piece;
-            running.push(total);
-        }
-        indicator.at_edges = running;
-        Ok(indicator)
-    }
-
-    fn per_cycle(&self) -> f64 {
-        self.at_edges[self.at_edges.len() - 1]
-    }
-
-    /// ∫ F s' dθ over [a_i, b_i], each within one panel, by one Gauss rule each (one call to
-    /// the core for all of their points).
-    fn pieces(&self, a: &[f64], b: &[f64], diagrams: &[PiecewisePolynomial]) -> Result<Vec<f64>> {
-        let n = self.nodes.len();
-        let mut theta = Vec::with_capacity(a.len() * n);
-        for (a, b) in a.iter().zip(b) {
-            let (half, middle) = (0.5 * (b - a), 0.5 * (a + b));
-            theta.extend(self.nodes.iter().map(|x| middle + half * x));
-        }
-        let forces = one_cylinder_forces(self.gas, diagrams, self.cycle, &theta);
-        let mut torque = vec![0.0; theta.len()];
-        self.unit
-            .gas_torque(&theta, &forces, &mut torque, Parallelism::SERIAL)?;
-        Ok(a.iter()
-            .zip(b)
-            .zip(torque.chunks_exact(n))
-            .map(|((a, b), f)| {
-                0.5 * (b - a) * f.iter().zip(&self.weights).map(|(f, w)| f * w).sum::<f64>()
-            })
-            .collect())
-    }
-
-    /// G(x) for each x.
-    fn at(&self, x: &[f64], diagrams: &[PiecewisePolynomial]) -> Result<Vec<f64>> {
-        let panels = self.edges.len() - 1;
-        let mut turns = Vec::with_capacity(x.len());
-        let mut starts = Vec::with_capacity(x.len());
-        let mut ends = Vec::with_capacity(x.len());
-        let mut base = Vec::with_capacity(x.len());
-        for &x in x {
-            let t = (x / self.cycle).floor();
-            let y = x - t * self.cycle;
-            let p = self
-                .edges
-                .partition_point(|&e| e <= y)
-                .saturating_sub(1)
-                .min(panels - 1);
-            turns.push(t);
-            starts.push(self.edges[p]);
-            ends.push(y);
-            base.push(self.at_edges[p]);
-        }
-        let pieces = self.pieces(&starts, &ends, diagrams)?;
-        Ok(turns
-            .iter()
-            .zip(&base)
-            .zip(&pieces)
-            .map(|((t, g), piece)| t * self.per_cycle() + g + piece)
-            .collect())
-    }
-}
-
-/// W(φ) = ∫₀^φ M_gas dφ of a machine (J).
-#[derive(Debug, Clone)]
-pub(crate) struct GasWork {
-    diagrams: Arc<[PiecewisePolynomial]>,
-    /// One G per distinct cylinder, with the phases of the units that share it.
-    groups: Vec<(Indicator, Vec<f64>)>,
-    origin: f64,
-    /// W(Φ), the indicated work of one cycle (J).
-    pub per_cycle: f64,
-}
-
-impl GasWork {
-    pub fn new(
-        units: &[PhysicalCylinder],
-        gas: &[GasCylinder],
-        diagrams: Arc<[PiecewisePolynomial]>,
-        cycle: f64,
-    ) -> Result<Self> {
-        // Units alike in all that G depends on: the same diagrams, areas, r and l.
-        type Key = (Option<usize>, Option<usize>, [u64; 4]);
-        let mut keys: Vec<Key> = Vec::new();
-        let mut members: Vec<(usize, Vec<f64>)> = Vec::new();
-        for (j, (unit, cylinder)) in units.iter().zip(gas).enumerate() {
-            if !cylinder.has_gas() {
-                continue;
-            }
-            let key = (
-                cylinder.head,
-                cylinder.crank_end,
-                [
-                    cylinder.bore.to_bits(),
-                    cylinder.piston_rod_diameter.to_bits(),
-                    unit.crank_radius.to_bits(),
-                    unit.rod_length.to_bits(),
-                ],
-            );
-            match keys.iter().position(|k| *k == key) {
-                Some(g) => members[g].1.push(unit.phase),
-                None => {
-                    keys.push(key);
-                    members.push((j, vec![unit.phase]));
-                }
-            }
-        }
-        let mut groups = Vec::with_capacity(members.len());
-        for (j, phases) in members {
-            groups.push((Indicator::new(&units[j], gas[j], &diagrams, cycle)?, phases));
-        }
-        let mut work = Self {
-            diagrams,
-            groups,
-            origin: 0.0,
-            per_cycle: 0.0,
-        };
-        work.per_cycle = work
-            .groups
-            .iter()
-            .map(|(g, phases)| g.per_cycle() * phases.len() as f64)
-            .sum();
-        let mut origin = 0.0;
-        for (g, phases) in &work.groups {
-            origin += g.at(phases, &work.diagrams)?.iter().sum::<f64>();
-        }
-        work.origin = origin;
-        Ok(work)
-    }
-
-    /// W at each φ.
-    pub fn at(&self, phi: &[f64]) -> Result<Vec<f64>> {
-        let mut total = vec![-self.origin; phi.len()];
-        for (g, phases) in &self.groups {
-            // Every phase of the group in one call, phase-major; added phase by phase.
-            let shifted: Vec<f64> = phases
-                .iter()
-                .flat_map(|phase| phi.iter().map(move |p| p + phase))
-                .collect();
-            let values = g.at(&shifted, &self.diagrams)?;
-            for per_phase in values.chunks_exact(phi.len().max(1)) {
-                for (w, value) in total.iter_mut().zip(per_phase) {
-                    *w += value;
-                }
-            }
-        }
-        Ok(total)
-    }
 }
 
 #[cfg(test)]

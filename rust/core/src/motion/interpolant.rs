@@ -6,23 +6,10 @@
 
 use crate::error::Result;
 
-use super::quadrature::Panels;
+use super::quadrature::{Panels, LEGENDRE};
 
 /// The most points per panel whose interpolants [`Panels::interpolant`] holds.
-pub(crate) const MAX_ORDER: usize = 24;
-
-/// The three-term recurrence P_{k+1} = a_k x P_k − b_k P_{k−1} of the Legendre polynomials,
-/// a_k = (2k + 1)/(k + 1) and b_k = k/(k + 1) for k < [`MAX_ORDER`] (no division per term).
-const RECURRENCE: [(f64, f64); MAX_ORDER] = {
-    let mut table = [(0.0, 0.0); MAX_ORDER];
-    let mut k = 0;
-    while k < MAX_ORDER {
-        let j = k as f64;
-        table[k] = ((2.0 * j + 1.0) / (j + 1.0), j / (j + 1.0));
-        k += 1;
-    }
-    table
-};
+pub(crate) const MAX_ORDER: usize = super::quadrature::LEGENDRE_TABLE;
 
 /// The polynomial through a function's values at one panel's nodes (degree order − 1), in
 /// Legendre coefficients on the panel's own x ∈ [−1, 1], φ = middle + half·x.
@@ -59,7 +46,7 @@ impl Interpolant {
         let (mut p0, mut p1) = (1.0, x);
         let (mut d0, mut d1) = (0.0, 1.0);
         let (mut b0, mut b1) = (0.0, 0.0);
-        for (k, (c, &(a, b))) in c.iter().zip(&RECURRENCE).enumerate().skip(1) {
+        for (k, (c, &(a, b, _))) in c.iter().zip(&LEGENDRE).enumerate().skip(1) {
             value += c * p1;
             slope += c * d1;
             bend += c * b1;
@@ -89,7 +76,7 @@ impl Panels {
             let fw = f * w;
             let (mut previous, mut current) = (1.0, x);
             coefficients[0] += fw;
-            for (c, &(a, b)) in coefficients[1..n].iter_mut().zip(&RECURRENCE[1..]) {
+            for (c, &(a, b, _)) in coefficients[1..n].iter_mut().zip(&LEGENDRE[1..]) {
                 *c += fw * current;
                 let next = a * x * current - b * previous;
                 (previous, current) = (current, next);

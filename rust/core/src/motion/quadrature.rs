@@ -177,11 +177,13 @@ impl Panels {
     /// orthogonality, c_k = (2k + 1)/2 · Σ_i w_i f_i P_k(x_i) (exact: degree ≤ 2·order − 2).
     pub fn antiderivative(&self, values: &[f64]) -> Antiderivative<'_> {
         let n = self.order;
-        let basis: Vec<Vec<f64>> = self
-            .unit_nodes
-            .iter()
-            .map(|&x| legendre_all(n, x))
-            .collect();
+        // (2k + 1)/2 · w_i · P_k(x_i), degree-major: c_k = Σ_i of it times f_i.
+        let mut basis = vec![0.0; n * n];
+        for (i, (&x, &w)) in self.unit_nodes.iter().zip(&self.unit_weights).enumerate() {
+            for (k, p) in legendre_all(n, x).into_iter().enumerate() {
+                basis[k * n + i] = (2 * k + 1) as f64 * 0.5 * w * p;
+            }
+        }
         let mut at_edges = Vec::with_capacity(self.count() + 1);
         at_edges.push(0.0);
         let mut coefficients = Vec::with_capacity(values.len());
@@ -193,16 +195,11 @@ impl Panels {
                 .map(|(f, w)| f * w)
                 .sum();
             at_edges.push(at_edges[p] + half * sum);
-            coefficients.extend((0..n).map(|k| {
-                panel
-                    .iter()
-                    .zip(&self.unit_weights)
-                    .zip(&basis)
-                    .map(|((f, w), b)| f * w * b[k])
-                    .sum::<f64>()
-                    * (2 * k + 1) as f64
-                    * 0.5
-            }));
+            coefficients.extend(
+                basis
+                    .chunks_exact(n)
+                    .map(|row| row.iter().zip(panel).map(|(b, f)| b * f).sum::<f64>()),
+            );
         }
         Antiderivative {
             panels: self,
@@ -299,33 +296,15 @@ pub(crate) struct Antiderivative<'p> {
 }
 
 impl Antiderivative<'_> {
-    /// F(φ), φ (rad) in [0, Φ]: the panel sums up to φ's panel, then that panel's
-    /// interpolant integrated from its edge to φ, ∫_{−1}^x P_k = (P_{k+1}(x) − P_{k−1}(x))/
-    /// (2k + 1) (x + 1 for k = 0). φ's panel is the last whose edge is ≤ φ (NumPy's
-    /// `searchsorted(…, side="right") − 1`, kept in 0..P).
+    /// F(φ), φ (rad) in [0, Φ] ([`running_at`]).
     pub fn at(&self, angle: f64) -> f64 {
-        let (edges, n) = (&self.panels.edges, self.panels.order);
-        let p = edges
-            .partition_point(|&e| e <= angle)
-            .clamp(1, self.panels.count())
-            - 1;
-        let half = 0.5 * (edges[p + 1] - edges[p]);
-        let x = (angle - 0.5 * (edges[p] + edges[p + 1])) / half;
-        // P_{k−1}, P_k and P_{k+1} by the three-term recurrence as k runs (the values
-        // `legendre_all` gives, without a table per angle).
-        let coefficients = &self.coefficients[p * n..(p + 1) * n];
-        let mut integral = coefficients[0] * (x + 1.0);
-        let (mut previous, mut current) = (1.0, x);
-        for (k, c) in coefficients.iter().enumerate().skip(1) {
-            let next = {
-                let j = (k + 1) as f64;
-                ((2.0 * j - 1.0) * x * current - (j - 1.0) * previous) / j
-            };
-            integral += c * (next - previous) / (2 * k + 1) as f64;
-            previous = current;
-            current = next;
-        }
-        self.at_edges[p] + half * integral
+        running_at(self.panels, &self.at_edges, &self.coefficients, angle)
+    }
+
+    /// F's tables without the panels (F at the edges, each panel's coefficients), for
+    /// [`running_at`] on the same panels kept elsewhere.
+    pub fn into_tables(self) -> (Vec<f64>, Vec<f64>) {
+        (self.at_edges, self.coefficients)
     }
 
     /// F at the nodes.
@@ -336,6 +315,97 @@ impl Antiderivative<'_> {
             .map(|&angle| self.at(angle))
             .collect()
     }
+}
+
+/// Coefficients the tables of Legendre polynomials hold (higher ones are computed).
+pub(crate) const LEGENDRE_TABLE: usize = 24;
+
+/// The three-term recurrence P_{k+1} = a_k x P_k − b_k P_{k−1} of the Legendre polynomials
+/// and 1/(2k + 1), a_k = (2k + 1)/(k + 1), b_k = k/(k + 1), for k < [`LEGENDRE_TABLE`]: no
+/// division per term.
+pub(crate) const LEGENDRE: [(f64, f64, f64); LEGENDRE_TABLE] = {
+    let mut table = [(0.0, 0.0, 0.0); LEGENDRE_TABLE];
+    let mut k = 0;
+    while k < LEGENDRE_TABLE {
+        let j = k as f64;
+        table[k] = (
+            (2.0 * j + 1.0) / (j + 1.0),
+            j / (j + 1.0),
+            1.0 / (2.0 * j + 1.0),
+        );
+        k += 1;
+    }
+    table
+};
+
+/// (a_k, b_k, 1/(2k + 1)) of [`LEGENDRE`], computed where k is beyond the table.
+#[inline]
+pub(crate) fn legendre_step(k: usize) -> (f64, f64, f64) {
+    match LEGENDRE.get(k) {
+        Some(&step) => step,
+        None => {
+            let j = k as f64;
+            (
+                (2.0 * j + 1.0) / (j + 1.0),
+                j / (j + 1.0),
+                1.0 / (2.0 * j + 1.0),
+            )
+        }
+    }
+}
+
+/// The panel of `angle` among `edges` (ascending, `count` + 1 of them): the last whose edge
+/// is ≤ the angle, kept in 0..count (NumPy's `searchsorted(…, side="right") − 1`, clipped),
+/// guessed as if the edges were uniform and walked a few steps; a binary search where they
+/// are far from it. The same panel either way.
+fn panel_of(edges: &[f64], angle: f64) -> usize {
+    let count = edges.len() - 1;
+    let (first, last) = (edges[0], edges[count]);
+    let guess = ((angle - first) / (last - first) * count as f64).clamp(0.0, (count - 1) as f64);
+    let mut p = guess as usize;
+    for _ in 0..4 {
+        if p > 0 && edges[p] > angle {
+            p -= 1;
+        } else if p + 1 < count && edges[p + 1] <= angle {
+            p += 1;
+        } else {
+            return p;
+        }
+    }
+    edges.partition_point(|&e| e <= angle).clamp(1, count) - 1
+}
+
+/// F(φ) = ∫₀^φ f dφ, φ (rad) in [0, Φ], from the tables of a running integral on `panels`
+/// ([`Panels::antiderivative`]: F at the edges, each panel's Legendre coefficients of f's
+/// interpolant): the panel sums up to φ's panel, then that panel's interpolant integrated
+/// from its edge to φ, ∫_{−1}^x P_k = (P_{k+1}(x) − P_{k−1}(x))/(2k + 1) (x + 1 for k = 0);
+/// F at the edge itself where φ is on it. φ's panel is [`panel_of`] it.
+pub(crate) fn running_at(
+    panels: &Panels,
+    at_edges: &[f64],
+    coefficients: &[f64],
+    angle: f64,
+) -> f64 {
+    let (edges, n) = (&panels.edges, panels.order);
+    let p = panel_of(edges, angle);
+    let half = 0.5 * (edges[p + 1] - edges[p]);
+    let x = (angle - 0.5 * (edges[p] + edges[p + 1])) / half;
+    if x == -1.0 {
+        // On the edge: F there, exactly (the tabled recurrence leaves ulps of P_k(−1)).
+        return at_edges[p];
+    }
+    // P_{k−1}, P_k and P_{k+1} by the three-term recurrence as k runs.
+    let coefficients = &coefficients[p * n..(p + 1) * n];
+    let mut integral = coefficients[0] * (x + 1.0);
+    let (mut previous, mut current) = (1.0, x);
+    for (k, c) in coefficients.iter().enumerate().skip(1) {
+        let (a, b, over) = legendre_step(k);
+        let next = a * x * current - b * previous;
+        integral += c * (next - previous) * over;
+        previous = current;
+        current = next;
+    }
+    at_edges[p] + half * integral
 }
 
 /// P_0(x) … P_{count − 1}(x) by the three-term recurrence.

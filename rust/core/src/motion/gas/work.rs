@@ -1,0 +1,202 @@
+//! The gas work W(φ) = ∫₀^φ M_gas dφ of a machine, exact at every φ: each cylinder's
+//! indicator work G at phase 0 integrated on panels cut at every breakpoint of its tables
+//! (the room's doc, `gas`), and W the sum of the units' G at their phases.
+
+use std::f64::consts::PI;
+use std::sync::Arc;
+
+use crate::dynamics::{Dynamics, PhysicalCylinder};
+use crate::error::Result;
+use crate::parallel::Parallelism;
+
+use super::super::quadrature::{breaks, running_at, Panels};
+use super::{cylinder_force, periodic, GasCylinder, PiecewisePolynomial};
+
+/// F of one cylinder at phase 0 at every θ (rad), θ taken modulo the cycle.
+fn one_cylinder_forces(
+    cylinder: GasCylinder,
+    diagrams: &[PiecewisePolynomial],
+    cycle: f64,
+    theta: &[f64],
+) -> Vec<f64> {
+    theta
+        .iter()
+        .map(|&t| cylinder_force(&cylinder, diagrams, periodic(t, cycle)))
+        .collect()
+}
+
+/// Gauss points per panel of an indicator's interpolant of F·s′, F one polynomial of K
+/// coefficients (`pressure_order`) on every panel, the widest `widest` (rad) wide: m = K + d
+/// nodes take F times s′ to degree d exactly, d the least (at most 4) whose Taylor rest of
+/// s′, (h/2)^(d+1)/(d+1)!, is at most that of degree 4 on a panel of the widest width π/64,
+/// (π/128)⁵/5! — the resolution of s′ the Gauss rule of K + 3 degrees integrated before.
+/// Tables of half a degree or less take d = 3. Integrated exactly from the panel's edge, the
+/// interpolant gives G at every x.
+fn indicator_order(pressure_order: usize, widest: f64) -> usize {
+    let rest = |d: usize, h: f64| (1..=d + 1).fold(1.0, |r, k| r * 0.5 * h / k as f64);
+    let bound = rest(4, INDICATOR_WIDTH);
+    let d = (1..4).find(|&d| rest(d, widest) <= bound).unwrap_or(4);
+    pressure_order + d
+}
+
+/// The widest panel of an indicator rule (rad) (a table interval wider than this is split).
+const INDICATOR_WIDTH: f64 = PI / 64.0;
+
+/// G(x) = ∫₀^x F(θ) s'(θ) dθ of one cylinder at phase 0 (J), for any real x: F·s′ on
+/// panels cut at every breakpoint of the cylinder's tables (and its dead centres), at most
+/// π/64 wide, its interpolant through each panel's Gauss nodes integrated exactly
+/// ([`running_at`]).
+#[derive(Debug, Clone)]
+struct Indicator {
+    cycle: f64,
+    panels: Panels,
+    /// G at the edges.
+    at_edges: Vec<f64>,
+    /// Each panel's Legendre coefficients of F·s′'s interpolant.
+    coefficients: Vec<f64>,
+}
+
+impl Indicator {
+    fn new(
+        unit: &PhysicalCylinder,
+        gas: GasCylinder,
+        diagrams: &[PiecewisePolynomial],
+        cycle: f64,
+    ) -> Result<Self> {
+        let alone = PhysicalCylinder {
+            phase: 0.0,
+            ..*unit
+        };
+        let dynamics = Dynamics::new(&[alone], 0.0)?;
+        let tables: Vec<&PiecewisePolynomial> = [gas.head, gas.crank_end]
+            .into_iter()
+            .flatten()
+            .map(|d| &diagrams[d])
+            .collect();
+        let mut angles: Vec<f64> = (0..=(cycle / PI).round() as usize)
+            .map(|k| k as f64 * PI)
+            .collect();
+        for table in &tables {
+            angles.extend(table.breakpoints().iter().map(|x| x.rem_euclid(cycle)));
+        }
+        let order = tables.iter().map(|t| t.order()).max().unwrap_or(1);
+        let cuts = breaks(angles, cycle);
+        // The widest panel: a piece between cuts in equal panels no wider than the width.
+        let widest = cuts.windows(2).fold(0.0, |m: f64, pair| {
+            let width = pair[1] - pair[0];
+            m.max(width / (width / INDICATOR_WIDTH).ceil().max(1.0))
+        });
+        let panels = Panels::new(&cuts, indicator_order(order, widest), INDICATOR_WIDTH);
+        let forces = one_cylinder_forces(gas, diagrams, cycle, &panels.phi);
+        let mut torque = vec![0.0; panels.phi.len()];
+        dynamics.gas_torque(&panels.phi, &forces, &mut torque, Parallelism::SERIAL)?;
+        let (at_edges, coefficients) = panels.antiderivative(&torque).into_tables();
+        Ok(Self {
+            cycle,
+            panels,
+            at_edges,
+            coefficients,
+        })
+    }
+
+    fn per_cycle(&self) -> f64 {
+        self.at_edges[self.at_edges.len() - 1]
+    }
+
+    /// G(x) for each x.
+    fn at(&self, x: &[f64]) -> Vec<f64> {
+        let per_cycle = self.per_cycle();
+        x.iter()
+            .map(|&x| {
+                let t = (x / self.cycle).floor();
+                let y = x - t * self.cycle;
+                t * per_cycle + running_at(&self.panels, &self.at_edges, &self.coefficients, y)
+            })
+            .collect()
+    }
+}
+
+/// W(φ) = ∫₀^φ M_gas dφ of a machine (J).
+#[derive(Debug, Clone)]
+pub(crate) struct GasWork {
+    /// One G per distinct cylinder, with the phases of the units that share it.
+    groups: Vec<(Indicator, Vec<f64>)>,
+    origin: f64,
+    /// W(Φ), the indicated work of one cycle (J).
+    pub per_cycle: f64,
+}
+
+impl GasWork {
+    pub fn new(
+        units: &[PhysicalCylinder],
+        gas: &[GasCylinder],
+        diagrams: Arc<[PiecewisePolynomial]>,
+        cycle: f64,
+    ) -> Result<Self> {
+        // Units alike in all that G depends on: the same diagrams, areas, r and l.
+        type Key = (Option<usize>, Option<usize>, [u64; 4]);
+        let mut keys: Vec<Key> = Vec::new();
+        let mut members: Vec<(usize, Vec<f64>)> = Vec::new();
+        for (j, (unit, cylinder)) in units.iter().zip(gas).enumerate() {
+            if !cylinder.has_gas() {
+                continue;
+            }
+            let key = (
+                cylinder.head,
+                cylinder.crank_end,
+                [
+                    cylinder.bore.to_bits(),
+                    cylinder.piston_rod_diameter.to_bits(),
+                    unit.crank_radius.to_bits(),
+                    unit.rod_length.to_bits(),
+                ],
+            );
+            match keys.iter().position(|k| *k == key) {
+                Some(g) => members[g].1.push(unit.phase),
+                None => {
+                    keys.push(key);
+                    members.push((j, vec![unit.phase]));
+                }
+            }
+        }
+        let mut groups = Vec::with_capacity(members.len());
+        for (j, phases) in members {
+            groups.push((Indicator::new(&units[j], gas[j], &diagrams, cycle)?, phases));
+        }
+        let mut work = Self {
+            groups,
+            origin: 0.0,
+            per_cycle: 0.0,
+        };
+        work.per_cycle = work
+            .groups
+            .iter()
+            .map(|(g, phases)| g.per_cycle() * phases.len() as f64)
+            .sum();
+        let mut origin = 0.0;
+        for (g, phases) in &work.groups {
+            origin += g.at(phases).iter().sum::<f64>();
+        }
+        work.origin = origin;
+        Ok(work)
+    }
+
+    /// W at each φ.
+    pub fn at(&self, phi: &[f64]) -> Result<Vec<f64>> {
+        let mut total = vec![-self.origin; phi.len()];
+        for (g, phases) in &self.groups {
+            // Every phase of the group in one call, phase-major; added phase by phase.
+            let shifted: Vec<f64> = phases
+                .iter()
+                .flat_map(|phase| phi.iter().map(move |p| p + phase))
+                .collect();
+            let values = g.at(&shifted);
+            for per_phase in values.chunks_exact(phi.len().max(1)) {
+                for (w, value) in total.iter_mut().zip(per_phase) {
+                    *w += value;
+                }
+            }
+        }
+        Ok(total)
+    }
+}
