@@ -183,7 +183,12 @@ def _solve_chunk(
         result = frame.copy()
         for name in outputs:  # near_stall in its place, from delta by _near_stall
             if name in _SPEED_OUTPUTS:
-                result[name] = rpm_from_omega(found[_SPEED_OUTPUTS[name]])
+                # The row's rpm is the one asked, and ω and back is not always it to the last
+                # ulp: the extremes stay on either side of it in 1/min as the core keeps them
+                # about ω_m in rad/s.
+                speed = rpm_from_omega(found[_SPEED_OUTPUTS[name]])
+                asked = frame["rpm"].to_numpy(dtype=float) if "rpm" in frame else np.full(len(frame), machine.rpm)
+                result[name] = np.minimum(speed, asked) if name == "rpm_min" else np.maximum(speed, asked)
             else:
                 result[name] = False if name == "near_stall" else found[name]
         return _near_stall(result, outputs)
