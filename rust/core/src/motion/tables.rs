@@ -36,8 +36,9 @@ pub struct SteadyTables {
     /// The machine as it is; with g = 0 (`None` when g = 0 already); coasting (gravity and
     /// J(φ)'s variation alone).
     machine: Balance,
-    without_gravity: Option<Balance>,
-    coasting: Balance,
+    /// Both made on first use (a steady state without its comparisons needs neither).
+    without_gravity: OnceLock<Option<Balance>>,
+    coasting: OnceLock<Balance>,
     /// (ω_m, ΔE) of the textbook estimate at the first mean speed asked for (ΔE does not
     /// depend on I_w; a sweep sizes many flywheels at one speed).
     swing: OnceLock<(f64, f64)>,
@@ -107,23 +108,38 @@ impl SteadyTables {
     fn from_cycle(cycle: Cycle) -> Result<Self> {
         let cycle = Arc::new(cycle);
         let load = balance_load(&cycle);
-        let without_gravity = if cycle.gravity_on {
-            Some(Balance::new(
-                &Arc::new(cycle.without_gravity()),
-                load,
-                true,
-            )?)
-        } else {
-            None
-        };
         Ok(Self {
             machine: Balance::new(&cycle, load, true)?,
-            coasting: Balance::new(&cycle, 0.0, false)?,
-            without_gravity,
+            coasting: OnceLock::new(),
+            without_gravity: OnceLock::new(),
             load,
             cycle,
             swing: OnceLock::new(),
         })
+    }
+
+    /// The energy method's set-up with g = 0 (`None` where g = 0 already), made on first
+    /// use from these tables (nothing is tabulated again).
+    fn without_gravity_balance(&self) -> Result<Option<&Balance>> {
+        if let Some(made) = self.without_gravity.get() {
+            return Ok(made.as_ref());
+        }
+        let made = if self.cycle.gravity_on {
+            let cycle = Arc::new(self.cycle.without_gravity());
+            Some(Balance::new(&cycle, self.load, true)?)
+        } else {
+            None
+        };
+        Ok(self.without_gravity.get_or_init(|| made).as_ref())
+    }
+
+    /// The set-up of the machine coasting (gas, drive and load removed), made on first use.
+    fn coasting_balance(&self) -> Result<&Balance> {
+        if let Some(made) = self.coasting.get() {
+            return Ok(made);
+        }
+        let made = Balance::new(&self.cycle, 0.0, false)?;
+        Ok(self.coasting.get_or_init(|| made))
     }
 
     /// ΔE (J) of the textbook flywheel estimate at the mean speed `omega_mean` (rad/s): the
@@ -144,14 +160,14 @@ impl SteadyTables {
     /// g = 0 that they hold already becomes the machine's (nothing is tabulated again; only
     /// the set-up of the variation of J alone at g = 0 is made). A clone where g = 0 already.
     pub fn without_gravity(&self) -> Result<Self> {
-        let Some(balance) = &self.without_gravity else {
+        let Some(balance) = self.without_gravity_balance()? else {
             return Ok(self.clone());
         };
         let cycle = Arc::clone(balance.shared_cycle());
         Ok(Self {
             machine: balance.clone(),
-            without_gravity: None,
-            coasting: Balance::new(&cycle, 0.0, false)?,
+            without_gravity: OnceLock::from(None),
+            coasting: OnceLock::new(),
             load: self.load,
             cycle,
             swing: OnceLock::new(),
@@ -342,8 +358,7 @@ impl SteadyTables {
         omega_mean: f64,
         ratio: f64,
     ) -> Result<Option<f64>> {
-        self.without_gravity
-            .as_ref()
+        self.without_gravity_balance()?
             .map(|balance| {
                 Ok(balance
                     .at_speed(omega_mean)
@@ -362,7 +377,7 @@ impl SteadyTables {
         ratio: f64,
     ) -> Result<f64> {
         Ok(self
-            .coasting
+            .coasting_balance()?
             .at_speed(omega_mean)
             .solve(shaft_inertia, ratio, None)?
             .delta_or_nan())
@@ -398,17 +413,20 @@ impl SteadyTables {
             delta,
             start,
         )?;
-        let without = match (&self.without_gravity, without) {
-            (_, false) => f64::NAN,
-            (None, true) => inertia,
-            (Some(balance), true) => flywheel::inertia_for(
-                &balance.at_speed(omega_mean),
-                min_speed_ratio,
-                rest,
-                delta,
-                inertia,
-            )
-            .unwrap_or(f64::NAN),
+        let without = if without {
+            match self.without_gravity_balance()? {
+                None => inertia,
+                Some(balance) => flywheel::inertia_for(
+                    &balance.at_speed(omega_mean),
+                    min_speed_ratio,
+                    rest,
+                    delta,
+                    inertia,
+                )
+                .unwrap_or(f64::NAN),
+            }
+        } else {
+            f64::NAN
         };
         Ok(FlywheelInertia::sized(
             inertia,
