@@ -63,7 +63,7 @@ fn forces(c: &mut Criterion) {
         b.iter(|| orders.at(157.0, 12).expect("a speed"))
     });
     let bearings: Vec<f64> = (0..=throws.len()).map(|b| 0.2 * b as f64 - 0.1).collect();
-    let layout = BearingLayout::new(&throw_of_unit, &throws, &bearings).expect("valid layout");
+    let layout = BearingLayout::new(&axial, Some(&bearings), 0.05).expect("valid layout");
     let phi: Vec<f64> = (0..ANGLES)
         .map(|i| 4.0 * PI * i as f64 / ANGLES as f64)
         .collect();

@@ -13,8 +13,8 @@ use std::f64::consts::{FRAC_PI_2, PI, TAU};
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use multicrank_core::{
     all_energy_extrema, build_series, crank_phases, motion_sweep, steady_state, sweep, Acting,
-    Design, Dynamics, GasCylinder, Kinematics, Machine, MachineDesigns, MotionOutputs, Parallelism,
-    PhaseSetTable, Phases, PhysicalCylinder, PiecewisePolynomial, SeriesKind, Strokes,
+    Design, Dynamics, GasCylinder, Kinematics, MachineDesigns, MachineView, MotionOutputs,
+    Parallelism, PhaseSetTable, Phases, PhysicalCylinder, PiecewisePolynomial, SeriesKind, Strokes,
     SweepOutputs,
 };
 
@@ -141,7 +141,7 @@ fn motion(c: &mut Criterion) {
         units.len()
     ];
     let diagrams = [pressure()];
-    let machine = Machine {
+    let machine = MachineView {
         units: &units,
         gas: &gas,
         diagrams: &diagrams,

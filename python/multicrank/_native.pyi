@@ -22,10 +22,11 @@ __all__ = [
     "SWEEP_OUTPUTS",
     "FlywheelResult",
     "MechanismError",
-    "MotionMachine",
+    "NativeMachine",
     "SteadyResult",
     "__version__",
     "_after_fork_in_child",
+    "bearing_layout",
     "build_profile",
     "crank_phases",
     "dimensionless_moments",
@@ -39,13 +40,6 @@ __all__ = [
     "fourier_coefficients",
     "get_parallel_threshold",
     "lambda_coefficients",
-    "machine_bearing_loads",
-    "machine_engine",
-    "machine_evaluate",
-    "machine_frame_sweep",
-    "machine_gas_torque",
-    "machine_inertia",
-    "machine_torque_orders",
     "paper_coefficient",
     "piston_forces",
     "set_parallel_threshold",
@@ -53,6 +47,7 @@ __all__ = [
     "sweep",
     "sweep_engines",
     "two_mass_rod_inertia",
+    "unit_travel",
 ]
 
 _Array = npt.NDArray[np.float64]
@@ -153,8 +148,9 @@ class FlywheelResult:
     def omega_mean(self) -> float: ...
 
 @final
-class MotionMachine:
-    """A machine as its steady state takes it, converted and checked once (immutable).
+class NativeMachine:
+    """A machine as the core holds it, converted and checked once (immutable): its gravity,
+    kinematics and torques, its motion, the forces on its frame.
 
     ``pressure`` and ``pressure_crank_end``: per unit None or the gauge pressure's SciPy
     ``PPoly`` arrays (x, c), c of shape (K, len(x) - 1). A stall is a MechanismError with
@@ -173,7 +169,26 @@ class MotionMachine:
         strokes: int,
         g: float,
         axial_position: _Array | None = None,
-    ) -> MotionMachine: ...
+        main_bearings: _Array | None = None,
+    ) -> NativeMachine: ...
+    def evaluate(self, quantity: str, phi: _Phi, parallel_threshold: int | None = None) -> _Array: ...
+    def reduced_inertia(
+        self, phi: _Phi, shaft_inertia: float | None = None, parallel_threshold: int | None = None
+    ) -> dict[str, _Array]: ...
+    def gas_torque(self, phi: _Phi, forces: _Array, parallel_threshold: int | None = None) -> _Array: ...
+    def engine(self, omega: float, shaft_inertia: float | None = None) -> dict[str, _Array]: ...
+    def layout(self) -> tuple[list[float], list[int], list[float]]: ...
+    def bearing_loads(
+        self, phi: _Array, omega: _Array, acceleration: _Array, gravity: bool = True
+    ) -> tuple[_Array, _Array]: ...
+    def frame_sweep(
+        self,
+        designs: Mapping[str, _Array],
+        outputs: Sequence[str],
+        omega: float | None,
+        parallel_threshold: int | None = None,
+    ) -> dict[str, _Array]: ...
+    def torque_orders(self, omega: float, max_order: int, gravity: bool = True) -> dict[str, _Array | float]: ...
     def steady_state(
         self,
         omega_mean: float,
@@ -270,40 +285,12 @@ def engine_leading_harmonic(engine: _Columns) -> dict[str, float]: ...
 def engine_sensitivity(
     engine: _Columns, u1_rel: float, u2_rel: float, phase: float, n_max: int
 ) -> dict[str, _Array]: ...
-def machine_evaluate(
-    quantity: str, units: _Columns, g: float, phi: _Phi, parallel_threshold: int | None = None
-) -> _Array: ...
-def machine_inertia(
-    units: _Columns, shaft_inertia: float, phi: _Phi, parallel_threshold: int | None = None
-) -> dict[str, _Array]: ...
-def machine_gas_torque(units: _Columns, phi: _Phi, forces: _Array, parallel_threshold: int | None = None) -> _Array: ...
-def machine_bearing_loads(
-    machine: MotionMachine,
-    phi: _Array,
-    omega: _Array,
-    acceleration: _Array,
-    throw_of_unit: Sequence[int],
-    throw_position: _Array,
-    bearing_position: _Array,
-    gravity: bool = True,
-) -> tuple[_Array, _Array]: ...
-def machine_frame_sweep(
-    machine: MotionMachine,
-    designs: Mapping[str, _Array],
-    outputs: Sequence[str],
-    omega: float | None,
-    axial_position: _Array,
-    throw_of_unit: Sequence[int],
-    throw_position: _Array,
-    bearing_position: _Array,
-    parallel_threshold: int | None = None,
-) -> dict[str, _Array]: ...
+def bearing_layout(
+    axial_position: Sequence[float], main_bearings: Sequence[float] | None, crank_radius: float
+) -> tuple[list[float], list[int], list[float]]: ...
+def unit_travel(units: _Columns, phi: _Phi) -> _Array: ...
 def piston_forces(bore: _Array, piston_rod_diameter: _Array, head: _Array, crank_end: _Array) -> _Array: ...
-def machine_engine(units: _Columns, g: float, shaft_inertia: float, omega: float) -> dict[str, _Array]: ...
 def two_mass_rod_inertia(rod_mass: float, rod_length: float, rod_cg: float) -> float: ...
 def get_parallel_threshold() -> int: ...
 def set_parallel_threshold(threshold: int) -> None: ...
 def _after_fork_in_child() -> None: ...
-def machine_torque_orders(
-    machine: MotionMachine, omega: float, max_order: int, gravity: bool = True
-) -> dict[str, _Array | float]: ...

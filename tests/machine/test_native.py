@@ -1,4 +1,4 @@
-"""The native machine of the steady state (multicrank._native.MotionMachine, made by
+"""The native machine of the steady state (multicrank._native.NativeMachine, made by
 multicrank.machine.native.native_machine) and mc.steady_state / mc.flywheel_inertia through it:
 against an independent oracle (rust/core/tests/data/oracle.py: planar geometry, complex-step
 derivatives, SciPy interpolants and quadratures, brentq; it shares no code with multicrank),
@@ -18,7 +18,7 @@ import pandas as pd
 import pytest
 
 import multicrank as mc
-from multicrank._native import MOTION_SWEEP_OUTPUTS, FlywheelResult, MotionMachine, SteadyResult
+from multicrank._native import MOTION_SWEEP_OUTPUTS, FlywheelResult, NativeMachine, SteadyResult
 from multicrank.machine.cylinder import unit_columns
 from multicrank.machine.native import native_machine
 from multicrank.motion.variants import machine_variant
@@ -98,7 +98,7 @@ def test_the_steady_state_agrees_with_the_oracle(record):
     expected = record["steady_state"]
     state = mc.steady_state(m, rpm=record["rpm"])
     native = native_machine(m)
-    assert isinstance(native, MotionMachine)
+    assert isinstance(native, NativeMachine)
     found = native.steady_state(omega(record["rpm"]))
     assert isinstance(found, SteadyResult) and found.omega is None and found.gas_torque is None
     for key, kind in [("omega_mean", "integrals"), ("period", "integrals"), ("mean_load_torque", "integrals")]:
@@ -322,7 +322,7 @@ def native_table(pressure):
 def test_a_bad_machine_names_the_parameter(change, named):
     arguments = columns_of(machine("marine-2t-twin")) | change
     with pytest.raises(mc.MechanismError, match=named):
-        MotionMachine(**arguments)
+        NativeMachine(**arguments)
 
 
 def test_bad_calls_name_the_parameter():
@@ -417,7 +417,7 @@ def _counting_builds(monkeypatch: pytest.MonkeyPatch) -> list[object]:
     built: list[object] = []
     convert = native.native_machine
 
-    def counted(machine: mc.Machine) -> MotionMachine:
+    def counted(machine: mc.Machine) -> NativeMachine:
         built.append(machine)
         return convert(machine)
 
@@ -481,7 +481,7 @@ def test_threads_share_one_native_machine_and_agree(monkeypatch):
     convert = native.native_machine
     second, entered = Event(), []
 
-    def slow(machine: mc.Machine) -> MotionMachine:
+    def slow(machine: mc.Machine) -> NativeMachine:
         # The first build waits (GIL released) until another thread builds too, as one
         # without the machine's lock would; with it, none does and the wait runs out.
         entered.append(machine)
@@ -495,7 +495,7 @@ def test_threads_share_one_native_machine_and_agree(monkeypatch):
     machine = mc.presets.MACHINES["genset-v12"].replace(shaft_inertia=41.0)
     together = Barrier(8)
 
-    def ask(_: int) -> MotionMachine:
+    def ask(_: int) -> NativeMachine:
         together.wait()  # all eight ask at once
         return native.motion_machine(machine)
 

@@ -16,7 +16,6 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .._native import machine_bearing_loads
 from .._validation import (
     as_flag,
     as_instance,
@@ -93,7 +92,7 @@ class BearingLoads:
         if not self._without_gravity:
             if self.gravity:
                 phi = None if self.steady else self.phi
-                _, horizontal, vertical = _loads(self.machine, self.omega, self.steady, phi, False, self.positions)
+                _, horizontal, vertical = _loads(self.machine, self.omega, self.steady, phi, False)
             else:
                 horizontal, vertical = self.horizontal, self.vertical
             self._without_gravity.append((horizontal, vertical))
@@ -280,7 +279,7 @@ def _bearing_loads(
     """The loads of checked input, ω [rad/s] (in steady running: of ``state`` where given, the
     machine's steady state at that mean speed with gravity, else one solved here)."""
     positions = np.asarray(machine.bearings, dtype=float)
-    angles, horizontal, vertical = _loads(machine, omega, steady, phi, gravity, positions, state)
+    angles, horizontal, vertical = _loads(machine, omega, steady, phi, gravity, state)
     return BearingLoads(machine, rpm_from_omega(omega), omega, steady, gravity, angles, positions, vertical, horizontal)
 
 
@@ -290,13 +289,12 @@ def _loads(
     steady: bool,
     phi: Any,
     gravity: bool,
-    positions: np.ndarray,
     state: SteadyState | None = None,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(φ, horizontal, vertical) of one pass of the core: at the constant speed ω [rad/s] at
     the angles ``phi`` (None: the default ones), or in steady running at that mean speed (of
-    ``state`` where given: :data:`DEFAULT_POINTS` of its uniform angles); the bearings at
-    ``positions`` [m] (``machine.bearings``)."""
+    ``state`` where given: :data:`DEFAULT_POINTS` of its uniform angles); every bearing of
+    the machine's (``machine.bearings``), bearing-major."""
     if steady:
         if state is None:
             from ..motion.steady import balanced_state
@@ -311,17 +309,9 @@ def _loads(
     angles, speeds, accelerations = (contiguous(np.asarray(a, dtype=float)) for a in (angles, speeds, accelerations))
     from ..motion._periodic import at_load
 
-    horizontal, vertical = machine_bearing_loads(
-        motion_machine(at_load(machine, omega)),  # the load law's gas forces at this speed
-        angles,
-        speeds,
-        accelerations,
-        list(machine.throw_index),
-        contiguous(np.asarray(machine.throws, dtype=float)),
-        contiguous(positions),
-        gravity,
-    )
-    shape = (len(positions), angles.size)
+    # the load law's gas forces at this speed
+    horizontal, vertical = motion_machine(at_load(machine, omega)).bearing_loads(angles, speeds, accelerations, gravity)
+    shape = (len(machine.bearings), angles.size)
     return angles, horizontal.reshape(shape), vertical.reshape(shape)
 
 

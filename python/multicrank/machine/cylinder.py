@@ -17,9 +17,9 @@ from typing import Any
 
 import numpy as np
 
-from .._native import machine_evaluate as _native_machine_evaluate
 from .._native import piston_forces as _native_piston_forces
 from .._native import two_mass_rod_inertia as _native_two_mass_rod_inertia
+from .._native import unit_travel as _native_unit_travel
 from .._validation import as_option, as_real_array, as_scalar, check_fields, check_magnitude, contiguous, refused
 from ..pressure.diagram import IndicatorDiagram
 
@@ -198,7 +198,7 @@ class Cylinder:
             if value is not None and not callable(value):
                 raise refused(name, f"{name} must be None or a callable of the cycle angle [rad] -> Pa")
         # Geometry and masses: the core's rules, checked now rather than at first use.
-        _native_machine_evaluate("travel", unit_columns([self]), 0.0, np.zeros(0))
+        _native_unit_travel(unit_columns([self]), np.zeros(0))
 
     @property
     def crank_ratio(self) -> float:
@@ -265,7 +265,7 @@ class Cylinder:
             raise refused("clearance_volume", f"clearance_volume = {clearance} is out of range; allowed: > 0 [m³]")
         angles = as_real_array(theta, "theta")
         own = dict(unit_columns([self]), phase=np.zeros(1))
-        travel = _native_machine_evaluate("travel", own, 0.0, contiguous(angles).reshape(-1)).reshape(angles.shape)
+        travel = _native_unit_travel(own, contiguous(angles).reshape(-1)).reshape(angles.shape)
         if end == "head":
             return clearance + self.piston_area * travel
         return clearance + self.crank_end_area * (self.stroke - travel)

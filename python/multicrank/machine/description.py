@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .._native import machine_engine as _native_machine_engine
+from .._native import NativeMachine
 from .._text import counted
 from .._validation import refused, rpm_from_omega, running_omega
 from ..gravity.engines import Engine
@@ -30,7 +30,7 @@ class MachineDescription:
         rpm: float | None
 
         @property
-        def _units(self) -> dict[str, np.ndarray]: ...  # made on first use
+        def _core(self) -> NativeMachine: ...  # made on first use
 
         def __len__(self) -> int: ...
 
@@ -64,7 +64,7 @@ class MachineDescription:
             When no ``rpm`` is given and the machine has none.
         """
         omega = running_omega(self, rpm)
-        columns = _native_machine_engine(self._units, self.g, self.shaft_inertia, omega)
+        columns = self._core.engine(omega)
         return Engine(**columns, name=f"{self.name} at {rpm_from_omega(omega):g} rpm")
 
     def design(self, rpm: float | None = None) -> dict[str, Any]:

@@ -11,8 +11,7 @@ from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 
-from .._native import machine_evaluate as _native_machine_evaluate
-from .._native import machine_inertia as _native_machine_inertia
+from .._native import NativeMachine
 from .._shaft import inertia_torque as _inertia_torque
 from .._validation import as_real_array, as_threshold
 from ..gravity.grids import as_phi
@@ -45,7 +44,7 @@ class MachineDynamics:
         g: float
 
         @property
-        def _units(self) -> dict[str, np.ndarray]: ...  # made on first use
+        def _core(self) -> NativeMachine: ...  # made on first use
 
         def __len__(self) -> int: ...
 
@@ -75,14 +74,14 @@ class MachineDynamics:
             its fields have the names of the motion results' arrays.
         """
         shape, angles = as_phi(phi)
-        result = _native_machine_inertia(self._units, self.shaft_inertia, angles, as_threshold(parallel_threshold))
+        result = self._core.reduced_inertia(angles, parallel_threshold=as_threshold(parallel_threshold))
         return ReducedInertia(result["J"].reshape(shape), result["dJ_dphi"].reshape(shape))
 
     def _evaluate(self, quantity: str, phi: Any, parallel_threshold: Any, per_unit: bool = False) -> np.ndarray:
         """One of the core's per-angle quantities, shaped as ``phi`` (with a leading unit axis
         for per-unit ones)."""
         shape, angles = as_phi(phi)
-        flat = _native_machine_evaluate(quantity, self._units, self.g, angles, as_threshold(parallel_threshold))
+        flat = self._core.evaluate(quantity, angles, as_threshold(parallel_threshold))
         return flat.reshape((len(self), *shape) if per_unit else shape)
 
     def potential_energy(self, phi: Any, *, parallel_threshold: Any = None) -> np.ndarray:

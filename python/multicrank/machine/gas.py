@@ -12,8 +12,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .._native import MechanismError
-from .._native import machine_gas_torque as _native_machine_gas_torque
+from .._native import MechanismError, NativeMachine
 from .._native import piston_forces as _native_piston_forces
 from .._validation import as_real_array, as_returned, as_threshold, contiguous, refused
 from .cylinder import Cylinder, Pressure
@@ -30,6 +29,9 @@ class MachineGas:
 
         @property
         def _units(self) -> dict[str, np.ndarray]: ...  # made on first use
+
+        @property
+        def _core(self) -> NativeMachine: ...  # made on first use
 
         @property
         def cycle(self) -> float: ...
@@ -99,7 +101,7 @@ class MachineGas:
         angles = np.asarray(as_real_array(phi, "phi"), dtype=float)
         flat = contiguous(angles).reshape(-1)
         forces = contiguous(self.piston_forces(flat)).reshape(-1)
-        torque = _native_machine_gas_torque(self._units, flat, forces, as_threshold(parallel_threshold))
+        torque = self._core.gas_torque(flat, forces, as_threshold(parallel_threshold))
         return torque.reshape(angles.shape)
 
 

@@ -22,6 +22,7 @@ from typing import Any
 
 import numpy as np
 
+from .._native import NativeMachine
 from .._validation import (
     as_instance,
     as_omega,
@@ -44,8 +45,7 @@ from .dynamics import MachineDynamics
 from .gas import MachineGas
 from .loading import from_toml as _from_toml
 from .phases import chosen_firing, even_firing
-from .shaft import as_bearings, default_bearings
-from .shaft import throws as _throws
+from .shaft import ShaftLayout, as_bearings, layout_of
 
 __all__ = ["LOAD_LAWS", "Machine", "load_factor", "rated_omega"]
 
@@ -54,7 +54,7 @@ __all__ = ["LOAD_LAWS", "Machine", "load_factor", "rated_omega"]
 LOAD_LAWS = ("propeller",)
 
 #: What a machine keeps of its own computations (never pickled, copied or compared).
-_DERIVED = ("_native", "_native_lock", "_torsion_orders", "_units")
+_DERIVED = ("_layout", "_native", "_native_lock", "_torsion_orders", "_units")
 
 #: A machine's fields, as :meth:`Machine.replace` takes them.
 _MACHINE_FIELDS = (
@@ -240,10 +240,8 @@ class Machine(MachineDescription, MachineDynamics, MachineGas):
                         f"{round(period / math.pi)} or a diagram of the machine's cycle",
                     )
         self.delta_target: float | None = None if delta_target is None else _delta_target(delta_target)
-        self.main_bearings: tuple[float, ...] | None = None
-        if main_bearings is not None:
-            members = [[j for j, t in enumerate(self.throw_index) if t == index] for index in range(len(self.throws))]
-            self.main_bearings = as_bearings(main_bearings, self.throws, members)
+        self.main_bearings: tuple[float, ...] | None = None if main_bearings is None else as_bearings(main_bearings)
+        _ = self._layout  # the throws and bearings, checked by the core's rules now
         self.shaft: Shaft | None = None if shaft is None else _as_shaft(shaft, len(cylinders))
         self.load_law: str | None = None if load_law is None else _load_law(load_law, self.rpm)
         self._sealed = True
@@ -470,6 +468,21 @@ class Machine(MachineDescription, MachineDynamics, MachineGas):
         cached_property writes the instance's dict, past the sealed __setattr__."""
         return unit_columns(self.cylinders)
 
+    @functools.cached_property
+    def _layout(self) -> ShaftLayout:
+        """The throws and bearings (:func:`~multicrank.machine.shaft.layout_of`, the core's
+        rules), made on first use and kept."""
+        positions = [c.axial_position for c in self.cylinders]
+        return layout_of(positions, self.main_bearings, max(c.crank_radius for c in self.cylinders))
+
+    @property
+    def _core(self) -> NativeMachine:
+        """The core's machine (:func:`~multicrank.machine.native.motion_machine`): made on
+        first use and kept, every question about this machine asked of it."""
+        from .native import motion_machine  # native packs a Machine: it imports this module
+
+        return motion_machine(self)
+
     @property
     def cycle(self) -> float:
         """Φ [rad]: the crank angle of one working cycle, π·strokes."""
@@ -492,13 +505,13 @@ class Machine(MachineDescription, MachineDynamics, MachineGas):
         >>> [round(z, 6) for z in vee.bearings]
         [-0.05, 0.05, 0.15, 0.25]
         """
-        return _throws([c.axial_position for c in self.cylinders])[0]
+        return self._layout.throws
 
     @property
     def throw_index(self) -> tuple[int, ...]:
         """Each cylinder's throw: its index in :attr:`throws` (an int per cylinder, in the
         machine's order)."""
-        return _throws([c.axial_position for c in self.cylinders])[1]
+        return self._layout.throw_index
 
     @property
     def bearings(self) -> tuple[float, ...]:
@@ -513,7 +526,7 @@ class Machine(MachineDescription, MachineDynamics, MachineGas):
         """
         if self.main_bearings is not None:
             return self.main_bearings
-        return default_bearings(self.throws, max(c.crank_radius for c in self.cylinders))
+        return self._layout.bearings
 
     def load_factor(self, rpm: Any) -> float:
         """The factor :attr:`load_law` puts on the gauge pressures at the speed n.

@@ -1,7 +1,8 @@
 """A :class:`~multicrank.Machine` as the Rust core's steady state takes it: :func:`native_machine`,
-the one place where a machine becomes a :class:`multicrank._native.MotionMachine` (its unit
-columns, its gas as piecewise polynomials in SciPy's ``PPoly`` layout, I_w, the strokes and g),
-converted and checked once and reused by every call.
+the one place where a machine becomes a :class:`multicrank._native.NativeMachine` (its unit
+columns, its gas as piecewise polynomials in SciPy's ``PPoly`` layout, I_w, the strokes, g, the
+cylinders' axial positions and the main bearings), converted and checked once by the core and
+reused by every call: its gravity, kinematics and torques, its motion, its frame's forces.
 
 An :class:`~multicrank.IndicatorDiagram` crosses as its own interpolant. Any other pressure
 callable p(θ) is evaluated once on a fixed grid of θ over the working cycle (:func:`sampled`:
@@ -23,7 +24,7 @@ from typing import Any
 
 import numpy as np
 
-from .._native import MotionMachine
+from .._native import NativeMachine
 from .._validation import contiguous
 from ..pressure.diagram import IndicatorDiagram
 from .cylinder import unit_columns
@@ -100,16 +101,23 @@ def _cut_at_kinks(x: np.ndarray, function: Any, cycle: float) -> np.ndarray:
     return np.union1d(x, kinks[~near])
 
 
-def _table(pressure: object) -> _Table:
-    """A cylinder end's pressure as the (x, c) arrays of the ``PPoly`` the diagram evaluates."""
+def _table(pressure: object, cycle: float) -> _Table:
+    """A cylinder end's pressure as the (x, c) arrays of the ``PPoly`` the diagram evaluates,
+    over the machine's working cycle ``cycle`` [rad]: a diagram of a shorter cycle (a
+    compressor's 2π on a four-stroke machine) repeated until it spans it, the same pieces."""
     assert isinstance(pressure, IndicatorDiagram)
     poly = pressure._poly  # the interpolant itself (pressure/diagram.py): the very same doubles
     c = np.asarray(poly.c, dtype=np.float64)
-    return contiguous(poly.x), contiguous(c.reshape(c.shape[0], c.shape[1]))
+    x, c = np.asarray(poly.x, dtype=np.float64), c.reshape(c.shape[0], c.shape[1])
+    repeats = round(cycle / pressure.cycle)
+    if repeats > 1:
+        x = np.concatenate([x[:-1] + k * pressure.cycle for k in range(repeats)] + [[cycle]])
+        c = np.tile(c, (1, repeats))
+    return contiguous(x), contiguous(c)
 
 
-def native_machine(machine: Machine) -> MotionMachine:
-    """``machine`` as the core's :class:`~multicrank._native.MotionMachine`.
+def native_machine(machine: Machine) -> NativeMachine:
+    """``machine`` as the core's :class:`~multicrank._native.NativeMachine`.
 
     Parameters
     ----------
@@ -118,7 +126,7 @@ def native_machine(machine: Machine) -> MotionMachine:
 
     Returns
     -------
-    MotionMachine
+    NativeMachine
         The core's machine; a pressure that is not an :class:`~multicrank.IndicatorDiagram`
         crosses sampled (:func:`sampled`), each callable evaluated once.
 
@@ -135,12 +143,13 @@ def native_machine(machine: Machine) -> MotionMachine:
             if pressure is None:
                 tables.append(None)
             elif isinstance(pressure, IndicatorDiagram):
-                tables.append(_table(pressure))
+                tables.append(_table(pressure, machine.cycle))
             else:
                 if id(pressure) not in samples:
                     samples[id(pressure)] = sampled(pressure, machine.cycle, end)
                 tables.append(samples[id(pressure)])
-    return MotionMachine(
+    bearings = machine.main_bearings
+    return NativeMachine(
         unit_columns(machine.cylinders),
         contiguous(np.array([c.bore for c in machine.cylinders], dtype=float)),
         contiguous(np.array([c.piston_rod_diameter for c in machine.cylinders], dtype=float)),
@@ -150,11 +159,12 @@ def native_machine(machine: Machine) -> MotionMachine:
         strokes=machine.strokes,
         g=machine.g,
         axial_position=contiguous(np.array([c.axial_position for c in machine.cylinders], dtype=float)),
+        main_bearings=None if bearings is None else contiguous(np.array(bearings, dtype=float)),
     )
 
 
-def motion_machine(machine: Machine) -> MotionMachine:
-    """The :class:`~multicrank._native.MotionMachine` of ``machine``, owned by it: made on
+def motion_machine(machine: Machine) -> NativeMachine:
+    """The :class:`~multicrank._native.NativeMachine` of ``machine``, owned by it: made on
     first use (a pressure callable is sampled then, once: see :func:`native_machine`) and kept
     on the machine (``Machine._native``, left out of its pickle, its equality and
     :meth:`~multicrank.Machine.replace`), so that its cycle's tables, made by the first steady

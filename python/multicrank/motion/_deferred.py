@@ -13,7 +13,7 @@ from typing import Any
 
 import numpy as np
 
-from .._native import MotionMachine, SteadyResult
+from .._native import NativeMachine, SteadyResult
 from .._shaft import inertia_torque
 from ..machine.machine import Machine
 from ._periodic import Rules
@@ -85,7 +85,7 @@ class CoreQuestion:
 
     Attributes
     ----------
-    native : MotionMachine
+    native : NativeMachine
         The machine's native machine (:func:`~multicrank.machine.native.motion_machine`).
     machine : Machine
         The machine.
@@ -112,7 +112,7 @@ class CoreQuestion:
         The solution's ω_m [rad/s], t_Φ [s] and mean load [N·m] as the result holds them.
     """
 
-    native: MotionMachine
+    native: NativeMachine
     machine: Machine
     rules: Rules
     omega: float | None

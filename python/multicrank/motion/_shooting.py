@@ -5,7 +5,7 @@ core cannot call a Python load.
 The equation of motion J φ̈ + ½ J′ φ̇² = M − U′ is, with the kinetic energy E = ½ J ω² as the
 unknown and φ as the variable, dE/dφ = M(φ, ω) − U′(φ). Its part that depends on φ alone,
 K₀(φ) = W(φ) − (U(φ) − U(0)) [J] (W the gas work from φ = 0), comes from the Rust core
-(:meth:`~multicrank._native.MotionMachine.gas_and_gravity_work`, exact also for tabulated
+(:meth:`~multicrank._native.NativeMachine.gas_and_gravity_work`, exact also for tabulated
 pressures); SciPy's ``solve_ivp`` (DOP853) integrates only Y = E − K₀, with
 dY/dφ = M_drive(φ, ω) − M_load(φ, ω), and the time t, with dt/dφ = 1/ω, over one cycle, and
 Brent's method finds the E(0) with E(Φ) = E(0). J(φ) is the machine's

@@ -28,8 +28,8 @@ for the gas torque, the inertia torque −½ J'(φ) ω² at the mean speed, the 
   the speed n are those given times (n/n_r)² (the propeller law); the gas torque is linear in
   them, so its coefficients are those of the diagrams as given times that factor, exactly.
 
-The Rust core computes the coefficients (``_native.machine_torque_orders`` on the machine's
-native ``MotionMachine``); here they are checked, rounded
+The Rust core computes the coefficients (``NativeMachine.torque_orders`` of the machine's
+native machine); here they are checked, rounded
 (:data:`RESOLUTION`) and laid out.
 """
 
@@ -42,7 +42,6 @@ from typing import Any
 
 import numpy as np
 
-from .._native import machine_torque_orders
 from .._optional import require
 from .._validation import (
     SPEED_LIMITS,
@@ -135,7 +134,7 @@ def torque_orders(machine: Machine, rpm: float, *, max_order: int = 12, gravity:
     omega = as_omega(rpm, "rpm")
     highest = as_count(max_order, "max_order", minimum=1)
     gravity = as_flag(gravity, "gravity")
-    found = machine_torque_orders(motion_machine(machine), omega, highest, gravity)
+    found = motion_machine(machine).torque_orders(omega, highest, gravity)
     orders = np.asarray(found["order"])
     parts = {name: (np.asarray(found[f"{name}_cos"]), np.asarray(found[f"{name}_sin"])) for name in ORDER_PARTS[:3]}
     # The load law's gas: the torque is linear in the pressures, so its orders scale as they do.

@@ -5,7 +5,7 @@ Designs are rows of :mod:`~multicrank.motion.variants`' columns — a :class:`Ma
 pandas DataFrame or a dask DataFrame — processed chunk by chunk as :func:`~multicrank.sweep`
 does (in memory, streamed to resumable Parquet parts, or one chunk per dask partition). Every
 chunk is solved by one function, :func:`_solve_chunk`: by the Rust core's batched solver
-(:meth:`multicrank._native.MotionMachine.sweep`, designs in parallel, the GIL released) where
+(:meth:`multicrank._native.NativeMachine.sweep`, designs in parallel, the GIL released) where
 the machine's pressures are tables and the load is "balance", else by a loop over
 :func:`~multicrank.steady_state` and :func:`~multicrank.flywheel_inertia`; the rows are the
 same either way.
@@ -27,7 +27,7 @@ import pandas as pd
 
 from .._native import FRAME_OUTPUTS as _CORE_FRAME_OUTPUTS
 from .._native import MOTION_SWEEP_OUTPUTS as _CORE_OUTPUTS
-from .._native import MechanismError, machine_frame_sweep
+from .._native import MechanismError
 from .._validation import (
     as_count,
     as_flag,
@@ -221,16 +221,7 @@ def _frame_columns(machine: Machine, frame: pd.DataFrame, outputs: list[str]) ->
     _at_speed(machine, designs)
     omega = None if machine.rpm is None else omega_from_rpm(machine.rpm)
     try:
-        return machine_frame_sweep(
-            motion_machine(machine),
-            designs,
-            outputs,
-            omega,
-            contiguous(np.array([c.axial_position for c in machine.cylinders], dtype=np.float64)),
-            list(machine.throw_index),
-            contiguous(np.asarray(machine.throws, dtype=np.float64)),
-            contiguous(np.asarray(machine.bearings, dtype=np.float64)),
-        )
+        return motion_machine(machine).frame_sweep(designs, outputs, omega)
     except MechanismError as error:
         raise _refused_design(machine, frame, names, error) from None
 

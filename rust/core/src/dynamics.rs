@@ -20,41 +20,11 @@ use crate::angles::{Phi, PreparedPhi};
 use crate::engine::{Engine, EngineUnit};
 use crate::error::{check, check_length, check_rows_length, MechanismError, Result};
 use crate::exact::{crank_run, CrankTerm, Quantity};
-use crate::mechanism::{check_shaft_inertia, check_speed, Phases};
+use crate::mechanism::{
+    check_shaft_inertia, check_speed, two_mass_rod_inertia, Phases, PhysicalCylinder,
+};
 use crate::parallel::{for_each_row_segment, Parallelism};
 use crate::trig::MulAdd;
-
-/// One slider-crank unit's geometry and moving masses (SI: m, kg, kg·m², rad).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct PhysicalCylinder {
-    pub crank_radius: f64,
-    pub rod_length: f64,
-    /// m_t: piston with rings and pin (and crosshead and piston rod where there are).
-    pub piston_mass: f64,
-    pub rod_mass: f64,
-    /// z_k: the rod's centre of gravity, measured from the piston-pin axis.
-    pub rod_cg: f64,
-    /// I_k: the rod's moment of inertia about its own centre of gravity.
-    pub rod_inertia: f64,
-    /// This unit's crank web and counterweight: only their first moments enter (gravity);
-    /// their inertia is part of the shaft's.
-    pub crank_mass: f64,
-    pub crank_cg_radius: f64,
-    pub counterweight_mass: f64,
-    pub counterweight_radius: f64,
-    /// α_j: the unit's crank angle is ψ_j = φ + α_j.
-    pub phase: f64,
-    /// γ_j: its cylinder axis to the horizontal (+π/2 upright).
-    pub inclination: f64,
-}
-
-/// I_k of the two-mass rod, m_k z_k (l − z_k) [kg·m²]: the rod whose mass, split between the
-/// two pin axes in inverse proportion to their distances from its centre of gravity, has its
-/// moment of inertia too (ΔI = 0). The default where a rod's own inertia is not known; never
-/// negative for 0 ≤ z_k ≤ l.
-pub fn two_mass_rod_inertia(rod_mass: f64, rod_length: f64, rod_cg: f64) -> f64 {
-    rod_mass * rod_cg * (rod_length - rod_cg)
-}
 
 /// What the kernels need of a unit: r, λ, λ², the reciprocating mass and ΔI.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -67,22 +37,6 @@ pub(crate) struct Slider {
 }
 
 impl PhysicalCylinder {
-    pub(crate) fn validate(&self) -> Result<()> {
-        // The geometry and mass rules are those of the dimensionless moments.
-        self.validate_masses()?;
-        check("rod_inertia", self.rod_inertia, "rod_inertia >= 0", |x| {
-            x >= 0.0
-        })?;
-        check("phase", self.phase, "a finite angle in radians", |_| true)?;
-        check(
-            "inclination",
-            self.inclination,
-            "a finite angle in radians",
-            |_| true,
-        )?;
-        Ok(())
-    }
-
     /// The gravity moments U1, U2 (J) of this unit (eq. 5–7 times I_w ω²: g times the
     /// moment arms), as the unit of an SI engine whose U* is U in joules.
     pub(crate) fn gravity_unit(&self, g: f64) -> EngineUnit {

@@ -50,6 +50,12 @@ pub enum MechanismError {
         reach: Reach,
         closest: f64,
     },
+    /// A value that breaks a rule about several values at once (a bearing at a throw, a
+    /// throw outside the bearings): `message` says which values and why.
+    Refused {
+        parameter: &'static str,
+        message: String,
+    },
     /// Design `row` of a batch has a bad value: `error` names the parameter.
     InRow {
         row: usize,
@@ -93,7 +99,8 @@ impl MechanismError {
             | Self::InvalidChoice { parameter, .. }
             | Self::Empty { parameter }
             | Self::LengthMismatch { parameter, .. }
-            | Self::TooLarge { parameter, .. } => Some(parameter),
+            | Self::TooLarge { parameter, .. }
+            | Self::Refused { parameter, .. } => Some(parameter),
             Self::Stall { .. } => Some("omega_mean"),
             Self::Unreachable { .. } => Some("delta"),
             Self::InRow { error, .. } => error.parameter(),
@@ -180,6 +187,7 @@ impl fmt::Display for MechanismError {
                      largest δ that runs is about {closest:.4e}"
                 ),
             },
+            Self::Refused { message, .. } => f.write_str(message),
             Self::InRow { row, error } => write!(f, "design {row}: {error}"),
         }
     }
@@ -188,6 +196,50 @@ impl fmt::Display for MechanismError {
 impl std::error::Error for MechanismError {}
 
 pub type Result<T> = std::result::Result<T, MechanismError>;
+
+/// `x` as a message shows a length or a position: six significant digits, trailing zeros
+/// dropped, exponent form beyond 10⁶ and below 10⁻⁴ (`0.3`, `1e+30`, `nan`): the form of the
+/// Python API's own messages (its `:g`), so that one rule words the same number alike
+/// wherever it is checked.
+pub(crate) fn short(x: f64) -> String {
+    if !x.is_finite() {
+        return if x.is_nan() {
+            "nan".into()
+        } else if x > 0.0 {
+            "inf".into()
+        } else {
+            "-inf".into()
+        };
+    }
+    if x == 0.0 {
+        return if x.is_sign_negative() {
+            "-0".into()
+        } else {
+            "0".into()
+        };
+    }
+    // Rounded to six significant digits first: the exponent is that of the rounded value.
+    let scientific = format!("{x:.5e}");
+    let (mantissa, exponent) = scientific.split_once('e').unwrap_or((&scientific, "0"));
+    let exponent: i32 = exponent.parse().unwrap_or(0);
+    let trim = |digits: String| {
+        if digits.contains('.') {
+            digits
+                .trim_end_matches('0')
+                .trim_end_matches('.')
+                .to_string()
+        } else {
+            digits
+        }
+    };
+    if (-4..6).contains(&exponent) {
+        let decimals = (5 - exponent).max(0) as usize;
+        trim(format!("{x:.decimals$}"))
+    } else {
+        let sign = if exponent < 0 { '-' } else { '+' };
+        format!("{}e{sign}{:02}", trim(mantissa.to_string()), exponent.abs())
+    }
+}
 
 /// `Ok(value)` if `value` is finite and `ok(value)`, else an `OutOfRange` error.
 pub(crate) fn check(
@@ -335,5 +387,32 @@ mod tests {
             }),
         };
         assert_eq!(row.parameter(), Some("bore"));
+        let refused = MechanismError::Refused {
+            parameter: "main_bearings",
+            message: "main_bearings: a throw is overhung".into(),
+        };
+        assert_eq!(refused.parameter(), Some("main_bearings"));
+        assert_eq!(refused.to_string(), "main_bearings: a throw is overhung");
+    }
+
+    #[test]
+    fn short_numbers_read_as_the_python_api_writes_them() {
+        for (x, words) in [
+            (0.1, "0.1"),
+            (0.3 + 1e-15, "0.3"),
+            (0.0, "0"),
+            (-2.5, "-2.5"),
+            (1e30, "1e+30"),
+            (123456.0, "123456"),
+            (1234567.0, "1.23457e+06"),
+            (0.0001, "0.0001"),
+            (0.00001234, "1.234e-05"),
+            (999999.5, "1e+06"),
+            (f64::NAN, "nan"),
+            (f64::INFINITY, "inf"),
+            (f64::NEG_INFINITY, "-inf"),
+        ] {
+            assert_eq!(short(x), words, "{x}");
+        }
     }
 }

@@ -7,7 +7,9 @@
 //! outer dead centre; every crank unit's energy is measured from its own ψ = 0 position;
 //! energies are dimensionless, U* = U/(I_w ω²).
 //!
-//! The rooms: `mechanism` (validated parameters, phase sets, physical → dimensionless),
+//! The rooms: `machine` (what a machine is, whole, checked once by `Machine::new`; everything
+//! else borrows it), `mechanism` (validated parameters, a unit's `PhysicalCylinder`, phase sets,
+//! physical → dimensionless),
 //! `trig` and `doubledouble` (vectorisable sincos, double-double arithmetic), `angles`
 //! (where the kernels get sin/cos: points, a shared table, a uniform grid), `exact` (the
 //! closed-form kernels), `harmonics` (Λ_n, phase sums, surviving harmonics), `series` (the
@@ -28,6 +30,7 @@ mod exact;
 mod extrema;
 mod forces;
 mod harmonics;
+mod machine;
 mod mechanism;
 mod motion;
 mod parallel;
@@ -38,31 +41,32 @@ mod tolerances;
 mod trig;
 
 pub use angles::{Phi, UniformGrid};
-pub use dynamics::{two_mass_rod_inertia, Dynamics, Kinematics, PhysicalCylinder};
+pub use dynamics::{Dynamics, Kinematics};
 pub use engine::{Engine, EngineUnit};
 pub use error::{MechanismError, Reach, Result};
 pub use exact::{evaluate, evaluate_one, Quantity};
 pub use extrema::{all_energy_extrema, energy_extrema, EnergyExtrema};
 pub use forces::{
     bearing_loads, engine_centre, frame_torque, BearingLayout, ShakingForces, ShakingOrders,
-    ORDER_COLUMNS,
+    ORDER_COLUMNS, SAME_POSITION,
 };
 pub use harmonics::{
     harmonic_survives, lambda_exact, lambda_paper, lambda_table, paper_coefficient,
     surviving_harmonics, PhaseSums, PAPER_MAX_J,
 };
+pub use machine::{Machine, MachineParts};
 pub use mechanism::{
-    check_speed, crank_phases, dimensionless_moments, Acting, Design, Phases, PhysicalColumns,
-    PhysicalUnit, Strokes, SPEED_LIMITS, STANDARD_GRAVITY,
+    check_speed, crank_phases, dimensionless_moments, two_mass_rod_inertia, Acting, Design, Phases,
+    PhysicalColumns, PhysicalCylinder, PhysicalUnit, Strokes, SPEED_LIMITS, STANDARD_GRAVITY,
 };
 pub use motion::{
     flywheel_inertia, motion_sweep, net_piston_forces, square_law_flywheel_inertia,
     square_law_steady_state, steady_state, steady_state_curves, CycleArrays, FlywheelInertia,
-    GasCylinder, Machine, MachineDesigns, MotionColumns, MotionOutputs, PiecewisePolynomial,
+    GasCylinder, MachineDesigns, MachineView, MotionColumns, MotionOutputs, PiecewisePolynomial,
     SteadyCurves, SteadyState, SteadyTables, UnitColumn, UnitField,
 };
-pub use motion::{frame_sweep, FrameOutputs, BEARING_ANGLES, FRAME_OUTPUTS};
 pub use motion::{torque_orders, TorqueOrders};
+pub use motion::{FrameOutputs, BEARING_ANGLES, FRAME_OUTPUTS};
 pub use parallel::Parallelism;
 pub use series::{build_series, fourier_table, FourierSeries, SeriesKind};
 pub use series_kernels::{evaluate_series, evaluate_series_or_exact};

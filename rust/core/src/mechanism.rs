@@ -5,7 +5,6 @@
 use std::f64::consts::{PI, TAU};
 use std::sync::LazyLock;
 
-use crate::dynamics::PhysicalCylinder;
 use crate::error::{check, check_length, try_with_capacity, MechanismError, Result};
 
 /// The speeds a machine may run at, ω [rad/s]: (π/30)·10⁻⁶ ≤ ω ≤ (π/30)·10⁸, i.e. 10⁻⁶ to
@@ -242,7 +241,56 @@ pub struct PhysicalUnit {
     pub g: f64,
 }
 
+/// One slider-crank unit's geometry and moving masses (SI: m, kg, kg·m², rad).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PhysicalCylinder {
+    pub crank_radius: f64,
+    pub rod_length: f64,
+    /// m_t: piston with rings and pin (and crosshead and piston rod where there are).
+    pub piston_mass: f64,
+    pub rod_mass: f64,
+    /// z_k: the rod's centre of gravity, measured from the piston-pin axis.
+    pub rod_cg: f64,
+    /// I_k: the rod's moment of inertia about its own centre of gravity.
+    pub rod_inertia: f64,
+    /// This unit's crank web and counterweight: only their first moments enter (gravity);
+    /// their inertia is part of the shaft's.
+    pub crank_mass: f64,
+    pub crank_cg_radius: f64,
+    pub counterweight_mass: f64,
+    pub counterweight_radius: f64,
+    /// α_j: the unit's crank angle is ψ_j = φ + α_j.
+    pub phase: f64,
+    /// γ_j: its cylinder axis to the horizontal (+π/2 upright).
+    pub inclination: f64,
+}
+
+/// I_k of the two-mass rod, m_k z_k (l − z_k) [kg·m²]: the rod whose mass, split between the
+/// two pin axes in inverse proportion to their distances from its centre of gravity, has its
+/// moment of inertia too (ΔI = 0). The default where a rod's own inertia is not known; never
+/// negative for 0 ≤ z_k ≤ l.
+pub fn two_mass_rod_inertia(rod_mass: f64, rod_length: f64, rod_cg: f64) -> f64 {
+    rod_mass * rod_cg * (rod_length - rod_cg)
+}
+
 impl PhysicalCylinder {
+    /// Every rule of a unit: its geometry and masses, I_k >= 0 and finite angles.
+    pub(crate) fn validate(&self) -> Result<()> {
+        // The geometry and mass rules are those of the dimensionless moments.
+        self.validate_masses()?;
+        check("rod_inertia", self.rod_inertia, "rod_inertia >= 0", |x| {
+            x >= 0.0
+        })?;
+        check("phase", self.phase, "a finite angle in radians", |_| true)?;
+        check(
+            "inclination",
+            self.inclination,
+            "a finite angle in radians",
+            |_| true,
+        )?;
+        Ok(())
+    }
+
     /// The rules of the geometry and the masses (everything but I_w, the speed and g).
     pub(crate) fn validate_masses(&self) -> Result<()> {
         let positive = |x: f64| x > 0.0;

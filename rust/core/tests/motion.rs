@@ -22,7 +22,7 @@ use common::{
     COASTING_KEY,
 };
 use multicrank_core::{
-    flywheel_inertia, square_law_steady_state, steady_state, steady_state_curves, Machine,
+    flywheel_inertia, square_law_steady_state, steady_state, steady_state_curves, MachineView,
     MechanismError, SteadyCurves, SteadyState,
 };
 use serde_json::Value;
@@ -296,7 +296,7 @@ fn the_flywheel_agrees_with_the_oracle() {
                 );
             }
             // The steady state at that flywheel has the δ asked for.
-            let sized = Machine {
+            let sized = MachineView {
                 shaft_inertia: found.shaft_inertia,
                 ..machine
             };

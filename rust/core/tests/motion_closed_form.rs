@@ -5,7 +5,7 @@ mod common;
 
 use common::{fixtures, omega, relative};
 use multicrank_core::{
-    steady_state, GasCylinder, Machine, MechanismError, PhysicalCylinder, PiecewisePolynomial,
+    steady_state, GasCylinder, MachineView, MechanismError, PhysicalCylinder, PiecewisePolynomial,
     Strokes,
 };
 
@@ -51,7 +51,7 @@ fn gravity_alone_on_a_constant_inertia_is_the_energy_integral() {
     use std::f64::consts::{FRAC_PI_2, PI, TAU};
     let (g, inertia, rpm, phase) = (9.81, 2.0, 120.0, 0.3);
     let units = [flywheel_unit(20.0, phase)];
-    let machine = Machine {
+    let machine = MachineView {
         units: &units,
         gas: &[GasCylinder::NONE],
         diagrams: &[],
@@ -113,7 +113,7 @@ fn gravity_alone_on_a_constant_inertia_is_the_energy_integral() {
         "{}",
         state.delta_without_gravity
     );
-    let still = steady_state(&Machine { g: 0.0, ..machine }, omega(rpm), 1e-3).unwrap();
+    let still = steady_state(&MachineView { g: 0.0, ..machine }, omega(rpm), 1e-3).unwrap();
     assert!(still.delta.abs() < 1e-15 && still.delta_coasting.abs() < 1e-15);
     assert!(relative(still.omega_max, omega_mean) < 1e-15);
 }
@@ -137,7 +137,7 @@ fn a_constant_pressure_stroke_on_a_constant_inertia_is_the_textbook_machine() {
     // PPoly of order 1: c[0] = [p, 0] on [0, π), [π, 2π).
     let diagrams =
         [PiecewisePolynomial::new(vec![0.0, PI, TAU], vec![pressure, 0.0], TAU).unwrap()];
-    let machine = Machine {
+    let machine = MachineView {
         units: &units,
         gas: &gas,
         diagrams: &diagrams,
@@ -222,7 +222,7 @@ fn a_constant_pressure_stroke_on_a_constant_inertia_is_the_textbook_machine() {
 fn a_stall_and_bad_input_are_errors() {
     let all = fixtures();
     let f = &all[0];
-    let machine = Machine {
+    let machine = MachineView {
         units: &f.units,
         gas: &f.gas,
         diagrams: &f.diagrams,
@@ -238,7 +238,7 @@ fn a_stall_and_bad_input_are_errors() {
     // A stall the base panels decide: gravity alone turning a light shaft slowly, with the
     // limit at half the mean speed; it is slowest where U is highest.
     let units = [flywheel_unit(20.0, 0.3)];
-    let heavy = Machine {
+    let heavy = MachineView {
         units: &units,
         gas: &[GasCylinder::NONE],
         diagrams: &[],
@@ -280,7 +280,7 @@ fn a_stall_and_bad_input_are_errors() {
         ..f.gas[0]
     }];
     let message = steady_state(
-        &Machine {
+        &MachineView {
             gas: &gas,
             ..machine
         },

@@ -8,7 +8,7 @@ mod common;
 
 use common::{diagram, fixtures, machine_json, machine_of, number, omega, relative, COASTING_KEY};
 use multicrank_core::{
-    square_law_flywheel_inertia, square_law_steady_state, Machine, MechanismError, SteadyTables,
+    square_law_flywheel_inertia, square_law_steady_state, MachineView, MechanismError, SteadyTables,
 };
 
 /// The steady state at each machine's speed beside the oracle's drive: ω_m, t_Φ and the
@@ -111,7 +111,7 @@ fn the_square_law_flywheel_gives_the_delta_asked_for() {
             for delta in [1.0 / 40.0, 1.0 / 100.0] {
                 let found = square_law_flywheel_inertia(&machine, coefficient, drive, delta, 1e-3)
                     .expect("a flywheel");
-                let sized = Machine {
+                let sized = MachineView {
                     shaft_inertia: found.shaft_inertia,
                     ..machine
                 };

@@ -6,7 +6,7 @@ mod common;
 use common::{diagram, fixture_named, fixtures, machine_json, machine_of, number, omega, Fixture};
 use multicrank_core::{
     flywheel_inertia, motion_sweep, steady_state, steady_state_curves, two_mass_rod_inertia,
-    GasCylinder, Machine, MachineDesigns, MechanismError, MotionColumns, MotionOutputs,
+    GasCylinder, MachineDesigns, MachineView, MechanismError, MotionColumns, MotionOutputs,
     Parallelism, PhysicalCylinder, PiecewisePolynomial, SteadyTables, UnitColumn, UnitField,
 };
 use std::f64::consts::PI;
@@ -175,7 +175,7 @@ fn same(found: f64, expected: f64, what: &str) {
 fn check_rows(f: &Fixture, designs: &[Design], found: &MotionColumns, target: Option<f64>) {
     for (i, design) in designs.iter().enumerate() {
         let h = hand_built(f, design);
-        let machine = Machine {
+        let machine = MachineView {
             units: &h.units,
             gas: &h.gas,
             diagrams: &h.diagrams,
@@ -192,7 +192,7 @@ fn check_rows(f: &Fixture, designs: &[Design], found: &MotionColumns, target: Op
 fn check_row(
     name: &str,
     i: usize,
-    machine: &Machine<'_>,
+    machine: &MachineView<'_>,
     rpm: f64,
     found: &MotionColumns,
     target: Option<f64>,
@@ -373,7 +373,7 @@ fn a_unit_column_sets_that_unit_alone() {
             units[last].phase = phases[row];
             units[0].counterweight_mass = masses[row];
             units[0].counterweight_radius = radii[row];
-            let machine = Machine {
+            let machine = MachineView {
                 units: &units,
                 ..machine_of(&f)
             };
@@ -458,7 +458,7 @@ fn a_nan_rod_inertia_is_the_two_mass_rod_of_the_design() {
         flywheel_inertia_without_gravity: false,
         ..all_outputs()
     };
-    let run = |base: &Machine<'_>, view: &MachineDesigns<'_>| {
+    let run = |base: &MachineView<'_>, view: &MachineDesigns<'_>| {
         motion_sweep(
             base,
             Some(omega(f.rpm)),
@@ -502,7 +502,7 @@ fn a_nan_rod_inertia_is_the_two_mass_rod_of_the_design() {
             ..*u
         })
         .collect();
-    let kept = Machine {
+    let kept = MachineView {
         units: &units,
         ..base
     };
@@ -714,7 +714,7 @@ fn tables_made_once_give_every_inertia_and_speed_exactly() {
         for (factor, speed) in [(1.0, 1.0), (0.7, 1.2), (2.5, 0.9)] {
             let inertia = factor * f.shaft_inertia;
             let rpm = omega(speed * f.rpm);
-            let machine = Machine {
+            let machine = MachineView {
                 shaft_inertia: inertia,
                 ..base
             };

@@ -6,7 +6,7 @@
 use std::f64::consts::{FRAC_PI_2, PI};
 
 use multicrank_core::{
-    torque_orders, GasCylinder, Machine, MechanismError, PhysicalCylinder, PiecewisePolynomial,
+    torque_orders, GasCylinder, MachineView, MechanismError, PhysicalCylinder, PiecewisePolynomial,
     Strokes,
 };
 
@@ -144,7 +144,7 @@ fn the_orders_are_the_fourier_sums_of_the_planar_torques() {
         GasCylinder::NONE,
     ];
     let diagrams = [pressure_table()];
-    let machine = Machine {
+    let machine = MachineView {
         units: &units,
         gas: &gas,
         diagrams: &diagrams,
@@ -239,7 +239,7 @@ fn the_orders_are_the_fourier_sums_of_the_planar_torques() {
 fn bad_speed_and_order_are_refused_by_name() {
     let units = [unit(0.0, 1.0, 0.05)];
     let gas = [GasCylinder::NONE];
-    let machine = Machine {
+    let machine = MachineView {
         units: &units,
         gas: &gas,
         diagrams: &[],

@@ -10,9 +10,10 @@
 //! (work size from which it goes parallel; None = the global default).
 //!
 //! One file per domain, like the core: `conversion` (arguments and arrays, in one place),
-//! `evaluation`, `harmonics`, `extrema`, `sweep`, `engine`, `machine`, `motion` (the
-//! `MotionMachine` class: steady running, built once), `parallel` (thresholds and fork),
-//! `error`; this file only assembles the module.
+//! `evaluation`, `harmonics`, `extrema`, `sweep`, `engine`, `machine` (the `NativeMachine`
+//! class, owning a `core::Machine`: built once, its methods by domain in `machine`, `motion`,
+//! `forces` and `orders`), `parallel` (thresholds and fork), `error`; this file only
+//! assembles the module.
 
 mod conversion;
 mod engine;
@@ -47,22 +48,15 @@ mod _native {
     #[pymodule_export]
     use crate::extrema::energy_extrema;
     #[pymodule_export]
-    use crate::forces::{machine_bearing_loads, machine_frame_sweep};
-    #[pymodule_export]
     use crate::harmonics::{
         fourier_coefficients, lambda_coefficients, paper_coefficient, surviving_harmonics,
     };
     #[pymodule_export]
     use crate::machine::{
-        machine_engine, machine_evaluate, machine_gas_torque, machine_inertia, piston_forces,
-        two_mass_rod_inertia,
+        bearing_layout, piston_forces, two_mass_rod_inertia, unit_travel, NativeMachine,
     };
     #[pymodule_export]
-    use crate::motion::MotionMachine;
-    #[pymodule_export]
     use crate::motion_results::{FlywheelResult, SteadyResult};
-    #[pymodule_export]
-    use crate::orders::machine_torque_orders;
     #[pymodule_export]
     use crate::parallel::{_after_fork_in_child, get_parallel_threshold, set_parallel_threshold};
     #[pymodule_export]

@@ -1,18 +1,16 @@
-//! Steady running at sweep scale: a machine converted and checked once (`MotionMachine`),
-//! then its steady state, its flywheel and sweeps of its variants, each call with the GIL
-//! released around the core.
+//! Steady running at sweep scale: a `NativeMachine`'s steady state, its flywheel and sweeps
+//! of its variants, each call with the GIL released around the core.
 
 use multicrank_core as core;
 use std::borrow::Cow;
-use std::sync::OnceLock;
 
 use numpy::{IntoPyArray, PyArray1, PyReadonlyArray1};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::conversion::{drive_table, gas_tables, DiagramArg, MachineColumns, MotionDesigns};
+use crate::conversion::{drive_table, DiagramArg, MotionDesigns};
 use crate::error::to_py_err;
-use crate::forces::ShakingCache;
+use crate::machine::NativeMachine;
 use crate::motion_results::{steady_result, FlywheelResult, SteadyResult};
 use crate::parallel::parallelism;
 
@@ -64,164 +62,28 @@ pub(crate) fn motion_err(py: Python<'_>, error: core::MechanismError) -> PyErr {
     }
 }
 
-/// A machine as its steady state takes it, converted and checked once and reused by every
-/// call: its units, their gas (the indicator diagrams as SciPy `PPoly` arrays), I_w, the
-/// strokes and g; its working cycle tabulated by the first steady state or flywheel and
-/// kept for every later one (at any speed and shaft inertia). Immutable; safe to share
-/// between threads.
-///
-/// MotionMachine(units, bore, piston_rod_diameter, pressure, pressure_crank_end,
-/// shaft_inertia, strokes, g): `units` the unit columns (as `machine_evaluate` takes them),
-/// `bore` and `piston_rod_diameter` (m) one per unit, `pressure` and `pressure_crank_end`
-/// one per unit, each None or the pair (x, c) of the gauge pressure's (Pa) `PPoly`
-/// (breakpoints x spanning one working cycle, coefficients c of shape (K, len(x) − 1)),
-/// `shaft_inertia` I_w (kg·m²) > 0, `strokes` 2 or 4, `g` (m/s²), `axial_position` (m)
-/// one per unit (default all 0).
-#[pyclass(frozen, name = "MotionMachine", module = "multicrank._native")]
-pub(crate) struct MotionMachine {
-    units: Vec<core::PhysicalCylinder>,
-    gas: Vec<core::GasCylinder>,
-    diagrams: Vec<core::PiecewisePolynomial>,
-    shaft_inertia: f64,
-    strokes: core::Strokes,
-    g: f64,
-    /// The cycle's tables, made on first use.
-    tables: OnceLock<core::SteadyTables>,
-    /// The same with g = 0, made from them on the first question asked with gravity=False.
-    tables_without_gravity: OnceLock<core::SteadyTables>,
-    /// Its shaking forces (the units at their axial positions), with the orders last asked.
-    shaking: ShakingCache,
-}
-
-impl MotionMachine {
-    /// The cycle's tables: made by the first call (two threads may both make them; one
-    /// set is kept, and both are the same doubles).
-    fn tables(&self) -> core::Result<&core::SteadyTables> {
-        if let Some(tables) = self.tables.get() {
-            return Ok(tables);
-        }
-        let made = core::SteadyTables::new(&self.machine())?;
-        Ok(self.tables.get_or_init(|| made))
-    }
-
-    /// The tables of the machine as it is (`gravity`), or with g = 0: the g = 0 solver
-    /// the first hold, made into tables of their own once (no second tabulation).
-    fn tables_for(&self, gravity: bool) -> core::Result<&core::SteadyTables> {
-        let tables = self.tables()?;
-        if gravity || self.g == 0.0 {
-            return Ok(tables);
-        }
-        if let Some(without) = self.tables_without_gravity.get() {
-            return Ok(without);
-        }
-        let made = tables.without_gravity()?;
-        Ok(self.tables_without_gravity.get_or_init(|| made))
-    }
-
-    /// The tables of [`MotionMachine::tables_for`], with the driving torque `drive` beside
-    /// the gas where one is given (that call's own tables, made from the kept ones).
+impl NativeMachine {
+    /// The tables of [`core::Machine::tables`], with the driving torque `drive` beside the
+    /// gas where one is given (that call's own tables, made from the kept ones).
     fn tables_with(
         &self,
         gravity: bool,
         drive: Option<&core::PiecewisePolynomial>,
     ) -> core::Result<Cow<'_, core::SteadyTables>> {
-        let tables = self.tables_for(gravity)?;
+        let tables = self.core.tables(gravity)?;
         Ok(match drive {
             None => Cow::Borrowed(tables),
             Some(drive) => Cow::Owned(tables.with_drive(drive)?),
         })
     }
 
-    /// The core's view of it.
-    pub(crate) fn machine(&self) -> core::Machine<'_> {
-        self.machine_with(true)
-    }
-
-    /// The core's view of it, with g = 0 unless `gravity`.
-    pub(crate) fn machine_with(&self, gravity: bool) -> core::Machine<'_> {
-        core::Machine {
-            units: &self.units,
-            gas: &self.gas,
-            diagrams: &self.diagrams,
-            shaft_inertia: self.shaft_inertia,
-            strokes: self.strokes,
-            g: if gravity { self.g } else { 0.0 },
-        }
+    fn cycle(&self) -> f64 {
+        self.core.strokes().cycle_angle()
     }
 }
 
 #[pymethods]
-impl MotionMachine {
-    #[new]
-    #[pyo3(signature = (
-        units, bore, piston_rod_diameter, pressure, pressure_crank_end, shaft_inertia, strokes, g,
-        axial_position=None
-    ))]
-    #[allow(clippy::too_many_arguments)]
-    fn new(
-        units: MachineColumns<'_>,
-        bore: PyReadonlyArray1<'_, f64>,
-        piston_rod_diameter: PyReadonlyArray1<'_, f64>,
-        pressure: Vec<DiagramArg<'_>>,
-        pressure_crank_end: Vec<DiagramArg<'_>>,
-        shaft_inertia: f64,
-        strokes: i64,
-        g: f64,
-        axial_position: Option<PyReadonlyArray1<'_, f64>>,
-    ) -> PyResult<Self> {
-        let strokes = core::Strokes::from_count(strokes).map_err(to_py_err)?;
-        if !(shaft_inertia.is_finite() && shaft_inertia > 0.0) {
-            return Err(to_py_err(core::MechanismError::OutOfRange {
-                parameter: "shaft_inertia",
-                value: shaft_inertia,
-                allowed: "shaft_inertia > 0",
-            }));
-        }
-        let units = units.units()?;
-        let (gas, diagrams) = gas_tables(
-            units.len(),
-            bore.as_slice()?,
-            piston_rod_diameter.as_slice()?,
-            &pressure,
-            &pressure_crank_end,
-            strokes.cycle_angle(),
-        )?;
-        let axial_position = match axial_position {
-            Some(z) => z.as_slice()?.to_vec(),
-            None => vec![0.0; units.len()],
-        };
-        if axial_position.len() != units.len() || axial_position.iter().any(|z| !z.is_finite()) {
-            return Err(to_py_err(core::MechanismError::InvalidChoice {
-                parameter: "axial_position",
-                value: format!("{axial_position:?}"),
-                allowed: "one finite position (m) per unit",
-            }));
-        }
-        let machine = Self {
-            shaking: ShakingCache::new(axial_position),
-            units,
-            gas,
-            diagrams,
-            shaft_inertia,
-            strokes,
-            g,
-            tables: OnceLock::new(),
-            tables_without_gravity: OnceLock::new(),
-        };
-        // The core's own checks of a machine (units, g, gas), by a sweep of no designs.
-        core::motion_sweep(
-            &machine.machine(),
-            None,
-            &core::MachineDesigns::new(0),
-            core::MotionOutputs::default(),
-            None,
-            1e-3,
-            core::Parallelism::SERIAL,
-        )
-        .map_err(to_py_err)?;
-        Ok(machine)
-    }
-
+impl NativeMachine {
     /// steady_state(omega_mean, min_speed_ratio=1e-3, phi=None, compare=True,
     /// shaft_inertia=None, gravity=True) -> SteadyResult: the periodic steady state under the
     /// "balance" load at the mean speed `omega_mean` (rad/s, within SPEED_LIMITS) with I_w = `shaft_inertia` (kg·m², default the machine's): omega_mean, period,
@@ -250,8 +112,8 @@ impl MotionMachine {
         drive: DiagramArg<'py>,
     ) -> PyResult<SteadyResult> {
         let angles = phi.as_ref().map(|a| a.as_slice()).transpose()?;
-        let inertia = shaft_inertia.unwrap_or(self.shaft_inertia);
-        let drive = drive_table(&drive, self.strokes.cycle_angle())?;
+        let inertia = shaft_inertia.unwrap_or(self.core.shaft_inertia());
+        let drive = drive_table(&drive, self.cycle())?;
         let (found, arrays) = py
             .detach(|| {
                 let tables = self.tables_with(gravity, drive.as_ref())?;
@@ -293,8 +155,8 @@ impl MotionMachine {
         gravity: bool,
         drive: DiagramArg<'_>,
     ) -> PyResult<(f64, f64)> {
-        let inertia = shaft_inertia.unwrap_or(self.shaft_inertia);
-        let drive = drive_table(&drive, self.strokes.cycle_angle())?;
+        let inertia = shaft_inertia.unwrap_or(self.core.shaft_inertia());
+        let drive = drive_table(&drive, self.cycle())?;
         py.detach(|| {
             self.tables_with(gravity, drive.as_ref())?.comparisons(
                 inertia,
@@ -311,7 +173,7 @@ impl MotionMachine {
     /// "balance" load beside no drive, and what a square-law load needs positive (with the
     /// drive) to run at all.
     fn mean_gas_torque(&self, py: Python<'_>) -> PyResult<f64> {
-        py.detach(|| self.tables().map(core::SteadyTables::load))
+        py.detach(|| self.core.tables(true).map(core::SteadyTables::load))
             .map_err(|error| motion_err(py, error))
     }
 
@@ -328,7 +190,7 @@ impl MotionMachine {
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let angles = phi.as_slice()?;
         let work = py
-            .detach(|| self.tables_for(gravity)?.work_at(angles))
+            .detach(|| self.core.tables(gravity)?.work_at(angles))
             .map_err(|error| motion_err(py, error))?;
         Ok(work.into_pyarray(py))
     }
@@ -347,7 +209,7 @@ impl MotionMachine {
         drive: DiagramArg<'_>,
         gravity: bool,
     ) -> PyResult<(f64, f64)> {
-        let drive = drive_table(&drive, self.strokes.cycle_angle())?;
+        let drive = drive_table(&drive, self.cycle())?;
         py.detach(|| {
             self.tables_with(gravity, drive.as_ref())?
                 .textbook_flywheel(delta, omega_mean)
@@ -375,7 +237,7 @@ impl MotionMachine {
         let found = py
             .detach(|| {
                 core::square_law_steady_state(
-                    &self.machine_with(gravity),
+                    &self.core.view_with(gravity),
                     coefficient,
                     drive,
                     min_speed_ratio,
@@ -410,14 +272,14 @@ impl MotionMachine {
         gravity: bool,
         drive: DiagramArg<'py>,
     ) -> PyResult<FlywheelResult> {
-        let drive = drive_table(&drive, self.strokes.cycle_angle())?;
+        let drive = drive_table(&drive, self.cycle())?;
         let f = py
             .detach(|| {
                 self.tables_with(gravity, drive.as_ref())?.flywheel_inertia(
                     delta,
                     omega_mean,
                     min_speed_ratio,
-                    self.shaft_inertia,
+                    self.core.shaft_inertia(),
                     without_gravity,
                 )
             })
@@ -443,12 +305,12 @@ impl MotionMachine {
     ) -> PyResult<FlywheelResult> {
         let f = py
             .detach(|| {
-                self.tables_for(gravity)?.square_law_flywheel_inertia(
+                self.core.tables(gravity)?.square_law_flywheel_inertia(
                     coefficient,
                     drive,
                     delta,
                     min_speed_ratio,
-                    self.shaft_inertia,
+                    self.core.shaft_inertia(),
                 )
             })
             .map_err(|error| motion_err(py, error))?;
@@ -487,7 +349,7 @@ impl MotionMachine {
         let mut found = py
             .detach(|| {
                 core::motion_sweep(
-                    &self.machine(),
+                    &self.core.view(),
                     omega,
                     &columns,
                     asked,
@@ -521,67 +383,5 @@ impl MotionMachine {
             }
         }
         Ok(dict)
-    }
-
-    /// shaking_reference() -> float: the engine centre z_ref (m) the shaking moments are taken
-    /// about, `core::forces::engine_centre` of the units' axial positions.
-    fn shaking_reference(&self) -> f64 {
-        self.shaking.reference()
-    }
-
-    /// shaking_orders(omega, max_order) -> {column: array}: the shaking forces and moments by
-    /// order 1 … max_order at the constant speed `omega` (rad/s), the columns
-    /// `core::ORDER_COLUMNS` (N, N·m, rad).
-    fn shaking_orders<'py>(
-        &self,
-        py: Python<'py>,
-        omega: f64,
-        max_order: usize,
-    ) -> PyResult<Bound<'py, PyDict>> {
-        self.shaking.orders(py, &self.machine(), omega, max_order)
-    }
-
-    /// shaking_orders_in_motion(omega, acceleration, max_harmonic) -> {column: array}: the
-    /// harmonics 1 … max_harmonic of the working cycle of the shaking forces and moments
-    /// while the machine runs at ω(φ) (rad/s) with ε(φ) (rad/s²), both sampled at N uniform
-    /// angles jΦ/N of the cycle (N > 2·max_harmonic); the columns `core::ORDER_COLUMNS`.
-    fn shaking_orders_in_motion<'py>(
-        &self,
-        py: Python<'py>,
-        omega: PyReadonlyArray1<'py, f64>,
-        acceleration: PyReadonlyArray1<'py, f64>,
-        max_harmonic: usize,
-    ) -> PyResult<Bound<'py, PyDict>> {
-        self.shaking
-            .orders_in_motion(py, &self.machine(), &omega, &acceleration, max_harmonic)
-    }
-
-    /// shaking_curves(phi, omega, acceleration) -> array (5 × phi, component-major): the
-    /// vertical and horizontal forces (N), the pitch and yaw moments (N·m) and the torque the
-    /// frame receives about the shaft axis (N·m) at each φ (rad) at the speed ω (rad/s) and
-    /// acceleration ε (rad/s²) given there.
-    fn shaking_curves<'py>(
-        &self,
-        py: Python<'py>,
-        phi: PyReadonlyArray1<'py, f64>,
-        omega: PyReadonlyArray1<'py, f64>,
-        acceleration: PyReadonlyArray1<'py, f64>,
-    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        self.shaking
-            .curves(py, &self.machine(), &phi, &omega, &acceleration)
-    }
-
-    fn __repr__(&self) -> String {
-        let strokes = match self.strokes {
-            core::Strokes::Two => 2,
-            core::Strokes::Four => 4,
-        };
-        format!(
-            "MotionMachine({} units, {} diagrams, {strokes}-stroke, shaft_inertia={}, g={})",
-            self.units.len(),
-            self.diagrams.len(),
-            self.shaft_inertia,
-            self.g
-        )
     }
 }

@@ -20,76 +20,197 @@
 //! n-component, R and Q. The throw receives −Q from each of its rods and loads its bearings
 //! with L = Σ(−Q) + (m_s + m_p) g − (m_s r_s − m_p r_p)/r · a_P.
 
-use crate::dynamics::PhysicalCylinder;
-use crate::error::{check, check_length, MechanismError, Result};
+use crate::error::{check, check_length, short, MechanismError, Result};
+use crate::mechanism::PhysicalCylinder;
 use crate::parallel::{map_indices, Parallelism};
 
-/// Which throw each unit sits on, and for each throw the two bearings it lies between with
-/// their shares of its load.
+/// Axial positions closer than `SAME_POSITION`·max(1, |z|) (m) are one: units that close
+/// are on one throw, and a throw that close to a bearing is at it. A relative tolerance of
+/// rounding, not of manufacture.
+pub const SAME_POSITION: f64 = 1e-12;
+
+/// The magnitude an axial position (m) may have: beyond it a machine is not a machine.
+const MAGNITUDE_LIMIT: f64 = 1e30;
+
+/// Whether two axial positions (m) are one, to [`SAME_POSITION`].
+fn same_position(a: f64, b: f64) -> bool {
+    (a - b).abs() <= SAME_POSITION * 1.0_f64.max(a.abs()).max(b.abs())
+}
+
+/// Where things are along a machine's shaft, the rules of it written once: its **throws**
+/// (the units at one axial position, with their crank web and counterweight), which throw
+/// each unit sits on, its **main bearings** (given, or interleaving the throws) and each
+/// throw's share of its load on the two bearings around it (the lever rule: a throw at z_t
+/// between bearings at z_a < z_t < z_b puts (z_b − z_t)/(z_b − z_a) of its load on a).
 #[derive(Debug, Clone, PartialEq)]
 pub struct BearingLayout {
+    throws: Vec<f64>,
     throw_of_unit: Vec<usize>,
+    bearing_position: Vec<f64>,
     /// Per throw: (bearing before, its share, bearing after, its share).
     shares: Vec<(usize, f64, usize, f64)>,
-    bearings: usize,
 }
 
 impl BearingLayout {
-    /// Units on the throws `throw_of_unit` (an index into `throw_position`, m) and the main
-    /// bearings at `bearing_position` (m, increasing); every throw strictly between two
-    /// bearings. A throw at z_t between bearings at z_a < z_t < z_b puts
-    /// (z_b − z_t)/(z_b − z_a) of its load on a and the rest on b.
+    /// The layout of units at `axial_position` (m, one per unit, finite) with the main
+    /// bearings `main_bearings` (m: at least two, finite, strictly increasing, every throw
+    /// strictly between two), or by default n + 1 bearings interleaving the n throws: the
+    /// midpoint between neighbouring throws and, outside, z₁ − d₁/2 and zₙ + dₙ/2
+    /// (d₁ = z₂ − z₁, dₙ = zₙ − zₙ₋₁); a lone throw gets z₁ ± `crank_radius` (the lever rule
+    /// halves its load whatever the distance, so the distance only places the bearings
+    /// plausibly). Units at positions equal to within [`SAME_POSITION`] are one throw, at the
+    /// smallest of them.
     pub fn new(
-        throw_of_unit: &[usize],
-        throw_position: &[f64],
-        bearing_position: &[f64],
+        axial_position: &[f64],
+        main_bearings: Option<&[f64]>,
+        crank_radius: f64,
     ) -> Result<Self> {
-        if bearing_position.len() < 2 {
-            return Err(MechanismError::InvalidChoice {
-                parameter: "main_bearings",
-                value: bearing_position.len().to_string(),
-                allowed: "at least two bearings",
+        if axial_position.is_empty() {
+            return Err(MechanismError::Empty {
+                parameter: "axial_position",
             });
         }
-        for window in bearing_position.windows(2) {
-            check("main_bearings", window[1], "finite and increasing", |z| {
-                window[0].is_finite() && z > window[0]
+        for &z in axial_position {
+            check("axial_position", z, "any finite real (m)", |z| {
+                z.abs() <= MAGNITUDE_LIMIT
             })?;
         }
-        let mut shares = Vec::with_capacity(throw_position.len());
-        for &z in throw_position {
-            let after = bearing_position.partition_point(|&b| b <= z);
-            if after == 0 || after == bearing_position.len() || bearing_position[after - 1] == z {
-                return Err(MechanismError::OutOfRange {
-                    parameter: "main_bearings",
-                    value: z,
-                    allowed: "every throw strictly between two bearings",
-                });
+        let (throws, throw_of_unit) = throws_of(axial_position);
+        let bearing_position = match main_bearings {
+            Some(given) => {
+                check_bearings(given, &throws, &throw_of_unit)?;
+                given.to_vec()
             }
-            let (a, b) = (bearing_position[after - 1], bearing_position[after]);
-            let share_b = (z - a) / (b - a);
-            shares.push((after - 1, 1.0 - share_b, after, share_b));
-        }
-        for &t in throw_of_unit {
-            if t >= throw_position.len() {
-                return Err(MechanismError::InvalidChoice {
-                    parameter: "throw_of_unit",
-                    value: t.to_string(),
-                    allowed: "the index of one of the throws",
-                });
-            }
-        }
+            None => default_bearings(&throws, crank_radius),
+        };
+        let shares = throws
+            .iter()
+            .map(|&z| {
+                let after = bearing_position.partition_point(|&b| b <= z);
+                let (a, b) = (bearing_position[after - 1], bearing_position[after]);
+                let share_b = (z - a) / (b - a);
+                (after - 1, 1.0 - share_b, after, share_b)
+            })
+            .collect();
         Ok(Self {
-            throw_of_unit: throw_of_unit.to_vec(),
+            throws,
+            throw_of_unit,
+            bearing_position,
             shares,
-            bearings: bearing_position.len(),
         })
+    }
+
+    /// The throws' axial positions (m), increasing.
+    pub fn throws(&self) -> &[f64] {
+        &self.throws
+    }
+
+    /// Each unit's throw: its index in [`BearingLayout::throws`].
+    pub fn throw_of_unit(&self) -> &[usize] {
+        &self.throw_of_unit
+    }
+
+    /// The main bearings' axial positions (m), increasing.
+    pub fn bearing_position(&self) -> &[f64] {
+        &self.bearing_position
     }
 
     /// The number of bearings.
     pub fn bearings(&self) -> usize {
-        self.bearings
+        self.bearing_position.len()
     }
+}
+
+/// The distinct positions (increasing; a chain of neighbours within [`SAME_POSITION`] is one,
+/// at the smallest) and each unit's index among them.
+fn throws_of(axial_position: &[f64]) -> (Vec<f64>, Vec<usize>) {
+    let mut order: Vec<usize> = (0..axial_position.len()).collect();
+    order.sort_by(|&a, &b| axial_position[a].total_cmp(&axial_position[b]));
+    let mut throws: Vec<f64> = Vec::new();
+    let mut index = vec![0; axial_position.len()];
+    for j in order {
+        let z = axial_position[j];
+        if throws.last().is_none_or(|&last| !same_position(z, last)) {
+            throws.push(z);
+        }
+        index[j] = throws.len() - 1;
+    }
+    (throws, index)
+}
+
+fn default_bearings(throws: &[f64], crank_radius: f64) -> Vec<f64> {
+    if let [z] = throws {
+        return vec![z - crank_radius, z + crank_radius];
+    }
+    let n = throws.len();
+    let mut bearings = Vec::with_capacity(n + 1);
+    bearings.push(throws[0] - (throws[1] - throws[0]) / 2.0);
+    bearings.extend(throws.windows(2).map(|w| w[0] + (w[1] - w[0]) / 2.0));
+    bearings.push(throws[n - 1] + (throws[n - 1] - throws[n - 2]) / 2.0);
+    bearings
+}
+
+/// The rules of given main bearings, each refusal naming `main_bearings`, the bearing and the
+/// throw (with its units, as `cylinders[j]`).
+fn check_bearings(bearings: &[f64], throws: &[f64], throw_of_unit: &[usize]) -> Result<()> {
+    const ALLOWED: &str = "allowed: at least two finite axial positions [m], strictly \
+                           increasing, every throw strictly between two";
+    let refused = |message: String| MechanismError::Refused {
+        parameter: "main_bearings",
+        message,
+    };
+    if bearings.len() < 2 {
+        return Err(refused(format!(
+            "main_bearings must hold at least two axial positions [m], got {}; {ALLOWED}",
+            bearings.len()
+        )));
+    }
+    for (i, &z) in bearings.iter().enumerate() {
+        if !(z.is_finite() && z.abs() <= MAGNITUDE_LIMIT) {
+            return Err(refused(format!(
+                "main_bearings[{i}] = {} is out of range; {ALLOWED}, |z| <= {}",
+                short(z),
+                short(MAGNITUDE_LIMIT)
+            )));
+        }
+    }
+    for i in 1..bearings.len() {
+        if bearings[i] <= bearings[i - 1] {
+            return Err(refused(format!(
+                "main_bearings[{i}] = {} m is not beyond main_bearings[{}] = {} m; {ALLOWED}",
+                short(bearings[i]),
+                i - 1,
+                short(bearings[i - 1])
+            )));
+        }
+    }
+    for (t, &z) in throws.iter().enumerate() {
+        let units: Vec<String> = (0..throw_of_unit.len())
+            .filter(|&j| throw_of_unit[j] == t)
+            .map(|j| format!("cylinders[{j}]"))
+            .collect();
+        let throw = format!("the throw at z = {} m ({})", short(z), units.join(", "));
+        if let Some(i) = bearings.iter().position(|&b| same_position(z, b)) {
+            return Err(refused(format!(
+                "main_bearings[{i}] = {} m is at {throw}: a throw lies between two bearings, \
+                 not on one; {ALLOWED}",
+                short(bearings[i])
+            )));
+        }
+        if z < bearings[0] {
+            return Err(refused(format!(
+                "main_bearings: {throw} is overhung, before the first bearing at {} m; {ALLOWED}",
+                short(bearings[0])
+            )));
+        }
+        if z > bearings[bearings.len() - 1] {
+            return Err(refused(format!(
+                "main_bearings: {throw} is overhung, beyond the last bearing at {} m; {ALLOWED}",
+                short(bearings[bearings.len() - 1])
+            )));
+        }
+    }
+    Ok(())
 }
 
 /// What one unit does at crank angle φ, speed ω (rad/s), acceleration ε (rad/s²), gas force
@@ -195,8 +316,8 @@ pub fn bearing_loads(
     check_length("omega", points, omega.len())?;
     check_length("acceleration", points, acceleration.len())?;
     check_length("gas", units.len() * points, gas.len())?;
-    check_length("horizontal", layout.bearings * points, horizontal.len())?;
-    check_length("vertical", layout.bearings * points, vertical.len())?;
+    check_length("horizontal", layout.bearings() * points, horizontal.len())?;
+    check_length("vertical", layout.bearings() * points, vertical.len())?;
     check("g", g, "any finite real", |_| true)?;
     for unit in units {
         unit.validate()?;
@@ -295,8 +416,11 @@ mod tests {
     fn the_lever_rule_shares_a_throw_between_its_neighbours() {
         // Throws at 0.1 and 0.5 between bearings at 0, 0.4 and 1.0: 3/4 and 1/4, then 5/6
         // and 1/6.
-        let layout = BearingLayout::new(&[0, 1, 1], &[0.1, 0.5], &[0.0, 0.4, 1.0]).unwrap();
+        let given = [0.0, 0.4, 1.0];
+        let layout = BearingLayout::new(&[0.1, 0.5, 0.5], Some(&given), 0.05).unwrap();
         assert_eq!(layout.bearings(), 3);
+        assert_eq!(layout.throws(), [0.1, 0.5]);
+        assert_eq!(layout.throw_of_unit(), [0, 1, 1]);
         let close = |a: f64, b: f64| (a - b).abs() < 1e-15;
         let (a, share_a, b, share_b) = layout.shares[0];
         assert!((a, b) == (0, 1) && close(share_a, 0.75) && close(share_b, 0.25));
@@ -305,15 +429,49 @@ mod tests {
     }
 
     #[test]
-    fn an_overhung_throw_or_one_at_a_bearing_is_refused() {
-        for throws in [[-0.1], [0.0], [0.4], [1.2]] {
-            assert!(
-                BearingLayout::new(&[0], &throws, &[0.0, 0.4, 1.0]).is_err(),
-                "{throws:?}"
-            );
+    fn units_within_rounding_are_one_throw_and_default_bearings_interleave_them() {
+        let layout = BearingLayout::new(&[0.3, 0.1, 0.3 + 1e-15, 0.2], None, 0.05).unwrap();
+        assert_eq!(layout.throws(), [0.1, 0.2, 0.3]);
+        assert_eq!(layout.throw_of_unit(), [2, 0, 2, 1]);
+        let expected = [0.05, 0.15, 0.25, 0.35];
+        for (found, want) in layout.bearing_position().iter().zip(expected) {
+            assert!((found - want).abs() < 1e-15, "{found} {want}");
         }
-        assert!(BearingLayout::new(&[0], &[0.5], &[0.0]).is_err());
-        assert!(BearingLayout::new(&[0], &[0.5], &[1.0, 0.0]).is_err());
-        assert!(BearingLayout::new(&[1], &[0.5], &[0.0, 1.0]).is_err());
+        let lone = BearingLayout::new(&[2.0, 2.0], None, 0.1).unwrap();
+        assert_eq!(lone.bearing_position(), [1.9, 2.1]);
+    }
+
+    #[test]
+    fn an_overhung_throw_or_one_at_a_bearing_is_refused_naming_it() {
+        let given = [0.0, 0.4, 1.0];
+        for (z, words) in [
+            (
+                -0.1,
+                "the throw at z = -0.1 m (cylinders[0]) is overhung, before the first",
+            ),
+            (
+                0.0,
+                "main_bearings[0] = 0 m is at the throw at z = 0 m (cylinders[0])",
+            ),
+            (0.4, "main_bearings[1] = 0.4 m is at the throw"),
+            (1.2, "is overhung, beyond the last bearing at 1 m"),
+        ] {
+            let error = BearingLayout::new(&[z], Some(&given), 0.1).unwrap_err();
+            assert_eq!(error.parameter(), Some("main_bearings"));
+            assert!(error.to_string().contains(words), "{error}");
+        }
+        for (given, words) in [
+            (&[0.0][..], "at least two"),
+            (
+                &[1.0, 0.0],
+                "main_bearings[1] = 0 m is not beyond main_bearings[0] = 1 m",
+            ),
+            (&[0.0, f64::NAN], "main_bearings[1] = nan is out of range"),
+        ] {
+            let error = BearingLayout::new(&[0.5], Some(given), 0.1).unwrap_err();
+            assert!(error.to_string().contains(words), "{error}");
+        }
+        assert!(BearingLayout::new(&[f64::INFINITY], None, 0.1).is_err());
+        assert!(BearingLayout::new(&[], None, 0.1).is_err());
     }
 }

@@ -6,12 +6,12 @@
 use std::f64::consts::FRAC_PI_2;
 
 use crate::angles::Phi;
-use crate::dynamics::PhysicalCylinder;
 use crate::engine::{Engine, EngineUnit};
 use crate::error::{check, check_length, MechanismError, Result};
 use crate::exact::Quantity;
 use crate::harmonics::MAX_HARMONIC;
 use crate::mechanism::check_speed;
+use crate::mechanism::PhysicalCylinder;
 use crate::parallel::Parallelism;
 
 /// The components, in the order every array here holds them: the vertical force (positive

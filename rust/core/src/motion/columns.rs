@@ -2,8 +2,8 @@
 //! (`MachineDesigns`, with `UnitColumn` and `UnitField` for a single unit's fields), the outputs
 //! it may ask for (`MotionOutputs`) and the columns it fills (`MotionColumns`).
 
-use crate::dynamics::PhysicalCylinder;
 use crate::error::{MechanismError, Result};
+use crate::mechanism::PhysicalCylinder;
 
 /// Per-design overrides of a base machine: each column optional (`None`: the base
 /// machine's value), one value per design when given. The cylinder fields are set on every
@@ -17,7 +17,7 @@ use crate::error::{MechanismError, Result};
 /// `units`: a field set on one unit alone ([`UnitColumn`]), after the columns set on every
 /// unit: what a firing order (the phases) or a counterweight per throw changes.
 ///
-/// [`two_mass_rod_inertia`]: crate::dynamics::two_mass_rod_inertia
+/// [`two_mass_rod_inertia`]: crate::mechanism::two_mass_rod_inertia
 #[derive(Debug, Clone, Default)]
 pub struct MachineDesigns<'a> {
     /// The number of designs (every column given has this length).

@@ -14,7 +14,7 @@ use crate::parallel::Parallelism;
 use super::drive::Drive;
 use super::gas::{Forces, GasWork, PiecewisePolynomial};
 use super::quadrature::{breaks, Panels};
-use super::Machine;
+use super::MachineView;
 
 /// Gauss–Legendre points per panel: 12 (exact to degree 23); on π/8 panels δ of smooth
 /// torques comes out to 1e-11 against independent oracles (docs/theory.md, "How the
@@ -62,7 +62,7 @@ struct OnPanels {
 impl Gas {
     /// The gas of `machine` with `diagrams` in place of its own (the same pressures, or
     /// scaled ones, shared); checks it.
-    pub fn new(machine: &Machine<'_>, diagrams: Arc<[PiecewisePolynomial]>) -> Result<Self> {
+    pub fn new(machine: &MachineView<'_>, diagrams: Arc<[PiecewisePolynomial]>) -> Result<Self> {
         let cycle = machine.strokes.cycle_angle();
         let forces = Forces::new(machine.units, machine.gas, diagrams.clone(), cycle)?;
         let work = GasWork::new(machine.units, machine.gas, diagrams, cycle)?;
@@ -111,7 +111,7 @@ impl Gas {
 
 /// The dead centres ψ = φ + α ≡ 0 mod π of every gassed unit, φ in [0, Φ]: where a pressure
 /// given by branches (expansion, compression) may switch.
-pub(super) fn dead_centres(machine: &Machine<'_>) -> Vec<f64> {
+pub(super) fn dead_centres(machine: &MachineView<'_>) -> Vec<f64> {
     let cycle = machine.strokes.cycle_angle();
     let centres = (cycle / PI).round() as usize;
     let mut angles = Vec::new();
@@ -154,14 +154,14 @@ pub(crate) struct Cycle {
 
 impl Cycle {
     /// The tables of `machine` (its units checked as `dynamics`), its diagrams copied.
-    pub fn new(machine: &Machine<'_>, dynamics: Dynamics) -> Result<Self> {
+    pub fn new(machine: &MachineView<'_>, dynamics: Dynamics) -> Result<Self> {
         let gas = Gas::new(machine, machine.diagrams.into())?;
         Self::with_gas(machine, dynamics, &Arc::new(gas))
     }
 
     /// The tables of `machine` whose gas is `gas` (made for it, or for a machine that differs
     /// from it only in masses, g or I_w).
-    pub fn with_gas(machine: &Machine<'_>, dynamics: Dynamics, gas: &Arc<Gas>) -> Result<Self> {
+    pub fn with_gas(machine: &MachineView<'_>, dynamics: Dynamics, gas: &Arc<Gas>) -> Result<Self> {
         let mut width = START_WIDTH;
         loop {
             let panels = Panels::new(&gas.cuts, ORDER, width);
@@ -207,7 +207,7 @@ impl Cycle {
     }
 
     fn tabulate(
-        machine: &Machine<'_>,
+        machine: &MachineView<'_>,
         dynamics: Dynamics,
         gas: &Arc<Gas>,
         panels: Panels,

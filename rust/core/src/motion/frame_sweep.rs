@@ -13,7 +13,7 @@ use super::columns::MachineDesigns;
 use super::gas::PiecewisePolynomial;
 use super::sweep::check_designs;
 use super::variant::variant;
-use super::Machine;
+use super::MachineView;
 
 /// The frame's outputs, in column order.
 pub const FRAME_OUTPUTS: [&str; 5] = [
@@ -65,10 +65,12 @@ impl FrameOutputs {
 
 /// The frame's outputs of every design of `designs` applied to `base` (mean speed `omega`,
 /// rad/s, where there is no omega column), each unit at `axial_position` (m) and its throw
-/// shared between the bearings of `bearings`: one column per [`FRAME_OUTPUTS`] name (N, N·m),
-/// empty where not asked. A bad value of design `row` is a [`MechanismError::InRow`].
-pub fn frame_sweep(
-    base: &Machine<'_>,
+/// shared between the bearings of `bearings` (the base machine's, as
+/// [`Machine::frame_sweep`](crate::Machine::frame_sweep) gives them): one column per
+/// [`FRAME_OUTPUTS`] name (N, N·m), empty where not asked. A bad value of design `row` is a
+/// [`MechanismError::InRow`].
+pub(crate) fn frame_sweep(
+    base: &MachineView<'_>,
     omega: Option<f64>,
     designs: &MachineDesigns<'_>,
     axial_position: &[f64],
@@ -77,7 +79,6 @@ pub fn frame_sweep(
     parallelism: Parallelism,
 ) -> Result<[Vec<f64>; 5]> {
     check_designs(base, designs)?;
-    crate::error::check_length("axial_position", base.units.len(), axial_position.len())?;
     let n = designs.designs;
     let work = n
         .saturating_mul(base.units.len())
@@ -125,7 +126,7 @@ pub fn frame_sweep(
 
 #[allow(clippy::too_many_arguments)]
 fn design_row(
-    base: &Machine<'_>,
+    base: &MachineView<'_>,
     omega: Option<f64>,
     designs: &MachineDesigns<'_>,
     row: usize,
@@ -152,7 +153,7 @@ fn design_row(
             Some(factor) => base.diagrams.iter().map(|d| d.scaled(factor)).collect(),
             None => base.diagrams.to_vec(),
         };
-        let machine = Machine {
+        let machine = MachineView {
             diagrams: &diagrams,
             ..v.machine(base)
         };

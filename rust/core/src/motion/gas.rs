@@ -14,8 +14,8 @@
 use std::f64::consts::PI;
 use std::sync::Arc;
 
-use crate::dynamics::PhysicalCylinder;
 use crate::error::{check, MechanismError, Result};
+use crate::mechanism::PhysicalCylinder;
 
 mod work;
 
@@ -308,6 +308,35 @@ pub fn net_piston_forces(
     Ok(())
 }
 
+/// The rules of a machine's gas: one per unit, each naming a diagram the machine has, each
+/// diagram spanning its working cycle `cycle` (rad).
+pub(crate) fn check_gas(
+    units: &[PhysicalCylinder],
+    gas: &[GasCylinder],
+    diagrams: &[PiecewisePolynomial],
+    cycle: f64,
+) -> Result<()> {
+    if gas.len() != units.len() {
+        return Err(MechanismError::LengthMismatch {
+            parameter: "gas",
+            expected: units.len(),
+            found: gas.len(),
+        });
+    }
+    for cylinder in gas {
+        cylinder.validate(diagrams.len())?;
+    }
+    for diagram in diagrams {
+        check(
+            "breakpoints",
+            diagram.cycle(),
+            "a span of the machine's cycle",
+            |s| (s - cycle).abs() <= SPAN_TOLERANCE * cycle,
+        )?;
+    }
+    Ok(())
+}
+
 /// The net piston forces F = p(θ)·A − p_c(θ)·A_c of a machine's units.
 #[derive(Debug, Clone)]
 pub(crate) struct Forces {
@@ -324,24 +353,7 @@ impl Forces {
         diagrams: Arc<[PiecewisePolynomial]>,
         cycle: f64,
     ) -> Result<Self> {
-        if gas.len() != units.len() {
-            return Err(MechanismError::LengthMismatch {
-                parameter: "gas",
-                expected: units.len(),
-                found: gas.len(),
-            });
-        }
-        for cylinder in gas {
-            cylinder.validate(diagrams.len())?;
-        }
-        for diagram in diagrams.iter() {
-            check(
-                "breakpoints",
-                diagram.cycle(),
-                "a span of the machine's cycle",
-                |s| (s - cycle).abs() <= SPAN_TOLERANCE * cycle,
-            )?;
-        }
+        check_gas(units, gas, &diagrams, cycle)?;
         Ok(Self {
             gas: gas.to_vec(),
             diagrams,

@@ -33,8 +33,8 @@ mod sweep;
 mod tables;
 mod variant;
 
-use crate::dynamics::PhysicalCylinder;
 use crate::error::{check, MechanismError, Result};
+use crate::mechanism::PhysicalCylinder;
 use crate::mechanism::{check_shaft_inertia, check_speed, Strokes};
 
 use cycle::Cycle;
@@ -43,15 +43,17 @@ use square_law::SquareLaw;
 use tables::state_of;
 
 pub use columns::{MachineDesigns, MotionColumns, MotionOutputs, UnitColumn, UnitField};
-pub use frame_sweep::{frame_sweep, FrameOutputs, BEARING_ANGLES, FRAME_OUTPUTS};
+pub(crate) use frame_sweep::frame_sweep;
+pub use frame_sweep::{FrameOutputs, BEARING_ANGLES, FRAME_OUTPUTS};
 pub use gas::{net_piston_forces, GasCylinder, PiecewisePolynomial};
 pub use orders::{torque_orders, TorqueOrders};
 pub use sweep::motion_sweep;
 pub use tables::{CycleArrays, SteadyTables};
 
-/// A machine as the steady state takes it (SI units).
+/// A machine as its motion takes it (SI units): a [`Machine`](crate::Machine)'s own
+/// ([`Machine::view`](crate::Machine::view)), or a design's machine in a sweep.
 #[derive(Debug, Clone, Copy)]
-pub struct Machine<'a> {
+pub struct MachineView<'a> {
     /// The slider-crank units.
     pub units: &'a [PhysicalCylinder],
     /// Their gas, one per unit ([`GasCylinder::NONE`] where there is none).
@@ -66,7 +68,17 @@ pub struct Machine<'a> {
     pub g: f64,
 }
 
-impl Machine<'_> {
+impl MachineView<'_> {
+    /// The rules of its gas (`gas::check_gas`).
+    pub(crate) fn check_gas(&self) -> Result<()> {
+        gas::check_gas(
+            self.units,
+            self.gas,
+            self.diagrams,
+            self.strokes.cycle_angle(),
+        )
+    }
+
     /// Every unit's gas force F = p·A − p_c·A_c (N, toward the shaft) at every φ (rad),
     /// unit-major (units × phi), from the machine's own diagrams.
     pub fn piston_forces(&self, phi: &[f64]) -> Result<Vec<f64>> {
@@ -154,7 +166,7 @@ fn rest_angle(cycle: &Cycle, drive: f64) -> f64 {
 ///
 /// [`SPEED_LIMITS`]: crate::mechanism::SPEED_LIMITS
 pub fn steady_state(
-    machine: &Machine<'_>,
+    machine: &MachineView<'_>,
     omega_mean: f64,
     min_speed_ratio: f64,
 ) -> Result<SteadyState> {
@@ -191,7 +203,7 @@ pub struct SteadyCurves {
 ///
 /// Errors: as [`steady_state`]; an angle outside [0, Φ] (or not finite), naming `phi`.
 pub fn steady_state_curves(
-    machine: &Machine<'_>,
+    machine: &MachineView<'_>,
     omega_mean: f64,
     min_speed_ratio: f64,
     phi: &[f64],
@@ -223,7 +235,7 @@ pub fn steady_state_curves(
 /// cycle (`load`); [`MechanismError::Stall`] (its `omega_mean` NaN: none was asked for,
 /// `min_omega` none) where E would reach zero or ω_min < `min_speed_ratio`·ω_m.
 pub fn square_law_steady_state(
-    machine: &Machine<'_>,
+    machine: &MachineView<'_>,
     coefficient: f64,
     drive: f64,
     min_speed_ratio: f64,
@@ -326,7 +338,7 @@ pub struct FlywheelInertia {
 /// Errors: bad input, naming the parameter; `delta` unreachable (the machine stalls before
 /// its fluctuation grows that large, or the rods' own inertia keeps it below).
 pub fn flywheel_inertia(
-    machine: &Machine<'_>,
+    machine: &MachineView<'_>,
     delta: f64,
     omega_mean: f64,
     min_speed_ratio: f64,
@@ -356,7 +368,7 @@ pub fn flywheel_inertia(
 /// shaft, or before its fluctuation grows that large, or the rods' own inertia keeps it
 /// below).
 pub fn square_law_flywheel_inertia(
-    machine: &Machine<'_>,
+    machine: &MachineView<'_>,
     coefficient: f64,
     drive: f64,
     delta: f64,

@@ -30,7 +30,7 @@ use crate::parallel::Parallelism;
 use super::cycle::dead_centres;
 use super::gas::Forces;
 use super::quadrature::{breaks, Panels};
-use super::Machine;
+use super::MachineView;
 
 /// Gauss–Legendre nodes per panel.
 const NODES: usize = 12;
@@ -74,7 +74,7 @@ pub struct TorqueOrders {
 /// The orders of `machine`'s gas, inertia and gravity torques up to `max_order` (≥ 1) at the
 /// mean speed `omega` ω (rad/s); `gravity` false gives zero gravity orders (as if g were 0).
 pub fn torque_orders(
-    machine: &Machine<'_>,
+    machine: &MachineView<'_>,
     omega: f64,
     max_order: usize,
     gravity: bool,
@@ -171,7 +171,7 @@ pub fn torque_orders(
 
 /// Where the gas torque may have kinks, φ in [0, Φ): every gassed unit's dead centres and
 /// its pressure tables' breakpoints θ, at φ = (θ − α) mod Φ.
-fn gas_cuts(machine: &Machine<'_>, cycle: f64) -> Vec<f64> {
+fn gas_cuts(machine: &MachineView<'_>, cycle: f64) -> Vec<f64> {
     let mut angles = dead_centres(machine);
     for (unit, gas) in machine.units.iter().zip(machine.gas) {
         if !gas.has_gas() {
@@ -269,7 +269,7 @@ fn coefficients(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::dynamics::PhysicalCylinder;
+    use crate::mechanism::PhysicalCylinder;
     use crate::mechanism::Strokes;
     use crate::motion::{GasCylinder, PiecewisePolynomial};
     use std::f64::consts::FRAC_PI_2;
@@ -343,7 +343,7 @@ mod tests {
                 ..GasCylinder::NONE
             },
         ];
-        let machine = Machine {
+        let machine = MachineView {
             units: &units,
             gas: &gas,
             diagrams: &diagrams,

@@ -16,7 +16,7 @@ use crate::parallel::{map_indices, Parallelism};
 use super::columns::{Changes, MachineDesigns, MotionColumns, MotionOutputs};
 use super::gas::PiecewisePolynomial;
 use super::variant::{gas, variant, Variant};
-use super::{check_speed_ratio, flywheel, Machine, SteadyTables};
+use super::{check_speed_ratio, flywheel, MachineView, SteadyTables};
 
 /// One design's numbers (NaN where not asked).
 #[derive(Debug, Clone, Copy)]
@@ -65,7 +65,7 @@ const WORK_PER_DESIGN_AND_UNIT: usize = 4096;
 
 /// The base machine's own faults (not a row's) and the designs' columns: each as long as
 /// the designs, each unit column of a unit the machine has.
-pub(super) fn check_designs(base: &Machine<'_>, designs: &MachineDesigns<'_>) -> Result<()> {
+pub(super) fn check_designs(base: &MachineView<'_>, designs: &MachineDesigns<'_>) -> Result<()> {
     Dynamics::new(base.units, base.g)?;
     check_length("gas", base.units.len(), base.gas.len())?;
     for gas in base.gas {
@@ -203,7 +203,7 @@ fn distinct(
 /// [`steady_state`]: super::steady_state
 /// [`flywheel_inertia`]: super::flywheel_inertia
 pub fn motion_sweep(
-    base: &Machine<'_>,
+    base: &MachineView<'_>,
     omega: Option<f64>,
     designs: &MachineDesigns<'_>,
     outputs: MotionOutputs,

@@ -14,7 +14,7 @@ use super::cycle::{Cycle, Gas};
 use super::drive::Drive;
 use super::gas::PiecewisePolynomial;
 use super::solution::{Periodic, PeriodicSolver, Solution};
-use super::{check_speed_ratio, flywheel, FlywheelInertia, Machine, SteadyCurves, SteadyState};
+use super::{check_speed_ratio, flywheel, FlywheelInertia, MachineView, SteadyCurves, SteadyState};
 
 /// The constant "balance" load (N·m): the cycle mean of the gas torque, W(Φ)/Φ.
 fn balance_load(cycle: &Cycle) -> f64 {
@@ -91,7 +91,7 @@ fn running_speed(balance: &Balance, omega: f64, ratio: f64) -> Result<f64> {
 
 impl SteadyTables {
     /// The tables of `machine` (its units, gas and g checked, naming the parameter).
-    pub fn new(machine: &Machine<'_>) -> Result<Self> {
+    pub fn new(machine: &MachineView<'_>) -> Result<Self> {
         Self::from_cycle(Cycle::new(
             machine,
             Dynamics::new(machine.units, machine.g)?,
@@ -100,7 +100,7 @@ impl SteadyTables {
 
     /// The tables of `machine` whose gas is `gas` (a sweep's, shared by its designs that
     /// differ only in masses, g, I_w or speed).
-    pub(crate) fn with_gas(machine: &Machine<'_>, gas: &Arc<Gas>) -> Result<Self> {
+    pub(crate) fn with_gas(machine: &MachineView<'_>, gas: &Arc<Gas>) -> Result<Self> {
         let dynamics = Dynamics::new(machine.units, machine.g)?;
         Self::from_cycle(Cycle::with_gas(machine, dynamics, gas)?)
     }

@@ -4,14 +4,14 @@
 
 use std::sync::Arc;
 
-use crate::dynamics::{two_mass_rod_inertia, PhysicalCylinder};
 use crate::error::{check, MechanismError, Result};
 use crate::mechanism::{check_shaft_inertia, check_speed};
+use crate::mechanism::{two_mass_rod_inertia, PhysicalCylinder};
 
 use super::columns::MachineDesigns;
 use super::cycle::Gas;
 use super::gas::{GasCylinder, PiecewisePolynomial};
-use super::Machine;
+use super::MachineView;
 
 /// A design's machine, apart from the diagrams (scaled only when it is solved).
 #[derive(Debug, Clone)]
@@ -29,7 +29,7 @@ pub(super) struct Variant {
 /// no omega column),
 /// checked: every value, every unit and its gas.
 pub(super) fn variant(
-    base: &Machine<'_>,
+    base: &MachineView<'_>,
     omega: Option<f64>,
     designs: &MachineDesigns<'_>,
     row: usize,
@@ -121,7 +121,7 @@ pub(super) fn variant(
 /// A design's machine (its diagrams: `shared`, the base ones, scaled where the design says
 /// so), and the gas of it.
 pub(super) fn gas(
-    base: &Machine<'_>,
+    base: &MachineView<'_>,
     shared: &Arc<[PiecewisePolynomial]>,
     variant: &Variant,
 ) -> Result<Gas> {
@@ -134,8 +134,8 @@ pub(super) fn gas(
 
 impl Variant {
     /// The machine of the design, its diagrams apart (a `Gas` holds them).
-    pub(super) fn machine<'v>(&'v self, base: &Machine<'_>) -> Machine<'v> {
-        Machine {
+    pub(super) fn machine<'v>(&'v self, base: &MachineView<'_>) -> MachineView<'v> {
+        MachineView {
             units: &self.units,
             gas: &self.gas,
             diagrams: &[],

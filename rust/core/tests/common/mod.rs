@@ -5,7 +5,8 @@
 #![allow(dead_code)]
 
 use multicrank_core::{
-    steady_state, GasCylinder, Machine, PhysicalCylinder, PiecewisePolynomial, SteadyState, Strokes,
+    steady_state, GasCylinder, MachineView, PhysicalCylinder, PiecewisePolynomial, SteadyState,
+    Strokes,
 };
 use serde_json::Value;
 
@@ -166,8 +167,8 @@ fn fixture(m: &Value) -> Fixture {
     }
 }
 
-pub fn machine_of(f: &Fixture) -> Machine<'_> {
-    Machine {
+pub fn machine_of(f: &Fixture) -> MachineView<'_> {
+    MachineView {
         units: &f.units,
         gas: &f.gas,
         diagrams: &f.diagrams,

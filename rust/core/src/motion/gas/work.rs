@@ -5,8 +5,9 @@
 use std::f64::consts::PI;
 use std::sync::Arc;
 
-use crate::dynamics::{Dynamics, PhysicalCylinder};
+use crate::dynamics::Dynamics;
 use crate::error::Result;
+use crate::mechanism::PhysicalCylinder;
 use crate::parallel::Parallelism;
 
 use super::super::quadrature::{breaks, running_at, Panels};

@@ -5,11 +5,11 @@
 
 use std::f64::consts::{FRAC_PI_2, TAU};
 
-use crate::dynamics::PhysicalCylinder;
+use crate::mechanism::PhysicalCylinder;
 use crate::mechanism::Strokes;
 
 use super::super::square_law::SquareLaw;
-use super::super::{GasCylinder, Machine, SteadyTables};
+use super::super::{GasCylinder, MachineView, SteadyTables};
 use super::{PeriodicSolver, Status};
 
 const PHASE: f64 = 0.3;
@@ -34,7 +34,7 @@ fn unit() -> PhysicalCylinder {
 
 fn tables() -> SteadyTables {
     let units = [unit()];
-    SteadyTables::new(&Machine {
+    SteadyTables::new(&MachineView {
         units: &units,
         gas: &[GasCylinder::NONE],
         diagrams: &[],
