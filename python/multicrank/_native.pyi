@@ -198,7 +198,11 @@ class NativeMachine:
         shaft_inertia: float | None = None,
         gravity: bool = True,
         drive: _Table = None,
+        arrays: bool = True,
     ) -> SteadyResult: ...
+    def cycle_arrays(
+        self, phi: _Array, shaft_inertia: float | None = None, gravity: bool = True, drive: _Table = None
+    ) -> list[_Array]: ...
     def comparisons(
         self,
         omega: float,

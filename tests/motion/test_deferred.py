@@ -47,10 +47,23 @@ def test_the_question_is_the_one_asked():
     assert question.omega == math.pi * 120 / 30  # ω = πn/30
     assert (question.ratio, question.gravity, question.points, question.table) == (0.01, False, 9, None)
     assert question.rules.route == "balance"
-    # Asked, it answers: the arrays at 9 angles over the cycle, ω(0) = ω(Φ).
-    arrays = question.arrays()
-    np.testing.assert_array_equal(arrays["phi"], np.linspace(0.0, COMPRESSOR.cycle, 9))
-    assert arrays["omega"][0] == arrays["omega"][-1]
+    # Asked, it answers: φ, ω and t alone at 9 angles over the cycle, ω(0) = ω(Φ); then the
+    # arrays with them, the same ω.
+    curves = question.curves()
+    assert set(curves) == {"phi", "omega", "time"}
+    np.testing.assert_array_equal(curves["phi"], np.linspace(0.0, COMPRESSOR.cycle, 9))
+    assert curves["omega"][0] == curves["omega"][-1] and curves["time"][0] == 0.0
+    arrays = question.arrays(curves)
+    assert arrays["omega"] is curves["omega"] and {"gas_torque", "acceleration"} <= set(arrays)
+
+
+def test_reading_omega_computes_no_torques():
+    state = mc.steady_state(COMPRESSOR, rpm=120, points=9)
+    state.omega, state.time  # noqa: B018 - reading them is the test
+    assert "_curves" in state.__dict__ and "_arrays" not in state.__dict__
+    J = state.reduced_inertia
+    assert "_arrays" in state.__dict__ and J.shape == (9,)
+    np.testing.assert_array_equal(state.omega, state._arrays["omega"])
 
 
 def test_a_pickle_holds_the_answers_and_no_question():

@@ -9,7 +9,7 @@ that solves everything at once (shooting) found. Neither is pickled: a pickled
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 
@@ -19,7 +19,7 @@ from ..machine.machine import Machine
 from ._periodic import Rules
 from .loads import BALANCE, Torque
 
-__all__ = ["COMPARISONS", "Computed", "CoreQuestion", "steady_arrays"]
+__all__ = ["COMPARISONS", "Computed", "CoreQuestion", "steady_arrays", "steady_curves"]
 
 #: The comparison δ of a steady state, by their names on :class:`~multicrank.SteadyState`.
 COMPARISONS = ("delta_without_gravity", "delta_coasting")
@@ -29,27 +29,18 @@ def steady_arrays(
     machine: Machine,
     rules: Rules,
     gravity: bool,
-    phi: np.ndarray,
-    curves: SteadyResult | dict[str, np.ndarray],
+    curves: dict[str, np.ndarray],
+    given: tuple[np.ndarray, ...] | None,
     omega_mean: float,
-    period: float,
     mean_load: float,
 ) -> dict[str, np.ndarray]:
-    """The arrays of :class:`~multicrank.SteadyState` (read-only) from ω and t at ``phi``
-    (``curves``), with J, J′, M_gas and the gravity torque from ``curves`` where the core gave
-    them (a :class:`~multicrank._native.SteadyResult` asked for its arrays)."""
+    """The arrays of :class:`~multicrank.SteadyState` (read-only) from φ, ω and t
+    (``curves``, :func:`steady_curves`), with J, J′, M_gas and the gravity torque ``given``
+    where the core gave them (its cycle's tables), else the machine's own."""
+    phi, omega = curves["phi"], curves["omega"]
     count = phi.size
-    given = curves if isinstance(curves, SteadyResult) else None
-    if isinstance(curves, SteadyResult):
-        omega, time = curves.omega, curves.time
-    else:
-        omega, time = curves["omega"], curves["time"]
-    assert omega is not None and time is not None
-    time[0], time[-1] = 0.0, period
-    if given is not None and given.gas_torque is not None:
-        J, slope = given.reduced_inertia, given.reduced_inertia_slope
-        gas, weight = given.gas_torque, given.gravity_torque
-        assert J is not None and slope is not None and weight is not None
+    if given is not None:
+        J, slope, gas, weight = given
     else:
         J, slope = machine.reduced_inertia(phi)
         gas = machine.gas_torque(phi)
@@ -62,9 +53,7 @@ def steady_arrays(
     else:
         load_ = rules.load(phi, omega) if isinstance(rules.load, Torque) else np.zeros(count)
     arrays = dict(
-        phi=phi,
-        omega=omega,
-        time=time,
+        curves,
         reduced_inertia=J,
         reduced_inertia_slope=slope,
         gas_torque=gas,
@@ -77,6 +66,16 @@ def steady_arrays(
     for array in arrays.values():
         array.flags.writeable = False
     return arrays
+
+
+def steady_curves(phi: np.ndarray, omega: np.ndarray, time: np.ndarray, period: float) -> dict[str, np.ndarray]:
+    """φ, ω and t of a steady state (read-only), t from exactly 0 to exactly t_Φ: what
+    reading ``omega`` or ``time`` costs, without the torques."""
+    time[0], time[-1] = 0.0, period
+    curves = dict(phi=phi, omega=omega, time=time)
+    for array in curves.values():
+        array.flags.writeable = False
+    return curves
 
 
 @dataclass(frozen=True, eq=False)
@@ -130,21 +129,33 @@ class CoreQuestion:
     def balance(self) -> bool:
         return self.rules.route == BALANCE
 
-    def arrays(self) -> dict[str, np.ndarray]:
-        """The arrays by name: "balance" solves again with curves at ``points`` angles (the
-        same root, now with ω and t there); the square law's came with its solution."""
+    def curves(self) -> dict[str, np.ndarray]:
+        """φ, ω and t: "balance" solves again with ω and t at ``points`` angles (the same
+        root); the square law's came with its solution."""
         if self.balance:
             assert self.omega is not None
             phi = np.linspace(0.0, self.machine.cycle, self.points)
-            curves = self.native.steady_state(
-                self.omega, self.ratio, phi, False, gravity=self.gravity, drive=self.table
+            found = self.native.steady_state(
+                self.omega, self.ratio, phi, False, gravity=self.gravity, drive=self.table, arrays=False
             )
         else:
             assert self.phi is not None
-            phi, curves = self.phi, self.found
-        return steady_arrays(
-            self.machine, self.rules, self.gravity, phi, curves, self.omega_mean, self.period, self.mean_load
-        )
+            phi, found = self.phi, self.found
+        assert found.omega is not None and found.time is not None
+        return steady_curves(phi, found.omega, found.time, self.period)
+
+    def arrays(self, curves: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+        """The arrays by name, ``curves`` among them: J, J′ and the torques from the cycle's
+        tables ("balance"), or the square law's, which came with its solution."""
+        phi = curves["phi"]
+        given: tuple[np.ndarray | None, ...]
+        if self.balance:
+            given = tuple(self.native.cycle_arrays(phi, gravity=self.gravity, drive=self.table))
+        else:  # the square law's solution has none: the machine's own
+            found = self.found
+            given = (found.reduced_inertia, found.reduced_inertia_slope, found.gas_torque, found.gravity_torque)
+        taken = None if any(a is None for a in given) else cast(tuple[np.ndarray, ...], given)
+        return steady_arrays(self.machine, self.rules, self.gravity, curves, taken, self.omega_mean, self.mean_load)
 
     def comparisons(self) -> dict[str, float]:
         """The two comparison δ by name: two more solves for "balance"; the square law's
@@ -174,7 +185,10 @@ class Computed:
     found_arrays: dict[str, np.ndarray]
     found_comparisons: dict[str, float]
 
-    def arrays(self) -> dict[str, np.ndarray]:
+    def curves(self) -> dict[str, np.ndarray]:
+        return {name: self.found_arrays[name] for name in ("phi", "omega", "time")}
+
+    def arrays(self, curves: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
         return self.found_arrays
 
     def comparisons(self) -> dict[str, Any]:

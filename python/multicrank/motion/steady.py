@@ -43,7 +43,7 @@ from .._native import MechanismError
 from .._validation import as_count, as_flag, as_instance, rpm_from_omega
 from ..machine.machine import Machine
 from ..machine.native import motion_machine
-from ._deferred import COMPARISONS, Computed, CoreQuestion, steady_arrays
+from ._deferred import COMPARISONS, Computed, CoreQuestion, steady_arrays, steady_curves
 from ._periodic import (
     DEFAULT_MIN_SPEED_RATIO,
     METHODS,
@@ -340,8 +340,8 @@ def _shooting_solution(machine: Machine, rules: Rules, gravity: bool, ratio: flo
         nfev=solution.nfev,
         nit=solution.nit,
     )
-    curves = dict(omega=solution.omega_at(phi), time=solution.time_at(phi))
-    arrays = steady_arrays(machine, rules, gravity, phi, curves, mean, solution.period, mean_load)
+    curves = steady_curves(phi, solution.omega_at(phi), solution.time_at(phi), solution.period)
+    arrays = steady_arrays(machine, rules, gravity, curves, None, mean, mean_load)
     compared = dict(zip(COMPARISONS, (delta_without, delta_coasting), strict=True))
     return dict(numbers, method=solution.method), Computed(arrays, compared)
 

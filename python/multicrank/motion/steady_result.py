@@ -215,9 +215,17 @@ class SteadyState(MotionResult):
     # The arrays and the two comparison solves, computed when first read: δ alone costs one
     # solve (docs/theory.md, "Where it is computed, and when").
     @cached_property
+    def _curves(self) -> dict[str, np.ndarray]:
+        # φ, ω and t alone: reading them does not compute the torques (a pickle holds them all).
+        if "_arrays" in self.__dict__:
+            return self.__dict__["_arrays"]
+        assert self._later is not None
+        return self._later.curves()
+
+    @cached_property
     def _arrays(self) -> dict[str, np.ndarray]:
         assert self._later is not None  # a pickle holds them
-        return self._later.arrays()
+        return self._later.arrays(self._curves)
 
     @cached_property
     def _comparisons(self) -> dict[str, float]:
@@ -227,17 +235,17 @@ class SteadyState(MotionResult):
     @property
     def phi(self) -> np.ndarray:
         """Crank angle φ [rad], uniform over the closed cycle."""
-        return self._arrays["phi"]
+        return self._curves["phi"]
 
     @property
     def omega(self) -> np.ndarray:
         """Shaft speed ω(φ) [rad/s]."""
-        return self._arrays["omega"]
+        return self._curves["omega"]
 
     @property
     def time(self) -> np.ndarray:
         """t(φ) [s] from φ = 0; ``time[-1]`` = t_Φ."""
-        return self._arrays["time"]
+        return self._curves["time"]
 
     @property
     def reduced_inertia(self) -> np.ndarray:

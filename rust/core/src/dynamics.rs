@@ -266,6 +266,31 @@ impl Dynamics {
         self.inertia_with(self.rotating, phi, inertia, slope, parallelism)
     }
 
+    /// J − I_w (kg·m²) alone, as [`Dynamics::inertia_beside_shaft`] gives it (the same
+    /// doubles), without the slope: what ω(φ) = √(2E/J) needs.
+    pub(crate) fn inertia_alone_beside_shaft(
+        &self,
+        phi: &[f64],
+        inertia: &mut [f64],
+    ) -> Result<()> {
+        check_length("inertia", phi.len(), inertia.len())?;
+        let phi = PreparedPhi::new(phi.into(), Parallelism::SERIAL);
+        let work = phi.len().saturating_mul(self.len());
+        let rotating = self.rotating;
+        for_each_row_segment(
+            inertia,
+            phi.len(),
+            work,
+            Parallelism::SERIAL,
+            |_, col, segment| {
+                let run = phi.run(col, segment.len());
+                crank_run::<Inertia>(&self.sliders, &self.phases, run, segment);
+                segment.iter_mut().for_each(|j| *j += rotating);
+            },
+        );
+        Ok(())
+    }
+
     /// The sliders' varying inertia plus `constant` (kg·m²), and its slope (kg·m²/rad).
     fn inertia_with<'a>(
         &self,

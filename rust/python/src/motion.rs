@@ -95,9 +95,10 @@ impl NativeMachine {
     /// and min_omega (rad/s). `gravity=False`: the same machine with g = 0 (on this machine's tables).
     /// `drive`: None, or the PPoly arrays (x, c) of a driving torque M_d(φ) (N·m, x spanning
     /// one working cycle) beside the gas, the load balancing both (its cycle mean).
+    /// `arrays=False`: with `phi`, ω and t alone (the rest: `cycle_arrays`).
     #[pyo3(signature = (
         omega_mean, min_speed_ratio=1e-3, phi=None, compare=true, shaft_inertia=None,
-        gravity=true, drive=None
+        gravity=true, drive=None, arrays=true
     ))]
     #[allow(clippy::too_many_arguments)]
     fn steady_state<'py>(
@@ -110,6 +111,7 @@ impl NativeMachine {
         shaft_inertia: Option<f64>,
         gravity: bool,
         drive: DiagramArg<'py>,
+        arrays: bool,
     ) -> PyResult<SteadyResult> {
         let angles = phi.as_ref().map(|a| a.as_slice()).transpose()?;
         let inertia = shaft_inertia.unwrap_or(self.core.shaft_inertia());
@@ -125,12 +127,45 @@ impl NativeMachine {
                     compare,
                 )?;
                 let arrays = angles
+                    .filter(|_| arrays)
                     .map(|phi| tables.arrays_at(inertia, phi))
                     .transpose()?;
                 Ok((found, arrays))
             })
             .map_err(|error| motion_err(py, error))?;
         Ok(steady_result(py, found, angles.is_some(), arrays))
+    }
+
+    /// cycle_arrays(phi, shaft_inertia=None, gravity=True, drive=None) -> (reduced_inertia,
+    /// reduced_inertia_slope, gas_torque, gravity_torque): J (kg·m², with I_w =
+    /// `shaft_inertia`, default the machine's), J′ (kg·m²/rad), M_gas (N·m, the gas alone)
+    /// and −U′ (N·m; 0 with `gravity=False`) at `phi` (rad, in [0, Φ]), as the cycle's tables
+    /// (with `drive`, as steady_state takes it) give them: what steady_state gives with its
+    /// arrays.
+    #[pyo3(signature = (phi, shaft_inertia=None, gravity=true, drive=None))]
+    fn cycle_arrays<'py>(
+        &self,
+        py: Python<'py>,
+        phi: PyReadonlyArray1<'py, f64>,
+        shaft_inertia: Option<f64>,
+        gravity: bool,
+        drive: DiagramArg<'py>,
+    ) -> PyResult<[Bound<'py, PyArray1<f64>>; 4]> {
+        let angles = phi.as_slice()?;
+        let inertia = shaft_inertia.unwrap_or(self.core.shaft_inertia());
+        let drive = drive_table(&drive, self.cycle())?;
+        let found = py
+            .detach(|| {
+                self.tables_with(gravity, drive.as_ref())?
+                    .arrays_at(inertia, angles)
+            })
+            .map_err(|error| motion_err(py, error))?;
+        Ok([
+            found.reduced_inertia.into_pyarray(py),
+            found.reduced_inertia_slope.into_pyarray(py),
+            found.gas_torque.into_pyarray(py),
+            found.gravity_torque.into_pyarray(py),
+        ])
     }
 
     /// comparisons(omega, delta, omega_mean, min_speed_ratio=1e-3, shaft_inertia=None,

@@ -338,7 +338,10 @@ impl Cycle {
 
     /// J − I_w (kg·m²) at any angles.
     pub fn rest_at(&self, phi: &[f64]) -> Result<Vec<f64>> {
-        Ok(self.inertia_at(phi)?.0)
+        let mut inertia = vec![0.0; phi.len()];
+        self.dynamics
+            .inertia_alone_beside_shaft(phi, &mut inertia)?;
+        Ok(inertia)
     }
 
     /// (1/Φ)∫(J − I_w) dφ (kg·m²): the rods' and pistons' mean share of J.
