@@ -44,8 +44,8 @@ from .dynamics import MachineDynamics
 from .gas import MachineGas
 from .loading import from_toml as _from_toml
 from .phases import chosen_firing, even_firing
-from .shaft import as_bearings, default_bearings
-from .shaft import throws as _throws
+from .throws import as_bearings, default_bearings
+from .throws import throws as _throws
 
 __all__ = ["LOAD_LAWS", "Machine", "load_factor", "rated_omega"]
 

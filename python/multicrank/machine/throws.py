@@ -1,4 +1,4 @@
-"""Where things are along a machine's shaft: its throws and main bearings.
+"""Where things are along a machine's shaft: its throws and the main bearings between them.
 
 A cylinder's ``axial_position`` z [m] places it along the shaft; the cylinders at one axial
 position are one **throw** (:func:`throws`), whose crank web and counterweight belong to it.
