@@ -41,7 +41,7 @@ from .gravity import (
     surviving_harmonics,
     uniform_grid,
 )
-from .machine import Cylinder, Machine
+from .machine import Cylinder, Machine, Shaft
 from .motion import (
     NEAR_STALL_DELTA,
     FlywheelInertia,
@@ -75,7 +75,6 @@ _LAZY = {
     "ShakingForces": "forces.shaking",
     "bearing_loads": "forces.bearings",
     "BearingLoads": "forces.bearings",
-    "Shaft": "torsion.shaft",
     "torsional_merit": "torsion.merit",
     "TorsionalModel": "torsion.handoff",
 }

@@ -239,9 +239,9 @@ def firing_orders(
     """
     import pandas as pd
 
+    from ..machine.shaft import shaft_of
     from ..motion.sweep import motion_sweep
     from ..torsion.merit import firing_criteria, speed_window
-    from ..torsion.shaft import shaft_of
 
     machine = as_instance(machine, Machine, "machine")
     chosen_shaft = None if shaft is None and machine.shaft is None else shaft_of(machine, shaft)

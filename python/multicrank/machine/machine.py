@@ -37,13 +37,13 @@ from .._validation import (
 from .._validation import as_rpm_range as _speed_range
 from ..gravity.layouts import Layout, as_layout
 from ..gravity.mechanism import STANDARD_GRAVITY
-from ..torsion.shaft import Shaft, use_machine_loader
 from .cylinder import Cylinder, diagram_strokes, unit_columns
 from .description import MachineDescription
 from .dynamics import MachineDynamics
 from .gas import MachineGas
 from .loading import from_toml as _from_toml
 from .phases import chosen_firing, even_firing
+from .shaft import Shaft, use_machine_loader
 from .throws import as_bearings, default_bearings
 from .throws import throws as _throws
 

@@ -58,7 +58,7 @@ from .._validation import (
 )
 from ..machine.machine import Machine, load_factor, rated_omega
 from ..machine.native import motion_machine
-from ..torsion.shaft import shaft_of
+from ..machine.shaft import shaft_of
 
 __all__ = ["ORDER_PARTS", "CylinderOrders", "cylinder_orders", "to_opentorsion", "torque_orders"]
 

@@ -19,7 +19,7 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from .._optional import require
-from .shaft import Shaft
+from ..machine.shaft import Shaft
 
 __all__ = ["TorsionalModel", "assembly_of", "torsional_model"]
 

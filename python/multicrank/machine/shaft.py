@@ -1,18 +1,22 @@
 """A machine's shaft as a torsional chain (issue "Firing orders and counterweights judged as an
-engine designer judges them", item 1): inertias joined by torsional stiffnesses, and its
-natural frequencies and mode shapes.
+engine designer judges them", item 1): inertias joined by torsional stiffnesses, a part of the
+machine (``Machine.shaft``) like its cylinders, and its natural frequencies and mode shapes.
 
 The undamped free–free chain J θ̈ + K θ = 0, with J = diag(J_0 … J_{n−1}) [kg·m²] and K the
 tridiagonal stiffness matrix of the n − 1 shaft sections k_i [N·m/rad] between nodes i and
 i + 1 (K_ii = k_{i−1} + k_i, K_{i,i+1} = −k_i), has modes θ = a e^{iωt} with K a = ω² J a. The
-first, ω = 0, turns the shaft as a rigid body, and the elastic modes 1, 2, … follow; ``_chain``
-finds them from the chain's numbers directly (Holzer's recurrence, bisected on its Sturm count),
-each ω² to a few units in its last digit however stiff, light or long the chain, in time and
-memory of the order of the nodes × the modes asked.
+first, ω = 0, turns the shaft as a rigid body, and the elastic modes 1, 2, … follow; the
+torsion room's ``_chain``, which :meth:`Shaft.modes` asks, finds them from the chain's numbers
+directly (Holzer's recurrence, bisected on its Sturm count), each ω² to a few units in its last
+digit however stiff, light or long the chain, in time and memory of the order of the nodes × the
+modes asked.
 
 A shaft comes from numbers (:class:`Shaft`), from a machine file's ``[shaft]`` table
 (:meth:`Shaft.from_toml`) or from an openTorsion model (:meth:`Shaft.from_opentorsion`);
-:func:`~multicrank.to_opentorsion` hands a machine and its shaft back to openTorsion.
+the torsional questions about it are the torsion room's (:mod:`multicrank.torsion`:
+:func:`~multicrank.torsional_merit`, and :func:`~multicrank.to_opentorsion`, which hands a
+machine and its shaft back to openTorsion). This module imports nothing of that room at load
+time: the machine is below it.
 """
 
 from __future__ import annotations
@@ -21,23 +25,21 @@ import math
 import os
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 
 from .._native import MechanismError
 from .._optional import require
 from .._validation import MAGNITUDE_LIMIT, as_count, as_instance, as_real_array, as_scalar, part_of, refused
-from ._chain import chain_modes
-
-if TYPE_CHECKING:
-    from ..machine.files import MachineFile
+from .files import MachineFile, read_shaft_file
 
 __all__ = ["Shaft", "ShaftModes", "shaft_of", "shaft_of_file"]
 
 # The one loader of a whole machine file, Machine.from_toml, handed over by machine.machine
 # when it is defined (use_machine_loader): it builds this module's Shafts, so this module
-# cannot import it without a circle; Shaft.from_toml of a machine file checks it through it.
+# cannot import it without a circle (tests/test_imports.py counts lazy imports too);
+# Shaft.from_toml of a machine file checks it through it.
 _machine_loader: Callable[[Any], Any] | None = None
 
 
@@ -335,8 +337,6 @@ class Shaft:
             with its message.
         """
         # The machine files' reader: one place for the [shaft] table's keys and types.
-        from ..machine.files import read_shaft_file
-
         file = read_shaft_file(path)
         if file is not None:
             return shaft_of_file(file)
@@ -412,6 +412,10 @@ class Shaft:
         >>> first.shapes[:, 0].round(6).tolist()
         [1.0, 0.999998, -0.999998, -1.0]
         """
+        # The chain's modes are the torsion room's mathematics; the machine part asks it when
+        # asked, so that machine/ imports nothing above it at load time (tests/test_rooms.py).
+        from ..torsion._chain import chain_modes
+
         elastic = len(self.inertia) - 1
         wanted = elastic if count is None else as_count(count, "count", minimum=1, maximum=elastic)
         omega_squared, shapes = chain_modes(np.asarray(self.stiffness), np.asarray(self.inertia), wanted)
