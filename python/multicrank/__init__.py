@@ -52,7 +52,6 @@ from .motion import (
     flywheel_inertia,
     simulate,
     steady_state,
-    to_opentorsion,
     torque_orders,
 )
 from .pressure import IndicatorDiagram
@@ -77,6 +76,7 @@ _LAZY = {
     "BearingLoads": "forces.bearings",
     "torsional_merit": "torsion.merit",
     "TorsionalModel": "torsion.handoff",
+    "to_opentorsion": "torsion.handoff",
 }
 
 

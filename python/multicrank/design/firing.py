@@ -63,9 +63,9 @@ def _largest_orders(machine: Machine, phases: np.ndarray, rpm: float, highest: i
 
     Every part of the torque (gas, inertia at the mean speed, gravity) is a sum over
     cylinders of a function of φ + α_j: each cylinder's orders are found once, at phase 0,
-    and moved to α_j by the shift theorem (:func:`~multicrank.motion.orders.cylinder_orders`).
+    and moved to α_j by the shift theorem (:func:`~multicrank.torsion.excitation.cylinder_orders`).
     """
-    from ..motion.orders import cylinder_orders
+    from ..torsion.excitation import cylinder_orders
 
     harmonics = cylinder_orders(machine, highest)
     omega = np.full(harmonics.orders.shape, omega_from_rpm(rpm))

@@ -33,7 +33,7 @@ import numpy as np
 from .._validation import as_count, as_instance, as_rpm_range, omega_from_rpm, refused
 from ..machine.machine import Machine
 from ..machine.shaft import Shaft, shaft_of
-from ..motion.orders import CylinderOrders, cylinder_orders
+from .excitation import CylinderOrders, cylinder_orders
 
 __all__ = [
     "AT_RUNNING_SPEED",
