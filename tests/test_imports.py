@@ -18,7 +18,12 @@ SOURCE = Path(__file__).resolve().parents[1] / "python" / PACKAGE
 
 # Modules every other module may use: they import nothing of the package but these (_files
 # makes its refusals by _validation's one way to make a MechanismError, refused).
-LEAVES = {"_validation": {"_native"}, "_optional": set(), "_files": {"_native", "_validation"}, "_shaft": set()}
+LEAVES = {
+    "_validation": {"_native"},
+    "_optional": set(),
+    "_files": {"_native", "_validation"},
+    "_inertia_torque": set(),
+}
 
 
 def module_name(path: Path, source: Path) -> str:

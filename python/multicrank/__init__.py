@@ -41,7 +41,7 @@ from .gravity import (
     surviving_harmonics,
     uniform_grid,
 )
-from .machine import Cylinder, Machine
+from .machine import Cylinder, Machine, Shaft
 from .motion import (
     NEAR_STALL_DELTA,
     FlywheelInertia,
@@ -52,7 +52,6 @@ from .motion import (
     flywheel_inertia,
     simulate,
     steady_state,
-    to_opentorsion,
     torque_orders,
 )
 from .pressure import IndicatorDiagram
@@ -75,9 +74,9 @@ _LAZY = {
     "ShakingForces": "forces.shaking",
     "bearing_loads": "forces.bearings",
     "BearingLoads": "forces.bearings",
-    "Shaft": "torsion.shaft",
     "torsional_merit": "torsion.merit",
     "TorsionalModel": "torsion.handoff",
+    "to_opentorsion": "torsion.handoff",
 }
 
 

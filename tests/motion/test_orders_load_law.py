@@ -11,7 +11,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import multicrank as mc
-from multicrank.motion.orders import cylinder_orders
+from multicrank.torsion.excitation import cylinder_orders
 
 SHIP = mc.presets.MACHINES["slow-diesel-12"]  # a propeller's law, rated at 90 rpm
 TWIN = mc.presets.MACHINES["marine-2t-twin"].replace(load_law="propeller")  # rated at 300 rpm

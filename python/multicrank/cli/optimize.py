@@ -191,7 +191,7 @@ def firing_command(
     tried goes above the table (csv: to stderr; json: "exhaustive").
     """
     from ..design.firing import firing_orders
-    from ..torsion.shaft import Shaft
+    from ..machine.shaft import Shaft
 
     if shaft_path is not None:
         try:

@@ -63,9 +63,9 @@ def _largest_orders(machine: Machine, phases: np.ndarray, rpm: float, highest: i
 
     Every part of the torque (gas, inertia at the mean speed, gravity) is a sum over
     cylinders of a function of φ + α_j: each cylinder's orders are found once, at phase 0,
-    and moved to α_j by the shift theorem (:func:`~multicrank.motion.orders.cylinder_orders`).
+    and moved to α_j by the shift theorem (:func:`~multicrank.torsion.excitation.cylinder_orders`).
     """
-    from ..motion.orders import cylinder_orders
+    from ..torsion.excitation import cylinder_orders
 
     harmonics = cylinder_orders(machine, highest)
     omega = np.full(harmonics.orders.shape, omega_from_rpm(rpm))
@@ -239,9 +239,9 @@ def firing_orders(
     """
     import pandas as pd
 
+    from ..machine.shaft import shaft_of
     from ..motion.sweep import motion_sweep
     from ..torsion.merit import firing_criteria, speed_window
-    from ..torsion.shaft import shaft_of
 
     machine = as_instance(machine, Machine, "machine")
     chosen_shaft = None if shaft is None and machine.shaft is None else shaft_of(machine, shaft)

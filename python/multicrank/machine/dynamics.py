@@ -11,8 +11,8 @@ from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 
+from .._inertia_torque import inertia_torque as _inertia_torque
 from .._native import NativeMachine
-from .._shaft import inertia_torque as _inertia_torque
 from .._validation import as_real_array, as_threshold
 from ..gravity.grids import as_phi
 

@@ -11,9 +11,9 @@ import os
 from typing import TYPE_CHECKING
 
 from ..gravity.layouts import Layout
-from ..torsion.shaft import Shaft, shaft_of_file
 from .cylinder import Cylinder
 from .files import MachineFile, read_machine_file
+from .shaft import Shaft, shaft_of_file
 
 if TYPE_CHECKING:
     from .machine import Machine

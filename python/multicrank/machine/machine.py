@@ -38,14 +38,14 @@ from .._validation import (
 from .._validation import as_rpm_range as _speed_range
 from ..gravity.layouts import Layout, as_layout
 from ..gravity.mechanism import STANDARD_GRAVITY
-from ..torsion.shaft import Shaft, use_machine_loader
 from .cylinder import Cylinder, diagram_strokes, unit_columns
 from .description import MachineDescription
 from .dynamics import MachineDynamics
 from .gas import MachineGas
 from .loading import from_toml as _from_toml
 from .phases import chosen_firing, even_firing
-from .shaft import ShaftLayout, as_bearings, layout_of
+from .shaft import Shaft, use_machine_loader
+from .throws import ShaftLayout, as_bearings, layout_of
 
 __all__ = ["LOAD_LAWS", "Machine", "load_factor", "rated_omega"]
 
@@ -470,7 +470,7 @@ class Machine(MachineDescription, MachineDynamics, MachineGas):
 
     @functools.cached_property
     def _layout(self) -> ShaftLayout:
-        """The throws and bearings (:func:`~multicrank.machine.shaft.layout_of`, the core's
+        """The throws and bearings (:func:`~multicrank.machine.throws.layout_of`, the core's
         rules), made on first use and kept."""
         positions = [c.axial_position for c in self.cylinders]
         return layout_of(positions, self.main_bearings, max(c.crank_radius for c in self.cylinders))

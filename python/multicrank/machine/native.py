@@ -20,7 +20,7 @@ from __future__ import annotations
 import math
 import threading
 from functools import cache
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -29,7 +29,9 @@ from .._validation import contiguous
 from ..pressure.diagram import IndicatorDiagram
 from .cylinder import unit_columns
 from .gas import _pressure
-from .machine import Machine
+
+if TYPE_CHECKING:  # a Machine asks this module for its native machine (Machine._core)
+    from .machine import Machine
 
 __all__ = ["SAMPLED_ORDER", "SAMPLED_WIDTH", "motion_machine", "native_machine", "sampled"]
 

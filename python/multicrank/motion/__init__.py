@@ -6,7 +6,8 @@
 - `flywheel`: the flywheel for a coefficient of speed fluctuation;
 - `transient`: the motion in time (`simulate` and its result, `Transient`), `_integration` its
   right-hand side and SciPy's integrators with the stall event;
-- `orders`: the torque orders of the cycle, and their hand-off to openTorsion;
+- `orders`: the torque orders of the cycle (each cylinder's, and their hand-off to openTorsion,
+  are the torsion room's);
 - `variants` and `sweep`: machines that differ in a few numbers (`MachineGrid`) and their
   steady states at sweep scale (`motion_sweep`); loaded on first use (they need pandas);
 - `columns`: the names of a motion sweep's design columns, their meanings and units (light: the
@@ -28,7 +29,7 @@ Units and names: a speed's name carries its unit — ``rpm…`` in 1/min, ``omeg
 from ._result import MotionResult
 from .flywheel import FlywheelInertia, flywheel_inertia
 from .loads import PowerLawLoad
-from .orders import to_opentorsion, torque_orders
+from .orders import torque_orders
 from .steady import NEAR_STALL_DELTA, StallError, SteadyState, steady_state
 from .transient import Transient, simulate
 
@@ -43,6 +44,5 @@ __all__ = [
     "flywheel_inertia",
     "simulate",
     "steady_state",
-    "to_opentorsion",
     "torque_orders",
 ]

@@ -13,8 +13,8 @@ from typing import Any, cast
 
 import numpy as np
 
+from .._inertia_torque import inertia_torque
 from .._native import NativeMachine, SteadyResult
-from .._shaft import inertia_torque
 from ..machine.machine import Machine
 from ._periodic import Rules
 from .loads import BALANCE, Torque

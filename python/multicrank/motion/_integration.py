@@ -18,7 +18,7 @@ from typing import Any
 
 import numpy as np
 
-from .._shaft import inertia_torque
+from .._inertia_torque import inertia_torque
 from .._validation import as_scalar, has_gas, refused
 from ..machine.machine import Machine
 from .loads import Torque

@@ -30,36 +30,22 @@ for the gas torque, the inertia torque −½ J'(φ) ω² at the mean speed, the 
 
 The Rust core computes the coefficients (``NativeMachine.torque_orders`` of the machine's
 native machine); here they are checked, rounded
-(:data:`RESOLUTION`) and laid out.
+(:data:`RESOLUTION`) and laid out. Each cylinder's own orders, which drive the shaft's
+torsional modes, and the hand-off of the orders to openTorsion (:func:`~multicrank.to_opentorsion`)
+are the torsion room's (``torsion.excitation``, ``torsion.handoff``), which imports this one.
 """
 
 from __future__ import annotations
 
-import dataclasses
-import math
-from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
-from .._optional import require
-from .._validation import (
-    SPEED_LIMITS,
-    as_count,
-    as_flag,
-    as_instance,
-    as_omega,
-    as_option,
-    omega_from_rpm,
-    refused,
-    rpm_from_omega,
-    running_omega,
-)
+from .._validation import as_count, as_flag, as_instance, as_omega, rpm_from_omega
 from ..machine.machine import Machine, load_factor, rated_omega
 from ..machine.native import motion_machine
-from ..torsion.shaft import shaft_of
 
-__all__ = ["ORDER_PARTS", "CylinderOrders", "cylinder_orders", "to_opentorsion", "torque_orders"]
+__all__ = ["ORDER_PARTS", "torque_orders"]
 
 #: The torques of :func:`torque_orders`, in column order.
 ORDER_PARTS = ("gas", "inertia", "gravity", "total")
@@ -71,8 +57,6 @@ ORDER_PARTS = ("gas", "inertia", "gravity", "total")
 #: orders above the first, inertia's mean) comes out of the quadrature at ≈ 1e-16 … 2e-15 of
 #: that scale (the presets up to order 100); 1e-13 is fifty times above that rounding.
 RESOLUTION = 1e-13
-#: The speed [1/min] at which each cylinder's inertia torque is found alone; it scales as ω².
-_REFERENCE_RPM = 1000.0
 
 
 def torque_orders(machine: Machine, rpm: float, *, max_order: int = 12, gravity: bool = True) -> Any:
@@ -163,280 +147,3 @@ def torque_orders(machine: Machine, rpm: float, *, max_order: int = 12, gravity:
     frame = pd.DataFrame(columns, index=pd.Index(orders, name="order"))
     frame.attrs.update({"rpm": rpm_from_omega(omega), "omega": omega, "strokes": machine.strokes, "units": units})
     return frame
-
-
-@dataclass(frozen=True)
-class CylinderOrders:
-    """The order harmonics of each cylinder's own tangential torque, at its phase 0.
-
-    ``orders`` ν > 0 [1/rev] up to the highest asked (halves for four strokes); ``gas`` and
-    ``gravity`` (cylinders × orders, complex [N·m]) those torques' harmonics c_ν (the torque
-    Σ_ν Re(c_ν e^{iνθ}) of the cylinder's own angle θ), ``gas`` of the diagrams as given;
-    ``inertial`` the inertia torque's per (rad/s)², which scales as ω². ``rated_omega``: ω_r
-    [rad/s] of the machine's load law (:attr:`~multicrank.Machine.load_law`), under which
-    :meth:`at` scales the gas by (ω/ω_r)² at each speed; None without one.
-    """
-
-    orders: np.ndarray
-    gas: np.ndarray
-    gravity: np.ndarray
-    inertial: np.ndarray
-    rated_omega: float | None = None
-
-    def only(self, keep: np.ndarray) -> CylinderOrders:
-        """The same harmonics of the orders ``keep`` selects (an index or a mask over
-        :attr:`orders`), the load law kept."""
-        return dataclasses.replace(
-            self,
-            orders=self.orders[keep],
-            gas=self.gas[:, keep],
-            gravity=self.gravity[:, keep],
-            inertial=self.inertial[:, keep],
-        )
-
-    def at(
-        self, phases: np.ndarray, omega: np.ndarray, parts: tuple[str, ...] = ("gas", "inertia", "gravity")
-    ) -> np.ndarray:
-        """T_ν,j of every cylinder at its phase α_j (``phases``, (…, cylinders) [rad]) and
-        every order at its speed ``omega`` [rad/s] ((…, orders), broadcast against the
-        phases' leading axes): (…, cylinders, orders), of the torques named in ``parts``; the
-        gas scaled by the load law at each order's speed."""
-        coefficient = np.zeros_like(self.gas)
-        if "gas" in parts:
-            # The load law's factor at each order's speed (1 without a law).
-            scale = np.broadcast_to(load_factor(np.asarray(omega, dtype=float), self.rated_omega), np.shape(omega))
-            coefficient = coefficient + self.gas * scale[..., None, :]
-        if "gravity" in parts:
-            coefficient = coefficient + self.gravity
-        if "inertia" in parts:
-            coefficient = coefficient + self.inertial * np.square(omega)[..., None, :]
-        return coefficient * np.exp(1j * phases[..., :, None] * self.orders)
-
-
-def cylinder_orders(machine: Machine, highest: int, *, mean: bool = False) -> CylinderOrders:
-    """The :class:`CylinderOrders` of ``machine`` up to order ``highest`` (and order 0, the
-    mean, where ``mean``), each cylinder alone at phase 0 (cylinders alike but for their phase
-    and place share one computation), from :func:`torque_orders`, the gas of the diagrams as
-    given and the machine's load law beside it; kept on the machine for the next call
-    (``Machine._torsion_orders``, never pickled)."""
-    cache = machine.__dict__.setdefault("_torsion_orders", {})
-    if (highest, mean) in cache:
-        return cache[highest, mean]
-    omega_squared = omega_from_rpm(_REFERENCE_RPM) ** 2
-    found: dict[Any, tuple[np.ndarray, ...]] = {}
-    rows = []
-    for cylinder in machine.cylinders:
-        template = cylinder.replace(phase=0.0, axial_position=0.0)
-        if template not in found:
-            alone = machine.replace(cylinders=[template], main_bearings=None, shaft=None, load_law=None)
-            table = torque_orders(alone, _REFERENCE_RPM, max_order=highest)
-            table = table if mean else table[table.index > 0]
-            harmonic = {
-                part: table[f"{part}_cos"].to_numpy() - 1j * table[f"{part}_sin"].to_numpy()
-                for part in ("gas", "inertia", "gravity")
-            }
-            found[template] = (
-                table.index.to_numpy(dtype=float),
-                harmonic["gas"],
-                harmonic["gravity"],
-                harmonic["inertia"] / omega_squared,
-            )
-        rows.append(found[template])
-    gas, gravity, inertial = (np.array([row[i] for row in rows]) for i in (1, 2, 3))
-    result = CylinderOrders(rows[0][0], gas, gravity, inertial, rated_omega=rated_omega(machine))
-    cache[highest, mean] = result
-    return result
-
-
-def to_opentorsion(
-    orders: Any,
-    *,
-    dofs: Any = None,
-    node: Any = None,
-    part: str = "total",
-    mean: Any = False,
-    shaft: Any = None,
-    rpm: Any = None,
-    max_order: Any = None,
-) -> Any:
-    """The torque orders as an openTorsion excitation, or a machine as an openTorsion model (the
-    ``torsion`` extra).
-
-    Two forms. **A table** of :func:`torque_orders` (``dofs``, ``node``): the excitation of a
-    torsional model at one node, where the whole machine acts. **A machine**
-    (:class:`~multicrank.Machine`; ``shaft``, ``rpm``, ``max_order``): the model of its shaft
-    (:class:`~multicrank.Shaft`) and the excitation of every cylinder at its own node, in one
-    call. Each order ν becomes a component of angular frequency ν·ω_m [rad/s] (half orders for
-    a four-stroke machine) and a complex amplitude, in openTorsion's convention that a complex
-    amplitude u stands for Re(u·e^(iωt)) = abs(u)·cos(ωt + arg u): for the table, A_ν·e^(−iθ_ν),
-    so that with φ = ω_m t, Σ_ν A_ν cos(νφ − θ_ν) is the torque of the orders; for a machine,
-    at node i the sum Σ_j T_ν,j over the cylinders j on it, T_ν,j = a_ν − i b_ν the harmonic of
-    cylinder j's own torque at its phase (each cylinder's torque is Σ_ν Re(T_ν,j e^(iνφ))).
-
-    Parameters
-    ----------
-    orders : pandas.DataFrame or Machine
-        A table of :func:`torque_orders` (its ``attrs`` give ω_m), or a machine.
-    dofs : int
-        The table form: the number of degrees of freedom of the torsional model, ≥ 1.
-    node : int
-        The table form: the model's node where the machine acts, 0 ≤ node < dofs.
-    part : {"total", "gas", "inertia", "gravity"}, default "total"
-        Which torque ("total": gas, inertia and gravity).
-    mean : bool, default False
-        Whether the mean torque (order 0, frequency 0) is a component too; vibratory
-        analyses leave it out.
-    shaft : Shaft, optional
-        The machine form: the shaft; default the machine's own (``Machine.shaft``).
-    rpm : float, optional
-        The machine form: the mean speed n [1/min], > 0 (ω_m = π n/30, the inertia torque's
-        speed); default the machine's own (``Machine.rpm``).
-    max_order : int, optional
-        The machine form: the highest order ν, ≥ 1; default 12. Every order from 1 (½ for a
-        four-stroke machine) in steps of 1 (½) up to it.
-
-    Returns
-    -------
-    opentorsion.PeriodicExcitation or TorsionalModel
-        For a table: the excitation, ``omegas`` the components' angular frequencies [rad/s];
-        ``U[node]`` their complex amplitudes [N·m] (zero at every other node). For a machine:
-        a :class:`~multicrank.torsion.handoff.TorsionalModel` (a named tuple) of ``assembly``,
-        an ``opentorsion.Assembly`` (``Disk(i, I=J_i)`` [kg·m²] at each node,
-        ``Shaft(i, i + 1, k=k_i, c=c_i)`` [N·m/rad, N·m·s/rad] for each section, massless), and
-        ``excitation``, its ``U[i]`` the torques [N·m] of the cylinders at node i.
-
-    Raises
-    ------
-    MechanismError
-        For a table not made by :func:`torque_orders` or changed since (a missing column, a
-        non-finite or negative order or amplitude, a non-finite phase, ``attrs["omega"]`` not a
-        speed the package takes); a bad ``dofs``, ``node``, ``part``, ``shaft``, ``rpm`` or
-        ``max_order``; a machine without a shaft or a speed where none is given; ``dofs`` or
-        ``node`` with a machine, ``shaft``, ``rpm`` or ``max_order`` with a table. Each names
-        the parameter.
-    OptionalDependencyError
-        Without openTorsion.
-
-    Notes
-    -----
-    The table form puts the whole machine at one node, as if its shaft were rigid between the
-    cylinders; the machine form puts each cylinder at its own, so that a mode is driven by the
-    cylinders as its shape weights them (:func:`~multicrank.torsional_merit` ranks the orders
-    so). Summed over the nodes, the machine form's components are the table's of the machine.
-
-    Examples
-    --------
-    >>> import multicrank as mc
-    >>> engine = mc.presets.MACHINES["inline-4"]
-    >>> orders = mc.torque_orders(engine, 3000, max_order=4)
-    >>> excitation = mc.to_opentorsion(orders, dofs=3, node=0)
-    >>> [round(float(w / orders.attrs["omega"]), 6) for w in excitation.omegas]
-    [0.5, 1.0, 1.5, 2.0, 2.5, 3.0, 3.5, 4.0]
-
-    The engine with a shaft of four throws and a flywheel, each cylinder at its throw:
-
-    >>> shaft = mc.Shaft([0.02, 0.02, 0.02, 0.02, 0.3], [3e5, 3e5, 3e5, 4e5],
-    ...                  cylinder_nodes=[0, 1, 2, 3], damping=[2.0] * 4)
-    >>> model = mc.to_opentorsion(engine, shaft=shaft, rpm=3000, max_order=4)
-    >>> model.assembly.dofs, model.excitation.U.shape
-    (5, (5, 8))
-    """
-    import pandas as pd
-
-    if isinstance(orders, Machine):
-        for name, value in (("dofs", dofs), ("node", node)):
-            if value is not None:
-                raise refused(
-                    name,
-                    f"{name} does not apply to a machine: its shaft gives the nodes, each cylinder at its own "
-                    "(shaft.cylinder_nodes)",
-                )
-        return _machine_model(orders, shaft, rpm, 12 if max_order is None else max_order, part, mean)
-    if not isinstance(orders, pd.DataFrame) or "omega" not in orders.attrs or orders.index.name != "order":
-        raise refused(
-            "orders",
-            "orders must be a table of mc.torque_orders (indexed by order, with its attrs) or a multicrank.Machine",
-        )
-    for name, value in (("shaft", shaft), ("rpm", rpm), ("max_order", max_order)):
-        if value is not None:
-            raise refused(
-                name,
-                f"{name} applies to a machine only: a table of torque_orders holds its own speed and orders "
-                "and acts at one node (give dofs and node)",
-            )
-    chosen = as_option(part, "part", ORDER_PARTS)
-    count = as_count(dofs, "dofs", minimum=1)
-    at = as_count(node, "node", minimum=0)
-    if at >= count:
-        raise refused("node", f"node = {at} is out of range; allowed: 0 <= node < dofs = {count}")
-    with_mean = as_flag(mean, "mean")
-    omega, index, amplitude, phase = _checked_orders(orders, chosen)
-    keep = index > 0 if not with_mean else np.ones(len(orders), dtype=bool)
-    opentorsion = require("opentorsion", "torsion")
-    frequencies = index[keep] * omega
-    excitation = opentorsion.PeriodicExcitation(count, frequencies)
-    excitation.add_sines(at, frequencies, amplitude[keep], -phase[keep])
-    return excitation
-
-
-def _machine_model(machine: Machine, shaft: Any, rpm: Any, max_order: Any, part: Any, mean: Any) -> Any:
-    """:func:`to_opentorsion`'s machine form: each cylinder's own orders at its phase
-    (:func:`cylinder_orders`), handed to :func:`~multicrank.torsion.handoff.torsional_model`
-    with the shaft."""
-    chosen = shaft_of(machine, shaft)
-    omega = running_omega(machine, rpm)
-    highest = as_count(max_order, "max_order", minimum=1)
-    column = as_option(part, "part", ORDER_PARTS)
-    with_mean = as_flag(mean, "mean")
-    require("opentorsion", "torsion")  # before the work
-    harmonics = cylinder_orders(machine, highest, mean=with_mean)
-    phases = np.array([c.phase for c in machine.cylinders])
-    parts = ORDER_PARTS[:3] if column == "total" else (column,)
-    torques = harmonics.at(phases, np.full(harmonics.orders.shape, omega), parts)
-    # The torsion room builds openTorsion's objects; it imports nothing of this module (nor
-    # torsion.merit, which does), so that the modules import one another without a circle.
-    from ..torsion.handoff import torsional_model
-
-    return torsional_model(chosen, harmonics.orders * omega, torques)
-
-
-def _checked_orders(orders: Any, part: str) -> tuple[float, np.ndarray, np.ndarray, np.ndarray]:
-    """(ω_m [rad/s], the orders ν, A_ν [N·m], θ_ν [rad]) of ``part`` in a table of
-    :func:`torque_orders`, checked as that function makes them — so that a table changed
-    since (NaN amplitudes, a negative speed) is refused rather than handed on."""
-    where = "orders (a table of mc.torque_orders)"
-    columns = (f"{part}_amplitude", f"{part}_phase")
-    missing = [c for c in columns if c not in orders.columns]
-    if missing:
-        raise refused("orders", f"{where} lacks the column(s) {', '.join(missing)}")
-    try:
-        omega = float(orders.attrs["omega"])
-    except (TypeError, ValueError):
-        raise refused("orders", f"{where}: attrs['omega'] = {orders.attrs['omega']!r} is not a speed [rad/s]") from None
-    low, high = SPEED_LIMITS
-    if not (math.isfinite(omega) and low <= omega <= high):
-        raise refused(
-            "orders",
-            f"{where}: attrs['omega'] = {omega!r} is out of range; allowed: {low:g} <= omega <= {high:g} [rad/s]",
-        )
-    values = {"order": orders.index, **{c: orders[c] for c in columns}}
-    arrays: dict[str, np.ndarray] = {}
-    for name, column in values.items():
-        array = np.asarray(column)
-        if array.dtype.kind not in "iuf":
-            raise refused("orders", f"{where}: {name} must hold real numbers, got dtype {array.dtype}")
-        arrays[name] = array.astype(np.float64)
-    rules: dict[str, tuple[bool, str]] = {  # (whether it is at least 0, what is allowed)
-        "order": (True, "finite orders >= 0"),
-        columns[0]: (True, "finite amplitudes >= 0 [N·m]"),
-        columns[1]: (False, "finite phases [rad]"),
-    }
-    for name, (nonnegative, allowed) in rules.items():
-        array = arrays[name]
-        bad = np.flatnonzero(~(np.isfinite(array) & ((array >= 0) if nonnegative else True)))
-        if bad.size:
-            at = "" if name == "order" else f" at order {orders.index[bad[0]]}"
-            raise refused(
-                "orders", f"{where}: {name} = {float(arrays[name][bad[0]])!r}{at} is out of range; allowed: {allowed}"
-            )
-    return omega, arrays["order"], arrays[columns[0]], arrays[columns[1]]

@@ -26,7 +26,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from .._shaft import inertia_torque
+from .._inertia_torque import inertia_torque
 from .._validation import (
     RPM_LIMITS,
     SPEED_LIMITS,

@@ -1,11 +1,15 @@
-"""Torsion: the machine's shaft as a chain of inertias and stiffnesses (:class:`Shaft`) and its
-natural frequencies and mode shapes; the torsional merit of a firing order
-(:func:`~multicrank.torsional_merit`, in ``merit``)."""
+"""Torsion: the torsional questions about a machine's shaft. The shaft itself (:class:`Shaft`) is
+a part of the machine (``machine/shaft``, re-exported here); this room holds the chain's modes
+(``_chain``, which :meth:`Shaft.modes` asks), each cylinder's excitation of the shaft
+(``excitation``: its torque orders at its phase), the torsional merit of a firing order
+(:func:`~multicrank.torsional_merit`, in ``merit``) and the hand-off to openTorsion
+(:func:`~multicrank.to_opentorsion` and :class:`~multicrank.TorsionalModel`, in ``handoff``).
+It imports the machine and its motion; nothing below it imports it at load time."""
 
 from __future__ import annotations
 
-from .shaft import Shaft, ShaftModes
+from ..machine.shaft import Shaft, ShaftModes
+from .handoff import TorsionalModel, to_opentorsion
+from .merit import torsional_merit
 
-# merit (torsional_merit) imports the Machine, which imports the Shaft: mc.torsional_merit
-# loads it on first use.
-__all__ = ["Shaft", "ShaftModes"]
+__all__ = ["Shaft", "ShaftModes", "TorsionalModel", "to_opentorsion", "torsional_merit"]

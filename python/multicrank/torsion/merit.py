@@ -32,8 +32,8 @@ import numpy as np
 
 from .._validation import as_count, as_instance, as_rpm_range, omega_from_rpm, refused
 from ..machine.machine import Machine
-from ..motion.orders import CylinderOrders, cylinder_orders
-from .shaft import Shaft, shaft_of
+from ..machine.shaft import Shaft, shaft_of
+from .excitation import CylinderOrders, cylinder_orders
 
 __all__ = [
     "AT_RUNNING_SPEED",
