@@ -55,6 +55,7 @@ pub use mechanism::{
     check_speed, crank_phases, dimensionless_moments, Acting, Design, Phases, PhysicalColumns,
     PhysicalUnit, Strokes, SPEED_LIMITS, STANDARD_GRAVITY,
 };
+pub use motion::size_shaft_inertia;
 pub use motion::{
     flywheel_inertia, motion_sweep, net_piston_forces, square_law_flywheel_inertia,
     square_law_steady_state, steady_state, steady_state_curves, CycleArrays, FlywheelInertia,
