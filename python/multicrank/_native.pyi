@@ -6,7 +6,7 @@ points or a uniform grid (start, step, count). Several results come back as dict
 by name.
 """
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from typing import Any, final
 
 import numpy as np
@@ -49,6 +49,7 @@ __all__ = [
     "paper_coefficient",
     "piston_forces",
     "set_parallel_threshold",
+    "size_shaft_inertia",
     "surviving_harmonics",
     "sweep",
     "sweep_engines",
@@ -298,6 +299,7 @@ def machine_frame_sweep(
     bearing_position: _Array,
     parallel_threshold: int | None = None,
 ) -> dict[str, _Array]: ...
+def size_shaft_inertia(delta_at: Callable[[float], float | None], rest: float, delta: float, start: float) -> float: ...
 def piston_forces(bore: _Array, piston_rod_diameter: _Array, head: _Array, crank_end: _Array) -> _Array: ...
 def machine_engine(units: _Columns, g: float, shaft_inertia: float, omega: float) -> dict[str, _Array]: ...
 def two_mass_rod_inertia(rod_mass: float, rod_length: float, rod_cg: float) -> float: ...

@@ -11,14 +11,16 @@
 //!
 //! One file per domain, like the core: `conversion` (arguments and arrays, in one place),
 //! `evaluation`, `harmonics`, `extrema`, `sweep`, `engine`, `machine`, `motion` (the
-//! `MotionMachine` class: steady running, built once), `parallel` (thresholds and fork),
-//! `error`; this file only assembles the module.
+//! `MotionMachine` class: steady running, built once), `flywheel` (the flywheel's search over
+//! a Python steady state), `parallel` (thresholds and fork), `error`; this file only assembles
+//! the module.
 
 mod conversion;
 mod engine;
 mod error;
 mod evaluation;
 mod extrema;
+mod flywheel;
 mod forces;
 mod harmonics;
 mod machine;
@@ -46,6 +48,8 @@ mod _native {
     use crate::evaluation::{crank_phases, dimensionless_moments, evaluate};
     #[pymodule_export]
     use crate::extrema::energy_extrema;
+    #[pymodule_export]
+    use crate::flywheel::size_shaft_inertia;
     #[pymodule_export]
     use crate::forces::{machine_bearing_loads, machine_frame_sweep};
     #[pymodule_export]
