@@ -6,7 +6,7 @@ points or a uniform grid (start, step, count). Several results come back as dict
 by name.
 """
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from typing import Any, final
 
 import numpy as np
@@ -43,6 +43,7 @@ __all__ = [
     "paper_coefficient",
     "piston_forces",
     "set_parallel_threshold",
+    "size_shaft_inertia",
     "surviving_harmonics",
     "sweep",
     "sweep_engines",
@@ -289,10 +290,42 @@ def engine_leading_harmonic(engine: _Columns) -> dict[str, float]: ...
 def engine_sensitivity(
     engine: _Columns, u1_rel: float, u2_rel: float, phase: float, n_max: int
 ) -> dict[str, _Array]: ...
+<<<<<<< HEAD
 def bearing_layout(
     axial_position: Sequence[float], main_bearings: Sequence[float] | None, crank_radius: float
 ) -> tuple[list[float], list[int], list[float]]: ...
 def unit_travel(units: _Columns, phi: _Phi) -> _Array: ...
+=======
+def machine_evaluate(
+    quantity: str, units: _Columns, g: float, phi: _Phi, parallel_threshold: int | None = None
+) -> _Array: ...
+def machine_inertia(
+    units: _Columns, shaft_inertia: float, phi: _Phi, parallel_threshold: int | None = None
+) -> dict[str, _Array]: ...
+def machine_gas_torque(units: _Columns, phi: _Phi, forces: _Array, parallel_threshold: int | None = None) -> _Array: ...
+def machine_bearing_loads(
+    machine: MotionMachine,
+    phi: _Array,
+    omega: _Array,
+    acceleration: _Array,
+    throw_of_unit: Sequence[int],
+    throw_position: _Array,
+    bearing_position: _Array,
+    gravity: bool = True,
+) -> tuple[_Array, _Array]: ...
+def machine_frame_sweep(
+    machine: MotionMachine,
+    designs: Mapping[str, _Array],
+    outputs: Sequence[str],
+    omega: float | None,
+    axial_position: _Array,
+    throw_of_unit: Sequence[int],
+    throw_position: _Array,
+    bearing_position: _Array,
+    parallel_threshold: int | None = None,
+) -> dict[str, _Array]: ...
+def size_shaft_inertia(delta_at: Callable[[float], float | None], rest: float, delta: float, start: float) -> float: ...
+>>>>>>> one-flywheel-search
 def piston_forces(bore: _Array, piston_rod_diameter: _Array, head: _Array, crank_end: _Array) -> _Array: ...
 def two_mass_rod_inertia(rod_mass: float, rod_length: float, rod_cg: float) -> float: ...
 def get_parallel_threshold() -> int: ...

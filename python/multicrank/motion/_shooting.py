@@ -1,6 +1,6 @@
 """Shooting: the periodic steady state under a load or drive that depends on the speed, and the
 flywheel for it (docs/theory.md, "Steady running"); the route that stays in Python, because the
-core cannot call a Python load.
+core cannot call a Python load (the flywheel's root search over these steady states is the core's).
 
 The equation of motion J φ̈ + ½ J′ φ̇² = M − U′ is, with the kinetic energy E = ½ J ω² as the
 unknown and φ as the variable, dE/dφ = M(φ, ω) − U′(φ). Its part that depends on φ alone,
@@ -25,12 +25,12 @@ from typing import Any
 
 import numpy as np
 
-from .._native import MechanismError
+from .._native import MechanismError, size_shaft_inertia
 from .._validation import refused
 from ..machine.machine import Machine
 from ..machine.native import motion_machine, sampled
 
-__all__ = ["Periodic", "ShaftCycle", "Stall", "cycle_mean", "flywheel_for", "inertia_for", "shoot", "unreachable"]
+__all__ = ["Periodic", "ShaftCycle", "Stall", "cycle_mean", "flywheel_for", "shoot"]
 
 #: The shooting's relative tolerance (solve_ivp's rtol and the root's): ω_m to ~1e-10.
 SHOOTING_RTOL = 1e-11
@@ -376,83 +376,6 @@ def shoot(shaft: ShaftCycle, applied: Callable[[np.ndarray, Any], np.ndarray], r
 # -- the flywheel --------------------------------------------------------------------------------
 
 
-def unreachable(delta: float, reach: str, closest: float) -> MechanismError:
-    """The refusal of a target δ that no shaft inertia gives, worded from why (``reach``:
-    "never_falls", "massless" or "stalls", as the core's error carries it) and ``closest``,
-    the δ nearest to it that the machine reaches."""
-    if reach == "massless":
-        return refused(
-            "delta",
-            f"delta = {delta} is unreachable: even a massless shaft keeps δ below it (about "
-            f"{closest:.4g}: the rods' and pistons' own inertia limits the fluctuation)",
-        )
-    if reach == "stalls":
-        return refused(
-            "delta",
-            f"delta = {delta} is unreachable at this speed: the machine stalls (ω_min < min_speed_ratio·ω_m) "
-            f"before its fluctuation grows that large; the largest δ that runs is about {closest:.4g}",
-        )
-    return refused("delta", f"delta = {delta} is not reached by any shaft_inertia (δ never falls that low)")
-
-
-def inertia_for(delta_at: Callable[[float], float], delta: float, start: float) -> float:
-    """The I_w [kg·m²] with δ(I_w) = ``delta``: Brent's method (SciPy) on log I_w, δ falling as
-    I_w grows; ``delta_at`` gives δ at a trial I_w or raises :class:`Stall`, ``start`` is the
-    estimate to search from.
-
-    A machine that stalls counts as δ = ∞ (its fluctuation is above any target); a target that
-    only a stalling machine would reach is unreachable."""
-    optimize = scipy_optimize()
-    known: dict[float, float] = {}
-
-    def excess(log_inertia: float) -> float:
-        """log(δ(I_w)/delta), +inf where the machine stalls; each I_w solved once."""
-        if log_inertia not in known:
-            try:
-                found = delta_at(math.exp(log_inertia))
-                # a flywheel so heavy that δ rounds to 0 is beyond the target
-                known[log_inertia] = math.log(found / delta) if found > 0 else -math.inf
-            except Stall:
-                known[log_inertia] = math.inf
-        return known[log_inertia]
-
-    # The bracket: from the estimate outwards, in steps that grow (the textbook estimate is near for
-    # a machine of small δ, and ~10 % off for a compressor at δ ≈ 1/30: the first steps cover both).
-    origin = math.log(max(start, 1e-300))
-    steps = [0.05, 0.2, 0.7, *([math.log(4.0)] * 100)]
-    low = high = origin
-    if excess(origin) > 0:
-        for step in steps:
-            low, high = high, high + step
-            if excess(high) <= 0:
-                break
-            if high - origin > 150:
-                raise unreachable(delta, "never_falls", math.nan)
-    else:
-        for step in steps:
-            high, low = low, low - step
-            if excess(low) > 0:
-                break
-            # δ(I_w) levels off as I_w → 0 (the rods' and pistons' inertia remains): unreachable.
-            if low < origin - 60 or abs(excess(low) - excess(high)) < 1e-9:
-                raise unreachable(delta, "massless", delta * math.exp(excess(low)))
-    # A stall on the low side is +inf: brentq needs finite values, so the low end is moved to
-    # the lightest shaft that still runs (bisection); a target beyond it is unreachable.
-    if math.isinf(excess(low)):
-        running = high
-        for _ in range(40):
-            middle = 0.5 * (low + running)
-            if math.isinf(excess(middle)):
-                low = middle
-            else:
-                running = middle
-        if excess(running) < 0:
-            raise unreachable(delta, "stalls", delta * math.exp(excess(running)))
-        low = running
-    log_inertia = optimize.brentq(excess, low, high, xtol=1e-12, rtol=1e-15)
-    return math.exp(log_inertia)
-
-
 @dataclass(frozen=True)
 class Flywheel:
     """The numbers of a flywheel sized over shot steady states (FlywheelInertia's, ω_m in rad/s)."""
@@ -469,8 +392,10 @@ def flywheel_for(
     machine: Machine, applied: Callable[[np.ndarray, Any], np.ndarray], delta: float, gravity: bool, ratio: float
 ) -> Flywheel:
     """The shaft inertia [kg·m²] giving the shot steady state under ``applied`` = M_drive −
-    M_load (f(φ, ω)) the coefficient of speed fluctuation ``delta``: :func:`inertia_for` over
-    :func:`shoot`, from the core's textbook estimate at the speed reached; with g = 0 beside it."""
+    M_load (f(φ, ω)) the coefficient of speed fluctuation ``delta``: the core's flywheel search
+    (:func:`~multicrank._native.size_shaft_inertia`, every flywheel's) over :func:`shoot`, from
+    the core's textbook estimate at the speed reached; with g = 0 beside it. A ``delta`` no shaft
+    inertia gives is the core's MechanismError (its ``reach`` and ``closest`` set)."""
     shaft = ShaftCycle(machine, gravity)
 
     def estimate(omega: float) -> tuple[float, float, float]:
@@ -480,8 +405,17 @@ def flywheel_for(
         swing, textbook = shaft.native.textbook_flywheel(delta, omega, drive=table, gravity=shaft.gravity)
         return swing, textbook, swing / (delta * omega**2) - textbook
 
-    def delta_at(cycle: ShaftCycle) -> Callable[[float], float]:
-        return lambda inertia: shoot(cycle.with_inertia(inertia), applied, ratio).delta
+    def delta_at(cycle: ShaftCycle) -> Callable[[float], float | None]:
+        """δ of the shot steady state on a shaft of inertia I_w [kg·m²]; None where it stalls
+        (to the search a δ above any target)."""
+
+        def at(inertia: float) -> float | None:
+            try:
+                return shoot(cycle.with_inertia(inertia), applied, ratio).delta
+            except Stall:
+                return None
+
+        return at
 
     try:  # the load fixes the speed: near the machine's own, to start from
         speed = shoot(shaft, applied, ratio).omega_mean
@@ -491,13 +425,13 @@ def flywheel_for(
     start = textbook if textbook > 0 else swing / (delta * speed**2)
     if not start > 0:
         start = max(rest, machine.shaft_inertia)
-    inertia = inertia_for(delta_at(shaft), delta, start)
+    inertia = size_shaft_inertia(delta_at(shaft), rest, delta, start)
     # the speed reached with that flywheel; the estimate there
     speed = shoot(shaft.with_inertia(inertia), applied, ratio).omega_mean
     swing, textbook, _ = estimate(speed)
     if shaft.gravity:
         try:
-            without = inertia_for(delta_at(shaft.without_gravity()), delta, inertia)
+            without = size_shaft_inertia(delta_at(shaft.without_gravity()), rest, delta, inertia)
         except MechanismError:  # only with gravity does the machine fluctuate that much
             without = math.nan
     else:

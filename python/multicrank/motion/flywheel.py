@@ -26,7 +26,7 @@ from ._periodic import (
     resolve_rules,
 )
 from ._result import MotionResult
-from ._shooting import flywheel_for, unreachable
+from ._shooting import flywheel_for
 from .loads import BALANCE, Torque
 
 __all__ = ["FlywheelInertia", "flywheel_inertia"]
@@ -181,15 +181,16 @@ def flywheel_inertia(
     gravity = as_flag(gravity, "gravity")
     ratio = as_min_speed_ratio(min_speed_ratio)
     machine = at_load(machine, omega_mean)  # "balance" under a load law: the diagrams of its speed
-    if rules.route == "general":  # a load or drive that depends on the speed: shooting
-        return _inertia(flywheel_for(machine, rules.torques.net, target, gravity, ratio), target, rules.route)
-    # The core: "balance" beside any drive (a callable held at ω_m and sampled, one that does
-    # not depend on φ leaving the motion as without it), or the square law beside a constant
-    # drive (the mean speed reached a result); its refusal of a target no shaft inertia gives
-    # says why and how close the machine comes.
+    # The core's search on every route, its refusal of a target no shaft inertia gives saying
+    # why and how close the machine comes: over shot steady states for a load or drive that
+    # depends on the speed; over the core's own for "balance" beside any drive (a callable held
+    # at ω_m and sampled, one that does not depend on φ leaving the motion as without it), or
+    # the square law beside a constant drive (the mean speed reached a result).
     native = motion_machine(machine)
     try:
-        if rules.route == BALANCE:
+        if rules.route == "general":
+            sized: Any = flywheel_for(machine, rules.torques.net, target, gravity, ratio)
+        elif rules.route == BALANCE:
             assert omega_mean is not None
             table = drive_table(machine, rules, omega_mean)
             sized = native.flywheel_inertia(target, omega_mean, ratio, gravity=gravity, drive=table)
@@ -205,6 +206,25 @@ def flywheel_inertia(
             raise
         raise unreachable(target, reach, error.closest) from None  # type: ignore[attr-defined]
     return _inertia(sized, target, rules.route)
+
+
+def unreachable(delta: float, reach: str, closest: float) -> MechanismError:
+    """The refusal of a target δ that no shaft inertia gives, worded from why (``reach``:
+    "never_falls", "massless" or "stalls", as the core's error carries it) and ``closest``,
+    the δ nearest to it that the machine reaches."""
+    if reach == "massless":
+        return refused(
+            "delta",
+            f"delta = {delta} is unreachable: even a massless shaft keeps δ below it (about "
+            f"{closest:.4g}: the rods' and pistons' own inertia limits the fluctuation)",
+        )
+    if reach == "stalls":
+        return refused(
+            "delta",
+            f"delta = {delta} is unreachable at this speed: the machine stalls (ω_min < min_speed_ratio·ω_m) "
+            f"before its fluctuation grows that large; the largest δ that runs is about {closest:.4g}",
+        )
+    return refused("delta", f"delta = {delta} is not reached by any shaft_inertia (δ never falls that low)")
 
 
 def _inertia(sized: Any, target: float, route: str) -> FlywheelInertia:

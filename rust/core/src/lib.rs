@@ -59,6 +59,7 @@ pub use mechanism::{
     check_speed, crank_phases, dimensionless_moments, two_mass_rod_inertia, Acting, Design, Phases,
     PhysicalColumns, PhysicalCylinder, PhysicalUnit, Strokes, SPEED_LIMITS, STANDARD_GRAVITY,
 };
+pub use motion::size_shaft_inertia;
 pub use motion::{
     flywheel_inertia, motion_sweep, net_piston_forces, square_law_flywheel_inertia,
     square_law_steady_state, steady_state, steady_state_curves, CycleArrays, FlywheelInertia,

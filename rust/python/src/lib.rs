@@ -12,14 +12,15 @@
 //! One file per domain, like the core: `conversion` (arguments and arrays, in one place),
 //! `evaluation`, `harmonics`, `extrema`, `sweep`, `engine`, `machine` (the `NativeMachine`
 //! class, owning a `core::Machine`: built once, its methods by domain in `machine`, `motion`,
-//! `forces` and `orders`), `parallel` (thresholds and fork), `error`; this file only
-//! assembles the module.
+//! `forces` and `orders`), `flywheel` (the core's flywheel search over a Python steady
+//! state), `parallel` (thresholds and fork), `error`; this file only assembles the module.
 
 mod conversion;
 mod engine;
 mod error;
 mod evaluation;
 mod extrema;
+mod flywheel;
 mod forces;
 mod harmonics;
 mod machine;
@@ -47,6 +48,8 @@ mod _native {
     use crate::evaluation::{crank_phases, dimensionless_moments, evaluate};
     #[pymodule_export]
     use crate::extrema::energy_extrema;
+    #[pymodule_export]
+    use crate::flywheel::size_shaft_inertia;
     #[pymodule_export]
     use crate::harmonics::{
         fourier_coefficients, lambda_coefficients, paper_coefficient, surviving_harmonics,

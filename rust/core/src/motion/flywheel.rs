@@ -2,7 +2,9 @@
 //! shaft inertia I_w whose steady state under the "balance" load has the δ asked for, by
 //! Brent's method on log I_w over exact steady states, with the textbook estimate
 //! ΔE/(δω_m²) − mean(J − I_w) as the start. Trial inertias reuse the cycle's tables
-//! (`Balance::with_inertia`): J − I_w, U and W do not depend on I_w.
+//! (`Balance::with_inertia`): J − I_w, U and W do not depend on I_w. The root search
+//! ([`size_shaft_inertia`]) is every flywheel's, the Python API's over its shot steady
+//! states included.
 
 use crate::error::{check, MechanismError, Reach, Result};
 use crate::mechanism::check_shaft_inertia;
@@ -126,18 +128,62 @@ fn bracket_steps() -> impl Iterator<Item = f64> {
         .chain(std::iter::repeat_n(4f64.ln(), 100))
 }
 
-/// The I_w (kg·m²) with δ(I_w) = `delta`, δ(I_w) the δ of `solver`'s steady state with
-/// that shaft inertia and the stall ratio `ratio` ([`PeriodicSolver::delta_at`]; the same
-/// search for every load): Brent's method on log(δ(I_w)/delta) in log I_w (to 1e-12 absolute and 1e-15
-/// relative; docs/theory.md, "The flywheel"), δ falling as I_w grows; a machine that stalls
-/// counts as δ = ∞. `rest`: mean(J − I_w) (kg·m²), which shapes the first steps; `start`:
-/// the estimate to bracket from.
+/// The shaft inertia I_w (kg·m²) with δ(I_w) = `delta`: the flywheel's one root search,
+/// for any steady-state solver, the core's own (its flywheels under "balance" and the
+/// square law) or one outside it (the Python API's shooting, for loads given as callables).
+/// `delta_at(I_w)` is δ of the steady state with that shaft inertia, `None` where the
+/// machine stalls (counted as δ = ∞); δ must fall as I_w grows. `rest`: mean(J − I_w) (kg·m², the rods' and pistons' share of J; a
+/// negative one counts as 0), which shapes the first steps; `start` (kg·m², > 0): the
+/// estimate to bracket from, e.g. the textbook ΔE/(δω_m²) − `rest`.
 ///
-/// Errors: `delta` unreachable (the machine would stall before its fluctuation grows that
-/// large, or its rods' own inertia keeps δ below it); those of the solver.
+/// The search (docs/theory.md, "The flywheel"): a Newton step from `start` with the slope
+/// that δ ∝ 1/(I_w + `rest`) gives and two secant steps bracket the root where δ behaves
+/// as usual; else a shaft a billionth of `rest` is tried (δ of a massless shaft), then the
+/// bracket widens from `start` in growing steps, a stall on its light side is bisected to
+/// the lightest shaft that runs, and Brent's method on log(δ/`delta`) in log I_w ends it
+/// (to 1e-12 absolute and 1e-15 relative in log I_w). Each I_w is asked once.
+///
+/// Errors: bad input, naming the parameter; `delta` unreachable
+/// ([`MechanismError::Unreachable`]: the machine stalls before its fluctuation grows that
+/// large, or even a massless shaft keeps δ below it, or δ never falls that low); an error
+/// of `delta_at`, unchanged (it ends the search at once).
+pub fn size_shaft_inertia(
+    delta_at: impl FnMut(f64) -> Result<Option<f64>>,
+    rest: f64,
+    delta: f64,
+    start: f64,
+) -> Result<f64> {
+    check_delta(delta)?;
+    check("rest", rest, "a finite mean(J - I_w)", |_| true)?;
+    check("start", start, "a shaft inertia > 0 to start from", |s| {
+        s > 0.0
+    })?;
+    search(delta_at, rest, delta, start)
+}
+
+/// [`size_shaft_inertia`] over `solver`'s steady states with the stall ratio `ratio`
+/// ([`PeriodicSolver::delta_at`]; the same search for every load), its input the core's
+/// own (unchecked: a `start` ≤ 0 is taken as 1e-300).
+///
+/// Errors: as [`size_shaft_inertia`]'s; those of the solver.
 pub(crate) fn inertia_for(
     solver: &impl PeriodicSolver,
     ratio: f64,
+    rest: f64,
+    delta: f64,
+    start: f64,
+) -> Result<f64> {
+    search(
+        |inertia| solver.delta_at(inertia, ratio),
+        rest,
+        delta,
+        start,
+    )
+}
+
+/// The search of [`size_shaft_inertia`], on input already checked.
+fn search(
+    mut delta_at: impl FnMut(f64) -> Result<Option<f64>>,
     rest: f64,
     delta: f64,
     start: f64,
@@ -154,7 +200,7 @@ pub(crate) fn inertia_for(
         if let Some(&(_, value)) = known.iter().find(|(x, _)| *x == log_inertia) {
             return Ok(value);
         }
-        let value = match solver.delta_at(log_inertia.exp(), ratio)? {
+        let value = match delta_at(log_inertia.exp())? {
             Some(found) if found > 0.0 => (found / delta).ln(),
             // A flywheel so heavy that δ rounds to 0 is beyond the target.
             Some(_) => f64::NEG_INFINITY,
@@ -235,9 +281,9 @@ pub(crate) fn inertia_for(
 /// evaluations where δ behaves as it does on a usual flywheel: δ ∝ 1/(I_w + mean(J − I_w))
 /// gives the slope d log δ/d x ≈ −I_w/(I_w + `rest`) for a Newton step from the origin, a
 /// secant step follows, and twice the next secant step beyond it brackets the root; then
-/// Brent's method (as [`inertia_for`]'s) on that narrow bracket. `None` where the bracket
-/// does not hold (a stall, a flat δ): the caller's wider search then takes over (the
-/// values found are kept by `excess`).
+/// Brent's method (as [`size_shaft_inertia`]'s) on that narrow bracket. `None` where the
+/// bracket does not hold (a stall, a flat δ): the caller's wider search then takes over
+/// (the values found are kept by `excess`).
 fn newton_bracket(
     excess: &mut impl FnMut(f64) -> Result<f64>,
     origin: f64,
@@ -347,3 +393,6 @@ pub(crate) fn start(
         cycle.mean_rest().max(fallback)
     }
 }
+
+#[cfg(test)]
+mod tests;

@@ -43,6 +43,7 @@ use square_law::SquareLaw;
 use tables::state_of;
 
 pub use columns::{MachineDesigns, MotionColumns, MotionOutputs, UnitColumn, UnitField};
+pub use flywheel::size_shaft_inertia;
 pub(crate) use frame_sweep::frame_sweep;
 pub use frame_sweep::{FrameOutputs, BEARING_ANGLES, FRAME_OUTPUTS};
 pub use gas::{net_piston_forces, GasCylinder, PiecewisePolynomial};
