@@ -20,8 +20,8 @@ from .cylinder import Cylinder, diagram_strokes
 from .phases import chosen_firing, even_firing
 
 if TYPE_CHECKING:
-    from ..torsion.shaft import Shaft
-    from .machine import Machine
+    # The Shaft as machine.py imports it, so that this module follows wherever its own module goes.
+    from .machine import Machine, Shaft
 
 __all__ = ["from_layout"]
 
