@@ -23,6 +23,7 @@ LEAVES = {
     "_optional": set(),
     "_files": {"_native", "_validation"},
     "_inertia_torque": set(),
+    "_broadcasting": {"_validation"},
 }
 
 

@@ -24,7 +24,7 @@ from .test_imports import SOURCE, module_name
 #: first level is the leaves, which import nothing above it (tests/test_imports.py says what each
 #: of them may take from the others); two rooms on any other level do not import each other.
 LEVELS: tuple[tuple[str, ...], ...] = (
-    ("_native", "_validation", "_optional", "_files", "_text", "_inertia_torque", "_moved"),
+    ("_native", "_validation", "_broadcasting", "_optional", "_files", "_text", "_inertia_torque", "_moved"),
     ("gravity", "reference"),  # the dimensionless mechanism, and its plain-numpy oracle
     ("pressure", "symbolic"),  # indicator diagrams; the SymPy hand-off of gravity's terms
     ("sweeps",),  # design grids, the driver and the store (motion sweeps use the store)

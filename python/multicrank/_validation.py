@@ -1,4 +1,5 @@
-"""Coercion, validation and broadcasting shared by the fast API and the numpy reference.
+"""Coercion and validation shared by the fast API and the numpy reference (the design
+parameters' broadcasting, built on them, is `_broadcasting`'s).
 
 Everything that reaches the Rust kernels leaves here as a contiguous float64 array, and every kind
 of bad input leaves here as a :class:`MechanismError` that names the parameter, in its message and
@@ -31,9 +32,7 @@ __all__ = [
     "RPM_LIMITS",
     "SPEED_LIMITS",
     "allocatable_bytes",
-    "as_angles",
     "as_count",
-    "as_design",
     "as_flag",
     "as_instance",
     "as_label",
@@ -41,7 +40,6 @@ __all__ = [
     "as_omega",
     "as_omega_array",
     "as_option",
-    "as_phases",
     "as_real_array",
     "as_returned",
     "as_rpm",
@@ -50,14 +48,10 @@ __all__ = [
     "as_strokes",
     "as_threshold",
     "as_work_size",
-    "broadcast_designs",
-    "broadcast_shape",
     "check_fields",
     "check_magnitude",
     "check_size",
     "contiguous",
-    "design_keywords",
-    "finish",
     "has_gas",
     "omega_from_rpm",
     "one_of",
@@ -231,11 +225,6 @@ def contiguous(array: np.ndarray) -> np.ndarray:
     return np.require(array, dtype=np.float64, requirements=["C_CONTIGUOUS", "ALIGNED"])
 
 
-def as_angles(phi: Any, name: str = "phi") -> np.ndarray:
-    """Crank angles of any shape as float64 (rad). NaN/inf are allowed (they give NaN)."""
-    return as_real_array(phi, name)
-
-
 def as_work_size(value: Any, name: str) -> int:
     """A parallel threshold: a work size ≥ 0 (huge values, clamped to 2⁶³ − 1, mean serial)."""
     if isinstance(value, (bool, np.bool_)):
@@ -262,52 +251,12 @@ def as_scalar(value: Any, name: str) -> float:
     return float(array)
 
 
-def as_design(value: Any, name: str, *, low: float | None = None, high: float | None = None) -> np.ndarray:
-    """A design parameter as float64; finite, and in [low, high) where those are given."""
-    array = as_real_array(value, name)
-    # NaN fails every comparison, so it lands outside [low, high) with the others and the
-    # message gives the parameter's own range, not "any finite real".
-    inside = np.isfinite(array)
-    if low is not None:
-        inside &= array >= low
-    if high is not None:
-        inside &= array < high
-    if not np.all(inside):
-        bad = array[~inside].flat[0]
-        raise refused(name, f"{name} = {bad} is out of range; allowed: {_range_text(name, low, high)}")
-    return array
-
-
-def _range_text(name: str, low: float | None, high: float | None) -> str:
-    if low is None and high is None:
-        return "any finite real"
-    if high is None:
-        return f"{name} >= {low}, finite"
-    if low is None:
-        return f"{name} < {high}, finite"
-    return f"{low} <= {name} < {high}"
-
-
 def as_nonnegative(value: Any, name: str) -> float:
     """One finite real number >= 0 (a standard deviation, a tolerance)."""
     scalar = as_scalar(value, name)
     if not (math.isfinite(scalar) and scalar >= 0):
         raise refused(name, f"{name} = {scalar} is out of range; allowed: a finite real >= 0")
     return scalar
-
-
-def as_phases(phases: Any) -> np.ndarray:
-    """The crank phases α_j (rad) as a non-empty finite 1-D float64 array; None → [0]."""
-    if phases is None:
-        return np.zeros(1)
-    array = as_real_array(phases, "phases")
-    if array.ndim != 1:
-        raise refused("phases", f"phases must be a 1-D array of angles, got shape {array.shape}")
-    if array.size == 0:
-        raise refused("phases", "phases must not be empty")
-    if not np.all(np.isfinite(array)):
-        raise refused("phases", "phases must be finite angles in radians")
-    return contiguous(array)
 
 
 def as_count(value: Any, name: str, *, minimum: int, maximum: int = COUNT_MAX) -> int:
@@ -359,42 +308,6 @@ def as_strokes(value: Any) -> int:
     if strokes not in (2, 4):
         raise refused("strokes", f"strokes = {strokes} is not allowed; allowed: 2 or 4")
     return strokes
-
-
-def broadcast_shape(what: str, columns: dict[str, np.ndarray]) -> tuple[int, ...]:
-    """The shape the arrays broadcast to (nothing is materialised)."""
-    try:
-        return np.broadcast_shapes(*(a.shape for a in columns.values()))
-    except ValueError:
-        shapes = ", ".join(f"{k} {v.shape}" for k, v in columns.items())
-        raise refused(what, f"{what} do not broadcast together: {shapes}") from None
-
-
-def broadcast_designs(
-    what: str = "design parameters", /, **columns: np.ndarray
-) -> tuple[tuple[int, ...], dict[str, np.ndarray]]:
-    """Broadcast arrays together: (their shape D, flat contiguous columns); the columns'
-    size is checked against memory before they are formed."""
-    shape = broadcast_shape(what, columns)
-    check_size(what, f"shape {shape}", math.prod(shape) * len(columns))
-    flat = {k: contiguous(np.broadcast_to(v, shape)).reshape(-1) for k, v in columns.items()}
-    return shape, flat
-
-
-def finish(flat: np.ndarray, shape: tuple[int, ...]) -> np.ndarray | np.float64:
-    """Reshape a flat result; a 0-d result becomes a numpy float64 scalar."""
-    result = flat.reshape(shape)
-    return result[()] if result.ndim == 0 else result
-
-
-def design_keywords(crank_ratio: Any, inclination: Any, u1: Any, u2: Any) -> dict[str, np.ndarray]:
-    """The four design keywords of the evaluation functions, validated (0 ≤ λ < 1, all finite)."""
-    return {
-        "crank_ratio": as_design(crank_ratio, "crank_ratio", low=0.0, high=1.0),
-        "inclination": as_design(inclination, "inclination"),
-        "u1": as_design(u1, "u1"),
-        "u2": as_design(u2, "u2"),
-    }
 
 
 #: A float, or an array of them (the speed conversions keep the type they are given).

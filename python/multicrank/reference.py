@@ -14,16 +14,8 @@ from typing import Any
 
 import numpy as np
 
-from ._validation import (
-    as_angles,
-    as_count,
-    as_design,
-    as_option,
-    as_phases,
-    broadcast_designs,
-    design_keywords,
-    finish,
-)
+from ._broadcasting import as_angles, as_design, as_phases, broadcast_designs, design_keywords, finish
+from ._validation import as_count, as_option
 
 __all__ = ["force_derivative", "generalized_force", "lambda_coefficients", "potential_energy"]
 

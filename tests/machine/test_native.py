@@ -540,12 +540,12 @@ def test_an_unreachable_flywheel_target_is_worded_from_the_cores_answer():
 
 
 def test_a_design_the_core_refuses_is_named_without_solving_rows(monkeypatch):
-    from multicrank.motion import sweep
+    from multicrank.motion import _sweep_rows
 
     def solved_again(*args, **kwargs):
         raise AssertionError("solved again in Python")
 
-    monkeypatch.setattr(sweep, "_solve_rows", solved_again)
+    monkeypatch.setattr(_sweep_rows, "_solve_rows", solved_again)
     compressor = mc.presets.MACHINES["slow-compressor"]
     frame = pd.DataFrame({"rod_length": [0.6, 0.01]}, index=["good", "bad"])
     with pytest.raises(mc.MechanismError, match=r"design bad \(rod_length = 0.01\): rod_length"):

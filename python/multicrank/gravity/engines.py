@@ -17,12 +17,13 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from .._broadcasting import as_design, finish
 from .._native import engine_evaluate as _native_engine_evaluate
 from .._native import engine_extrema as _native_engine_extrema
 from .._native import engine_fourier as _native_engine_fourier
 from .._native import engine_leading_harmonic as _native_engine_leading_harmonic
 from .._text import counted
-from .._validation import as_count, as_design, as_label, as_option, check_size, contiguous, finish, part_of, refused
+from .._validation import as_count, as_label, as_option, check_size, contiguous, part_of, refused
 from .extrema import EnergyExtrema
 from .grids import as_phi
 from .mechanism import crank_phases

@@ -14,20 +14,11 @@ from typing import Any
 
 import numpy as np
 
+from .._broadcasting import as_phases, broadcast_designs, broadcast_shape, design_keywords, finish
 from .._native import evaluate as _native_evaluate
 from .._native import get_parallel_threshold as _native_get_parallel_threshold
 from .._native import set_parallel_threshold as _native_set_parallel_threshold
-from .._validation import (
-    as_option,
-    as_phases,
-    as_threshold,
-    as_work_size,
-    broadcast_designs,
-    broadcast_shape,
-    check_size,
-    design_keywords,
-    finish,
-)
+from .._validation import as_option, as_threshold, as_work_size, check_size
 from .grids import as_phi
 
 __all__ = [

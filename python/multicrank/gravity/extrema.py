@@ -7,8 +7,9 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
+from .._broadcasting import as_phases, broadcast_designs, design_keywords, finish
 from .._native import energy_extrema as _native_energy_extrema
-from .._validation import as_phases, as_threshold, broadcast_designs, design_keywords, finish
+from .._validation import as_threshold
 
 __all__ = ["EnergyExtrema", "energy_extrema", "speed_fluctuation"]
 

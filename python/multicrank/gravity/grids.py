@@ -20,7 +20,8 @@ from typing import Any
 
 import numpy as np
 
-from .._validation import as_angles, as_count, as_real_array, check_size, contiguous, refused
+from .._broadcasting import as_angles
+from .._validation import as_count, as_real_array, check_size, contiguous, refused
 
 __all__ = ["UniformGrid", "as_phi", "grid_of", "uniform_grid"]
 

@@ -10,22 +10,12 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from .._broadcasting import as_design, as_phases, broadcast_designs, broadcast_shape, design_keywords
 from .._native import fourier_coefficients as _native_fourier_coefficients
 from .._native import lambda_coefficients as _native_lambda_coefficients
 from .._native import paper_coefficient as _native_paper_coefficient
 from .._native import surviving_harmonics as _native_surviving_harmonics
-from .._validation import (
-    as_count,
-    as_design,
-    as_option,
-    as_phases,
-    as_strokes,
-    broadcast_designs,
-    broadcast_shape,
-    check_size,
-    contiguous,
-    design_keywords,
-)
+from .._validation import as_count, as_option, as_strokes, check_size, contiguous
 
 if TYPE_CHECKING:  # pandas is imported where a table is made, not with multicrank
     import pandas as pd

@@ -7,19 +7,11 @@ from typing import Any
 
 import numpy as np
 
+from .._broadcasting import broadcast_designs, finish
 from .._native import STANDARD_GRAVITY as _NATIVE_STANDARD_GRAVITY
 from .._native import crank_phases as _native_crank_phases
 from .._native import dimensionless_moments as _native_dimensionless_moments
-from .._validation import (
-    as_count,
-    as_omega_array,
-    as_option,
-    as_real_array,
-    as_strokes,
-    broadcast_designs,
-    check_size,
-    finish,
-)
+from .._validation import as_count, as_omega_array, as_option, as_real_array, as_strokes, check_size
 
 __all__ = ["STANDARD_GRAVITY", "crank_phases", "dimensionless_moments"]
 

@@ -31,8 +31,9 @@ from typing import Any
 
 import numpy as np
 
+from .._broadcasting import as_angles
 from .._native import MechanismError
-from .._validation import as_angles, as_count, as_flag, as_option, refused
+from .._validation import as_count, as_flag, as_option, refused
 from ._cycle import (
     FOUR_STROKE,
     INTERPOLATIONS,

@@ -30,8 +30,8 @@ from .gravity import (
     surviving_tables,
     truncation_figure,
 )
+from .gravity_map import gravity_map_figure
 from .motion import (
-    gravity_map_figure,
     motion_html,
     motion_results,
     orders_figure,

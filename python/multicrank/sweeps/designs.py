@@ -22,8 +22,9 @@ from typing import Any, ClassVar
 import numpy as np
 import pandas as pd
 
+from .._broadcasting import as_design
 from .._native import MechanismError
-from .._validation import INDEX_MAX, as_design, check_size, part_of, refused, reworded
+from .._validation import INDEX_MAX, check_size, part_of, refused, reworded
 from .._validation import as_array as _as_array
 from ..gravity.mechanism import crank_phases
 from .outputs import SWEEP_OUTPUTS, to_xarray
