@@ -26,18 +26,17 @@ def code_of(path: Path) -> str:
     return re.sub(r"//[^\n]*", "", text)
 
 
-def rooms(folder: Path) -> dict[str, Path]:
-    """The rooms of ``folder``: its .rs files and its subfolders, by name (``mod`` and
-    ``lib`` apart, and ``tests`` files)."""
-    found = {p.stem: p for p in folder.glob("*.rs") if p.stem not in {"lib", "mod", "tests"}}
-    found.update({p.name: p for p in folder.iterdir() if p.is_dir()})
+def rooms(folder: Path) -> dict[str, list[Path]]:
+    """The rooms of ``folder`` by name and their source files: each .rs file (``mod``, ``lib``
+    and ``tests`` apart) with the folder of its name, if any (``gas.rs`` and ``gas/``), and
+    each folder (``forces/``), test files left out."""
+    found: dict[str, list[Path]] = {}
+    for path in folder.iterdir():
+        if path.is_dir():
+            found.setdefault(path.name, []).extend(p for p in path.rglob("*.rs") if p.name != "tests.rs")
+        elif path.suffix == ".rs" and path.stem not in {"lib", "mod", "tests"}:
+            found.setdefault(path.stem, []).append(path)
     return found
-
-
-def files_of(room: Path) -> list[Path]:
-    if room.is_dir():
-        return [p for p in room.rglob("*.rs") if p.name != "tests.rs"]
-    return [room]
 
 
 def graph(folder: Path, prefix: str) -> dict[str, set[str]]:
@@ -45,8 +44,8 @@ def graph(folder: Path, prefix: str) -> dict[str, set[str]]:
     named = rooms(folder)
     arrows: dict[str, set[str]] = {name: set() for name in named}
     single, grouped = re.compile(rf"{prefix}(\w+)"), re.compile(rf"{prefix}\{{([^}}]*)\}}")
-    for name, room in named.items():
-        for path in files_of(room):
+    for name, files in named.items():
+        for path in files:
             code = code_of(path)
             targets = single.findall(code)
             for group in grouped.findall(code):  # use super::{a, b::C, D}

@@ -13,12 +13,14 @@ use super::cycle::Cycle;
 use super::extrema::{brent, brent_from};
 use super::solution::PeriodicSolver;
 use super::square_law::SquareLaw;
-use super::tables::SteadyTables;
 use super::{check_speed_ratio, FlywheelInertia};
 
 /// The shaft inertia that gives a machine the coefficient of speed fluctuation `delta`
 /// under a square-law load c·ω² (c = `coefficient`, N·m·s²/rad²) beside a constant `drive`
-/// (N·m), on `tables` (the machine's, its own I_w `fallback`): the mean speed is a result,
+/// (N·m), on the machine's `cycle` (its tables', with their "balance" load `balance`, N·m,
+/// and `textbook`, ΔE and the textbook I_w at a mean speed as
+/// [`SteadyTables::textbook_flywheel`](super::SteadyTables::textbook_flywheel) gives them; its
+/// own I_w `fallback`): the mean speed is a result,
 /// so each trial I_w's δ comes from its own closed-form steady state; [`inertia_for`] finds
 /// the root (docs/theory.md, "The flywheel"). The textbook estimate is taken at the mean
 /// speed reached (its `omega_mean`), where the constant drive and the load at that speed leave the
@@ -27,8 +29,11 @@ use super::{check_speed_ratio, FlywheelInertia};
 /// Errors: bad input, naming the parameter; `delta` unreachable (the machine stalls at any
 /// shaft inertia, or before its fluctuation grows that large, or the rods' own inertia
 /// keeps δ below it).
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn square_law_inertia(
-    tables: &SteadyTables,
+    cycle: &Cycle,
+    balance: f64,
+    textbook: impl Fn(f64) -> Result<(f64, f64)>,
     coefficient: f64,
     drive: f64,
     delta: f64,
@@ -42,7 +47,7 @@ pub(crate) fn square_law_inertia(
     check("drive", drive, "a finite constant drive", |_| true)?;
     check_speed_ratio(ratio)?;
     check_shaft_inertia(fallback)?;
-    let mean = tables.load + drive;
+    let mean = balance + drive;
     if mean.is_nan() || mean <= 0.0 {
         // Nothing drives the machine on the cycle's mean: it stalls at any shaft inertia.
         return Err(MechanismError::Unreachable {
@@ -51,7 +56,6 @@ pub(crate) fn square_law_inertia(
             closest: f64::NAN,
         });
     }
-    let cycle = &tables.cycle;
     let law = SquareLaw::new(cycle, coefficient, drive);
     // The mean speed with a shaft (`None`: it stalls, or so light that more than 700 e-folds
     // of E are damped per cycle and it stops at once).
@@ -64,12 +68,12 @@ pub(crate) fn square_law_inertia(
     };
     // The mean speed with the machine's own shaft, or where the mean torques balance.
     let first = speed(fallback)?.unwrap_or((mean / coefficient).sqrt());
-    let (swing, textbook) = tables.textbook_flywheel(delta, first)?;
-    let start = self::start(swing, textbook, cycle, delta, first, fallback);
+    let (swing, estimate) = textbook(first)?;
+    let start = self::start(swing, estimate, cycle, delta, first, fallback);
     let rest = cycle.mean_rest();
     let inertia = inertia_for(&law, ratio, rest, delta, start)?;
     let reached = speed(inertia)?.unwrap_or(first);
-    let (swing, textbook) = tables.textbook_flywheel(delta, reached)?;
+    let (swing, estimate) = textbook(reached)?;
     let without = if cycle.gravity_on {
         let without = cycle.without_gravity();
         let law = SquareLaw::new(&without, coefficient, drive);
@@ -80,7 +84,7 @@ pub(crate) fn square_law_inertia(
     Ok(FlywheelInertia::sized(
         inertia,
         without,
-        (swing, textbook),
+        (swing, estimate),
         delta,
         reached,
     ))
@@ -89,7 +93,8 @@ pub(crate) fn square_law_inertia(
 impl FlywheelInertia {
     /// The flywheel found: I_w = `shaft_inertia` (kg·m²) for `delta` at ω_m = `omega_mean`
     /// (rad/s), the g = 0 machine's `shaft_inertia_without_gravity`, and the textbook
-    /// estimate's ΔE (J) and I_w (kg·m²) as [`SteadyTables::textbook_flywheel`] gives them,
+    /// estimate's ΔE (J) and I_w (kg·m²) as
+    /// [`SteadyTables::textbook_flywheel`](super::SteadyTables::textbook_flywheel) gives them,
     /// with its relative error (textbook − I_w)/I_w.
     pub(crate) fn sized(
         shaft_inertia: f64,

@@ -452,7 +452,16 @@ impl SteadyTables {
         min_speed_ratio: f64,
         fallback: f64,
     ) -> Result<FlywheelInertia> {
-        flywheel::square_law_inertia(self, coefficient, drive, delta, min_speed_ratio, fallback)
+        flywheel::square_law_inertia(
+            &self.cycle,
+            self.load,
+            |omega| self.textbook_flywheel(delta, omega),
+            coefficient,
+            drive,
+            delta,
+            min_speed_ratio,
+            fallback,
+        )
     }
 }
 
