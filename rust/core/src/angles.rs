@@ -18,7 +18,7 @@ use crate::error::{MechanismError, Result};
 use crate::parallel::{map_indices, Parallelism};
 #[cfg(test)]
 use crate::trig::Fused;
-use crate::trig::{sincos_block, sincos_table, MulAdd, Unfused};
+use crate::trig::{sincos_block, sincos_lanes, sincos_table, MulAdd, Unfused};
 
 /// The crank angles x_i = start + i·step, i = 0 … len − 1, rounded as `start + i as f64 *
 /// step` rounds them (numpy's `start + arange(len) * step`): the kernels evaluate at
@@ -452,9 +452,12 @@ fn padded<const N: usize>(values: &[f64], offset: usize, len: usize) -> [f64; N]
 impl AngleSource for PointAngles<'_> {
     #[inline(always)]
     fn block<M: MulAdd, const N: usize>(self, offset: usize, len: usize) -> ([f64; N], [f64; N]) {
-        let (mut s, mut c) = ([0.0; N], [0.0; N]);
-        sincos_block::<M>(&padded::<N>(self.0, offset, len), &mut s, &mut c);
-        (s, c)
+        // A whole block is read where its points lie: a padded copy went through the
+        // stack (stored, then loaded again at once: a store-forwarding stall a block).
+        match <&[f64; N]>::try_from(&self.0[offset..offset + len]) {
+            Ok(x) => sincos_lanes::<M, N>(x),
+            Err(_) => sincos_lanes::<M, N>(&padded::<N>(self.0, offset, len)),
+        }
     }
 }
 

@@ -25,26 +25,41 @@ fn multiply<M: MulAdd, const N: usize>(w: &mut ([f64; N], [f64; N]), z: &([f64; 
     }
 }
 
-/// (cos pφ, sin pφ) at N points from (cos φ, sin φ) by binary powering.
+/// z² in place.
+#[inline(always)]
+fn square<M: MulAdd, const N: usize>(z: &mut ([f64; N], [f64; N])) {
+    let factor = *z;
+    multiply::<M, N>(z, &factor);
+}
+
+/// (cos pφ, sin pφ) at N points from (cos φ, sin φ) by binary powering: the squarings
+/// z = (e^{iφ})^{2^j}, and the product of those of p's set bits. The product starts
+/// from the lowest set bit's power itself, not from 1 times it (one complex
+/// multiplication a point fewer: 1·z is z to the value, only a zero's sign could differ).
 #[inline(always)]
 fn power_lanes<M: MulAdd, const N: usize>(
     c: &[f64; N],
     s: &[f64; N],
     mut e: usize,
 ) -> ([f64; N], [f64; N]) {
-    let mut w = ([1.0; N], [0.0; N]);
+    if e == 0 {
+        return ([1.0; N], [0.0; N]);
+    }
     let mut z = (*c, *s);
-    loop {
+    while e & 1 == 0 {
+        square::<M, N>(&mut z);
+        e >>= 1;
+    }
+    let mut w = z;
+    e >>= 1;
+    while e != 0 {
+        square::<M, N>(&mut z);
         if e & 1 == 1 {
             multiply::<M, N>(&mut w, &z);
         }
         e >>= 1;
-        if e == 0 {
-            return w;
-        }
-        let square = z;
-        multiply::<M, N>(&mut z, &square);
     }
+    w
 }
 
 /// The series at N points, entirely in registers, given (cos φ, sin φ) and
@@ -53,13 +68,16 @@ fn power_lanes<M: MulAdd, const N: usize>(
 #[inline(always)]
 fn series_points<M: MulAdd, const N: usize>(
     series: &FourierSeries,
+    first: bool,
     c: &[f64; N],
     s: &[f64; N],
     w: &([f64; N], [f64; N]),
 ) -> [f64; N] {
     let mut sum = [0.0; N];
-    for l in 0..N {
-        sum[l] = M::mul_add(series.a1, c[l], series.b1 * s[l]);
+    if first {
+        for l in 0..N {
+            sum[l] = M::mul_add(series.a1, c[l], series.b1 * s[l]);
+        }
     }
     if series.cos.is_empty() {
         return sum;
@@ -72,6 +90,21 @@ fn series_points<M: MulAdd, const N: usize>(
     let two_cos = w.0.map(|c| 2.0 * c);
     let (mut a1, mut a2) = ([0.0; N], [0.0; N]);
     let (mut b1, mut b2) = ([0.0; N], [0.0; N]);
+    if series.cos.iter().all(|&a| a == 0.0) {
+        // A series of sines alone (a single crank, γ where its cosines vanish): the cosine
+        // sequence would stay 0 throughout, and b^B_1 sin θ + 0 is b^B_1 sin θ.
+        for &b in series.sin.iter().rev() {
+            for l in 0..N {
+                let next_b = M::mul_add(two_cos[l], b1[l], b - b2[l]);
+                b2[l] = b1[l];
+                b1[l] = next_b;
+            }
+        }
+        for l in 0..N {
+            sum[l] += b1[l] * w.1[l];
+        }
+        return sum;
+    }
     for (&a, &b) in series.cos.iter().zip(&series.sin).rev() {
         for l in 0..N {
             let next_a = M::mul_add(two_cos[l], a1[l], a - a2[l]);
@@ -90,12 +123,22 @@ fn series_points<M: MulAdd, const N: usize>(
     sum
 }
 
-/// Points per register block (four AVX-512 vectors).
-const LANES: usize = 32;
+/// Points per register block where sin φ and cos φ come from a sincos of each point
+/// (four AVX-512 vectors): the polynomials' chains need that many independent lanes.
+const POINT_LANES: usize = 32;
+/// Points per register block on a uniform grid (two AVX-512 vectors): its rotations are
+/// short chains, and with e^{iφ}, e^{ipφ} and Clenshaw's four sequences a block of 16
+/// stays in the 32 registers where one of 32 spilled (a third less time per point).
+const GRID_LANES: usize = 16;
 
 /// Where a series block gets e^{ipφ}: from e^{iφ} (cos and sin) or from the grid, given
 /// the roundings d of the grid's points that e^{iφ} was found with.
 trait HarmonicSource: Copy {
+    /// Whether the kernel is compiled as two loops, with the first harmonic and without
+    /// (measured: e^{ipφ} by rotation on a grid 20-30% faster so, e^{ipφ} by powering
+    /// 10-15% slower, its powers shuffled between registers in the loop without).
+    const OWN_LOOPS: bool;
+
     fn block<M: MulAdd, const N: usize>(
         self,
         offset: usize,
@@ -111,6 +154,8 @@ trait HarmonicSource: Copy {
 struct Powering;
 
 impl HarmonicSource for Powering {
+    const OWN_LOOPS: bool = false;
+
     #[inline(always)]
     fn block<M: MulAdd, const N: usize>(
         self,
@@ -126,6 +171,8 @@ impl HarmonicSource for Powering {
 
 /// e^{ipφ} by rotation on a uniform grid, like e^{iφ}.
 impl HarmonicSource for GridAngles<'_> {
+    const OWN_LOOPS: bool = true;
+
     #[inline(always)]
     fn block<M: MulAdd, const N: usize>(
         self,
@@ -150,17 +197,50 @@ fn series_segment<M: MulAdd>(
     match (run, harmonic) {
         (Run::Grid(angles), Some(rotations)) => {
             let first = angles.first;
-            series_blocks::<M, _, _>(series, angles, GridAngles { rotations, first }, out)
+            let harmonic = GridAngles { rotations, first };
+            series_blocks::<M, _, _, GRID_LANES>(series, angles, harmonic, out)
         }
-        (Run::Grid(angles), None) => series_blocks::<M, _, _>(series, angles, Powering, out),
-        (Run::Points(angles), _) => series_blocks::<M, _, _>(series, angles, Powering, out),
-        (Run::Table(angles), _) => series_blocks::<M, _, _>(series, angles, Powering, out),
+        (Run::Grid(angles), None) => {
+            series_blocks::<M, _, _, GRID_LANES>(series, angles, Powering, out)
+        }
+        (Run::Points(angles), _) => {
+            series_blocks::<M, _, _, POINT_LANES>(series, angles, Powering, out)
+        }
+        (Run::Table(angles), _) => {
+            series_blocks::<M, _, _, POINT_LANES>(series, angles, Powering, out)
+        }
     }
 }
 
 #[inline(always)]
-fn series_blocks<M: MulAdd, A: AngleSource, H: HarmonicSource>(
+fn series_blocks<M: MulAdd, A: AngleSource, H: HarmonicSource, const LANES: usize>(
     series: &FourierSeries,
+    angles: A,
+    harmonic: H,
+    out: &mut [f64],
+) {
+    // a₁ = b₁ = 0 where the crank sum cancels the first harmonic (k ≥ 2): with harmonics
+    // to follow, the sum then starts at 0, as a₁ cos φ + b₁ sin φ would have it to the
+    // value (a NaN of φ reaches the sum through them). Without any, the first harmonic
+    // is the sum, NaN where φ is.
+    let first = series.cos.is_empty() || series.a1 != 0.0 || series.b1 != 0.0;
+    if H::OWN_LOOPS {
+        // A loop of its own for each case (`first` a constant in it): without the first
+        // harmonic, sin φ and cos φ need not stay in registers through the harmonics.
+        if first {
+            series_blocks_of::<M, A, H, LANES>(series, true, angles, harmonic, out)
+        } else {
+            series_blocks_of::<M, A, H, LANES>(series, false, angles, harmonic, out)
+        }
+    } else {
+        series_blocks_of::<M, A, H, LANES>(series, first, angles, harmonic, out)
+    }
+}
+
+#[inline(always)]
+fn series_blocks_of<M: MulAdd, A: AngleSource, H: HarmonicSource, const LANES: usize>(
+    series: &FourierSeries,
+    first: bool,
     angles: A,
     harmonic: H,
     out: &mut [f64],
@@ -177,13 +257,14 @@ fn series_blocks<M: MulAdd, A: AngleSource, H: HarmonicSource>(
     let mut offset = 0;
     for o in &mut whole {
         if let Ok(o) = <&mut [f64; LANES]>::try_from(o) {
-            *o = series_block::<M, A, H>(series, angles, harmonic, offset, LANES);
+            *o = series_block::<M, A, H, LANES>(series, first, angles, harmonic, offset, LANES);
         }
         offset += LANES;
     }
     let tail = whole.into_remainder();
     if !tail.is_empty() {
-        let lanes = series_block::<M, A, H>(series, angles, harmonic, offset, tail.len());
+        let len = tail.len();
+        let lanes = series_block::<M, A, H, LANES>(series, first, angles, harmonic, offset, len);
         store(tail, &lanes);
     }
 }
@@ -191,8 +272,9 @@ fn series_blocks<M: MulAdd, A: AngleSource, H: HarmonicSource>(
 /// The series at points offset … offset + len − 1 of `angles` (len ≤ LANES; the other
 /// lanes padded).
 #[inline(always)]
-fn series_block<M: MulAdd, A: AngleSource, H: HarmonicSource>(
+fn series_block<M: MulAdd, A: AngleSource, H: HarmonicSource, const LANES: usize>(
     series: &FourierSeries,
+    first: bool,
     angles: A,
     harmonic: H,
     offset: usize,
@@ -204,7 +286,7 @@ fn series_block<M: MulAdd, A: AngleSource, H: HarmonicSource>(
     } else {
         harmonic.block::<M, LANES>(offset, &c, &s, &d, series.step)
     };
-    series_points::<M, LANES>(series, &c, &s, &w)
+    series_points::<M, LANES>(series, first, &c, &s, &w)
 }
 
 #[multiversion(targets("x86_64+avx512f+avx512vl+avx512dq+avx2+fma", "x86_64+avx2+fma"))]

@@ -117,8 +117,10 @@ pub(crate) fn sincos_with<M: MulAdd>(x: f64) -> (f64, f64) {
     let shifted = x * FRAC_2_PI + ROUND_MAGIC;
     let quadrant = shifted.to_bits(); // q mod 2^51 in the low bits, two's complement
     let q = shifted - ROUND_MAGIC;
-    // q·PIO2_HI and q·PIO2_MID are exact (33-bit parts, |q| < 2^20): fusing changes nothing.
-    let r = ((x - q * PIO2_HI) - q * PIO2_MID) - q * PIO2_LO;
+    // q·PIO2_HI and q·PIO2_MID are exact (33-bit parts, |q| < 2^20): fusing changes
+    // nothing but the count of instructions (one fewer each). q·PIO2_LO is rounded, and
+    // stays a product of its own.
+    let r = M::mul_add(-q, PIO2_MID, M::mul_add(-q, PIO2_HI, x)) - q * PIO2_LO;
     let z = r * r;
     let sin_poly = horner::<M>(z, &[S3, S5, S7, S9, S11, S13, S15, S17]);
     let sin_r = M::mul_add(r * z, sin_poly, r);
@@ -157,6 +159,41 @@ pub(crate) fn sincos_block<M: MulAdd>(x: &[f64], sin: &mut [f64], cos: &mut [f64
             }
         }
     }
+}
+
+/// (sin x, cos x) of N lanes, as `sincos_block` computes them, returned by value: the
+/// lanes stay in registers (results written through a slice are stored to the stack and
+/// loaded back at once, a store-forwarding stall a block), and only the rare block with
+/// a large finite argument takes libm's values, on a path of its own.
+#[inline(always)]
+pub(crate) fn sincos_lanes<M: MulAdd, const N: usize>(x: &[f64; N]) -> ([f64; N], [f64; N]) {
+    let (mut sin, mut cos) = ([0.0; N], [0.0; N]);
+    for l in 0..N {
+        (sin[l], cos[l]) = sincos_with::<M>(x[l]);
+    }
+    let any_large = x
+        .iter()
+        .fold(false, |any, v| any | (v.abs() > REDUCTION_LIMIT));
+    if any_large {
+        (sin, cos) = large_by_libm(x, sin, cos);
+    }
+    (sin, cos)
+}
+
+/// The lanes of |x| > `REDUCTION_LIMIT` from libm, the others as given.
+#[cold]
+#[inline(never)]
+fn large_by_libm<const N: usize>(
+    x: &[f64; N],
+    mut sin: [f64; N],
+    mut cos: [f64; N],
+) -> ([f64; N], [f64; N]) {
+    for l in 0..N {
+        if x[l].abs() > REDUCTION_LIMIT {
+            (sin[l], cos[l]) = x[l].sin_cos();
+        }
+    }
+    (sin, cos)
 }
 
 /// (sin x, cos x) of every element, as the kernels on this machine compute them (tables
