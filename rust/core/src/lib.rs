@@ -17,7 +17,7 @@
 //! layout; an in-line machine is an engine whose units share one design), `dynamics`
 //! (reduced inertia, piston kinematics and gas torque in SI units), `extrema`
 //! (δ_g), `tolerances` (scatter of harmonics), `sweep` (machines reduced on the fly),
-//! `parallel` and `error`.
+//! `torsion` (the shaft's torsional chain and its modes), `parallel` and `error`.
 
 #![forbid(unsafe_code)]
 
@@ -38,6 +38,7 @@ mod series;
 mod series_kernels;
 mod sweep;
 mod tolerances;
+mod torsion;
 mod trig;
 
 pub use angles::{Phi, UniformGrid};
@@ -73,3 +74,4 @@ pub use series::{build_series, fourier_table, FourierSeries, SeriesKind};
 pub use series_kernels::{evaluate_series, evaluate_series_or_exact};
 pub use sweep::{sweep, sweep_engines, PhaseSetTable, SweepOutputs, SweepRow};
 pub use tolerances::{HarmonicScatter, UnitErrors};
+pub use torsion::{Chain, Modes};

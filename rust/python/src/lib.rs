@@ -13,7 +13,8 @@
 //! `evaluation`, `harmonics`, `extrema`, `sweep`, `engine`, `machine` (the `NativeMachine`
 //! class, owning a `core::Machine`: built once, its methods by domain in `machine`, `motion`,
 //! `forces` and `orders`), `flywheel` (the core's flywheel search over a Python steady
-//! state), `parallel` (thresholds and fork), `error`; this file only assembles the module.
+//! state), `torsion` (the shaft's chain), `parallel` (thresholds and fork), `error`; this
+//! file only assembles the module.
 
 mod conversion;
 mod engine;
@@ -29,6 +30,7 @@ mod motion_results;
 mod orders;
 mod parallel;
 mod sweep;
+mod torsion;
 
 use pyo3::prelude::*;
 
@@ -64,6 +66,8 @@ mod _native {
     use crate::parallel::{_after_fork_in_child, get_parallel_threshold, set_parallel_threshold};
     #[pymodule_export]
     use crate::sweep::{sweep, sweep_engines};
+    #[pymodule_export]
+    use crate::torsion::chain_modes;
 
     #[pymodule_init]
     fn init(m: &Bound<'_, PyModule>) -> PyResult<()> {
