@@ -240,7 +240,8 @@ class Machine(MachineDescription, MachineDynamics, MachineGas):
                     )
         self.delta_target: float | None = None if delta_target is None else _delta_target(delta_target)
         self.main_bearings: tuple[float, ...] | None = None if main_bearings is None else as_bearings(main_bearings)
-        _ = self._layout  # the throws and bearings, checked by the core's rules now
+        if self.main_bearings is not None:
+            _ = self._layout  # given bearings are checked by the core's rules now, the rest on first use
         self.shaft: Shaft | None = None if shaft is None else _as_shaft(shaft, len(cylinders))
         self.load_law: str | None = None if load_law is None else _load_law(load_law, self.rpm)
         self._sealed = True

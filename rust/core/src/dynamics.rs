@@ -248,7 +248,7 @@ impl Dynamics {
             shaft_inertia + self.rotating,
             phi,
             inertia,
-            slope,
+            Some(slope),
             parallelism,
         )
     }
@@ -263,7 +263,7 @@ impl Dynamics {
         slope: &mut [f64],
         parallelism: Parallelism,
     ) -> Result<()> {
-        self.inertia_with(self.rotating, phi, inertia, slope, parallelism)
+        self.inertia_with(self.rotating, phi, inertia, Some(slope), parallelism)
     }
 
     /// J − I_w (kg·m²) alone, as [`Dynamics::inertia_beside_shaft`] gives it (the same
@@ -273,36 +273,24 @@ impl Dynamics {
         phi: &[f64],
         inertia: &mut [f64],
     ) -> Result<()> {
-        check_length("inertia", phi.len(), inertia.len())?;
-        let phi = PreparedPhi::new(phi.into(), Parallelism::SERIAL);
-        let work = phi.len().saturating_mul(self.len());
-        let rotating = self.rotating;
-        for_each_row_segment(
-            inertia,
-            phi.len(),
-            work,
-            Parallelism::SERIAL,
-            |_, col, segment| {
-                let run = phi.run(col, segment.len());
-                crank_run::<Inertia>(&self.sliders, &self.phases, run, segment);
-                segment.iter_mut().for_each(|j| *j += rotating);
-            },
-        );
-        Ok(())
+        self.inertia_with(self.rotating, phi, inertia, None, Parallelism::SERIAL)
     }
 
-    /// The sliders' varying inertia plus `constant` (kg·m²), and its slope (kg·m²/rad).
+    /// The sliders' varying inertia plus `constant` (kg·m²), and its slope (kg·m²/rad) where
+    /// `slope` is given.
     fn inertia_with<'a>(
         &self,
         constant: f64,
         phi: impl Into<Phi<'a>>,
         inertia: &mut [f64],
-        slope: &mut [f64],
+        slope: Option<&mut [f64]>,
         parallelism: Parallelism,
     ) -> Result<()> {
         let phi = phi.into();
         check_length("inertia", phi.len(), inertia.len())?;
-        check_length("slope", phi.len(), slope.len())?;
+        if let Some(slope) = &slope {
+            check_length("slope", phi.len(), slope.len())?;
+        }
         let phi = PreparedPhi::new(phi, parallelism);
         let work = phi.len().saturating_mul(self.len());
         for_each_row_segment(inertia, phi.len(), work, parallelism, |_, col, segment| {
@@ -310,10 +298,12 @@ impl Dynamics {
             crank_run::<Inertia>(&self.sliders, &self.phases, run, segment);
             segment.iter_mut().for_each(|j| *j += constant);
         });
-        for_each_row_segment(slope, phi.len(), work, parallelism, |_, col, segment| {
-            let run = phi.run(col, segment.len());
-            crank_run::<InertiaSlope>(&self.sliders, &self.phases, run, segment)
-        });
+        if let Some(slope) = slope {
+            for_each_row_segment(slope, phi.len(), work, parallelism, |_, col, segment| {
+                let run = phi.run(col, segment.len());
+                crank_run::<InertiaSlope>(&self.sliders, &self.phases, run, segment)
+            });
+        }
         Ok(())
     }
 
