@@ -138,29 +138,37 @@ def native_machine(machine: Machine) -> NativeMachine:
         Where the core refuses the machine, naming the parameter.
     """
     ends: dict[str, list[_Table]] = {"pressure": [], "pressure_crank_end": []}
-    samples: dict[int, _Table] = {}  # by id of the callable: each sampled once
+    # By id of the pressure: each diagram laid out (or callable sampled) once, and the core
+    # converts and checks each distinct pair of arrays once (a V12's twelve cylinders of one
+    # diagram cross as one).
+    tables_of: dict[int, _Table] = {}
     for cylinder in machine.cylinders:
         for end, tables in ends.items():
             pressure = getattr(cylinder, end)
             if pressure is None:
                 tables.append(None)
-            elif isinstance(pressure, IndicatorDiagram):
-                tables.append(_table(pressure, machine.cycle))
-            else:
-                if id(pressure) not in samples:
-                    samples[id(pressure)] = sampled(pressure, machine.cycle, end)
-                tables.append(samples[id(pressure)])
+                continue
+            if id(pressure) not in tables_of:
+                if isinstance(pressure, IndicatorDiagram):
+                    tables_of[id(pressure)] = _table(pressure, machine.cycle)
+                else:
+                    tables_of[id(pressure)] = sampled(pressure, machine.cycle, end)
+            tables.append(tables_of[id(pressure)])
     bearings = machine.main_bearings
+    # New arrays of Python floats: C-contiguous and aligned as made.
+    bore, rod, axial = np.array(
+        [(c.bore, c.piston_rod_diameter, c.axial_position) for c in machine.cylinders], dtype=np.float64
+    ).T.copy()
     return NativeMachine(
         unit_columns(machine.cylinders),
-        contiguous(np.array([c.bore for c in machine.cylinders], dtype=float)),
-        contiguous(np.array([c.piston_rod_diameter for c in machine.cylinders], dtype=float)),
+        bore,
+        rod,
         ends["pressure"],
         ends["pressure_crank_end"],
         shaft_inertia=machine.shaft_inertia,
         strokes=machine.strokes,
         g=machine.g,
-        axial_position=contiguous(np.array([c.axial_position for c in machine.cylinders], dtype=float)),
+        axial_position=axial,
         main_bearings=None if bearings is None else contiguous(np.array(bearings, dtype=float)),
     )
 

@@ -217,6 +217,28 @@ impl MachineColumns<'_> {
 /// coefficients c (K × m); None where that end has no gas.
 pub(crate) type DiagramArg<'py> = Option<(PyReadonlyArray1<'py, f64>, PyReadonlyArray2<'py, f64>)>;
 
+/// Where a diagram's two arrays lie in memory and how: data pointers, shapes and strides.
+type ArraysKey = (
+    *const f64,
+    Vec<usize>,
+    Vec<isize>,
+    *const f64,
+    Vec<usize>,
+    Vec<isize>,
+);
+
+fn arrays_key(x: &PyReadonlyArray1<'_, f64>, c: &PyReadonlyArray2<'_, f64>) -> ArraysKey {
+    let (x, c) = (x.as_array(), c.as_array());
+    (
+        x.as_ptr(),
+        x.shape().to_vec(),
+        x.strides().to_vec(),
+        c.as_ptr(),
+        c.shape().to_vec(),
+        c.strides().to_vec(),
+    )
+}
+
 /// A `PPoly`'s arrays (x, c) over one working cycle (`cycle`, rad) as the core's
 /// piecewise polynomial, checked.
 fn polynomial(
@@ -288,22 +310,33 @@ pub(crate) fn gas_tables(
     check_length("pressure", units, head.len())?;
     check_length("pressure_crank_end", units, crank_end.len())?;
     let mut diagrams: Vec<core::PiecewisePolynomial> = Vec::new();
+    // The arrays converted so far, by where their data lie and how (pointers, shapes,
+    // strides), with their diagram's index: the same arrays passed for several cylinders (the
+    // packer passes one pair per distinct diagram: a V12 of one diagram passes one) are
+    // converted and checked once.
+    let mut seen: Vec<(ArraysKey, usize)> = Vec::new();
     let mut index =
         |end: &'static str, j: usize, table: &DiagramArg<'_>| -> PyResult<Option<usize>> {
             let Some((x, c)) = table else {
                 return Ok(None);
             };
+            let key = arrays_key(x, c);
+            if let Some((_, i)) = seen.iter().find(|(k, _)| *k == key) {
+                return Ok(Some(*i));
+            }
             let named = |error: core::MechanismError| {
                 refused(end, format!("{end} of cylinder {j}: {error}"))
             };
             let diagram = polynomial(x, c, cycle).map_err(named)?;
-            Ok(Some(match diagrams.iter().position(|d| *d == diagram) {
+            let i = match diagrams.iter().position(|d| *d == diagram) {
                 Some(i) => i,
                 None => {
                     diagrams.push(diagram);
                     diagrams.len() - 1
                 }
-            }))
+            };
+            seen.push((key, i));
+            Ok(Some(i))
         };
     let mut gas = Vec::with_capacity(units);
     for j in 0..units {

@@ -5,7 +5,7 @@
 //! (the forces and their work): here are only the tables.
 
 use std::f64::consts::PI;
-use std::sync::{Arc, Mutex, OnceLock, PoisonError};
+use std::sync::{Arc, Mutex, PoisonError};
 
 use crate::dynamics::Dynamics;
 use crate::error::Result;
@@ -33,9 +33,9 @@ const RESOLVED: f64 = 1e-7;
 /// … or below rounding of its size.
 const ROUNDING: f64 = 1e-14;
 
-/// The step (rad) of the central differences that estimate K'' = M′: small beside a panel
-/// (≥ π/60 wide), large enough that rounding of M (~1e-16·|M|) stays below 1e-10 of the
-/// slope.
+/// The step (rad) of the central differences that estimate the gravity torque's slope −U″:
+/// small beside a panel (≥ π/60 wide), large enough that rounding of the torque
+/// (~1e-16·|M|) stays below 1e-10 of the slope.
 const SLOPE_STEP: f64 = 1e-5;
 
 /// What of a machine's tables its gas alone decides: the forces, the indicator work G of
@@ -52,11 +52,11 @@ pub(crate) struct Gas {
 }
 
 /// W (J) at the nodes then edges of the panels of one width, and M_gas′ (N·m/rad) at their
-/// nodes (made on first use).
+/// nodes, from one look-up of the indicator rules ([`GasWork::with_slope_at`]).
 #[derive(Debug)]
 struct OnPanels {
     work: Vec<f64>,
-    slope: OnceLock<Vec<f64>>,
+    slope: Vec<f64>,
 }
 
 impl Gas {
@@ -93,10 +93,8 @@ impl Gas {
             return Ok(on);
         }
         let everywhere: Vec<f64> = panels.phi.iter().chain(&panels.edges).copied().collect();
-        let made = Arc::new(OnPanels {
-            work: self.work.at(&everywhere)?,
-            slope: OnceLock::new(),
-        });
+        let (work, slope) = self.work.with_slope_at(&everywhere, panels.phi.len());
+        let made = Arc::new(OnPanels { work, slope });
         let mut all = self
             .on_panels
             .lock()
@@ -188,13 +186,9 @@ impl Cycle {
                 .map(|(a, b)| (a - b) / (2.0 * SLOPE_STEP))
                 .collect()
         };
-        self.work_curvature = match on.slope.get() {
-            Some(slope) => slope.clone(),
-            None => {
-                let slope = difference(self.gas_torque_at(&ahead)?, self.gas_torque_at(&behind)?);
-                on.slope.get_or_init(|| slope).clone()
-            }
-        };
+        // M_gas′ from the indicator rules' own interpolants, found with W (no force looked up
+        // again); the gravity torque's slope by central differences.
+        self.work_curvature = on.slope.clone();
         self.gravity_curvature = if self.gravity_on {
             difference(
                 self.gravity_torque_at(&ahead)?,

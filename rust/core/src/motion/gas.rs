@@ -28,7 +28,8 @@ pub(crate) use work::GasWork;
 #[derive(Debug, Clone, PartialEq)]
 pub struct PiecewisePolynomial {
     breakpoints: Vec<f64>,
-    /// c_ki at k·m + i.
+    /// c_ki at i·K + k: each piece's coefficients side by side (one cache line for a
+    /// cubic's), from the highest power.
     coefficients: Vec<f64>,
     order: usize,
     /// m/(x_m − x_0): the piece of θ guessed as if the breakpoints were uniform (tables
@@ -77,11 +78,16 @@ impl PiecewisePolynomial {
             "a span of exactly one cycle (2π or 4π)",
             |s| (s - cycle).abs() <= SPAN_TOLERANCE * cycle,
         )?;
+        let order = coefficients.len() / m;
+        let mut by_piece = Vec::with_capacity(m * order);
+        for i in 0..m {
+            by_piece.extend((0..order).map(|k| coefficients[k * m + i]));
+        }
         Ok(Self {
-            order: coefficients.len() / m,
+            order,
             per_radian: m as f64 / span,
             breakpoints,
-            coefficients,
+            coefficients: by_piece,
         })
     }
 
@@ -116,14 +122,22 @@ impl PiecewisePolynomial {
     /// p(θ), θ taken modulo the cycle as `IndicatorDiagram` takes it: x_0 + (θ − x_0) mod Φ,
     /// in the piece [x_i, x_{i+1}) that holds it (the last piece at x_m).
     pub fn value(&self, theta: f64) -> f64 {
+        self.value_near(theta, &mut 0)
+    }
+
+    /// [`PiecewisePolynomial::value`] (the same doubles), its piece looked for first at
+    /// `hint` and the one after it, and left there: angles taken in increasing order walk
+    /// the pieces without a search.
+    #[inline]
+    pub(crate) fn value_near(&self, theta: f64, hint: &mut usize) -> f64 {
         let x0 = self.breakpoints[0];
         let t = x0 + periodic(theta - x0, self.cycle());
-        let i = self.piece(t);
-        let m = self.pieces();
+        let i = self.piece_near(t, *hint);
+        *hint = i;
         let dx = t - self.breakpoints[i];
         let mut p = 0.0;
-        for k in 0..self.order {
-            p = p * dx + self.coefficients[k * m + i];
+        for &c in &self.coefficients[i * self.order..(i + 1) * self.order] {
+            p = p * dx + c;
         }
         p
     }
@@ -139,7 +153,23 @@ impl PiecewisePolynomial {
 
     /// c_ki (k from the highest power, K − 1 − k the power of θ − x_i).
     pub(crate) fn coefficient(&self, k: usize, i: usize) -> f64 {
-        self.coefficients[k * self.pieces() + i]
+        self.coefficients[i * self.order + k]
+    }
+
+    /// [`PiecewisePolynomial::piece`] of t, `hint` or the piece after it tried first.
+    #[inline]
+    fn piece_near(&self, t: f64, hint: usize) -> usize {
+        let x = &self.breakpoints;
+        let last = self.pieces() - 1;
+        // The piece i holds t where x_i ≤ t < x_{i+1}, or where i is the last and x_i ≤ t.
+        let holds = |i: usize| x[i] <= t && (i == last || t < x[i + 1]);
+        if hint <= last && holds(hint) {
+            hint
+        } else if hint < last && holds(hint + 1) {
+            hint + 1
+        } else {
+            self.piece(t)
+        }
     }
 
     /// The piece holding t: the last i with x_i ≤ t, kept in 0..m (NumPy's
@@ -362,9 +392,10 @@ impl Forces {
         })
     }
 
-    /// F of unit j at its cycle angle θ.
-    fn force(&self, j: usize, theta: f64) -> f64 {
-        cylinder_force(&self.gas[j], &self.diagrams, theta)
+    /// F of unit j at its cycle angle θ, each end's piece looked for first where `hints`
+    /// say (see [`PiecewisePolynomial::value_near`]).
+    fn force(&self, j: usize, theta: f64, hints: &mut [usize; 2]) -> f64 {
+        cylinder_force_near(&self.gas[j], &self.diagrams, theta, hints)
     }
 
     /// Every unit's force at every φ, unit-major (as `Dynamics::gas_torque` takes them):
@@ -372,22 +403,35 @@ impl Forces {
     pub fn at(&self, phi: &[f64]) -> Vec<f64> {
         let mut out = Vec::with_capacity(phi.len() * self.gas.len());
         for (j, phase) in self.phases.iter().enumerate() {
+            let mut hints = [0, 0];
             out.extend(
                 phi.iter()
-                    .map(|p| self.force(j, periodic(p + phase, self.cycle))),
+                    .map(|p| self.force(j, periodic(p + phase, self.cycle), &mut hints)),
             );
         }
         out
     }
 }
 
-/// F = p(θ)·A − p_c(θ)·A_c (N) of one cylinder at its cycle angle θ.
-fn cylinder_force(cylinder: &GasCylinder, diagrams: &[PiecewisePolynomial], theta: f64) -> f64 {
+/// F = p(θ)·A − p_c(θ)·A_c (N) of one cylinder at its cycle angle θ, the pieces of its two
+/// ends looked for first at `hints` (head, crank end) and left there: angles in increasing
+/// order walk the pieces without a search, and any order gives the same doubles.
+#[inline]
+fn cylinder_force_near(
+    cylinder: &GasCylinder,
+    diagrams: &[PiecewisePolynomial],
+    theta: f64,
+    hints: &mut [usize; 2],
+) -> f64 {
     if !cylinder.has_gas() {
         return 0.0;
     }
-    let pressure = |end: Option<usize>| end.map(|d| diagrams[d].value(theta));
-    cylinder.net_force(pressure(cylinder.head), pressure(cylinder.crank_end))
+    let [head, crank_end] = hints;
+    let head = cylinder.head.map(|d| diagrams[d].value_near(theta, head));
+    let crank_end = cylinder
+        .crank_end
+        .map(|d| diagrams[d].value_near(theta, crank_end));
+    cylinder.net_force(head, crank_end)
 }
 
 #[cfg(test)]

@@ -167,7 +167,18 @@ impl Panels {
     /// (`values`): see [`Antiderivative`].
     pub fn running_at(&self, values: &[f64], phi: &[f64]) -> Vec<f64> {
         let running = self.antiderivative(values);
-        phi.iter().map(|&angle| running.at(angle)).collect()
+        let mut hint = 0;
+        phi.iter()
+            .map(|&angle| {
+                running_at_near(
+                    self,
+                    &running.at_edges,
+                    &running.coefficients,
+                    angle,
+                    &mut hint,
+                )
+            })
+            .collect()
     }
 
     /// The running integral of f, given at the nodes (`values`), everywhere: each panel's
@@ -375,6 +386,66 @@ fn panel_of(edges: &[f64], angle: f64) -> usize {
     edges.partition_point(|&e| e <= angle).clamp(1, count) - 1
 }
 
+/// [`running_at_near`] F(φ) and f′(φ) (per rad), the slope of the interpolant of f that F
+/// integrates, in one pass over the panel's Legendre series (P′_{k+1} = P′_{k−1} +
+/// (2k + 1)·P_k, over the half-width): F the same doubles as [`running_at`]'s; f′ exact for a
+/// polynomial f of the panels' degree, on a kink at an edge the slope of the panel after it.
+#[inline]
+pub(crate) fn running_and_slope_near(
+    panels: &Panels,
+    at_edges: &[f64],
+    coefficients: &[f64],
+    angle: f64,
+    hint: &mut usize,
+) -> (f64, f64) {
+    let (edges, n) = (&panels.edges, panels.order);
+    let p = panel_near(edges, angle, *hint);
+    *hint = p;
+    let half = 0.5 * (edges[p + 1] - edges[p]);
+    let x = (angle - 0.5 * (edges[p] + edges[p + 1])) / half;
+    let coefficients = &coefficients[p * n..(p + 1) * n];
+    let mut integral = coefficients[0] * (x + 1.0);
+    // P_{k−1}, P_k and P_{k+1}, and P′_{k−1}, P′_k, as k runs.
+    let (mut previous, mut current) = (1.0, x);
+    let (mut previous_slope, mut current_slope) = (0.0, 1.0);
+    let mut slope = 0.0;
+    for (k, c) in coefficients.iter().enumerate().skip(1) {
+        let (a, b, over) = legendre_step(k);
+        let next = a * x * current - b * previous;
+        integral += c * (next - previous) * over;
+        slope += c * current_slope;
+        let next_slope = previous_slope + (2 * k + 1) as f64 * current;
+        previous = current;
+        current = next;
+        previous_slope = current_slope;
+        current_slope = next_slope;
+    }
+    // On the edge: F there, exactly (the tabled recurrence leaves ulps of P_k(−1)).
+    let running = if x == -1.0 {
+        at_edges[p]
+    } else {
+        at_edges[p] + half * integral
+    };
+    (running, slope / half)
+}
+
+/// [`panel_of`] the angle, `hint` or the panel after it tried first.
+#[inline]
+fn panel_near(edges: &[f64], angle: f64, hint: usize) -> usize {
+    let count = edges.len() - 1;
+    // Panel p holds the angle where e_p ≤ angle < e_{p+1}, the first panel anything below
+    // e_1 and the last anything from e_{count−1} on (panel_of's clipping).
+    let holds =
+        |p: usize| (p == 0 || edges[p] <= angle) && (p + 1 == count || angle < edges[p + 1]);
+    if hint < count && holds(hint) {
+        hint
+    } else if hint + 1 < count && holds(hint + 1) {
+        hint + 1
+    } else {
+        panel_of(edges, angle)
+    }
+}
+
 /// F(φ) = ∫₀^φ f dφ, φ (rad) in [0, Φ], from the tables of a running integral on `panels`
 /// ([`Panels::antiderivative`]: F at the edges, each panel's Legendre coefficients of f's
 /// interpolant): the panel sums up to φ's panel, then that panel's interpolant integrated
@@ -386,8 +457,22 @@ pub(crate) fn running_at(
     coefficients: &[f64],
     angle: f64,
 ) -> f64 {
+    running_at_near(panels, at_edges, coefficients, angle, &mut 0)
+}
+
+/// [`running_at`] (the same doubles), φ's panel looked for first at `hint` and the one after
+/// it, and left there: angles taken in increasing order walk the panels without a search.
+#[inline]
+pub(crate) fn running_at_near(
+    panels: &Panels,
+    at_edges: &[f64],
+    coefficients: &[f64],
+    angle: f64,
+    hint: &mut usize,
+) -> f64 {
     let (edges, n) = (&panels.edges, panels.order);
-    let p = panel_of(edges, angle);
+    let p = panel_near(edges, angle, *hint);
+    *hint = p;
     let half = 0.5 * (edges[p + 1] - edges[p]);
     let x = (angle - 0.5 * (edges[p] + edges[p + 1])) / half;
     if x == -1.0 {
@@ -538,6 +623,40 @@ mod tests {
         let found = panels.running_at(&smooth, &[cycle])[0];
         let exact = 2.0 * PI * 1.266_065_877_752_008_4;
         assert!((found - exact).abs() < 1e-14 * exact);
+    }
+
+    #[test]
+    fn a_look_up_from_a_hint_is_the_search_and_gives_the_slope_too() {
+        // Degree 11 on uneven panels: at angles in increasing, decreasing and scattered
+        // order, the hinted look-up gives running_at's doubles, and the slope is f′.
+        let cycle = 2.0 * PI;
+        let panels = Panels::new(&breaks(vec![0.4, 0.45, 2.0, 5.9], cycle), 12, PI / 8.0);
+        let f: Vec<f64> = panels.phi.iter().map(|p| p.powi(11) - 3.0 * p).collect();
+        let running = panels.antiderivative(&f);
+        let increasing: Vec<f64> = (0..=997).map(|i| cycle * i as f64 / 997.0).collect();
+        let decreasing: Vec<f64> = increasing.iter().rev().copied().collect();
+        let scattered: Vec<f64> = (0..=997)
+            .map(|i| cycle * ((i * 7919) % 998) as f64 / 997.0)
+            .collect();
+        let mut orders = vec![increasing, decreasing, scattered];
+        orders[0].extend(panels.edges.iter().copied());
+        for angles in orders {
+            let (mut hint, mut other) = (0, 0);
+            for &angle in &angles {
+                let (at, coefficients) = (&running.at_edges, &running.coefficients);
+                let near = running_at_near(&panels, at, coefficients, angle, &mut hint);
+                let searched = running_at(&panels, at, coefficients, angle);
+                assert_eq!(near.to_bits(), searched.to_bits(), "{angle}");
+                let (with, slope) =
+                    running_and_slope_near(&panels, at, coefficients, angle, &mut other);
+                assert_eq!(with.to_bits(), searched.to_bits(), "{angle}");
+                let exact = 11.0 * angle.powi(10) - 3.0;
+                assert!(
+                    (slope - exact).abs() <= 1e-11 * (1.0 + exact.abs()),
+                    "{angle}: {slope} {exact}"
+                );
+            }
+        }
     }
 
     #[test]

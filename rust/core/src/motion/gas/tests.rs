@@ -100,3 +100,121 @@ fn net_piston_forces_are_the_pressures_on_the_two_circles() {
     }];
     assert!(net_piston_forces(&wide_rod, &[1.0], &[1.0], &mut [0.0]).is_err());
 }
+
+#[test]
+fn a_look_up_from_a_hint_is_the_searched_one_in_any_order() {
+    // A cubic spline-like table of 360 uneven pieces over 4π, probed in increasing order
+    // (the walk), decreasing, and scattered: value_near gives value's doubles every time.
+    let cycle = 4.0 * PI;
+    let x: Vec<f64> = (0..=360)
+        .map(|i| {
+            let u = i as f64 / 360.0;
+            cycle * (u + 0.02 * (6.0 * PI * u).sin())
+        })
+        .collect();
+    let m = x.len() - 1;
+    let coefficients: Vec<f64> = (0..4 * m)
+        .map(|n| ((n * 7919) % 113) as f64 - 56.0)
+        .collect();
+    let p = PiecewisePolynomial::new(x, coefficients, cycle).unwrap();
+    let increasing: Vec<f64> = (0..3000)
+        .map(|i| -1.0 + 3.0 * cycle * i as f64 / 2999.0)
+        .collect();
+    let decreasing: Vec<f64> = increasing.iter().rev().copied().collect();
+    let scattered: Vec<f64> = (0..3000)
+        .map(|i| cycle * (((i * 104_729) % 3001) as f64 / 1500.0 - 0.5))
+        .collect();
+    for probes in [increasing, decreasing, scattered] {
+        let mut hint = 0;
+        for &t in &probes {
+            let (near, searched) = (p.value_near(t, &mut hint), p.value(t));
+            assert_eq!(near.to_bits(), searched.to_bits(), "{t}");
+        }
+    }
+}
+
+#[test]
+fn the_slope_of_the_gas_work_is_the_derivative_of_the_gas_torque() {
+    // Two units of one PCHIP-like diagram (cubic pieces), one double-acting: W″ = M_gas′
+    // from the indicator rules' interpolants against central differences of M_gas = Σ F s′
+    // from the kernels (Dynamics::gas_torque of the forces looked up at φ ± h).
+    let cycle = 4.0 * PI;
+    let pieces = 96;
+    let x: Vec<f64> = (0..=pieces)
+        .map(|i| cycle * i as f64 / pieces as f64)
+        .collect();
+    let p = |t: f64| 30e5 * (0.6 + 0.4 * (t / 2.0).cos()).powi(3);
+    let dp = |t: f64| -30e5 * 3.0 * (0.6 + 0.4 * (t / 2.0).cos()).powi(2) * 0.2 * (t / 2.0).sin();
+    // Hermite cubics through p and p′ at the breakpoints, in PPoly rows (highest power first).
+    let mut rows = vec![vec![0.0; pieces]; 4];
+    for i in 0..pieces {
+        let (a, b) = (x[i], x[i + 1]);
+        let h = b - a;
+        let (pa, pb, da, db) = (p(a), p(b), dp(a), dp(b));
+        let c2 = (3.0 * (pb - pa) / h - 2.0 * da - db) / h;
+        let c3 = (da + db - 2.0 * (pb - pa) / h) / (h * h);
+        (rows[0][i], rows[1][i], rows[2][i], rows[3][i]) = (c3, c2, da, pa);
+    }
+    let diagram = PiecewisePolynomial::new(x, rows.concat(), cycle).unwrap();
+    let unit = |phase: f64| PhysicalCylinder {
+        crank_radius: 0.06,
+        rod_length: 0.2,
+        piston_mass: 1.0,
+        rod_mass: 1.0,
+        rod_cg: 0.05,
+        rod_inertia: 0.003,
+        crank_mass: 0.0,
+        crank_cg_radius: 0.0,
+        counterweight_mass: 0.0,
+        counterweight_radius: 0.0,
+        phase,
+        inclination: 0.3,
+    };
+    let units = [unit(0.0), unit(2.5)];
+    let gas = [
+        GasCylinder {
+            bore: 0.1,
+            piston_rod_diameter: 0.0,
+            head: Some(0),
+            crank_end: None,
+        },
+        GasCylinder {
+            bore: 0.1,
+            piston_rod_diameter: 0.03,
+            head: Some(0),
+            crank_end: Some(0),
+        },
+    ];
+    let diagrams: Arc<[PiecewisePolynomial]> = vec![diagram].into();
+    let work = GasWork::new(&units, &gas, diagrams.clone(), cycle).unwrap();
+    let forces = Forces::new(&units, &gas, diagrams, cycle).unwrap();
+    let dynamics = crate::dynamics::Dynamics::new(&units, 0.0).unwrap();
+    // Angles inside pieces (central differences across a breakpoint see its kink).
+    let phi: Vec<f64> = (0..40).map(|i| 0.3 + 0.31 * i as f64).collect();
+    let (_, slope) = work.with_slope_at(&phi, phi.len());
+    let h = 1e-5;
+    let torque = |shift: f64| {
+        let at: Vec<f64> = phi.iter().map(|p| p + shift).collect();
+        let mut out = vec![0.0; at.len()];
+        dynamics
+            .gas_torque(
+                &at,
+                &forces.at(&at),
+                &mut out,
+                crate::parallel::Parallelism::SERIAL,
+            )
+            .unwrap();
+        out
+    };
+    let (ahead, behind) = (torque(h), torque(-h));
+    let scale = ahead.iter().fold(0.0_f64, |m, t| m.max(t.abs()));
+    for i in 0..phi.len() {
+        let numeric = (ahead[i] - behind[i]) / (2.0 * h);
+        assert!(
+            (slope[i] - numeric).abs() <= 1e-6 * scale,
+            "φ = {}: {} against {numeric}",
+            phi[i],
+            slope[i]
+        );
+    }
+}

@@ -10,8 +10,8 @@ use crate::error::Result;
 use crate::mechanism::PhysicalCylinder;
 use crate::parallel::Parallelism;
 
-use super::super::quadrature::{breaks, running_at, Panels};
-use super::{cylinder_force, periodic, GasCylinder, PiecewisePolynomial};
+use super::super::quadrature::{breaks, running_and_slope_near, running_at_near, Panels};
+use super::{cylinder_force_near, periodic, GasCylinder, PiecewisePolynomial};
 
 /// F of one cylinder at phase 0 at every θ (rad), θ taken modulo the cycle.
 fn one_cylinder_forces(
@@ -20,9 +20,10 @@ fn one_cylinder_forces(
     cycle: f64,
     theta: &[f64],
 ) -> Vec<f64> {
+    let mut hints = [0, 0];
     theta
         .iter()
-        .map(|&t| cylinder_force(&cylinder, diagrams, periodic(t, cycle)))
+        .map(|&t| cylinder_force_near(&cylinder, diagrams, periodic(t, cycle), &mut hints))
         .collect()
 }
 
@@ -104,16 +105,51 @@ impl Indicator {
         self.at_edges[self.at_edges.len() - 1]
     }
 
+    /// G(φ + `phase`) added to `work` for each φ of `phi`; with `slope`, G″ = (F·s′)′
+    /// (N·m/rad) there, the slope of the interpolant G integrates, added to it (one panel
+    /// look-up for both). φ + phase in increasing order walks the panels.
+    fn add(&self, phi: &[f64], phase: f64, work: &mut [f64], slope: Option<&mut [f64]>) {
+        let per_cycle = self.per_cycle();
+        let mut hint = 0;
+        let (panels, edges, coefficients) = (&self.panels, &self.at_edges, &self.coefficients);
+        let cycle = self.cycle;
+        // x = t·Φ + y, y in [0, Φ): t by floor(x/Φ), where the two usual cases need no
+        // call of floor (not inlined on baseline x86-64) and give the same doubles.
+        let turns_and_angle = |p: f64| {
+            let x = p + phase;
+            if (0.0..cycle).contains(&x) && x / cycle < 1.0 {
+                (0.0, x)
+            } else if (cycle..2.0 * cycle).contains(&x) && (1.0..2.0).contains(&(x / cycle)) {
+                (1.0, x - cycle)
+            } else {
+                let t = (x / cycle).floor();
+                (t, x - t * cycle)
+            }
+        };
+        match slope {
+            None => {
+                for (w, &p) in work.iter_mut().zip(phi) {
+                    let (t, y) = turns_and_angle(p);
+                    *w +=
+                        t * per_cycle + running_at_near(panels, edges, coefficients, y, &mut hint);
+                }
+            }
+            Some(slope) => {
+                for ((w, s), &p) in work.iter_mut().zip(slope.iter_mut()).zip(phi) {
+                    let (t, y) = turns_and_angle(p);
+                    let (g, g2) = running_and_slope_near(panels, edges, coefficients, y, &mut hint);
+                    *w += t * per_cycle + g;
+                    *s += g2;
+                }
+            }
+        }
+    }
+
     /// G(x) for each x.
     fn at(&self, x: &[f64]) -> Vec<f64> {
-        let per_cycle = self.per_cycle();
-        x.iter()
-            .map(|&x| {
-                let t = (x / self.cycle).floor();
-                let y = x - t * self.cycle;
-                t * per_cycle + running_at(&self.panels, &self.at_edges, &self.coefficients, y)
-            })
-            .collect()
+        let mut out = vec![0.0; x.len()];
+        self.add(x, 0.0, &mut out, None);
+        out
     }
 }
 
@@ -186,18 +222,26 @@ impl GasWork {
     pub fn at(&self, phi: &[f64]) -> Result<Vec<f64>> {
         let mut total = vec![-self.origin; phi.len()];
         for (g, phases) in &self.groups {
-            // Every phase of the group in one call, phase-major; added phase by phase.
-            let shifted: Vec<f64> = phases
-                .iter()
-                .flat_map(|phase| phi.iter().map(move |p| p + phase))
-                .collect();
-            let values = g.at(&shifted);
-            for per_phase in values.chunks_exact(phi.len().max(1)) {
-                for (w, value) in total.iter_mut().zip(per_phase) {
-                    *w += value;
-                }
+            for &phase in phases {
+                g.add(phi, phase, &mut total, None);
             }
         }
         Ok(total)
+    }
+
+    /// W at each φ of `phi`, and W″ = M_gas′ (N·m/rad) at its first `sloped` angles: the sum
+    /// of the units' G″ at their phases, the slopes of their indicator rules' interpolants of
+    /// F·s′ (exact where the rule is), found in the same look-up as W.
+    pub fn with_slope_at(&self, phi: &[f64], sloped: usize) -> (Vec<f64>, Vec<f64>) {
+        let mut total = vec![-self.origin; phi.len()];
+        let mut slope = vec![0.0; sloped];
+        let (head, tail) = total.split_at_mut(sloped);
+        for (g, phases) in &self.groups {
+            for &phase in phases {
+                g.add(&phi[..sloped], phase, head, Some(&mut slope));
+                g.add(&phi[sloped..], phase, tail, None);
+            }
+        }
+        (total, slope)
     }
 }
