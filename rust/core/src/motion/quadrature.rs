@@ -386,49 +386,6 @@ fn panel_of(edges: &[f64], angle: f64) -> usize {
     edges.partition_point(|&e| e <= angle).clamp(1, count) - 1
 }
 
-/// [`running_at_near`] F(φ) and f′(φ) (per rad), the slope of the interpolant of f that F
-/// integrates, in one pass over the panel's Legendre series (P′_{k+1} = P′_{k−1} +
-/// (2k + 1)·P_k, over the half-width): F the same doubles as [`running_at`]'s; f′ exact for a
-/// polynomial f of the panels' degree, on a kink at an edge the slope of the panel after it.
-#[inline]
-pub(crate) fn running_and_slope_near(
-    panels: &Panels,
-    at_edges: &[f64],
-    coefficients: &[f64],
-    angle: f64,
-    hint: &mut usize,
-) -> (f64, f64) {
-    let (edges, n) = (&panels.edges, panels.order);
-    let p = panel_near(edges, angle, *hint);
-    *hint = p;
-    let half = 0.5 * (edges[p + 1] - edges[p]);
-    let x = (angle - 0.5 * (edges[p] + edges[p + 1])) / half;
-    let coefficients = &coefficients[p * n..(p + 1) * n];
-    let mut integral = coefficients[0] * (x + 1.0);
-    // P_{k−1}, P_k and P_{k+1}, and P′_{k−1}, P′_k, as k runs.
-    let (mut previous, mut current) = (1.0, x);
-    let (mut previous_slope, mut current_slope) = (0.0, 1.0);
-    let mut slope = 0.0;
-    for (k, c) in coefficients.iter().enumerate().skip(1) {
-        let (a, b, over) = legendre_step(k);
-        let next = a * x * current - b * previous;
-        integral += c * (next - previous) * over;
-        slope += c * current_slope;
-        let next_slope = previous_slope + (2 * k + 1) as f64 * current;
-        previous = current;
-        current = next;
-        previous_slope = current_slope;
-        current_slope = next_slope;
-    }
-    // On the edge: F there, exactly (the tabled recurrence leaves ulps of P_k(−1)).
-    let running = if x == -1.0 {
-        at_edges[p]
-    } else {
-        at_edges[p] + half * integral
-    };
-    (running, slope / half)
-}
-
 /// [`panel_of`] the angle, `hint` or the panel after it tried first.
 #[inline]
 fn panel_near(edges: &[f64], angle: f64, hint: usize) -> usize {
@@ -528,6 +485,9 @@ pub(crate) fn breaks(mut angles: Vec<f64>, cycle: f64) -> Vec<f64> {
     }
     kept
 }
+
+mod monomial;
+pub(crate) use monomial::MonomialRunning;
 
 #[cfg(test)]
 mod tests;

@@ -10,7 +10,7 @@ use crate::error::Result;
 use crate::mechanism::PhysicalCylinder;
 use crate::parallel::Parallelism;
 
-use super::super::quadrature::{breaks, running_and_slope_near, running_at_near, Panels};
+use super::super::quadrature::{breaks, MonomialRunning, Panels};
 use super::{cylinder_force_near, periodic, GasCylinder, PiecewisePolynomial};
 
 /// F of one cylinder at phase 0 at every θ (rad), θ taken modulo the cycle.
@@ -47,15 +47,13 @@ const INDICATOR_WIDTH: f64 = PI / 64.0;
 /// G(x) = ∫₀^x F(θ) s'(θ) dθ of one cylinder at phase 0 (J), for any real x: F·s′ on
 /// panels cut at every breakpoint of the cylinder's tables (and its dead centres), at most
 /// π/64 wide, its interpolant through each panel's Gauss nodes integrated exactly
-/// ([`running_at`]).
+/// ([`MonomialRunning`]).
 #[derive(Debug, Clone)]
 struct Indicator {
     cycle: f64,
     panels: Panels,
-    /// G at the edges.
-    at_edges: Vec<f64>,
-    /// Each panel's Legendre coefficients of F·s′'s interpolant.
-    coefficients: Vec<f64>,
+    /// G and (F·s′)′ on every panel, in monomials for the many look-ups of W.
+    running: MonomialRunning,
 }
 
 impl Indicator {
@@ -93,16 +91,16 @@ impl Indicator {
         let mut torque = vec![0.0; panels.phi.len()];
         dynamics.gas_torque(&panels.phi, &forces, &mut torque, Parallelism::SERIAL)?;
         let (at_edges, coefficients) = panels.antiderivative(&torque).into_tables();
+        let running = MonomialRunning::new(&panels, at_edges, &coefficients);
         Ok(Self {
             cycle,
             panels,
-            at_edges,
-            coefficients,
+            running,
         })
     }
 
     fn per_cycle(&self) -> f64 {
-        self.at_edges[self.at_edges.len() - 1]
+        self.running.at_edges[self.running.at_edges.len() - 1]
     }
 
     /// G(φ + `phase`) added to `work` for each φ of `phi`; with `slope`, G″ = (F·s′)′
@@ -111,7 +109,7 @@ impl Indicator {
     fn add(&self, phi: &[f64], phase: f64, work: &mut [f64], slope: Option<&mut [f64]>) {
         let per_cycle = self.per_cycle();
         let mut hint = 0;
-        let (panels, edges, coefficients) = (&self.panels, &self.at_edges, &self.coefficients);
+        let (panels, running) = (&self.panels, &self.running);
         let cycle = self.cycle;
         // x = t·Φ + y, y in [0, Φ): t by floor(x/Φ), where the two usual cases need no
         // call of floor (not inlined on baseline x86-64) and give the same doubles.
@@ -130,14 +128,13 @@ impl Indicator {
             None => {
                 for (w, &p) in work.iter_mut().zip(phi) {
                     let (t, y) = turns_and_angle(p);
-                    *w +=
-                        t * per_cycle + running_at_near(panels, edges, coefficients, y, &mut hint);
+                    *w += t * per_cycle + running.at_near(panels, y, &mut hint);
                 }
             }
             Some(slope) => {
                 for ((w, s), &p) in work.iter_mut().zip(slope.iter_mut()).zip(phi) {
                     let (t, y) = turns_and_angle(p);
-                    let (g, g2) = running_and_slope_near(panels, edges, coefficients, y, &mut hint);
+                    let (g, g2) = running.at_and_slope_near(panels, y, &mut hint);
                     *w += t * per_cycle + g;
                     *s += g2;
                 }

@@ -93,9 +93,10 @@ fn the_running_integral_is_exact_for_polynomials_and_spectral_otherwise() {
 }
 
 #[test]
-fn a_look_up_from_a_hint_is_the_search_and_gives_the_slope_too() {
+fn a_look_up_from_a_hint_is_the_search_and_the_monomial_form_its_integral_and_slope() {
     // Degree 11 on uneven panels: at angles in increasing, decreasing and scattered
-    // order, the hinted look-up gives running_at's doubles, and the slope is f′.
+    // order, the hinted look-up gives running_at's doubles; the monomial form the same
+    // integral to rounding, and the slope f′.
     let cycle = 2.0 * PI;
     let panels = Panels::new(&breaks(vec![0.4, 0.45, 2.0, 5.9], cycle), 12, PI / 8.0);
     let f: Vec<f64> = panels.phi.iter().map(|p| p.powi(11) - 3.0 * p).collect();
@@ -107,16 +108,21 @@ fn a_look_up_from_a_hint_is_the_search_and_gives_the_slope_too() {
         .collect();
     let mut orders = vec![increasing, decreasing, scattered];
     orders[0].extend(panels.edges.iter().copied());
+    let monomial = MonomialRunning::new(&panels, running.at_edges.clone(), &running.coefficients);
+    let scale = running.at_edges.iter().fold(0.0_f64, |m, f| m.max(f.abs()));
     for angles in orders {
-        let (mut hint, mut other) = (0, 0);
+        let (mut hint, mut other, mut third) = (0, 0, 0);
         for &angle in &angles {
             let (at, coefficients) = (&running.at_edges, &running.coefficients);
             let near = running_at_near(&panels, at, coefficients, angle, &mut hint);
             let searched = running_at(&panels, at, coefficients, angle);
             assert_eq!(near.to_bits(), searched.to_bits(), "{angle}");
-            let (with, slope) =
-                running_and_slope_near(&panels, at, coefficients, angle, &mut other);
-            assert_eq!(with.to_bits(), searched.to_bits(), "{angle}");
+            // The monomial form: the same integral to rounding, and the slope f′ of the
+            // degree-11 interpolant (f itself).
+            let powers = monomial.at_near(&panels, angle, &mut other);
+            assert!((powers - searched).abs() <= 1e-14 * scale, "{angle}");
+            let (with, slope) = monomial.at_and_slope_near(&panels, angle, &mut third);
+            assert_eq!(with.to_bits(), powers.to_bits(), "{angle}");
             let exact = 11.0 * angle.powi(10) - 3.0;
             assert!(
                 (slope - exact).abs() <= 1e-11 * (1.0 + exact.abs()),

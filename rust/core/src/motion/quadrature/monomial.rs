@@ -1,0 +1,121 @@
+//! A running integral in powers of x on each panel: the form of the indicator rules' G,
+//! looked up once per unit and angle wherever W is asked for.
+
+use super::{panel_near, Panels};
+
+/// A running integral F(φ) = ∫₀^φ f dφ on `Panels` in monomials, for many look-ups: on each
+/// panel F = F(e_p) + Σ_i q_i x^i and f′ = Σ_i s_i x^i, x ∈ [−1, 1] across it, each by
+/// Horner's rule (a few multiply-adds where the Legendre recurrence of
+/// [`running_at`](super::running_at)
+/// takes three times as many operations). The same interpolants as
+/// [`Antiderivative`](super::Antiderivative)'s,
+/// to rounding (their Legendre coefficients turned into powers of x, |x| ≤ 1: each
+/// coefficient's error within a few ulps of the largest).
+#[derive(Debug, Clone)]
+pub(crate) struct MonomialRunning {
+    /// F at the edges (those of the Legendre form, exactly).
+    pub at_edges: Vec<f64>,
+    /// Per panel, half·∫₋₁^x of the interpolant: `order + 1` coefficients, highest power first.
+    running: Vec<f64>,
+    /// Per panel, f′ (per rad): `order` coefficients, highest power first (the first 0).
+    slope: Vec<f64>,
+}
+
+impl MonomialRunning {
+    /// From the tables of a running integral on `panels`
+    /// ([`Antiderivative::into_tables`](super::Antiderivative::into_tables)).
+    pub fn new(panels: &Panels, at_edges: Vec<f64>, coefficients: &[f64]) -> Self {
+        let n = panels.order;
+        // P_k in powers of x, row k: P_{k+1} = ((2k + 1) x P_k − k P_{k−1})/(k + 1).
+        let mut legendre = vec![0.0; n * n];
+        legendre[0] = 1.0;
+        if n > 1 {
+            legendre[n + 1] = 1.0;
+        }
+        for k in 1..n.saturating_sub(1) {
+            for i in 0..n {
+                let shifted = if i > 0 { legendre[k * n + i - 1] } else { 0.0 };
+                legendre[(k + 1) * n + i] = ((2 * k + 1) as f64 * shifted
+                    - k as f64 * legendre[(k - 1) * n + i])
+                    / (k + 1) as f64;
+            }
+        }
+        let count = panels.count();
+        let mut running = Vec::with_capacity(count * (n + 1));
+        let mut slope = Vec::with_capacity(count * n);
+        let mut powers = vec![0.0; n];
+        for p in 0..count {
+            let c = &coefficients[p * n..(p + 1) * n];
+            for (i, a) in powers.iter_mut().enumerate() {
+                *a = (0..n).map(|k| c[k] * legendre[k * n + i]).sum();
+            }
+            let half = 0.5 * (panels.edges[p + 1] - panels.edges[p]);
+            // ∫₋₁^x a_i t^i dt = a_i (x^{i+1} − (−1)^{i+1})/(i + 1).
+            let at_minus_one: f64 = powers
+                .iter()
+                .enumerate()
+                .map(|(i, a)| if i % 2 == 0 { -a } else { *a } / (i + 1) as f64)
+                .sum();
+            running.extend(
+                powers
+                    .iter()
+                    .enumerate()
+                    .rev()
+                    .map(|(i, a)| half * a / (i + 1) as f64),
+            );
+            running.push(-half * at_minus_one);
+            slope.push(0.0);
+            slope.extend(
+                powers
+                    .iter()
+                    .enumerate()
+                    .skip(1)
+                    .rev()
+                    .map(|(i, a)| i as f64 * a / half),
+            );
+        }
+        Self {
+            at_edges,
+            running,
+            slope,
+        }
+    }
+
+    /// F(φ), φ (rad) in [0, Φ], on `panels` (those it was made on), φ's panel looked for
+    /// first at `hint` and the one after it, and left there; F at the edge itself where φ is
+    /// on one.
+    #[inline]
+    pub fn at_near(&self, panels: &Panels, angle: f64, hint: &mut usize) -> f64 {
+        let (p, x) = self.locate(panels, angle, hint);
+        if x == -1.0 {
+            return self.at_edges[p];
+        }
+        let n = panels.order + 1;
+        let value = self.running[p * n..(p + 1) * n]
+            .iter()
+            .fold(0.0, |sum, c| sum * x + c);
+        self.at_edges[p] + value
+    }
+
+    /// F(φ) as [`MonomialRunning::at_near`], and f′(φ) (per rad) on the same panel (on an
+    /// edge: the panel that starts there).
+    #[inline]
+    pub fn at_and_slope_near(&self, panels: &Panels, angle: f64, hint: &mut usize) -> (f64, f64) {
+        let running = self.at_near(panels, angle, hint);
+        let (p, x) = self.locate(panels, angle, hint);
+        let n = panels.order;
+        let slope = self.slope[p * n..(p + 1) * n]
+            .iter()
+            .fold(0.0, |sum, c| sum * x + c);
+        (running, slope)
+    }
+
+    #[inline]
+    fn locate(&self, panels: &Panels, angle: f64, hint: &mut usize) -> (usize, f64) {
+        let edges = &panels.edges;
+        let p = panel_near(edges, angle, *hint);
+        *hint = p;
+        let half = 0.5 * (edges[p + 1] - edges[p]);
+        (p, (angle - 0.5 * (edges[p] + edges[p + 1])) / half)
+    }
+}
