@@ -382,3 +382,16 @@ def test_a_machine_built_to_a_textbook_order_prints_it(order, crank):
     table = mc.firing_orders(machine, max_order=2)
     assert table.loc[table["as_given"], "firing"].tolist() == [order]
     assert table["firing"].iloc[0] == order
+
+
+@pytest.mark.parametrize("name", ["genset-v12", "inline-4", "boxer-compressor"])
+def test_a_candidate_is_the_machine_its_replace_would_make(name):
+    """The candidates skip the machine's checks (only their phases differ): each must be the
+    very machine ``Machine.replace`` makes of those cylinders, fields and answers alike."""
+    machine = mc.presets.MACHINES[name]
+    cylinders = [c.replace(phase=c.phase + 0.25 * j) for j, c in enumerate(machine.cylinders)]
+    fast, checked = machine._with_phases(cylinders), machine.replace(cylinders=cylinders)
+    assert fast == checked
+    assert sorted(fast.__dict__) == sorted(checked.__dict__)
+    assert mc.steady_state(fast).delta == mc.steady_state(checked).delta
+    assert fast.cylinders == tuple(cylinders)

@@ -84,7 +84,8 @@ def _candidate_machines(machine: Machine, phases: np.ndarray) -> list[Machine]:
             made[j, phase] = machine.cylinders[j].replace(phase=phase)
         return made[j, phase]
 
-    return [machine.replace(cylinders=[cylinder(j, float(a)) for j, a in enumerate(row)]) for row in phases]
+    # Only the phases differ from the machine's own: nothing a machine checks changes.
+    return [machine._with_phases([cylinder(j, float(a)) for j, a in enumerate(row)]) for row in phases]
 
 
 def firing_orders(

@@ -382,6 +382,19 @@ class Machine(MachineDescription, MachineDynamics, MachineGas):
         self.__dict__.update(state)
         self.__dict__["_sealed"] = True
 
+    def _with_phases(self, cylinders: Sequence[Cylinder]) -> Machine:
+        """This machine with ``cylinders`` in place of its own, not checked again: for
+        cylinders that are its own with other phases (a firing order's candidates), each
+        checked as a cylinder already, where no rule of a machine looks (the number of
+        cylinders, their diagrams' cycles, places and masses are its own). Nothing derived
+        is carried over (the unit columns, the native machine, the orders are made anew)."""
+        assert len(cylinders) == len(self.cylinders)
+        made = object.__new__(type(self))
+        state = self.__getstate__()
+        state["cylinders"] = tuple(cylinders)
+        made.__setstate__(state)
+        return made
+
     def replace(self, **changes: Any) -> Machine:
         """A copy with some of its fields changed.
 
