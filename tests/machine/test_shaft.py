@@ -224,3 +224,14 @@ def test_a_shaft_pickled_before_node_damping_reads_none():
     restored.__dict__.update(state)
     assert restored.node_damping is None and restored == shaft
     assert pickle.loads(pickle.dumps(restored)) == shaft
+
+
+def test_modes_compare_by_identity_and_pickle():
+    """ShaftModes holds arrays: == must not raise (an array's truth is ambiguous), and a
+    pickled copy keeps every number."""
+    modes = mc.Shaft(inertia=[1.0, 2.0, 3.0], stiffness=[1e5, 2e5], cylinder_nodes=[0]).modes()
+    assert modes == modes
+    assert not (modes == mc.Shaft(inertia=[1.0, 2.0, 3.0], stiffness=[1e5, 2e5], cylinder_nodes=[0]).modes())
+    copy = pickle.loads(pickle.dumps(modes))
+    assert np.array_equal(copy.natural_frequency, modes.natural_frequency)
+    assert np.array_equal(copy.shapes, modes.shapes)

@@ -373,7 +373,7 @@ class Machine(MachineDescription, MachineDynamics, MachineGas):
 
     def __getstate__(self) -> dict[str, Any]:
         # The native machine (machine/native.motion_machine), its lock and the cylinders' torque
-        # orders (motion/orders.cylinder_orders) stay behind: a copy or an unpickled machine
+        # orders (torsion/excitation.cylinder_orders) stay behind: a copy or an unpickled machine
         # makes its own on first use.
         return {key: value for key, value in self.__dict__.items() if key not in _DERIVED}
 

@@ -76,7 +76,7 @@ def _damping_list(values: Any, name: str, count: int, where: str) -> tuple[float
     return tuple(float(v) for v in array)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class ShaftModes:
     """The elastic modes of a :class:`Shaft` (the rigid-body mode left out).
 
@@ -391,7 +391,7 @@ class Shaft:
         -----
         Each ω² = (2π f)² is found from the chain's numbers to a few units in its last digit
         — Holzer's recurrence (the pivots of K − σJ) bisected on its count of the modes below
-        σ, started from SciPy's tridiagonal eigen solver — and each shape by the same
+        σ, from Gershgorin's bracket, in the Rust core — and each shape by the same
         recurrence from both ends, every node's amplitude to a relative precision. A general
         eigen solver is accurate only to a few ε of the largest ω²: a light node between stiff
         sections, or a long chain's lowest modes, would lose digits. The cost is of the order
