@@ -14,7 +14,7 @@ use crate::error::{check, check_length, MechanismError, Result};
 use crate::parallel::{map_indices, Parallelism};
 
 use super::columns::{Changes, MachineDesigns, MotionColumns, MotionOutputs};
-use super::gas::PiecewisePolynomial;
+use super::gas::{GasCylinder, PiecewisePolynomial};
 use super::variant::{gas, variant, Variant};
 use super::{check_speed_ratio, flywheel, MachineView, SteadyTables};
 
@@ -145,9 +145,55 @@ fn solve(
 /// held at once (~100 kB each).
 const BLOCK: usize = 512;
 
+/// How the designs' gas forces scale: W and M_gas are linear in the pressures and, where
+/// every crank end's area is the bore's (no piston rod), proportional to the bore's area,
+/// so designs that differ only in `pressure_scale` (or bore) share one gas, scaled.
+#[derive(Debug, Clone, Copy)]
+struct Scaling {
+    bore: bool,
+}
+
+impl Scaling {
+    fn of(base: &MachineView<'_>, designs: &MachineDesigns<'_>) -> Self {
+        let no_rod = |gas: &GasCylinder| gas.crank_end.is_none() || gas.piston_rod_diameter == 0.0;
+        Self {
+            bore: designs.bore.is_some() && base.gas.iter().all(no_rod),
+        }
+    }
+
+    /// Whether the column `name` is scaled rather than keyed.
+    fn scales(self, name: &str) -> bool {
+        name == "pressure_scale" || (self.bore && name == "bore")
+    }
+
+    /// What multiplies design `row`'s pressures times areas: pressure_scale·D² (1 for a
+    /// column not scaled).
+    fn factor(self, designs: &MachineDesigns<'_>, row: usize) -> f64 {
+        let scale = designs.pressure_scale.map_or(1.0, |c| c[row]);
+        let bore = match (self.bore, designs.bore) {
+            (true, Some(c)) => c[row],
+            _ => 1.0,
+        };
+        scale * (bore * bore)
+    }
+
+    /// Design `row`'s gas times `factor` of `other`'s (`None`: the same).
+    fn ratio(self, designs: &MachineDesigns<'_>, row: usize, other: usize) -> Option<f64> {
+        let (own, theirs) = (self.factor(designs, row), self.factor(designs, other));
+        (own != theirs).then(|| own / theirs)
+    }
+}
+
 /// What of design `row` changes its machine's tables (every column but `shaft_inertia` and
-/// `omega`; `gas`: only the gas's columns, and the units' phases), bit for bit.
-fn row_key(designs: &MachineDesigns<'_>, row: usize, gas: bool) -> Vec<u64> {
+/// `omega`; `gas`: only the gas's columns, and the units' phases), bit for bit; with
+/// `scaling`, the columns it scales only by whether they are 0 (where the gas, or its cuts,
+/// is no scaled one).
+fn row_key(
+    designs: &MachineDesigns<'_>,
+    row: usize,
+    gas: bool,
+    scaling: Option<Scaling>,
+) -> Vec<u64> {
     let shared = designs
         .named()
         .into_iter()
@@ -158,13 +204,34 @@ fn row_key(designs: &MachineDesigns<'_>, row: usize, gas: bool) -> Vec<u64> {
                 *changes != Changes::Nothing
             }
         })
-        .filter_map(|(_, _, column)| column.map(|c| c[row].to_bits()));
+        .filter_map(|(name, _, column)| {
+            let value = column?[row];
+            Some(match scaling {
+                Some(scaling) if scaling.scales(name) => u64::from(value == 0.0),
+                _ => value.to_bits(),
+            })
+        });
     let units = designs
         .units
         .iter()
         .filter(|c| !gas || c.field.changes_gas())
         .map(|c| c.values[row].to_bits());
     shared.chain(units).collect()
+}
+
+/// `make(k)` for every k `shared` (in parallel when `parallelism` says so for `work`),
+/// `None` for the rest.
+fn made_first<T: Send>(
+    shared: &[bool],
+    work: usize,
+    parallelism: Parallelism,
+    make: &(dyn Fn(usize) -> Result<T> + Sync),
+) -> Result<Vec<Option<T>>> {
+    map_indices(shared.len(), work, parallelism, |k| {
+        shared[k].then(|| make(k)).transpose()
+    })
+    .into_iter()
+    .collect()
 }
 
 /// The distinct keys of `rows`, in order of their first row: (each row's index among them,
@@ -235,46 +302,90 @@ pub fn motion_sweep(
             error: Box::new(error),
         }
     };
+    let scaling = Scaling::of(base, designs);
     let mut rows = Vec::with_capacity(n);
     for start in (0..n).step_by(BLOCK) {
         let block = start..(start + BLOCK).min(n);
-        // The distinct gases and machines of the block, in order of their first design.
-        let (gas_of, gas_firsts) = distinct(block.clone(), |row| row_key(designs, row, true));
-        let (machine_of, firsts) = distinct(block.clone(), |row| row_key(designs, row, false));
+        // The distinct gases and machines of the block, in order of their first design:
+        // gases and machines up to the scaling of the gas, then the machines themselves.
+        let scaled = Some(scaling);
+        let (gas_of, gas_firsts) =
+            distinct(block.clone(), |row| row_key(designs, row, true, scaled));
+        let (shape_of, shape_firsts) =
+            distinct(block.clone(), |row| row_key(designs, row, false, scaled));
+        let (machine_of, firsts) =
+            distinct(block.clone(), |row| row_key(designs, row, false, None));
         let work = |count: usize| {
             count
                 .saturating_mul(base.units.len())
                 .saturating_mul(WORK_PER_DESIGN_AND_UNIT)
         };
-        let gases = map_indices(gas_firsts.len(), work(gas_firsts.len()), parallelism, |g| {
+        // What more than one design of the block takes is made first and shared; what one
+        // design alone takes is made where it is solved and dropped there (a block of
+        // distinct designs never holds all their tables at once).
+        let shared_by = |of: &[usize], count: usize| {
+            let mut designs = vec![0_usize; count];
+            of.iter().for_each(|&k| designs[k] += 1);
+            designs.into_iter().map(|d| d > 1).collect::<Vec<bool>>()
+        };
+        let (gas_shared, shape_shared, machine_shared) = (
+            shared_by(&gas_of, gas_firsts.len()),
+            shared_by(&shape_of, shape_firsts.len()),
+            shared_by(&machine_of, firsts.len()),
+        );
+        let make_gas = |g: usize| {
             let row = gas_firsts[g];
             variant(base, omega, designs, row)
                 .and_then(|v| gas(base, &shared, &v))
                 .map(Arc::new)
                 .map_err(in_row(row))
-        });
-        let gases = gases.into_iter().collect::<Result<Vec<_>>>()?;
-        let made = map_indices(firsts.len(), work(firsts.len()), parallelism, |m| {
-            let row = firsts[m];
+        };
+        let gases = made_first(&gas_shared, work(gas_shared.len()), parallelism, &make_gas)?;
+        let gas_for = |g: usize| gases[g].clone().map_or_else(|| make_gas(g), Ok);
+        // A shape: the tables of its first design, its gas that of the gas's first design
+        // scaled where it differs.
+        let make_shape = |s: usize| {
+            let row = shape_firsts[s];
+            let g = gas_of[row - block.start];
+            let own = gas_for(g)?;
+            let gas = match scaling.ratio(designs, row, gas_firsts[g]) {
+                Some(factor) => Arc::new(own.scaled(factor)),
+                None => own,
+            };
             variant(base, omega, designs, row)
-                .and_then(|v| {
-                    SteadyTables::with_gas(&v.machine(base), &gases[gas_of[row - block.start]])
-                })
+                .and_then(|v| SteadyTables::with_gas(&v.machine(base), &gas))
+                .map(Arc::new)
                 .map_err(in_row(row))
-        });
-        let made = made.into_iter().collect::<Result<Vec<_>>>()?;
+        };
+        let shapes = made_first(
+            &shape_shared,
+            work(shape_shared.len()),
+            parallelism,
+            &make_shape,
+        )?;
+        let shape_for = |s: usize| shapes[s].clone().map_or_else(|| make_shape(s), Ok);
+        // A machine: its shape's tables, their gas scaled where it differs.
+        let make_machine = |m: usize| {
+            let row = firsts[m];
+            let shape = shape_of[row - block.start];
+            let tables = shape_for(shape)?;
+            match scaling.ratio(designs, row, shape_firsts[shape]) {
+                Some(factor) => tables.gas_scaled(factor).map(Arc::new).map_err(in_row(row)),
+                None => Ok(tables),
+            }
+        };
+        let made = made_first(
+            &machine_shared,
+            work(machine_shared.len()),
+            parallelism,
+            &make_machine,
+        )?;
         let solved = map_indices(block.len(), work(block.len()), parallelism, |i| {
             let row = block.start + i;
+            let m = machine_of[i];
+            let tables = made[m].clone().map_or_else(|| make_machine(m), Ok)?;
             variant(base, omega, designs, row)
-                .and_then(|v| {
-                    solve(
-                        &made[machine_of[i]],
-                        &v,
-                        outputs,
-                        target_delta,
-                        min_speed_ratio,
-                    )
-                })
+                .and_then(|v| solve(&tables, &v, outputs, target_delta, min_speed_ratio))
                 .map_err(in_row(row))
         });
         for row in solved {
