@@ -139,7 +139,28 @@ def test_designs_that_differ_in_pressure_or_bore_are_each_their_own_machine(mach
     # bore), scaled: each row is still the steady state and flywheel of its own machine.
     bore = machine.cylinders[0].bore
     grid = mc.MachineGrid(
-        machine, pressure_scale=[0.6, 1.0, 1.4], bore=bore * np.array([0.95, 1.0, 1.08]), rpm=[machine.rpm, 1.3 * machine.rpm]
+        machine,
+        pressure_scale=[0.6, 1.0, 1.4],
+        bore=bore * np.array([0.95, 1.0, 1.08]),
+        rpm=[machine.rpm, 1.3 * machine.rpm],
+    )
+    outputs = [*mc.MOTION_SWEEP_OUTPUTS[:8], "flywheel_inertia", "flywheel_inertia_without_gravity"]
+    assert_rows_match(machine, mc.motion_sweep(machine, grid, delta_target=0.005, outputs=outputs), delta=0.005)
+
+
+@pytest.mark.parametrize("machine", [INLINE_4, COMPRESSOR, V12], ids=["inline-4", "compressor", "v12"])
+def test_designs_that_differ_in_webs_and_counterweights_are_each_their_own_machine(machine):
+    # In one chunk the core gives designs that differ only in crank webs and counterweights
+    # one machine's J, panels and gas, with their own U (the first moments enter it alone):
+    # each row is still the steady state and flywheel of its own machine.
+    cylinder = machine.cylinders[0]
+    grid = mc.MachineGrid(
+        machine,
+        counterweight_mass=[0.0, 1.0, 4.0],
+        counterweight_radius=[0.5 * cylinder.crank_radius, cylinder.crank_radius],
+        **{"counterweight_mass[0]": [0.0, 2.5]},
+        crank_mass=[cylinder.crank_mass, cylinder.crank_mass + 1.0],
+        rpm=[machine.rpm, 1.3 * machine.rpm],
     )
     outputs = [*mc.MOTION_SWEEP_OUTPUTS[:8], "flywheel_inertia", "flywheel_inertia_without_gravity"]
     assert_rows_match(machine, mc.motion_sweep(machine, grid, delta_target=0.005, outputs=outputs), delta=0.005)

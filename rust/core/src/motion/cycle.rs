@@ -36,7 +36,7 @@ const ROUNDING: f64 = 1e-14;
 /// The step (rad) of the central differences that estimate the gravity torque's slope −U″:
 /// small beside a panel (≥ π/60 wide), large enough that rounding of the torque
 /// (~1e-16·|M|) stays below 1e-10 of the slope.
-const SLOPE_STEP: f64 = 1e-5;
+pub(super) const SLOPE_STEP: f64 = 1e-5;
 
 /// What of a machine's tables its gas alone decides: the forces, the indicator work G of
 /// each cylinder, the panels' cuts (the gassed units' dead centres), and W and M_gas′ on the
@@ -169,7 +169,11 @@ pub(crate) struct Cycle {
     /// Whether U is kept (g ≠ 0 and not removed by `without_gravity`).
     pub gravity_on: bool,
     /// U(0) (J).
-    u0: f64,
+    pub(super) u0: f64,
+    /// Whether J − I_w alone chose the panels (every wider width tried failed on it, not on
+    /// U): then a machine with the same J and another U has these panels where they
+    /// resolve its U (`webs`).
+    pub(super) rest_decides: bool,
     /// A driving torque M_d(φ) beside the gas (`with_drive`), `None` for none: it enters
     /// W, the torque and the curvature wherever the gas does.
     drive: Option<Arc<Drive>>,
@@ -196,16 +200,19 @@ impl Cycle {
     /// from it only in masses, g or I_w).
     pub fn with_gas(machine: &MachineView<'_>, dynamics: Dynamics, gas: &Arc<Gas>) -> Result<Self> {
         let mut width = START_WIDTH;
+        let mut rest_decides = true;
         loop {
             let panels = Panels::new(&gas.cuts, ORDER, width);
             let mut tables = Self::tabulate(machine, dynamics.clone(), gas, panels)?;
             if width < NARROWEST || tables.resolved() {
+                tables.rest_decides = rest_decides;
                 // W only on the panels kept (J and U decide them).
                 let on = gas.on(&tables.panels, width)?;
                 tables.work = gas.scaled_values(on.work.clone());
                 tables.curvatures(&on)?;
                 return Ok(tables);
             }
+            rest_decides &= !tables.resolves(&tables.rest[..tables.nodes()]);
             width /= 2.0;
         }
     }
@@ -250,6 +257,7 @@ impl Cycle {
             panels: Arc::new(panels),
             gravity_on: machine.g != 0.0,
             u0: 0.0,
+            rest_decides: true,
             rest: Vec::new(),
             potential: Vec::new(),
             drive: None,
@@ -351,21 +359,26 @@ impl Cycle {
     /// coefficients below `RESOLVED` of the range, or of rounding).
     fn resolved(&self) -> bool {
         let n = self.nodes();
-        [&self.rest[..n], &self.potential[..n]]
+        self.resolves(&self.rest[..n]) && self.resolves(&self.potential[..n])
+    }
+
+    /// Whether the panels resolve `values` at their nodes (as `resolved`), or are as narrow
+    /// as they are cut.
+    pub(super) fn resolves(&self, values: &[f64]) -> bool {
+        if self.panels.max_width < NARROWEST {
+            return true;
+        }
+        let (low, high) = values
             .iter()
-            .all(|values| {
-                let (low, high) = values
-                    .iter()
-                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
-                        (a.min(v), b.max(v))
-                    });
-                let spread = high - low;
-                if spread == 0.0 {
-                    return true;
-                }
-                let size = values.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
-                self.panels.tail(values) <= (RESOLVED * spread).max(ROUNDING * size)
-            })
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
+                (a.min(v), b.max(v))
+            });
+        let spread = high - low;
+        if spread == 0.0 {
+            return true;
+        }
+        let size = values.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
+        self.panels.tail(values) <= (RESOLVED * spread).max(ROUNDING * size)
     }
 
     /// (J − I_w (kg·m²), J′ (kg·m²/rad)) at any angles: the rods' and pistons' share of J

@@ -16,6 +16,7 @@ use crate::parallel::{map_indices, Parallelism};
 use super::columns::{Changes, MachineDesigns, MotionColumns, MotionOutputs};
 use super::gas::{GasCylinder, PiecewisePolynomial};
 use super::variant::{gas, variant, Variant};
+use super::webs::Kinematics;
 use super::{check_speed_ratio, flywheel, MachineView, SteadyTables};
 
 /// One design's numbers (NaN where not asked).
@@ -184,37 +185,52 @@ impl Scaling {
     }
 }
 
-/// What of design `row` changes its machine's tables (every column but `shaft_inertia` and
-/// `omega`; `gas`: only the gas's columns, and the units' phases), bit for bit; with
-/// `scaling`, the columns it scales only by whether they are 0 (where the gas, or its cuts,
-/// is no scaled one).
-fn row_key(
-    designs: &MachineDesigns<'_>,
-    row: usize,
-    gas: bool,
-    scaling: Option<Scaling>,
-) -> Vec<u64> {
+/// How much of a design's machine a key tells apart.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Level {
+    /// Its gas up to `Scaling` (the gas's columns, the units' phases).
+    Gas,
+    /// Its machine up to `Scaling` and its crank webs and counterweights (`webs`).
+    Kinematics,
+    /// Its machine up to `Scaling`.
+    Shape,
+    /// Its machine's tables, bit for bit (every column but `shaft_inertia` and `omega`).
+    Machine,
+}
+
+/// The columns of the crank webs and counterweights: they enter U alone (`webs`).
+const WEBS: [&str; 4] = [
+    "crank_mass",
+    "crank_cg_radius",
+    "counterweight_mass",
+    "counterweight_radius",
+];
+
+/// What of design `row` tells its machine apart at `level`: below `Machine`, the columns
+/// `scaling` scales only by whether they are 0 (where the gas, or its cuts, is no scaled
+/// one).
+fn row_key(designs: &MachineDesigns<'_>, row: usize, level: Level, scaling: Scaling) -> Vec<u64> {
     let shared = designs
         .named()
         .into_iter()
-        .filter(|(_, changes, _)| {
-            if gas {
-                *changes == Changes::Gas
-            } else {
-                *changes != Changes::Nothing
-            }
+        .filter(|(name, changes, _)| match level {
+            Level::Gas => *changes == Changes::Gas,
+            Level::Kinematics => *changes != Changes::Nothing && !WEBS.contains(name),
+            Level::Shape | Level::Machine => *changes != Changes::Nothing,
         })
         .filter_map(|(name, _, column)| {
             let value = column?[row];
-            Some(match scaling {
-                Some(scaling) if scaling.scales(name) => u64::from(value == 0.0),
-                _ => value.to_bits(),
+            Some(if level != Level::Machine && scaling.scales(name) {
+                u64::from(value == 0.0)
+            } else {
+                value.to_bits()
             })
         });
+    // A unit's own column is its phase or its counterweight (a web).
     let units = designs
         .units
         .iter()
-        .filter(|c| !gas || c.field.changes_gas())
+        .filter(|c| matches!(level, Level::Shape | Level::Machine) || c.field.changes_gas())
         .map(|c| c.values[row].to_bits());
     shared.chain(units).collect()
 }
@@ -306,15 +322,14 @@ pub fn motion_sweep(
     let mut rows = Vec::with_capacity(n);
     for start in (0..n).step_by(BLOCK) {
         let block = start..(start + BLOCK).min(n);
-        // The distinct gases and machines of the block, in order of their first design:
-        // gases and machines up to the scaling of the gas, then the machines themselves.
-        let scaled = Some(scaling);
-        let (gas_of, gas_firsts) =
-            distinct(block.clone(), |row| row_key(designs, row, true, scaled));
-        let (shape_of, shape_firsts) =
-            distinct(block.clone(), |row| row_key(designs, row, false, scaled));
-        let (machine_of, firsts) =
-            distinct(block.clone(), |row| row_key(designs, row, false, None));
+        // The distinct gases and machines of the block, in order of their first design: at
+        // each level of `Level`.
+        let of =
+            |level: Level| distinct(block.clone(), |row| row_key(designs, row, level, scaling));
+        let (gas_of, gas_firsts) = of(Level::Gas);
+        let (kin_of, kin_firsts) = of(Level::Kinematics);
+        let (shape_of, shape_firsts) = of(Level::Shape);
+        let (machine_of, firsts) = of(Level::Machine);
         let work = |count: usize| {
             count
                 .saturating_mul(base.units.len())
@@ -328,8 +343,9 @@ pub fn motion_sweep(
             of.iter().for_each(|&k| designs[k] += 1);
             designs.into_iter().map(|d| d > 1).collect::<Vec<bool>>()
         };
-        let (gas_shared, shape_shared, machine_shared) = (
+        let (gas_shared, kin_shared, shape_shared, machine_shared) = (
             shared_by(&gas_of, gas_firsts.len()),
+            shared_by(&kin_of, kin_firsts.len()),
             shared_by(&shape_of, shape_firsts.len()),
             shared_by(&machine_of, firsts.len()),
         );
@@ -342,10 +358,9 @@ pub fn motion_sweep(
         };
         let gases = made_first(&gas_shared, work(gas_shared.len()), parallelism, &make_gas)?;
         let gas_for = |g: usize| gases[g].clone().map_or_else(|| make_gas(g), Ok);
-        // A shape: the tables of its first design, its gas that of the gas's first design
-        // scaled where it differs.
-        let make_shape = |s: usize| {
-            let row = shape_firsts[s];
+        // The tables of design `row`, its gas that of its gas's first design scaled where
+        // it differs.
+        let tabulate = |row: usize| {
             let g = gas_of[row - block.start];
             let own = gas_for(g)?;
             let gas = match scaling.ratio(designs, row, gas_firsts[g]) {
@@ -357,6 +372,28 @@ pub fn motion_sweep(
                 .map(Arc::new)
                 .map_err(in_row(row))
         };
+        let make_kin = |k: usize| tabulate(kin_firsts[k]).map(|t| Arc::new(Kinematics::new(t)));
+        let kins = made_first(&kin_shared, work(kin_shared.len()), parallelism, &make_kin)?;
+        let kin_for = |k: usize| kins[k].clone().map_or_else(|| make_kin(k), Ok);
+        // A shape: its kinematics' tables with its own webs (their gas scaled as for the
+        // kinematics' first design, the row returned), else tabulated.
+        let make_shape = |s: usize| {
+            let row = shape_firsts[s];
+            let k = kin_of[row - block.start];
+            let first = kin_firsts[k];
+            if first == row {
+                return Ok((Arc::clone(&kin_for(k)?.tables), row));
+            }
+            let from = variant(base, omega, designs, first).map_err(in_row(first))?;
+            let reweighted = variant(base, omega, designs, row)
+                .and_then(|v| kin_for(k)?.reweighted(&from.units, &v.machine(base)))
+                .map(|found| found.map(Arc::new))
+                .map_err(in_row(row))?;
+            match reweighted {
+                Some(tables) => Ok((tables, first)),
+                None => Ok((tabulate(row)?, row)),
+            }
+        };
         let shapes = made_first(
             &shape_shared,
             work(shape_shared.len()),
@@ -367,9 +404,8 @@ pub fn motion_sweep(
         // A machine: its shape's tables, their gas scaled where it differs.
         let make_machine = |m: usize| {
             let row = firsts[m];
-            let shape = shape_of[row - block.start];
-            let tables = shape_for(shape)?;
-            match scaling.ratio(designs, row, shape_firsts[shape]) {
+            let (tables, scaled_as) = shape_for(shape_of[row - block.start])?;
+            match scaling.ratio(designs, row, scaled_as) {
                 Some(factor) => tables.gas_scaled(factor).map(Arc::new).map_err(in_row(row)),
                 None => Ok(tables),
             }

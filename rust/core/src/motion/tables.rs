@@ -111,7 +111,7 @@ impl SteadyTables {
         Self::from_cycle(self.cycle.gas_scaled(factor))
     }
 
-    fn from_cycle(cycle: Cycle) -> Result<Self> {
+    pub(super) fn from_cycle(cycle: Cycle) -> Result<Self> {
         let cycle = Arc::new(cycle);
         let load = balance_load(&cycle);
         Ok(Self {
