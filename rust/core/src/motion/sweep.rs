@@ -2,9 +2,12 @@
 //! machine, one row each (the Python API's `motion_sweep`, its `_solve_chunk`).
 //!
 //! A design is the base machine with some numbers replaced (`MachineDesigns`); each row is
-//! exactly what `steady_state` and `flywheel_inertia` give for that design's machine — the
-//! same tables, the same solves, in the same order — less what was not asked for. Every row
-//! is solved on its own, so the columns are bit-identical for any thread count.
+//! what `steady_state` and `flywheel_inertia` give for that design's machine — the same
+//! solves on the same tables, less what was not asked for: bit for bit where the design's
+//! tables are made as its machine's own, to rounding (1e-12) where they are another design's
+//! with the gas scaled (`Scaling`: pressure_scale, bore) or U reweighted (`webs`: crank webs
+//! and counterweights). Every row is solved on its own, its tables made from the same first
+//! designs whatever the threads, so the columns are bit-identical for any thread count.
 
 use std::collections::HashMap;
 use std::sync::Arc;
@@ -142,8 +145,9 @@ fn solve(
 }
 
 /// Designs solved together: within a block, designs that differ only in I_w and speed
-/// share their machine's tables (made once per distinct machine); a block bounds the tables
-/// held at once (~100 kB each).
+/// share their machine's tables (made once per distinct machine), and machines that differ
+/// only in the gas's scale or the webs share what of them does not change; a block bounds
+/// the tables held at once (~100 kB each).
 const BLOCK: usize = 512;
 
 /// How the designs' gas forces scale: W and M_gas are linear in the pressures and, where
@@ -272,7 +276,8 @@ fn distinct(
 /// The steady state under the "balance" load (and, with `target_delta`, the flywheel for
 /// that δ) of every design: `base` with the design's columns applied, at the design's mean
 /// speed `omega` (rad/s), or at `omega` where there is no omega column. Each row equals [`steady_state`] and
-/// [`flywheel_inertia`] of that design's machine (same `min_speed_ratio`); only `outputs`
+/// [`flywheel_inertia`] of that design's machine (same `min_speed_ratio`) to 1e-12 (bit for
+/// bit where nothing of its tables is shared scaled or reweighted); only `outputs`
 /// are computed (δ alone solves one steady state per design). In parallel over designs
 /// when `parallelism` says so, the columns bit-identical for any thread count.
 ///
