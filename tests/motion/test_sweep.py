@@ -132,6 +132,40 @@ def test_every_row_is_the_steady_state_of_its_machine(case):
     assert_rows_match(machine, result)
 
 
+@pytest.mark.parametrize("machine", [INLINE_4, COMPRESSOR, V12], ids=["inline-4", "compressor", "v12"])
+def test_designs_that_differ_in_pressure_or_bore_are_each_their_own_machine(machine):
+    # In one chunk the core shares one gas (and J, U) among designs that differ only in
+    # pressure_scale (and bore, where no crank end has a piston rod: the compressor keys its
+    # bore), scaled: each row is still the steady state and flywheel of its own machine.
+    bore = machine.cylinders[0].bore
+    grid = mc.MachineGrid(
+        machine,
+        pressure_scale=[0.6, 1.0, 1.4],
+        bore=bore * np.array([0.95, 1.0, 1.08]),
+        rpm=[machine.rpm, 1.3 * machine.rpm],
+    )
+    outputs = [*mc.MOTION_SWEEP_OUTPUTS[:8], "flywheel_inertia", "flywheel_inertia_without_gravity"]
+    assert_rows_match(machine, mc.motion_sweep(machine, grid, delta_target=0.005, outputs=outputs), delta=0.005)
+
+
+@pytest.mark.parametrize("machine", [INLINE_4, COMPRESSOR, V12], ids=["inline-4", "compressor", "v12"])
+def test_designs_that_differ_in_webs_and_counterweights_are_each_their_own_machine(machine):
+    # In one chunk the core gives designs that differ only in crank webs and counterweights
+    # one machine's J, panels and gas, with their own U (the first moments enter it alone):
+    # each row is still the steady state and flywheel of its own machine.
+    cylinder = machine.cylinders[0]
+    grid = mc.MachineGrid(
+        machine,
+        counterweight_mass=[0.0, 1.0, 4.0],
+        counterweight_radius=[0.5 * cylinder.crank_radius, cylinder.crank_radius],
+        **{"counterweight_mass[0]": [0.0, 2.5]},
+        crank_mass=[cylinder.crank_mass, cylinder.crank_mass + 1.0],
+        rpm=[machine.rpm, 1.3 * machine.rpm],
+    )
+    outputs = [*mc.MOTION_SWEEP_OUTPUTS[:8], "flywheel_inertia", "flywheel_inertia_without_gravity"]
+    assert_rows_match(machine, mc.motion_sweep(machine, grid, delta_target=0.005, outputs=outputs), delta=0.005)
+
+
 def test_machine_variant_is_the_machine_built_by_hand():
     design = {"shaft_inertia": 300.0, "g": 5.0, "piston_mass": 90.0, "bore": 0.25, "pressure_scale": 1.3, "rpm": 100.0}
     cylinders = [

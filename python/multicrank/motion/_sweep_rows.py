@@ -57,8 +57,10 @@ def _solve_chunk(
     every dask partition, and the one place where a design is solved.
 
     By the Rust core's batched steady state where it solves the machine (tables for
-    pressures, the "balance" load): every row bit-equal to :func:`steady_state` and
-    :func:`flywheel_inertia` of its machine, which take the same core path. Else a loop over
+    pressures, the "balance" load): every row equal to :func:`steady_state` and
+    :func:`flywheel_inertia` of its machine, which take the same core path, to 1e-12 (bit for
+    bit unless the core gave the design another design's gas scaled, for its pressure_scale
+    or bore, or that design's U reweighted, for its crank webs and counterweights). Else a loop over
     rows: each row's machine (:func:`~multicrank.motion.variants.machine_variant`) solved by
     :func:`steady_state` (with gravity) and, where the flywheel is asked for,
     :func:`flywheel_inertia`.

@@ -36,20 +36,28 @@ const ROUNDING: f64 = 1e-14;
 /// The step (rad) of the central differences that estimate the gravity torque's slope −U″:
 /// small beside a panel (≥ π/60 wide), large enough that rounding of the torque
 /// (~1e-16·|M|) stays below 1e-10 of the slope.
-const SLOPE_STEP: f64 = 1e-5;
+pub(super) const SLOPE_STEP: f64 = 1e-5;
 
 /// What of a machine's tables its gas alone decides: the forces, the indicator work G of
 /// each cylinder, the panels' cuts (the gassed units' dead centres), and W and M_gas′ on the
 /// panels of each width tried. Kept apart so that designs that differ only in masses, g, I_w
 /// or speed share it (a motion sweep's); W on the panels of a width is made by whichever
-/// design asks first — the same doubles whoever does.
+/// design asks first — the same doubles whoever does. A gas `scaled` shares all of it: the
+/// forces and W are linear in the pressures and proportional to the areas, so a design that
+/// differs only in `pressure_scale` (or the bore, where every crank end's area is the
+/// bore's) takes them times its `scale`, to rounding.
 #[derive(Debug)]
 pub(crate) struct Gas {
-    pub forces: Forces,
-    pub work: GasWork,
+    forces: Arc<Forces>,
+    work: Arc<GasWork>,
     cuts: Vec<f64>,
-    on_panels: Mutex<Vec<(u64, Arc<OnPanels>)>>,
+    on_panels: Arc<Mutex<ByWidth>>,
+    /// What the forces, W and M_gas′ shared are multiplied by (1 for a gas of its own).
+    scale: f64,
 }
+
+/// W on the panels of each width made, by the width's bits.
+type ByWidth = Vec<(u64, Arc<OnPanels>)>;
 
 /// W (J) at the nodes then edges of the panels of one width, and M_gas′ (N·m/rad) at their
 /// nodes, from one look-up of the indicator rules ([`GasWork::with_slope_at`]).
@@ -68,11 +76,37 @@ impl Gas {
         let work = GasWork::new(machine.units, machine.gas, diagrams, cycle)?;
         // The tables' own breakpoints enter through W, exactly.
         Ok(Self {
-            forces,
-            work,
+            forces: Arc::new(forces),
+            work: Arc::new(work),
             cuts: breaks(dead_centres(machine), cycle),
-            on_panels: Mutex::new(Vec::new()),
+            on_panels: Arc::new(Mutex::new(Vec::new())),
+            scale: 1.0,
         })
+    }
+
+    /// The same gas with its pressures times `factor` (all it holds shared, nothing made
+    /// again).
+    pub fn scaled(&self, factor: f64) -> Self {
+        Self {
+            forces: Arc::clone(&self.forces),
+            work: Arc::clone(&self.work),
+            cuts: self.cuts.clone(),
+            on_panels: Arc::clone(&self.on_panels),
+            scale: self.scale * factor,
+        }
+    }
+
+    /// W(φ) (J) at any angles: exact.
+    fn work_at(&self, phi: &[f64]) -> Result<Vec<f64>> {
+        Ok(self.scaled_values(self.work.at(phi)?))
+    }
+
+    /// `values` (of the unscaled gas) times the scale.
+    fn scaled_values(&self, mut values: Vec<f64>) -> Vec<f64> {
+        if self.scale != 1.0 {
+            values.iter_mut().for_each(|v| *v *= self.scale);
+        }
+        values
     }
 
     /// W on `panels` (cut to `width`), made once per width.
@@ -125,16 +159,21 @@ pub(super) fn dead_centres(machine: &MachineView<'_>) -> Vec<f64> {
 /// speed: one `Cycle` serves every shaft inertia and every mean speed.
 #[derive(Debug, Clone)]
 pub(crate) struct Cycle {
-    pub dynamics: Dynamics,
+    /// Shared by the machine's copies (`without_gravity`, `gas_scaled`), as are the panels.
+    pub dynamics: Arc<Dynamics>,
     pub gas: Arc<Gas>,
     /// I_w (kg·m²) of the machine tabulated, the default of a solve (`Balance::with_inertia`
     /// takes another): the tables hold J − I_w, which does not depend on it.
     pub inertia: f64,
-    pub panels: Panels,
+    pub panels: Arc<Panels>,
     /// Whether U is kept (g ≠ 0 and not removed by `without_gravity`).
     pub gravity_on: bool,
     /// U(0) (J).
-    u0: f64,
+    pub(super) u0: f64,
+    /// Whether J − I_w alone chose the panels (every wider width tried failed on it, not on
+    /// U): then a machine with the same J and another U has these panels where they
+    /// resolve its U (`webs`).
+    pub(super) rest_decides: bool,
     /// A driving torque M_d(φ) beside the gas (`with_drive`), `None` for none: it enters
     /// W, the torque and the curvature wherever the gas does.
     drive: Option<Arc<Drive>>,
@@ -161,16 +200,19 @@ impl Cycle {
     /// from it only in masses, g or I_w).
     pub fn with_gas(machine: &MachineView<'_>, dynamics: Dynamics, gas: &Arc<Gas>) -> Result<Self> {
         let mut width = START_WIDTH;
+        let mut rest_decides = true;
         loop {
             let panels = Panels::new(&gas.cuts, ORDER, width);
             let mut tables = Self::tabulate(machine, dynamics.clone(), gas, panels)?;
             if width < NARROWEST || tables.resolved() {
+                tables.rest_decides = rest_decides;
                 // W only on the panels kept (J and U decide them).
                 let on = gas.on(&tables.panels, width)?;
-                tables.work = on.work.clone();
+                tables.work = gas.scaled_values(on.work.clone());
                 tables.curvatures(&on)?;
                 return Ok(tables);
             }
+            rest_decides &= !tables.resolves(&tables.rest[..tables.nodes()]);
             width /= 2.0;
         }
     }
@@ -187,8 +229,9 @@ impl Cycle {
                 .collect()
         };
         // M_gas′ from the indicator rules' own interpolants, found with W (no force looked up
-        // again); the gravity torque's slope by central differences.
-        self.work_curvature = on.slope.clone();
+        // again), kept unscaled (a scaled gas shares it); the gravity torque's slope by
+        // central differences.
+        self.work_curvature = self.gas.scaled_values(on.slope.clone());
         self.gravity_curvature = if self.gravity_on {
             difference(
                 self.gravity_torque_at(&ahead)?,
@@ -208,12 +251,13 @@ impl Cycle {
     ) -> Result<Self> {
         let everywhere: Vec<f64> = panels.phi.iter().chain(&panels.edges).copied().collect();
         let mut tables = Self {
-            dynamics,
+            dynamics: Arc::new(dynamics),
             gas: Arc::clone(gas),
             inertia: machine.shaft_inertia,
-            panels,
+            panels: Arc::new(panels),
             gravity_on: machine.g != 0.0,
             u0: 0.0,
+            rest_decides: true,
             rest: Vec::new(),
             potential: Vec::new(),
             drive: None,
@@ -269,9 +313,20 @@ impl Cycle {
         other
     }
 
+    /// The same machine with its gas's pressures times `factor` (`Gas::scaled`): J, U and the
+    /// panels kept, W and M_gas′ scaled.
+    pub fn gas_scaled(&self, factor: f64) -> Self {
+        debug_assert!(self.drive.is_none());
+        let mut other = self.clone();
+        other.gas = Arc::new(self.gas.scaled(factor));
+        other.work.iter_mut().for_each(|w| *w *= factor);
+        other.work_curvature.iter_mut().for_each(|c| *c *= factor);
+        other
+    }
+
     /// W(φ) = W_gas + W_d (J), the work of gas and drive from φ = 0, at any angles: exact.
     pub fn work_at(&self, phi: &[f64]) -> Result<Vec<f64>> {
-        let mut work = self.gas.work.at(phi)?;
+        let mut work = self.gas.work_at(phi)?;
         if let Some(drive) = &self.drive {
             work.iter_mut()
                 .zip(drive.work_at(phi))
@@ -287,7 +342,7 @@ impl Cycle {
 
     /// W(Φ) (J): the work of gas and drive over one cycle.
     pub fn work_per_cycle(&self) -> f64 {
-        self.gas.work.per_cycle + self.drive.as_ref().map_or(0.0, |d| d.per_cycle)
+        self.gas.work.per_cycle * self.gas.scale + self.drive.as_ref().map_or(0.0, |d| d.per_cycle)
     }
 
     /// The same machine with g = 0 (the panels, J and W kept).
@@ -304,21 +359,26 @@ impl Cycle {
     /// coefficients below `RESOLVED` of the range, or of rounding).
     fn resolved(&self) -> bool {
         let n = self.nodes();
-        [&self.rest[..n], &self.potential[..n]]
+        self.resolves(&self.rest[..n]) && self.resolves(&self.potential[..n])
+    }
+
+    /// Whether the panels resolve `values` at their nodes (as `resolved`), or are as narrow
+    /// as they are cut.
+    pub(super) fn resolves(&self, values: &[f64]) -> bool {
+        if self.panels.max_width < NARROWEST {
+            return true;
+        }
+        let (low, high) = values
             .iter()
-            .all(|values| {
-                let (low, high) = values
-                    .iter()
-                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
-                        (a.min(v), b.max(v))
-                    });
-                let spread = high - low;
-                if spread == 0.0 {
-                    return true;
-                }
-                let size = values.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
-                self.panels.tail(values) <= (RESOLVED * spread).max(ROUNDING * size)
-            })
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
+                (a.min(v), b.max(v))
+            });
+        let spread = high - low;
+        if spread == 0.0 {
+            return true;
+        }
+        let size = values.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
+        self.panels.tail(values) <= (RESOLVED * spread).max(ROUNDING * size)
     }
 
     /// (J − I_w (kg·m²), J′ (kg·m²/rad)) at any angles: the rods' and pistons' share of J
@@ -357,7 +417,7 @@ impl Cycle {
     /// M_gas (N·m) at any angles.
     pub fn gas_torque_at(&self, phi: &[f64]) -> Result<Vec<f64>> {
         let mut torque = vec![0.0; phi.len()];
-        let forces = self.gas.forces.at(phi);
+        let forces = self.gas.scaled_values(self.gas.forces.at(phi));
         self.dynamics
             .gas_torque(phi, &forces, &mut torque, Parallelism::SERIAL)?;
         Ok(torque)

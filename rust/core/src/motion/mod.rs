@@ -32,6 +32,7 @@ mod square_law;
 mod sweep;
 mod tables;
 mod variant;
+mod webs;
 
 use crate::error::{check, MechanismError, Result};
 use crate::mechanism::PhysicalCylinder;

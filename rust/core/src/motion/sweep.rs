@@ -2,9 +2,12 @@
 //! machine, one row each (the Python API's `motion_sweep`, its `_solve_chunk`).
 //!
 //! A design is the base machine with some numbers replaced (`MachineDesigns`); each row is
-//! exactly what `steady_state` and `flywheel_inertia` give for that design's machine — the
-//! same tables, the same solves, in the same order — less what was not asked for. Every row
-//! is solved on its own, so the columns are bit-identical for any thread count.
+//! what `steady_state` and `flywheel_inertia` give for that design's machine — the same
+//! solves on the same tables, less what was not asked for: bit for bit where the design's
+//! tables are made as its machine's own, to rounding (1e-12) where they are another design's
+//! with the gas scaled (`Scaling`: pressure_scale, bore) or U reweighted (`webs`: crank webs
+//! and counterweights). Every row is solved on its own, its tables made from the same first
+//! designs whatever the threads, so the columns are bit-identical for any thread count.
 
 use std::collections::HashMap;
 use std::sync::Arc;
@@ -14,8 +17,9 @@ use crate::error::{check, check_length, MechanismError, Result};
 use crate::parallel::{map_indices, Parallelism};
 
 use super::columns::{Changes, MachineDesigns, MotionColumns, MotionOutputs};
-use super::gas::PiecewisePolynomial;
+use super::gas::{GasCylinder, PiecewisePolynomial};
 use super::variant::{gas, variant, Variant};
+use super::webs::Kinematics;
 use super::{check_speed_ratio, flywheel, MachineView, SteadyTables};
 
 /// One design's numbers (NaN where not asked).
@@ -141,30 +145,113 @@ fn solve(
 }
 
 /// Designs solved together: within a block, designs that differ only in I_w and speed
-/// share their machine's tables (made once per distinct machine); a block bounds the tables
-/// held at once (~100 kB each).
+/// share their machine's tables (made once per distinct machine), and machines that differ
+/// only in the gas's scale or the webs share what of them does not change; a block bounds
+/// the tables held at once (~100 kB each).
 const BLOCK: usize = 512;
 
-/// What of design `row` changes its machine's tables (every column but `shaft_inertia` and
-/// `omega`; `gas`: only the gas's columns, and the units' phases), bit for bit.
-fn row_key(designs: &MachineDesigns<'_>, row: usize, gas: bool) -> Vec<u64> {
+/// How the designs' gas forces scale: W and M_gas are linear in the pressures and, where
+/// every crank end's area is the bore's (no piston rod), proportional to the bore's area,
+/// so designs that differ only in `pressure_scale` (or bore) share one gas, scaled.
+#[derive(Debug, Clone, Copy)]
+struct Scaling {
+    bore: bool,
+}
+
+impl Scaling {
+    fn of(base: &MachineView<'_>, designs: &MachineDesigns<'_>) -> Self {
+        let no_rod = |gas: &GasCylinder| gas.crank_end.is_none() || gas.piston_rod_diameter == 0.0;
+        Self {
+            bore: designs.bore.is_some() && base.gas.iter().all(no_rod),
+        }
+    }
+
+    /// Whether the column `name` is scaled rather than keyed.
+    fn scales(self, name: &str) -> bool {
+        name == "pressure_scale" || (self.bore && name == "bore")
+    }
+
+    /// What multiplies design `row`'s pressures times areas: pressure_scale·D² (1 for a
+    /// column not scaled).
+    fn factor(self, designs: &MachineDesigns<'_>, row: usize) -> f64 {
+        let scale = designs.pressure_scale.map_or(1.0, |c| c[row]);
+        let bore = match (self.bore, designs.bore) {
+            (true, Some(c)) => c[row],
+            _ => 1.0,
+        };
+        scale * (bore * bore)
+    }
+
+    /// Design `row`'s gas times `factor` of `other`'s (`None`: the same).
+    fn ratio(self, designs: &MachineDesigns<'_>, row: usize, other: usize) -> Option<f64> {
+        let (own, theirs) = (self.factor(designs, row), self.factor(designs, other));
+        (own != theirs).then(|| own / theirs)
+    }
+}
+
+/// How much of a design's machine a key tells apart.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Level {
+    /// Its gas up to `Scaling` (the gas's columns, the units' phases).
+    Gas,
+    /// Its machine up to `Scaling` and its crank webs and counterweights (`webs`).
+    Kinematics,
+    /// Its machine up to `Scaling`.
+    Shape,
+    /// Its machine's tables, bit for bit (every column but `shaft_inertia` and `omega`).
+    Machine,
+}
+
+/// The columns of the crank webs and counterweights: they enter U alone (`webs`).
+const WEBS: [&str; 4] = [
+    "crank_mass",
+    "crank_cg_radius",
+    "counterweight_mass",
+    "counterweight_radius",
+];
+
+/// What of design `row` tells its machine apart at `level`: below `Machine`, the columns
+/// `scaling` scales only by whether they are 0 (where the gas, or its cuts, is no scaled
+/// one).
+fn row_key(designs: &MachineDesigns<'_>, row: usize, level: Level, scaling: Scaling) -> Vec<u64> {
     let shared = designs
         .named()
         .into_iter()
-        .filter(|(_, changes, _)| {
-            if gas {
-                *changes == Changes::Gas
-            } else {
-                *changes != Changes::Nothing
-            }
+        .filter(|(name, changes, _)| match level {
+            Level::Gas => *changes == Changes::Gas,
+            Level::Kinematics => *changes != Changes::Nothing && !WEBS.contains(name),
+            Level::Shape | Level::Machine => *changes != Changes::Nothing,
         })
-        .filter_map(|(_, _, column)| column.map(|c| c[row].to_bits()));
+        .filter_map(|(name, _, column)| {
+            let value = column?[row];
+            Some(if level != Level::Machine && scaling.scales(name) {
+                u64::from(value == 0.0)
+            } else {
+                value.to_bits()
+            })
+        });
+    // A unit's own column is its phase or its counterweight (a web).
     let units = designs
         .units
         .iter()
-        .filter(|c| !gas || c.field.changes_gas())
+        .filter(|c| matches!(level, Level::Shape | Level::Machine) || c.field.changes_gas())
         .map(|c| c.values[row].to_bits());
     shared.chain(units).collect()
+}
+
+/// `make(k)` for every k `shared` (in parallel when `parallelism` says so for `work`),
+/// `None` for the rest.
+fn made_first<T: Send>(
+    shared: &[bool],
+    work: usize,
+    parallelism: Parallelism,
+    make: &(dyn Fn(usize) -> Result<T> + Sync),
+) -> Result<Vec<Option<T>>> {
+    map_indices(shared.len(), work, parallelism, |k| {
+        shared[k].then(|| make(k)).transpose()
+    })
+    .into_iter()
+    .collect()
 }
 
 /// The distinct keys of `rows`, in order of their first row: (each row's index among them,
@@ -189,7 +276,8 @@ fn distinct(
 /// The steady state under the "balance" load (and, with `target_delta`, the flywheel for
 /// that δ) of every design: `base` with the design's columns applied, at the design's mean
 /// speed `omega` (rad/s), or at `omega` where there is no omega column. Each row equals [`steady_state`] and
-/// [`flywheel_inertia`] of that design's machine (same `min_speed_ratio`); only `outputs`
+/// [`flywheel_inertia`] of that design's machine (same `min_speed_ratio`) to 1e-12 (bit for
+/// bit where nothing of its tables is shared scaled or reweighted); only `outputs`
 /// are computed (δ alone solves one steady state per design). In parallel over designs
 /// when `parallelism` says so, the columns bit-identical for any thread count.
 ///
@@ -235,46 +323,110 @@ pub fn motion_sweep(
             error: Box::new(error),
         }
     };
+    let scaling = Scaling::of(base, designs);
     let mut rows = Vec::with_capacity(n);
     for start in (0..n).step_by(BLOCK) {
         let block = start..(start + BLOCK).min(n);
-        // The distinct gases and machines of the block, in order of their first design.
-        let (gas_of, gas_firsts) = distinct(block.clone(), |row| row_key(designs, row, true));
-        let (machine_of, firsts) = distinct(block.clone(), |row| row_key(designs, row, false));
+        // The distinct gases and machines of the block, in order of their first design: at
+        // each level of `Level`.
+        let of =
+            |level: Level| distinct(block.clone(), |row| row_key(designs, row, level, scaling));
+        let (gas_of, gas_firsts) = of(Level::Gas);
+        let (kin_of, kin_firsts) = of(Level::Kinematics);
+        let (shape_of, shape_firsts) = of(Level::Shape);
+        let (machine_of, firsts) = of(Level::Machine);
         let work = |count: usize| {
             count
                 .saturating_mul(base.units.len())
                 .saturating_mul(WORK_PER_DESIGN_AND_UNIT)
         };
-        let gases = map_indices(gas_firsts.len(), work(gas_firsts.len()), parallelism, |g| {
+        // What more than one design of the block takes is made first and shared; what one
+        // design alone takes is made where it is solved and dropped there (a block of
+        // distinct designs never holds all their tables at once).
+        let shared_by = |of: &[usize], count: usize| {
+            let mut designs = vec![0_usize; count];
+            of.iter().for_each(|&k| designs[k] += 1);
+            designs.into_iter().map(|d| d > 1).collect::<Vec<bool>>()
+        };
+        let (gas_shared, kin_shared, shape_shared, machine_shared) = (
+            shared_by(&gas_of, gas_firsts.len()),
+            shared_by(&kin_of, kin_firsts.len()),
+            shared_by(&shape_of, shape_firsts.len()),
+            shared_by(&machine_of, firsts.len()),
+        );
+        let make_gas = |g: usize| {
             let row = gas_firsts[g];
             variant(base, omega, designs, row)
                 .and_then(|v| gas(base, &shared, &v))
                 .map(Arc::new)
                 .map_err(in_row(row))
-        });
-        let gases = gases.into_iter().collect::<Result<Vec<_>>>()?;
-        let made = map_indices(firsts.len(), work(firsts.len()), parallelism, |m| {
-            let row = firsts[m];
+        };
+        let gases = made_first(&gas_shared, work(gas_shared.len()), parallelism, &make_gas)?;
+        let gas_for = |g: usize| gases[g].clone().map_or_else(|| make_gas(g), Ok);
+        // The tables of design `row`, its gas that of its gas's first design scaled where
+        // it differs.
+        let tabulate = |row: usize| {
+            let g = gas_of[row - block.start];
+            let own = gas_for(g)?;
+            let gas = match scaling.ratio(designs, row, gas_firsts[g]) {
+                Some(factor) => Arc::new(own.scaled(factor)),
+                None => own,
+            };
             variant(base, omega, designs, row)
-                .and_then(|v| {
-                    SteadyTables::with_gas(&v.machine(base), &gases[gas_of[row - block.start]])
-                })
+                .and_then(|v| SteadyTables::with_gas(&v.machine(base), &gas))
+                .map(Arc::new)
                 .map_err(in_row(row))
-        });
-        let made = made.into_iter().collect::<Result<Vec<_>>>()?;
+        };
+        let make_kin = |k: usize| tabulate(kin_firsts[k]).map(|t| Arc::new(Kinematics::new(t)));
+        let kins = made_first(&kin_shared, work(kin_shared.len()), parallelism, &make_kin)?;
+        let kin_for = |k: usize| kins[k].clone().map_or_else(|| make_kin(k), Ok);
+        // A shape: its kinematics' tables with its own webs (their gas scaled as for the
+        // kinematics' first design, the row returned), else tabulated.
+        let make_shape = |s: usize| {
+            let row = shape_firsts[s];
+            let k = kin_of[row - block.start];
+            let first = kin_firsts[k];
+            if first == row {
+                return Ok((Arc::clone(&kin_for(k)?.tables), row));
+            }
+            let from = variant(base, omega, designs, first).map_err(in_row(first))?;
+            let reweighted = variant(base, omega, designs, row)
+                .and_then(|v| kin_for(k)?.reweighted(&from.units, &v.machine(base)))
+                .map(|found| found.map(Arc::new))
+                .map_err(in_row(row))?;
+            match reweighted {
+                Some(tables) => Ok((tables, first)),
+                None => Ok((tabulate(row)?, row)),
+            }
+        };
+        let shapes = made_first(
+            &shape_shared,
+            work(shape_shared.len()),
+            parallelism,
+            &make_shape,
+        )?;
+        let shape_for = |s: usize| shapes[s].clone().map_or_else(|| make_shape(s), Ok);
+        // A machine: its shape's tables, their gas scaled where it differs.
+        let make_machine = |m: usize| {
+            let row = firsts[m];
+            let (tables, scaled_as) = shape_for(shape_of[row - block.start])?;
+            match scaling.ratio(designs, row, scaled_as) {
+                Some(factor) => tables.gas_scaled(factor).map(Arc::new).map_err(in_row(row)),
+                None => Ok(tables),
+            }
+        };
+        let made = made_first(
+            &machine_shared,
+            work(machine_shared.len()),
+            parallelism,
+            &make_machine,
+        )?;
         let solved = map_indices(block.len(), work(block.len()), parallelism, |i| {
             let row = block.start + i;
+            let m = machine_of[i];
+            let tables = made[m].clone().map_or_else(|| make_machine(m), Ok)?;
             variant(base, omega, designs, row)
-                .and_then(|v| {
-                    solve(
-                        &made[machine_of[i]],
-                        &v,
-                        outputs,
-                        target_delta,
-                        min_speed_ratio,
-                    )
-                })
+                .and_then(|v| solve(&tables, &v, outputs, target_delta, min_speed_ratio))
                 .map_err(in_row(row))
         });
         for row in solved {

@@ -105,7 +105,13 @@ impl SteadyTables {
         Self::from_cycle(Cycle::with_gas(machine, dynamics, gas)?)
     }
 
-    fn from_cycle(cycle: Cycle) -> Result<Self> {
+    /// The same machine with its gas's pressures times `factor` (a sweep's designs that
+    /// differ only in `pressure_scale` or bore): J, U and the panels kept, W and M_gas scaled.
+    pub(crate) fn gas_scaled(&self, factor: f64) -> Result<Self> {
+        Self::from_cycle(self.cycle.gas_scaled(factor))
+    }
+
+    pub(super) fn from_cycle(cycle: Cycle) -> Result<Self> {
         let cycle = Arc::new(cycle);
         let load = balance_load(&cycle);
         Ok(Self {
