@@ -332,36 +332,166 @@ pub fn bearing_loads(
             check(name, value, "finite", |_| true)?;
         }
     }
-    // Each unit's load on its throw at every angle (a few dozen flops and one sin_cos each).
-    let work = units.len().saturating_mul(points).saturating_mul(64);
-    let per_unit = map_indices(units.len(), work, parallelism, |j| {
-        let unit = &units[j];
-        (0..points)
-            .map(|i| {
-                unit_forces(
-                    unit,
-                    phi[i],
-                    omega[i],
-                    acceleration[i],
-                    gas[j * points + i],
-                    g,
-                )
-                .throw_load
-            })
-            .collect::<Vec<[f64; 2]>>()
-    });
     horizontal.fill(0.0);
     vertical.fill(0.0);
-    for (j, loads) in per_unit.iter().enumerate() {
+    // Each unit's load on its throw at every angle (a few dozen flops and one sin_cos each),
+    // summed into the bearings unit by unit: the same doubles on one thread or many.
+    let work = units.len().saturating_mul(points).saturating_mul(64);
+    let load = |j: usize, i: usize| {
+        unit_forces(
+            &units[j],
+            phi[i],
+            omega[i],
+            acceleration[i],
+            gas[j * points + i],
+            g,
+        )
+        .throw_load
+    };
+    let mut add = |j: usize, i: usize, [h, v]: [f64; 2]| {
         let (a, share_a, b, share_b) = layout.shares[layout.throw_of_unit[j]];
-        for (i, [h, v]) in loads.iter().enumerate() {
-            horizontal[a * points + i] += share_a * h;
-            vertical[a * points + i] += share_a * v;
-            horizontal[b * points + i] += share_b * h;
-            vertical[b * points + i] += share_b * v;
+        horizontal[a * points + i] += share_a * h;
+        vertical[a * points + i] += share_a * v;
+        horizontal[b * points + i] += share_b * h;
+        vertical[b * points + i] += share_b * v;
+    };
+    if parallelism.runs_parallel(work) {
+        let per_unit = map_indices(units.len(), work, parallelism, |j| {
+            (0..points).map(|i| load(j, i)).collect::<Vec<[f64; 2]>>()
+        });
+        for (j, loads) in per_unit.iter().enumerate() {
+            for (i, &hv) in loads.iter().enumerate() {
+                add(j, i, hv);
+            }
+        }
+    } else {
+        for j in 0..units.len() {
+            for i in 0..points {
+                add(j, i, load(j, i));
+            }
         }
     }
     Ok(())
+}
+
+/// The largest magnitude of any main bearing's load (N) at the crank angles `phi` (rad) at
+/// the constant speed `omega` (rad/s) with the gas forces `gas` (N, unit-major) times
+/// `gas_scale` and g (m/s²): the loads of [`bearing_loads`], the same doubles (with
+/// `gas_scale` 1), taken angle by angle into `scratch` (one (horizontal, vertical) per
+/// bearing, reused), nothing kept. The units and values checked by the caller.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn max_bearing_load(
+    units: &[PhysicalCylinder],
+    layout: &BearingLayout,
+    phi: &[f64],
+    omega: f64,
+    gas: &[f64],
+    gas_scale: f64,
+    g: f64,
+    scratch: &mut Vec<[f64; 2]>,
+) -> f64 {
+    let points = phi.len();
+    let mut largest = 0.0_f64;
+    for (i, &phi_i) in phi.iter().enumerate() {
+        scratch.clear();
+        scratch.resize(layout.bearings(), [0.0; 2]);
+        for (j, unit) in units.iter().enumerate() {
+            let [h, v] = unit_forces(unit, phi_i, omega, 0.0, gas_scale * gas[j * points + i], g).throw_load;
+            let (a, share_a, b, share_b) = layout.shares[layout.throw_of_unit[j]];
+            scratch[a][0] += share_a * h;
+            scratch[a][1] += share_a * v;
+            scratch[b][0] += share_b * h;
+            scratch[b][1] += share_b * v;
+        }
+        for [h, v] in scratch.iter() {
+            largest = largest.max(h.hypot(*v));
+        }
+    }
+    largest
+}
+
+/// The parts of every main bearing's load at fixed crank angles at a constant speed, each
+/// load being linear in ω², g and the gas forces (a pressure scale s multiplying them all):
+/// L(φ) = ω²·W(φ) + g·G(φ) + s·F(φ), W, G and F each [`unit_forces`] at unit inputs (ω = 1,
+/// g = 1, the gas forces alone; ε = 0) shared into the bearings by the lever rule. Made once
+/// per machine for its default angles; a constant speed's loads are then three multiply-adds
+/// per bearing, angle and direction — equal to [`bearing_loads`]' to rounding (not to the
+/// bit: the sums are ordered otherwise).
+#[derive(Debug, Clone)]
+pub struct BearingParts {
+    points: usize,
+    /// Per bearing and angle (bearing-major): W, G, F, each (horizontal, vertical).
+    parts: Vec<[[f64; 2]; 3]>,
+}
+
+impl BearingParts {
+    /// The parts at the angles `phi` (rad, finite) with the gas forces `gas` (N, unit-major,
+    /// units × phi, finite) of the units `units` (valid) on `layout`.
+    pub fn new(
+        units: &[PhysicalCylinder],
+        layout: &BearingLayout,
+        phi: &[f64],
+        gas: &[f64],
+    ) -> Result<Self> {
+        let points = phi.len();
+        check_length("throw_of_unit", units.len(), layout.throw_of_unit.len())?;
+        check_length("gas", units.len() * points, gas.len())?;
+        for unit in units {
+            unit.validate()?;
+        }
+        for (name, values) in [("phi", phi), ("gas", gas)] {
+            for &value in values {
+                check(name, value, "finite", |_| true)?;
+            }
+        }
+        let mut parts = vec![[[0.0; 2]; 3]; layout.bearings() * points];
+        for (j, unit) in units.iter().enumerate() {
+            let (a, share_a, b, share_b) = layout.shares[layout.throw_of_unit[j]];
+            for (i, &p) in phi.iter().enumerate() {
+                let loads = [
+                    unit_forces(unit, p, 1.0, 0.0, 0.0, 0.0).throw_load,
+                    unit_forces(unit, p, 0.0, 0.0, 0.0, 1.0).throw_load,
+                    unit_forces(unit, p, 0.0, 0.0, gas[j * points + i], 0.0).throw_load,
+                ];
+                for (k, load) in loads.iter().enumerate() {
+                    for d in 0..2 {
+                        parts[a * points + i][k][d] += share_a * load[d];
+                        parts[b * points + i][k][d] += share_b * load[d];
+                    }
+                }
+            }
+        }
+        Ok(Self { points, parts })
+    }
+
+    /// The number of angles.
+    pub fn points(&self) -> usize {
+        self.points
+    }
+
+    /// The loads (N, bearing-major, bearings × angles) at the constant speed `omega` (rad/s),
+    /// the gas forces times `pressure_scale` and g (m/s²), into `horizontal` and `vertical`.
+    pub fn at_speed(
+        &self,
+        omega: f64,
+        pressure_scale: f64,
+        g: f64,
+        horizontal: &mut [f64],
+        vertical: &mut [f64],
+    ) -> Result<()> {
+        check_length("horizontal", self.parts.len(), horizontal.len())?;
+        check_length("vertical", self.parts.len(), vertical.len())?;
+        check("omega", omega, "finite", |_| true)?;
+        check("pressure_scale", pressure_scale, "finite", |_| true)?;
+        check("g", g, "any finite real", |_| true)?;
+        let omega2 = omega * omega;
+        for ((part, h), v) in self.parts.iter().zip(horizontal).zip(vertical) {
+            let [w, gravity, gas] = part;
+            *h = omega2 * w[0] + g * gravity[0] + pressure_scale * gas[0];
+            *v = omega2 * w[1] + g * gravity[1] + pressure_scale * gas[1];
+        }
+        Ok(())
+    }
 }
 
 /// The torque about the shaft axis that the frame receives from the moving parts (N·m,

@@ -6,8 +6,8 @@
 //! columns are bit-identical for any thread count.
 
 use crate::error::{MechanismError, Result};
-use crate::forces::{bearing_loads, BearingLayout, ShakingForces, FORCE_FORWARD, MOMENT_FORWARD};
-use crate::parallel::{map_indices, Parallelism};
+use crate::forces::{max_bearing_load, BearingLayout, ShakingForces, FORCE_FORWARD, MOMENT_FORWARD};
+use crate::parallel::{map_indices_with, Parallelism};
 
 use super::columns::MachineDesigns;
 use super::gas::PiecewisePolynomial;
@@ -27,6 +27,14 @@ pub const FRAME_OUTPUTS: [&str; 5] = [
 /// Angles per working cycle at which a design's bearing loads are taken (every half degree
 /// of a two-stroke cycle, every degree of a four-stroke one's).
 pub const BEARING_ANGLES: usize = 720;
+
+/// The default angles of the bearing loads: [`BEARING_ANGLES`] uniform ones over the working
+/// cycle `cycle` (rad), iΦ/N.
+pub fn default_angles(cycle: f64) -> Vec<f64> {
+    (0..BEARING_ANGLES)
+        .map(|i| cycle * i as f64 / BEARING_ANGLES as f64)
+        .collect()
+}
 
 /// Kernel evaluations per design and unit, for `Parallelism`'s threshold: the free forces
 /// alone are a few series terms; the bearing loads BEARING_ANGLES Newton–Euler solutions.
@@ -66,7 +74,8 @@ impl FrameOutputs {
 /// The frame's outputs of every design of `designs` applied to `base` (mean speed `omega`,
 /// rad/s, where there is no omega column), each unit at `axial_position` (m) and its throw
 /// shared between the bearings of `bearings` (the base machine's, as
-/// [`Machine::frame_sweep`](crate::Machine::frame_sweep) gives them): one column per
+/// [`Machine::frame_sweep`](crate::Machine::frame_sweep) gives them, with its gas forces at
+/// the [`default_angles`], `base_gas`, N, unit-major): one column per
 /// [`FRAME_OUTPUTS`] name (N, N·m), empty where not asked. A bad value of design `row` is a
 /// [`MechanismError::InRow`].
 pub(crate) fn frame_sweep(
@@ -75,6 +84,7 @@ pub(crate) fn frame_sweep(
     designs: &MachineDesigns<'_>,
     axial_position: &[f64],
     bearings: &BearingLayout,
+    base_gas: &[f64],
     outputs: FrameOutputs,
     parallelism: Parallelism,
 ) -> Result<[Vec<f64>; 5]> {
@@ -88,10 +98,8 @@ pub(crate) fn frame_sweep(
             FREE_WORK
         });
     let cycle = base.strokes.cycle_angle();
-    let phi: Vec<f64> = (0..BEARING_ANGLES)
-        .map(|i| cycle * i as f64 / BEARING_ANGLES as f64)
-        .collect();
-    let rows = map_indices(n, work, parallelism, |row| {
+    let phi = default_angles(cycle);
+    let rows = map_indices_with(n, work, parallelism, Vec::new, |scratch, row| {
         design_row(
             base,
             omega,
@@ -99,8 +107,10 @@ pub(crate) fn frame_sweep(
             row,
             axial_position,
             bearings,
+            base_gas,
             outputs,
             &phi,
+            scratch,
         )
         .map_err(|error| MechanismError::InRow {
             row,
@@ -132,8 +142,10 @@ fn design_row(
     row: usize,
     axial_position: &[f64],
     bearings: &BearingLayout,
+    base_gas: &[f64],
     outputs: FrameOutputs,
     phi: &[f64],
+    scratch: &mut Vec<[f64; 2]>,
 ) -> Result<[f64; 5]> {
     let v = variant(base, omega, designs, row)?;
     let mut found = [f64::NAN; 5];
@@ -149,35 +161,34 @@ fn design_row(
         }
     }
     if outputs.bearings() {
-        let diagrams: Vec<PiecewisePolynomial> = match v.pressure_scale {
-            Some(factor) => base.diagrams.iter().map(|d| d.scaled(factor)).collect(),
-            None => base.diagrams.to_vec(),
+        let machine = v.machine(base);
+        // The base machine's gas forces serve where the design keeps its gas and phases
+        // (times its pressure scale: the diagrams' coefficients scaled, to rounding).
+        let same_gas = machine.gas == base.gas
+            && v.units.iter().zip(base.units).all(|(a, b)| a.phase == b.phase);
+        let (gas, scale) = if same_gas {
+            (None, v.pressure_scale.unwrap_or(1.0))
+        } else {
+            let diagrams: Vec<PiecewisePolynomial> = match v.pressure_scale {
+                Some(factor) => base.diagrams.iter().map(|d| d.scaled(factor)).collect(),
+                None => base.diagrams.to_vec(),
+            };
+            let machine = MachineView {
+                diagrams: &diagrams,
+                ..machine
+            };
+            (Some(machine.piston_forces(phi)?), 1.0)
         };
-        let machine = MachineView {
-            diagrams: &diagrams,
-            ..v.machine(base)
-        };
-        let gas = machine.piston_forces(phi)?;
-        let points = phi.len();
-        let (speed, rest) = (vec![v.omega; points], vec![0.0; points]);
-        let size = bearings.bearings() * points;
-        let (mut horizontal, mut vertical) = (vec![0.0; size], vec![0.0; size]);
-        bearing_loads(
+        found[4] = max_bearing_load(
             &v.units,
             bearings,
             phi,
-            &speed,
-            &rest,
-            &gas,
+            v.omega,
+            gas.as_deref().unwrap_or(base_gas),
+            scale,
             v.g,
-            &mut horizontal,
-            &mut vertical,
-            Parallelism::SERIAL, // the designs run in parallel
-        )?;
-        found[4] = horizontal
-            .iter()
-            .zip(&vertical)
-            .fold(0.0_f64, |m, (h, v)| m.max(h.hypot(*v)));
+            scratch,
+        );
     }
     Ok(found)
 }
