@@ -49,8 +49,7 @@ pub use exact::{evaluate, evaluate_one, Quantity};
 pub use extrema::{all_energy_extrema, energy_extrema, EnergyExtrema};
 pub use forces::{
     bearing_loads, engine_centre, frame_torque, BearingLayout, BearingParts, ShakingForces,
-    ShakingOrders,
-    ORDER_COLUMNS, SAME_POSITION,
+    ShakingOrders, ORDER_COLUMNS, SAME_POSITION,
 };
 pub use harmonics::{
     harmonic_survives, lambda_exact, lambda_paper, lambda_table, paper_coefficient,

@@ -14,8 +14,8 @@ use crate::dynamics::Dynamics;
 use crate::error::Result;
 use crate::forces::{bearing_loads, frame_torque, BearingLayout, BearingParts, ShakingForces};
 use crate::mechanism::{check_shaft_inertia, PhysicalCylinder, Strokes};
-use crate::motion::{frame_sweep, FrameOutputs, GasCylinder, MachineDesigns, MachineView};
 use crate::motion::{default_angles, GasForces, PiecewisePolynomial, SteadyTables};
+use crate::motion::{frame_sweep, FrameOutputs, GasCylinder, MachineDesigns, MachineView};
 use crate::parallel::Parallelism;
 
 /// A machine as it is given, before its checks: the input of [`Machine::new`].

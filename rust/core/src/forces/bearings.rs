@@ -396,7 +396,8 @@ pub(crate) fn max_bearing_load(
         scratch.clear();
         scratch.resize(layout.bearings(), [0.0; 2]);
         for (j, unit) in units.iter().enumerate() {
-            let [h, v] = unit_forces(unit, phi_i, omega, 0.0, gas_scale * gas[j * points + i], g).throw_load;
+            let [h, v] =
+                unit_forces(unit, phi_i, omega, 0.0, gas_scale * gas[j * points + i], g).throw_load;
             let (a, share_a, b, share_b) = layout.shares[layout.throw_of_unit[j]];
             scratch[a][0] += share_a * h;
             scratch[a][1] += share_a * v;

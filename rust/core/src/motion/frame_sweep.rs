@@ -6,7 +6,9 @@
 //! columns are bit-identical for any thread count.
 
 use crate::error::{MechanismError, Result};
-use crate::forces::{max_bearing_load, BearingLayout, ShakingForces, FORCE_FORWARD, MOMENT_FORWARD};
+use crate::forces::{
+    max_bearing_load, BearingLayout, ShakingForces, FORCE_FORWARD, MOMENT_FORWARD,
+};
 use crate::parallel::{map_indices_with, Parallelism};
 
 use super::columns::MachineDesigns;
@@ -165,7 +167,10 @@ fn design_row(
         // The base machine's gas forces serve where the design keeps its gas and phases
         // (times its pressure scale: the diagrams' coefficients scaled, to rounding).
         let same_gas = machine.gas == base.gas
-            && v.units.iter().zip(base.units).all(|(a, b)| a.phase == b.phase);
+            && v.units
+                .iter()
+                .zip(base.units)
+                .all(|(a, b)| a.phase == b.phase);
         let (gas, scale) = if same_gas {
             (None, v.pressure_scale.unwrap_or(1.0))
         } else {
