@@ -231,10 +231,33 @@ fn unit_forces(
     gas: f64,
     g: f64,
 ) -> UnitForces {
+    let trig = (phi + unit.phase).sin_cos();
+    unit_forces_at(
+        unit,
+        trig,
+        unit.inclination.sin_cos(),
+        omega,
+        epsilon,
+        gas,
+        g,
+    )
+}
+
+/// [`unit_forces`] with its sines and cosines given: (sin ψ, cos ψ) of the crank angle
+/// ψ = φ + α and (sin γ, cos γ) of the inclination (the same doubles, for callers that keep
+/// them).
+#[inline]
+fn unit_forces_at(
+    unit: &PhysicalCylinder,
+    (s, c): (f64, f64),
+    (sin_g, cos_g): (f64, f64),
+    omega: f64,
+    epsilon: f64,
+    gas: f64,
+    g: f64,
+) -> UnitForces {
     let (r, l, z) = (unit.crank_radius, unit.rod_length, unit.rod_cg);
     let lambda = r / l;
-    let psi = phi + unit.phase;
-    let (s, c) = psi.sin_cos();
     let sin_beta = lambda * s;
     let cos_beta = (1.0 - sin_beta * sin_beta).sqrt();
     // β and the piston pin's position x_B along e as functions of φ, and their derivatives.
@@ -256,7 +279,6 @@ fn unit_forces(
         r * (-omega * omega * s + epsilon * c),
     ];
     // Gravity in the unit's frame: −g (sin γ e + cos γ n).
-    let (sin_g, cos_g) = unit.inclination.sin_cos();
     let weight = [-g * sin_g, -g * cos_g];
     let cross = |a: [f64; 2], b: [f64; 2]| a[0] * b[1] - a[1] * b[0];
     let rod_rest = [a_g[0] - weight[0], a_g[1] - weight[1]];
@@ -374,11 +396,30 @@ pub fn bearing_loads(
     Ok(())
 }
 
+/// What [`max_bearing_load`] reuses from one call to the next: each bearing's load at one
+/// angle, each unit's (sin γ, cos γ) and its (sin ψ, cos ψ) at every angle.
+#[derive(Debug, Default)]
+pub(crate) struct LoadScratch {
+    bearings: Vec<[f64; 2]>,
+    frames: Vec<(f64, f64)>,
+    trig: Vec<(f64, f64)>,
+}
+
+/// (sin ψ, cos ψ) of every unit at every angle, ψ = φ + α (unit-major, units × phi), into
+/// `out`.
+pub(crate) fn crank_trig(units: &[PhysicalCylinder], phi: &[f64], out: &mut Vec<(f64, f64)>) {
+    out.clear();
+    for unit in units {
+        out.extend(phi.iter().map(|p| (p + unit.phase).sin_cos()));
+    }
+}
+
 /// The largest magnitude of any main bearing's load (N) at the crank angles `phi` (rad) at
 /// the constant speed `omega` (rad/s) with the gas forces `gas` (N, unit-major) times
 /// `gas_scale` and g (m/s²): the loads of [`bearing_loads`], the same doubles (with
-/// `gas_scale` 1), taken angle by angle into `scratch` (one (horizontal, vertical) per
-/// bearing, reused), nothing kept. The units and values checked by the caller.
+/// `gas_scale` 1), taken angle by angle, nothing kept. The units' (sin ψ, cos ψ) are
+/// `trig` ([`crank_trig`] of these units and angles) where given, else made in `scratch`.
+/// The units and values checked by the caller.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn max_bearing_load(
     units: &[PhysicalCylinder],
@@ -388,24 +429,46 @@ pub(crate) fn max_bearing_load(
     gas: &[f64],
     gas_scale: f64,
     g: f64,
-    scratch: &mut Vec<[f64; 2]>,
+    trig: Option<&[(f64, f64)]>,
+    scratch: &mut LoadScratch,
 ) -> f64 {
     let points = phi.len();
-    let mut largest = 0.0_f64;
-    for (i, &phi_i) in phi.iter().enumerate() {
-        scratch.clear();
-        scratch.resize(layout.bearings(), [0.0; 2]);
-        for (j, unit) in units.iter().enumerate() {
-            let [h, v] =
-                unit_forces(unit, phi_i, omega, 0.0, gas_scale * gas[j * points + i], g).throw_load;
-            let (a, share_a, b, share_b) = layout.shares[layout.throw_of_unit[j]];
-            scratch[a][0] += share_a * h;
-            scratch[a][1] += share_a * v;
-            scratch[b][0] += share_b * h;
-            scratch[b][1] += share_b * v;
+    let LoadScratch {
+        bearings,
+        frames,
+        trig: own,
+    } = scratch;
+    let trig = match trig {
+        Some(trig) => trig,
+        None => {
+            crank_trig(units, phi, own);
+            own
         }
-        for [h, v] in scratch.iter() {
-            largest = largest.max(h.hypot(*v));
+    };
+    frames.clear();
+    frames.extend(units.iter().map(|u| u.inclination.sin_cos()));
+    let (mut largest, mut cut) = (0.0_f64, 0.0_f64);
+    for i in 0..points {
+        bearings.clear();
+        bearings.resize(layout.bearings(), [0.0; 2]);
+        for (j, unit) in units.iter().enumerate() {
+            let k = j * points + i;
+            let [h, v] =
+                unit_forces_at(unit, trig[k], frames[j], omega, 0.0, gas_scale * gas[k], g)
+                    .throw_load;
+            let (a, share_a, b, share_b) = layout.shares[layout.throw_of_unit[j]];
+            bearings[a][0] += share_a * h;
+            bearings[a][1] += share_a * v;
+            bearings[b][0] += share_b * h;
+            bearings[b][1] += share_b * v;
+        }
+        for [h, v] in bearings.iter() {
+            // hypot only where it may be the largest: h² + v² within rounding of the largest
+            // so far (the same doubles as the largest hypot of all).
+            if h * h + v * v >= cut {
+                largest = largest.max(h.hypot(*v));
+                cut = largest * largest * (1.0 - 1e-12);
+            }
         }
     }
     largest

@@ -6,9 +6,8 @@
 //! columns are bit-identical for any thread count.
 
 use crate::error::{MechanismError, Result};
-use crate::forces::{
-    max_bearing_load, BearingLayout, ShakingForces, FORCE_FORWARD, MOMENT_FORWARD,
-};
+use crate::forces::{crank_trig, max_bearing_load, BearingLayout, LoadScratch, ShakingForces};
+use crate::forces::{FORCE_FORWARD, MOMENT_FORWARD};
 use crate::parallel::{map_indices_with, Parallelism};
 
 use super::columns::MachineDesigns;
@@ -101,24 +100,36 @@ pub(crate) fn frame_sweep(
         });
     let cycle = base.strokes.cycle_angle();
     let phi = default_angles(cycle);
-    let rows = map_indices_with(n, work, parallelism, Vec::new, |scratch, row| {
-        design_row(
-            base,
-            omega,
-            designs,
-            row,
-            axial_position,
-            bearings,
-            base_gas,
-            outputs,
-            &phi,
-            scratch,
-        )
-        .map_err(|error| MechanismError::InRow {
-            row,
-            error: Box::new(error),
-        })
-    });
+    // The base units' (sin ψ, cos ψ): every design's that keeps their phases.
+    let mut base_trig = Vec::new();
+    if outputs.bearings() {
+        crank_trig(base.units, &phi, &mut base_trig);
+    }
+    let base_gas = (base_gas, &base_trig[..]);
+    let rows = map_indices_with(
+        n,
+        work,
+        parallelism,
+        LoadScratch::default,
+        |scratch, row| {
+            design_row(
+                base,
+                omega,
+                designs,
+                row,
+                axial_position,
+                bearings,
+                base_gas,
+                outputs,
+                &phi,
+                scratch,
+            )
+            .map_err(|error| MechanismError::InRow {
+                row,
+                error: Box::new(error),
+            })
+        },
+    );
     let mut columns: [Vec<f64>; 5] = Default::default();
     for (k, column) in columns.iter_mut().enumerate() {
         if outputs.0[k] {
@@ -144,10 +155,10 @@ fn design_row(
     row: usize,
     axial_position: &[f64],
     bearings: &BearingLayout,
-    base_gas: &[f64],
+    (base_gas, base_trig): (&[f64], &[(f64, f64)]),
     outputs: FrameOutputs,
     phi: &[f64],
-    scratch: &mut Vec<[f64; 2]>,
+    scratch: &mut LoadScratch,
 ) -> Result<[f64; 5]> {
     let v = variant(base, omega, designs, row)?;
     let mut found = [f64::NAN; 5];
@@ -166,11 +177,12 @@ fn design_row(
         let machine = v.machine(base);
         // The base machine's gas forces serve where the design keeps its gas and phases
         // (times its pressure scale: the diagrams' coefficients scaled, to rounding).
-        let same_gas = machine.gas == base.gas
-            && v.units
-                .iter()
-                .zip(base.units)
-                .all(|(a, b)| a.phase == b.phase);
+        let same_phases = v
+            .units
+            .iter()
+            .zip(base.units)
+            .all(|(a, b)| a.phase == b.phase);
+        let same_gas = same_phases && machine.gas == base.gas;
         let (gas, scale) = if same_gas {
             (None, v.pressure_scale.unwrap_or(1.0))
         } else {
@@ -192,6 +204,7 @@ fn design_row(
             gas.as_deref().unwrap_or(base_gas),
             scale,
             v.g,
+            same_phases.then_some(base_trig),
             scratch,
         );
     }
