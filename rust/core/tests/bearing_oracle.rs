@@ -31,13 +31,14 @@ fn solve(mut a: [[f64; 6]; 5]) -> [f64; 5] {
     for col in 0..5 {
         let pivot = (col..5)
             .max_by(|&i, &j| a[i][col].abs().total_cmp(&a[j][col].abs()))
-            .unwrap();
+            .expect("a column");
         a.swap(col, pivot);
-        for row in 0..5 {
+        let pivot_row = a[col];
+        for (row, values) in a.iter_mut().enumerate() {
             if row != col {
-                let f = a[row][col] / a[col][col];
-                for k in col..6 {
-                    a[row][k] -= f * a[col][k];
+                let f = values[col] / pivot_row[col];
+                for (value, p) in values.iter_mut().zip(pivot_row).skip(col) {
+                    *value -= f * p;
                 }
             }
         }
@@ -45,8 +46,11 @@ fn solve(mut a: [[f64; 6]; 5]) -> [f64; 5] {
     std::array::from_fn(|i| a[i][5] / a[i][i])
 }
 
-/// (P, B, G, rod angle, crank point at unit radius) of a unit at crank angle φ, global frame.
-fn positions(u: &PhysicalCylinder, phi: f64) -> ([f64; 2], [f64; 2], [f64; 2], f64, [f64; 2]) {
+/// (P, B, G, rod angle, crank point at unit radius) of a unit, in the global frame.
+type Positions = ([f64; 2], [f64; 2], [f64; 2], f64, [f64; 2]);
+
+/// The [`Positions`] of a unit at crank angle φ.
+fn positions(u: &PhysicalCylinder, phi: f64) -> Positions {
     let e = [u.inclination.cos(), u.inclination.sin()];
     let n = [-e[1], e[0]];
     let psi = phi + u.phase;
@@ -84,9 +88,7 @@ fn oracle(
     for (j, u) in units.iter().enumerate() {
         let at = |t: f64| positions(u, phi_at(t));
         let (p, b, gc, _, _) = at(0.0);
-        let acc = |pick: &dyn Fn(([f64; 2], [f64; 2], [f64; 2], f64, [f64; 2])) -> f64| {
-            second(&|t| pick(at(t)))
-        };
+        let acc = |pick: &dyn Fn(Positions) -> f64| second(&|t| pick(at(t)));
         let a_b = [acc(&|s| s.1[0]), acc(&|s| s.1[1])];
         let a_g = [acc(&|s| s.2[0]), acc(&|s| s.2[1])];
         let alpha = acc(&|s| s.3);
@@ -126,7 +128,10 @@ fn oracle(
             -x[4] + (ms + mp) * gv[1] - first * a_d[1],
         ];
         let z = AXIAL[j];
-        let after = BEARINGS.iter().position(|&bz| bz > z).unwrap();
+        let after = BEARINGS
+            .iter()
+            .position(|&bz| bz > z)
+            .expect("a bearing beyond");
         let (za, zb) = (BEARINGS[after - 1], BEARINGS[after]);
         for (bearing, share) in [
             (after - 1, (zb - z) / (zb - za)),

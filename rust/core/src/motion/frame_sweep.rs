@@ -79,6 +79,7 @@ impl FrameOutputs {
 /// the [`default_angles`], `base_gas`, N, unit-major): one column per
 /// [`FRAME_OUTPUTS`] name (N, N·m), empty where not asked. A bad value of design `row` is a
 /// [`MechanismError::InRow`].
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn frame_sweep(
     base: &MachineView<'_>,
     omega: Option<f64>,
