@@ -323,9 +323,20 @@ def _loads(
     return angles, horizontal.reshape(shape), vertical.reshape(shape)
 
 
+#: The default angles of each working cycle Φ [rad] met, read-only (a copy goes out).
+_DEFAULT_ANGLES: dict[float, np.ndarray] = {}
+
+
 def _default_angles(machine: Machine) -> np.ndarray:
-    """The :data:`DEFAULT_POINTS` uniform angles over the working cycle [rad] (the core's own)."""
-    return machine.cycle * np.arange(DEFAULT_POINTS) / DEFAULT_POINTS
+    """The :data:`DEFAULT_POINTS` uniform angles over the working cycle [rad] (the core's own),
+    a fresh copy of those made once per cycle length."""
+    cycle = float(machine.cycle)
+    angles = _DEFAULT_ANGLES.get(cycle)
+    if angles is None:
+        angles = cycle * np.arange(DEFAULT_POINTS) / DEFAULT_POINTS
+        angles.flags.writeable = False
+        angles = _DEFAULT_ANGLES.setdefault(cycle, angles)
+    return angles.copy()
 
 
 def _are_default(phi: np.ndarray, machine: Machine) -> bool:
