@@ -10,7 +10,9 @@
 use std::f64::consts::{FRAC_PI_2, PI};
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use multicrank_core::{bearing_loads, BearingLayout, Parallelism, PhysicalCylinder, ShakingForces};
+use multicrank_core::{
+    bearing_loads, BearingLayout, BearingParts, Parallelism, PhysicalCylinder, ShakingForces,
+};
 
 const ANGLES: usize = 720;
 
@@ -91,6 +93,15 @@ fn forces(c: &mut Criterion) {
                 Parallelism::SERIAL,
             )
             .expect("valid input")
+        })
+    });
+    // The constant speed's loads from the parts a machine keeps (made once).
+    let parts = BearingParts::new(&units, &layout, &phi, &gas).expect("valid input");
+    group.bench_function("bearing_loads/720/at_speed", |b| {
+        b.iter(|| {
+            parts
+                .at_speed(157.0, 1.0, 9.81, &mut horizontal, &mut vertical)
+                .expect("valid input")
         })
     });
     group.finish();

@@ -183,6 +183,7 @@ class NativeMachine:
     def bearing_loads(
         self, phi: _Array, omega: _Array, acceleration: _Array, gravity: bool = True
     ) -> tuple[_Array, _Array]: ...
+    def bearing_loads_at_speed(self, omega: float, pressure_scale: float, gravity: bool) -> tuple[_Array, _Array]: ...
     def frame_sweep(
         self,
         designs: Mapping[str, _Array],

@@ -26,7 +26,7 @@ from .._validation import (
     rpm_from_omega,
     running_omega,
 )
-from ..machine.machine import Machine
+from ..machine.machine import Machine, load_factor, rated_omega
 from ..machine.native import motion_machine
 
 if TYPE_CHECKING:
@@ -91,7 +91,8 @@ class BearingLoads:
         """
         if not self._without_gravity:
             if self.gravity:
-                phi = None if self.steady else self.phi
+                # the default angles (and any equal to them) by the same path as the loads
+                phi = None if self.steady or _are_default(self.phi, self.machine) else self.phi
                 _, horizontal, vertical = _loads(self.machine, self.omega, self.steady, phi, False)
             else:
                 horizontal, vertical = self.horizontal, self.vertical
@@ -295,6 +296,13 @@ def _loads(
     the angles ``phi`` (None: the default ones), or in steady running at that mean speed (of
     ``state`` where given: :data:`DEFAULT_POINTS` of its uniform angles); every bearing of
     the machine's (``machine.bearings``), bearing-major."""
+    if not steady and phi is None:
+        # the parts the core keeps per machine, at the load law's factor at this speed
+        factor = float(load_factor(omega, rated_omega(machine)))
+        horizontal, vertical = motion_machine(machine).bearing_loads_at_speed(omega, factor, gravity)
+        angles = _default_angles(machine)
+        shape = (len(machine.bearings), DEFAULT_POINTS)
+        return angles, horizontal.reshape(shape), vertical.reshape(shape)
     if steady:
         if state is None:
             from ..motion.steady import balanced_state
@@ -304,7 +312,7 @@ def _loads(
         assert step >= 1 and left == 0, "a steady state of DEFAULT_POINTS·k + 1 points"
         angles, speeds, accelerations = (a[:-1:step] for a in (state.phi, state.omega, state.acceleration))
     else:
-        angles = machine.cycle * np.arange(DEFAULT_POINTS) / DEFAULT_POINTS if phi is None else _as_phi(phi, machine)
+        angles = _default_angles(machine) if phi is None else _as_phi(phi, machine)
         speeds, accelerations = np.full(angles.shape, omega), np.zeros(angles.shape)
     angles, speeds, accelerations = (contiguous(np.asarray(a, dtype=float)) for a in (angles, speeds, accelerations))
     from ..motion._periodic import at_load
@@ -313,6 +321,27 @@ def _loads(
     horizontal, vertical = motion_machine(at_load(machine, omega)).bearing_loads(angles, speeds, accelerations, gravity)
     shape = (len(machine.bearings), angles.size)
     return angles, horizontal.reshape(shape), vertical.reshape(shape)
+
+
+#: The default angles of each working cycle Φ [rad] met, read-only (a copy goes out).
+_DEFAULT_ANGLES: dict[float, np.ndarray] = {}
+
+
+def _default_angles(machine: Machine) -> np.ndarray:
+    """The :data:`DEFAULT_POINTS` uniform angles over the working cycle [rad] (the core's own),
+    a fresh copy of those made once per cycle length."""
+    cycle = float(machine.cycle)
+    angles = _DEFAULT_ANGLES.get(cycle)
+    if angles is None:
+        angles = cycle * np.arange(DEFAULT_POINTS) / DEFAULT_POINTS
+        angles.flags.writeable = False
+        angles = _DEFAULT_ANGLES.setdefault(cycle, angles)
+    return angles.copy()
+
+
+def _are_default(phi: np.ndarray, machine: Machine) -> bool:
+    """Whether ``phi`` are the default angles, to the bit."""
+    return phi.shape == (DEFAULT_POINTS,) and bool(np.array_equal(phi, _default_angles(machine)))
 
 
 def _as_phi(phi: Any, machine: Machine) -> np.ndarray:

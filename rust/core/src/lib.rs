@@ -48,8 +48,8 @@ pub use error::{MechanismError, Reach, Result};
 pub use exact::{evaluate, evaluate_one, Quantity};
 pub use extrema::{all_energy_extrema, energy_extrema, EnergyExtrema};
 pub use forces::{
-    bearing_loads, engine_centre, frame_torque, BearingLayout, ShakingForces, ShakingOrders,
-    ORDER_COLUMNS, SAME_POSITION,
+    bearing_loads, engine_centre, frame_torque, BearingLayout, BearingParts, ShakingForces,
+    ShakingOrders, ORDER_COLUMNS, SAME_POSITION,
 };
 pub use harmonics::{
     harmonic_survives, lambda_exact, lambda_paper, lambda_table, paper_coefficient,

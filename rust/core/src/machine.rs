@@ -12,10 +12,10 @@ use std::sync::OnceLock;
 
 use crate::dynamics::Dynamics;
 use crate::error::Result;
-use crate::forces::{bearing_loads, frame_torque, BearingLayout, ShakingForces};
+use crate::forces::{bearing_loads, frame_torque, BearingLayout, BearingParts, ShakingForces};
 use crate::mechanism::{check_shaft_inertia, PhysicalCylinder, Strokes};
+use crate::motion::{default_angles, GasForces, PiecewisePolynomial, SteadyTables};
 use crate::motion::{frame_sweep, FrameOutputs, GasCylinder, MachineDesigns, MachineView};
-use crate::motion::{PiecewisePolynomial, SteadyTables};
 use crate::parallel::Parallelism;
 
 /// A machine as it is given, before its checks: the input of [`Machine::new`].
@@ -51,6 +51,13 @@ pub struct Machine {
     tables: OnceLock<SteadyTables>,
     tables_without_gravity: OnceLock<SteadyTables>,
     shaking: OnceLock<ShakingForces>,
+    /// Its gas forces' rule (the diagrams shared), made on first use.
+    gas_forces: OnceLock<GasForces>,
+    /// The gas forces at the default angles ([`default_angles`]), made on first use.
+    default_gas: OnceLock<Vec<f64>>,
+    /// The parts of its bearing loads at the default angles, with and without gravity's
+    /// being asked for (g's part is kept either way), made on first use.
+    bearing_parts: OnceLock<BearingParts>,
 }
 
 impl Machine {
@@ -82,6 +89,9 @@ impl Machine {
             tables: OnceLock::new(),
             tables_without_gravity: OnceLock::new(),
             shaking: OnceLock::new(),
+            gas_forces: OnceLock::new(),
+            default_gas: OnceLock::new(),
+            bearing_parts: OnceLock::new(),
         };
         machine.view().check_gas()?;
         Ok(machine)
@@ -187,9 +197,61 @@ impl Machine {
     }
 
     /// Every unit's gas force F = p·A − p_c·A_c (N, toward the shaft) at every φ (rad),
-    /// unit-major (units × phi), from the machine's own diagrams.
+    /// unit-major (units × phi), from the machine's own diagrams (their rule made once).
     pub fn piston_forces(&self, phi: &[f64]) -> Result<Vec<f64>> {
-        self.view().piston_forces(phi)
+        Ok(self.gas_forces()?.at(phi))
+    }
+
+    fn gas_forces(&self) -> Result<&GasForces> {
+        if let Some(forces) = self.gas_forces.get() {
+            return Ok(forces);
+        }
+        let made = self.view().gas_forces()?;
+        Ok(self.gas_forces.get_or_init(|| made))
+    }
+
+    /// The gas forces (N, unit-major) at the default angles ([`default_angles`]:
+    /// [`BEARING_ANGLES`](crate::BEARING_ANGLES) over the working cycle), made on first use.
+    pub fn default_piston_forces(&self) -> Result<&[f64]> {
+        if let Some(gas) = self.default_gas.get() {
+            return Ok(gas);
+        }
+        let made = self.piston_forces(&default_angles(self.parts.strokes.cycle_angle()))?;
+        Ok(self.default_gas.get_or_init(|| made))
+    }
+
+    /// The parts of its bearing loads at the default angles ([`BearingParts`]), made on
+    /// first use.
+    pub fn bearing_parts(&self) -> Result<&BearingParts> {
+        if let Some(parts) = self.bearing_parts.get() {
+            return Ok(parts);
+        }
+        let phi = default_angles(self.parts.strokes.cycle_angle());
+        let made = BearingParts::new(
+            &self.parts.units,
+            &self.layout,
+            &phi,
+            self.default_piston_forces()?,
+        )?;
+        Ok(self.bearing_parts.get_or_init(|| made))
+    }
+
+    /// The force every main bearing receives from the shaft (N; horizontal and vertical,
+    /// bearing-major, bearings × angles) at the default angles ([`default_angles`]) at the
+    /// constant speed `omega` (rad/s), the gas forces times `pressure_scale` (a load law's
+    /// factor; 1: as given) and, with `gravity`, the weights: [`Machine::bearing_loads`] at
+    /// those angles to rounding, from the parts kept ([`Machine::bearing_parts`]).
+    pub fn bearing_loads_at_speed(
+        &self,
+        omega: f64,
+        pressure_scale: f64,
+        gravity: bool,
+        horizontal: &mut [f64],
+        vertical: &mut [f64],
+    ) -> Result<()> {
+        let g = if gravity { self.parts.g } else { 0.0 };
+        self.bearing_parts()?
+            .at_speed(omega, pressure_scale, g, horizontal, vertical)
     }
 
     /// The force every main bearing receives from the shaft (N; horizontal and vertical,
@@ -263,6 +325,7 @@ impl Machine {
             designs,
             &self.parts.axial_position,
             &self.layout,
+            self.default_piston_forces()?,
             outputs,
             parallelism,
         )

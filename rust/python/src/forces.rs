@@ -150,6 +150,31 @@ impl NativeMachine {
         Ok((horizontal, vertical))
     }
 
+    /// bearing_loads_at_speed(omega, pressure_scale, gravity) -> (horizontal, vertical): the
+    /// loads (N, bearing-major) at the default angles (`core::BEARING_ANGLES` over the cycle)
+    /// at the constant speed omega (rad/s), the gas forces times pressure_scale, from the
+    /// parts the core keeps per machine (`core::Machine::bearing_loads_at_speed`).
+    fn bearing_loads_at_speed<'py>(
+        &self,
+        py: Python<'py>,
+        omega: f64,
+        pressure_scale: f64,
+        gravity: bool,
+    ) -> PyResult<ArrayPair<'py>> {
+        let size = OutputSize::of("phi", core::BEARING_ANGLES).times(self.core.layout().bearings());
+        let (horizontal, vertical) = (empty_array(py, size)?, empty_array(py, size)?);
+        {
+            let (mut h, mut v) = (horizontal.readwrite(), vertical.readwrite());
+            let (h, v) = (h.as_slice_mut()?, v.as_slice_mut()?);
+            py.detach(|| {
+                self.core
+                    .bearing_loads_at_speed(omega, pressure_scale, gravity, h, v)
+            })
+            .map_err(to_py_err)?;
+        }
+        Ok((horizontal, vertical))
+    }
+
     /// frame_sweep(designs, outputs, omega, parallel_threshold=None) -> {output: array}: the
     /// frame's outputs (`core::FRAME_OUTPUTS`, those named in `outputs`) of every design (the
     /// motion sweep's design columns, `designs`) at its speed (an `omega` column, else

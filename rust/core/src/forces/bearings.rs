@@ -231,10 +231,33 @@ fn unit_forces(
     gas: f64,
     g: f64,
 ) -> UnitForces {
+    let trig = (phi + unit.phase).sin_cos();
+    unit_forces_at(
+        unit,
+        trig,
+        unit.inclination.sin_cos(),
+        omega,
+        epsilon,
+        gas,
+        g,
+    )
+}
+
+/// [`unit_forces`] with its sines and cosines given: (sin ψ, cos ψ) of the crank angle
+/// ψ = φ + α and (sin γ, cos γ) of the inclination (the same doubles, for callers that keep
+/// them).
+#[inline]
+fn unit_forces_at(
+    unit: &PhysicalCylinder,
+    (s, c): (f64, f64),
+    (sin_g, cos_g): (f64, f64),
+    omega: f64,
+    epsilon: f64,
+    gas: f64,
+    g: f64,
+) -> UnitForces {
     let (r, l, z) = (unit.crank_radius, unit.rod_length, unit.rod_cg);
     let lambda = r / l;
-    let psi = phi + unit.phase;
-    let (s, c) = psi.sin_cos();
     let sin_beta = lambda * s;
     let cos_beta = (1.0 - sin_beta * sin_beta).sqrt();
     // β and the piston pin's position x_B along e as functions of φ, and their derivatives.
@@ -256,7 +279,6 @@ fn unit_forces(
         r * (-omega * omega * s + epsilon * c),
     ];
     // Gravity in the unit's frame: −g (sin γ e + cos γ n).
-    let (sin_g, cos_g) = unit.inclination.sin_cos();
     let weight = [-g * sin_g, -g * cos_g];
     let cross = |a: [f64; 2], b: [f64; 2]| a[0] * b[1] - a[1] * b[0];
     let rod_rest = [a_g[0] - weight[0], a_g[1] - weight[1]];
@@ -332,36 +354,124 @@ pub fn bearing_loads(
             check(name, value, "finite", |_| true)?;
         }
     }
-    // Each unit's load on its throw at every angle (a few dozen flops and one sin_cos each).
-    let work = units.len().saturating_mul(points).saturating_mul(64);
-    let per_unit = map_indices(units.len(), work, parallelism, |j| {
-        let unit = &units[j];
-        (0..points)
-            .map(|i| {
-                unit_forces(
-                    unit,
-                    phi[i],
-                    omega[i],
-                    acceleration[i],
-                    gas[j * points + i],
-                    g,
-                )
-                .throw_load
-            })
-            .collect::<Vec<[f64; 2]>>()
-    });
     horizontal.fill(0.0);
     vertical.fill(0.0);
-    for (j, loads) in per_unit.iter().enumerate() {
+    // Each unit's load on its throw at every angle (a few dozen flops and one sin_cos each),
+    // summed into the bearings unit by unit: the same doubles on one thread or many.
+    let work = units.len().saturating_mul(points).saturating_mul(64);
+    let load = |j: usize, i: usize| {
+        unit_forces(
+            &units[j],
+            phi[i],
+            omega[i],
+            acceleration[i],
+            gas[j * points + i],
+            g,
+        )
+        .throw_load
+    };
+    let mut add = |j: usize, i: usize, [h, v]: [f64; 2]| {
         let (a, share_a, b, share_b) = layout.shares[layout.throw_of_unit[j]];
-        for (i, [h, v]) in loads.iter().enumerate() {
-            horizontal[a * points + i] += share_a * h;
-            vertical[a * points + i] += share_a * v;
-            horizontal[b * points + i] += share_b * h;
-            vertical[b * points + i] += share_b * v;
+        horizontal[a * points + i] += share_a * h;
+        vertical[a * points + i] += share_a * v;
+        horizontal[b * points + i] += share_b * h;
+        vertical[b * points + i] += share_b * v;
+    };
+    if parallelism.runs_parallel(work) {
+        let per_unit = map_indices(units.len(), work, parallelism, |j| {
+            (0..points).map(|i| load(j, i)).collect::<Vec<[f64; 2]>>()
+        });
+        for (j, loads) in per_unit.iter().enumerate() {
+            for (i, &hv) in loads.iter().enumerate() {
+                add(j, i, hv);
+            }
+        }
+    } else {
+        for j in 0..units.len() {
+            for i in 0..points {
+                add(j, i, load(j, i));
+            }
         }
     }
     Ok(())
+}
+
+/// What [`max_bearing_load`] reuses from one call to the next: each bearing's load at one
+/// angle, each unit's (sin γ, cos γ) and its (sin ψ, cos ψ) at every angle.
+#[derive(Debug, Default)]
+pub(crate) struct LoadScratch {
+    bearings: Vec<[f64; 2]>,
+    frames: Vec<(f64, f64)>,
+    trig: Vec<(f64, f64)>,
+}
+
+/// (sin ψ, cos ψ) of every unit at every angle, ψ = φ + α (unit-major, units × phi), into
+/// `out`.
+pub(crate) fn crank_trig(units: &[PhysicalCylinder], phi: &[f64], out: &mut Vec<(f64, f64)>) {
+    out.clear();
+    for unit in units {
+        out.extend(phi.iter().map(|p| (p + unit.phase).sin_cos()));
+    }
+}
+
+/// The largest magnitude of any main bearing's load (N) at the crank angles `phi` (rad) at
+/// the constant speed `omega` (rad/s) with the gas forces `gas` (N, unit-major) times
+/// `gas_scale` and g (m/s²): the loads of [`bearing_loads`], the same doubles (with
+/// `gas_scale` 1), taken angle by angle, nothing kept. The units' (sin ψ, cos ψ) are
+/// `trig` ([`crank_trig`] of these units and angles) where given, else made in `scratch`.
+/// The units and values checked by the caller.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn max_bearing_load(
+    units: &[PhysicalCylinder],
+    layout: &BearingLayout,
+    phi: &[f64],
+    omega: f64,
+    gas: &[f64],
+    gas_scale: f64,
+    g: f64,
+    trig: Option<&[(f64, f64)]>,
+    scratch: &mut LoadScratch,
+) -> f64 {
+    let points = phi.len();
+    let LoadScratch {
+        bearings,
+        frames,
+        trig: own,
+    } = scratch;
+    let trig = match trig {
+        Some(trig) => trig,
+        None => {
+            crank_trig(units, phi, own);
+            own
+        }
+    };
+    frames.clear();
+    frames.extend(units.iter().map(|u| u.inclination.sin_cos()));
+    let (mut largest, mut cut) = (0.0_f64, 0.0_f64);
+    for i in 0..points {
+        bearings.clear();
+        bearings.resize(layout.bearings(), [0.0; 2]);
+        for (j, unit) in units.iter().enumerate() {
+            let k = j * points + i;
+            let [h, v] =
+                unit_forces_at(unit, trig[k], frames[j], omega, 0.0, gas_scale * gas[k], g)
+                    .throw_load;
+            let (a, share_a, b, share_b) = layout.shares[layout.throw_of_unit[j]];
+            bearings[a][0] += share_a * h;
+            bearings[a][1] += share_a * v;
+            bearings[b][0] += share_b * h;
+            bearings[b][1] += share_b * v;
+        }
+        for [h, v] in bearings.iter() {
+            // hypot only where it may be the largest: h² + v² within rounding of the largest
+            // so far (the same doubles as the largest hypot of all).
+            if h * h + v * v >= cut {
+                largest = largest.max(h.hypot(*v));
+                cut = largest * largest * (1.0 - 1e-12);
+            }
+        }
+    }
+    largest
 }
 
 /// The torque about the shaft axis that the frame receives from the moving parts (N·m,
@@ -408,70 +518,8 @@ pub fn frame_torque(
     Ok(())
 }
 
+mod parts;
 #[cfg(test)]
-mod tests {
-    use super::*;
+mod tests;
 
-    #[test]
-    fn the_lever_rule_shares_a_throw_between_its_neighbours() {
-        // Throws at 0.1 and 0.5 between bearings at 0, 0.4 and 1.0: 3/4 and 1/4, then 5/6
-        // and 1/6.
-        let given = [0.0, 0.4, 1.0];
-        let layout = BearingLayout::new(&[0.1, 0.5, 0.5], Some(&given), 0.05).unwrap();
-        assert_eq!(layout.bearings(), 3);
-        assert_eq!(layout.throws(), [0.1, 0.5]);
-        assert_eq!(layout.throw_of_unit(), [0, 1, 1]);
-        let close = |a: f64, b: f64| (a - b).abs() < 1e-15;
-        let (a, share_a, b, share_b) = layout.shares[0];
-        assert!((a, b) == (0, 1) && close(share_a, 0.75) && close(share_b, 0.25));
-        let (a, share_a, b, share_b) = layout.shares[1];
-        assert!((a, b) == (1, 2) && close(share_a, 5.0 / 6.0) && close(share_b, 1.0 / 6.0));
-    }
-
-    #[test]
-    fn units_within_rounding_are_one_throw_and_default_bearings_interleave_them() {
-        let layout = BearingLayout::new(&[0.3, 0.1, 0.3 + 1e-15, 0.2], None, 0.05).unwrap();
-        assert_eq!(layout.throws(), [0.1, 0.2, 0.3]);
-        assert_eq!(layout.throw_of_unit(), [2, 0, 2, 1]);
-        let expected = [0.05, 0.15, 0.25, 0.35];
-        for (found, want) in layout.bearing_position().iter().zip(expected) {
-            assert!((found - want).abs() < 1e-15, "{found} {want}");
-        }
-        let lone = BearingLayout::new(&[2.0, 2.0], None, 0.1).unwrap();
-        assert_eq!(lone.bearing_position(), [1.9, 2.1]);
-    }
-
-    #[test]
-    fn an_overhung_throw_or_one_at_a_bearing_is_refused_naming_it() {
-        let given = [0.0, 0.4, 1.0];
-        for (z, words) in [
-            (
-                -0.1,
-                "the throw at z = -0.1 m (cylinders[0]) is overhung, before the first",
-            ),
-            (
-                0.0,
-                "main_bearings[0] = 0 m is at the throw at z = 0 m (cylinders[0])",
-            ),
-            (0.4, "main_bearings[1] = 0.4 m is at the throw"),
-            (1.2, "is overhung, beyond the last bearing at 1 m"),
-        ] {
-            let error = BearingLayout::new(&[z], Some(&given), 0.1).unwrap_err();
-            assert_eq!(error.parameter(), Some("main_bearings"));
-            assert!(error.to_string().contains(words), "{error}");
-        }
-        for (given, words) in [
-            (&[0.0][..], "at least two"),
-            (
-                &[1.0, 0.0],
-                "main_bearings[1] = 0 m is not beyond main_bearings[0] = 1 m",
-            ),
-            (&[0.0, f64::NAN], "main_bearings[1] = nan is out of range"),
-        ] {
-            let error = BearingLayout::new(&[0.5], Some(given), 0.1).unwrap_err();
-            assert!(error.to_string().contains(words), "{error}");
-        }
-        assert!(BearingLayout::new(&[f64::INFINITY], None, 0.1).is_err());
-        assert!(BearingLayout::new(&[], None, 0.1).is_err());
-    }
-}
+pub use parts::BearingParts;

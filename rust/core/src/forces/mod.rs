@@ -16,6 +16,7 @@
 mod bearings;
 mod shaking;
 
-pub use bearings::{bearing_loads, frame_torque, BearingLayout, SAME_POSITION};
+pub use bearings::{bearing_loads, frame_torque, BearingLayout, BearingParts, SAME_POSITION};
+pub(crate) use bearings::{crank_trig, max_bearing_load, LoadScratch};
 pub use shaking::{engine_centre, ShakingForces, ShakingOrders, ORDER_COLUMNS};
 pub(crate) use shaking::{FORCE_FORWARD, MOMENT_FORWARD};

@@ -6,8 +6,9 @@
 //! columns are bit-identical for any thread count.
 
 use crate::error::{MechanismError, Result};
-use crate::forces::{bearing_loads, BearingLayout, ShakingForces, FORCE_FORWARD, MOMENT_FORWARD};
-use crate::parallel::{map_indices, Parallelism};
+use crate::forces::{crank_trig, max_bearing_load, BearingLayout, LoadScratch, ShakingForces};
+use crate::forces::{FORCE_FORWARD, MOMENT_FORWARD};
+use crate::parallel::{map_indices_with, Parallelism};
 
 use super::columns::MachineDesigns;
 use super::gas::PiecewisePolynomial;
@@ -27,6 +28,14 @@ pub const FRAME_OUTPUTS: [&str; 5] = [
 /// Angles per working cycle at which a design's bearing loads are taken (every half degree
 /// of a two-stroke cycle, every degree of a four-stroke one's).
 pub const BEARING_ANGLES: usize = 720;
+
+/// The default angles of the bearing loads: [`BEARING_ANGLES`] uniform ones over the working
+/// cycle `cycle` (rad), iΦ/N.
+pub fn default_angles(cycle: f64) -> Vec<f64> {
+    (0..BEARING_ANGLES)
+        .map(|i| cycle * i as f64 / BEARING_ANGLES as f64)
+        .collect()
+}
 
 /// Kernel evaluations per design and unit, for `Parallelism`'s threshold: the free forces
 /// alone are a few series terms; the bearing loads BEARING_ANGLES Newton–Euler solutions.
@@ -66,15 +75,18 @@ impl FrameOutputs {
 /// The frame's outputs of every design of `designs` applied to `base` (mean speed `omega`,
 /// rad/s, where there is no omega column), each unit at `axial_position` (m) and its throw
 /// shared between the bearings of `bearings` (the base machine's, as
-/// [`Machine::frame_sweep`](crate::Machine::frame_sweep) gives them): one column per
+/// [`Machine::frame_sweep`](crate::Machine::frame_sweep) gives them, with its gas forces at
+/// the [`default_angles`], `base_gas`, N, unit-major): one column per
 /// [`FRAME_OUTPUTS`] name (N, N·m), empty where not asked. A bad value of design `row` is a
 /// [`MechanismError::InRow`].
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn frame_sweep(
     base: &MachineView<'_>,
     omega: Option<f64>,
     designs: &MachineDesigns<'_>,
     axial_position: &[f64],
     bearings: &BearingLayout,
+    base_gas: &[f64],
     outputs: FrameOutputs,
     parallelism: Parallelism,
 ) -> Result<[Vec<f64>; 5]> {
@@ -88,25 +100,37 @@ pub(crate) fn frame_sweep(
             FREE_WORK
         });
     let cycle = base.strokes.cycle_angle();
-    let phi: Vec<f64> = (0..BEARING_ANGLES)
-        .map(|i| cycle * i as f64 / BEARING_ANGLES as f64)
-        .collect();
-    let rows = map_indices(n, work, parallelism, |row| {
-        design_row(
-            base,
-            omega,
-            designs,
-            row,
-            axial_position,
-            bearings,
-            outputs,
-            &phi,
-        )
-        .map_err(|error| MechanismError::InRow {
-            row,
-            error: Box::new(error),
-        })
-    });
+    let phi = default_angles(cycle);
+    // The base units' (sin ψ, cos ψ): every design's that keeps their phases.
+    let mut base_trig = Vec::new();
+    if outputs.bearings() {
+        crank_trig(base.units, &phi, &mut base_trig);
+    }
+    let base_gas = (base_gas, &base_trig[..]);
+    let rows = map_indices_with(
+        n,
+        work,
+        parallelism,
+        LoadScratch::default,
+        |scratch, row| {
+            design_row(
+                base,
+                omega,
+                designs,
+                row,
+                axial_position,
+                bearings,
+                base_gas,
+                outputs,
+                &phi,
+                scratch,
+            )
+            .map_err(|error| MechanismError::InRow {
+                row,
+                error: Box::new(error),
+            })
+        },
+    );
     let mut columns: [Vec<f64>; 5] = Default::default();
     for (k, column) in columns.iter_mut().enumerate() {
         if outputs.0[k] {
@@ -132,8 +156,10 @@ fn design_row(
     row: usize,
     axial_position: &[f64],
     bearings: &BearingLayout,
+    (base_gas, base_trig): (&[f64], &[(f64, f64)]),
     outputs: FrameOutputs,
     phi: &[f64],
+    scratch: &mut LoadScratch,
 ) -> Result<[f64; 5]> {
     let v = variant(base, omega, designs, row)?;
     let mut found = [f64::NAN; 5];
@@ -149,35 +175,39 @@ fn design_row(
         }
     }
     if outputs.bearings() {
-        let diagrams: Vec<PiecewisePolynomial> = match v.pressure_scale {
-            Some(factor) => base.diagrams.iter().map(|d| d.scaled(factor)).collect(),
-            None => base.diagrams.to_vec(),
+        let machine = v.machine(base);
+        // The base machine's gas forces serve where the design keeps its gas and phases
+        // (times its pressure scale: the diagrams' coefficients scaled, to rounding).
+        let same_phases = v
+            .units
+            .iter()
+            .zip(base.units)
+            .all(|(a, b)| a.phase == b.phase);
+        let same_gas = same_phases && machine.gas == base.gas;
+        let (gas, scale) = if same_gas {
+            (None, v.pressure_scale.unwrap_or(1.0))
+        } else {
+            let diagrams: Vec<PiecewisePolynomial> = match v.pressure_scale {
+                Some(factor) => base.diagrams.iter().map(|d| d.scaled(factor)).collect(),
+                None => base.diagrams.to_vec(),
+            };
+            let machine = MachineView {
+                diagrams: &diagrams,
+                ..machine
+            };
+            (Some(machine.piston_forces(phi)?), 1.0)
         };
-        let machine = MachineView {
-            diagrams: &diagrams,
-            ..v.machine(base)
-        };
-        let gas = machine.piston_forces(phi)?;
-        let points = phi.len();
-        let (speed, rest) = (vec![v.omega; points], vec![0.0; points]);
-        let size = bearings.bearings() * points;
-        let (mut horizontal, mut vertical) = (vec![0.0; size], vec![0.0; size]);
-        bearing_loads(
+        found[4] = max_bearing_load(
             &v.units,
             bearings,
             phi,
-            &speed,
-            &rest,
-            &gas,
+            v.omega,
+            gas.as_deref().unwrap_or(base_gas),
+            scale,
             v.g,
-            &mut horizontal,
-            &mut vertical,
-            Parallelism::SERIAL, // the designs run in parallel
-        )?;
-        found[4] = horizontal
-            .iter()
-            .zip(&vertical)
-            .fold(0.0_f64, |m, (h, v)| m.max(h.hypot(*v)));
+            same_phases.then_some(base_trig),
+            scratch,
+        );
     }
     Ok(found)
 }

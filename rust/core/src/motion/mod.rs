@@ -46,7 +46,8 @@ use tables::state_of;
 pub use columns::{MachineDesigns, MotionColumns, MotionOutputs, UnitColumn, UnitField};
 pub use flywheel::size_shaft_inertia;
 pub(crate) use frame_sweep::frame_sweep;
-pub use frame_sweep::{FrameOutputs, BEARING_ANGLES, FRAME_OUTPUTS};
+pub use frame_sweep::{default_angles, FrameOutputs, BEARING_ANGLES, FRAME_OUTPUTS};
+pub(crate) use gas::Forces as GasForces;
 pub use gas::{net_piston_forces, GasCylinder, PiecewisePolynomial};
 pub use orders::{torque_orders, TorqueOrders};
 pub use sweep::motion_sweep;
@@ -84,13 +85,17 @@ impl MachineView<'_> {
     /// Every unit's gas force F = p·A − p_c·A_c (N, toward the shaft) at every φ (rad),
     /// unit-major (units × phi), from the machine's own diagrams.
     pub fn piston_forces(&self, phi: &[f64]) -> Result<Vec<f64>> {
-        let forces = gas::Forces::new(
+        Ok(self.gas_forces()?.at(phi))
+    }
+
+    /// The rule of its gas forces (its diagrams copied into it).
+    pub(crate) fn gas_forces(&self) -> Result<gas::Forces> {
+        gas::Forces::new(
             self.units,
             self.gas,
             self.diagrams.into(),
             self.strokes.cycle_angle(),
-        )?;
-        Ok(forces.at(phi))
+        )
     }
 }
 
