@@ -210,8 +210,9 @@ impl Machine {
         Ok(self.gas_forces.get_or_init(|| made))
     }
 
-    /// The gas forces (N, unit-major) at the default angles ([`default_angles`]:
-    /// [`BEARING_ANGLES`](crate::BEARING_ANGLES) over the working cycle), made on first use.
+    /// The gas forces (N, unit-major) at the default angles (the
+    /// [`BEARING_ANGLES`](crate::BEARING_ANGLES) uniform angles iΦ/N over the working cycle),
+    /// made on first use.
     pub fn default_piston_forces(&self) -> Result<&[f64]> {
         if let Some(gas) = self.default_gas.get() {
             return Ok(gas);
@@ -237,7 +238,8 @@ impl Machine {
     }
 
     /// The force every main bearing receives from the shaft (N; horizontal and vertical,
-    /// bearing-major, bearings × angles) at the default angles ([`default_angles`]) at the
+    /// bearing-major, bearings × angles) at the default angles (the
+    /// [`BEARING_ANGLES`](crate::BEARING_ANGLES) uniform ones over the working cycle) at the
     /// constant speed `omega` (rad/s), the gas forces times `pressure_scale` (a load law's
     /// factor; 1: as given) and, with `gravity`, the weights: [`Machine::bearing_loads`] at
     /// those angles to rounding, from the parts kept ([`Machine::bearing_parts`]).

@@ -1,5 +1,5 @@
 //! The parts of the bearing loads at a constant speed, kept per machine: each load linear
-//! in ω², g and the gas forces ([`unit_forces`] at unit inputs).
+//! in ω², g and the gas forces (`unit_forces`, the one Newton–Euler, at unit inputs).
 
 use super::{unit_forces, BearingLayout};
 use crate::error::{check, check_length, Result};
@@ -7,11 +7,11 @@ use crate::mechanism::PhysicalCylinder;
 
 /// The parts of every main bearing's load at fixed crank angles at a constant speed, each
 /// load being linear in ω², g and the gas forces (a pressure scale s multiplying them all):
-/// L(φ) = ω²·W(φ) + g·G(φ) + s·F(φ), W, G and F each [`unit_forces`] at unit inputs (ω = 1,
+/// L(φ) = ω²·W(φ) + g·G(φ) + s·F(φ), W, G and F each `unit_forces` at unit inputs (ω = 1,
 /// g = 1, the gas forces alone; ε = 0) shared into the bearings by the lever rule. Made once
 /// per machine for its default angles; a constant speed's loads are then three multiply-adds
-/// per bearing, angle and direction — equal to [`bearing_loads`]' to rounding (not to the
-/// bit: the sums are ordered otherwise).
+/// per bearing, angle and direction — equal to [`bearing_loads`](super::bearing_loads)' to
+/// rounding (not to the bit: the sums are ordered otherwise).
 #[derive(Debug, Clone)]
 pub struct BearingParts {
     points: usize,
