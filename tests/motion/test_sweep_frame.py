@@ -32,6 +32,10 @@ def expected_row(machine, design):
         ("inline-4", {"rpm": [1500.0, 4500.0], "counterweight_mass": [0.0, 1.3, 3.0]}),
         ("boxer-compressor", {"pressure_scale": [0.5, 1.0], "rod_length": [0.3, 0.4]}),
         ("genset-v12", {"g": [0.0, 9.81], "phase[3]": [0.0, 1.0]}),
+        # Phases alone (a firing order's candidates: each unit's throw loads made once per
+        # phase it takes), at the machine's speed and at one speed given as a column.
+        ("genset-v12", {"phase[3]": [0.0, 1.0, 2.5], "phase[7]": [0.0, 0.7]}),
+        ("inline-6", {"rpm": [1200.0], "phase[1]": [0.0, 2.0], "phase[4]": [0.3, 4.0]}),
     ],
 )
 def test_every_row_is_its_machines_forces_and_bearing_loads(name, axes):

@@ -403,6 +403,15 @@ pub(crate) struct LoadScratch {
     bearings: Vec<[f64; 2]>,
     frames: Vec<(f64, f64)>,
     trig: Vec<(f64, f64)>,
+    /// Every unit's throw loads, unit-major.
+    throws: Vec<[f64; 2]>,
+}
+
+impl LoadScratch {
+    /// The scratch of the bearings' sums alone ([`largest_bearing_load`]).
+    pub(crate) fn bearings(&mut self) -> &mut Vec<[f64; 2]> {
+        &mut self.bearings
+    }
 }
 
 /// (sin ψ, cos ψ) of every unit at every angle, ψ = φ + α (unit-major, units × phi), into
@@ -437,6 +446,7 @@ pub(crate) fn max_bearing_load(
         bearings,
         frames,
         trig: own,
+        throws,
     } = scratch;
     let trig = match trig {
         Some(trig) => trig,
@@ -447,15 +457,62 @@ pub(crate) fn max_bearing_load(
     };
     frames.clear();
     frames.extend(units.iter().map(|u| u.inclination.sin_cos()));
+    throws.clear();
+    for (j, unit) in units.iter().enumerate() {
+        let unit_points = j * points..(j + 1) * points;
+        throws.extend(trig[unit_points.clone()].iter().zip(&gas[unit_points]).map(
+            |(&trig, &gas)| {
+                unit_forces_at(unit, trig, frames[j], omega, 0.0, gas_scale * gas, g).throw_load
+            },
+        ));
+    }
+    let per_unit: Vec<&[[f64; 2]]> = throws.chunks_exact(points.max(1)).collect();
+    largest_bearing_load(layout, &per_unit, points, bearings)
+}
+
+/// Each unit's load on its throw (N; horizontal, vertical) at the crank angles `phi` (rad) at
+/// the constant speed `omega` (rad/s) with its gas forces `gas` (N) and g (m/s²), into `out`:
+/// what [`max_bearing_load`] takes of it, the same doubles, for a caller that keeps a unit's
+/// loads for several machines (a firing order's candidates, a unit at a phase made once).
+pub(crate) fn throw_loads(
+    unit: &PhysicalCylinder,
+    phi: &[f64],
+    omega: f64,
+    gas: &[f64],
+    g: f64,
+    out: &mut Vec<[f64; 2]>,
+) {
+    let frame = unit.inclination.sin_cos();
+    out.clear();
+    out.extend(phi.iter().zip(gas).map(|(p, &gas)| {
+        unit_forces_at(
+            unit,
+            (p + unit.phase).sin_cos(),
+            frame,
+            omega,
+            0.0,
+            1.0 * gas,
+            g,
+        )
+        .throw_load
+    }));
+}
+
+/// The largest magnitude (N) of any bearing's load over `points` angles, the units' throw
+/// loads `per_unit` (each `points` long, in unit order) shared by the lever rule and summed
+/// unit by unit: the one sum and maximum of [`max_bearing_load`] (`bearings` its scratch).
+pub(crate) fn largest_bearing_load(
+    layout: &BearingLayout,
+    per_unit: &[&[[f64; 2]]],
+    points: usize,
+    bearings: &mut Vec<[f64; 2]>,
+) -> f64 {
     let (mut largest, mut cut) = (0.0_f64, 0.0_f64);
     for i in 0..points {
         bearings.clear();
         bearings.resize(layout.bearings(), [0.0; 2]);
-        for (j, unit) in units.iter().enumerate() {
-            let k = j * points + i;
-            let [h, v] =
-                unit_forces_at(unit, trig[k], frames[j], omega, 0.0, gas_scale * gas[k], g)
-                    .throw_load;
+        for (j, loads) in per_unit.iter().enumerate() {
+            let [h, v] = loads[i];
             let (a, share_a, b, share_b) = layout.shares[layout.throw_of_unit[j]];
             bearings[a][0] += share_a * h;
             bearings[a][1] += share_a * v;

@@ -17,6 +17,8 @@ mod bearings;
 mod shaking;
 
 pub use bearings::{bearing_loads, frame_torque, BearingLayout, BearingParts, SAME_POSITION};
-pub(crate) use bearings::{crank_trig, max_bearing_load, LoadScratch};
+pub(crate) use bearings::{
+    crank_trig, largest_bearing_load, max_bearing_load, throw_loads, LoadScratch,
+};
 pub use shaking::{engine_centre, ShakingForces, ShakingOrders, ORDER_COLUMNS};
 pub(crate) use shaking::{FORCE_FORWARD, MOMENT_FORWARD};

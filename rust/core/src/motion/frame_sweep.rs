@@ -5,12 +5,14 @@
 //! row is the design's machine as the motion sweep's variant rule makes it, alone, so the
 //! columns are bit-identical for any thread count.
 
+use std::collections::HashMap;
+
 use crate::error::{MechanismError, Result};
 use crate::forces::{crank_trig, max_bearing_load, BearingLayout, LoadScratch, ShakingForces};
-use crate::forces::{FORCE_FORWARD, MOMENT_FORWARD};
+use crate::forces::{largest_bearing_load, throw_loads, FORCE_FORWARD, MOMENT_FORWARD};
 use crate::parallel::{map_indices_with, Parallelism};
 
-use super::columns::MachineDesigns;
+use super::columns::{MachineDesigns, UnitField};
 use super::gas::PiecewisePolynomial;
 use super::sweep::check_designs;
 use super::variant::variant;
@@ -107,6 +109,11 @@ pub(crate) fn frame_sweep(
         crank_trig(base.units, &phi, &mut base_trig);
     }
     let base_gas = (base_gas, &base_trig[..]);
+    let by_phase = if outputs.bearings() {
+        PhaseLoads::new(base, omega, designs, &phi)?
+    } else {
+        None
+    };
     let rows = map_indices_with(
         n,
         work,
@@ -121,6 +128,7 @@ pub(crate) fn frame_sweep(
                 axial_position,
                 bearings,
                 base_gas,
+                by_phase.as_ref(),
                 outputs,
                 &phi,
                 scratch,
@@ -157,6 +165,7 @@ fn design_row(
     axial_position: &[f64],
     bearings: &BearingLayout,
     (base_gas, base_trig): (&[f64], &[(f64, f64)]),
+    by_phase: Option<&PhaseLoads>,
     outputs: FrameOutputs,
     phi: &[f64],
     scratch: &mut LoadScratch,
@@ -174,7 +183,9 @@ fn design_row(
             }
         }
     }
-    if outputs.bearings() {
+    if let (true, Some(by_phase)) = (outputs.bearings(), by_phase) {
+        found[4] = by_phase.largest(&v.units, bearings, phi.len(), scratch);
+    } else if outputs.bearings() {
         let machine = v.machine(base);
         // The base machine's gas forces serve where the design keeps its gas and phases
         // (times its pressure scale: the diagrams' coefficients scaled, to rounding).
@@ -187,12 +198,16 @@ fn design_row(
         let (gas, scale) = if same_gas {
             (None, v.pressure_scale.unwrap_or(1.0))
         } else {
-            let diagrams: Vec<PiecewisePolynomial> = match v.pressure_scale {
-                Some(factor) => base.diagrams.iter().map(|d| d.scaled(factor)).collect(),
-                None => base.diagrams.to_vec(),
+            let scaled: Vec<PiecewisePolynomial>;
+            let diagrams = match v.pressure_scale {
+                Some(factor) => {
+                    scaled = base.diagrams.iter().map(|d| d.scaled(factor)).collect();
+                    &scaled[..]
+                }
+                None => base.diagrams,
             };
             let machine = MachineView {
-                diagrams: &diagrams,
+                diagrams,
                 ..machine
             };
             (Some(machine.piston_forces(phi)?), 1.0)
@@ -210,4 +225,86 @@ fn design_row(
         );
     }
     Ok(found)
+}
+
+/// The throw loads of every unit at every phase it takes, where the designs change nothing but
+/// the units' phases (a firing order's candidates): a unit's loads on its throw depend on its
+/// own phase alone, so they are made once per distinct (unit, phase) — a crank's cylinders
+/// take few — and a design's largest bearing load sums its units' ([`largest_bearing_load`]):
+/// the same doubles as its own machine's, a few multiply-adds per unit and angle.
+struct PhaseLoads {
+    /// (unit, phase's bits) → its loads' index in `loads`.
+    index: HashMap<(usize, u64), usize>,
+    loads: Vec<Vec<[f64; 2]>>,
+}
+
+impl PhaseLoads {
+    /// The loads of every (unit, phase) of `designs` at the angles `phi` (rad); `None` where a
+    /// design changes anything else than phases (I_w aside: it changes no frame output), or
+    /// the designs' speed or g differ (a column of one value is the base's).
+    fn new(
+        base: &MachineView<'_>,
+        omega: Option<f64>,
+        designs: &MachineDesigns<'_>,
+        phi: &[f64],
+    ) -> Result<Option<Self>> {
+        let one_value = |column: &[f64]| column.iter().all(|v| v.to_bits() == column[0].to_bits());
+        let only_phases = designs
+            .named()
+            .iter()
+            .all(|(name, _, column)| match column {
+                None => true,
+                Some(_) if *name == "shaft_inertia" => true,
+                Some(column) => (*name == "omega" || *name == "g") && one_value(column),
+            })
+            && designs.units.iter().all(|c| c.field == UnitField::Phase);
+        if !only_phases || designs.designs == 0 {
+            return Ok(None);
+        }
+        // Every design's speed and g: the first's.
+        let first = variant(base, omega, designs, 0)?;
+        let (omega, g) = (first.omega, first.g);
+        let mut found = Self {
+            index: HashMap::new(),
+            loads: Vec::new(),
+        };
+        for row in 0..designs.designs {
+            for (j, unit) in variant(base, Some(omega), designs, row)?
+                .units
+                .iter()
+                .enumerate()
+            {
+                let key = (j, unit.phase.to_bits());
+                if found.index.contains_key(&key) {
+                    continue;
+                }
+                let alone = MachineView {
+                    units: std::slice::from_ref(unit),
+                    gas: &base.gas[j..=j],
+                    ..*base
+                };
+                let mut loads = Vec::with_capacity(phi.len());
+                throw_loads(unit, phi, omega, &alone.piston_forces(phi)?, g, &mut loads);
+                found.index.insert(key, found.loads.len());
+                found.loads.push(loads);
+            }
+        }
+        Ok(Some(found))
+    }
+
+    /// The largest bearing load of the design whose units are `units`.
+    fn largest(
+        &self,
+        units: &[crate::mechanism::PhysicalCylinder],
+        layout: &BearingLayout,
+        points: usize,
+        scratch: &mut LoadScratch,
+    ) -> f64 {
+        let per_unit: Vec<&[[f64; 2]]> = units
+            .iter()
+            .enumerate()
+            .map(|(j, unit)| &self.loads[self.index[&(j, unit.phase.to_bits())]][..])
+            .collect();
+        largest_bearing_load(layout, &per_unit, points, scratch.bearings())
+    }
 }
