@@ -485,16 +485,7 @@ pub(crate) fn throw_loads(
     let frame = unit.inclination.sin_cos();
     out.clear();
     out.extend(phi.iter().zip(gas).map(|(p, &gas)| {
-        unit_forces_at(
-            unit,
-            (p + unit.phase).sin_cos(),
-            frame,
-            omega,
-            0.0,
-            1.0 * gas,
-            g,
-        )
-        .throw_load
+        unit_forces_at(unit, (p + unit.phase).sin_cos(), frame, omega, 0.0, gas, g).throw_load
     }));
 }
 
