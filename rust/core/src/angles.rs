@@ -402,6 +402,10 @@ fn sincos_double_double(angles: &[DoubleDouble]) -> (Vec<f64>, Vec<f64>) {
 /// Where a kernel's register block gets (sin φ, cos φ): one implementation per kind of
 /// `Run`, so that each block loop is compiled for its source (no branch inside it).
 pub(crate) trait AngleSource: Copy {
+    /// Whether a point's (sin, cos) are the same in a block of any width (computed from the
+    /// point alone, or read): a run may then end in narrower blocks.
+    const LANE_FREE: bool = true;
+
     /// Points offset … offset + len − 1 of the run (len ≤ N); the other lanes padded.
     fn block<M: MulAdd, const N: usize>(self, offset: usize, len: usize) -> ([f64; N], [f64; N]);
 
@@ -439,7 +443,7 @@ pub(crate) struct GridAngles<'a> {
 /// values[offset .. offset + len] in N lanes, zero-padded: a fixed-size load for whole
 /// blocks (a variable-length copy would be a call to memcpy per block).
 #[inline(always)]
-fn padded<const N: usize>(values: &[f64], offset: usize, len: usize) -> [f64; N] {
+pub(crate) fn padded<const N: usize>(values: &[f64], offset: usize, len: usize) -> [f64; N] {
     let mut x = [0.0; N];
     if len == N {
         x.copy_from_slice(&values[offset..offset + N]);
@@ -472,6 +476,9 @@ impl AngleSource for TableAngles<'_> {
 }
 
 impl AngleSource for GridAngles<'_> {
+    // A block's rotations start from its first index: its width is part of the rounding.
+    const LANE_FREE: bool = false;
+
     #[inline(always)]
     fn block<M: MulAdd, const N: usize>(self, offset: usize, _len: usize) -> ([f64; N], [f64; N]) {
         self.rotations.block::<M, N>(self.first + offset)

@@ -19,7 +19,7 @@
 use crate::angles::{Phi, PreparedPhi};
 use crate::engine::{Engine, EngineUnit};
 use crate::error::{check, check_length, check_rows_length, MechanismError, Result};
-use crate::exact::{crank_run, CrankTerm, Quantity};
+use crate::exact::{crank_run, weighted_crank_run, CrankTerm, Quantity, RowWeights};
 use crate::mechanism::{
     check_shaft_inertia, check_speed, two_mass_rod_inertia, Phases, PhysicalCylinder,
 };
@@ -348,17 +348,13 @@ impl Dynamics {
         let phi = PreparedPhi::new(phi, parallelism);
         let work = n.saturating_mul(self.len());
         for_each_row_segment(out, n, work, parallelism, |_, col, segment| {
-            segment.fill(0.0);
-            let mut velocity = vec![0.0; segment.len()];
-            for (j, slider) in self.sliders.iter().enumerate() {
-                let run = phi.run(col, segment.len());
-                let phase = self.phases.one(j);
-                crank_run::<Velocity>(std::slice::from_ref(slider), &phase, run, &mut velocity);
-                let force = &forces[j * n + col..j * n + col + segment.len()];
-                for ((m, f), v) in segment.iter_mut().zip(force).zip(&velocity) {
-                    *m += f * v;
-                }
-            }
+            let run = phi.run(col, segment.len());
+            let weights = RowWeights {
+                values: forces,
+                stride: n,
+                first: col,
+            };
+            weighted_crank_run::<Velocity>(&self.sliders, &self.phases, run, weights, segment);
         });
         Ok(())
     }

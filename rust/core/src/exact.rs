@@ -12,7 +12,7 @@
 use multiversion::multiversion;
 use multiversion::target::target_cfg_f;
 
-use crate::angles::{AngleSource, Phi, PreparedPhi, Run};
+use crate::angles::{padded, AngleSource, Phi, PreparedPhi, Run};
 use crate::error::{check_rows_length, Result};
 use crate::mechanism::{Design, Phases};
 use crate::parallel::{for_each_row_segment, Parallelism};
@@ -160,27 +160,30 @@ impl CrankTerm for ForceDerivative {
     }
 }
 
-/// Σ_j term_j(φ_i + α_j) over a run of φ; `units` holds one set of coefficients shared by
-/// every crank (an in-line machine) or one per crank (a general engine).
+/// Σ_j term_j(φ_i + α_j) over a run of φ (each term times its weight, where `weights` has
+/// them); `units` holds one set of coefficients shared by every crank (an in-line machine)
+/// or one per crank (a general engine).
 #[inline(always)]
-fn sum_over_cranks<K: CrankTerm, M: MulAdd>(
+fn sum_over_cranks<K: CrankTerm, M: MulAdd, W: CrankWeights>(
     units: &[K::Unit],
     phases: &Phases,
     run: Run,
+    weights: W,
     out: &mut [f64],
 ) {
     match run {
-        Run::Points(angles) => crank_blocks::<K, M, _>(units, phases, angles, out),
-        Run::Table(angles) => crank_blocks::<K, M, _>(units, phases, angles, out),
-        Run::Grid(angles) => crank_blocks::<K, M, _>(units, phases, angles, out),
+        Run::Points(angles) => crank_blocks::<K, M, _, W>(units, phases, angles, weights, out),
+        Run::Table(angles) => crank_blocks::<K, M, _, W>(units, phases, angles, weights, out),
+        Run::Grid(angles) => crank_blocks::<K, M, _, W>(units, phases, angles, weights, out),
     }
 }
 
 #[inline(always)]
-fn crank_blocks<K: CrankTerm, M: MulAdd, A: AngleSource>(
+fn crank_blocks<K: CrankTerm, M: MulAdd, A: AngleSource, W: CrankWeights>(
     units: &[K::Unit],
     phases: &Phases,
     angles: A,
+    weights: W,
     out: &mut [f64],
 ) {
     // LANES points at a time keep sin/cos and the running sum in registers through the
@@ -192,32 +195,44 @@ fn crank_blocks<K: CrankTerm, M: MulAdd, A: AngleSource>(
     // (A function, not a closure: a closure called twice is not inlined into the
     // multiversioned kernels, and outside them it is compiled without their features.)
     #[inline(always)]
-    fn block<K: CrankTerm, M: MulAdd, A: AngleSource>(
+    fn block<K: CrankTerm, M: MulAdd, A: AngleSource, W: CrankWeights, const N: usize>(
         units: &[K::Unit],
         phases: &Phases,
         angles: A,
+        weights: W,
         offset: usize,
         len: usize,
-    ) -> [f64; LANES] {
-        let (s, c) = angles.block::<M, LANES>(offset, len);
-        crank_sum::<K, M, LANES>(units, phases, &s, &c)
+    ) -> [f64; N] {
+        let (s, c) = angles.block::<M, N>(offset, len);
+        crank_sum::<K, M, W, N>(units, phases, &s, &c, weights, offset, len)
     }
     let mut whole = out.chunks_exact_mut(LANES);
     let mut offset = 0;
     for o in &mut whole {
         if let Ok(o) = <&mut [f64; LANES]>::try_from(o) {
-            *o = block::<K, M, A>(units, phases, angles, offset, LANES);
+            *o = block::<K, M, A, W, LANES>(units, phases, angles, weights, offset, LANES);
         }
         offset += LANES;
     }
     let tail = whole.into_remainder();
-    if !tail.is_empty() {
-        store(
-            tail,
-            &block::<K, M, A>(units, phases, angles, offset, tail.len()),
-        );
+    if A::LANE_FREE {
+        // A short tail (one angle at a time, as the steady state's extrema are refined) in
+        // narrow blocks: a 16-lane block for one point is 16 times its work, and each lane's
+        // value is the same in a block of any width.
+        for o in tail.chunks_mut(NARROW) {
+            let len = o.len();
+            let lanes = block::<K, M, A, W, NARROW>(units, phases, angles, weights, offset, len);
+            store(o, &lanes);
+            offset += len;
+        }
+    } else if !tail.is_empty() {
+        let lanes = block::<K, M, A, W, LANES>(units, phases, angles, weights, offset, tail.len());
+        store(tail, &lanes);
     }
 }
+
+/// Points per block of a short tail.
+const NARROW: usize = 4;
 
 /// The first `out.len()` ≤ N lanes into `out`: a fixed-size move for whole blocks (a
 /// variable-length copy would be a call to memmove per block).
@@ -229,13 +244,68 @@ pub(crate) fn store<const N: usize>(out: &mut [f64], lanes: &[f64; N]) {
     }
 }
 
-/// Σ_j term_j at N points given their (sin φ, cos φ).
+/// What each crank's term is multiplied by before the sum over the cranks.
+pub(crate) trait CrankWeights: Copy {
+    /// `terms` (crank `crank`, points offset … offset + len − 1 of the run, the other lanes
+    /// padding) weighted.
+    fn weighted<const N: usize>(
+        self,
+        crank: usize,
+        offset: usize,
+        len: usize,
+        terms: [f64; N],
+    ) -> [f64; N];
+}
+
+/// The terms as they are.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Unweighted;
+
+impl CrankWeights for Unweighted {
+    #[inline(always)]
+    fn weighted<const N: usize>(self, _: usize, _: usize, _: usize, terms: [f64; N]) -> [f64; N] {
+        terms
+    }
+}
+
+/// Weights of a crank-major table: crank j's weight at the run's point i is
+/// `values[j * stride + first + i]` (a force per unit and angle, where the term is a
+/// velocity ratio: the unit's torque).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct RowWeights<'a> {
+    pub values: &'a [f64],
+    pub stride: usize,
+    pub first: usize,
+}
+
+impl CrankWeights for RowWeights<'_> {
+    #[inline(always)]
+    fn weighted<const N: usize>(
+        self,
+        crank: usize,
+        offset: usize,
+        len: usize,
+        mut terms: [f64; N],
+    ) -> [f64; N] {
+        let weights = padded::<N>(self.values, crank * self.stride + self.first + offset, len);
+        for l in 0..N {
+            terms[l] *= weights[l];
+        }
+        terms
+    }
+}
+
+/// Σ_j weight_j · term_j at N points given their (sin φ, cos φ) (points offset … offset +
+/// len − 1 of the run).
 #[inline(always)]
-fn crank_sum<K: CrankTerm, M: MulAdd, const N: usize>(
+fn crank_sum<K: CrankTerm, M: MulAdd, W: CrankWeights, const N: usize>(
     units: &[K::Unit],
     phases: &Phases,
     s: &[f64; N],
     c: &[f64; N],
+    weights: W,
+    offset: usize,
+    len: usize,
 ) -> [f64; N] {
     let mut sum = [0.0; N];
     for (j, (&cos_a, &sin_a)) in phases.cos.iter().zip(&phases.sin).enumerate() {
@@ -244,10 +314,15 @@ fn crank_sum<K: CrankTerm, M: MulAdd, const N: usize>(
         } else {
             &units[j]
         };
+        let mut terms = [0.0; N];
         for l in 0..N {
             let sin_psi = M::mul_add(s[l], cos_a, c[l] * sin_a);
             let cos_psi = M::mul_add(c[l], cos_a, -(s[l] * sin_a));
-            sum[l] += K::term::<M>(kernel, sin_psi, cos_psi);
+            terms[l] = K::term::<M>(kernel, sin_psi, cos_psi);
+        }
+        let terms = weights.weighted(j, offset, len, terms);
+        for l in 0..N {
+            sum[l] += terms[l];
         }
     }
     sum
@@ -267,9 +342,27 @@ pub(crate) fn crank_run<K: CrankTerm>(
     out: &mut [f64],
 ) {
     if target_cfg_f!(target_feature = "fma") {
-        sum_over_cranks::<K, Fused>(units, phases, run, out)
+        sum_over_cranks::<K, Fused, _>(units, phases, run, Unweighted, out)
     } else {
-        sum_over_cranks::<K, Unfused>(units, phases, run, out)
+        sum_over_cranks::<K, Unfused, _>(units, phases, run, Unweighted, out)
+    }
+}
+
+/// Σ_j w_j(φ) K(unit_j, φ + α_j) at the points of `run`, as [`crank_run`] sums K, each
+/// crank's term times its weight (`weights`); the same doubles as one [`crank_run`] per crank
+/// and a running sum of the products, in crank order.
+#[multiversion(targets("x86_64+avx512f+avx512vl+avx512dq+avx2+fma", "x86_64+avx2+fma"))]
+pub(crate) fn weighted_crank_run<K: CrankTerm>(
+    units: &[K::Unit],
+    phases: &Phases,
+    run: Run,
+    weights: RowWeights,
+    out: &mut [f64],
+) {
+    if target_cfg_f!(target_feature = "fma") {
+        sum_over_cranks::<K, Fused, _>(units, phases, run, weights, out)
+    } else {
+        sum_over_cranks::<K, Unfused, _>(units, phases, run, weights, out)
     }
 }
 
