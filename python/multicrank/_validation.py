@@ -245,6 +245,8 @@ def as_threshold(value: Any) -> int | None:
 
 def as_scalar(value: Any, name: str) -> float:
     """One real number (its range is checked where it is used)."""
+    if type(value) is float:  # the common case, as the general route gives it (~1 µs less a call)
+        return value
     array = as_real_array(value, name)
     if array.ndim != 0:
         raise refused(name, f"{name} must be a single real number, got shape {array.shape}")

@@ -78,7 +78,9 @@ def steady_curves(phi: np.ndarray, omega: np.ndarray, time: np.ndarray, period: 
     return curves
 
 
-@dataclass(frozen=True, eq=False)
+# Not frozen: a frozen dataclass sets each of its 13 fields through object.__setattr__, ~2 µs
+# of a warm steady state's ~25; nothing outside the result holds one.
+@dataclass(eq=False)
 class CoreQuestion:
     """A steady state the Rust core solved, and what it takes to ask the core for the rest.
 

@@ -142,6 +142,8 @@ def at_load(machine: Machine, omega_mean: float | None) -> Machine:
 
 def resolve_rules(load: Any, drive: Any) -> Rules:
     """``load=`` and ``drive=`` validated, and the route that solves them."""
+    if drive is None and isinstance(load, str) and load == BALANCE:
+        return _BALANCE_ALONE  # the default, resolved once (a warm steady state is ~25 µs)
     torques = AppliedTorques.of(load, drive)
     load_, drive_ = torques.load, torques.drive
     constant_drive = drive_ is None or drive_.kind == "constant"
@@ -164,3 +166,7 @@ def resolve_rules(load: Any, drive: Any) -> Rules:
             "or give a load that grows with speed (mc.PowerLawLoad, or a callable f(phi, omega))",
         )
     return Rules("general", torques)
+
+
+#: The rules of the default load ("balance", no drive), as :func:`resolve_rules` resolves them.
+_BALANCE_ALONE = Rules(BALANCE, AppliedTorques.of(BALANCE, None))

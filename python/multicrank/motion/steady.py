@@ -194,7 +194,7 @@ def _solved(
         numbers, later = _shooting_solution(loaded, rules, gravity, ratio, count)
     else:
         numbers, later = _native_solution(loaded, rules, omega, gravity, ratio, count)
-    return SteadyState(
+    return SteadyState._of(
         machine=machine,
         load_rule=_describe(load, rules),
         gravity=gravity,

@@ -212,6 +212,15 @@ class SteadyState(MotionResult):
     #: question the core answered, or what shooting found with the solution. None in a pickle.
     _later: CoreQuestion | Computed | None = field(repr=False, compare=False)
 
+    @classmethod
+    def _of(cls, **fields: Any) -> SteadyState:
+        """A result of every field, checked by the solver that made them, without the frozen
+        ``__init__`` (which sets each of the 18 fields through ``object.__setattr__``: ~5 µs
+        of a warm steady state's ~25)."""
+        state = object.__new__(cls)
+        state.__dict__.update(fields)
+        return state
+
     # The arrays and the two comparison solves, computed when first read: δ alone costs one
     # solve (docs/theory.md, "Where it is computed, and when").
     @cached_property

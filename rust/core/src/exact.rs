@@ -219,11 +219,16 @@ fn crank_blocks<K: CrankTerm, M: MulAdd, A: AngleSource, W: CrankWeights>(
         // A short tail (one angle at a time, as the steady state's extrema are refined) in
         // narrow blocks: a 16-lane block for one point is 16 times its work, and each lane's
         // value is the same in a block of any width.
-        for o in tail.chunks_mut(NARROW) {
-            let len = o.len();
-            let lanes = block::<K, M, A, W, NARROW>(units, phases, angles, weights, offset, len);
-            store(o, &lanes);
-            offset += len;
+        if let [one] = tail {
+            [*one] = block::<K, M, A, W, 1>(units, phases, angles, weights, offset, 1);
+        } else {
+            for o in tail.chunks_mut(NARROW) {
+                let len = o.len();
+                let lanes =
+                    block::<K, M, A, W, NARROW>(units, phases, angles, weights, offset, len);
+                store(o, &lanes);
+                offset += len;
+            }
         }
     } else if !tail.is_empty() {
         let lanes = block::<K, M, A, W, LANES>(units, phases, angles, weights, offset, tail.len());
