@@ -91,3 +91,23 @@ def test_a_pickle_of_0_1_reads_them():
     restored.__setstate__(old)
     assert (restored.status, restored.nfev, restored.nit) == (0, -1, -1)
     assert "0.1" in restored.message
+
+
+def test_every_route_gives_a_result_every_field():
+    """A result is made from its fields without the dataclass's ``__init__`` (for speed): each
+    route must still give every field, and the result equal one the ``__init__`` makes."""
+    import dataclasses
+
+    fan = mc.PowerLawLoad(torque=90.0, rpm=120)
+    states = [
+        mc.steady_state(COMPRESSOR, rpm=120),
+        mc.steady_state(COMPRESSOR, load=fan, drive=1000.0),
+        mc.steady_state(COMPRESSOR, load=fan, drive=lambda phi, omega: 1000.0 + 50.0 * np.sin(phi)),
+    ]
+    assert [s.method for s in states] == ["energy", "closed form", "shooting"]
+    names = [f.name for f in dataclasses.fields(mc.SteadyState)]
+    for state in states:
+        assert set(names) <= set(vars(state)), state.method
+        made = mc.SteadyState(**{name: getattr(state, name) for name in names})
+        assert (made.delta, made.omega_mean, made.method) == (state.delta, state.omega_mean, state.method)
+        assert made.delta_without_gravity == state.delta_without_gravity

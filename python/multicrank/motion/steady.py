@@ -194,15 +194,15 @@ def _solved(
         numbers, later = _shooting_solution(loaded, rules, gravity, ratio, count)
     else:
         numbers, later = _native_solution(loaded, rules, omega, gravity, ratio, count)
-    return SteadyState._of(
+    numbers.update(
         machine=machine,
         load_rule=_describe(load, rules),
         gravity=gravity,
         min_speed_ratio=ratio,
         cycle=machine.cycle,
-        **numbers,
         _later=later,
     )
+    return SteadyState._of(numbers)
 
 
 #: The numbers of a solution that :class:`SteadyState` holds from the start.
