@@ -126,7 +126,21 @@ impl Indicator {
         };
         match slope {
             None => {
-                for (w, &p) in work.iter_mut().zip(phi) {
+                // LANES angles at a time: their Horner chains side by side (the same doubles).
+                const LANES: usize = 8;
+                let mut whole = work.chunks_exact_mut(LANES);
+                let mut angles = phi.chunks_exact(LANES);
+                for (w, p) in (&mut whole).zip(&mut angles) {
+                    let (mut turns, mut y) = ([0.0; LANES], [0.0; LANES]);
+                    for l in 0..LANES {
+                        (turns[l], y[l]) = turns_and_angle(p[l]);
+                    }
+                    let g = running.at_lanes(panels, &y, &mut hint);
+                    for l in 0..LANES {
+                        w[l] += turns[l] * per_cycle + g[l];
+                    }
+                }
+                for (w, &p) in whole.into_remainder().iter_mut().zip(angles.remainder()) {
                     let (t, y) = turns_and_angle(p);
                     *w += t * per_cycle + running.at_near(panels, y, &mut hint);
                 }

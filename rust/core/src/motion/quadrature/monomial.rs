@@ -97,6 +97,42 @@ impl MonomialRunning {
         self.at_edges[p] + value
     }
 
+    /// F at `L` angles (rad, each in [0, Φ]) as [`MonomialRunning::at_near`] gives each (the
+    /// same doubles): the look-ups one after another from `hint`, then the L Horner chains
+    /// side by side (one chain's multiply-adds each wait on the last; L of them keep the
+    /// arithmetic units busy).
+    #[inline]
+    pub fn at_lanes<const L: usize>(
+        &self,
+        panels: &Panels,
+        angles: &[f64; L],
+        hint: &mut usize,
+    ) -> [f64; L] {
+        let n = panels.order + 1;
+        let (mut first, mut x) = ([0; L], [0.0; L]);
+        for l in 0..L {
+            let (p, at) = self.locate(panels, angles[l], hint);
+            first[l] = p;
+            x[l] = at;
+        }
+        let mut value = [0.0; L];
+        for k in 0..n {
+            for l in 0..L {
+                value[l] = value[l] * x[l] + self.running[first[l] * n + k];
+            }
+        }
+        let mut out = [0.0; L];
+        for l in 0..L {
+            let at_edge = self.at_edges[first[l]];
+            out[l] = if x[l] == -1.0 {
+                at_edge
+            } else {
+                at_edge + value[l]
+            };
+        }
+        out
+    }
+
     /// F(φ) as [`MonomialRunning::at_near`], and f′(φ) (per rad) on the same panel (on an
     /// edge: the panel that starts there).
     #[inline]
