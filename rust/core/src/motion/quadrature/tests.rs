@@ -110,6 +110,18 @@ fn a_look_up_from_a_hint_is_the_search_and_the_monomial_form_its_integral_and_sl
     orders[0].extend(panels.edges.iter().copied());
     let monomial = MonomialRunning::new(&panels, running.at_edges.clone(), &running.coefficients);
     let scale = running.at_edges.iter().fold(0.0_f64, |m, f| m.max(f.abs()));
+    for angles in &orders {
+        // Eight at a time (their Horner chains side by side): at_near's doubles, edges too.
+        let (mut hint, mut lanes_hint) = (0, 0);
+        for chunk in angles.chunks_exact(8) {
+            let lanes: &[f64; 8] = chunk.try_into().unwrap();
+            let found = monomial.at_lanes(&panels, lanes, &mut lanes_hint);
+            for (angle, value) in chunk.iter().zip(found) {
+                let one = monomial.at_near(&panels, *angle, &mut hint);
+                assert_eq!(value.to_bits(), one.to_bits(), "{angle}");
+            }
+        }
+    }
     for angles in orders {
         let (mut hint, mut other, mut third) = (0, 0, 0);
         for &angle in &angles {
