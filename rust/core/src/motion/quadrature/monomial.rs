@@ -109,11 +109,18 @@ impl MonomialRunning {
         hint: &mut usize,
     ) -> [f64; L] {
         let n = panels.order + 1;
-        let (mut first, mut x) = ([0; L], [0.0; L]);
+        // The panels one after another (each from the last), then x across each as `locate`
+        // takes it, the lanes' divisions side by side.
+        let edges = &panels.edges;
+        let mut first = [0; L];
         for l in 0..L {
-            let (p, at) = self.locate(panels, angles[l], hint);
-            first[l] = p;
-            x[l] = at;
+            *hint = panel_near(edges, angles[l], *hint);
+            first[l] = *hint;
+        }
+        let mut x = [0.0; L];
+        for l in 0..L {
+            let (low, high) = (edges[first[l]], edges[first[l] + 1]);
+            x[l] = (angles[l] - 0.5 * (low + high)) / (0.5 * (high - low));
         }
         let mut value = [0.0; L];
         for k in 0..n {
