@@ -31,7 +31,7 @@ pub(crate) struct Balance {
     inertia: f64,
     /// K'' = (M_gas − U′)′ at the base nodes (N·m/rad), by central differences of the exact
     /// torque: how sharply E = s + K̃ may dip.
-    curvature: Vec<f64>,
+    curvature: Arc<[f64]>,
     /// max |K''| over the nodes (N·m/rad), times (1.5 widest half-widths)²: E's nearest
     /// complex zero is far enough from every base panel where 2s is at least this (J).
     grade_below: f64,
@@ -44,8 +44,9 @@ pub(crate) struct Balance {
     /// The local minima of K̃ located between the samples (once, where first needed; they
     /// do not depend on s): E = s + K̃ dips there.
     dips: Option<Vec<Dip>>,
-    /// K̃ = K − min K at the base nodes, then the edges (J).
-    lifted: Vec<f64>,
+    /// K̃ = K − min K at the base nodes, then the edges (J). Shared by the copies each solve
+    /// works on ([`Balance::with_inertia`]) until one locates a dip below it.
+    lifted: Arc<Vec<f64>>,
 }
 
 impl Balance {
@@ -100,11 +101,11 @@ impl Balance {
                 .fold((f64::INFINITY, f64::NEG_INFINITY), |(low, high), &r| {
                     (low.min(r), high.max(r))
                 }),
-            curvature,
+            curvature: curvature.into(),
             k_min,
             lowest: at(lowest),
             dips: None,
-            lifted: k.iter().map(|k| k - k_min).collect(),
+            lifted: Arc::new(k.iter().map(|k| k - k_min).collect()),
         })
     }
 
@@ -191,7 +192,9 @@ impl Balance {
             if let Some(deepest) = deepest.filter(|d| d.value < 0.0) {
                 let dip = deepest.value;
                 self.k_min += dip;
-                self.lifted.iter_mut().for_each(|k| *k -= dip);
+                Arc::make_mut(&mut self.lifted)
+                    .iter_mut()
+                    .for_each(|k| *k -= dip);
                 dips.iter_mut().for_each(|d| d.value -= dip);
                 self.lowest = deepest.angle;
             }
