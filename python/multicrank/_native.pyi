@@ -81,6 +81,7 @@ class SteadyResult:
     and arrays at the angles asked for (None where none were asked), how the solve ended
     (``status``, ``message``) and its evaluation counts (``nfev``, ``nit``)."""
 
+    def solution(self) -> dict[str, Any]: ...
     @property
     def omega_mean(self) -> float: ...
     @property

@@ -205,8 +205,6 @@ def _solved(
     return SteadyState._of(numbers)
 
 
-#: The numbers of a solution that :class:`SteadyState` holds from the start.
-_NUMBERS = ("omega_mean", "omega_max", "omega_min", "phi_max", "phi_min", "period", "mean_load_torque")
 #: A route's answer: the numbers, and what computes the rest.
 _Solved = tuple[dict[str, Any], CoreQuestion | Computed]
 
@@ -252,8 +250,7 @@ def _native_solution(
                     parameter="load",
                 ) from None
         raise _native_stall(angle, omega, getattr(error, "min_omega", None), ratio) from None
-    numbers: dict[str, Any] = {name: float(getattr(found, name)) for name in _NUMBERS}
-    numbers.update(status=int(found.status), message=str(found.message), nfev=int(found.nfev), nit=int(found.nit))
+    numbers: dict[str, Any] = found.solution()
     if balance and rules.drive is not None and table is None:  # the load takes it (Rules.plain_balance)
         assert omega is not None
         numbers["mean_load_torque"] += rules.drive_at(omega)

@@ -5,6 +5,7 @@ use multicrank_core as core;
 
 use numpy::{IntoPyArray, PyArray1, PyArrayMethods};
 use pyo3::prelude::*;
+use pyo3::types::PyDict;
 
 type Array = Option<Py<PyArray1<f64>>>;
 
@@ -93,6 +94,29 @@ impl SteadyResult {
             }
         }
         Ok(true)
+    }
+
+    /// solution() -> dict: omega_mean, omega_max, omega_min (rad/s), phi_max, phi_min (rad),
+    /// period (s), mean_load_torque (N·m), status, message, nfev and nit by name, in one
+    /// call (eleven attribute reads were ~1.5 µs of a warm steady state's ~20).
+    fn solution<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let found = PyDict::new(py);
+        for (name, value) in [
+            ("omega_mean", self.omega_mean),
+            ("omega_max", self.omega_max),
+            ("omega_min", self.omega_min),
+            ("phi_max", self.phi_max),
+            ("phi_min", self.phi_min),
+            ("period", self.period),
+            ("mean_load_torque", self.mean_load_torque),
+        ] {
+            found.set_item(name, value)?;
+        }
+        found.set_item("status", self.status)?;
+        found.set_item("message", self.message)?;
+        found.set_item("nfev", self.nfev)?;
+        found.set_item("nit", self.nit)?;
+        Ok(found)
     }
 
     fn __repr__(&self) -> String {
