@@ -156,20 +156,17 @@ impl PiecewisePolynomial {
         self.coefficients[i * self.order + k]
     }
 
-    /// [`PiecewisePolynomial::piece`] of t, `hint` or the piece after it tried first.
+    /// [`PiecewisePolynomial::piece`] of t, `hint` and the three pieces after it tried first
+    /// (angles in order a little coarser than the table skip one or two).
     #[inline]
     fn piece_near(&self, t: f64, hint: usize) -> usize {
         let x = &self.breakpoints;
         let last = self.pieces() - 1;
         // The piece i holds t where x_i ≤ t < x_{i+1}, or where i is the last and x_i ≤ t.
         let holds = |i: usize| x[i] <= t && (i == last || t < x[i + 1]);
-        if hint <= last && holds(hint) {
-            hint
-        } else if hint < last && holds(hint + 1) {
-            hint + 1
-        } else {
-            self.piece(t)
-        }
+        (hint..=(hint + 3).min(last))
+            .find(|&i| holds(i))
+            .unwrap_or_else(|| self.piece(t))
     }
 
     /// The piece holding t: the last i with x_i ≤ t, kept in 0..m (NumPy's
