@@ -354,7 +354,7 @@ impl Dynamics {
                 stride: n,
                 first: col,
             };
-            weighted_crank_run::<Velocity>(&self.sliders, &self.phases, run, weights, segment);
+            weighted_crank_run::<Velocity, _>(&self.sliders, &self.phases, run, weights, segment);
         });
         Ok(())
     }

@@ -339,35 +339,31 @@ const LANES: usize = 16;
 /// Σ_j K(unit_j, φ + α_j) at the points of `run`: one clone per instruction set of the
 /// kernel for crank term K, with fused multiply-adds where the clone has FMA. `units` holds
 /// one unit shared by every phase, or one per phase.
-#[multiversion(targets("x86_64+avx512f+avx512vl+avx512dq+avx2+fma", "x86_64+avx2+fma"))]
+#[inline]
 pub(crate) fn crank_run<K: CrankTerm>(
     units: &[K::Unit],
     phases: &Phases,
     run: Run,
     out: &mut [f64],
 ) {
-    if target_cfg_f!(target_feature = "fma") {
-        sum_over_cranks::<K, Fused, _>(units, phases, run, Unweighted, out)
-    } else {
-        sum_over_cranks::<K, Unfused, _>(units, phases, run, Unweighted, out)
-    }
+    weighted_crank_run::<K, _>(units, phases, run, Unweighted, out)
 }
 
 /// Σ_j w_j(φ) K(unit_j, φ + α_j) at the points of `run`, as [`crank_run`] sums K, each
-/// crank's term times its weight (`weights`); the same doubles as one [`crank_run`] per crank
-/// and a running sum of the products, in crank order.
+/// crank's term times its weight (`weights`); with [`RowWeights`] the same doubles as one
+/// [`crank_run`] per crank and a running sum of the products, in crank order.
 #[multiversion(targets("x86_64+avx512f+avx512vl+avx512dq+avx2+fma", "x86_64+avx2+fma"))]
-pub(crate) fn weighted_crank_run<K: CrankTerm>(
+pub(crate) fn weighted_crank_run<K: CrankTerm, W: CrankWeights>(
     units: &[K::Unit],
     phases: &Phases,
     run: Run,
-    weights: RowWeights,
+    weights: W,
     out: &mut [f64],
 ) {
     if target_cfg_f!(target_feature = "fma") {
-        sum_over_cranks::<K, Fused, _>(units, phases, run, weights, out)
+        sum_over_cranks::<K, Fused, W>(units, phases, run, weights, out)
     } else {
-        sum_over_cranks::<K, Unfused, _>(units, phases, run, weights, out)
+        sum_over_cranks::<K, Unfused, W>(units, phases, run, weights, out)
     }
 }
 
