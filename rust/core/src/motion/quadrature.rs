@@ -165,20 +165,24 @@ impl Panels {
 
     /// The running integral F(φ) = ∫₀^φ f dφ at `phi` (rad, in [0, Φ]) from f at the nodes
     /// (`values`): see [`Antiderivative`].
+    /// The interpolants in powers of x ([`MonomialRunning`]), eight angles at a time.
     pub fn running_at(&self, values: &[f64], phi: &[f64]) -> Vec<f64> {
-        let running = self.antiderivative(values);
+        let (at_edges, coefficients) = self.antiderivative(values).into_tables();
+        let running = MonomialRunning::new(self, at_edges, &coefficients);
         let mut hint = 0;
-        phi.iter()
-            .map(|&angle| {
-                running_at_near(
-                    self,
-                    &running.at_edges,
-                    &running.coefficients,
-                    angle,
-                    &mut hint,
-                )
-            })
-            .collect()
+        let mut out = Vec::with_capacity(phi.len());
+        let mut lanes = phi.chunks_exact(8);
+        for angles in &mut lanes {
+            let angles: &[f64; 8] = angles.try_into().expect("chunks of eight");
+            out.extend(running.at_lanes(self, angles, &mut hint));
+        }
+        out.extend(
+            lanes
+                .remainder()
+                .iter()
+                .map(|&angle| running.at_near(self, angle, &mut hint)),
+        );
+        out
     }
 
     /// The running integral of f, given at the nodes (`values`), everywhere: each panel's

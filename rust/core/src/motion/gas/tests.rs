@@ -218,3 +218,105 @@ fn the_slope_of_the_gas_work_is_the_derivative_of_the_gas_torque() {
         );
     }
 }
+
+#[test]
+fn units_summed_on_one_rule_are_the_units_looked_up_one_by_one() {
+    // A diagram of equal steps over 4π with one kink moved off the steps (a synthetic
+    // diagram's combustion start), four units on the steps (one a cycle out, one negative)
+    // and, in a second machine, one between them: W of each machine, and its slope, against
+    // the sum of the units' own W, each a machine alone (whose rule is never summed).
+    let cycle = 4.0 * PI;
+    let pieces = 720;
+    let step = cycle / pieces as f64;
+    let mut x: Vec<f64> = (0..=pieces).map(|i| i as f64 * step).collect();
+    x[100] += 3e-9;
+    // Hermite cubics through a smooth p and p′ (PPoly rows, highest power first): W″ is
+    // continuous, so a look-up on either side of an edge gives it to rounding.
+    let p = |t: f64| 30e5 * (0.6 + 0.4 * (t / 2.0).cos()).powi(3) + 1e5 * (7.0 * t).sin();
+    let dp = |t: f64| {
+        -30e5 * 3.0 * (0.6 + 0.4 * (t / 2.0).cos()).powi(2) * 0.2 * (t / 2.0).sin()
+            + 7e5 * (7.0 * t).cos()
+    };
+    let mut rows = vec![vec![0.0; pieces]; 4];
+    for i in 0..pieces {
+        let (a, b) = (x[i], x[i + 1]);
+        let h = b - a;
+        let (pa, pb, da, db) = (p(a), p(b), dp(a), dp(b));
+        let c2 = (3.0 * (pb - pa) / h - 2.0 * da - db) / h;
+        let c3 = (da + db - 2.0 * (pb - pa) / h) / (h * h);
+        (rows[0][i], rows[1][i], rows[2][i], rows[3][i]) = (c3, c2, da, pa);
+    }
+    let diagram = PiecewisePolynomial::new(x, rows.concat(), cycle).unwrap();
+    let diagrams: Arc<[PiecewisePolynomial]> = vec![diagram].into();
+    let unit = |phase: f64| PhysicalCylinder {
+        crank_radius: 0.06,
+        rod_length: 0.2,
+        piston_mass: 1.0,
+        rod_mass: 1.0,
+        rod_cg: 0.05,
+        rod_inertia: 0.003,
+        crank_mass: 0.0,
+        crank_cg_radius: 0.0,
+        counterweight_mass: 0.0,
+        counterweight_radius: 0.0,
+        phase,
+        inclination: 0.0,
+    };
+    let gas = GasCylinder {
+        bore: 0.1,
+        piston_rod_diameter: 0.0,
+        head: Some(0),
+        crank_end: None,
+    };
+    let on_steps = [0.0, 180.0 * step, cycle + 360.0 * step, -90.0 * step];
+    // Angles off the edges (where W″, a slope of interpolants, may differ on either side
+    // by their error), then the edges themselves (W alone).
+    let mut phi: Vec<f64> = (0..3000)
+        .map(|i| -cycle + 0.1234567 + 3.0 * cycle * i as f64 / 3001.0)
+        .collect();
+    let off_edges = phi.len();
+    phi.extend((0..=pieces).map(|i| i as f64 * step));
+    for phases in [on_steps.to_vec(), [&on_steps[..], &[step / 3.0]].concat()] {
+        let units: Vec<PhysicalCylinder> = phases.iter().map(|&a| unit(a)).collect();
+        let work = GasWork::new(&units, &vec![gas; units.len()], diagrams.clone(), cycle).unwrap();
+        // The kink's two panels, at each unit's shift, hold the strays (and every panel the
+        // unit between steps): every other panel is one look-up.
+        let strays = work.strays()[0].expect("a sum of the units");
+        if phases.len() == 4 {
+            assert!((1..=2 * 4 * 3).contains(&strays), "{strays}");
+        } else {
+            assert!(strays >= pieces, "{strays}");
+        }
+        let (found, slope) = work.with_slope_at(&phi, off_edges);
+        let mut expected = vec![0.0; phi.len()];
+        let mut expected_slope = vec![0.0; off_edges];
+        for u in &units {
+            let alone = GasWork::new(&[*u], &[gas], diagrams.clone(), cycle).unwrap();
+            assert_eq!(alone.strays(), [None]);
+            let (w, s) = alone.with_slope_at(&phi, off_edges);
+            expected.iter_mut().zip(&w).for_each(|(e, w)| *e += w);
+            expected_slope.iter_mut().zip(&s).for_each(|(e, s)| *e += s);
+        }
+        let scale = expected.iter().fold(0.0_f64, |m, w| m.max(w.abs()));
+        let slope_scale = expected_slope.iter().fold(0.0_f64, |m, s| m.max(s.abs()));
+        for i in 0..phi.len() {
+            assert!(
+                (found[i] - expected[i]).abs() <= 1e-13 * scale,
+                "φ = {}: W {} against {}",
+                phi[i],
+                found[i],
+                expected[i]
+            );
+        }
+        for i in 0..off_edges {
+            assert!(
+                (slope[i] - expected_slope[i]).abs() <= 1e-12 * slope_scale,
+                "φ = {}: W″ {} against {} (scale {slope_scale})",
+                phi[i],
+                slope[i],
+                expected_slope[i]
+            );
+        }
+        assert_eq!(work.at(&phi).unwrap(), found);
+    }
+}

@@ -44,6 +44,14 @@ fn indicator_order(pressure_order: usize, widest: f64) -> usize {
 /// The widest panel of an indicator rule (rad) (a table interval wider than this is split).
 const INDICATOR_WIDTH: f64 = PI / 64.0;
 
+/// Angles W is looked up at side by side ([`MonomialRunning::at_lanes`]).
+const LANES: usize = 8;
+
+/// How near a panel shifted by a unit's phase must fall on a panel, as a part of Φ, for
+/// the units' G to be summed there ([`Summed`]): a few roundings of the angles (the ulp of
+/// Φ = 4π is 1.8·10⁻¹⁵ rad), where the look-up of each unit at φ + α itself rounds by one.
+const ALIGNED: f64 = 4.0 * f64::EPSILON;
+
 /// G(x) = ∫₀^x F(θ) s'(θ) dθ of one cylinder at phase 0 (J), for any real x: F·s′ on
 /// panels cut at every breakpoint of the cylinder's tables (and its dead centres), at most
 /// π/64 wide, its interpolant through each panel's Gauss nodes integrated exactly
@@ -103,6 +111,22 @@ impl Indicator {
         self.running.at_edges[self.running.at_edges.len() - 1]
     }
 
+    /// (t, y) with x = φ + `phase` = t·Φ + y, y ∈ [0, Φ): t by floor(x/Φ), where the two
+    /// usual cases need no call of floor (not inlined on baseline x86-64) and give the same
+    /// doubles.
+    #[inline]
+    fn turns_and_angle(&self, angle: f64, phase: f64) -> (f64, f64) {
+        let (x, cycle) = (angle + phase, self.cycle);
+        if (0.0..cycle).contains(&x) && x / cycle < 1.0 {
+            (0.0, x)
+        } else if (cycle..2.0 * cycle).contains(&x) && (1.0..2.0).contains(&(x / cycle)) {
+            (1.0, x - cycle)
+        } else {
+            let t = (x / cycle).floor();
+            (t, x - t * cycle)
+        }
+    }
+
     /// G(φ + `phase`) added to `work` for each φ of `phi`; with `slope`, G″ = (F·s′)′
     /// (N·m/rad) there, the slope of the interpolant G integrates, added to it (one panel
     /// look-up for both). φ + phase in increasing order walks the panels.
@@ -110,30 +134,15 @@ impl Indicator {
         let per_cycle = self.per_cycle();
         let mut hint = 0;
         let (panels, running) = (&self.panels, &self.running);
-        let cycle = self.cycle;
-        // x = t·Φ + y, y in [0, Φ): t by floor(x/Φ), where the two usual cases need no
-        // call of floor (not inlined on baseline x86-64) and give the same doubles.
-        let turns_and_angle = |p: f64| {
-            let x = p + phase;
-            if (0.0..cycle).contains(&x) && x / cycle < 1.0 {
-                (0.0, x)
-            } else if (cycle..2.0 * cycle).contains(&x) && (1.0..2.0).contains(&(x / cycle)) {
-                (1.0, x - cycle)
-            } else {
-                let t = (x / cycle).floor();
-                (t, x - t * cycle)
-            }
-        };
         match slope {
             None => {
                 // LANES angles at a time: their Horner chains side by side (the same doubles).
-                const LANES: usize = 8;
                 let mut whole = work.chunks_exact_mut(LANES);
                 let mut angles = phi.chunks_exact(LANES);
                 for (w, p) in (&mut whole).zip(&mut angles) {
                     let (mut turns, mut y) = ([0.0; LANES], [0.0; LANES]);
                     for l in 0..LANES {
-                        (turns[l], y[l]) = turns_and_angle(p[l]);
+                        (turns[l], y[l]) = self.turns_and_angle(p[l], phase);
                     }
                     let g = running.at_lanes(panels, &y, &mut hint);
                     for l in 0..LANES {
@@ -141,17 +150,81 @@ impl Indicator {
                     }
                 }
                 for (w, &p) in whole.into_remainder().iter_mut().zip(angles.remainder()) {
-                    let (t, y) = turns_and_angle(p);
+                    let (t, y) = self.turns_and_angle(p, phase);
                     *w += t * per_cycle + running.at_near(panels, y, &mut hint);
                 }
             }
             Some(slope) => {
                 for ((w, s), &p) in work.iter_mut().zip(slope.iter_mut()).zip(phi) {
-                    let (t, y) = turns_and_angle(p);
+                    let (t, y) = self.turns_and_angle(p, phase);
                     let (g, g2) = running.at_and_slope_near(panels, y, &mut hint);
                     *w += t * per_cycle + g;
                     *s += g2;
                 }
+            }
+        }
+    }
+
+    /// Σ_j G(x + α_j) over `phases` on these panels, one polynomial per panel of the units
+    /// that fall on it ([`Summed`]).
+    fn summed(&self, phases: &[f64]) -> Summed {
+        let edges = &self.panels.edges;
+        let count = self.panels.count();
+        let tolerance = ALIGNED * self.cycle;
+        let per_cycle = self.per_cycle();
+        let mut running = self.running.zero_like();
+        // (panel, (phase, where its look-up starts)) of every unit that does not fall on a
+        // panel there.
+        let mut strays: Vec<(usize, (f64, usize))> = Vec::new();
+        for &phase in phases {
+            let mut hint = 0;
+            for p in 0..count {
+                let (low, width) = (edges[p], edges[p + 1] - edges[p]);
+                // Panel p shifted by the phase: the panel q that holds its middle, which must
+                // have its edges (to the tolerance).
+                let (turns, middle) = self.turns_and_angle(low + 0.5 * width, phase);
+                let (q, _) = MonomialRunning::locate(&self.panels, middle, &mut hint);
+                let (start, end) = (middle - 0.5 * width, middle + 0.5 * width);
+                if (edges[q] - start).abs() <= tolerance && (edges[q + 1] - end).abs() <= tolerance
+                {
+                    running.add_panel(p, &self.running, q);
+                    running.at_edges[p] += turns * per_cycle;
+                } else {
+                    // The panel before q: the shifted panel may start just before q's edge.
+                    strays.push((p, (phase, q.saturating_sub(1))));
+                }
+            }
+        }
+        let units = phases.len() as f64;
+        running.at_edges[count] = running.at_edges[0] + units * per_cycle;
+        strays.sort_by_key(|&(p, _)| p);
+        let mut first_stray = vec![0; count + 1];
+        for &(p, _) in &strays {
+            first_stray[p + 1] += 1;
+        }
+        for p in 0..count {
+            first_stray[p + 1] += first_stray[p];
+        }
+        Summed {
+            running,
+            first_stray,
+            strays: strays.into_iter().map(|(_, stray)| stray).collect(),
+            per_cycle: units * per_cycle,
+        }
+    }
+
+    /// G(y + `phase`) and, with `slope`, G″ there: one unit at one angle y ∈ [0, Φ), its
+    /// panel looked for from `hint`.
+    #[inline]
+    fn at_one(&self, y: f64, phase: f64, hint: &mut usize, slope: Option<&mut f64>) -> f64 {
+        let (t, x) = self.turns_and_angle(y, phase);
+        let at_turn = t * self.per_cycle();
+        match slope {
+            None => at_turn + self.running.at_near(&self.panels, x, hint),
+            Some(slope) => {
+                let (g, g2) = self.running.at_and_slope_near(&self.panels, x, hint);
+                *slope += g2;
+                at_turn + g
             }
         }
     }
@@ -164,11 +237,120 @@ impl Indicator {
     }
 }
 
+/// Σ_j G(x + α_j) of a group's units on their indicator's panels, wherever panel p shifted
+/// by every α_j is a panel (to [`ALIGNED`]) — the usual case: a table of equal steps, and
+/// firing intervals and bank angles whole multiples of the step. There the units'
+/// polynomials, in the same x across the panel, add coefficient by coefficient: W is one
+/// look-up for the group where it was one per unit. Elsewhere (a kink of the table off the
+/// steps, a phase between edges) the units are looked up one by one.
+#[derive(Debug, Clone)]
+struct Summed {
+    /// The sum over the units that fall on panels, on each panel.
+    running: MonomialRunning,
+    /// The units that do not, panel p's from `first_stray[p]` to `first_stray[p + 1]` (a
+    /// few, next to a kink off the steps): each unit's phase and the panel its look-up there
+    /// starts from.
+    first_stray: Vec<usize>,
+    strays: Vec<(f64, usize)>,
+    /// The group's indicated work of one cycle (J).
+    per_cycle: f64,
+}
+
+impl Summed {
+    /// Σ_j G(φ + α_j) at one angle given as (t, y) and its panel (p, x), and with `slope`
+    /// Σ_j G″ added to it.
+    #[inline]
+    fn at(
+        &self,
+        indicator: &Indicator,
+        (t, y): (f64, f64),
+        (p, x): (usize, f64),
+        mut slope: Option<&mut f64>,
+    ) -> f64 {
+        let mut value = t * self.per_cycle + self.running.at_panel(p, x);
+        if let Some(slope) = slope.as_deref_mut() {
+            *slope += self.running.slope_at_panel(p, x);
+        }
+        for &(phase, mut hint) in &self.strays[self.first_stray[p]..self.first_stray[p + 1]] {
+            value += indicator.at_one(y, phase, &mut hint, slope.as_deref_mut());
+        }
+        value
+    }
+
+    fn has_strays(&self, p: usize) -> bool {
+        self.first_stray[p] != self.first_stray[p + 1]
+    }
+}
+
+/// Units alike in all that G depends on: their indicator rule, their phases (rad) and, for
+/// more than one, their sum.
+#[derive(Debug, Clone)]
+struct Group {
+    indicator: Indicator,
+    phases: Vec<f64>,
+    summed: Option<Summed>,
+}
+
+impl Group {
+    /// Σ_j G(φ + α_j) added to `work` for each φ of `phi`, and with `slope` Σ_j G″ added to
+    /// it ([`Indicator::add`]).
+    fn add(&self, phi: &[f64], work: &mut [f64], mut slope: Option<&mut [f64]>) {
+        let Some(summed) = &self.summed else {
+            for &phase in &self.phases {
+                self.indicator.add(phi, phase, work, slope.as_deref_mut());
+            }
+            return;
+        };
+        let indicator = &self.indicator;
+        let panels = &indicator.panels;
+        let mut hint = 0;
+        let start = match slope.as_deref_mut() {
+            Some(slope) => {
+                for k in 0..phi.len() {
+                    let angle = indicator.turns_and_angle(phi[k], 0.0);
+                    let at = MonomialRunning::locate(panels, angle.1, &mut hint);
+                    work[k] += summed.at(indicator, angle, at, Some(&mut slope[k]));
+                }
+                phi.len()
+            }
+            None => {
+                // LANES angles at a time, their Horner chains side by side, where none of
+                // them has a stray.
+                let whole = phi.len() / LANES * LANES;
+                for first in (0..whole).step_by(LANES) {
+                    let (mut turns, mut y) = ([0.0; LANES], [0.0; LANES]);
+                    for l in 0..LANES {
+                        (turns[l], y[l]) = indicator.turns_and_angle(phi[first + l], 0.0);
+                    }
+                    let (p, x) = MonomialRunning::locate_lanes(panels, &y, &mut hint);
+                    if p.iter().any(|&p| summed.has_strays(p)) {
+                        for l in 0..LANES {
+                            let (angle, at) = ((turns[l], y[l]), (p[l], x[l]));
+                            work[first + l] += summed.at(indicator, angle, at, None);
+                        }
+                    } else {
+                        let g = summed.running.at_panels(&p, &x);
+                        for l in 0..LANES {
+                            work[first + l] += turns[l] * summed.per_cycle + g[l];
+                        }
+                    }
+                }
+                whole
+            }
+        };
+        for k in start..phi.len() {
+            let angle = indicator.turns_and_angle(phi[k], 0.0);
+            let at = MonomialRunning::locate(panels, angle.1, &mut hint);
+            work[k] += summed.at(indicator, angle, at, None);
+        }
+    }
+}
+
 /// W(φ) = ∫₀^φ M_gas dφ of a machine (J).
 #[derive(Debug, Clone)]
 pub(crate) struct GasWork {
     /// One G per distinct cylinder, with the phases of the units that share it.
-    groups: Vec<(Indicator, Vec<f64>)>,
+    groups: Vec<Group>,
     origin: f64,
     /// W(Φ), the indicated work of one cycle (J).
     pub per_cycle: f64,
@@ -209,7 +391,13 @@ impl GasWork {
         }
         let mut groups = Vec::with_capacity(members.len());
         for (j, phases) in members {
-            groups.push((Indicator::new(&units[j], gas[j], &diagrams, cycle)?, phases));
+            let indicator = Indicator::new(&units[j], gas[j], &diagrams, cycle)?;
+            let summed = (phases.len() > 1).then(|| indicator.summed(&phases));
+            groups.push(Group {
+                indicator,
+                phases,
+                summed,
+            });
         }
         let mut work = Self {
             groups,
@@ -219,23 +407,31 @@ impl GasWork {
         work.per_cycle = work
             .groups
             .iter()
-            .map(|(g, phases)| g.per_cycle() * phases.len() as f64)
+            .map(|g| g.indicator.per_cycle() * g.phases.len() as f64)
             .sum();
         let mut origin = 0.0;
-        for (g, phases) in &work.groups {
-            origin += g.at(phases).iter().sum::<f64>();
+        for g in &work.groups {
+            origin += g.indicator.at(&g.phases).iter().sum::<f64>();
         }
         work.origin = origin;
         Ok(work)
     }
 
+    /// How many units are looked up one by one, over all panels, in each group that sums
+    /// its units (`None` for a group that does not).
+    #[cfg(test)]
+    pub(super) fn strays(&self) -> Vec<Option<usize>> {
+        self.groups
+            .iter()
+            .map(|g| g.summed.as_ref().map(|s| s.strays.len()))
+            .collect()
+    }
+
     /// W at each φ.
     pub fn at(&self, phi: &[f64]) -> Result<Vec<f64>> {
         let mut total = vec![-self.origin; phi.len()];
-        for (g, phases) in &self.groups {
-            for &phase in phases {
-                g.add(phi, phase, &mut total, None);
-            }
+        for group in &self.groups {
+            group.add(phi, &mut total, None);
         }
         Ok(total)
     }
@@ -247,11 +443,9 @@ impl GasWork {
         let mut total = vec![-self.origin; phi.len()];
         let mut slope = vec![0.0; sloped];
         let (head, tail) = total.split_at_mut(sloped);
-        for (g, phases) in &self.groups {
-            for &phase in phases {
-                g.add(&phi[..sloped], phase, head, Some(&mut slope));
-                g.add(&phi[sloped..], phase, tail, None);
-            }
+        for group in &self.groups {
+            group.add(&phi[..sloped], head, Some(&mut slope));
+            group.add(&phi[sloped..], tail, None);
         }
         (total, slope)
     }

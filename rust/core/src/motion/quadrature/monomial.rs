@@ -19,6 +19,8 @@ pub(crate) struct MonomialRunning {
     running: Vec<f64>,
     /// Per panel, f′ (per rad): `order` coefficients, highest power first (the first 0).
     slope: Vec<f64>,
+    /// The panels' order.
+    order: usize,
 }
 
 impl MonomialRunning {
@@ -78,7 +80,30 @@ impl MonomialRunning {
             at_edges,
             running,
             slope,
+            order: n,
         }
+    }
+
+    /// The same layout, every value 0: the start of a sum of tables (`add_panel`).
+    pub fn zero_like(&self) -> Self {
+        Self {
+            at_edges: vec![0.0; self.at_edges.len()],
+            running: vec![0.0; self.running.len()],
+            slope: vec![0.0; self.slope.len()],
+            order: self.order,
+        }
+    }
+
+    /// Panel `q` of `other` (on panels of the same order) added to panel `p` of this one:
+    /// its polynomials coefficient by coefficient and F at its first edge.
+    pub fn add_panel(&mut self, p: usize, other: &Self, q: usize) {
+        let add = |sum: &mut [f64], of: &[f64], width: usize| {
+            let (sum, of) = (&mut sum[p * width..(p + 1) * width], &of[q * width..]);
+            sum.iter_mut().zip(of).for_each(|(s, c)| *s += c);
+        };
+        add(&mut self.running, &other.running, self.order + 1);
+        add(&mut self.slope, &other.slope, self.order);
+        self.at_edges[p] += other.at_edges[q];
     }
 
     /// F(φ), φ (rad) in [0, Φ], on `panels` (those it was made on), φ's panel looked for
@@ -86,15 +111,30 @@ impl MonomialRunning {
     /// on one.
     #[inline]
     pub fn at_near(&self, panels: &Panels, angle: f64, hint: &mut usize) -> f64 {
-        let (p, x) = self.locate(panels, angle, hint);
+        let (p, x) = Self::locate(panels, angle, hint);
+        self.at_panel(p, x)
+    }
+
+    /// F on panel `p` at `x` ∈ [−1, 1] across it (F at its first edge where x = −1).
+    #[inline]
+    pub fn at_panel(&self, p: usize, x: f64) -> f64 {
         if x == -1.0 {
             return self.at_edges[p];
         }
-        let n = panels.order + 1;
+        let n = self.order + 1;
         let value = self.running[p * n..(p + 1) * n]
             .iter()
             .fold(0.0, |sum, c| sum * x + c);
         self.at_edges[p] + value
+    }
+
+    /// f′ (per rad) on panel `p` at `x` ∈ [−1, 1] across it.
+    #[inline]
+    pub fn slope_at_panel(&self, p: usize, x: f64) -> f64 {
+        let n = self.order;
+        self.slope[p * n..(p + 1) * n]
+            .iter()
+            .fold(0.0, |sum, c| sum * x + c)
     }
 
     /// F at `L` angles (rad, each in [0, Φ]) as [`MonomialRunning::at_near`] gives each (the
@@ -108,9 +148,18 @@ impl MonomialRunning {
         angles: &[f64; L],
         hint: &mut usize,
     ) -> [f64; L] {
-        let n = panels.order + 1;
-        // The panels one after another (each from the last), then x across each as `locate`
-        // takes it, the lanes' divisions side by side.
+        let (first, x) = Self::locate_lanes(panels, angles, hint);
+        self.at_panels(&first, &x)
+    }
+
+    /// [`MonomialRunning::locate`] of `L` angles, one after another from `hint` (the panels
+    /// first, then the lanes' divisions side by side).
+    #[inline]
+    pub fn locate_lanes<const L: usize>(
+        panels: &Panels,
+        angles: &[f64; L],
+        hint: &mut usize,
+    ) -> ([usize; L], [f64; L]) {
         let edges = &panels.edges;
         let mut first = [0; L];
         for l in 0..L {
@@ -122,6 +171,13 @@ impl MonomialRunning {
             let (low, high) = (edges[first[l]], edges[first[l] + 1]);
             x[l] = (angles[l] - 0.5 * (low + high)) / (0.5 * (high - low));
         }
+        (first, x)
+    }
+
+    /// [`MonomialRunning::at_panel`] in `L` lanes, their Horner chains side by side.
+    #[inline]
+    pub fn at_panels<const L: usize>(&self, first: &[usize; L], x: &[f64; L]) -> [f64; L] {
+        let n = self.order + 1;
         let mut value = [0.0; L];
         for k in 0..n {
             for l in 0..L {
@@ -144,17 +200,13 @@ impl MonomialRunning {
     /// edge: the panel that starts there).
     #[inline]
     pub fn at_and_slope_near(&self, panels: &Panels, angle: f64, hint: &mut usize) -> (f64, f64) {
-        let running = self.at_near(panels, angle, hint);
-        let (p, x) = self.locate(panels, angle, hint);
-        let n = panels.order;
-        let slope = self.slope[p * n..(p + 1) * n]
-            .iter()
-            .fold(0.0, |sum, c| sum * x + c);
-        (running, slope)
+        let (p, x) = Self::locate(panels, angle, hint);
+        (self.at_panel(p, x), self.slope_at_panel(p, x))
     }
 
+    /// φ's panel on `panels`, looked for from `hint` and left there, and x ∈ [−1, 1] across it.
     #[inline]
-    fn locate(&self, panels: &Panels, angle: f64, hint: &mut usize) -> (usize, f64) {
+    pub fn locate(panels: &Panels, angle: f64, hint: &mut usize) -> (usize, f64) {
         let edges = &panels.edges;
         let p = panel_near(edges, angle, *hint);
         *hint = p;
