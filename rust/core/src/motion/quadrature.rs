@@ -167,8 +167,7 @@ impl Panels {
     /// (`values`): see [`Antiderivative`].
     /// The interpolants in powers of x ([`MonomialRunning`]), eight angles at a time.
     pub fn running_at(&self, values: &[f64], phi: &[f64]) -> Vec<f64> {
-        let (at_edges, coefficients) = self.antiderivative(values).into_tables();
-        let running = MonomialRunning::new(self, at_edges, &coefficients);
+        let running = MonomialRunning::through(self, values);
         let mut hint = 0;
         let mut out = Vec::with_capacity(phi.len());
         let mut lanes = phi.chunks_exact(8);
@@ -316,12 +315,6 @@ impl Antiderivative<'_> {
         running_at(self.panels, &self.at_edges, &self.coefficients, angle)
     }
 
-    /// F's tables without the panels (F at the edges, each panel's coefficients), for
-    /// [`running_at`] on the same panels kept elsewhere.
-    pub fn into_tables(self) -> (Vec<f64>, Vec<f64>) {
-        (self.at_edges, self.coefficients)
-    }
-
     /// F at the nodes.
     pub fn at_nodes(&self) -> Vec<f64> {
         self.panels
@@ -456,7 +449,7 @@ pub(crate) fn running_at_near(
 }
 
 /// P_0(x) … P_{count − 1}(x) by the three-term recurrence.
-fn legendre_all(count: usize, x: f64) -> Vec<f64> {
+pub(super) fn legendre_all(count: usize, x: f64) -> Vec<f64> {
     let mut p = Vec::with_capacity(count);
     for k in 0..count {
         let value = match k {

@@ -98,8 +98,7 @@ impl Indicator {
         let forces = one_cylinder_forces(gas, diagrams, cycle, &panels.phi);
         let mut torque = vec![0.0; panels.phi.len()];
         dynamics.gas_torque(&panels.phi, &forces, &mut torque, Parallelism::SERIAL)?;
-        let (at_edges, coefficients) = panels.antiderivative(&torque).into_tables();
-        let running = MonomialRunning::new(&panels, at_edges, &coefficients);
+        let running = MonomialRunning::through(&panels, &torque);
         Ok(Self {
             cycle,
             panels,
@@ -168,30 +167,47 @@ impl Indicator {
     /// Σ_j G(x + α_j) over `phases` on these panels, one polynomial per panel of the units
     /// that fall on it ([`Summed`]).
     fn summed(&self, phases: &[f64]) -> Summed {
-        let edges = &self.panels.edges;
-        let count = self.panels.count();
-        let tolerance = ALIGNED * self.cycle;
+        let (panels, cycle) = (&self.panels, self.cycle);
+        let edges = &panels.edges;
+        let count = panels.count();
+        let tolerance = ALIGNED * cycle;
         let per_cycle = self.per_cycle();
         let mut running = self.running.zero_like();
         // (panel, (phase, where its look-up starts)) of every unit that does not fall on a
         // panel there.
         let mut strays: Vec<(usize, (f64, usize))> = Vec::new();
         for &phase in phases {
+            let turns = (phase / cycle).floor();
+            let shift = phase - turns * cycle;
+            // The panel q that panel p shifted falls on, walked along with p (the one after
+            // the last one's), looked for again where it is not.
+            let mut next = None;
             let mut hint = 0;
             for p in 0..count {
-                let (low, width) = (edges[p], edges[p + 1] - edges[p]);
-                // Panel p shifted by the phase: the panel q that holds its middle, which must
-                // have its edges (to the tolerance).
-                let (turns, middle) = self.turns_and_angle(low + 0.5 * width, phase);
-                let (q, _) = MonomialRunning::locate(&self.panels, middle, &mut hint);
-                let (start, end) = (middle - 0.5 * width, middle + 0.5 * width);
-                if (edges[q] - start).abs() <= tolerance && (edges[q + 1] - end).abs() <= tolerance
-                {
+                let width = edges[p + 1] - edges[p];
+                let (turn, start) = match edges[p] + shift {
+                    start if start >= cycle - tolerance => (1.0, start - cycle),
+                    start => (0.0, start),
+                };
+                let fits = |q: usize| {
+                    (edges[q] - start).abs() <= tolerance
+                        && (edges[q + 1] - (start + width)).abs() <= tolerance
+                };
+                let q = match next {
+                    Some(q) if fits(q) => q,
+                    _ => {
+                        let middle = (start + 0.5 * width).clamp(0.0, cycle);
+                        MonomialRunning::locate(panels, middle, &mut hint).0
+                    }
+                };
+                if fits(q) {
                     running.add_panel(p, &self.running, q);
-                    running.at_edges[p] += turns * per_cycle;
+                    running.at_edges[p] += (turns + turn) * per_cycle;
+                    next = Some(if q + 1 == count { 0 } else { q + 1 });
                 } else {
                     // The panel before q: the shifted panel may start just before q's edge.
                     strays.push((p, (phase, q.saturating_sub(1))));
+                    next = None;
                 }
             }
         }

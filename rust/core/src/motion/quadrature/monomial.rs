@@ -1,16 +1,15 @@
 //! A running integral in powers of x on each panel: the form of the indicator rules' G,
 //! looked up once per unit and angle wherever W is asked for.
 
-use super::{panel_near, Panels};
+use super::{legendre_all, panel_near, Panels};
 
 /// A running integral F(φ) = ∫₀^φ f dφ on `Panels` in monomials, for many look-ups: on each
 /// panel F = F(e_p) + Σ_i q_i x^i and f′ = Σ_i s_i x^i, x ∈ [−1, 1] across it, each by
 /// Horner's rule (a few multiply-adds where the Legendre recurrence of
-/// [`running_at`](super::running_at)
-/// takes three times as many operations). The same interpolants as
-/// [`Antiderivative`](super::Antiderivative)'s,
-/// to rounding (their Legendre coefficients turned into powers of x, |x| ≤ 1: each
-/// coefficient's error within a few ulps of the largest).
+/// [`running_at`](super::running_at) takes three times as many operations). The same
+/// interpolants as [`Antiderivative`](super::Antiderivative)'s, to rounding (their Legendre
+/// coefficients turned into powers of x, |x| ≤ 1: each coefficient's error within a few ulps
+/// of the largest).
 #[derive(Debug, Clone)]
 pub(crate) struct MonomialRunning {
     /// F at the edges (those of the Legendre form, exactly).
@@ -24,57 +23,77 @@ pub(crate) struct MonomialRunning {
 }
 
 impl MonomialRunning {
-    /// From the tables of a running integral on `panels`
-    /// ([`Antiderivative::into_tables`](super::Antiderivative::into_tables)).
-    pub fn new(panels: &Panels, at_edges: Vec<f64>, coefficients: &[f64]) -> Self {
+    /// The running integral of f, given at the nodes of `panels` (`values`), in powers of x
+    /// on each panel: each panel's interpolant (degree order − 1) integrated exactly. F at
+    /// the edges is [`Panels::antiderivative`](super::Panels::antiderivative)'s (the same
+    /// doubles); the powers come from f through fixed matrices of the rule, made once
+    /// (the interpolant's Legendre coefficients by the rule's discrete orthogonality, turned
+    /// into powers, integrated and differentiated), so a panel costs two small matrix
+    /// products and no division but one.
+    pub fn through(panels: &Panels, values: &[f64]) -> Self {
+        // The rules' orders, each with its sums in registers (a length known when compiled).
+        match panels.order {
+            1 => Self::through_order::<1>(panels, values),
+            2 => Self::through_order::<2>(panels, values),
+            3 => Self::through_order::<3>(panels, values),
+            4 => Self::through_order::<4>(panels, values),
+            5 => Self::through_order::<5>(panels, values),
+            6 => Self::through_order::<6>(panels, values),
+            7 => Self::through_order::<7>(panels, values),
+            8 => Self::through_order::<8>(panels, values),
+            9 => Self::through_order::<9>(panels, values),
+            10 => Self::through_order::<10>(panels, values),
+            11 => Self::through_order::<11>(panels, values),
+            12 => Self::through_order::<12>(panels, values),
+            _ => Self::through_order::<0>(panels, values),
+        }
+    }
+
+    /// [`MonomialRunning::through`] for rules of order `N` (0: any order, the sums in
+    /// memory).
+    fn through_order<const N: usize>(panels: &Panels, values: &[f64]) -> Self {
         let n = panels.order;
-        // P_k in powers of x, row k: P_{k+1} = ((2k + 1) x P_k − k P_{k−1})/(k + 1).
-        let mut legendre = vec![0.0; n * n];
-        legendre[0] = 1.0;
-        if n > 1 {
-            legendre[n + 1] = 1.0;
-        }
-        for k in 1..n.saturating_sub(1) {
-            for i in 0..n {
-                let shifted = if i > 0 { legendre[k * n + i - 1] } else { 0.0 };
-                legendre[(k + 1) * n + i] = ((2 * k + 1) as f64 * shifted
-                    - k as f64 * legendre[(k - 1) * n + i])
-                    / (k + 1) as f64;
-            }
-        }
+        debug_assert!(N == 0 || N == n);
+        // Column j: what f_j adds to the n + 1 integral coefficients, then to the n − 1
+        // slope coefficients (the products summed in independent lanes, not one chain).
+        let columns = rule_columns(panels);
+        let width = 2 * n;
         let count = panels.count();
+        let mut at_edges = Vec::with_capacity(count + 1);
+        at_edges.push(0.0);
         let mut running = Vec::with_capacity(count * (n + 1));
         let mut slope = Vec::with_capacity(count * n);
-        let mut powers = vec![0.0; n];
-        for p in 0..count {
-            let c = &coefficients[p * n..(p + 1) * n];
-            for (i, a) in powers.iter_mut().enumerate() {
-                *a = (0..n).map(|k| c[k] * legendre[k * n + i]).sum();
-            }
+        let mut any = vec![0.0; if N == 0 { width } else { 0 }];
+        for (p, f) in values.chunks_exact(n).enumerate() {
             let half = 0.5 * (panels.edges[p + 1] - panels.edges[p]);
-            // ∫₋₁^x a_i t^i dt = a_i (x^{i+1} − (−1)^{i+1})/(i + 1).
-            let at_minus_one: f64 = powers
-                .iter()
-                .enumerate()
-                .map(|(i, a)| if i % 2 == 0 { -a } else { *a } / (i + 1) as f64)
-                .sum();
-            running.extend(
-                powers
-                    .iter()
-                    .enumerate()
-                    .rev()
-                    .map(|(i, a)| half * a / (i + 1) as f64),
-            );
-            running.push(-half * at_minus_one);
-            slope.push(0.0);
-            slope.extend(
-                powers
-                    .iter()
-                    .enumerate()
-                    .skip(1)
-                    .rev()
-                    .map(|(i, a)| i as f64 * a / half),
-            );
+            let sum: f64 = f.iter().zip(&panels.unit_weights).map(|(f, w)| f * w).sum();
+            at_edges.push(at_edges[p] + half * sum);
+            let per_half = 1.0 / half;
+            if N == 0 {
+                any.iter_mut().for_each(|s| *s = 0.0);
+                for (column, f) in columns.chunks_exact(width).zip(f) {
+                    any.iter_mut().zip(column).for_each(|(s, c)| *s += c * f);
+                }
+                running.extend(any[..=n].iter().map(|s| half * s));
+                slope.push(0.0);
+                slope.extend(any[n + 1..].iter().map(|s| per_half * s));
+            } else {
+                // The n + 1 integral sums as N and one, the n − 1 slope sums in N.
+                let (mut powers, mut last, mut slopes) = ([0.0; N], 0.0, [0.0; N]);
+                for (column, &f) in columns.chunks_exact(width).zip(f) {
+                    for i in 0..N {
+                        powers[i] += column[i] * f;
+                    }
+                    last += column[N] * f;
+                    for i in 0..N - 1 {
+                        slopes[i] += column[N + 1 + i] * f;
+                    }
+                }
+                running.extend(powers.iter().map(|s| half * s));
+                running.push(half * last);
+                slope.push(0.0);
+                slope.extend(slopes[..N - 1].iter().map(|s| per_half * s));
+            }
         }
         Self {
             at_edges,
@@ -96,6 +115,7 @@ impl MonomialRunning {
 
     /// Panel `q` of `other` (on panels of the same order) added to panel `p` of this one:
     /// its polynomials coefficient by coefficient and F at its first edge.
+    #[inline]
     pub fn add_panel(&mut self, p: usize, other: &Self, q: usize) {
         let add = |sum: &mut [f64], of: &[f64], width: usize| {
             let (sum, of) = (&mut sum[p * width..(p + 1) * width], &of[q * width..]);
@@ -213,4 +233,80 @@ impl MonomialRunning {
         let half = 0.5 * (edges[p + 1] - edges[p]);
         (p, (angle - 0.5 * (edges[p] + edges[p + 1])) / half)
     }
+}
+
+/// The matrices from f at a rule's nodes to, on [−1, 1], ∫₋₁^x of f's interpolant in powers
+/// of x (`order` + 1 rows, highest power first, its value at −1 taken off in the last) and
+/// the interpolant's derivative (`order` − 1 rows, highest power first), one column per
+/// node: column j of both, then the next; the panel's half-width scales them. The interpolant's powers a = L·B·f:
+/// B the Legendre coefficients by the Gauss rule's discrete orthogonality, c_k = (2k + 1)/2
+/// · Σ_i w_i f_i P_k(x_i), L the powers of x in each P_k.
+fn rule_columns(panels: &Panels) -> Vec<f64> {
+    let n = panels.order;
+    // P_k in powers of x, row k: P_{k+1} = ((2k + 1) x P_k − k P_{k−1})/(k + 1).
+    let mut legendre = vec![0.0; n * n];
+    legendre[0] = 1.0;
+    if n > 1 {
+        legendre[n + 1] = 1.0;
+    }
+    for k in 1..n.saturating_sub(1) {
+        for i in 0..n {
+            let shifted = if i > 0 { legendre[k * n + i - 1] } else { 0.0 };
+            legendre[(k + 1) * n + i] = ((2 * k + 1) as f64 * shifted
+                - k as f64 * legendre[(k - 1) * n + i])
+                / (k + 1) as f64;
+        }
+    }
+    // basis[k][j] = (2k + 1)/2 · w_j · P_k(x_j).
+    let mut basis = vec![0.0; n * n];
+    for (j, (&x, &w)) in panels
+        .unit_nodes
+        .iter()
+        .zip(&panels.unit_weights)
+        .enumerate()
+    {
+        for (k, p) in legendre_all(n, x).into_iter().enumerate() {
+            basis[k * n + j] = (2 * k + 1) as f64 * 0.5 * w * p;
+        }
+    }
+    // powers[i][j]: the coefficient of x^i per f_j.
+    let mut powers = vec![0.0; n * n];
+    for i in 0..n {
+        for j in 0..n {
+            powers[i * n + j] = (0..n).map(|k| legendre[k * n + i] * basis[k * n + j]).sum();
+        }
+    }
+    // ∫₋₁^x a_i t^i dt = a_i (x^{i+1} − (−1)^{i+1})/(i + 1).
+    let mut integrate = Vec::with_capacity((n + 1) * n);
+    for i in (0..n).rev() {
+        integrate.extend(
+            powers[i * n..(i + 1) * n]
+                .iter()
+                .map(|a| a / (i + 1) as f64),
+        );
+    }
+    integrate.extend((0..n).map(|j| {
+        -(0..n)
+            .map(|i| {
+                let a = powers[i * n + j] / (i + 1) as f64;
+                if i % 2 == 0 {
+                    -a
+                } else {
+                    a
+                }
+            })
+            .sum::<f64>()
+    }));
+    let mut slope_of = Vec::with_capacity(n.saturating_sub(1) * n);
+    for i in (1..n).rev() {
+        slope_of.extend(powers[i * n..(i + 1) * n].iter().map(|a| i as f64 * a));
+    }
+    // Row-major (rows, n) to n columns of 2n: the integral's n + 1 rows, the slope's n − 1.
+    let rows: Vec<&[f64]> = integrate
+        .chunks_exact(n)
+        .chain(slope_of.chunks_exact(n))
+        .collect();
+    (0..n)
+        .flat_map(|j| rows.iter().map(move |row| row[j]))
+        .collect()
 }

@@ -108,7 +108,7 @@ fn a_look_up_from_a_hint_is_the_search_and_the_monomial_form_its_integral_and_sl
         .collect();
     let mut orders = vec![increasing, decreasing, scattered];
     orders[0].extend(panels.edges.iter().copied());
-    let monomial = MonomialRunning::new(&panels, running.at_edges.clone(), &running.coefficients);
+    let monomial = MonomialRunning::through(&panels, &f);
     let scale = running.at_edges.iter().fold(0.0_f64, |m, f| m.max(f.abs()));
     for angles in &orders {
         // Eight at a time (their Horner chains side by side): at_near's doubles, edges too.
