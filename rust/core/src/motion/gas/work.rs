@@ -320,7 +320,7 @@ impl Group {
         let indicator = &self.indicator;
         let panels = &indicator.panels;
         let mut hint = 0;
-        let start = match slope.as_deref_mut() {
+        let start = match slope {
             Some(slope) => {
                 for k in 0..phi.len() {
                     let angle = indicator.turns_and_angle(phi[k], 0.0);
