@@ -276,6 +276,13 @@ fn units_summed_on_one_rule_are_the_units_looked_up_one_by_one() {
         .collect();
     let off_edges = phi.len();
     phi.extend((0..=pieces).map(|i| i as f64 * step));
+    // Most units off the steps: no sum (it would save no look-up), the units one by one.
+    let off: Vec<PhysicalCylinder> = [0.0, step / 3.0, step / 5.0, 2.5 * step]
+        .iter()
+        .map(|&a| unit(a))
+        .collect();
+    let apart = GasWork::new(&off, &[gas; 4], diagrams.clone(), cycle).unwrap();
+    assert_eq!(apart.strays(), [None]);
     for phases in [on_steps.to_vec(), [&on_steps[..], &[step / 3.0]].concat()] {
         let units: Vec<PhysicalCylinder> = phases.iter().map(|&a| unit(a)).collect();
         let work = GasWork::new(&units, &vec![gas; units.len()], diagrams.clone(), cycle).unwrap();

@@ -165,8 +165,9 @@ impl Indicator {
     }
 
     /// Σ_j G(x + α_j) over `phases` on these panels, one polynomial per panel of the units
-    /// that fall on it ([`Summed`]).
-    fn summed(&self, phases: &[f64]) -> Summed {
+    /// that fall on it ([`Summed`]); `None` where most units fall on no panel (a table or
+    /// phases off the steps), so that a sum would save no look-up.
+    fn summed(&self, phases: &[f64]) -> Option<Summed> {
         let (panels, cycle) = (&self.panels, self.cycle);
         let edges = &panels.edges;
         let count = panels.count();
@@ -211,6 +212,9 @@ impl Indicator {
                 }
             }
         }
+        if 2 * strays.len() > count * phases.len() {
+            return None;
+        }
         let units = phases.len() as f64;
         running.at_edges[count] = running.at_edges[0] + units * per_cycle;
         strays.sort_by_key(|&(p, _)| p);
@@ -221,12 +225,12 @@ impl Indicator {
         for p in 0..count {
             first_stray[p + 1] += first_stray[p];
         }
-        Summed {
+        Some(Summed {
             running,
             first_stray,
             strays: strays.into_iter().map(|(_, stray)| stray).collect(),
             per_cycle: units * per_cycle,
-        }
+        })
     }
 
     /// G(y + `phase`) and, with `slope`, G″ there: one unit at one angle y ∈ [0, Φ), its
@@ -408,7 +412,9 @@ impl GasWork {
         let mut groups = Vec::with_capacity(members.len());
         for (j, phases) in members {
             let indicator = Indicator::new(&units[j], gas[j], &diagrams, cycle)?;
-            let summed = (phases.len() > 1).then(|| indicator.summed(&phases));
+            let summed = (phases.len() > 1)
+                .then(|| indicator.summed(&phases))
+                .flatten();
             groups.push(Group {
                 indicator,
                 phases,
