@@ -184,6 +184,19 @@ impl Panels {
         out
     }
 
+    /// (2k + 1)/2 · w_i · P_k(x_i) of the rule on [−1, 1], degree-major (row k): the
+    /// interpolant's Legendre coefficient c_k is row k times f at the nodes.
+    pub(super) fn legendre_basis(&self) -> Vec<f64> {
+        let n = self.order;
+        let mut basis = vec![0.0; n * n];
+        for (i, (&x, &w)) in self.unit_nodes.iter().zip(&self.unit_weights).enumerate() {
+            for (k, p) in legendre_all(n, x).into_iter().enumerate() {
+                basis[k * n + i] = (2 * k + 1) as f64 * 0.5 * w * p;
+            }
+        }
+        basis
+    }
+
     /// The running integral of f, given at the nodes (`values`), everywhere: each panel's
     /// interpolant (degree order − 1) integrated exactly.
     ///
@@ -191,13 +204,7 @@ impl Panels {
     /// orthogonality, c_k = (2k + 1)/2 · Σ_i w_i f_i P_k(x_i) (exact: degree ≤ 2·order − 2).
     pub fn antiderivative(&self, values: &[f64]) -> Antiderivative<'_> {
         let n = self.order;
-        // (2k + 1)/2 · w_i · P_k(x_i), degree-major: c_k = Σ_i of it times f_i.
-        let mut basis = vec![0.0; n * n];
-        for (i, (&x, &w)) in self.unit_nodes.iter().zip(&self.unit_weights).enumerate() {
-            for (k, p) in legendre_all(n, x).into_iter().enumerate() {
-                basis[k * n + i] = (2 * k + 1) as f64 * 0.5 * w * p;
-            }
-        }
+        let basis = self.legendre_basis();
         let mut at_edges = Vec::with_capacity(self.count() + 1);
         at_edges.push(0.0);
         let mut coefficients = Vec::with_capacity(values.len());
@@ -449,7 +456,7 @@ pub(crate) fn running_at_near(
 }
 
 /// P_0(x) … P_{count − 1}(x) by the three-term recurrence.
-pub(super) fn legendre_all(count: usize, x: f64) -> Vec<f64> {
+fn legendre_all(count: usize, x: f64) -> Vec<f64> {
     let mut p = Vec::with_capacity(count);
     for k in 0..count {
         let value = match k {

@@ -133,6 +133,45 @@ fn a_look_up_from_a_hint_is_the_searched_one_in_any_order() {
     }
 }
 
+/// Hermite cubics through p and p′ at the breakpoints `x` over `cycle`, in PPoly rows
+/// (highest power first): a PCHIP-like diagram, C¹ at every breakpoint.
+fn hermite_diagram(
+    x: Vec<f64>,
+    cycle: f64,
+    p: impl Fn(f64) -> f64,
+    dp: impl Fn(f64) -> f64,
+) -> PiecewisePolynomial {
+    let pieces = x.len() - 1;
+    let mut rows = vec![vec![0.0; pieces]; 4];
+    for i in 0..pieces {
+        let (a, b) = (x[i], x[i + 1]);
+        let h = b - a;
+        let (pa, pb, da, db) = (p(a), p(b), dp(a), dp(b));
+        let c2 = (3.0 * (pb - pa) / h - 2.0 * da - db) / h;
+        let c3 = (da + db - 2.0 * (pb - pa) / h) / (h * h);
+        (rows[0][i], rows[1][i], rows[2][i], rows[3][i]) = (c3, c2, da, pa);
+    }
+    PiecewisePolynomial::new(x, rows.concat(), cycle).unwrap()
+}
+
+/// A small slider-crank unit at `phase`, its cylinder inclined by `inclination` (rad).
+fn small_unit(phase: f64, inclination: f64) -> PhysicalCylinder {
+    PhysicalCylinder {
+        crank_radius: 0.06,
+        rod_length: 0.2,
+        piston_mass: 1.0,
+        rod_mass: 1.0,
+        rod_cg: 0.05,
+        rod_inertia: 0.003,
+        crank_mass: 0.0,
+        crank_cg_radius: 0.0,
+        counterweight_mass: 0.0,
+        counterweight_radius: 0.0,
+        phase,
+        inclination,
+    }
+}
+
 #[test]
 fn the_slope_of_the_gas_work_is_the_derivative_of_the_gas_torque() {
     // Two units of one PCHIP-like diagram (cubic pieces), one double-acting: W″ = M_gas′
@@ -145,32 +184,8 @@ fn the_slope_of_the_gas_work_is_the_derivative_of_the_gas_torque() {
         .collect();
     let p = |t: f64| 30e5 * (0.6 + 0.4 * (t / 2.0).cos()).powi(3);
     let dp = |t: f64| -30e5 * 3.0 * (0.6 + 0.4 * (t / 2.0).cos()).powi(2) * 0.2 * (t / 2.0).sin();
-    // Hermite cubics through p and p′ at the breakpoints, in PPoly rows (highest power first).
-    let mut rows = vec![vec![0.0; pieces]; 4];
-    for i in 0..pieces {
-        let (a, b) = (x[i], x[i + 1]);
-        let h = b - a;
-        let (pa, pb, da, db) = (p(a), p(b), dp(a), dp(b));
-        let c2 = (3.0 * (pb - pa) / h - 2.0 * da - db) / h;
-        let c3 = (da + db - 2.0 * (pb - pa) / h) / (h * h);
-        (rows[0][i], rows[1][i], rows[2][i], rows[3][i]) = (c3, c2, da, pa);
-    }
-    let diagram = PiecewisePolynomial::new(x, rows.concat(), cycle).unwrap();
-    let unit = |phase: f64| PhysicalCylinder {
-        crank_radius: 0.06,
-        rod_length: 0.2,
-        piston_mass: 1.0,
-        rod_mass: 1.0,
-        rod_cg: 0.05,
-        rod_inertia: 0.003,
-        crank_mass: 0.0,
-        crank_cg_radius: 0.0,
-        counterweight_mass: 0.0,
-        counterweight_radius: 0.0,
-        phase,
-        inclination: 0.3,
-    };
-    let units = [unit(0.0), unit(2.5)];
+    let diagram = hermite_diagram(x, cycle, p, dp);
+    let units = [small_unit(0.0, 0.3), small_unit(2.5, 0.3)];
     let gas = [
         GasCylinder {
             bore: 0.1,
@@ -237,31 +252,8 @@ fn units_summed_on_one_rule_are_the_units_looked_up_one_by_one() {
         -30e5 * 3.0 * (0.6 + 0.4 * (t / 2.0).cos()).powi(2) * 0.2 * (t / 2.0).sin()
             + 7e5 * (7.0 * t).cos()
     };
-    let mut rows = vec![vec![0.0; pieces]; 4];
-    for i in 0..pieces {
-        let (a, b) = (x[i], x[i + 1]);
-        let h = b - a;
-        let (pa, pb, da, db) = (p(a), p(b), dp(a), dp(b));
-        let c2 = (3.0 * (pb - pa) / h - 2.0 * da - db) / h;
-        let c3 = (da + db - 2.0 * (pb - pa) / h) / (h * h);
-        (rows[0][i], rows[1][i], rows[2][i], rows[3][i]) = (c3, c2, da, pa);
-    }
-    let diagram = PiecewisePolynomial::new(x, rows.concat(), cycle).unwrap();
-    let diagrams: Arc<[PiecewisePolynomial]> = vec![diagram].into();
-    let unit = |phase: f64| PhysicalCylinder {
-        crank_radius: 0.06,
-        rod_length: 0.2,
-        piston_mass: 1.0,
-        rod_mass: 1.0,
-        rod_cg: 0.05,
-        rod_inertia: 0.003,
-        crank_mass: 0.0,
-        crank_cg_radius: 0.0,
-        counterweight_mass: 0.0,
-        counterweight_radius: 0.0,
-        phase,
-        inclination: 0.0,
-    };
+    let diagrams: Arc<[PiecewisePolynomial]> = vec![hermite_diagram(x, cycle, p, dp)].into();
+    let unit = |phase: f64| small_unit(phase, 0.0);
     let gas = GasCylinder {
         bore: 0.1,
         piston_rod_diameter: 0.0,

@@ -149,16 +149,12 @@ impl Indicator {
                     }
                 }
                 for (w, &p) in whole.into_remainder().iter_mut().zip(angles.remainder()) {
-                    let (t, y) = self.turns_and_angle(p, phase);
-                    *w += t * per_cycle + running.at_near(panels, y, &mut hint);
+                    *w += self.at_one(p, phase, &mut hint, None);
                 }
             }
             Some(slope) => {
                 for ((w, s), &p) in work.iter_mut().zip(slope.iter_mut()).zip(phi) {
-                    let (t, y) = self.turns_and_angle(p, phase);
-                    let (g, g2) = running.at_and_slope_near(panels, y, &mut hint);
-                    *w += t * per_cycle + g;
-                    *s += g2;
+                    *w += self.at_one(p, phase, &mut hint, Some(s));
                 }
             }
         }
@@ -233,7 +229,7 @@ impl Indicator {
         })
     }
 
-    /// G(y + `phase`) and, with `slope`, G″ there: one unit at one angle y ∈ [0, Φ), its
+    /// G(y + `phase`) and, with `slope`, G″ there added to it: one unit at one angle, its
     /// panel looked for from `hint`.
     #[inline]
     fn at_one(&self, y: f64, phase: f64, hint: &mut usize, slope: Option<&mut f64>) -> f64 {

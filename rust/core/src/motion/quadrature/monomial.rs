@@ -1,7 +1,7 @@
 //! A running integral in powers of x on each panel: the form of the indicator rules' G,
 //! looked up once per unit and angle wherever W is asked for.
 
-use super::{legendre_all, panel_near, Panels};
+use super::{panel_near, Panels};
 
 /// A running integral F(φ) = ∫₀^φ f dφ on `Panels` in monomials, for many look-ups: on each
 /// panel F = F(e_p) + Σ_i q_i x^i and f′ = Σ_i s_i x^i, x ∈ [−1, 1] across it, each by
@@ -257,18 +257,7 @@ fn rule_columns(panels: &Panels) -> Vec<f64> {
                 / (k + 1) as f64;
         }
     }
-    // basis[k][j] = (2k + 1)/2 · w_j · P_k(x_j).
-    let mut basis = vec![0.0; n * n];
-    for (j, (&x, &w)) in panels
-        .unit_nodes
-        .iter()
-        .zip(&panels.unit_weights)
-        .enumerate()
-    {
-        for (k, p) in legendre_all(n, x).into_iter().enumerate() {
-            basis[k * n + j] = (2 * k + 1) as f64 * 0.5 * w * p;
-        }
-    }
+    let basis = panels.legendre_basis();
     // powers[i][j]: the coefficient of x^i per f_j.
     let mut powers = vec![0.0; n * n];
     for i in 0..n {
