@@ -69,11 +69,17 @@ struct OnPanels {
 
 impl Gas {
     /// The gas of `machine` with `diagrams` in place of its own (the same pressures, or
-    /// scaled ones, shared); checks it.
-    pub fn new(machine: &MachineView<'_>, diagrams: Arc<[PiecewisePolynomial]>) -> Result<Self> {
+    /// scaled ones, shared); checks it. With `like`, another machine's gas whose indicator
+    /// rules are taken where they fit ([`GasWork::new`]): a sweep along r or l.
+    pub fn new(
+        machine: &MachineView<'_>,
+        diagrams: Arc<[PiecewisePolynomial]>,
+        like: Option<&Gas>,
+    ) -> Result<Self> {
         let cycle = machine.strokes.cycle_angle();
         let forces = Forces::new(machine.units, machine.gas, diagrams.clone(), cycle)?;
-        let work = GasWork::new(machine.units, machine.gas, diagrams, cycle)?;
+        let like = like.map(|g| &*g.work);
+        let work = GasWork::new(machine.units, machine.gas, diagrams, cycle, like)?;
         // The tables' own breakpoints enter through W, exactly.
         Ok(Self {
             forces: Arc::new(forces),
@@ -192,7 +198,7 @@ pub(crate) struct Cycle {
 impl Cycle {
     /// The tables of `machine` (its units checked as `dynamics`), its diagrams copied.
     pub fn new(machine: &MachineView<'_>, dynamics: Dynamics) -> Result<Self> {
-        let gas = Gas::new(machine, machine.diagrams.into())?;
+        let gas = Gas::new(machine, machine.diagrams.into(), None)?;
         Self::with_gas(machine, dynamics, &Arc::new(gas))
     }
 

@@ -142,6 +142,31 @@ impl PiecewisePolynomial {
         p
     }
 
+    /// [`PiecewisePolynomial::value_near`] at every θ of `theta`, in order, into `out` (the
+    /// same doubles): eight angles' Horner chains side by side, where one angle's chain
+    /// alone waits on each multiply-add.
+    pub(crate) fn values_near(&self, theta: &[f64], out: &mut [f64]) {
+        const LANES: usize = 8;
+        let (x0, cycle, order) = (self.breakpoints[0], self.cycle(), self.order);
+        let mut hint = 0;
+        for (angles, values) in theta.chunks(LANES).zip(out.chunks_mut(LANES)) {
+            let (mut dx, mut first) = ([0.0; LANES], [0_usize; LANES]);
+            for (l, &angle) in angles.iter().enumerate() {
+                let t = x0 + periodic(angle - x0, cycle);
+                hint = self.piece_near(t, hint);
+                dx[l] = t - self.breakpoints[hint];
+                first[l] = hint * order;
+            }
+            let mut p = [0.0; LANES];
+            for k in 0..order {
+                for l in 0..LANES {
+                    p[l] = p[l] * dx[l] + self.coefficients[first[l] + k];
+                }
+            }
+            values.copy_from_slice(&p[..angles.len()]);
+        }
+    }
+
     /// θ taken modulo the cycle as [`PiecewisePolynomial::value`] takes it: the piece i that
     /// holds it, and θ − x_i there.
     pub(crate) fn locate(&self, theta: f64) -> (usize, f64) {

@@ -17,6 +17,7 @@ use crate::error::{check, check_length, MechanismError, Result};
 use crate::parallel::{map_indices, Parallelism};
 
 use super::columns::{Changes, MachineDesigns, MotionColumns, MotionOutputs};
+use super::cycle::Gas;
 use super::gas::{GasCylinder, PiecewisePolynomial};
 use super::variant::{gas, variant, Variant};
 use super::webs::Kinematics;
@@ -192,6 +193,9 @@ impl Scaling {
 /// How much of a design's machine a key tells apart.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Level {
+    /// Its pressures: the gas's columns but those of `KINEMATIC` (their bits, scaled or
+    /// not), and the units' phases — what its indicator rules' panels and forces depend on.
+    Pressures,
     /// Its gas up to `Scaling` (the gas's columns, the units' phases).
     Gas,
     /// Its machine up to `Scaling` and its crank webs and counterweights (`webs`).
@@ -210,6 +214,12 @@ const WEBS: [&str; 4] = [
     "counterweight_radius",
 ];
 
+/// The gas's columns that move its pistons, not its pressures on them: designs that differ
+/// in these alone share their indicator rules ([`Gas::new`]'s `like`).
+///
+/// [`Gas::new`]: super::cycle::Gas::new
+const KINEMATIC: [&str; 2] = ["crank_radius", "rod_length"];
+
 /// What of design `row` tells its machine apart at `level`: below `Machine`, the columns
 /// `scaling` scales only by whether they are 0 (where the gas, or its cuts, is no scaled
 /// one).
@@ -218,13 +228,15 @@ fn row_key(designs: &MachineDesigns<'_>, row: usize, level: Level, scaling: Scal
         .named()
         .into_iter()
         .filter(|(name, changes, _)| match level {
+            Level::Pressures => *changes == Changes::Gas && !KINEMATIC.contains(name),
             Level::Gas => *changes == Changes::Gas,
             Level::Kinematics => *changes != Changes::Nothing && !WEBS.contains(name),
             Level::Shape | Level::Machine => *changes != Changes::Nothing,
         })
         .filter_map(|(name, _, column)| {
             let value = column?[row];
-            Some(if level != Level::Machine && scaling.scales(name) {
+            let scaled = !matches!(level, Level::Pressures | Level::Machine);
+            Some(if scaled && scaling.scales(name) {
                 u64::from(value == 0.0)
             } else {
                 value.to_bits()
@@ -354,15 +366,38 @@ pub fn motion_sweep(
             shared_by(&shape_of, shape_firsts.len()),
             shared_by(&machine_of, firsts.len()),
         );
-        let make_gas = |g: usize| {
+        // Gases on the same pressures (differing in r or l) take their indicator rules from
+        // the first of them, which is made first where it has followers.
+        let (pressure_of, pressure_firsts) = distinct(gas_firsts.iter().copied(), |row| {
+            row_key(designs, row, Level::Pressures, scaling)
+        });
+        let leader_of: Vec<usize> = pressure_of
+            .iter()
+            .map(|&p| gas_of[pressure_firsts[p] - block.start])
+            .collect();
+        let leads = shared_by(&leader_of, gas_firsts.len());
+        let make = |g: usize, like: Option<&Gas>| {
             let row = gas_firsts[g];
             variant(base, omega, designs, row)
-                .and_then(|v| gas(base, &shared, &v))
+                .and_then(|v| gas(base, &shared, &v, like))
                 .map(Arc::new)
                 .map_err(in_row(row))
         };
-        let gases = made_first(&gas_shared, work(gas_shared.len()), parallelism, &make_gas)?;
-        let gas_for = |g: usize| gases[g].clone().map_or_else(|| make_gas(g), Ok);
+        let leaders = made_first(&leads, work(leads.len()), parallelism, &|g| make(g, None))?;
+        let make_gas = |g: usize| make(g, leaders[leader_of[g]].as_deref());
+        let followers_shared: Vec<bool> = (0..gas_firsts.len())
+            .map(|g| gas_shared[g] && !leads[g])
+            .collect();
+        let followers = made_first(
+            &followers_shared,
+            work(gas_shared.len()),
+            parallelism,
+            &make_gas,
+        )?;
+        let gas_for = |g: usize| match (&leaders[g], &followers[g]) {
+            (Some(made), _) | (_, Some(made)) => Ok(Arc::clone(made)),
+            _ => make_gas(g),
+        };
         // The tables of design `row`, its gas that of its gas's first design scaled where
         // it differs.
         let tabulate = |row: usize| {

@@ -119,17 +119,18 @@ pub(super) fn variant(
 }
 
 /// A design's machine (its diagrams: `shared`, the base ones, scaled where the design says
-/// so), and the gas of it.
+/// so), and the gas of it, its indicator rules taken from `like` where they fit.
 pub(super) fn gas(
     base: &MachineView<'_>,
     shared: &Arc<[PiecewisePolynomial]>,
     variant: &Variant,
+    like: Option<&Gas>,
 ) -> Result<Gas> {
     let diagrams = match variant.pressure_scale {
         Some(factor) => shared.iter().map(|d| d.scaled(factor)).collect(),
         None => Arc::clone(shared),
     };
-    Gas::new(&variant.machine(base), diagrams)
+    Gas::new(&variant.machine(base), diagrams, like)
 }
 
 impl Variant {

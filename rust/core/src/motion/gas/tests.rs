@@ -104,7 +104,8 @@ fn net_piston_forces_are_the_pressures_on_the_two_circles() {
 #[test]
 fn a_look_up_from_a_hint_is_the_searched_one_in_any_order() {
     // A cubic spline-like table of 360 uneven pieces over 4π, probed in increasing order
-    // (the walk), decreasing, and scattered: value_near gives value's doubles every time.
+    // (the walk), decreasing, and scattered: value_near gives value's doubles every time,
+    // and so does values_near, eight at a time (3001 probes: a last chunk of one).
     let cycle = 4.0 * PI;
     let x: Vec<f64> = (0..=360)
         .map(|i| {
@@ -117,11 +118,11 @@ fn a_look_up_from_a_hint_is_the_searched_one_in_any_order() {
         .map(|n| ((n * 7919) % 113) as f64 - 56.0)
         .collect();
     let p = PiecewisePolynomial::new(x, coefficients, cycle).unwrap();
-    let increasing: Vec<f64> = (0..3000)
-        .map(|i| -1.0 + 3.0 * cycle * i as f64 / 2999.0)
+    let increasing: Vec<f64> = (0..3001)
+        .map(|i| -1.0 + 3.0 * cycle * i as f64 / 3000.0)
         .collect();
     let decreasing: Vec<f64> = increasing.iter().rev().copied().collect();
-    let scattered: Vec<f64> = (0..3000)
+    let scattered: Vec<f64> = (0..3001)
         .map(|i| cycle * (((i * 104_729) % 3001) as f64 / 1500.0 - 0.5))
         .collect();
     for probes in [increasing, decreasing, scattered] {
@@ -129,6 +130,11 @@ fn a_look_up_from_a_hint_is_the_searched_one_in_any_order() {
         for &t in &probes {
             let (near, searched) = (p.value_near(t, &mut hint), p.value(t));
             assert_eq!(near.to_bits(), searched.to_bits(), "{t}");
+        }
+        let mut together = vec![f64::NAN; probes.len()];
+        p.values_near(&probes, &mut together);
+        for (&t, value) in probes.iter().zip(together) {
+            assert_eq!(value.to_bits(), p.value(t).to_bits(), "{t}");
         }
     }
 }
@@ -201,7 +207,7 @@ fn the_slope_of_the_gas_work_is_the_derivative_of_the_gas_torque() {
         },
     ];
     let diagrams: Arc<[PiecewisePolynomial]> = vec![diagram].into();
-    let work = GasWork::new(&units, &gas, diagrams.clone(), cycle).unwrap();
+    let work = GasWork::new(&units, &gas, diagrams.clone(), cycle, None).unwrap();
     let forces = Forces::new(&units, &gas, diagrams, cycle).unwrap();
     let dynamics = crate::dynamics::Dynamics::new(&units, 0.0).unwrap();
     // Angles inside pieces (central differences across a breakpoint see its kink).
@@ -273,11 +279,18 @@ fn units_summed_on_one_rule_are_the_units_looked_up_one_by_one() {
         .iter()
         .map(|&a| unit(a))
         .collect();
-    let apart = GasWork::new(&off, &[gas; 4], diagrams.clone(), cycle).unwrap();
+    let apart = GasWork::new(&off, &[gas; 4], diagrams.clone(), cycle, None).unwrap();
     assert_eq!(apart.strays(), [None]);
     for phases in [on_steps.to_vec(), [&on_steps[..], &[step / 3.0]].concat()] {
         let units: Vec<PhysicalCylinder> = phases.iter().map(|&a| unit(a)).collect();
-        let work = GasWork::new(&units, &vec![gas; units.len()], diagrams.clone(), cycle).unwrap();
+        let work = GasWork::new(
+            &units,
+            &vec![gas; units.len()],
+            diagrams.clone(),
+            cycle,
+            None,
+        )
+        .unwrap();
         // The kink's two panels, at each unit's shift, hold the strays (and every panel the
         // unit between steps): every other panel is one look-up.
         let strays = work.strays()[0].expect("a sum of the units");
@@ -290,7 +303,7 @@ fn units_summed_on_one_rule_are_the_units_looked_up_one_by_one() {
         let mut expected = vec![0.0; phi.len()];
         let mut expected_slope = vec![0.0; off_edges];
         for u in &units {
-            let alone = GasWork::new(&[*u], &[gas], diagrams.clone(), cycle).unwrap();
+            let alone = GasWork::new(&[*u], &[gas], diagrams.clone(), cycle, None).unwrap();
             assert_eq!(alone.strays(), [None]);
             let (w, s) = alone.with_slope_at(&phi, off_edges);
             expected.iter_mut().zip(&w).for_each(|(e, w)| *e += w);
@@ -317,5 +330,69 @@ fn units_summed_on_one_rule_are_the_units_looked_up_one_by_one() {
             );
         }
         assert_eq!(work.at(&phi).unwrap(), found);
+    }
+}
+
+#[test]
+fn a_rule_taken_from_another_machine_gives_the_machines_own_doubles() {
+    // Machines that differ from a first one in r and l take its indicator rules (and, with
+    // its phases, its alignments): W and W″ must be the doubles of the machine made alone.
+    // Where the pressures, the bore or the phases differ, what does not fit is not taken.
+    let cycle = 4.0 * PI;
+    let pieces = 360;
+    let x: Vec<f64> = (0..=pieces)
+        .map(|i| cycle * i as f64 / pieces as f64)
+        .collect();
+    let p = |t: f64| 30e5 * (0.6 + 0.4 * (t / 2.0).cos()).powi(3);
+    let dp = |t: f64| -30e5 * 3.0 * (0.6 + 0.4 * (t / 2.0).cos()).powi(2) * 0.2 * (t / 2.0).sin();
+    let diagram = hermite_diagram(x, cycle, p, dp);
+    let diagrams: Arc<[PiecewisePolynomial]> = vec![diagram.clone()].into();
+    let step = cycle / pieces as f64;
+    let machine = |phases: &[f64], r: f64, l: f64| -> Vec<PhysicalCylinder> {
+        phases
+            .iter()
+            .map(|&a| PhysicalCylinder {
+                crank_radius: r,
+                rod_length: l,
+                ..small_unit(a, 0.2)
+            })
+            .collect()
+    };
+    let gas = |bore: f64| GasCylinder {
+        bore,
+        piston_rod_diameter: 0.0,
+        head: Some(0),
+        crank_end: None,
+    };
+    let phases = [0.0, 120.0 * step, 240.0 * step];
+    let make = |units: &[PhysicalCylinder], bore: f64, d: &Arc<[PiecewisePolynomial]>, like| {
+        GasWork::new(units, &vec![gas(bore); units.len()], d.clone(), cycle, like).unwrap()
+    };
+    let first = make(&machine(&phases, 0.06, 0.2), 0.1, &diagrams, None);
+    let phi: Vec<f64> = (0..997)
+        .map(|i| -1.0 + 2.5 * cycle * i as f64 / 996.0)
+        .collect();
+    let scaled: Arc<[PiecewisePolynomial]> = vec![diagram.scaled(1.1)].into();
+    let copied: Arc<[PiecewisePolynomial]> = vec![diagram.clone()].into();
+    let other_phases = [0.0, 60.0 * step, 240.0 * step];
+    // (units, bore, diagrams, the rules and alignments it takes from the first)
+    let cases = [
+        (machine(&phases, 0.055, 0.23), 0.1, &diagrams, (1, 1)),
+        (machine(&phases, 0.06, 0.25), 0.1, &copied, (1, 1)),
+        (machine(&other_phases, 0.055, 0.2), 0.1, &diagrams, (1, 0)),
+        (machine(&phases, 0.055, 0.23), 0.1, &scaled, (0, 0)),
+        (machine(&phases, 0.055, 0.23), 0.11, &diagrams, (0, 0)),
+    ];
+    for (units, bore, d, taken) in cases {
+        let alone = make(&units, bore, d, None);
+        let like = make(&units, bore, d, Some(&first));
+        assert_eq!(like.shared_with(&first), taken);
+        assert_eq!(alone.shared_with(&first), (0, 0));
+        let (w, s) = like.with_slope_at(&phi, 500);
+        let (w0, s0) = alone.with_slope_at(&phi, 500);
+        assert_eq!(like.per_cycle.to_bits(), alone.per_cycle.to_bits());
+        for (a, b) in w.iter().chain(&s).zip(w0.iter().chain(&s0)) {
+            assert_eq!(a.to_bits(), b.to_bits());
+        }
     }
 }

@@ -11,19 +11,33 @@ use crate::mechanism::PhysicalCylinder;
 use crate::parallel::Parallelism;
 
 use super::super::quadrature::{breaks, MonomialRunning, Panels};
-use super::{cylinder_force_near, periodic, GasCylinder, PiecewisePolynomial};
+use super::{periodic, GasCylinder, PiecewisePolynomial};
 
-/// F of one cylinder at phase 0 at every θ (rad), θ taken modulo the cycle.
+/// F of one cylinder at phase 0 at every θ (rad) of `theta`, in increasing order, θ taken
+/// modulo the cycle (each table's values in one walk, [`PiecewisePolynomial::values_near`]).
 fn one_cylinder_forces(
     cylinder: GasCylinder,
     diagrams: &[PiecewisePolynomial],
     cycle: f64,
     theta: &[f64],
 ) -> Vec<f64> {
-    let mut hints = [0, 0];
-    theta
-        .iter()
-        .map(|&t| cylinder_force_near(&cylinder, diagrams, periodic(t, cycle), &mut hints))
+    if !cylinder.has_gas() {
+        return vec![0.0; theta.len()];
+    }
+    let angles: Vec<f64> = theta.iter().map(|&t| periodic(t, cycle)).collect();
+    let pressures = |table: Option<usize>| {
+        table.map(|d| {
+            let mut p = vec![0.0; angles.len()];
+            diagrams[d].values_near(&angles, &mut p);
+            p
+        })
+    };
+    let (head, crank_end) = (pressures(cylinder.head), pressures(cylinder.crank_end));
+    (0..angles.len())
+        .map(|k| {
+            let at = |p: &Option<Vec<f64>>| p.as_ref().map(|p| p[k]);
+            cylinder.net_force(at(&head), at(&crank_end))
+        })
         .collect()
 }
 
@@ -52,30 +66,32 @@ const LANES: usize = 8;
 /// Φ = 4π is 1.8·10⁻¹⁵ rad), where the look-up of each unit at φ + α itself rounds by one.
 const ALIGNED: f64 = 4.0 * f64::EPSILON;
 
-/// G(x) = ∫₀^x F(θ) s'(θ) dθ of one cylinder at phase 0 (J), for any real x: F·s′ on
-/// panels cut at every breakpoint of the cylinder's tables (and its dead centres), at most
-/// π/64 wide, its interpolant through each panel's Gauss nodes integrated exactly
-/// ([`MonomialRunning`]).
-#[derive(Debug, Clone)]
-struct Indicator {
+/// What of one cylinder's indicator rule its crank radius and rod length do not change:
+/// the panels, cut at every breakpoint of its tables and at its dead centres (kπ), at most
+/// π/64 wide, and F at their Gauss nodes. Shared by designs that differ in r or l alone.
+#[derive(Debug)]
+struct Rule {
     cycle: f64,
     panels: Panels,
-    /// G and (F·s′)′ on every panel, in monomials for the many look-ups of W.
-    running: MonomialRunning,
+    /// F (N) at every node of `panels`.
+    forces: Vec<f64>,
+    /// What F depends on besides the tables: the cylinder's tables, bore and piston rod.
+    key: RuleKey,
 }
 
-impl Indicator {
-    fn new(
-        unit: &PhysicalCylinder,
-        gas: GasCylinder,
-        diagrams: &[PiecewisePolynomial],
-        cycle: f64,
-    ) -> Result<Self> {
-        let alone = PhysicalCylinder {
-            phase: 0.0,
-            ..*unit
-        };
-        let dynamics = Dynamics::new(&[alone], 0.0)?;
+/// A cylinder's tables (head, crank end) and its areas' bits (bore, piston rod diameter).
+type RuleKey = (Option<usize>, Option<usize>, [u64; 2]);
+
+impl Rule {
+    fn key(gas: &GasCylinder) -> RuleKey {
+        (
+            gas.head,
+            gas.crank_end,
+            [gas.bore.to_bits(), gas.piston_rod_diameter.to_bits()],
+        )
+    }
+
+    fn new(gas: GasCylinder, diagrams: &[PiecewisePolynomial], cycle: f64) -> Self {
         let tables: Vec<&PiecewisePolynomial> = [gas.head, gas.crank_end]
             .into_iter()
             .flatten()
@@ -96,14 +112,38 @@ impl Indicator {
         });
         let panels = Panels::new(&cuts, indicator_order(order, widest), INDICATOR_WIDTH);
         let forces = one_cylinder_forces(gas, diagrams, cycle, &panels.phi);
-        let mut torque = vec![0.0; panels.phi.len()];
-        dynamics.gas_torque(&panels.phi, &forces, &mut torque, Parallelism::SERIAL)?;
-        let running = MonomialRunning::through(&panels, &torque);
-        Ok(Self {
+        Self {
             cycle,
             panels,
-            running,
-        })
+            forces,
+            key: Self::key(&gas),
+        }
+    }
+}
+
+/// G(x) = ∫₀^x F(θ) s'(θ) dθ of one cylinder at phase 0 (J), for any real x: F·s′ on the
+/// panels of its [`Rule`], its interpolant through each panel's Gauss nodes integrated
+/// exactly ([`MonomialRunning`]).
+#[derive(Debug, Clone)]
+struct Indicator {
+    rule: Arc<Rule>,
+    /// G and (F·s′)′ on every panel, in monomials for the many look-ups of W.
+    running: MonomialRunning,
+}
+
+impl Indicator {
+    /// On `rule` (made for this cylinder's tables and areas), with the unit's r and l.
+    fn new(unit: &PhysicalCylinder, rule: Arc<Rule>) -> Result<Self> {
+        let alone = PhysicalCylinder {
+            phase: 0.0,
+            ..*unit
+        };
+        let dynamics = Dynamics::new(&[alone], 0.0)?;
+        let phi = &rule.panels.phi;
+        let mut torque = vec![0.0; phi.len()];
+        dynamics.gas_torque(phi, &rule.forces, &mut torque, Parallelism::SERIAL)?;
+        let running = MonomialRunning::through(&rule.panels, &torque);
+        Ok(Self { rule, running })
     }
 
     fn per_cycle(&self) -> f64 {
@@ -115,7 +155,7 @@ impl Indicator {
     /// doubles.
     #[inline]
     fn turns_and_angle(&self, angle: f64, phase: f64) -> (f64, f64) {
-        let (x, cycle) = (angle + phase, self.cycle);
+        let (x, cycle) = (angle + phase, self.rule.cycle);
         if (0.0..cycle).contains(&x) && x / cycle < 1.0 {
             (0.0, x)
         } else if (cycle..2.0 * cycle).contains(&x) && (1.0..2.0).contains(&(x / cycle)) {
@@ -132,7 +172,7 @@ impl Indicator {
     fn add(&self, phi: &[f64], phase: f64, work: &mut [f64], slope: Option<&mut [f64]>) {
         let per_cycle = self.per_cycle();
         let mut hint = 0;
-        let (panels, running) = (&self.panels, &self.running);
+        let (panels, running) = (&self.rule.panels, &self.running);
         match slope {
             None => {
                 // LANES angles at a time: their Horner chains side by side (the same doubles).
@@ -160,16 +200,65 @@ impl Indicator {
         }
     }
 
-    /// Σ_j G(x + α_j) over `phases` on these panels, one polynomial per panel of the units
-    /// that fall on it ([`Summed`]); `None` where most units fall on no panel (a table or
-    /// phases off the steps), so that a sum would save no look-up.
-    fn summed(&self, phases: &[f64]) -> Option<Summed> {
-        let (panels, cycle) = (&self.panels, self.cycle);
+    /// G(y + `phase`) and, with `slope`, G″ there added to it: one unit at one angle, its
+    /// panel looked for from `hint`.
+    #[inline]
+    fn at_one(&self, y: f64, phase: f64, hint: &mut usize, slope: Option<&mut f64>) -> f64 {
+        let (t, x) = self.turns_and_angle(y, phase);
+        let at_turn = t * self.per_cycle();
+        match slope {
+            None => at_turn + self.running.at_near(&self.rule.panels, x, hint),
+            Some(slope) => {
+                let (g, g2) = self.running.at_and_slope_near(&self.rule.panels, x, hint);
+                *slope += g2;
+                at_turn + g
+            }
+        }
+    }
+
+    /// G(x) for each x.
+    fn at(&self, x: &[f64]) -> Vec<f64> {
+        let mut out = vec![0.0; x.len()];
+        self.add(x, 0.0, &mut out, None);
+        out
+    }
+}
+
+/// Where each unit of a group falls on its rule's panels: for panel p shifted by each phase
+/// α_j, the panel q it falls on (to [`ALIGNED`]) — it depends on the panels' edges and the
+/// phases alone, not on r or l — or, where it falls on none, the unit as a stray of p.
+#[derive(Debug)]
+struct Alignment {
+    phases: Vec<f64>,
+    /// Every unit's panels that fall on panels, in runs (p, q, how many, whole cycles of
+    /// α_j + edge p over edge q): unit by unit, p increasing.
+    runs: Vec<Run>,
+    /// The units that do not, panel p's from `first_stray[p]` to `first_stray[p + 1]` (a
+    /// few, next to a kink off the steps): each unit's phase and the panel its look-up there
+    /// starts from.
+    first_stray: Vec<usize>,
+    strays: Vec<(f64, usize)>,
+}
+
+/// Panels p… p + count − 1 shifted by a unit's phase: panels q… q + count − 1, `turns`
+/// cycles on.
+#[derive(Debug, Clone, Copy)]
+struct Run {
+    p: usize,
+    q: usize,
+    count: usize,
+    turns: f64,
+}
+
+impl Alignment {
+    /// `None` where most units fall on no panel (a table or phases off the steps), so that
+    /// a sum would save no look-up.
+    fn new(rule: &Rule, phases: &[f64]) -> Option<Self> {
+        let (panels, cycle) = (&rule.panels, rule.cycle);
         let edges = &panels.edges;
         let count = panels.count();
         let tolerance = ALIGNED * cycle;
-        let per_cycle = self.per_cycle();
-        let mut running = self.running.zero_like();
+        let mut runs: Vec<Run> = Vec::new();
         // (panel, (phase, where its look-up starts)) of every unit that does not fall on a
         // panel there.
         let mut strays: Vec<(usize, (f64, usize))> = Vec::new();
@@ -198,8 +287,22 @@ impl Indicator {
                     }
                 };
                 if fits(q) {
-                    running.add_panel(p, &self.running, q);
-                    running.at_edges[p] += (turns + turn) * per_cycle;
+                    let turns = turns + turn;
+                    match runs.last_mut() {
+                        Some(run)
+                            if run.p + run.count == p
+                                && run.q + run.count == q
+                                && run.turns == turns =>
+                        {
+                            run.count += 1;
+                        }
+                        _ => runs.push(Run {
+                            p,
+                            q,
+                            count: 1,
+                            turns,
+                        }),
+                    }
                     next = Some(if q + 1 == count { 0 } else { q + 1 });
                 } else {
                     // The panel before q: the shifted panel may start just before q's edge.
@@ -211,8 +314,6 @@ impl Indicator {
         if 2 * strays.len() > count * phases.len() {
             return None;
         }
-        let units = phases.len() as f64;
-        running.at_edges[count] = running.at_edges[0] + units * per_cycle;
         strays.sort_by_key(|&(p, _)| p);
         let mut first_stray = vec![0; count + 1];
         for &(p, _) in &strays {
@@ -221,35 +322,12 @@ impl Indicator {
         for p in 0..count {
             first_stray[p + 1] += first_stray[p];
         }
-        Some(Summed {
-            running,
+        Some(Self {
+            phases: phases.to_vec(),
+            runs,
             first_stray,
             strays: strays.into_iter().map(|(_, stray)| stray).collect(),
-            per_cycle: units * per_cycle,
         })
-    }
-
-    /// G(y + `phase`) and, with `slope`, G″ there added to it: one unit at one angle, its
-    /// panel looked for from `hint`.
-    #[inline]
-    fn at_one(&self, y: f64, phase: f64, hint: &mut usize, slope: Option<&mut f64>) -> f64 {
-        let (t, x) = self.turns_and_angle(y, phase);
-        let at_turn = t * self.per_cycle();
-        match slope {
-            None => at_turn + self.running.at_near(&self.panels, x, hint),
-            Some(slope) => {
-                let (g, g2) = self.running.at_and_slope_near(&self.panels, x, hint);
-                *slope += g2;
-                at_turn + g
-            }
-        }
-    }
-
-    /// G(x) for each x.
-    fn at(&self, x: &[f64]) -> Vec<f64> {
-        let mut out = vec![0.0; x.len()];
-        self.add(x, 0.0, &mut out, None);
-        out
     }
 }
 
@@ -263,16 +341,31 @@ impl Indicator {
 struct Summed {
     /// The sum over the units that fall on panels, on each panel.
     running: MonomialRunning,
-    /// The units that do not, panel p's from `first_stray[p]` to `first_stray[p + 1]` (a
-    /// few, next to a kink off the steps): each unit's phase and the panel its look-up there
-    /// starts from.
-    first_stray: Vec<usize>,
-    strays: Vec<(f64, usize)>,
+    /// Where they fall, and the units that do not.
+    alignment: Arc<Alignment>,
     /// The group's indicated work of one cycle (J).
     per_cycle: f64,
 }
 
 impl Summed {
+    /// The units of `alignment` summed on `indicator` (made on the rule it was found on).
+    fn new(indicator: &Indicator, alignment: Arc<Alignment>) -> Self {
+        let per_cycle = indicator.per_cycle();
+        let own = &indicator.running;
+        let mut running = own.zero_like();
+        for run in &alignment.runs {
+            running.add_panels(run.p, own, run.q, run.count, run.turns * per_cycle);
+        }
+        let count = indicator.rule.panels.count();
+        let units = alignment.phases.len() as f64;
+        running.at_edges[count] = running.at_edges[0] + units * per_cycle;
+        Self {
+            running,
+            alignment,
+            per_cycle: units * per_cycle,
+        }
+    }
+
     /// Σ_j G(φ + α_j) at one angle given as (t, y) and its panel (p, x), and with `slope`
     /// Σ_j G″ added to it.
     #[inline]
@@ -287,14 +380,20 @@ impl Summed {
         if let Some(slope) = slope.as_deref_mut() {
             *slope += self.running.slope_at_panel(p, x);
         }
-        for &(phase, mut hint) in &self.strays[self.first_stray[p]..self.first_stray[p + 1]] {
+        let Alignment {
+            first_stray,
+            strays,
+            ..
+        } = &*self.alignment;
+        for &(phase, mut hint) in &strays[first_stray[p]..first_stray[p + 1]] {
             value += indicator.at_one(y, phase, &mut hint, slope.as_deref_mut());
         }
         value
     }
 
     fn has_strays(&self, p: usize) -> bool {
-        self.first_stray[p] != self.first_stray[p + 1]
+        let first_stray = &self.alignment.first_stray;
+        first_stray[p] != first_stray[p + 1]
     }
 }
 
@@ -318,7 +417,7 @@ impl Group {
             return;
         };
         let indicator = &self.indicator;
-        let panels = &indicator.panels;
+        let panels = &indicator.rule.panels;
         let mut hint = 0;
         let start = match slope {
             Some(slope) => {
@@ -367,35 +466,35 @@ impl Group {
 pub(crate) struct GasWork {
     /// One G per distinct cylinder, with the phases of the units that share it.
     groups: Vec<Group>,
+    /// The tables the rules' forces are of.
+    diagrams: Arc<[PiecewisePolynomial]>,
     origin: f64,
     /// W(Φ), the indicated work of one cycle (J).
     pub per_cycle: f64,
 }
 
 impl GasWork {
+    /// W of the machine of `units` and `gas`, its pressures `diagrams`; with `like`,
+    /// another machine's W whose rules (panels and F at their nodes) and alignments are
+    /// taken where a group's tables, areas and phases are the same as one of its own —
+    /// designs that differ only in r or l share all but F·s′ and its interpolants.
     pub fn new(
         units: &[PhysicalCylinder],
         gas: &[GasCylinder],
         diagrams: Arc<[PiecewisePolynomial]>,
         cycle: f64,
+        like: Option<&GasWork>,
     ) -> Result<Self> {
         // Units alike in all that G depends on: the same diagrams, areas, r and l.
-        type Key = (Option<usize>, Option<usize>, [u64; 4]);
-        let mut keys: Vec<Key> = Vec::new();
+        let mut keys: Vec<(RuleKey, [u64; 2])> = Vec::new();
         let mut members: Vec<(usize, Vec<f64>)> = Vec::new();
         for (j, (unit, cylinder)) in units.iter().zip(gas).enumerate() {
             if !cylinder.has_gas() {
                 continue;
             }
             let key = (
-                cylinder.head,
-                cylinder.crank_end,
-                [
-                    cylinder.bore.to_bits(),
-                    cylinder.piston_rod_diameter.to_bits(),
-                    unit.crank_radius.to_bits(),
-                    unit.rod_length.to_bits(),
-                ],
+                Rule::key(cylinder),
+                [unit.crank_radius.to_bits(), unit.rod_length.to_bits()],
             );
             match keys.iter().position(|k| *k == key) {
                 Some(g) => members[g].1.push(unit.phase),
@@ -405,34 +504,60 @@ impl GasWork {
                 }
             }
         }
+        // The groups of `like` on the same tables and areas.
+        let alike = |key: &RuleKey| -> Vec<&Group> {
+            let Some(like) = like else {
+                return Vec::new();
+            };
+            let (head, crank_end, _) = *key;
+            let equal = |d: Option<usize>| d.is_none_or(|d| like.diagrams[d] == diagrams[d]);
+            let same = Arc::ptr_eq(&like.diagrams, &diagrams) || (equal(head) && equal(crank_end));
+            if !same {
+                return Vec::new();
+            }
+            like.groups
+                .iter()
+                .filter(|g| g.indicator.rule.key == *key)
+                .collect()
+        };
         let mut groups = Vec::with_capacity(members.len());
         for (j, phases) in members {
-            let indicator = Indicator::new(&units[j], gas[j], &diagrams, cycle)?;
-            let summed = (phases.len() > 1)
-                .then(|| indicator.summed(&phases))
-                .flatten();
+            let found = alike(&Rule::key(&gas[j]));
+            let rule = found.first().map(|g| Arc::clone(&g.indicator.rule));
+            // Its phases' alignment, where a group alike has the same phases.
+            let alignment = found
+                .iter()
+                .find(|g| g.phases == phases)
+                .map(|g| g.summed.as_ref().map(|s| Arc::clone(&s.alignment)));
+            let rule = rule.unwrap_or_else(|| Arc::new(Rule::new(gas[j], &diagrams, cycle)));
+            let alignment = match alignment {
+                Some(found) => found,
+                None => (phases.len() > 1)
+                    .then(|| Alignment::new(&rule, &phases).map(Arc::new))
+                    .flatten(),
+            };
+            let indicator = Indicator::new(&units[j], rule)?;
+            let summed = alignment.map(|a| Summed::new(&indicator, a));
             groups.push(Group {
                 indicator,
                 phases,
                 summed,
             });
         }
-        let mut work = Self {
-            groups,
-            origin: 0.0,
-            per_cycle: 0.0,
-        };
-        work.per_cycle = work
-            .groups
+        let per_cycle = groups
             .iter()
             .map(|g| g.indicator.per_cycle() * g.phases.len() as f64)
             .sum();
         let mut origin = 0.0;
-        for g in &work.groups {
+        for g in &groups {
             origin += g.indicator.at(&g.phases).iter().sum::<f64>();
         }
-        work.origin = origin;
-        Ok(work)
+        Ok(Self {
+            groups,
+            diagrams,
+            origin,
+            per_cycle,
+        })
     }
 
     /// How many units are looked up one by one, over all panels, in each group that sums
@@ -441,8 +566,28 @@ impl GasWork {
     pub(super) fn strays(&self) -> Vec<Option<usize>> {
         self.groups
             .iter()
-            .map(|g| g.summed.as_ref().map(|s| s.strays.len()))
+            .map(|g| g.summed.as_ref().map(|s| s.alignment.strays.len()))
             .collect()
+    }
+
+    /// How many of its groups hold a rule, and how many an alignment, of `other`'s.
+    #[cfg(test)]
+    pub(super) fn shared_with(&self, other: &GasWork) -> (usize, usize) {
+        let theirs = |mine: &Group| {
+            other.groups.iter().fold((false, false), |(r, a), g| {
+                let alignments = mine.summed.as_ref().zip(g.summed.as_ref());
+                (
+                    r || Arc::ptr_eq(&mine.indicator.rule, &g.indicator.rule),
+                    a || alignments.is_some_and(|(m, t)| Arc::ptr_eq(&m.alignment, &t.alignment)),
+                )
+            })
+        };
+        self.groups
+            .iter()
+            .map(theirs)
+            .fold((0, 0), |(r, a), (mr, ma)| {
+                (r + usize::from(mr), a + usize::from(ma))
+            })
     }
 
     /// W at each φ.

@@ -113,17 +113,27 @@ impl MonomialRunning {
         }
     }
 
-    /// Panel `q` of `other` (on panels of the same order) added to panel `p` of this one:
-    /// its polynomials coefficient by coefficient and F at its first edge.
+    /// Panels q… q + count − 1 of `other` (on panels of the same order) added to panels
+    /// p… p + count − 1 of this one: their polynomials coefficient by coefficient (one run
+    /// of memory each) and F at their first edges plus `at_edge`.
     #[inline]
-    pub fn add_panel(&mut self, p: usize, other: &Self, q: usize) {
+    pub fn add_panels(&mut self, p: usize, other: &Self, q: usize, count: usize, at_edge: f64) {
         let add = |sum: &mut [f64], of: &[f64], width: usize| {
-            let (sum, of) = (&mut sum[p * width..(p + 1) * width], &of[q * width..]);
+            let (sum, of) = (
+                &mut sum[p * width..(p + count) * width],
+                &of[q * width..(q + count) * width],
+            );
             sum.iter_mut().zip(of).for_each(|(s, c)| *s += c);
         };
         add(&mut self.running, &other.running, self.order + 1);
         add(&mut self.slope, &other.slope, self.order);
-        self.at_edges[p] += other.at_edges[q];
+        let (sum, of) = (
+            &mut self.at_edges[p..p + count],
+            &other.at_edges[q..q + count],
+        );
+        sum.iter_mut()
+            .zip(of)
+            .for_each(|(s, c)| *s = (*s + c) + at_edge);
     }
 
     /// F(φ), φ (rad) in [0, Φ], on `panels` (those it was made on), φ's panel looked for
