@@ -6,8 +6,10 @@
 //! solves on the same tables, less what was not asked for: bit for bit where the design's
 //! tables are made as its machine's own, to rounding (1e-12) where they are another design's
 //! with the gas scaled (`Scaling`: pressure_scale, bore) or U reweighted (`webs`: crank webs
-//! and counterweights). Every row is solved on its own, its tables made from the same first
-//! designs whatever the threads, so the columns are bit-identical for any thread count.
+//! and counterweights). Designs whose gases differ in r or l alone take the first one's
+//! indicator rules (`Level::Pressures`), which changes no double. Every row is solved on
+//! its own, its tables made from the same first designs whatever the threads, so the
+//! columns are bit-identical for any thread count.
 
 use std::collections::HashMap;
 use std::sync::Arc;
