@@ -17,6 +17,7 @@ use std::sync::Arc;
 use crate::error::{check, MechanismError, Result};
 use crate::mechanism::PhysicalCylinder;
 
+mod alignment;
 mod work;
 
 pub(crate) use work::GasWork;

@@ -11,6 +11,7 @@ use crate::mechanism::PhysicalCylinder;
 use crate::parallel::Parallelism;
 
 use super::super::quadrature::{breaks, MonomialRunning, Panels};
+use super::alignment::Alignment;
 use super::{periodic, GasCylinder, PiecewisePolynomial};
 
 /// F of one cylinder at phase 0 at every θ (rad) of `theta`, in increasing order, θ taken
@@ -60,11 +61,6 @@ const INDICATOR_WIDTH: f64 = PI / 64.0;
 
 /// Angles W is looked up at side by side ([`MonomialRunning::at_lanes`]).
 const LANES: usize = 8;
-
-/// How near a panel shifted by a unit's phase must fall on a panel, as a part of Φ, for
-/// the units' G to be summed there ([`Summed`]): a few roundings of the angles (the ulp of
-/// Φ = 4π is 1.8·10⁻¹⁵ rad), where the look-up of each unit at φ + α itself rounds by one.
-const ALIGNED: f64 = 4.0 * f64::EPSILON;
 
 /// What of one cylinder's indicator rule its crank radius and rod length do not change:
 /// the panels, cut at every breakpoint of its tables and at its dead centres (kπ), at most
@@ -224,115 +220,8 @@ impl Indicator {
     }
 }
 
-/// Where each unit of a group falls on its rule's panels: for panel p shifted by each phase
-/// α_j, the panel q it falls on (to [`ALIGNED`]) — it depends on the panels' edges and the
-/// phases alone, not on r or l — or, where it falls on none, the unit as a stray of p.
-#[derive(Debug)]
-struct Alignment {
-    phases: Vec<f64>,
-    /// Every unit's panels that fall on panels, in runs (p, q, how many, whole cycles of
-    /// α_j + edge p over edge q): unit by unit, p increasing.
-    runs: Vec<Run>,
-    /// The units that do not, panel p's from `first_stray[p]` to `first_stray[p + 1]` (a
-    /// few, next to a kink off the steps): each unit's phase and the panel its look-up there
-    /// starts from.
-    first_stray: Vec<usize>,
-    strays: Vec<(f64, usize)>,
-}
-
-/// Panels p… p + count − 1 shifted by a unit's phase: panels q… q + count − 1, `turns`
-/// cycles on.
-#[derive(Debug, Clone, Copy)]
-struct Run {
-    p: usize,
-    q: usize,
-    count: usize,
-    turns: f64,
-}
-
-impl Alignment {
-    /// `None` where most units fall on no panel (a table or phases off the steps), so that
-    /// a sum would save no look-up.
-    fn new(rule: &Rule, phases: &[f64]) -> Option<Self> {
-        let (panels, cycle) = (&rule.panels, rule.cycle);
-        let edges = &panels.edges;
-        let count = panels.count();
-        let tolerance = ALIGNED * cycle;
-        let mut runs: Vec<Run> = Vec::new();
-        // (panel, (phase, where its look-up starts)) of every unit that does not fall on a
-        // panel there.
-        let mut strays: Vec<(usize, (f64, usize))> = Vec::new();
-        for &phase in phases {
-            let turns = (phase / cycle).floor();
-            let shift = phase - turns * cycle;
-            // The panel q that panel p shifted falls on, walked along with p (the one after
-            // the last one's), looked for again where it is not.
-            let mut next = None;
-            let mut hint = 0;
-            for p in 0..count {
-                let width = edges[p + 1] - edges[p];
-                let (turn, start) = match edges[p] + shift {
-                    start if start >= cycle - tolerance => (1.0, start - cycle),
-                    start => (0.0, start),
-                };
-                let fits = |q: usize| {
-                    (edges[q] - start).abs() <= tolerance
-                        && (edges[q + 1] - (start + width)).abs() <= tolerance
-                };
-                let q = match next {
-                    Some(q) if fits(q) => q,
-                    _ => {
-                        let middle = (start + 0.5 * width).clamp(0.0, cycle);
-                        MonomialRunning::locate(panels, middle, &mut hint).0
-                    }
-                };
-                if fits(q) {
-                    let turns = turns + turn;
-                    match runs.last_mut() {
-                        Some(run)
-                            if run.p + run.count == p
-                                && run.q + run.count == q
-                                && run.turns == turns =>
-                        {
-                            run.count += 1;
-                        }
-                        _ => runs.push(Run {
-                            p,
-                            q,
-                            count: 1,
-                            turns,
-                        }),
-                    }
-                    next = Some(if q + 1 == count { 0 } else { q + 1 });
-                } else {
-                    // The panel before q: the shifted panel may start just before q's edge.
-                    strays.push((p, (phase, q.saturating_sub(1))));
-                    next = None;
-                }
-            }
-        }
-        if 2 * strays.len() > count * phases.len() {
-            return None;
-        }
-        strays.sort_by_key(|&(p, _)| p);
-        let mut first_stray = vec![0; count + 1];
-        for &(p, _) in &strays {
-            first_stray[p + 1] += 1;
-        }
-        for p in 0..count {
-            first_stray[p + 1] += first_stray[p];
-        }
-        Some(Self {
-            phases: phases.to_vec(),
-            runs,
-            first_stray,
-            strays: strays.into_iter().map(|(_, stray)| stray).collect(),
-        })
-    }
-}
-
 /// Σ_j G(x + α_j) of a group's units on their indicator's panels, wherever panel p shifted
-/// by every α_j is a panel (to [`ALIGNED`]) — the usual case: a table of equal steps, and
+/// by every α_j is a panel (to `ALIGNED`) — the usual case: a table of equal steps, and
 /// firing intervals and bank angles whole multiples of the step. There the units'
 /// polynomials, in the same x across the panel, add coefficient by coefficient: W is one
 /// look-up for the group where it was one per unit. Elsewhere (a kink of the table off the
@@ -533,7 +422,7 @@ impl GasWork {
             let alignment = match alignment {
                 Some(found) => found,
                 None => (phases.len() > 1)
-                    .then(|| Alignment::new(&rule, &phases).map(Arc::new))
+                    .then(|| Alignment::new(&rule.panels, rule.cycle, &phases).map(Arc::new))
                     .flatten(),
             };
             let indicator = Indicator::new(&units[j], rule)?;
