@@ -15,7 +15,6 @@ pub(super) const ALIGNED: f64 = 4.0 * f64::EPSILON;
 /// phases alone, not on r or l — or, where it falls on none, the unit as a stray of p.
 #[derive(Debug)]
 pub(super) struct Alignment {
-    pub(super) phases: Vec<f64>,
     /// Every unit's panels that fall on panels, in runs (p, q, how many, whole cycles of
     /// α_j + edge p over edge q): unit by unit, p increasing.
     pub(super) runs: Vec<Run>,
@@ -108,7 +107,6 @@ impl Alignment {
             first_stray[p + 1] += first_stray[p];
         }
         Some(Self {
-            phases: phases.to_vec(),
             runs,
             first_stray,
             strays: strays.into_iter().map(|(_, stray)| stray).collect(),

@@ -160,6 +160,17 @@ fn hermite_diagram(
     PiecewisePolynomial::new(x, rows.concat(), cycle).unwrap()
 }
 
+/// A smooth four-stroke-like pressure, p = 30 bar·(0.6 + 0.4 cos(θ/2))³, as Hermite cubics
+/// on `pieces` equal pieces over `cycle`.
+fn smooth_diagram(pieces: usize, cycle: f64) -> PiecewisePolynomial {
+    let x: Vec<f64> = (0..=pieces)
+        .map(|i| cycle * i as f64 / pieces as f64)
+        .collect();
+    let p = |t: f64| 30e5 * (0.6 + 0.4 * (t / 2.0).cos()).powi(3);
+    let dp = |t: f64| -30e5 * 3.0 * (0.6 + 0.4 * (t / 2.0).cos()).powi(2) * 0.2 * (t / 2.0).sin();
+    hermite_diagram(x, cycle, p, dp)
+}
+
 /// A small slider-crank unit at `phase`, its cylinder inclined by `inclination` (rad).
 fn small_unit(phase: f64, inclination: f64) -> PhysicalCylinder {
     PhysicalCylinder {
@@ -184,13 +195,7 @@ fn the_slope_of_the_gas_work_is_the_derivative_of_the_gas_torque() {
     // from the indicator rules' interpolants against central differences of M_gas = Σ F s′
     // from the kernels (Dynamics::gas_torque of the forces looked up at φ ± h).
     let cycle = 4.0 * PI;
-    let pieces = 96;
-    let x: Vec<f64> = (0..=pieces)
-        .map(|i| cycle * i as f64 / pieces as f64)
-        .collect();
-    let p = |t: f64| 30e5 * (0.6 + 0.4 * (t / 2.0).cos()).powi(3);
-    let dp = |t: f64| -30e5 * 3.0 * (0.6 + 0.4 * (t / 2.0).cos()).powi(2) * 0.2 * (t / 2.0).sin();
-    let diagram = hermite_diagram(x, cycle, p, dp);
+    let diagram = smooth_diagram(96, cycle);
     let units = [small_unit(0.0, 0.3), small_unit(2.5, 0.3)];
     let gas = [
         GasCylinder {
@@ -340,12 +345,7 @@ fn a_rule_taken_from_another_machine_gives_the_machines_own_doubles() {
     // Where the pressures, the bore or the phases differ, what does not fit is not taken.
     let cycle = 4.0 * PI;
     let pieces = 360;
-    let x: Vec<f64> = (0..=pieces)
-        .map(|i| cycle * i as f64 / pieces as f64)
-        .collect();
-    let p = |t: f64| 30e5 * (0.6 + 0.4 * (t / 2.0).cos()).powi(3);
-    let dp = |t: f64| -30e5 * 3.0 * (0.6 + 0.4 * (t / 2.0).cos()).powi(2) * 0.2 * (t / 2.0).sin();
-    let diagram = hermite_diagram(x, cycle, p, dp);
+    let diagram = smooth_diagram(pieces, cycle);
     let diagrams: Arc<[PiecewisePolynomial]> = vec![diagram.clone()].into();
     let step = cycle / pieces as f64;
     let machine = |phases: &[f64], r: f64, l: f64| -> Vec<PhysicalCylinder> {

@@ -237,8 +237,8 @@ struct Summed {
 }
 
 impl Summed {
-    /// The units of `alignment` summed on `indicator` (made on the rule it was found on).
-    fn new(indicator: &Indicator, alignment: Arc<Alignment>) -> Self {
+    /// The `units` of `alignment` summed on `indicator` (made on the rule it was found on).
+    fn new(indicator: &Indicator, alignment: Arc<Alignment>, units: usize) -> Self {
         let per_cycle = indicator.per_cycle();
         let own = &indicator.running;
         let mut running = own.zero_like();
@@ -246,7 +246,7 @@ impl Summed {
             running.add_panels(run.p, own, run.q, run.count, run.turns * per_cycle);
         }
         let count = indicator.rule.panels.count();
-        let units = alignment.phases.len() as f64;
+        let units = units as f64;
         running.at_edges[count] = running.at_edges[0] + units * per_cycle;
         Self {
             running,
@@ -426,7 +426,7 @@ impl GasWork {
                     .flatten(),
             };
             let indicator = Indicator::new(&units[j], rule)?;
-            let summed = alignment.map(|a| Summed::new(&indicator, a));
+            let summed = alignment.map(|a| Summed::new(&indicator, a, phases.len()));
             groups.push(Group {
                 indicator,
                 phases,
