@@ -23,6 +23,7 @@ __all__ = [
     "FlywheelResult",
     "MechanismError",
     "NativeMachine",
+    "SolvedSteadyState",
     "SteadyResult",
     "__version__",
     "_after_fork_in_child",
@@ -130,6 +131,17 @@ class SteadyResult:
     def gas_torque(self) -> _Array | None: ...
     @property
     def gravity_torque(self) -> _Array | None: ...
+    @property
+    def solved(self) -> SolvedSteadyState | None:
+        """The solve kept for its curves (the "balance" load's; None for the square law)."""
+
+@final
+class SolvedSteadyState:
+    """A steady state's solve under the "balance" load, kept for its curves."""
+
+    def curves(self, phi: _Array) -> tuple[_Array, _Array]:
+        """ω [rad/s] and t [s from φ = 0] at ``phi`` [rad, each in [0, Φ]]: the doubles
+        ``steady_state`` gives with ``phi``, without a second solve."""
 
 @final
 class FlywheelResult:

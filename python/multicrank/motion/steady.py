@@ -43,7 +43,7 @@ from .._native import MechanismError
 from .._validation import as_count, as_flag, as_instance, rpm_from_omega
 from ..machine.machine import Machine
 from ..machine.native import motion_machine
-from ._deferred import COMPARISONS, Computed, CoreQuestion, steady_arrays, steady_curves
+from ._deferred import COMPARISONS, Computed, CoreQuestion, cycle_angles, steady_arrays, steady_curves
 from ._periodic import (
     DEFAULT_MIN_SPEED_RATIO,
     METHODS,
@@ -223,7 +223,7 @@ def _native_solution(
     table = drive_table(machine, rules, omega) if balance and omega is not None else None
     # The square law's curves come with its solution; "balance" makes its angles only when
     # its arrays are read.
-    square_law_phi = None if balance else np.linspace(0.0, machine.cycle, points)
+    square_law_phi = None if balance else cycle_angles(machine.cycle, points)
     try:
         if balance:
             assert omega is not None
@@ -295,7 +295,7 @@ def _native_stall(angle: float, omega: float | None, min_omega: float | None, ra
 def _shooting_solution(machine: Machine, rules: Rules, gravity: bool, ratio: float, points: int) -> _Solved:
     """The steady state under a load or drive that depends on the speed, by shooting
     (:mod:`~multicrank.motion._shooting`), all at once; δ of the machine coasting is the core's."""
-    phi = np.linspace(0.0, machine.cycle, points)
+    phi = cycle_angles(machine.cycle, points)
     shaft = ShaftCycle(machine, gravity)
     applied = rules.torques.net
     try:

@@ -65,7 +65,7 @@ pub use motion::{
     flywheel_inertia, motion_sweep, net_piston_forces, square_law_flywheel_inertia,
     square_law_steady_state, steady_state, steady_state_curves, CycleArrays, FlywheelInertia,
     GasCylinder, MachineDesigns, MachineView, MotionColumns, MotionOutputs, PiecewisePolynomial,
-    SteadyCurves, SteadyState, SteadyTables, UnitColumn, UnitField,
+    SolvedSteadyState, SteadyCurves, SteadyState, SteadyTables, UnitColumn, UnitField,
 };
 pub use motion::{torque_orders, TorqueOrders};
 pub use motion::{FrameOutputs, BEARING_ANGLES, FRAME_OUTPUTS};

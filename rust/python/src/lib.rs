@@ -61,7 +61,7 @@ mod _native {
         bearing_layout, piston_forces, two_mass_rod_inertia, unit_travel, NativeMachine,
     };
     #[pymodule_export]
-    use crate::motion_results::{FlywheelResult, SteadyResult};
+    use crate::motion_results::{FlywheelResult, SolvedSteady, SteadyResult};
     #[pymodule_export]
     use crate::parallel::{_after_fork_in_child, get_parallel_threshold, set_parallel_threshold};
     #[pymodule_export]

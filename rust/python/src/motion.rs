@@ -95,7 +95,8 @@ impl NativeMachine {
     /// and min_omega (rad/s). `gravity=False`: the same machine with g = 0 (on this machine's tables).
     /// `drive`: None, or the PPoly arrays (x, c) of a driving torque M_d(φ) (N·m, x spanning
     /// one working cycle) beside the gas, the load balancing both (its cycle mean).
-    /// `arrays=False`: with `phi`, ω and t alone (the rest: `cycle_arrays`).
+    /// `arrays=False`: with `phi`, ω and t alone (the rest: `cycle_arrays`). The result's
+    /// `solved` gives ω and t at other angles later without a second solve.
     #[pyo3(signature = (
         omega_mean, min_speed_ratio=1e-3, phi=None, compare=true, shaft_inertia=None,
         gravity=true, drive=None, arrays=true
@@ -116,10 +117,10 @@ impl NativeMachine {
         let angles = phi.as_ref().map(|a| a.as_slice()).transpose()?;
         let inertia = shaft_inertia.unwrap_or(self.core.shaft_inertia());
         let drive = drive_table(&drive, self.cycle())?;
-        let (found, arrays) = py
+        let (found, arrays, solved) = py
             .detach(|| {
                 let tables = self.tables_with(gravity, drive.as_ref())?;
-                let found = tables.steady_state(
+                let (found, solved) = tables.solved_steady_state(
                     inertia,
                     omega_mean,
                     min_speed_ratio,
@@ -130,10 +131,10 @@ impl NativeMachine {
                     .filter(|_| arrays)
                     .map(|phi| tables.arrays_at(inertia, phi))
                     .transpose()?;
-                Ok((found, arrays))
+                Ok((found, arrays, solved))
             })
             .map_err(|error| motion_err(py, error))?;
-        Ok(steady_result(py, found, angles.is_some(), arrays))
+        steady_result(py, found, angles.is_some(), arrays, Some(solved))
     }
 
     /// cycle_arrays(phi, shaft_inertia=None, gravity=True, drive=None) -> (reduced_inertia,
@@ -280,7 +281,7 @@ impl NativeMachine {
                 )
             })
             .map_err(|error| motion_err(py, error))?;
-        Ok(steady_result(py, found, angles.is_some(), None))
+        steady_result(py, found, angles.is_some(), None, None)
     }
 
     /// flywheel_inertia(delta, omega_mean, min_speed_ratio=1e-3, without_gravity=True,

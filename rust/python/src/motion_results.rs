@@ -3,9 +3,11 @@
 
 use multicrank_core as core;
 
-use numpy::{IntoPyArray, PyArray1, PyArrayMethods};
+use numpy::{IntoPyArray, PyArray1, PyArrayMethods, PyReadonlyArray1};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+
+use crate::motion::motion_err;
 
 type Array = Option<Py<PyArray1<f64>>>;
 
@@ -50,6 +52,32 @@ pub(crate) struct SteadyResult {
     reduced_inertia_slope: Array,
     gas_torque: Array,
     gravity_torque: Array,
+    /// The solve kept for its curves (the "balance" load's; None for other routes).
+    solved: Option<Py<SolvedSteady>>,
+}
+
+/// A steady state's solve under the "balance" load, kept so that its curves can be asked
+/// for later without solving again (`SteadyResult.solved`).
+#[pyclass(frozen, name = "SolvedSteadyState", module = "multicrank._native")]
+pub(crate) struct SolvedSteady {
+    core: core::SolvedSteadyState,
+}
+
+#[pymethods]
+impl SolvedSteady {
+    /// curves(phi) -> (omega, time): ω (rad/s) and t (s from φ = 0) at `phi` (rad, each in
+    /// [0, Φ]), the doubles steady_state gives with `phi`, without a second solve.
+    fn curves<'py>(
+        &self,
+        py: Python<'py>,
+        phi: PyReadonlyArray1<'py, f64>,
+    ) -> PyResult<(Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>)> {
+        let angles = phi.as_slice()?;
+        let (omega, time) = py
+            .detach(|| self.core.curves(angles))
+            .map_err(|error| motion_err(py, error))?;
+        Ok((omega.into_pyarray(py), time.into_pyarray(py)))
+    }
 }
 
 impl SteadyResult {
@@ -164,7 +192,8 @@ pub(crate) fn steady_result(
     found: core::SteadyCurves,
     curves: bool,
     arrays: Option<core::CycleArrays>,
-) -> SteadyResult {
+    solved: Option<core::SolvedSteadyState>,
+) -> PyResult<SteadyResult> {
     let s = found.state;
     let array = |values: Vec<f64>| Some(values.into_pyarray(py).unbind());
     let (omega, time) = if curves {
@@ -181,7 +210,10 @@ pub(crate) fn steady_result(
         ),
         None => (None, None, None, None),
     };
-    SteadyResult {
+    let solved = solved
+        .map(|core| Py::new(py, SolvedSteady { core }))
+        .transpose()?;
+    Ok(SteadyResult {
         omega_mean: s.omega_mean,
         period: s.period,
         omega_max: s.omega_max,
@@ -204,7 +236,8 @@ pub(crate) fn steady_result(
         reduced_inertia_slope,
         gas_torque,
         gravity_torque,
-    }
+        solved,
+    })
 }
 
 impl From<core::FlywheelInertia> for FlywheelResult {

@@ -240,23 +240,21 @@ impl Balance {
     }
 
     /// The periodic solution of mean speed `omega_mean` (rad/s), stalled where it needs
-    /// ω_min < `ratio`·ω_m, with ω(φ) (rad/s) and t(φ) (s, from φ = 0) at `phi` (rad, each
-    /// in [0, Φ]) where given, as [`Balance::curves`] gives them. s by Brent's method on
-    /// (ω_m(s)/ω_m)² − 1, nearly linear in s, on a mesh graded for that s (again until the
-    /// mesh no longer grows).
-    fn solve_at(&mut self, omega_mean: f64, ratio: f64, phi: Option<&[f64]>) -> Result<Solution> {
-        let (mut solution, graded) = self.solve_on_mesh(omega_mean, ratio)?;
-        if let (Some(phi), Some(periodic)) = (phi, solution.periodic) {
-            solution.curves = Some(if phi.is_empty() {
-                Curves {
-                    omega: Vec::new(),
-                    time: Vec::new(),
-                }
-            } else {
-                self.curves(self.view(&graded), periodic.margin, phi)?
-            });
-        }
-        Ok(solution)
+    /// ω_min < `ratio`·ω_m, and where it converged what its curves need
+    /// ([`SolvedBalance`]). s by Brent's method on (ω_m(s)/ω_m)² − 1, nearly linear in s,
+    /// on a mesh graded for that s (again until the mesh no longer grows).
+    pub fn solve_kept(
+        mut self,
+        omega_mean: f64,
+        ratio: f64,
+    ) -> Result<(Solution, Option<SolvedBalance>)> {
+        let (solution, graded) = self.solve_on_mesh(omega_mean, ratio)?;
+        let kept = solution.periodic.map(|periodic| SolvedBalance {
+            margin: periodic.margin,
+            graded,
+            balance: self,
+        });
+        Ok((solution, kept))
     }
 
     /// ω(φ) = √(2E/J) with E = s + K̃(φ) evaluated exactly, and t(φ) = ∫₀^φ dφ/ω with each
@@ -280,7 +278,7 @@ impl Balance {
         Ok(Curves { omega, time })
     }
 
-    /// `solve_at` without curves, and the graded mesh the answer was taken on (`None`: the
+    /// The solution without curves, and the graded mesh the answer was taken on (`None`: the
     /// base panels); the counts are those of the excess (ω_m(s)/ω_m)² − 1 over every round.
     fn solve_on_mesh(&mut self, omega_mean: f64, ratio: f64) -> Result<(Solution, Option<Graded>)> {
         let cycle = Arc::clone(&self.cycle);
@@ -531,8 +529,44 @@ pub(crate) struct AtSpeed<'b> {
 
 impl PeriodicSolver for AtSpeed<'_> {
     fn solve(&self, shaft_inertia: f64, ratio: f64, phi: Option<&[f64]>) -> Result<Solution> {
-        self.balance
+        let (mut solution, kept) = self
+            .balance
             .with_inertia(shaft_inertia)
-            .solve_at(self.omega_mean, ratio, phi)
+            .solve_kept(self.omega_mean, ratio)?;
+        if let (Some(phi), Some(kept)) = (phi, kept) {
+            solution.curves = Some(kept.curves(phi)?);
+        }
+        Ok(solution)
+    }
+}
+
+/// A converged solve of the energy method, kept for its curves: the copy of the set-up it
+/// was solved on (with the minima it located), the mesh it was graded to and its margin s.
+/// ω and t at any angles later cost no second solve, and are the doubles the solve would
+/// have given with those angles.
+#[derive(Debug, Clone)]
+pub(crate) struct SolvedBalance {
+    balance: Balance,
+    graded: Option<Graded>,
+    margin: f64,
+}
+
+impl SolvedBalance {
+    /// Φ (rad).
+    pub fn cycle(&self) -> f64 {
+        self.balance.cycle()
+    }
+
+    /// ω(φ) (rad/s) and t(φ) (s, from φ = 0) at `phi` (rad, each in [0, Φ]), as
+    /// [`Balance::curves`] gives them.
+    pub fn curves(&self, phi: &[f64]) -> Result<Curves> {
+        if phi.is_empty() {
+            return Ok(Curves {
+                omega: Vec::new(),
+                time: Vec::new(),
+            });
+        }
+        let balance = &self.balance;
+        balance.curves(balance.view(&self.graded), self.margin, phi)
     }
 }

@@ -51,7 +51,7 @@ pub(crate) use gas::Forces as GasForces;
 pub use gas::{net_piston_forces, GasCylinder, PiecewisePolynomial};
 pub use orders::{torque_orders, TorqueOrders};
 pub use sweep::motion_sweep;
-pub use tables::{CycleArrays, SteadyTables};
+pub use tables::{CycleArrays, SolvedSteadyState, SteadyTables};
 
 /// A machine as its motion takes it (SI units): a [`Machine`](crate::Machine)'s own
 /// ([`Machine::view`](crate::Machine::view)), or a design's machine in a sweep.

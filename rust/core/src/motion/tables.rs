@@ -9,12 +9,56 @@ use crate::dynamics::Dynamics;
 use crate::error::{check, MechanismError, Result};
 use crate::mechanism::{check_shaft_inertia, check_speed};
 
-use super::balance::Balance;
+use super::balance::{Balance, SolvedBalance};
 use super::cycle::{Cycle, Gas};
 use super::drive::Drive;
 use super::gas::PiecewisePolynomial;
 use super::solution::{Periodic, PeriodicSolver, Solution};
 use super::{check_speed_ratio, flywheel, FlywheelInertia, MachineView, SteadyCurves, SteadyState};
+
+/// Every angle of `phi` in [0, Φ] (Φ = `cycle`, rad), else an error naming `phi`.
+fn check_angles(phi: &[f64], cycle: f64) -> Result<()> {
+    for &angle in phi {
+        check("phi", angle, "0 <= phi <= cycle angle", |a| {
+            (0.0..=cycle).contains(&a)
+        })?;
+    }
+    Ok(())
+}
+
+/// I_w, ω_m and the ratio of a steady state asked for, each naming itself where it is bad.
+fn check_question(shaft_inertia: f64, omega_mean: f64, min_speed_ratio: f64) -> Result<()> {
+    check_shaft_inertia(shaft_inertia)?;
+    check_speed("omega_mean", omega_mean)?;
+    check_speed_ratio(min_speed_ratio)?;
+    Ok(())
+}
+
+/// A steady state under the "balance" load as its solve left it
+/// ([`SteadyTables::solved_steady_state`]): ω and t at any angles, later, from the mesh and
+/// margin it was solved on — the doubles [`SteadyTables::steady_state`] gives with those
+/// angles.
+#[derive(Debug, Clone)]
+pub struct SolvedSteadyState {
+    kept: SolvedBalance,
+}
+
+impl SolvedSteadyState {
+    /// (ω(φ_i) (rad/s), t(φ_i) (s, from φ = 0)) at `phi` (rad, each in [0, Φ]), as
+    /// [`SteadyCurves`] holds them.
+    ///
+    /// Errors: an angle outside [0, Φ] (or not finite), naming `phi`.
+    pub fn curves(&self, phi: &[f64]) -> Result<(Vec<f64>, Vec<f64>)> {
+        check_angles(phi, self.kept.cycle())?;
+        self.kept_curves(phi)
+    }
+
+    /// `curves` of angles already checked.
+    fn kept_curves(&self, phi: &[f64]) -> Result<(Vec<f64>, Vec<f64>)> {
+        let curves = self.kept.curves(phi)?;
+        Ok((curves.omega, curves.time))
+    }
+}
 
 /// The constant "balance" load (N·m): the cycle mean of the gas torque, W(Φ)/Φ.
 fn balance_load(cycle: &Cycle) -> f64 {
@@ -227,20 +271,44 @@ impl SteadyTables {
         phi: &[f64],
         compare: bool,
     ) -> Result<SteadyCurves> {
-        check_shaft_inertia(shaft_inertia)?;
-        check_speed("omega_mean", omega_mean)?;
-        check_speed_ratio(min_speed_ratio)?;
-        let cycle = self.cycle();
-        for &angle in phi {
-            check("phi", angle, "0 <= phi <= cycle angle", |a| {
-                (0.0..=cycle).contains(&a)
-            })?;
-        }
-        let found =
-            self.machine
-                .at_speed(omega_mean)
-                .solve(shaft_inertia, min_speed_ratio, Some(phi))?;
-        let (Some(solution), Some(curves)) = (found.periodic, found.curves) else {
+        let (found, _) =
+            self.solved_steady_state(shaft_inertia, omega_mean, min_speed_ratio, phi, compare)?;
+        Ok(found)
+    }
+
+    /// [`SteadyTables::steady_state`], and the solve kept: ω and t at other angles later
+    /// ([`SolvedSteadyState::curves`]) without solving again.
+    ///
+    /// Errors: as [`SteadyTables::steady_state`].
+    pub fn solved_steady_state(
+        &self,
+        shaft_inertia: f64,
+        omega_mean: f64,
+        min_speed_ratio: f64,
+        phi: &[f64],
+        compare: bool,
+    ) -> Result<(SteadyCurves, SolvedSteadyState)> {
+        check_question(shaft_inertia, omega_mean, min_speed_ratio)?;
+        check_angles(phi, self.cycle())?;
+        let (mut found, solved) =
+            self.solve_kept(shaft_inertia, omega_mean, min_speed_ratio, compare)?;
+        (found.omega, found.time) = solved.kept_curves(phi)?;
+        Ok((found, solved))
+    }
+
+    /// [`SteadyTables::solved_steady_state`] of a question already checked.
+    fn solve_kept(
+        &self,
+        shaft_inertia: f64,
+        omega_mean: f64,
+        min_speed_ratio: f64,
+        compare: bool,
+    ) -> Result<(SteadyCurves, SolvedSteadyState)> {
+        let (found, kept) = self
+            .machine
+            .with_inertia(shaft_inertia)
+            .solve_kept(omega_mean, min_speed_ratio)?;
+        let (Some(solution), Some(kept)) = (found.periodic, kept) else {
             let balance = self.machine.with_inertia(shaft_inertia);
             let angle = found.stall_angle.unwrap_or(f64::NAN);
             return Err(stall_error(&balance, angle, omega_mean, min_speed_ratio)?);
@@ -255,15 +323,16 @@ impl SteadyTables {
                 min_speed_ratio,
             )?;
         }
-        Ok(SteadyCurves {
+        let found = SteadyCurves {
             state,
-            omega: curves.omega,
-            time: curves.time,
+            omega: Vec::new(),
+            time: Vec::new(),
             status: found.status.code(),
             message: found.message,
             nfev: found.nfev,
             nit: found.nit,
-        })
+        };
+        Ok((found, SolvedSteadyState { kept }))
     }
 
     /// (δ without gravity, δ coasting) of a steady state found by
