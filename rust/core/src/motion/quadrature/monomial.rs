@@ -207,13 +207,32 @@ impl MonomialRunning {
     /// [`MonomialRunning::at_panel`] in `L` lanes, their Horner chains side by side.
     #[inline]
     pub fn at_panels<const L: usize>(&self, first: &[usize; L], x: &[f64; L]) -> [f64; L] {
-        let n = self.order + 1;
-        let mut value = [0.0; L];
-        for k in 0..n {
-            for l in 0..L {
-                value[l] = value[l] * x[l] + self.running[first[l] * n + k];
+        // The common orders with their rows' length known when compiled: no bounds check
+        // in the chains, and the L sums stay in registers (in a loop of any length they
+        // went through the stack at every step, a third of reading ω and t at 1441 angles).
+        let value = match self.order + 1 {
+            2 => self.horner_lanes::<L, 2>(first, x),
+            3 => self.horner_lanes::<L, 3>(first, x),
+            4 => self.horner_lanes::<L, 4>(first, x),
+            5 => self.horner_lanes::<L, 5>(first, x),
+            6 => self.horner_lanes::<L, 6>(first, x),
+            7 => self.horner_lanes::<L, 7>(first, x),
+            8 => self.horner_lanes::<L, 8>(first, x),
+            9 => self.horner_lanes::<L, 9>(first, x),
+            10 => self.horner_lanes::<L, 10>(first, x),
+            11 => self.horner_lanes::<L, 11>(first, x),
+            12 => self.horner_lanes::<L, 12>(first, x),
+            13 => self.horner_lanes::<L, 13>(first, x),
+            n => {
+                let mut value = [0.0; L];
+                for k in 0..n {
+                    for l in 0..L {
+                        value[l] = value[l] * x[l] + self.running[first[l] * n + k];
+                    }
+                }
+                value
             }
-        }
+        };
         let mut out = [0.0; L];
         for l in 0..L {
             let at_edge = self.at_edges[first[l]];
@@ -224,6 +243,28 @@ impl MonomialRunning {
             };
         }
         out
+    }
+
+    /// Σ_k q_k x^k of each lane's panel by Horner's rule, rows of `W` coefficients (highest
+    /// power first), the lanes' chains side by side.
+    #[inline(always)]
+    fn horner_lanes<const L: usize, const W: usize>(
+        &self,
+        first: &[usize; L],
+        x: &[f64; L],
+    ) -> [f64; L] {
+        let rows: [&[f64; W]; L] = first.map(|p| {
+            self.running[p * W..(p + 1) * W]
+                .try_into()
+                .expect("W coefficients a panel")
+        });
+        let mut value = [0.0; L];
+        for k in 0..W {
+            for l in 0..L {
+                value[l] = value[l] * x[l] + rows[l][k];
+            }
+        }
+        value
     }
 
     /// F(φ) as [`MonomialRunning::at_near`], and f′(φ) (per rad) on the same panel (on an
