@@ -13,7 +13,7 @@ pub(super) const ALIGNED: f64 = 4.0 * f64::EPSILON;
 /// Where each unit of a group falls on its rule's panels: for panel p shifted by each phase
 /// α_j, the panel q it falls on (to [`ALIGNED`]) — it depends on the panels' edges and the
 /// phases alone, not on r or l — or, where it falls on none, the unit as a stray of p.
-#[derive(Debug)]
+#[derive(Debug, PartialEq)]
 pub(super) struct Alignment {
     /// Every unit's panels that fall on panels, in runs (p, q, how many, whole cycles of
     /// α_j + edge p over edge q): unit by unit, p increasing.
@@ -27,7 +27,7 @@ pub(super) struct Alignment {
 
 /// Panels p… p + count − 1 shifted by a unit's phase: panels q… q + count − 1, `turns`
 /// cycles on.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub(super) struct Run {
     pub(super) p: usize,
     pub(super) q: usize,
@@ -39,6 +39,13 @@ impl Alignment {
     /// `None` where most units fall on no panel (a table or phases off the steps), so that
     /// a sum would save no look-up.
     pub(super) fn new(panels: &Panels, cycle: f64, phases: &[f64]) -> Option<Self> {
+        Self::walked(panels, cycle, phases, true)
+    }
+
+    /// [`Alignment::new`], each unit's panels walked one by one unless `stretches`: then a
+    /// panel that falls on one is followed by all those after it that do ([`aligned_after`]),
+    /// the same runs and strays in fewer steps.
+    fn walked(panels: &Panels, cycle: f64, phases: &[f64], stretches: bool) -> Option<Self> {
         let edges = &panels.edges;
         let count = panels.count();
         let tolerance = ALIGNED * cycle;
@@ -53,7 +60,8 @@ impl Alignment {
             // the last one's), looked for again where it is not.
             let mut next = None;
             let mut hint = 0;
-            for p in 0..count {
+            let mut p = 0;
+            while p < count {
                 let width = edges[p + 1] - edges[p];
                 let (turn, start) = match edges[p] + shift {
                     start if start >= cycle - tolerance => (1.0, start - cycle),
@@ -87,12 +95,25 @@ impl Alignment {
                             turns,
                         }),
                     }
-                    next = Some(if q + 1 == count { 0 } else { q + 1 });
+                    // The panels after p that fall on those after q, in the same turn,
+                    // all at once: what the steps above find for each of them, one by one.
+                    let stretch = if stretches {
+                        aligned_after(edges, p, q, shift, turn, cycle, tolerance)
+                    } else {
+                        0
+                    };
+                    if let Some(run) = runs.last_mut() {
+                        run.count += stretch;
+                    }
+                    let (p_last, q_last) = (p + stretch, q + stretch);
+                    next = Some(if q_last + 1 == count { 0 } else { q_last + 1 });
+                    p = p_last;
                 } else {
                     // The panel before q: the shifted panel may start just before q's edge.
                     strays.push((p, (phase, q.saturating_sub(1))));
                     next = None;
                 }
+                p += 1;
             }
         }
         if 2 * strays.len() > count * phases.len() {
@@ -111,5 +132,114 @@ impl Alignment {
             first_stray,
             strays: strays.into_iter().map(|(_, stray)| stray).collect(),
         })
+    }
+}
+
+/// How many of the panels p + 1, p + 2, … (while p + k + 1 ≤ count and q + k + 1 ≤ count − 1)
+/// shifted by `shift` (rad) fall on panels q + 1, q + 2, … to `tolerance` (rad) in the same
+/// `turn` (0 or 1 cycles back) as panel p on q: each tested as [`Alignment::new`] tests a
+/// panel on the one after its last one's, the start e_p + shift (less Φ = `cycle` in the
+/// second turn) and its end start + width within the tolerance of q's edges. The walk's
+/// common case (every panel of a unit on the steps falls on one), in blocks that compile to
+/// vector comparisons.
+fn aligned_after(
+    edges: &[f64],
+    p: usize,
+    q: usize,
+    shift: f64,
+    turn: f64,
+    cycle: f64,
+    tolerance: f64,
+) -> usize {
+    let count = edges.len() - 1;
+    // Panels p + k with k ≥ 1 whose q + k is a panel (q + k ≤ count − 1).
+    let last = (count - 1 - q).min(count - 1 - p);
+    let fits = |k: usize| {
+        let (a, b) = (p + k, q + k);
+        let shifted = edges[a] + shift;
+        let second = shifted >= cycle - tolerance;
+        let start = if second { shifted - cycle } else { shifted };
+        let width = edges[a + 1] - edges[a];
+        (if second { 1.0 } else { 0.0 }) == turn
+            && (edges[b] - start).abs() <= tolerance
+            && (edges[b + 1] - (start + width)).abs() <= tolerance
+    };
+    const BLOCK: usize = 8;
+    let mut k = 1;
+    while k + BLOCK <= last + 1 && (k..k + BLOCK).fold(true, |all, k| all & fits(k)) {
+        k += BLOCK;
+    }
+    while k <= last && fits(k) {
+        k += 1;
+    }
+    k - 1
+}
+
+#[cfg(test)]
+mod tests {
+    use std::f64::consts::PI;
+
+    use super::*;
+
+    /// A small linear congruential generator: the cases the same on every run.
+    struct Lcg(u64);
+
+    impl Lcg {
+        fn unit(&mut self) -> f64 {
+            self.0 = self
+                .0
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (self.0 >> 11) as f64 / (1u64 << 53) as f64
+        }
+    }
+
+    #[test]
+    fn stretches_find_the_runs_and_strays_of_the_walk_panel_by_panel() {
+        let mut random = Lcg(7);
+        let (mut with_runs, mut with_strays) = (0, 0);
+        for case in 0..60 {
+            let cycle = if case % 2 == 0 { 4.0 * PI } else { 2.0 * PI };
+            // A table's steps, the dead centres among them, and in some cases a few cuts
+            // off the steps (a kink of a diagram between its breakpoints).
+            let steps = [90, 720, 1440][case % 3];
+            let step = cycle / steps as f64;
+            let mut breaks: Vec<f64> = (0..=steps).map(|i| i as f64 * step).collect();
+            for _ in 0..(case % 4) {
+                breaks.push(random.unit() * cycle);
+            }
+            breaks.sort_by(f64::total_cmp);
+            breaks.dedup();
+            let panels = Panels::new(&breaks, 3, if case % 5 == 0 { step / 3.0 } else { 1.0 });
+            // Phases on the steps, one cycle on, just off them (within and beyond the
+            // tolerance), and anywhere.
+            let phases: Vec<f64> = (0..2 + case % 7)
+                .map(|j| {
+                    let on = (random.unit() * steps as f64).floor() * step;
+                    match (case + j) % 5 {
+                        0 => on + cycle,
+                        1 => on + 0.5 * ALIGNED * cycle,
+                        2 => on + 3.0 * ALIGNED * cycle,
+                        3 => random.unit() * cycle,
+                        _ => on,
+                    }
+                })
+                .collect();
+            let walked = Alignment::walked(&panels, cycle, &phases, false);
+            assert_eq!(
+                Alignment::walked(&panels, cycle, &phases, true),
+                walked,
+                "case {case}: phases {phases:?}"
+            );
+            if let Some(found) = walked {
+                with_runs += usize::from(found.runs.iter().any(|run| run.count > 8));
+                with_strays += usize::from(!found.strays.is_empty());
+            }
+        }
+        // Both ways through a walk were taken: long runs, and strays among them.
+        assert!(
+            with_runs > 20 && with_strays > 10,
+            "{with_runs} {with_strays}"
+        );
     }
 }
