@@ -260,8 +260,9 @@ impl MonomialRunning {
         });
         let mut value = [0.0; L];
         for k in 0..W {
+            let coefficient = rows.map(|row| row[k]);
             for l in 0..L {
-                value[l] = value[l] * x[l] + rows[l][k];
+                value[l] = value[l] * x[l] + coefficient[l];
             }
         }
         value
