@@ -11,10 +11,13 @@ import math
 import pickle
 
 import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 import multicrank as mc
 from multicrank.machine.native import motion_machine
-from multicrank.motion._deferred import Computed, CoreQuestion
+from multicrank.motion._deferred import Computed, CoreQuestion, cycle_angles
 from multicrank.presets import MACHINES
 
 COMPRESSOR = MACHINES["slow-compressor"]
@@ -72,3 +75,35 @@ def test_a_pickle_holds_the_answers_and_no_question():
         assert loaded._later is None, route
         np.testing.assert_array_equal(loaded.omega, state.omega)
         assert loaded.delta_coasting == state.delta_coasting
+
+
+@settings(max_examples=200, deadline=None)
+@given(
+    cycle=st.floats(1e-3, 1e3, allow_nan=False) | st.sampled_from([2 * math.pi, 4 * math.pi]),
+    points=st.integers(2, 5000),
+)
+def test_the_curves_angles_are_linspaces_to_the_bit(cycle, points):
+    assert cycle_angles(cycle, points).tobytes() == np.linspace(0.0, cycle, points).tobytes()
+
+
+def test_curves_asked_of_the_kept_solve_are_those_the_solve_gives_with_its_angles():
+    # One solve, its curves later at any angles: the doubles a solve with those angles gives
+    # (the same root, mesh and K̃), on every preset that runs, and no second solve for .omega.
+    for name, m in MACHINES.items():
+        if m.rpm is None:
+            continue
+        native = motion_machine(m)
+        omega = math.pi * m.rpm / 30
+        phi = np.concatenate([np.linspace(0.0, m.cycle, 97), [m.cycle / 3, 0.0, m.cycle]])
+        together = native.steady_state(omega, phi=phi, compare=False)
+        solved = native.steady_state(omega, compare=False).solved
+        assert solved is not None and together.omega is not None and together.time is not None
+        later_omega, later_time = solved.curves(phi)
+        assert later_omega.tobytes() == together.omega.tobytes(), name
+        assert later_time.tobytes() == together.time.tobytes(), name
+        state = mc.steady_state(m, points=97)
+        assert state.omega.tobytes() == together.omega[:97].tobytes(), name
+    with pytest.raises(mc.MechanismError) as error:
+        solved.curves(np.array([0.0, -0.1]))
+    assert error.value.parameter == "phi"
+    assert mc.steady_state(COMPRESSOR, load=FAN, drive=1000.0, points=9)._later.found.solved is None

@@ -37,8 +37,6 @@ from __future__ import annotations
 import math
 from typing import Any
 
-import numpy as np
-
 from .._native import MechanismError
 from .._validation import as_count, as_flag, as_instance, rpm_from_omega
 from ..machine.machine import Machine
