@@ -1,7 +1,24 @@
 //! A running integral in powers of x on each panel: the form of the indicator rules' G,
 //! looked up once per unit and angle wherever W is asked for.
 
+use multiversion::multiversion;
+
 use super::{panel_near, Panels};
+
+/// [`MonomialRunning::through`] compiled for the widest vectors the machine has: its two
+/// small matrix products a panel are most of a geometry sweep's design (plain multiplies and
+/// adds, never fused: the same doubles at any width).
+#[multiversion(targets("x86_64+avx512f", "x86_64+avx2"))]
+fn through_widest(panels: &Panels, values: &[f64]) -> MonomialRunning {
+    MonomialRunning::through_any(panels, values)
+}
+
+/// `of` added to `sum`, element by element (a group's units summed panel on panel), in the
+/// widest vectors the machine has: plain additions, the same doubles at any width.
+#[multiversion(targets("x86_64+avx512f", "x86_64+avx2"))]
+fn add_into(sum: &mut [f64], of: &[f64]) {
+    sum.iter_mut().zip(of).for_each(|(s, c)| *s += c);
+}
 
 /// A running integral F(φ) = ∫₀^φ f dφ on `Panels` in monomials, for many look-ups: on each
 /// panel F = F(e_p) + Σ_i q_i x^i and f′ = Σ_i s_i x^i, x ∈ [−1, 1] across it, each by
@@ -31,6 +48,12 @@ impl MonomialRunning {
     /// into powers, integrated and differentiated), so a panel costs two small matrix
     /// products and no division but one.
     pub fn through(panels: &Panels, values: &[f64]) -> Self {
+        through_widest(panels, values)
+    }
+
+    /// [`MonomialRunning::through`] for the machine's vector width (`through_widest`).
+    #[inline(always)]
+    fn through_any(panels: &Panels, values: &[f64]) -> Self {
         // The rules' orders, each with its sums in registers (a length known when compiled).
         match panels.order {
             1 => Self::through_order::<1>(panels, values),
@@ -51,6 +74,7 @@ impl MonomialRunning {
 
     /// [`MonomialRunning::through`] for rules of order `N` (0: any order, the sums in
     /// memory).
+    #[inline(always)]
     fn through_order<const N: usize>(panels: &Panels, values: &[f64]) -> Self {
         let n = panels.order;
         debug_assert!(N == 0 || N == n);
@@ -119,11 +143,10 @@ impl MonomialRunning {
     #[inline]
     pub fn add_panels(&mut self, p: usize, other: &Self, q: usize, count: usize, at_edge: f64) {
         let add = |sum: &mut [f64], of: &[f64], width: usize| {
-            let (sum, of) = (
+            add_into(
                 &mut sum[p * width..(p + count) * width],
                 &of[q * width..(q + count) * width],
             );
-            sum.iter_mut().zip(of).for_each(|(s, c)| *s += c);
         };
         add(&mut self.running, &other.running, self.order + 1);
         add(&mut self.slope, &other.slope, self.order);
