@@ -16,7 +16,7 @@
 //! of `exact`'s block kernels, so it runs on the same vectorised sincos, rotations, angle
 //! sources and threads as the gravity kernels.
 
-use crate::angles::{Phi, PreparedPhi};
+use crate::angles::{Phi, PreparedPhi, Run, TableAngles};
 use crate::engine::{Engine, EngineUnit};
 use crate::error::{check, check_length, check_rows_length, MechanismError, Result};
 use crate::exact::{crank_run, weighted_crank_run, CrankTerm, Quantity, RowWeights};
@@ -356,6 +356,31 @@ impl Dynamics {
             };
             weighted_crank_run::<Velocity, _>(&self.sliders, &self.phases, run, weights, segment);
         });
+        Ok(())
+    }
+
+    /// [`Dynamics::gas_torque`] at angles whose sines and cosines are given (`sin`, `cos`:
+    /// [`sincos_table`](crate::trig::sincos_table) of them, the values the kernel would make
+    /// of each point, so the same doubles), serially: the indicator rule a geometry sweep's
+    /// designs share makes them once.
+    pub(crate) fn gas_torque_on_table(
+        &self,
+        sin: &[f64],
+        cos: &[f64],
+        forces: &[f64],
+        out: &mut [f64],
+    ) -> Result<()> {
+        let n = sin.len();
+        check_length("cos", n, cos.len())?;
+        check_rows_length("forces", self.len(), n, forces.len())?;
+        check_length("out", n, out.len())?;
+        let weights = RowWeights {
+            values: forces,
+            stride: n,
+            first: 0,
+        };
+        let run = Run::Table(TableAngles { sin, cos });
+        weighted_crank_run::<Velocity, _>(&self.sliders, &self.phases, run, weights, out);
         Ok(())
     }
 }

@@ -3,12 +3,13 @@
 //! (the room's doc, `gas`), and W the sum of the units' G at their phases.
 
 use std::f64::consts::PI;
-use std::sync::Arc;
+use std::sync::{Arc, OnceLock};
 
 use crate::dynamics::Dynamics;
 use crate::error::Result;
 use crate::mechanism::PhysicalCylinder;
 use crate::parallel::Parallelism;
+use crate::trig::sincos_table;
 
 use super::super::quadrature::{breaks, MonomialRunning, Panels};
 use super::alignment::Alignment;
@@ -73,6 +74,9 @@ struct Rule {
     forces: Vec<f64>,
     /// What F depends on besides the tables: the cylinder's tables, bore and piston rod.
     key: RuleKey,
+    /// (sin φ, cos φ) at the nodes, made when a second machine takes the rule (a machine
+    /// alone has its kernel make them, without keeping 2 × 10⁴ doubles).
+    trig: OnceLock<(Vec<f64>, Vec<f64>)>,
 }
 
 /// A cylinder's tables (head, crank end) and its areas' bits (bore, piston rod diameter).
@@ -113,7 +117,13 @@ impl Rule {
             panels,
             forces,
             key: Self::key(&gas),
+            trig: OnceLock::new(),
         }
+    }
+
+    /// (sin φ, cos φ) at the nodes, made on first use.
+    fn trig(&self) -> &(Vec<f64>, Vec<f64>) {
+        self.trig.get_or_init(|| sincos_table(&self.panels.phi))
     }
 }
 
@@ -137,7 +147,12 @@ impl Indicator {
         let dynamics = Dynamics::new(&[alone], 0.0)?;
         let phi = &rule.panels.phi;
         let mut torque = vec![0.0; phi.len()];
-        dynamics.gas_torque(phi, &rule.forces, &mut torque, Parallelism::SERIAL)?;
+        match rule.trig.get() {
+            Some((sin, cos)) => {
+                dynamics.gas_torque_on_table(sin, cos, &rule.forces, &mut torque)?
+            }
+            None => dynamics.gas_torque(phi, &rule.forces, &mut torque, Parallelism::SERIAL)?,
+        }
         let running = MonomialRunning::through(&rule.panels, &torque);
         Ok(Self { rule, running })
     }
@@ -412,7 +427,12 @@ impl GasWork {
         let mut groups = Vec::with_capacity(members.len());
         for (j, phases) in members {
             let found = alike(&Rule::key(&gas[j]));
-            let rule = found.first().map(|g| Arc::clone(&g.indicator.rule));
+            // A rule taken from another machine: its nodes' sines and cosines made once, for
+            // this machine and every later one (a sweep's designs along r or l).
+            let rule = found.first().map(|g| {
+                g.indicator.rule.trig();
+                Arc::clone(&g.indicator.rule)
+            });
             // Its phases' alignment, where a group alike has the same phases.
             let alignment = found
                 .iter()
