@@ -20,6 +20,8 @@
 //! n-component, R and Q. The throw receives −Q from each of its rods and loads its bearings
 //! with L = Σ(−Q) + (m_s + m_p) g − (m_s r_s − m_p r_p)/r · a_P.
 
+use multiversion::multiversion;
+
 use crate::error::{check, check_length, short, MechanismError, Result};
 use crate::mechanism::PhysicalCylinder;
 use crate::parallel::{map_indices, Parallelism};
@@ -246,7 +248,7 @@ fn unit_forces(
 /// [`unit_forces`] with its sines and cosines given: (sin ψ, cos ψ) of the crank angle
 /// ψ = φ + α and (sin γ, cos γ) of the inclination (the same doubles, for callers that keep
 /// them).
-#[inline]
+#[inline(always)]
 fn unit_forces_at(
     unit: &PhysicalCylinder,
     (s, c): (f64, f64),
@@ -460,14 +462,40 @@ pub(crate) fn max_bearing_load(
     throws.clear();
     for (j, unit) in units.iter().enumerate() {
         let unit_points = j * points..(j + 1) * points;
-        throws.extend(trig[unit_points.clone()].iter().zip(&gas[unit_points]).map(
-            |(&trig, &gas)| {
-                unit_forces_at(unit, trig, frames[j], omega, 0.0, gas_scale * gas, g).throw_load
-            },
-        ));
+        let forces = (omega, gas_scale, g);
+        unit_throw_loads(
+            unit,
+            &trig[unit_points.clone()],
+            frames[j],
+            &gas[unit_points],
+            forces,
+            throws,
+        );
     }
     let per_unit: Vec<&[[f64; 2]]> = throws.chunks_exact(points.max(1)).collect();
     largest_bearing_load(layout, &per_unit, points, bearings)
+}
+
+/// One unit's throw loads at the crank angles whose (sin ψ, cos ψ) are `trig`, at the
+/// constant speed ω with its gas forces `gas` times the scale and g (`(omega, gas_scale, g)`),
+/// appended to `out`: [`unit_forces_at`] of each angle, compiled for the widest vectors the
+/// machine has (the angles side by side; their square roots and divisions were most of a
+/// `max_bearing_load`), no operation fused, so the same doubles.
+#[multiversion(targets("x86_64+avx512f+avx512vl+avx512dq", "x86_64+avx2"))]
+fn unit_throw_loads(
+    unit: &PhysicalCylinder,
+    trig: &[(f64, f64)],
+    frame: (f64, f64),
+    gas: &[f64],
+    (omega, gas_scale, g): (f64, f64, f64),
+    out: &mut Vec<[f64; 2]>,
+) {
+    // A loop, not a closure: a closure is compiled apart, without the target's features.
+    let first = out.len();
+    out.resize(first + trig.len(), [0.0; 2]);
+    for ((load, &trig), &gas) in out[first..].iter_mut().zip(trig).zip(gas) {
+        *load = unit_forces_at(unit, trig, frame, omega, 0.0, gas_scale * gas, g).throw_load;
+    }
 }
 
 /// Each unit's load on its throw (N; horizontal, vertical) at the crank angles `phi` (rad) at
