@@ -2,6 +2,8 @@
 //! summed panel on panel (the gas work's `Summed`). It depends on the panels' edges and the
 //! units' phases alone, so designs that differ in r or l share it.
 
+use multiversion::multiversion;
+
 use super::super::quadrature::{MonomialRunning, Panels};
 
 /// How near a panel shifted by a unit's phase must fall on a panel, as a part of Φ, for
@@ -112,6 +114,10 @@ impl Alignment {
                     // The panel before q: the shifted panel may start just before q's edge.
                     strays.push((p, (phase, q.saturating_sub(1))));
                     next = None;
+                    if 2 * strays.len() > count * phases.len() {
+                        // Most units fall on no panel: no sum (below), whatever the rest.
+                        return None;
+                    }
                 }
                 p += 1;
             }
@@ -141,7 +147,9 @@ impl Alignment {
 /// panel on the one after its last one's, the start e_p + shift (less Φ = `cycle` in the
 /// second turn) and its end start + width within the tolerance of q's edges. The walk's
 /// common case (every panel of a unit on the steps falls on one), in blocks that compile to
-/// vector comparisons.
+/// vector comparisons (in the widest vectors the machine has: comparisons, one addition and
+/// one subtraction a panel, the same at any width).
+#[multiversion(targets("x86_64+avx512f+avx512vl+avx512dq", "x86_64+avx2"))]
 fn aligned_after(
     edges: &[f64],
     p: usize,
@@ -154,22 +162,38 @@ fn aligned_after(
     let count = edges.len() - 1;
     // Panels p + k with k ≥ 1 whose q + k is a panel (q + k ≤ count − 1).
     let last = (count - 1 - q).min(count - 1 - p);
-    let fits = |k: usize| {
-        let (a, b) = (p + k, q + k);
-        let shifted = edges[a] + shift;
+    // Whether panel p + k (edges a[0], a[1]) falls on q + k (edges b[0], b[1]).
+    let fits = |a: [f64; 2], b: [f64; 2]| {
+        let shifted = a[0] + shift;
         let second = shifted >= cycle - tolerance;
         let start = if second { shifted - cycle } else { shifted };
-        let width = edges[a + 1] - edges[a];
-        (if second { 1.0 } else { 0.0 }) == turn
-            && (edges[b] - start).abs() <= tolerance
-            && (edges[b + 1] - (start + width)).abs() <= tolerance
+        let width = a[1] - a[0];
+        ((if second { 1.0 } else { 0.0 }) == turn)
+            & ((b[0] - start).abs() <= tolerance)
+            & ((b[1] - (start + width)).abs() <= tolerance)
     };
     const BLOCK: usize = 8;
     let mut k = 1;
-    while k + BLOCK <= last + 1 && (k..k + BLOCK).fold(true, |all, k| all & fits(k)) {
+    // Blocks of edges as arrays of their length: no bounds check inside, so the block's
+    // tests are vector comparisons.
+    while k + BLOCK <= last + 1 {
+        let a: &[f64; BLOCK + 1] = edges[p + k..p + k + BLOCK + 1].try_into().expect("a block");
+        let b: &[f64; BLOCK + 1] = edges[q + k..q + k + BLOCK + 1].try_into().expect("a block");
+        let mut all = true;
+        for i in 0..BLOCK {
+            all &= fits([a[i], a[i + 1]], [b[i], b[i + 1]]);
+        }
+        if !all {
+            break;
+        }
         k += BLOCK;
     }
-    while k <= last && fits(k) {
+    while k <= last
+        && fits(
+            [edges[p + k], edges[p + k + 1]],
+            [edges[q + k], edges[q + k + 1]],
+        )
+    {
         k += 1;
     }
     k - 1
