@@ -139,7 +139,7 @@ class SteadyResult:
 class SolvedSteadyState:
     """A steady state's solve under the "balance" load, kept for its curves."""
 
-    def curves(self, phi: _Array) -> tuple[_Array, _Array]:
+    def curves(self, phi: _Array) -> list[_Array]:
         """ω [rad/s] and t [s from φ = 0] at ``phi`` [rad, each in [0, Φ]]: the doubles
         ``steady_state`` gives with ``phi``, without a second solve."""
 

@@ -71,12 +71,12 @@ impl SolvedSteady {
         &self,
         py: Python<'py>,
         phi: PyReadonlyArray1<'py, f64>,
-    ) -> PyResult<(Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>)> {
+    ) -> PyResult<[Bound<'py, PyArray1<f64>>; 2]> {
         let angles = phi.as_slice()?;
         let (omega, time) = py
             .detach(|| self.core.curves(angles))
             .map_err(|error| motion_err(py, error))?;
-        Ok((omega.into_pyarray(py), time.into_pyarray(py)))
+        Ok([omega.into_pyarray(py), time.into_pyarray(py)])
     }
 }
 
