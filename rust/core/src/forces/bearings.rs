@@ -476,11 +476,10 @@ pub(crate) fn max_bearing_load(
     largest_bearing_load(layout, &per_unit, points, bearings)
 }
 
-/// One unit's throw loads at the crank angles whose (sin ψ, cos ψ) are `trig`, at the
-/// constant speed ω with its gas forces `gas` times the scale and g (`(omega, gas_scale, g)`),
-/// appended to `out`: [`unit_forces_at`] of each angle, compiled for the widest vectors the
-/// machine has (the angles side by side; their square roots and divisions were most of a
-/// `max_bearing_load`), no operation fused, so the same doubles.
+/// One unit's throw loads at the angles of (sin ψ, cos ψ) `trig`, at the constant speed ω with
+/// its gas forces `gas` times the scale and g (`(omega, gas_scale, g)`), appended to `out`:
+/// [`unit_forces_at`] of each angle in the widest vectors the machine has (their square roots
+/// and divisions side by side), no operation fused, so the same doubles.
 #[multiversion(targets("x86_64+avx512f+avx512vl+avx512dq", "x86_64+avx2"))]
 fn unit_throw_loads(
     unit: &PhysicalCylinder,
