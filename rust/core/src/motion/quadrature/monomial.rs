@@ -232,7 +232,7 @@ impl MonomialRunning {
     pub fn at_panels<const L: usize>(&self, first: &[usize; L], x: &[f64; L]) -> [f64; L] {
         // The common orders with their rows' length known when compiled: no bounds check
         // in the chains, and the L sums stay in registers (in a loop of any length they
-        // went through the stack at every step, a third of reading ω and t at 1441 angles).
+        // went through the stack at every step; a few per cent of reading ω and t).
         let value = match self.order + 1 {
             2 => self.horner_lanes::<L, 2>(first, x),
             3 => self.horner_lanes::<L, 3>(first, x),
