@@ -102,8 +102,8 @@ class CoreQuestion:
         The machine.
     rules : Rules
         The load and drive resolved; ``rules.route`` is the route: "balance" (the energy
-        method, asked again for curves and the comparisons) or the square law (which gave
-        both with its solution).
+        method: its curves from the solve it kept, ``found.solved``; the core asked again for
+        the comparisons) or the square law (which gave both with its solution).
     omega : float or None
         The mean speed asked for [rad/s] ("balance"; None for the square law).
     gravity : bool
@@ -115,7 +115,8 @@ class CoreQuestion:
     table : tuple of ndarray or None
         The drive as the core takes it (PPoly breakpoints and coefficients), or None.
     found : SteadyResult
-        The core's solution (with the square law's curves at ``phi``).
+        The core's solution (with the square law's curves at ``phi``; under "balance" with
+        the solve kept for its curves, ``solved``).
     phi : ndarray or None
         The square law's angles [rad] (None for "balance", whose angles are made when its
         arrays are read).

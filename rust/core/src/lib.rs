@@ -37,6 +37,8 @@ mod parallel;
 mod series;
 mod series_kernels;
 mod sweep;
+#[cfg(test)]
+mod test_support;
 mod tolerances;
 mod torsion;
 mod trig;

@@ -4,8 +4,8 @@
 use multicrank_core as core;
 use pyo3::prelude::*;
 
+use crate::error::motion_err;
 use crate::error::refused;
-use crate::motion::motion_err;
 
 /// size_shaft_inertia(delta_at, rest, delta, start) -> float
 ///

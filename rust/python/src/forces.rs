@@ -11,9 +11,9 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::conversion::{empty_array, filled, MotionDesigns, OutputSize};
+use crate::error::motion_err;
 use crate::error::to_py_err;
 use crate::machine::NativeMachine;
-use crate::motion::motion_err;
 use crate::parallel::parallelism;
 
 impl NativeMachine {

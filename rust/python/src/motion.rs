@@ -9,58 +9,10 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::conversion::{drive_table, DiagramArg, MotionDesigns};
-use crate::error::to_py_err;
+use crate::error::{motion_err, to_py_err};
 use crate::machine::NativeMachine;
 use crate::motion_results::{steady_result, FlywheelResult, SteadyResult};
 use crate::parallel::parallelism;
-
-/// The core's error as a `MechanismError`, carrying what Python words it from as attributes
-/// of the exception: a stall its `angle` (rad), `omega_mean` and `min_omega` (rad/s, None
-/// where no speed runs); an unreachable flywheel target its `delta`, `reach` ("never_falls",
-/// "massless" or "stalls") and `closest` (the δ nearest to it that the machine reaches, NaN
-/// where none is known); a bad design its `row` (from 0) and `reason` (as `to_py_err` sets
-/// them), with the attributes of its own error beside. Every one carries its `parameter`.
-pub(crate) fn motion_err(py: Python<'_>, error: core::MechanismError) -> PyErr {
-    let mut inner = &error;
-    if let core::MechanismError::InRow { error, .. } = &error {
-        inner = error;
-    }
-    let stall = match *inner {
-        core::MechanismError::Stall {
-            angle,
-            omega_mean,
-            min_omega,
-        } => Some((angle, omega_mean, min_omega)),
-        _ => None,
-    };
-    let unreachable = match *inner {
-        core::MechanismError::Unreachable {
-            delta,
-            reach,
-            closest,
-        } => Some((delta, reach.name(), closest)),
-        _ => None,
-    };
-    let err = to_py_err(error);
-    let value = err.value(py);
-    let mut set = Ok(());
-    if let Some((angle, omega_mean, min_omega)) = stall {
-        set = set
-            .and_then(|()| value.setattr("angle", angle))
-            .and_then(|()| value.setattr("omega_mean", omega_mean))
-            .and_then(|()| value.setattr("min_omega", min_omega));
-    }
-    if let Some((delta, reach, closest)) = unreachable {
-        set = set
-            .and_then(|()| value.setattr("delta", delta))
-            .and_then(|()| value.setattr("reach", reach))
-            .and_then(|()| value.setattr("closest", closest));
-    }
-    match set {
-        Ok(()) => err,
-        Err(failed) => failed,
-    }
-}
 
 impl NativeMachine {
     /// The tables of [`core::Machine::tables`], with the driving torque `drive` beside the

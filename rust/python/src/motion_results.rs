@@ -7,7 +7,7 @@ use numpy::{IntoPyArray, PyArray1, PyArrayMethods, PyReadonlyArray1};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::motion::motion_err;
+use crate::error::motion_err;
 
 type Array = Option<Py<PyArray1<f64>>>;
 

@@ -26,14 +26,6 @@ fn check_angles(phi: &[f64], cycle: f64) -> Result<()> {
     Ok(())
 }
 
-/// I_w, ω_m and the ratio of a steady state asked for, each naming itself where it is bad.
-fn check_question(shaft_inertia: f64, omega_mean: f64, min_speed_ratio: f64) -> Result<()> {
-    check_shaft_inertia(shaft_inertia)?;
-    check_speed("omega_mean", omega_mean)?;
-    check_speed_ratio(min_speed_ratio)?;
-    Ok(())
-}
-
 /// A steady state under the "balance" load as its solve left it
 /// ([`SteadyTables::solved_steady_state`]): ω and t at any angles, later, from the mesh and
 /// margin it was solved on — the doubles [`SteadyTables::steady_state`] gives with those
@@ -288,22 +280,10 @@ impl SteadyTables {
         phi: &[f64],
         compare: bool,
     ) -> Result<(SteadyCurves, SolvedSteadyState)> {
-        check_question(shaft_inertia, omega_mean, min_speed_ratio)?;
+        check_shaft_inertia(shaft_inertia)?;
+        check_speed("omega_mean", omega_mean)?;
+        check_speed_ratio(min_speed_ratio)?;
         check_angles(phi, self.cycle())?;
-        let (mut found, solved) =
-            self.solve_kept(shaft_inertia, omega_mean, min_speed_ratio, compare)?;
-        (found.omega, found.time) = solved.kept_curves(phi)?;
-        Ok((found, solved))
-    }
-
-    /// [`SteadyTables::solved_steady_state`] of a question already checked.
-    fn solve_kept(
-        &self,
-        shaft_inertia: f64,
-        omega_mean: f64,
-        min_speed_ratio: f64,
-        compare: bool,
-    ) -> Result<(SteadyCurves, SolvedSteadyState)> {
         let (found, kept) = self
             .machine
             .with_inertia(shaft_inertia)
@@ -323,16 +303,18 @@ impl SteadyTables {
                 min_speed_ratio,
             )?;
         }
+        let solved = SolvedSteadyState { kept };
+        let (omega, time) = solved.kept_curves(phi)?;
         let found = SteadyCurves {
             state,
-            omega: Vec::new(),
-            time: Vec::new(),
+            omega,
+            time,
             status: found.status.code(),
             message: found.message,
             nfev: found.nfev,
             nit: found.nit,
         };
-        Ok((found, SolvedSteadyState { kept }))
+        Ok((found, solved))
     }
 
     /// (δ without gravity, δ coasting) of a steady state found by

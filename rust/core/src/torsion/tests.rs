@@ -4,19 +4,7 @@
 //! none of them the recurrence that the code bisects.
 
 use super::*;
-
-/// A small, seeded generator (no crate): uniform in [0, 1).
-struct Lcg(u64);
-
-impl Lcg {
-    fn next(&mut self) -> f64 {
-        self.0 = self
-            .0
-            .wrapping_mul(6_364_136_223_846_793_005)
-            .wrapping_add(1_442_695_040_888_963_407);
-        (self.0 >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
+use crate::test_support::Lcg;
 
 fn modes(inertia: &[f64], stiffness: &[f64], count: usize) -> Modes {
     Chain::new(inertia, stiffness)

@@ -204,19 +204,7 @@ mod tests {
     use std::f64::consts::PI;
 
     use super::*;
-
-    /// A small linear congruential generator: the cases the same on every run.
-    struct Lcg(u64);
-
-    impl Lcg {
-        fn unit(&mut self) -> f64 {
-            self.0 = self
-                .0
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (self.0 >> 11) as f64 / (1u64 << 53) as f64
-        }
-    }
+    use crate::test_support::Lcg;
 
     #[test]
     fn stretches_find_the_runs_and_strays_of_the_walk_panel_by_panel() {
@@ -230,7 +218,7 @@ mod tests {
             let step = cycle / steps as f64;
             let mut breaks: Vec<f64> = (0..=steps).map(|i| i as f64 * step).collect();
             for _ in 0..(case % 4) {
-                breaks.push(random.unit() * cycle);
+                breaks.push(random.next() * cycle);
             }
             breaks.sort_by(f64::total_cmp);
             breaks.dedup();
@@ -239,12 +227,12 @@ mod tests {
             // tolerance), and anywhere.
             let phases: Vec<f64> = (0..2 + case % 7)
                 .map(|j| {
-                    let on = (random.unit() * steps as f64).floor() * step;
+                    let on = (random.next() * steps as f64).floor() * step;
                     match (case + j) % 5 {
                         0 => on + cycle,
                         1 => on + 0.5 * ALIGNED * cycle,
                         2 => on + 3.0 * ALIGNED * cycle,
-                        3 => random.unit() * cycle,
+                        3 => random.next() * cycle,
                         _ => on,
                     }
                 })
