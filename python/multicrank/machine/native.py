@@ -18,6 +18,7 @@ A callable drive under the "balance" load, held at the mean speed, crosses the s
 from __future__ import annotations
 
 import math
+import operator
 import threading
 from functools import cache
 from typing import TYPE_CHECKING, Any
@@ -118,6 +119,9 @@ def _table(pressure: object, cycle: float) -> _Table:
     return contiguous(x), contiguous(c)
 
 
+_gas_row = operator.attrgetter("bore", "piston_rod_diameter", "axial_position")
+
+
 def native_machine(machine: Machine) -> NativeMachine:
     """``machine`` as the core's :class:`~multicrank._native.NativeMachine`.
 
@@ -156,9 +160,7 @@ def native_machine(machine: Machine) -> NativeMachine:
             tables.append(tables_of[id(pressure)])
     bearings = machine.main_bearings
     # New arrays of Python floats: C-contiguous and aligned as made.
-    bore, rod, axial = np.array(
-        [(c.bore, c.piston_rod_diameter, c.axial_position) for c in machine.cylinders], dtype=np.float64
-    ).T.copy()
+    bore, rod, axial = np.array([_gas_row(c) for c in machine.cylinders], dtype=np.float64).T.copy()
     return NativeMachine(
         unit_columns(machine.cylinders),
         bore,

@@ -255,10 +255,16 @@ fn polynomial(
             found: c.ncols(),
         });
     }
-    // c_ki at k·m + i: the rows of c one after another, whatever its strides.
+    // c_ki at k·m + i: the rows of c one after another, whatever its strides (one copy of
+    // the memory where they already lie so; ndarray's element walk took a V12's new
+    // machine a fifth of its time).
+    let flat = |view: Option<&[f64]>, walk: &mut dyn Iterator<Item = f64>| match view {
+        Some(values) => values.to_vec(),
+        None => walk.collect(),
+    };
     core::PiecewisePolynomial::new(
-        x.iter().copied().collect(),
-        c.iter().copied().collect(),
+        flat(x.as_slice(), &mut x.iter().copied()),
+        flat(c.as_slice(), &mut c.iter().copied()),
         cycle,
     )
 }

@@ -59,8 +59,11 @@ impl PiecewisePolynomial {
                 found: coefficients.len(),
             });
         }
-        for &x in &breakpoints {
-            check("breakpoints", x, "finite, strictly increasing", |_| true)?;
+        // Each value checked one by one only where one is not finite, to name it.
+        if !breakpoints.iter().all(|x| x.is_finite()) {
+            for &x in &breakpoints {
+                check("breakpoints", x, "finite, strictly increasing", |_| true)?;
+            }
         }
         if let Some(pair) = breakpoints.windows(2).find(|p| p[1] <= p[0]) {
             return Err(MechanismError::OutOfRange {
@@ -69,8 +72,10 @@ impl PiecewisePolynomial {
                 allowed: "strictly increasing",
             });
         }
-        for &c in &coefficients {
-            check("coefficients", c, "finite", |_| true)?;
+        if !coefficients.iter().all(|c| c.is_finite()) {
+            for &c in &coefficients {
+                check("coefficients", c, "finite", |_| true)?;
+            }
         }
         let span = breakpoints[m] - breakpoints[0];
         check(
@@ -80,9 +85,12 @@ impl PiecewisePolynomial {
             |s| (s - cycle).abs() <= SPAN_TOLERANCE * cycle,
         )?;
         let order = coefficients.len() / m;
-        let mut by_piece = Vec::with_capacity(m * order);
-        for i in 0..m {
-            by_piece.extend((0..order).map(|k| coefficients[k * m + i]));
+        // Row k of the table (power K − 1 − k) to place k of every piece.
+        let mut by_piece = vec![0.0; m * order];
+        for (k, row) in coefficients.chunks_exact(m).enumerate() {
+            for (piece, &c) in by_piece.chunks_exact_mut(order).zip(row) {
+                piece[k] = c;
+            }
         }
         Ok(Self {
             order,

@@ -11,7 +11,7 @@ use crate::mechanism::PhysicalCylinder;
 use crate::parallel::Parallelism;
 use crate::trig::sincos_table;
 
-use super::super::quadrature::{breaks, MonomialRunning, Panels};
+use super::super::quadrature::{breaks, MonomialRunning, PanelShift, Panels};
 use super::alignment::Alignment;
 use super::{periodic, GasCylinder, PiecewisePolynomial};
 
@@ -23,24 +23,33 @@ fn one_cylinder_forces(
     cycle: f64,
     theta: &[f64],
 ) -> Vec<f64> {
+    let mut forces = vec![0.0; theta.len()];
     if !cylinder.has_gas() {
-        return vec![0.0; theta.len()];
+        return forces;
     }
-    let angles: Vec<f64> = theta.iter().map(|&t| periodic(t, cycle)).collect();
-    let pressures = |table: Option<usize>| {
-        table.map(|d| {
-            let mut p = vec![0.0; angles.len()];
-            diagrams[d].values_near(&angles, &mut p);
-            p
-        })
+    // The head's pressures are laid where its forces go, and turned into them there (one
+    // table of 10⁴ doubles, not three, for a rule's nodes).
+    let folded: Vec<f64>;
+    let angles = if theta.iter().all(|t| (0.0..cycle).contains(t)) {
+        theta // periodic leaves them as they are
+    } else {
+        folded = theta.iter().map(|&t| periodic(t, cycle)).collect();
+        &folded
     };
-    let (head, crank_end) = (pressures(cylinder.head), pressures(cylinder.crank_end));
-    (0..angles.len())
-        .map(|k| {
-            let at = |p: &Option<Vec<f64>>| p.as_ref().map(|p| p[k]);
-            cylinder.net_force(at(&head), at(&crank_end))
-        })
-        .collect()
+    let crank_end = cylinder.crank_end.map(|d| {
+        let mut p = vec![0.0; angles.len()];
+        diagrams[d].values_near(angles, &mut p);
+        p
+    });
+    if let Some(d) = cylinder.head {
+        diagrams[d].values_near(angles, &mut forces);
+    }
+    let head = cylinder.head.is_some();
+    for (k, force) in forces.iter_mut().enumerate() {
+        let crank_end = crank_end.as_ref().map(|p| p[k]);
+        *force = cylinder.net_force(head.then_some(*force), crank_end);
+    }
+    forces
 }
 
 /// Gauss points per panel of an indicator's interpolant of F·s′, F one polynomial of K
@@ -255,11 +264,18 @@ impl Summed {
     /// The `units` of `alignment` summed on `indicator` (made on the rule it was found on).
     fn new(indicator: &Indicator, alignment: Arc<Alignment>, units: usize) -> Self {
         let per_cycle = indicator.per_cycle();
-        let own = &indicator.running;
-        let mut running = own.zero_like();
-        for run in &alignment.runs {
-            running.add_panels(run.p, own, run.q, run.count, run.turns * per_cycle);
-        }
+        let shifts: Vec<PanelShift> = alignment
+            .runs
+            .iter()
+            .filter(|run| run.count > 0)
+            .map(|run| PanelShift {
+                p: run.p,
+                q: run.q,
+                count: run.count,
+                at_edge: run.turns * per_cycle,
+            })
+            .collect();
+        let mut running = indicator.running.sum_of_shifts(&shifts);
         let count = indicator.rule.panels.count();
         let units = units as f64;
         running.at_edges[count] = running.at_edges[0] + units * per_cycle;
