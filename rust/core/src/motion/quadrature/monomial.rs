@@ -33,12 +33,37 @@ fn sum_of_shifts_widest(own: &MonomialRunning, shifts: &[PanelShift]) -> Monomia
             start = k;
         }
     }
+    // The first copy written in one pass, 0 + its terms (the doubles of adding them to a sum
+    // of zeros, without zeroing the sum first), 0 where it has none.
     let mut sum = MonomialRunning {
-        at_edges: vec![0.0; count + 1],
-        running: vec![0.0; own.running.len()],
-        slope: vec![0.0; own.slope.len()],
+        at_edges: Vec::with_capacity(count + 1),
+        running: Vec::with_capacity(own.running.len()),
+        slope: Vec::with_capacity(own.slope.len()),
         order: n,
     };
+    let first_copy = if lists.is_empty() {
+        &[][..]
+    } else {
+        lists.remove(0).0
+    };
+    let zeros_to = |sum: &mut MonomialRunning, p: usize| {
+        sum.running.resize(p * (n + 1), 0.0);
+        sum.slope.resize(p * n, 0.0);
+        sum.at_edges.resize(p, 0.0);
+    };
+    for shift in first_copy {
+        zeros_to(&mut sum, shift.p);
+        let (q, q_to) = (shift.q, shift.q + shift.count);
+        let running = &own.running[q * (n + 1)..q_to * (n + 1)];
+        sum.running.extend(running.iter().map(|c| 0.0 + c));
+        sum.slope
+            .extend(own.slope[q * n..q_to * n].iter().map(|c| 0.0 + c));
+        let at_edges = own.at_edges[q..q_to].iter();
+        sum.at_edges
+            .extend(at_edges.map(|c| (0.0 + c) + shift.at_edge));
+    }
+    zeros_to(&mut sum, count);
+    sum.at_edges.push(0.0);
     for first in (0..count).step_by(BLOCK) {
         let end = (first + BLOCK).min(count);
         for (list, cursor) in lists.iter_mut() {
@@ -61,7 +86,10 @@ fn sum_of_shifts_widest(own: &MonomialRunning, shifts: &[PanelShift]) -> Monomia
                 {
                     *s += *c;
                 }
-                for (s, c) in sum.at_edges[from..to].iter_mut().zip(&own.at_edges[q..q_to]) {
+                for (s, c) in sum.at_edges[from..to]
+                    .iter_mut()
+                    .zip(&own.at_edges[q..q_to])
+                {
                     *s = (*s + *c) + shift.at_edge;
                 }
                 if shift.p + shift.count > end {
@@ -119,70 +147,87 @@ impl MonomialRunning {
     /// [`MonomialRunning::through`] for the machine's vector width (`through_widest`).
     #[inline(always)]
     fn through_any(panels: &Panels, values: &[f64]) -> Self {
-        // The rules' orders, each with its sums in registers (a length known when compiled).
+        // The rules' orders N, each panel's W = 2N + 2 sums in registers (a length known
+        // when compiled).
         match panels.order {
-            1 => Self::through_order::<1>(panels, values),
-            2 => Self::through_order::<2>(panels, values),
-            3 => Self::through_order::<3>(panels, values),
-            4 => Self::through_order::<4>(panels, values),
-            5 => Self::through_order::<5>(panels, values),
-            6 => Self::through_order::<6>(panels, values),
-            7 => Self::through_order::<7>(panels, values),
-            8 => Self::through_order::<8>(panels, values),
-            9 => Self::through_order::<9>(panels, values),
-            10 => Self::through_order::<10>(panels, values),
-            11 => Self::through_order::<11>(panels, values),
-            12 => Self::through_order::<12>(panels, values),
-            _ => Self::through_order::<0>(panels, values),
+            1 => Self::through_order::<1, 4>(panels, values),
+            2 => Self::through_order::<2, 6>(panels, values),
+            3 => Self::through_order::<3, 8>(panels, values),
+            4 => Self::through_order::<4, 10>(panels, values),
+            5 => Self::through_order::<5, 12>(panels, values),
+            6 => Self::through_order::<6, 14>(panels, values),
+            7 => Self::through_order::<7, 16>(panels, values),
+            8 => Self::through_order::<8, 18>(panels, values),
+            9 => Self::through_order::<9, 20>(panels, values),
+            10 => Self::through_order::<10, 22>(panels, values),
+            11 => Self::through_order::<11, 24>(panels, values),
+            12 => Self::through_order::<12, 26>(panels, values),
+            _ => Self::through_order::<0, 0>(panels, values),
         }
     }
 
-    /// [`MonomialRunning::through`] for rules of order `N` (0: any order, the sums in
-    /// memory).
+    /// [`MonomialRunning::through`] for rules of order `N`, a panel's sums in an array of
+    /// `W` = 2N + 2 (0, 0: any order, the sums in memory): the n + 1 integral coefficients,
+    /// the n slope coefficients (the first, of x^(n−1), 0: its column is), and Σ_j w_j f_j
+    /// for F at the next edge. Every lane is read, so the compiler keeps whole vectors (it
+    /// splits a row whose last lanes are never read into pieces of 8, 4, 2 and 1).
     #[inline(always)]
-    fn through_order<const N: usize>(panels: &Panels, values: &[f64]) -> Self {
+    fn through_order<const N: usize, const W: usize>(panels: &Panels, values: &[f64]) -> Self {
         let n = panels.order;
-        debug_assert!(N == 0 || N == n);
-        // Column j: what f_j adds to the n + 1 integral coefficients, then to the n − 1
-        // slope coefficients (the products summed in independent lanes, not one chain).
-        let columns = rule_columns(panels);
-        let width = 2 * n;
+        debug_assert!(N == 0 || (N == n && W == 2 * N + 2));
         let count = panels.count();
+        let lanes = 2 * n + 2;
+        // Column j: what f_j adds to each sum (the products summed in independent lanes,
+        // not one chain): rule_columns' n + 1 integral rows, a zero, its n − 1 slope rows,
+        // and the node's weight.
+        let columns: Vec<f64> = rule_columns(panels)
+            .chunks_exact(2 * n)
+            .zip(&panels.unit_weights)
+            .flat_map(|(column, &w)| {
+                let (integral, slope) = column.split_at(n + 1);
+                let (zero, weight) = (std::iter::once(0.0), std::iter::once(w));
+                integral
+                    .iter()
+                    .copied()
+                    .chain(zero)
+                    .chain(slope.iter().copied())
+                    .chain(weight)
+            })
+            .collect();
+        // Filled by extending from slices (a length known: no zeroing first, no check per
+        // value).
         let mut at_edges = Vec::with_capacity(count + 1);
         at_edges.push(0.0);
         let mut running = Vec::with_capacity(count * (n + 1));
         let mut slope = Vec::with_capacity(count * n);
-        let mut any = vec![0.0; if N == 0 { width } else { 0 }];
+        // Σ_j w_j f_j starts at −0.0, as Iterator::sum does (its doubles).
+        let mut start = vec![0.0; lanes];
+        start[lanes - 1] = -0.0;
+        let mut any = start.clone();
         for (p, f) in values.chunks_exact(n).enumerate() {
             let half = 0.5 * (panels.edges[p + 1] - panels.edges[p]);
-            let sum: f64 = f.iter().zip(&panels.unit_weights).map(|(f, w)| f * w).sum();
-            at_edges.push(at_edges[p] + half * sum);
             let per_half = 1.0 / half;
-            if N == 0 {
-                any.iter_mut().for_each(|s| *s = 0.0);
-                for (column, f) in columns.chunks_exact(width).zip(f) {
+            // Each sum Σ_j column_j·f_j in the order of j.
+            let mut sums = [0.0; W];
+            let sums: &[f64] = if N == 0 {
+                any.copy_from_slice(&start);
+                for (column, f) in columns.chunks_exact(lanes).zip(f) {
                     any.iter_mut().zip(column).for_each(|(s, c)| *s += c * f);
                 }
-                running.extend(any[..=n].iter().map(|s| half * s));
-                slope.push(0.0);
-                slope.extend(any[n + 1..].iter().map(|s| per_half * s));
+                &any
             } else {
-                // The n + 1 integral sums as N and one, the n − 1 slope sums in N.
-                let (mut powers, mut last, mut slopes) = ([0.0; N], 0.0, [0.0; N]);
-                for (column, &f) in columns.chunks_exact(width).zip(f) {
-                    for i in 0..N {
-                        powers[i] += column[i] * f;
-                    }
-                    last += column[N] * f;
-                    for i in 0..N - 1 {
-                        slopes[i] += column[N + 1 + i] * f;
+                sums[W - 1] = -0.0;
+                for (column, &f) in columns.chunks_exact(W).zip(f) {
+                    let column: &[f64; W] = column.try_into().unwrap();
+                    for k in 0..W {
+                        sums[k] += column[k] * f;
                     }
                 }
-                running.extend(powers.iter().map(|s| half * s));
-                running.push(half * last);
-                slope.push(0.0);
-                slope.extend(slopes[..N - 1].iter().map(|s| per_half * s));
-            }
+                &sums
+            };
+            running.extend(sums[..=n].iter().map(|s| half * s));
+            slope.extend(sums[n + 1..=2 * n].iter().map(|s| per_half * s));
+            at_edges.push(at_edges[p] + half * sums[2 * n + 1]);
         }
         Self {
             at_edges,
@@ -475,9 +520,21 @@ mod tests {
                     }
                 }
                 let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
-                assert_eq!(bits(&found.running), bits(&expected.running), "{order} {copies}");
-                assert_eq!(bits(&found.slope), bits(&expected.slope), "{order} {copies}");
-                assert_eq!(bits(&found.at_edges), bits(&expected.at_edges), "{order} {copies}");
+                assert_eq!(
+                    bits(&found.running),
+                    bits(&expected.running),
+                    "{order} {copies}"
+                );
+                assert_eq!(
+                    bits(&found.slope),
+                    bits(&expected.slope),
+                    "{order} {copies}"
+                );
+                assert_eq!(
+                    bits(&found.at_edges),
+                    bits(&expected.at_edges),
+                    "{order} {copies}"
+                );
             }
         }
     }
