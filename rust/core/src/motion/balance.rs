@@ -9,6 +9,8 @@
 use std::cell::Cell;
 use std::sync::Arc;
 
+use multiversion::multiversion;
+
 use crate::error::Result;
 
 use super::cycle::Cycle;
@@ -264,16 +266,15 @@ impl Balance {
     fn curves(&self, mesh: Mesh<'_>, s: f64, phi: &[f64]) -> Result<Curves> {
         let lifted = self.lifted_at(phi)?;
         let rest = self.cycle.rest_at(phi)?;
-        let omega = lifted
-            .iter()
-            .zip(&rest)
-            .map(|(k, rest)| (2.0 * (s + k).max(0.0) / (self.inertia + rest)).sqrt())
-            .collect();
-        let inverse: Vec<f64> = mesh.rest[..mesh.nodes()]
-            .iter()
-            .zip(mesh.lifted)
-            .map(|(rest, k)| 1.0 / (2.0 * (s + k).max(0.0) / (self.inertia + rest)).sqrt())
-            .collect();
+        let omega = speeds(s, self.inertia, &lifted, &rest, false);
+        let nodes = mesh.nodes();
+        let inverse = speeds(
+            s,
+            self.inertia,
+            &mesh.lifted[..nodes],
+            &mesh.rest[..nodes],
+            true,
+        );
         let time = mesh.panels.running_at(&inverse, phi);
         Ok(Curves { omega, time })
     }
@@ -569,4 +570,17 @@ impl SolvedBalance {
         let balance = &self.balance;
         balance.curves(balance.view(&self.graded), self.margin, phi)
     }
+}
+
+/// ω = √(2·max(s + K̃, 0)/(I_w + J − I_w)) (rad/s) at each point of `lifted` (K̃) and `rest`
+/// (J − I_w), or 1/ω where `inverse`; in the widest vectors the machine has (a square root
+/// and a division round correctly at any width: the same doubles).
+#[multiversion(targets("x86_64+avx512f", "x86_64+avx2"))]
+fn speeds(s: f64, inertia: f64, lifted: &[f64], rest: &[f64], inverse: bool) -> Vec<f64> {
+    let mut out = vec![0.0; lifted.len().min(rest.len())];
+    for ((out, k), rest) in out.iter_mut().zip(lifted).zip(rest) {
+        let omega = (2.0 * (s + k).max(0.0) / (inertia + rest)).sqrt();
+        *out = if inverse { 1.0 / omega } else { omega };
+    }
+    out
 }

@@ -300,15 +300,29 @@ impl Summed {
         if let Some(slope) = slope.as_deref_mut() {
             *slope += self.running.slope_at_panel(p, x);
         }
+        self.add_strays(indicator, y, p, &mut value, slope);
+        value
+    }
+
+    /// The units that stray on panel `p` (each looked up alone at `y` + its phase) added
+    /// to `value`, and with `slope` their G″ to it.
+    #[inline]
+    fn add_strays(
+        &self,
+        indicator: &Indicator,
+        y: f64,
+        p: usize,
+        value: &mut f64,
+        mut slope: Option<&mut f64>,
+    ) {
         let Alignment {
             first_stray,
             strays,
             ..
         } = &*self.alignment;
         for &(phase, mut hint) in &strays[first_stray[p]..first_stray[p + 1]] {
-            value += indicator.at_one(y, phase, &mut hint, slope.as_deref_mut());
+            *value += indicator.at_one(y, phase, &mut hint, slope.as_deref_mut());
         }
-        value
     }
 
     fn has_strays(&self, p: usize) -> bool {
@@ -358,16 +372,15 @@ impl Group {
                         (turns[l], y[l]) = indicator.turns_and_angle(phi[first + l], 0.0);
                     }
                     let (p, x) = MonomialRunning::locate_lanes(panels, &y, &mut hint);
-                    if p.iter().any(|&p| summed.has_strays(p)) {
-                        for l in 0..LANES {
-                            let (angle, at) = ((turns[l], y[l]), (p[l], x[l]));
-                            work[first + l] += summed.at(indicator, angle, at, None);
+                    // The sum's look-ups side by side (at_panel's doubles), each lane's
+                    // strays, if any, added to it alone.
+                    let g = summed.running.at_panels(&p, &x);
+                    for l in 0..LANES {
+                        let mut value = turns[l] * summed.per_cycle + g[l];
+                        if summed.has_strays(p[l]) {
+                            summed.add_strays(indicator, y[l], p[l], &mut value, None);
                         }
-                    } else {
-                        let g = summed.running.at_panels(&p, &x);
-                        for l in 0..LANES {
-                            work[first + l] += turns[l] * summed.per_cycle + g[l];
-                        }
+                        work[first + l] += value;
                     }
                 }
                 whole

@@ -1,6 +1,8 @@
 //! A running integral in powers of x on each panel: the form of the indicator rules' G,
 //! looked up once per unit and angle wherever W is asked for.
 
+use std::sync::OnceLock;
+
 use multiversion::multiversion;
 
 use super::{panel_near, Panels};
@@ -10,7 +12,14 @@ use super::{panel_near, Panels};
 /// adds, never fused: the same doubles at any width).
 #[multiversion(targets("x86_64+avx512f", "x86_64+avx2"))]
 fn through_widest(panels: &Panels, values: &[f64]) -> MonomialRunning {
-    MonomialRunning::through_any(panels, values)
+    MonomialRunning::through_any::<true>(panels, values)
+}
+
+/// [`MonomialRunning::through_widest`] without the slope (look-ups of the integral alone):
+/// N + 2 sums a panel where there were 2N + 2.
+#[multiversion(targets("x86_64+avx512f", "x86_64+avx2"))]
+fn running_widest(panels: &Panels, values: &[f64]) -> MonomialRunning {
+    MonomialRunning::through_any::<false>(panels, values)
 }
 
 /// [`MonomialRunning::sum_of_shifts`] compiled for the widest vectors the machine has: each
@@ -144,25 +153,29 @@ impl MonomialRunning {
         through_widest(panels, values)
     }
 
+    /// [`MonomialRunning::through`] without the slope: for look-ups of the integral alone
+    /// (its `at_*`; a slope asked of it panics). The same integral, bit for bit.
+    pub fn running_through(panels: &Panels, values: &[f64]) -> Self {
+        running_widest(panels, values)
+    }
+
     /// [`MonomialRunning::through`] for the machine's vector width (`through_widest`).
     #[inline(always)]
-    fn through_any(panels: &Panels, values: &[f64]) -> Self {
-        // The rules' orders N, each panel's W = 2N + 2 sums in registers (a length known
-        // when compiled).
-        match panels.order {
-            1 => Self::through_order::<1, 4>(panels, values),
-            2 => Self::through_order::<2, 6>(panels, values),
-            3 => Self::through_order::<3, 8>(panels, values),
-            4 => Self::through_order::<4, 10>(panels, values),
-            5 => Self::through_order::<5, 12>(panels, values),
-            6 => Self::through_order::<6, 14>(panels, values),
-            7 => Self::through_order::<7, 16>(panels, values),
-            8 => Self::through_order::<8, 18>(panels, values),
-            9 => Self::through_order::<9, 20>(panels, values),
-            10 => Self::through_order::<10, 22>(panels, values),
-            11 => Self::through_order::<11, 24>(panels, values),
-            12 => Self::through_order::<12, 26>(panels, values),
-            _ => Self::through_order::<0, 0>(panels, values),
+    fn through_any<const SLOPE: bool>(panels: &Panels, values: &[f64]) -> Self {
+        // The rules' orders N, each panel's W sums in registers (a length known when
+        // compiled): 2N + 2 with the slope, N + 2 without.
+        macro_rules! order {
+            ($($n:literal => $with:literal, $without:literal;)*) => {
+                match panels.order {
+                    $($n if SLOPE => Self::through_order::<$n, $with, true>(panels, values),
+                      $n => Self::through_order::<$n, $without, false>(panels, values),)*
+                    _ => Self::through_order::<0, 0, SLOPE>(panels, values),
+                }
+            };
+        }
+        order! {
+            1 => 4, 3; 2 => 6, 4; 3 => 8, 5; 4 => 10, 6; 5 => 12, 7; 6 => 14, 8;
+            7 => 16, 9; 8 => 18, 10; 9 => 20, 11; 10 => 22, 12; 11 => 24, 13; 12 => 26, 14;
         }
     }
 
@@ -172,20 +185,25 @@ impl MonomialRunning {
     /// for F at the next edge. Every lane is read, so the compiler keeps whole vectors (it
     /// splits a row whose last lanes are never read into pieces of 8, 4, 2 and 1).
     #[inline(always)]
-    fn through_order<const N: usize, const W: usize>(panels: &Panels, values: &[f64]) -> Self {
+    fn through_order<const N: usize, const W: usize, const SLOPE: bool>(
+        panels: &Panels,
+        values: &[f64],
+    ) -> Self {
         let n = panels.order;
-        debug_assert!(N == 0 || (N == n && W == 2 * N + 2));
+        let lanes = if SLOPE { 2 * n + 2 } else { n + 2 };
+        debug_assert!(N == 0 || (N == n && W == lanes));
         let count = panels.count();
-        let lanes = 2 * n + 2;
         // Column j: what f_j adds to each sum (the products summed in independent lanes,
-        // not one chain): rule_columns' n + 1 integral rows, a zero, its n − 1 slope rows,
-        // and the node's weight.
-        let columns: Vec<f64> = rule_columns(panels)
+        // not one chain): rule_columns' n + 1 integral rows, with the slope a zero and its
+        // n − 1 slope rows, and the node's weight.
+        let columns: Vec<f64> = columns_of(panels)
             .chunks_exact(2 * n)
             .zip(&panels.unit_weights)
             .flat_map(|(column, &w)| {
                 let (integral, slope) = column.split_at(n + 1);
-                let (zero, weight) = (std::iter::once(0.0), std::iter::once(w));
+                let slope = if SLOPE { slope } else { &[] };
+                let zero = std::iter::repeat_n(0.0, usize::from(SLOPE));
+                let weight = std::iter::once(w);
                 integral
                     .iter()
                     .copied()
@@ -212,7 +230,7 @@ impl MonomialRunning {
         let mut at_edges = Vec::with_capacity(count + 1);
         at_edges.push(0.0);
         let mut running = Vec::with_capacity(count * (n + 1));
-        let mut slope = Vec::with_capacity(count * n);
+        let mut slope = Vec::with_capacity(if SLOPE { count * n } else { 0 });
         // Σ_j w_j f_j starts at −0.0, as Iterator::sum does (its doubles).
         let mut start = vec![0.0; lanes];
         start[lanes - 1] = -0.0;
@@ -238,8 +256,10 @@ impl MonomialRunning {
                 &sums
             };
             running.extend(sums[..=n].iter().map(|s| half * s));
-            slope.extend(sums[n + 1..=2 * n].iter().map(|s| per_half * s));
-            at_edges.push(at_edges[p] + half * sums[2 * n + 1]);
+            if SLOPE {
+                slope.extend(sums[n + 1..=2 * n].iter().map(|s| per_half * s));
+            }
+            at_edges.push(at_edges[p] + half * sums[lanes - 1]);
         }
         Self {
             at_edges,
@@ -411,6 +431,18 @@ impl MonomialRunning {
     }
 }
 
+/// [`rule_columns`] of the panels' order, made once per order in the process: they depend
+/// on the order alone (the Gauss rule's nodes and weights, which `Panels::new` takes from it),
+/// and a steady state's curves or a sweep's design made them again at every call (a sixth of
+/// the time integral of `.omega`). Orders above 32 are made each time.
+fn columns_of(panels: &Panels) -> std::borrow::Cow<'static, [f64]> {
+    static MADE: [OnceLock<Vec<f64>>; 33] = [const { OnceLock::new() }; 33];
+    match MADE.get(panels.order) {
+        Some(made) => made.get_or_init(|| rule_columns(panels)).as_slice().into(),
+        None => rule_columns(panels).into(),
+    }
+}
+
 /// The matrices from f at a rule's nodes to, on [−1, 1], ∫₋₁^x of f's interpolant in powers
 /// of x (`order` + 1 rows, highest power first, its value at −1 taken off in the last) and
 /// the interpolant's derivative (`order` − 1 rows, highest power first), one column per
@@ -477,111 +509,4 @@ fn rule_columns(panels: &Panels) -> Vec<f64> {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::super::breaks;
-    use super::*;
-    use crate::test_support::Lcg;
-    use std::f64::consts::PI;
-
-    #[test]
-    fn a_sum_of_shifts_is_the_copies_added_one_by_one() {
-        // Tables of orders 3 and 7 on 400-odd panels, copies of runs of every length (one
-        // panel, across blocks, the whole cycle), with gaps, each copy's runs in increasing
-        // p: each panel's doubles are those of adding the copies one after another, the
-        // definition the block-wise sum must keep.
-        let mut random = Lcg(37);
-        for order in [3, 7] {
-            let panels = Panels::new(&breaks(vec![0.3, 1.1], 2.0 * PI), order, PI / 200.0);
-            let count = panels.count();
-            let f: Vec<f64> = panels.phi.iter().map(|p| (3.0 * p).sin() + p).collect();
-            let own = MonomialRunning::through(&panels, &f);
-            for copies in [0, 1, 4, 13] {
-                let mut shifts = Vec::new();
-                for _ in 0..copies {
-                    let mut p = (random.next() * 30.0) as usize;
-                    while p < count {
-                        let longest = count - p;
-                        let length = match (random.next() * 4.0) as usize {
-                            0 => 1,
-                            1 => longest,
-                            _ => 1 + (random.next() * longest as f64) as usize,
-                        };
-                        let q = (random.next() * (count - length + 1) as f64) as usize;
-                        let at_edge = (random.next() * 3.0).floor() * 17.25;
-                        shifts.push(PanelShift {
-                            p,
-                            q,
-                            count: length,
-                            at_edge,
-                        });
-                        p += length + (random.next() * 3.0) as usize;
-                    }
-                }
-                let found = own.sum_of_shifts(&shifts);
-                let (n, mut expected) = (order, own.zero_like_for_test());
-                for s in &shifts {
-                    for i in 0..s.count {
-                        let (p, q) = (s.p + i, s.q + i);
-                        for k in 0..=n {
-                            expected.running[p * (n + 1) + k] += own.running[q * (n + 1) + k];
-                        }
-                        for k in 0..n {
-                            expected.slope[p * n + k] += own.slope[q * n + k];
-                        }
-                        expected.at_edges[p] = (expected.at_edges[p] + own.at_edges[q]) + s.at_edge;
-                    }
-                }
-                let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
-                assert_eq!(
-                    bits(&found.running),
-                    bits(&expected.running),
-                    "{order} {copies}"
-                );
-                assert_eq!(
-                    bits(&found.slope),
-                    bits(&expected.slope),
-                    "{order} {copies}"
-                );
-                assert_eq!(
-                    bits(&found.at_edges),
-                    bits(&expected.at_edges),
-                    "{order} {copies}"
-                );
-            }
-        }
-    }
-
-    #[test]
-    fn the_orders_compiled_apart_give_the_doubles_of_the_general_rule() {
-        // Each order with its sums in registers (through_any's dispatch) against the one
-        // loop for any order: every coefficient and edge value the same to the bit, on
-        // uneven panels and values of both signs.
-        for order in 1..=13 {
-            let panels = Panels::new(&breaks(vec![0.2, 0.21, 3.0], 2.0 * PI), order, PI / 9.0);
-            let f: Vec<f64> = panels
-                .phi
-                .iter()
-                .map(|p| (5.0 * p).cos() * 1e3 - p)
-                .collect();
-            let (special, general) = (
-                MonomialRunning::through(&panels, &f),
-                MonomialRunning::through_order::<0, 0>(&panels, &f),
-            );
-            let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
-            assert_eq!(bits(&special.running), bits(&general.running), "{order}");
-            assert_eq!(bits(&special.slope), bits(&general.slope), "{order}");
-            assert_eq!(bits(&special.at_edges), bits(&general.at_edges), "{order}");
-        }
-    }
-
-    impl MonomialRunning {
-        fn zero_like_for_test(&self) -> Self {
-            Self {
-                at_edges: vec![0.0; self.at_edges.len()],
-                running: vec![0.0; self.running.len()],
-                slope: vec![0.0; self.slope.len()],
-                order: self.order,
-            }
-        }
-    }
-}
+mod tests;
