@@ -59,11 +59,8 @@ impl PiecewisePolynomial {
                 found: coefficients.len(),
             });
         }
-        // Each value checked one by one only where one is not finite, to name it.
-        if !breakpoints.iter().all(|x| x.is_finite()) {
-            for &x in &breakpoints {
-                check("breakpoints", x, "finite, strictly increasing", |_| true)?;
-            }
+        for &x in &breakpoints {
+            check("breakpoints", x, "finite, strictly increasing", |_| true)?;
         }
         if let Some(pair) = breakpoints.windows(2).find(|p| p[1] <= p[0]) {
             return Err(MechanismError::OutOfRange {
@@ -72,10 +69,8 @@ impl PiecewisePolynomial {
                 allowed: "strictly increasing",
             });
         }
-        if !coefficients.iter().all(|c| c.is_finite()) {
-            for &c in &coefficients {
-                check("coefficients", c, "finite", |_| true)?;
-            }
+        for &c in &coefficients {
+            check("coefficients", c, "finite", |_| true)?;
         }
         let span = breakpoints[m] - breakpoints[0];
         check(

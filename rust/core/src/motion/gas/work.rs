@@ -267,7 +267,6 @@ impl Summed {
         let shifts: Vec<PanelShift> = alignment
             .runs
             .iter()
-            .filter(|run| run.count > 0)
             .map(|run| PanelShift {
                 p: run.p,
                 q: run.q,

@@ -212,19 +212,6 @@ impl MonomialRunning {
                     .chain(weight)
             })
             .collect();
-        // The columns as arrays of W (no bounds check in the sums).
-        let by_node: Vec<[f64; W]> = if N == 0 {
-            Vec::new()
-        } else {
-            columns
-                .chunks_exact(lanes)
-                .map(|column| {
-                    let mut node = [0.0; W];
-                    node.copy_from_slice(column);
-                    node
-                })
-                .collect()
-        };
         // Filled by extending from slices (a length known: no zeroing first, no check per
         // value).
         let mut at_edges = Vec::with_capacity(count + 1);
@@ -248,7 +235,9 @@ impl MonomialRunning {
                 &any
             } else {
                 sums[W - 1] = -0.0;
-                for (column, &f) in by_node.iter().zip(f) {
+                for (column, &f) in columns.chunks_exact(W).zip(f) {
+                    // An array of W: no bounds check in the sums.
+                    let column: &[f64; W] = column.try_into().expect("columns of W lanes");
                     for k in 0..W {
                         sums[k] += column[k] * f;
                     }
@@ -270,8 +259,8 @@ impl MonomialRunning {
     }
 
     /// The sum of copies of this table laid onto its own panels by `shifts`: each copy's
-    /// shifts in increasing p, not overlapping, the copies one after another (a panel no
-    /// shift reaches stays 0). Each panel's terms are added in the copies' order, so the
+    /// shifts in increasing p, not overlapping (a shift may be empty), the copies one after
+    /// another (a panel no shift reaches stays 0). Each panel's terms are added in the copies' order, so the
     /// doubles are those of adding the copies one by one; but the sum is made a block of
     /// panels at a time, which stays in the first-level cache while every copy is added,
     /// where adding copy after copy would read and write the whole sum once a copy (a

@@ -5,7 +5,7 @@ use std::f64::consts::PI;
 
 #[test]
 fn a_sum_of_shifts_is_the_copies_added_one_by_one() {
-    // Tables of orders 3 and 7 on 400-odd panels, copies of runs of every length (one
+    // Tables of orders 3 and 7 on 400-odd panels, copies of runs of every length (none, one
     // panel, across blocks, the whole cycle), with gaps, each copy's runs in increasing
     // p: each panel's doubles are those of adding the copies one after another, the
     // definition the block-wise sum must keep.
@@ -21,9 +21,10 @@ fn a_sum_of_shifts_is_the_copies_added_one_by_one() {
                 let mut p = (random.next() * 30.0) as usize;
                 while p < count {
                     let longest = count - p;
-                    let length = match (random.next() * 4.0) as usize {
+                    let length = match (random.next() * 5.0) as usize {
                         0 => 1,
                         1 => longest,
+                        2 => 0,
                         _ => 1 + (random.next() * longest as f64) as usize,
                     };
                     let q = (random.next() * (count - length + 1) as f64) as usize;
