@@ -168,7 +168,7 @@ impl Panels {
     /// (`values`): see [`Antiderivative`].
     /// The interpolants in powers of x ([`MonomialRunning`]), eight angles at a time.
     pub fn running_at(&self, values: &[f64], phi: &[f64]) -> Vec<f64> {
-        let running = MonomialRunning::running_through(self, values);
+        let running = MonomialRunning::through(self, values);
         let mut hint = 0;
         let mut out = Vec::with_capacity(phi.len());
         let mut lanes = phi.chunks_exact(8);

@@ -297,7 +297,7 @@ impl Summed {
     ) -> f64 {
         let mut value = t * self.per_cycle + self.running.at_panel(p, x);
         if let Some(slope) = slope.as_deref_mut() {
-            *slope += self.running.slope_at_panel(p, x);
+            *slope += self.running.slope_at_panel(&indicator.rule.panels, p, x);
         }
         self.add_strays(indicator, y, p, &mut value, slope);
         value

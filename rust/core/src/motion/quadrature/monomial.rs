@@ -7,19 +7,18 @@ use multiversion::multiversion;
 
 use super::{panel_near, Panels};
 
-/// [`MonomialRunning::through`] compiled for the widest vectors the machine has: its two
-/// small matrix products a panel are most of a geometry sweep's design (plain multiplies and
-/// adds, never fused: the same doubles at any width).
+/// [`MonomialRunning::through`] for rules of order `N` compiled for the widest vectors the
+/// machine has: its small matrix product a panel is a large part of a geometry sweep's
+/// design (plain multiplies and adds, never fused: the same doubles at any width). One
+/// function per order, so that each keeps its order a constant (compiled in one body, the
+/// orders' code was merged and the panel's outputs stored one double at a time with the
+/// order read from memory).
 #[multiversion(targets("x86_64+avx512f", "x86_64+avx2"))]
-fn through_widest(panels: &Panels, values: &[f64]) -> MonomialRunning {
-    MonomialRunning::through_any::<true>(panels, values)
-}
-
-/// [`MonomialRunning::through_widest`] without the slope (look-ups of the integral alone):
-/// N + 2 sums a panel where there were 2N + 2.
-#[multiversion(targets("x86_64+avx512f", "x86_64+avx2"))]
-fn running_widest(panels: &Panels, values: &[f64]) -> MonomialRunning {
-    MonomialRunning::through_any::<false>(panels, values)
+fn through_widest<const N: usize, const W: usize>(
+    panels: &Panels,
+    values: &[f64],
+) -> MonomialRunning {
+    MonomialRunning::through_order::<N, W>(panels, values)
 }
 
 /// [`MonomialRunning::sum_of_shifts`] compiled for the widest vectors the machine has: each
@@ -28,7 +27,7 @@ fn running_widest(panels: &Panels, values: &[f64]) -> MonomialRunning {
 #[multiversion(targets("x86_64+avx512f", "x86_64+avx2"))]
 fn sum_of_shifts_widest(own: &MonomialRunning, shifts: &[PanelShift]) -> MonomialRunning {
     // Panels summed a block at a time: the block's part of the sum stays in the first-level
-    // cache while every copy is added to it (56 panels of order 7: 6.3 KiB).
+    // cache while every copy is added to it (56 panels of order 7: 4 KiB).
     const BLOCK: usize = 56;
     let (n, count) = (own.order, own.at_edges.len() - 1);
     // The shifts in lists that do not overlap, each walked by a cursor: a new list wherever
@@ -47,7 +46,6 @@ fn sum_of_shifts_widest(own: &MonomialRunning, shifts: &[PanelShift]) -> Monomia
     let mut sum = MonomialRunning {
         at_edges: Vec::with_capacity(count + 1),
         running: Vec::with_capacity(own.running.len()),
-        slope: Vec::with_capacity(own.slope.len()),
         order: n,
     };
     let first_copy = if lists.is_empty() {
@@ -57,7 +55,6 @@ fn sum_of_shifts_widest(own: &MonomialRunning, shifts: &[PanelShift]) -> Monomia
     };
     let zeros_to = |sum: &mut MonomialRunning, p: usize| {
         sum.running.resize(p * (n + 1), 0.0);
-        sum.slope.resize(p * n, 0.0);
         sum.at_edges.resize(p, 0.0);
     };
     for shift in first_copy {
@@ -65,8 +62,6 @@ fn sum_of_shifts_widest(own: &MonomialRunning, shifts: &[PanelShift]) -> Monomia
         let (q, q_to) = (shift.q, shift.q + shift.count);
         let running = &own.running[q * (n + 1)..q_to * (n + 1)];
         sum.running.extend(running.iter().map(|c| 0.0 + c));
-        sum.slope
-            .extend(own.slope[q * n..q_to * n].iter().map(|c| 0.0 + c));
         let at_edges = own.at_edges[q..q_to].iter();
         sum.at_edges
             .extend(at_edges.map(|c| (0.0 + c) + shift.at_edge));
@@ -86,12 +81,6 @@ fn sum_of_shifts_widest(own: &MonomialRunning, shifts: &[PanelShift]) -> Monomia
                 for (s, c) in sum.running[from * (n + 1)..to * (n + 1)]
                     .iter_mut()
                     .zip(&own.running[q * (n + 1)..q_to * (n + 1)])
-                {
-                    *s += *c;
-                }
-                for (s, c) in sum.slope[from * n..to * n]
-                    .iter_mut()
-                    .zip(&own.slope[q * n..q_to * n])
                 {
                     *s += *c;
                 }
@@ -123,8 +112,8 @@ pub(crate) struct PanelShift {
 }
 
 /// A running integral F(φ) = ∫₀^φ f dφ on `Panels` in monomials, for many look-ups: on each
-/// panel F = F(e_p) + Σ_i q_i x^i and f′ = Σ_i s_i x^i, x ∈ [−1, 1] across it, each by
-/// Horner's rule (a few multiply-adds where the Legendre recurrence of
+/// panel F = F(e_p) + Σ_i q_i x^i, x ∈ [−1, 1] across it, and f′ = F″ = Σ_i i(i − 1) q_i
+/// x^(i−2) / h² (h the half width), each by Horner's rule (a few multiply-adds where the Legendre recurrence of
 /// [`running_at`](super::running_at) takes three times as many operations). The same
 /// interpolants as [`Antiderivative`](super::Antiderivative)'s, to rounding (their Legendre
 /// coefficients turned into powers of x, |x| ≤ 1: each coefficient's error within a few ulps
@@ -135,8 +124,6 @@ pub(crate) struct MonomialRunning {
     pub at_edges: Vec<f64>,
     /// Per panel, half·∫₋₁^x of the interpolant: `order + 1` coefficients, highest power first.
     running: Vec<f64>,
-    /// Per panel, f′ (per rad): `order` coefficients, highest power first (the first 0).
-    slope: Vec<f64>,
     /// The panels' order.
     order: usize,
 }
@@ -145,115 +132,102 @@ impl MonomialRunning {
     /// The running integral of f, given at the nodes of `panels` (`values`), in powers of x
     /// on each panel: each panel's interpolant (degree order − 1) integrated exactly. F at
     /// the edges is [`Panels::antiderivative`](super::Panels::antiderivative)'s (the same
-    /// doubles); the powers come from f through fixed matrices of the rule, made once
+    /// doubles); the powers come from f through a fixed matrix of the rule, made once
     /// (the interpolant's Legendre coefficients by the rule's discrete orthogonality, turned
-    /// into powers, integrated and differentiated), so a panel costs two small matrix
-    /// products and no division but one.
+    /// into powers and integrated), so a panel costs one small matrix product. The slope f′
+    /// is the integral's second derivative ([`MonomialRunning::slope_at_panel`]): no
+    /// coefficients of its own.
     pub fn through(panels: &Panels, values: &[f64]) -> Self {
-        through_widest(panels, values)
-    }
-
-    /// [`MonomialRunning::through`] without the slope: for look-ups of the integral alone
-    /// (its `at_*`; a slope asked of it panics). The same integral, bit for bit.
-    pub fn running_through(panels: &Panels, values: &[f64]) -> Self {
-        running_widest(panels, values)
-    }
-
-    /// [`MonomialRunning::through`] for the machine's vector width (`through_widest`).
-    #[inline(always)]
-    fn through_any<const SLOPE: bool>(panels: &Panels, values: &[f64]) -> Self {
-        // The rules' orders N, each panel's W sums in registers (a length known when
-        // compiled): 2N + 2 with the slope, N + 2 without.
+        // The rules' orders N, each panel's N + 1 sums in registers (a length known when
+        // compiled), each order compiled apart.
         macro_rules! order {
-            ($($n:literal => $with:literal, $without:literal;)*) => {
+            ($($n:literal => $w:literal;)*) => {
                 match panels.order {
-                    $($n if SLOPE => Self::through_order::<$n, $with, true>(panels, values),
-                      $n => Self::through_order::<$n, $without, false>(panels, values),)*
-                    _ => Self::through_order::<0, 0, SLOPE>(panels, values),
+                    $($n => through_widest::<$n, $w>(panels, values),)*
+                    _ => through_widest::<0, 0>(panels, values),
                 }
             };
         }
         order! {
-            1 => 4, 3; 2 => 6, 4; 3 => 8, 5; 4 => 10, 6; 5 => 12, 7; 6 => 14, 8;
-            7 => 16, 9; 8 => 18, 10; 9 => 20, 11; 10 => 22, 12; 11 => 24, 13; 12 => 26, 14;
+            1 => 2; 2 => 3; 3 => 4; 4 => 5; 5 => 6; 6 => 7; 7 => 8; 8 => 9; 9 => 10; 10 => 11;
+            11 => 12; 12 => 13;
         }
     }
 
-    /// [`MonomialRunning::through`] for rules of order `N`, a panel's sums in an array of
-    /// `W` = 2N + 2 (0, 0: any order, the sums in memory): the n + 1 integral coefficients,
-    /// the n slope coefficients (the first, of x^(n−1), 0: its column is), and Σ_j w_j f_j
-    /// for F at the next edge. Every lane is read, so the compiler keeps whole vectors (it
-    /// splits a row whose last lanes are never read into pieces of 8, 4, 2 and 1).
+    /// [`MonomialRunning::through`] for rules of order `N`, a panel's n + 1 integral
+    /// coefficients summed in an array of `W` = N + 1 (0, 0: any order, the sums in memory),
+    /// and Σ_j w_j f_j for F at the next edge in a chain of its own.
     #[inline(always)]
-    fn through_order<const N: usize, const W: usize, const SLOPE: bool>(
-        panels: &Panels,
-        values: &[f64],
-    ) -> Self {
-        let n = panels.order;
-        let lanes = if SLOPE { 2 * n + 2 } else { n + 2 };
-        debug_assert!(N == 0 || (N == n && W == lanes));
+    fn through_order<const N: usize, const W: usize>(panels: &Panels, values: &[f64]) -> Self {
+        // The order known when compiled wherever it can be: the panel's outputs are then
+        // stored as whole vectors (with the order read at run time, one double at a time).
+        let n = if N == 0 { panels.order } else { N };
+        debug_assert!(N == 0 || (N == panels.order && W == n + 1));
         let count = panels.count();
-        // Column j: what f_j adds to each sum (the products summed in independent lanes,
-        // not one chain): rule_columns' n + 1 integral rows, with the slope a zero and its
-        // n − 1 slope rows, and the node's weight.
-        let columns: Vec<f64> = columns_of(panels)
-            .chunks_exact(2 * n)
-            .zip(&panels.unit_weights)
-            .flat_map(|(column, &w)| {
-                let (integral, slope) = column.split_at(n + 1);
-                let slope = if SLOPE { slope } else { &[] };
-                let zero = std::iter::repeat_n(0.0, usize::from(SLOPE));
-                let weight = std::iter::once(w);
-                integral
-                    .iter()
-                    .copied()
-                    .chain(zero)
-                    .chain(slope.iter().copied())
-                    .chain(weight)
-            })
-            .collect();
-        // Filled by extending from slices (a length known: no zeroing first, no check per
-        // value).
-        let mut at_edges = Vec::with_capacity(count + 1);
-        at_edges.push(0.0);
-        let mut running = Vec::with_capacity(count * (n + 1));
-        let mut slope = Vec::with_capacity(if SLOPE { count * n } else { 0 });
-        // Σ_j w_j f_j starts at −0.0, as Iterator::sum does (its doubles).
-        let mut start = vec![0.0; lanes];
-        start[lanes - 1] = -0.0;
-        let mut any = start.clone();
-        for (p, f) in values.chunks_exact(n).enumerate() {
-            let half = 0.5 * (panels.edges[p + 1] - panels.edges[p]);
-            let per_half = 1.0 / half;
-            // Each sum Σ_j column_j·f_j in the order of j.
-            let mut sums = [0.0; W];
-            let sums: &[f64] = if N == 0 {
-                any.copy_from_slice(&start);
-                for (column, f) in columns.chunks_exact(lanes).zip(f) {
-                    any.iter_mut().zip(column).for_each(|(s, c)| *s += c * f);
+        let weights = &panels.unit_weights[..n];
+        // Column j: what f_j adds to each coefficient (the products summed in independent
+        // lanes, not one chain).
+        let columns = columns_of(panels);
+        // The columns as N arrays of W (any order: none): every loop over them and over a
+        // panel's nodes of a length known when compiled, so that the sums stay in registers
+        // (a loop that may end early left them in memory, stored and read back a panel).
+        let fixed: Vec<[f64; W]> = if N == 0 {
+            Vec::new()
+        } else {
+            columns
+                .chunks_exact(W)
+                .map(|c| c.try_into().expect("columns of W lanes"))
+                .collect()
+        };
+        let fixed: &[[f64; W]] = &fixed;
+        let fixed: &[[f64; W]; N] = fixed.try_into().expect("N columns");
+        let mut at_edges = vec![0.0; count + 1];
+        // F at the panel's first edge kept where it is made, not read back from memory.
+        let mut edge = 0.0;
+        let mut running = vec![0.0; count * (n + 1)];
+        let edges = panels.edges.windows(2);
+        let out = running.chunks_exact_mut(n + 1).zip(&mut at_edges[1..]);
+        if N == 0 {
+            for ((f, e), (coefficients, at_edge)) in values.chunks_exact(n).zip(edges).zip(out) {
+                let half = 0.5 * (e[1] - e[0]);
+                // Σ_j w_j f_j from −0.0, as Iterator::sum does (its doubles); each sum
+                // Σ_j column_j·f_j in the order of j.
+                let mut weighted = -0.0;
+                for ((column, f), w) in columns.chunks_exact(n + 1).zip(f).zip(weights) {
+                    coefficients
+                        .iter_mut()
+                        .zip(column)
+                        .for_each(|(s, c)| *s += c * f);
+                    weighted += w * f;
                 }
-                &any
-            } else {
-                sums[W - 1] = -0.0;
-                for (column, &f) in columns.chunks_exact(W).zip(f) {
-                    // An array of W: no bounds check in the sums.
-                    let column: &[f64; W] = column.try_into().expect("columns of W lanes");
-                    for k in 0..W {
-                        sums[k] += column[k] * f;
-                    }
-                }
-                &sums
-            };
-            running.extend(sums[..=n].iter().map(|s| half * s));
-            if SLOPE {
-                slope.extend(sums[n + 1..=2 * n].iter().map(|s| per_half * s));
+                coefficients.iter_mut().for_each(|s| *s *= half);
+                edge += half * weighted;
+                *at_edge = edge;
             }
-            at_edges.push(at_edges[p] + half * sums[lanes - 1]);
+        } else {
+            // Written in place (zeroed first: a push or an extend may call the allocator,
+            // and every vector live across that call went through the stack a panel).
+            for ((f, e), (coefficients, at_edge)) in values.chunks_exact(N).zip(edges).zip(out) {
+                let half = 0.5 * (e[1] - e[0]);
+                let f: &[f64; N] = f.try_into().expect("N nodes a panel");
+                let mut sums = [0.0; W];
+                let mut weighted = -0.0;
+                for j in 0..N {
+                    for k in 0..W {
+                        sums[k] += fixed[j][k] * f[j];
+                    }
+                    weighted += weights[j] * f[j];
+                }
+                for (c, s) in coefficients.iter_mut().zip(sums) {
+                    *c = half * s;
+                }
+                edge += half * weighted;
+                *at_edge = edge;
+            }
         }
         Self {
             at_edges,
             running,
-            slope,
             order: n,
         }
     }
@@ -291,13 +265,19 @@ impl MonomialRunning {
         self.at_edges[p] + value
     }
 
-    /// f′ (per rad) on panel `p` at `x` ∈ [−1, 1] across it.
+    /// f′ (per rad) on panel `p` of `panels` at `x` ∈ [−1, 1] across it: F″, from F's own
+    /// coefficients, Σ_i i(i − 1) q_i x^(i−2) / h², h the panel's half width.
     #[inline]
-    pub fn slope_at_panel(&self, p: usize, x: f64) -> f64 {
+    pub fn slope_at_panel(&self, panels: &Panels, p: usize, x: f64) -> f64 {
         let n = self.order;
-        self.slope[p * n..(p + 1) * n]
-            .iter()
-            .fold(0.0, |sum, c| sum * x + c)
+        let per_half = 2.0 / (panels.edges[p + 1] - panels.edges[p]);
+        // q_n … q_2, the powers n … 2 (highest first).
+        let rows = &self.running[p * (n + 1)..(p + 1) * (n + 1) - 2];
+        let second = rows.iter().enumerate().fold(0.0, |sum, (k, q)| {
+            let power = (n - k) as f64;
+            sum * x + power * (power - 1.0) * q
+        });
+        second * per_half * per_half
     }
 
     /// F at `L` angles (rad, each in [0, Φ]) as [`MonomialRunning::at_near`] gives each (the
@@ -406,7 +386,7 @@ impl MonomialRunning {
     #[inline]
     pub fn at_and_slope_near(&self, panels: &Panels, angle: f64, hint: &mut usize) -> (f64, f64) {
         let (p, x) = Self::locate(panels, angle, hint);
-        (self.at_panel(p, x), self.slope_at_panel(p, x))
+        (self.at_panel(p, x), self.slope_at_panel(panels, p, x))
     }
 
     /// φ's panel on `panels`, looked for from `hint` and left there, and x ∈ [−1, 1] across it.
@@ -432,10 +412,9 @@ fn columns_of(panels: &Panels) -> std::borrow::Cow<'static, [f64]> {
     }
 }
 
-/// The matrices from f at a rule's nodes to, on [−1, 1], ∫₋₁^x of f's interpolant in powers
-/// of x (`order` + 1 rows, highest power first, its value at −1 taken off in the last) and
-/// the interpolant's derivative (`order` − 1 rows, highest power first), one column per
-/// node: column j of both, then the next; the panel's half-width scales them. The interpolant's powers a = L·B·f:
+/// The matrix from f at a rule's nodes to, on [−1, 1], ∫₋₁^x of f's interpolant in powers
+/// of x (`order` + 1 rows, highest power first, its value at −1 taken off in the last), one
+/// column per node, column after column; the panel's half-width scales it. The interpolant's powers a = L·B·f:
 /// B the Legendre coefficients by the Gauss rule's discrete orthogonality, c_k = (2k + 1)/2
 /// · Σ_i w_i f_i P_k(x_i), L the powers of x in each P_k.
 fn rule_columns(panels: &Panels) -> Vec<f64> {
@@ -483,15 +462,8 @@ fn rule_columns(panels: &Panels) -> Vec<f64> {
             })
             .sum::<f64>()
     }));
-    let mut slope_of = Vec::with_capacity(n.saturating_sub(1) * n);
-    for i in (1..n).rev() {
-        slope_of.extend(powers[i * n..(i + 1) * n].iter().map(|a| i as f64 * a));
-    }
-    // Row-major (rows, n) to n columns of 2n: the integral's n + 1 rows, the slope's n − 1.
-    let rows: Vec<&[f64]> = integrate
-        .chunks_exact(n)
-        .chain(slope_of.chunks_exact(n))
-        .collect();
+    // Row-major (n + 1, n) to n columns of n + 1.
+    let rows: Vec<&[f64]> = integrate.chunks_exact(n).collect();
     (0..n)
         .flat_map(|j| rows.iter().map(move |row| row[j]))
         .collect()
