@@ -206,6 +206,19 @@ impl Dynamics {
         Ok(())
     }
 
+    /// The gravity torque's slope −U″ (N·m/rad), exact.
+    pub fn gravity_torque_slope<'a>(
+        &self,
+        phi: impl Into<Phi<'a>>,
+        out: &mut [f64],
+        parallelism: Parallelism,
+    ) -> Result<()> {
+        self.gravity
+            .evaluate(Quantity::ForceDerivative, phi, out, parallelism)?;
+        out.iter_mut().for_each(|m| *m = -*m);
+        Ok(())
+    }
+
     /// The dimensionless engine of these units at the speed `omega` ω [rad/s] with shaft
     /// inertia I_w: U1, U2 divided by I_w ω².
     pub fn dimensionless(&self, shaft_inertia: f64, omega: f64) -> Result<Engine> {

@@ -33,11 +33,6 @@ const RESOLVED: f64 = 1e-7;
 /// … or below rounding of its size.
 const ROUNDING: f64 = 1e-14;
 
-/// The step (rad) of the central differences that estimate the gravity torque's slope −U″:
-/// small beside a panel (≥ π/60 wide), large enough that rounding of the torque
-/// (~1e-16·|M|) stays below 1e-10 of the slope.
-pub(super) const SLOPE_STEP: f64 = 1e-5;
-
 /// What of a machine's tables its gas alone decides: the forces, the indicator work G of
 /// each cylinder, the panels' cuts (the gassed units' dead centres), and W and M_gas′ on the
 /// panels of each width tried. Kept apart so that designs that differ only in masses, g, I_w
@@ -226,26 +221,16 @@ impl Cycle {
     /// `work_curvature` (once per gas and width) and `gravity_curvature` on the panels found.
     fn curvatures(&mut self, on: &OnPanels) -> Result<()> {
         let phi = &self.panels.phi;
-        let shifted = |h: f64| phi.iter().map(|p| p + h).collect::<Vec<f64>>();
-        let (ahead, behind) = (shifted(SLOPE_STEP), shifted(-SLOPE_STEP));
-        let difference = |a: Vec<f64>, b: Vec<f64>| -> Vec<f64> {
-            a.iter()
-                .zip(&b)
-                .map(|(a, b)| (a - b) / (2.0 * SLOPE_STEP))
-                .collect()
-        };
         // M_gas′ from the indicator rules' own interpolants, found with W (no force looked up
-        // again), kept unscaled (a scaled gas shares it); the gravity torque's slope by
-        // central differences.
+        // again), kept unscaled (a scaled gas shares it); the gravity torque's slope −U″
+        // exact (one pass of the kernel, where central differences took two).
         self.work_curvature = self.gas.scaled_values(on.slope.clone());
-        self.gravity_curvature = if self.gravity_on {
-            difference(
-                self.gravity_torque_at(&ahead)?,
-                self.gravity_torque_at(&behind)?,
-            )
-        } else {
-            vec![0.0; phi.len()]
-        };
+        let mut gravity = vec![0.0; phi.len()];
+        if self.gravity_on {
+            self.dynamics
+                .gravity_torque_slope(phi, &mut gravity, Parallelism::SERIAL)?;
+        }
+        self.gravity_curvature = gravity;
         Ok(())
     }
 

@@ -11,7 +11,7 @@ use crate::error::Result;
 use crate::mechanism::PhysicalCylinder;
 use crate::parallel::Parallelism;
 
-use super::cycle::{Cycle, SLOPE_STEP};
+use super::cycle::Cycle;
 use super::{MachineView, SteadyTables};
 
 /// A machine's tables and (sin φ, cos φ) at their samples (nodes, then edges), made on
@@ -85,12 +85,9 @@ fn reweighted(
     if !cycle.resolves(&cycle.potential[..n]) {
         return Ok(None);
     }
-    // −ΔU′ = B sin φ − A cos φ, differenced over ±h as the gravity torque's slope is:
-    // (sin h / h)(A sin φ + B cos φ).
-    let h = SLOPE_STEP;
-    let factor = h.sin() / h;
+    // −ΔU′ = B sin φ − A cos φ, whose slope is A sin φ + B cos φ.
     for (slope, (sin, cos)) in cycle.gravity_curvature.iter_mut().zip(angles) {
-        *slope += factor * (a * sin + b * cos);
+        *slope += a * sin + b * cos;
     }
     let mut u0 = [0.0];
     cycle
