@@ -352,43 +352,36 @@ impl Group {
         let indicator = &self.indicator;
         let panels = &indicator.rule.panels;
         let mut hint = 0;
-        let start = match slope {
-            Some(slope) => {
-                for k in 0..phi.len() {
-                    let angle = indicator.turns_and_angle(phi[k], 0.0);
-                    let at = MonomialRunning::locate(panels, angle.1, &mut hint);
-                    work[k] += summed.at(indicator, angle, at, Some(&mut slope[k]));
-                }
-                phi.len()
+        // LANES angles at a time, their Horner chains side by side (at_panel's and
+        // slope_at_panel's doubles), each lane's strays, if any, added to it alone.
+        let whole = phi.len() / LANES * LANES;
+        for first in (0..whole).step_by(LANES) {
+            let (mut turns, mut y) = ([0.0; LANES], [0.0; LANES]);
+            for l in 0..LANES {
+                (turns[l], y[l]) = indicator.turns_and_angle(phi[first + l], 0.0);
             }
-            None => {
-                // LANES angles at a time, their Horner chains side by side, where none of
-                // them has a stray.
-                let whole = phi.len() / LANES * LANES;
-                for first in (0..whole).step_by(LANES) {
-                    let (mut turns, mut y) = ([0.0; LANES], [0.0; LANES]);
-                    for l in 0..LANES {
-                        (turns[l], y[l]) = indicator.turns_and_angle(phi[first + l], 0.0);
-                    }
-                    let (p, x) = MonomialRunning::locate_lanes(panels, &y, &mut hint);
-                    // The sum's look-ups side by side (at_panel's doubles), each lane's
-                    // strays, if any, added to it alone.
-                    let g = summed.running.at_panels(&p, &x);
-                    for l in 0..LANES {
-                        let mut value = turns[l] * summed.per_cycle + g[l];
-                        if summed.has_strays(p[l]) {
-                            summed.add_strays(indicator, y[l], p[l], &mut value, None);
-                        }
-                        work[first + l] += value;
-                    }
+            let (p, x) = MonomialRunning::locate_lanes(panels, &y, &mut hint);
+            let g = summed.running.at_panels(&p, &x);
+            let mut slopes = slope.as_deref_mut().map(|slope| {
+                let lanes = summed.running.slope_at_panels(panels, &p, &x);
+                let slope = &mut slope[first..first + LANES];
+                slope.iter_mut().zip(lanes).for_each(|(s, lane)| *s += lane);
+                slope
+            });
+            for l in 0..LANES {
+                let mut value = turns[l] * summed.per_cycle + g[l];
+                if summed.has_strays(p[l]) {
+                    let lane = slopes.as_deref_mut().map(|s| &mut s[l]);
+                    summed.add_strays(indicator, y[l], p[l], &mut value, lane);
                 }
-                whole
+                work[first + l] += value;
             }
-        };
-        for k in start..phi.len() {
+        }
+        for k in whole..phi.len() {
             let angle = indicator.turns_and_angle(phi[k], 0.0);
             let at = MonomialRunning::locate(panels, angle.1, &mut hint);
-            work[k] += summed.at(indicator, angle, at, None);
+            let lane = slope.as_deref_mut().map(|s| &mut s[k]);
+            work[k] += summed.at(indicator, angle, at, lane);
         }
     }
 }

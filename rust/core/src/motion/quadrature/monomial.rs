@@ -269,15 +269,34 @@ impl MonomialRunning {
     /// coefficients, Σ_i i(i − 1) q_i x^(i−2) / h², h the panel's half width.
     #[inline]
     pub fn slope_at_panel(&self, panels: &Panels, p: usize, x: f64) -> f64 {
+        self.slope_at_panels(panels, &[p], &[x])[0]
+    }
+
+    /// [`MonomialRunning::slope_at_panel`] in `L` lanes, their Horner chains side by side.
+    #[inline]
+    pub fn slope_at_panels<const L: usize>(
+        &self,
+        panels: &Panels,
+        first: &[usize; L],
+        x: &[f64; L],
+    ) -> [f64; L] {
         let n = self.order;
-        let per_half = 2.0 / (panels.edges[p + 1] - panels.edges[p]);
-        // q_n … q_2, the powers n … 2 (highest first).
-        let rows = &self.running[p * (n + 1)..(p + 1) * (n + 1) - 2];
-        let second = rows.iter().enumerate().fold(0.0, |sum, (k, q)| {
-            let power = (n - k) as f64;
-            sum * x + power * (power - 1.0) * q
-        });
-        second * per_half * per_half
+        let rows: [&[f64]; L] = first.map(|p| &self.running[p * (n + 1)..(p + 1) * (n + 1)]);
+        // q_n … q_2 times their powers' i(i − 1), highest first.
+        let mut second = [0.0; L];
+        for (k, power) in (2..=n).rev().enumerate() {
+            let power = power as f64;
+            let factor = power * (power - 1.0);
+            for l in 0..L {
+                second[l] = second[l] * x[l] + factor * rows[l][k];
+            }
+        }
+        let mut out = [0.0; L];
+        for l in 0..L {
+            let width = panels.edges[first[l] + 1] - panels.edges[first[l]];
+            out[l] = 4.0 * second[l] / (width * width);
+        }
+        out
     }
 
     /// F at `L` angles (rad, each in [0, Φ]) as [`MonomialRunning::at_near`] gives each (the
