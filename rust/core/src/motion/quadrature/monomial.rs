@@ -41,35 +41,19 @@ fn sum_of_shifts_widest(own: &MonomialRunning, shifts: &[PanelShift]) -> Monomia
             start = k;
         }
     }
-    // The first copy written in one pass, 0 + its terms (the doubles of adding them to a sum
-    // of zeros, without zeroing the sum first), 0 where it has none.
+    // Each block's part of the sum zeroed just before its copies are added (in the
+    // first-level cache, where writing the first copy in a pass of its own wrote the whole
+    // sum to the second-level cache and read it back a block at a time): 0 + the first
+    // copy's terms, 0 where no copy has any.
     let mut sum = MonomialRunning {
         at_edges: Vec::with_capacity(count + 1),
         running: Vec::with_capacity(own.running.len()),
         order: n,
     };
-    let first_copy = if lists.is_empty() {
-        &[][..]
-    } else {
-        lists.remove(0).0
-    };
-    let zeros_to = |sum: &mut MonomialRunning, p: usize| {
-        sum.running.resize(p * (n + 1), 0.0);
-        sum.at_edges.resize(p, 0.0);
-    };
-    for shift in first_copy {
-        zeros_to(&mut sum, shift.p);
-        let (q, q_to) = (shift.q, shift.q + shift.count);
-        let running = &own.running[q * (n + 1)..q_to * (n + 1)];
-        sum.running.extend(running.iter().map(|c| 0.0 + c));
-        let at_edges = own.at_edges[q..q_to].iter();
-        sum.at_edges
-            .extend(at_edges.map(|c| (0.0 + c) + shift.at_edge));
-    }
-    zeros_to(&mut sum, count);
-    sum.at_edges.push(0.0);
     for first in (0..count).step_by(BLOCK) {
         let end = (first + BLOCK).min(count);
+        sum.running.resize(end * (n + 1), 0.0);
+        sum.at_edges.resize(end, 0.0);
         for (list, cursor) in lists.iter_mut() {
             while let Some(shift) = list.get(*cursor) {
                 if shift.p >= end {
@@ -97,6 +81,7 @@ fn sum_of_shifts_widest(own: &MonomialRunning, shifts: &[PanelShift]) -> Monomia
             }
         }
     }
+    sum.at_edges.push(0.0);
     sum
 }
 
