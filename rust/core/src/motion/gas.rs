@@ -69,8 +69,13 @@ impl PiecewisePolynomial {
                 allowed: "strictly increasing",
             });
         }
-        for &c in &coefficients {
-            check("coefficients", c, "finite", |_| true)?;
+        // Whether all are finite in one pass without a branch a value (each value's check,
+        // a branch and the error's making, cost a machine of twelve cylinders some 10 µs
+        // on its 6·10³ coefficients); the check itself only to name one that is not.
+        if !coefficients.iter().fold(true, |all, c| all & c.is_finite()) {
+            for &c in &coefficients {
+                check("coefficients", c, "finite", |_| true)?;
+            }
         }
         let span = breakpoints[m] - breakpoints[0];
         check(

@@ -14,6 +14,15 @@ fn a_piecewise_polynomial_wraps_and_takes_its_pieces() {
     assert!(PiecewisePolynomial::new(vec![0.0, 7.0, 2.0 * PI], vec![1.0; 2], 2.0 * PI).is_err());
     assert!(PiecewisePolynomial::new(vec![0.0, 2.0 * PI], vec![1.0; 3], 2.0 * PI).is_ok());
     assert!(PiecewisePolynomial::new(vec![0.0, 2.0 * PI], vec![f64::NAN], 2.0 * PI).is_err());
+    // One value not finite among many, anywhere: refused, naming the coefficients.
+    for bad in [f64::INFINITY, f64::NEG_INFINITY, f64::NAN] {
+        for at in [0, 17, 39] {
+            let mut many = vec![1.0; 40];
+            many[at] = bad;
+            let refused = PiecewisePolynomial::new(vec![0.0, 2.0 * PI], many, 2.0 * PI);
+            assert_eq!(refused.unwrap_err().parameter(), Some("coefficients"));
+        }
+    }
 }
 
 #[test]
