@@ -154,27 +154,29 @@ impl PiecewisePolynomial {
     }
 
     /// [`PiecewisePolynomial::value_near`] at every θ of `theta`, in order, into `out` (the
-    /// same doubles): eight angles' Horner chains side by side, where one angle's chain
-    /// alone waits on each multiply-add.
-    pub(crate) fn values_near(&self, theta: &[f64], out: &mut [f64]) {
-        const LANES: usize = 8;
+    /// same doubles), the angles in runs of `run` that each lie in one piece, as an
+    /// indicator rule's panels do (they are cut at every breakpoint): a run's piece found
+    /// once and its coefficients read once for all its angles, each angle only checked to
+    /// lie in it (one that does not, looked up alone).
+    pub(crate) fn values_in_runs(&self, theta: &[f64], run: usize, out: &mut [f64]) {
         let (x0, cycle, order) = (self.breakpoints[0], self.cycle(), self.order);
+        let (x, last) = (&self.breakpoints, self.pieces() - 1);
+        let run = run.max(1);
         let mut hint = 0;
-        for (angles, values) in theta.chunks(LANES).zip(out.chunks_mut(LANES)) {
-            let (mut dx, mut first) = ([0.0; LANES], [0_usize; LANES]);
-            for (l, &angle) in angles.iter().enumerate() {
+        for (angles, values) in theta.chunks(run).zip(out.chunks_mut(run)) {
+            let i = self.piece_near(x0 + periodic(angles[0] - x0, cycle), hint);
+            hint = i;
+            let (low, high) = (x[i], if i == last { f64::INFINITY } else { x[i + 1] });
+            let coefficients = &self.coefficients[i * order..(i + 1) * order];
+            for (&angle, value) in angles.iter().zip(values.iter_mut()) {
                 let t = x0 + periodic(angle - x0, cycle);
-                hint = self.piece_near(t, hint);
-                dx[l] = t - self.breakpoints[hint];
-                first[l] = hint * order;
+                *value = if low <= t && t < high {
+                    let dx = t - low;
+                    coefficients.iter().fold(0.0, |p, &c| p * dx + c)
+                } else {
+                    self.value_near(angle, &mut hint)
+                };
             }
-            let mut p = [0.0; LANES];
-            for k in 0..order {
-                for l in 0..LANES {
-                    p[l] = p[l] * dx[l] + self.coefficients[first[l] + k];
-                }
-            }
-            values.copy_from_slice(&p[..angles.len()]);
         }
     }
 

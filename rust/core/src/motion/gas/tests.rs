@@ -114,7 +114,7 @@ fn net_piston_forces_are_the_pressures_on_the_two_circles() {
 fn a_look_up_from_a_hint_is_the_searched_one_in_any_order() {
     // A cubic spline-like table of 360 uneven pieces over 4π, probed in increasing order
     // (the walk), decreasing, and scattered: value_near gives value's doubles every time,
-    // and so does values_near, eight at a time (3001 probes: a last chunk of one).
+    // and so does values_in_runs, in runs of 1, 7 and 13 (3001 probes: a last run short).
     let cycle = 4.0 * PI;
     let x: Vec<f64> = (0..=360)
         .map(|i| {
@@ -140,10 +140,14 @@ fn a_look_up_from_a_hint_is_the_searched_one_in_any_order() {
             let (near, searched) = (p.value_near(t, &mut hint), p.value(t));
             assert_eq!(near.to_bits(), searched.to_bits(), "{t}");
         }
-        let mut together = vec![f64::NAN; probes.len()];
-        p.values_near(&probes, &mut together);
-        for (&t, value) in probes.iter().zip(together) {
-            assert_eq!(value.to_bits(), p.value(t).to_bits(), "{t}");
+        // In runs of any length: most runs here cross a breakpoint (those angles looked up
+        // alone), a run of one never does.
+        for run in [1, 7, 13] {
+            let mut together = vec![f64::NAN; probes.len()];
+            p.values_in_runs(&probes, run, &mut together);
+            for (&t, value) in probes.iter().zip(together) {
+                assert_eq!(value.to_bits(), p.value(t).to_bits(), "{t} {run}");
+            }
         }
     }
 }

@@ -16,12 +16,14 @@ use super::alignment::Alignment;
 use super::{periodic, GasCylinder, PiecewisePolynomial};
 
 /// F of one cylinder at phase 0 at every θ (rad) of `theta`, in increasing order, θ taken
-/// modulo the cycle (each table's values in one walk, [`PiecewisePolynomial::values_near`]).
+/// modulo the cycle, in runs of `run` angles each within one piece of every table (a rule's
+/// panels: each table's values in one walk, [`PiecewisePolynomial::values_in_runs`]).
 fn one_cylinder_forces(
     cylinder: GasCylinder,
     diagrams: &[PiecewisePolynomial],
     cycle: f64,
     theta: &[f64],
+    run: usize,
 ) -> Vec<f64> {
     let mut forces = vec![0.0; theta.len()];
     if !cylinder.has_gas() {
@@ -38,11 +40,11 @@ fn one_cylinder_forces(
     };
     let crank_end = cylinder.crank_end.map(|d| {
         let mut p = vec![0.0; angles.len()];
-        diagrams[d].values_near(angles, &mut p);
+        diagrams[d].values_in_runs(angles, run, &mut p);
         p
     });
     if let Some(d) = cylinder.head {
-        diagrams[d].values_near(angles, &mut forces);
+        diagrams[d].values_in_runs(angles, run, &mut forces);
     }
     let head = cylinder.head.is_some();
     for (k, force) in forces.iter_mut().enumerate() {
@@ -120,7 +122,7 @@ impl Rule {
             m.max(width / (width / INDICATOR_WIDTH).ceil().max(1.0))
         });
         let panels = Panels::new(&cuts, indicator_order(order, widest), INDICATOR_WIDTH);
-        let forces = one_cylinder_forces(gas, diagrams, cycle, &panels.phi);
+        let forces = one_cylinder_forces(gas, diagrams, cycle, &panels.phi, panels.order);
         Self {
             cycle,
             panels,
