@@ -476,9 +476,21 @@ fn legendre_all(count: usize, x: f64) -> Vec<f64> {
 /// `angles` sorted and folded into [0, Φ] with 0 and Φ, breaks closer than 10⁻¹²·Φ merged
 /// (a sliver panel would only cost nodes).
 pub(crate) fn breaks(mut angles: Vec<f64>, cycle: f64) -> Vec<f64> {
-    angles.push(0.0);
-    angles.push(cycle);
-    angles.sort_by(f64::total_cmp);
+    // Angles made in order within [0, Φ] (a rule's cuts) are not sorted again: a check is
+    // one pass, and 0 and Φ go to their ends.
+    let ordered = |a: &f64, b: &f64| a.total_cmp(b).is_le();
+    let within = |a: &f64| ordered(&0.0, a) && ordered(a, &cycle);
+    if angles.is_sorted_by(ordered)
+        && angles.first().is_none_or(within)
+        && angles.last().is_none_or(within)
+    {
+        angles.insert(0, 0.0);
+        angles.push(cycle);
+    } else {
+        angles.push(0.0);
+        angles.push(cycle);
+        angles.sort_by(f64::total_cmp);
+    }
     let mut kept: Vec<f64> = Vec::with_capacity(angles.len());
     for a in angles {
         match kept.last() {

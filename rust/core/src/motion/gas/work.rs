@@ -108,11 +108,27 @@ impl Rule {
             .flatten()
             .map(|d| &diagrams[d])
             .collect();
-        let mut angles: Vec<f64> = (0..=(cycle / PI).round() as usize)
-            .map(|k| k as f64 * PI)
-            .collect();
+        // The tables' breakpoints folded into the cycle (`periodic`: rem_euclid's doubles,
+        // without its division), each table's a sorted run turned at its fold, then the
+        // dead centres put in their places: sorted as made, so `breaks` need not sort them.
+        let mut angles: Vec<f64> = Vec::new();
         for table in &tables {
-            angles.extend(table.breakpoints().iter().map(|x| x.rem_euclid(cycle)));
+            let folded = table.breakpoints().iter().map(|&x| periodic(x, cycle));
+            if angles.is_empty() {
+                angles.extend(folded);
+                let turn = angles
+                    .windows(2)
+                    .position(|p| p[1] < p[0])
+                    .map_or(0, |i| i + 1);
+                angles.rotate_left(turn);
+            } else {
+                angles.extend(folded);
+            }
+        }
+        for k in 0..=(cycle / PI).round() as usize {
+            let centre = k as f64 * PI;
+            let at = angles.partition_point(|&a| a.total_cmp(&centre).is_le());
+            angles.insert(at, centre);
         }
         let order = tables.iter().map(|t| t.order()).max().unwrap_or(1);
         let cuts = breaks(angles, cycle);

@@ -162,3 +162,32 @@ fn panels_integrate_a_periodic_function_and_resolve_it() {
     let sharp: Vec<f64> = panels.phi.iter().map(|p| (40.0 * p.sin()).cos()).collect();
     assert!(panels.tail(&sharp) > 1e-4);
 }
+
+#[test]
+fn breaks_of_angles_in_order_are_those_of_the_angles_shuffled() {
+    // Angles already sorted within [0, Φ] skip the sort: the cuts must be the doubles of the
+    // same angles in any order, with near duplicates, −0.0, 0 and Φ themselves among them.
+    let cycle = 4.0 * PI;
+    let mut random = crate::test_support::Lcg(11);
+    let mut sorted: Vec<f64> = (0..500).map(|_| random.next() * cycle).collect();
+    sorted.extend([0.0, -0.0, cycle, 1.0, 1.0 + 1e-13, 2.0, 2.0 + 1e-9]);
+    sorted.sort_by(f64::total_cmp);
+    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    for take in [0, 1, 7, sorted.len()] {
+        let part = &sorted[sorted.len() - take..];
+        let mut shuffled = part.to_vec();
+        shuffled.reverse();
+        shuffled.rotate_left(take / 3);
+        assert_eq!(
+            bits(&breaks(part.to_vec(), cycle)),
+            bits(&breaks(shuffled, cycle)),
+            "{take}"
+        );
+    }
+    // Sorted but starting below 0 or ending beyond Φ: sorted with 0 and Φ all the same.
+    let wide = vec![-0.5, 0.3, cycle + 0.1];
+    assert_eq!(
+        bits(&breaks(wide.clone(), cycle)),
+        bits(&breaks(wide.into_iter().rev().collect(), cycle))
+    );
+}
