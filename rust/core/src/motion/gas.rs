@@ -18,6 +18,7 @@ use crate::error::{check, MechanismError, Result};
 use crate::mechanism::PhysicalCylinder;
 
 mod alignment;
+mod rule;
 mod work;
 
 pub(crate) use work::GasWork;

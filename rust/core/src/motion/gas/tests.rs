@@ -401,11 +401,17 @@ fn a_rule_taken_from_another_machine_gives_the_machines_own_doubles() {
         let like = make(&units, bore, d, Some(&first));
         assert_eq!(like.shared_with(&first), taken);
         assert_eq!(alone.shared_with(&first), (0, 0));
-        let (w, s) = like.with_slope_at(&phi, 500);
-        let (w0, s0) = alone.with_slope_at(&phi, 500);
         assert_eq!(like.per_cycle.to_bits(), alone.per_cycle.to_bits());
-        for (a, b) in w.iter().chain(&s).zip(w0.iter().chain(&s0)) {
-            assert_eq!(a.to_bits(), b.to_bits());
+        // Asked again (where the angles fall, kept by a shared rule, taken), and at angles
+        // of the same length but one (looked for afresh): the doubles of the machine alone.
+        let mut moved = phi.clone();
+        moved[321] += 0.125;
+        for angles in [&phi, &phi, &moved] {
+            let (w, s) = like.with_slope_at(angles, 500);
+            let (w0, s0) = alone.with_slope_at(angles, 500);
+            for (a, b) in w.iter().chain(&s).zip(w0.iter().chain(&s0)) {
+                assert_eq!(a.to_bits(), b.to_bits());
+            }
         }
     }
 }

@@ -2,157 +2,20 @@
 //! indicator work G at phase 0 integrated on panels cut at every breakpoint of its tables
 //! (the room's doc, `gas`), and W the sum of the units' G at their phases.
 
-use std::f64::consts::PI;
-use std::sync::{Arc, OnceLock};
+use std::sync::Arc;
 
 use crate::dynamics::Dynamics;
 use crate::error::Result;
 use crate::mechanism::PhysicalCylinder;
 use crate::parallel::Parallelism;
-use crate::trig::sincos_table;
 
-use super::super::quadrature::{breaks, MonomialRunning, PanelShift, Panels};
+use super::super::quadrature::{MonomialRunning, PanelShift};
 use super::alignment::Alignment;
-use super::{periodic, GasCylinder, PiecewisePolynomial};
-
-/// F of one cylinder at phase 0 at every θ (rad) of `theta`, in increasing order, θ taken
-/// modulo the cycle, in runs of `run` angles each within one piece of every table (a rule's
-/// panels: each table's values in one walk, [`PiecewisePolynomial::values_in_runs`]).
-fn one_cylinder_forces(
-    cylinder: GasCylinder,
-    diagrams: &[PiecewisePolynomial],
-    cycle: f64,
-    theta: &[f64],
-    run: usize,
-) -> Vec<f64> {
-    let mut forces = vec![0.0; theta.len()];
-    if !cylinder.has_gas() {
-        return forces;
-    }
-    // The head's pressures are laid where its forces go, and turned into them there (one
-    // table of 10⁴ doubles, not three, for a rule's nodes).
-    let folded: Vec<f64>;
-    let angles = if theta.iter().all(|t| (0.0..cycle).contains(t)) {
-        theta // periodic leaves them as they are
-    } else {
-        folded = theta.iter().map(|&t| periodic(t, cycle)).collect();
-        &folded
-    };
-    let crank_end = cylinder.crank_end.map(|d| {
-        let mut p = vec![0.0; angles.len()];
-        diagrams[d].values_in_runs(angles, run, &mut p);
-        p
-    });
-    if let Some(d) = cylinder.head {
-        diagrams[d].values_in_runs(angles, run, &mut forces);
-    }
-    let head = cylinder.head.is_some();
-    for (k, force) in forces.iter_mut().enumerate() {
-        let crank_end = crank_end.as_ref().map(|p| p[k]);
-        *force = cylinder.net_force(head.then_some(*force), crank_end);
-    }
-    forces
-}
-
-/// Gauss points per panel of an indicator's interpolant of F·s′, F one polynomial of K
-/// coefficients (`pressure_order`) on every panel, the widest `widest` (rad) wide: m = K + d
-/// nodes take F times s′ to degree d exactly, d the least (at most 4) whose Taylor rest of
-/// s′, (h/2)^(d+1)/(d+1)!, is at most that of degree 4 on a panel of the widest width π/64,
-/// (π/128)⁵/5! — the resolution of s′ the Gauss rule of K + 3 degrees integrated before.
-/// Tables of half a degree or less take d = 3. Integrated exactly from the panel's edge, the
-/// interpolant gives G at every x.
-fn indicator_order(pressure_order: usize, widest: f64) -> usize {
-    let rest = |d: usize, h: f64| (1..=d + 1).fold(1.0, |r, k| r * 0.5 * h / k as f64);
-    let bound = rest(4, INDICATOR_WIDTH);
-    let d = (1..4).find(|&d| rest(d, widest) <= bound).unwrap_or(4);
-    pressure_order + d
-}
-
-/// The widest panel of an indicator rule (rad) (a table interval wider than this is split).
-const INDICATOR_WIDTH: f64 = PI / 64.0;
+use super::rule::{Rule, RuleKey};
+use super::{GasCylinder, PiecewisePolynomial};
 
 /// Angles W is looked up at side by side ([`MonomialRunning::at_lanes`]).
 const LANES: usize = 8;
-
-/// What of one cylinder's indicator rule its crank radius and rod length do not change:
-/// the panels, cut at every breakpoint of its tables and at its dead centres (kπ), at most
-/// π/64 wide, and F at their Gauss nodes. Shared by designs that differ in r or l alone.
-#[derive(Debug)]
-struct Rule {
-    cycle: f64,
-    panels: Panels,
-    /// F (N) at every node of `panels`.
-    forces: Vec<f64>,
-    /// What F depends on besides the tables: the cylinder's tables, bore and piston rod.
-    key: RuleKey,
-    /// (sin φ, cos φ) at the nodes, made when a second machine takes the rule (a machine
-    /// alone has its kernel make them, without keeping 2 × 10⁴ doubles).
-    trig: OnceLock<(Vec<f64>, Vec<f64>)>,
-}
-
-/// A cylinder's tables (head, crank end) and its areas' bits (bore, piston rod diameter).
-type RuleKey = (Option<usize>, Option<usize>, [u64; 2]);
-
-impl Rule {
-    fn key(gas: &GasCylinder) -> RuleKey {
-        (
-            gas.head,
-            gas.crank_end,
-            [gas.bore.to_bits(), gas.piston_rod_diameter.to_bits()],
-        )
-    }
-
-    fn new(gas: GasCylinder, diagrams: &[PiecewisePolynomial], cycle: f64) -> Self {
-        let tables: Vec<&PiecewisePolynomial> = [gas.head, gas.crank_end]
-            .into_iter()
-            .flatten()
-            .map(|d| &diagrams[d])
-            .collect();
-        // The tables' breakpoints folded into the cycle (`periodic`: rem_euclid's doubles,
-        // without its division), each table's a sorted run turned at its fold, then the
-        // dead centres put in their places: sorted as made, so `breaks` need not sort them.
-        let mut angles: Vec<f64> = Vec::new();
-        for table in &tables {
-            let folded = table.breakpoints().iter().map(|&x| periodic(x, cycle));
-            if angles.is_empty() {
-                angles.extend(folded);
-                let turn = angles
-                    .windows(2)
-                    .position(|p| p[1] < p[0])
-                    .map_or(0, |i| i + 1);
-                angles.rotate_left(turn);
-            } else {
-                angles.extend(folded);
-            }
-        }
-        for k in 0..=(cycle / PI).round() as usize {
-            let centre = k as f64 * PI;
-            let at = angles.partition_point(|&a| a.total_cmp(&centre).is_le());
-            angles.insert(at, centre);
-        }
-        let order = tables.iter().map(|t| t.order()).max().unwrap_or(1);
-        let cuts = breaks(angles, cycle);
-        // The widest panel: a piece between cuts in equal panels no wider than the width.
-        let widest = cuts.windows(2).fold(0.0, |m: f64, pair| {
-            let width = pair[1] - pair[0];
-            m.max(width / (width / INDICATOR_WIDTH).ceil().max(1.0))
-        });
-        let panels = Panels::new(&cuts, indicator_order(order, widest), INDICATOR_WIDTH);
-        let forces = one_cylinder_forces(gas, diagrams, cycle, &panels.phi, panels.order);
-        Self {
-            cycle,
-            panels,
-            forces,
-            key: Self::key(&gas),
-            trig: OnceLock::new(),
-        }
-    }
-
-    /// (sin φ, cos φ) at the nodes, made on first use.
-    fn trig(&self) -> &(Vec<f64>, Vec<f64>) {
-        self.trig.get_or_init(|| sincos_table(&self.panels.phi))
-    }
-}
 
 /// G(x) = ∫₀^x F(θ) s'(θ) dθ of one cylinder at phase 0 (J), for any real x: F·s′ on the
 /// panels of its [`Rule`], its interpolant through each panel's Gauss nodes integrated
@@ -188,20 +51,10 @@ impl Indicator {
         self.running.at_edges[self.running.at_edges.len() - 1]
     }
 
-    /// (t, y) with x = φ + `phase` = t·Φ + y, y ∈ [0, Φ): t by floor(x/Φ), where the two
-    /// usual cases need no call of floor (not inlined on baseline x86-64) and give the same
-    /// doubles.
+    /// [`Rule::turns_and_angle`].
     #[inline]
     fn turns_and_angle(&self, angle: f64, phase: f64) -> (f64, f64) {
-        let (x, cycle) = (angle + phase, self.rule.cycle);
-        if (0.0..cycle).contains(&x) && x / cycle < 1.0 {
-            (0.0, x)
-        } else if (cycle..2.0 * cycle).contains(&x) && (1.0..2.0).contains(&(x / cycle)) {
-            (1.0, x - cycle)
-        } else {
-            let t = (x / cycle).floor();
-            (t, x - t * cycle)
-        }
+        self.rule.turns_and_angle(angle, phase)
     }
 
     /// G(φ + `phase`) added to `work` for each φ of `phi`; with `slope`, G″ = (F·s′)′
@@ -359,8 +212,9 @@ struct Group {
 
 impl Group {
     /// Σ_j G(φ + α_j) added to `work` for each φ of `phi`, and with `slope` Σ_j G″ added to
-    /// it ([`Indicator::add`]).
-    fn add(&self, phi: &[f64], work: &mut [f64], mut slope: Option<&mut [f64]>) {
+    /// it ([`Indicator::add`]); with `keep`, where `phi` falls on a shared rule's panels is
+    /// kept for (or taken from) the machines that share it ([`Rule::located`]).
+    fn add(&self, phi: &[f64], work: &mut [f64], mut slope: Option<&mut [f64]>, keep: bool) {
         let Some(summed) = &self.summed else {
             for &phase in &self.phases {
                 self.indicator.add(phi, phase, work, slope.as_deref_mut());
@@ -369,16 +223,31 @@ impl Group {
         };
         let indicator = &self.indicator;
         let panels = &indicator.rule.panels;
+        let located = keep.then(|| indicator.rule.located(phi)).flatten();
         let mut hint = 0;
         // LANES angles at a time, their Horner chains side by side (at_panel's and
         // slope_at_panel's doubles), each lane's strays, if any, added to it alone.
         let whole = phi.len() / LANES * LANES;
         for first in (0..whole).step_by(LANES) {
+            let lanes = first..first + LANES;
             let (mut turns, mut y) = ([0.0; LANES], [0.0; LANES]);
-            for l in 0..LANES {
-                (turns[l], y[l]) = indicator.turns_and_angle(phi[first + l], 0.0);
-            }
-            let (p, x) = MonomialRunning::locate_lanes(panels, &y, &mut hint);
+            let (p, x) = match &located {
+                Some(l) => {
+                    turns.copy_from_slice(&l.turns[lanes.clone()]);
+                    y.copy_from_slice(&l.y[lanes.clone()]);
+                    let mut p = [0; LANES];
+                    p.copy_from_slice(&l.p[lanes.clone()]);
+                    let mut x = [0.0; LANES];
+                    x.copy_from_slice(&l.x[lanes.clone()]);
+                    (p, x)
+                }
+                None => {
+                    for l in 0..LANES {
+                        (turns[l], y[l]) = indicator.turns_and_angle(phi[first + l], 0.0);
+                    }
+                    MonomialRunning::locate_lanes(panels, &y, &mut hint)
+                }
+            };
             let g = summed.running.at_panels(&p, &x);
             let mut slopes = slope.as_deref_mut().map(|slope| {
                 let lanes = summed.running.slope_at_panels(panels, &p, &x);
@@ -396,8 +265,13 @@ impl Group {
             }
         }
         for k in whole..phi.len() {
-            let angle = indicator.turns_and_angle(phi[k], 0.0);
-            let at = MonomialRunning::locate(panels, angle.1, &mut hint);
+            let (angle, at) = match &located {
+                Some(l) => ((l.turns[k], l.y[k]), (l.p[k], l.x[k])),
+                None => {
+                    let angle = indicator.turns_and_angle(phi[k], 0.0);
+                    (angle, MonomialRunning::locate(panels, angle.1, &mut hint))
+                }
+            };
             let lane = slope.as_deref_mut().map(|s| &mut s[k]);
             work[k] += summed.at(indicator, angle, at, lane);
         }
@@ -542,7 +416,7 @@ impl GasWork {
     pub fn at(&self, phi: &[f64]) -> Result<Vec<f64>> {
         let mut total = vec![-self.origin; phi.len()];
         for group in &self.groups {
-            group.add(phi, &mut total, None);
+            group.add(phi, &mut total, None, false);
         }
         Ok(total)
     }
@@ -555,8 +429,8 @@ impl GasWork {
         let mut slope = vec![0.0; sloped];
         let (head, tail) = total.split_at_mut(sloped);
         for group in &self.groups {
-            group.add(&phi[..sloped], head, Some(&mut slope));
-            group.add(&phi[sloped..], tail, None);
+            group.add(&phi[..sloped], head, Some(&mut slope), true);
+            group.add(&phi[sloped..], tail, None, true);
         }
         (total, slope)
     }
