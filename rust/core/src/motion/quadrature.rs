@@ -4,6 +4,7 @@
 //! nodes of one Gauss–Legendre rule. On such panels a smooth integrand converges spectrally.
 
 use std::f64::consts::PI;
+use std::sync::OnceLock;
 
 /// The nodes (ascending) and weights of the `order`-point Gauss–Legendre rule on [−1, 1].
 ///
@@ -44,6 +45,16 @@ pub(crate) fn gauss_legendre(order: usize) -> (Vec<f64>, Vec<f64>) {
         nodes[n / 2] = 0.0;
     }
     (nodes, weights)
+}
+
+/// [`gauss_legendre`] of `order`, made once per order in the process (orders to 32): every
+/// new set of panels took it, its Newton steps a few microseconds of a sweep's design.
+fn rule_of(order: usize) -> (Vec<f64>, Vec<f64>) {
+    static MADE: [OnceLock<(Vec<f64>, Vec<f64>)>; 33] = [const { OnceLock::new() }; 33];
+    match MADE.get(order) {
+        Some(made) => made.get_or_init(|| gauss_legendre(order)).clone(),
+        None => gauss_legendre(order),
+    }
 }
 
 /// P_n(x) and P_n'(x) by the three-term recurrence.
@@ -93,7 +104,7 @@ impl Panels {
             edges.extend((0..count).map(|k| pair[0] + step * k as f64));
         }
         edges.extend(breaks.last());
-        let (unit_nodes, unit_weights) = gauss_legendre(order);
+        let (unit_nodes, unit_weights) = rule_of(order);
         // Extended panel by panel from the rule's nodes (a length known: no check per value,
         // as a push has, nor zeroing first).
         let count = edges.len() - 1;
