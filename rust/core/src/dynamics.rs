@@ -200,10 +200,7 @@ impl Dynamics {
         out: &mut [f64],
         parallelism: Parallelism,
     ) -> Result<()> {
-        self.gravity
-            .evaluate(Quantity::GeneralizedForce, phi, out, parallelism)?;
-        out.iter_mut().for_each(|m| *m = -*m);
-        Ok(())
+        self.negated_gravity(Quantity::GeneralizedForce, phi, out, parallelism)
     }
 
     /// The gravity torque's slope −U″ (N·m/rad), exact.
@@ -213,8 +210,18 @@ impl Dynamics {
         out: &mut [f64],
         parallelism: Parallelism,
     ) -> Result<()> {
-        self.gravity
-            .evaluate(Quantity::ForceDerivative, phi, out, parallelism)?;
+        self.negated_gravity(Quantity::ForceDerivative, phi, out, parallelism)
+    }
+
+    /// −`quantity` of the gravity engine: a torque on the shaft from U's derivatives.
+    fn negated_gravity<'a>(
+        &self,
+        quantity: Quantity,
+        phi: impl Into<Phi<'a>>,
+        out: &mut [f64],
+        parallelism: Parallelism,
+    ) -> Result<()> {
+        self.gravity.evaluate(quantity, phi, out, parallelism)?;
         out.iter_mut().for_each(|m| *m = -*m);
         Ok(())
     }

@@ -5,7 +5,7 @@
 use std::f64::consts::{PI, TAU};
 use std::sync::LazyLock;
 
-use crate::error::{check, check_length, try_with_capacity, MechanismError, Result};
+use crate::error::{check, check_finite, check_length, try_with_capacity, MechanismError, Result};
 
 /// The speeds a machine may run at, ω [rad/s]: (π/30)·10⁻⁶ ≤ ω ≤ (π/30)·10⁸, i.e. 10⁻⁶ to
 /// 10⁸ revolutions per minute (2π rad a revolution, 60 s a minute). The one rule for a speed:
@@ -191,9 +191,7 @@ impl Phases {
                 parameter: "phases",
             });
         }
-        for &alpha in phases {
-            check("phases", alpha, "finite angles in radians", |_| true)?;
-        }
+        check_finite("phases", phases, "finite angles in radians")?;
         Ok(Self {
             cos: phases.iter().map(|a| a.cos()).collect(),
             sin: phases.iter().map(|a| a.sin()).collect(),

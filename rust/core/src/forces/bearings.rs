@@ -22,7 +22,7 @@
 
 use multiversion::multiversion;
 
-use crate::error::{check, check_length, short, MechanismError, Result};
+use crate::error::{check, check_finite, check_length, short, MechanismError, Result};
 use crate::mechanism::PhysicalCylinder;
 use crate::parallel::{map_indices, Parallelism};
 
@@ -352,9 +352,7 @@ pub fn bearing_loads(
         ("acceleration", acceleration),
         ("gas", gas),
     ] {
-        for &value in values {
-            check(name, value, "finite", |_| true)?;
-        }
+        check_finite(name, values, "finite")?;
     }
     horizontal.fill(0.0);
     vertical.fill(0.0);

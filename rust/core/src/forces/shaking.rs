@@ -7,7 +7,7 @@ use std::f64::consts::FRAC_PI_2;
 
 use crate::angles::Phi;
 use crate::engine::{Engine, EngineUnit};
-use crate::error::{check, check_length, MechanismError, Result};
+use crate::error::{check, check_finite, check_length, MechanismError, Result};
 use crate::exact::Quantity;
 use crate::harmonics::MAX_HARMONIC;
 use crate::mechanism::check_speed;
@@ -190,17 +190,12 @@ impl ShakingForces {
         check_length("omega", points, omega.len())?;
         check_length("acceleration", points, acceleration.len())?;
         check_length("out", 4 * points, out.len())?;
-        for &w in omega {
-            check("omega", w, "a finite speed in rad/s", |_| true)?;
-        }
-        for &e in acceleration {
-            check(
-                "acceleration",
-                e,
-                "a finite acceleration in rad/s²",
-                |_| true,
-            )?;
-        }
+        check_finite("omega", omega, "a finite speed in rad/s")?;
+        check_finite(
+            "acceleration",
+            acceleration,
+            "a finite acceleration in rad/s²",
+        )?;
         let mut slope = vec![0.0; points];
         for (engine, component) in self.engines.iter().zip(out.chunks_mut(points.max(1))) {
             engine.evaluate(Quantity::ForceDerivative, phi, component, parallelism)?;

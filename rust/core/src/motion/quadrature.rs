@@ -3,6 +3,7 @@
 //! kink, each piece into equal panels no wider than a maximum, every panel carrying the
 //! nodes of one Gauss–Legendre rule. On such panels a smooth integrand converges spectrally.
 
+use std::borrow::{Borrow, Cow};
 use std::f64::consts::PI;
 use std::sync::OnceLock;
 
@@ -47,14 +48,28 @@ pub(crate) fn gauss_legendre(order: usize) -> (Vec<f64>, Vec<f64>) {
     (nodes, weights)
 }
 
-/// [`gauss_legendre`] of `order`, made once per order in the process (orders to 32): every
-/// new set of panels took it, its Newton steps a few microseconds of a sweep's design.
-fn rule_of(order: usize) -> (Vec<f64>, Vec<f64>) {
-    static MADE: [OnceLock<(Vec<f64>, Vec<f64>)>; 33] = [const { OnceLock::new() }; 33];
-    match MADE.get(order) {
-        Some(made) => made.get_or_init(|| gauss_legendre(order)).clone(),
-        None => gauss_legendre(order),
+/// What depends on a rule's order alone, made once per order in the process (`made`, one
+/// slot an order; orders beyond it are made each time).
+fn once_per_order<B: ToOwned + ?Sized + 'static>(
+    made: &'static [OnceLock<B::Owned>],
+    order: usize,
+    make: impl FnOnce() -> B::Owned,
+) -> Cow<'static, B> {
+    match made.get(order) {
+        Some(slot) => Cow::Borrowed(slot.get_or_init(make).borrow()),
+        None => Cow::Owned(make()),
     }
+}
+
+/// Orders a rule's parts are kept for ([`once_per_order`]).
+const KEPT_ORDERS: usize = 33;
+
+/// [`gauss_legendre`] of `order`, made once per order (every new set of panels took it, its
+/// Newton steps a few microseconds of a sweep's design).
+fn rule_of(order: usize) -> Cow<'static, (Vec<f64>, Vec<f64>)> {
+    static MADE: [OnceLock<(Vec<f64>, Vec<f64>)>; KEPT_ORDERS] =
+        [const { OnceLock::new() }; KEPT_ORDERS];
+    once_per_order(&MADE, order, || gauss_legendre(order))
 }
 
 /// P_n(x) and P_n'(x) by the three-term recurrence.
@@ -104,7 +119,7 @@ impl Panels {
             edges.extend((0..count).map(|k| pair[0] + step * k as f64));
         }
         edges.extend(breaks.last());
-        let (unit_nodes, unit_weights) = rule_of(order);
+        let (unit_nodes, unit_weights) = rule_of(order).into_owned();
         // Extended panel by panel from the rule's nodes (a length known: no check per value,
         // as a push has, nor zeroing first).
         let count = edges.len() - 1;
@@ -490,10 +505,9 @@ pub(crate) fn breaks(mut angles: Vec<f64>, cycle: f64) -> Vec<f64> {
     // Angles made in order within [0, Φ] (a rule's cuts) are not sorted again: a check is
     // one pass, and 0 and Φ go to their ends.
     let ordered = |a: &f64, b: &f64| a.total_cmp(b).is_le();
-    let within = |a: &f64| ordered(&0.0, a) && ordered(a, &cycle);
     if angles.is_sorted_by(ordered)
-        && angles.first().is_none_or(within)
-        && angles.last().is_none_or(within)
+        && angles.first().is_none_or(|a| ordered(&0.0, a))
+        && angles.last().is_none_or(|a| ordered(a, &cycle))
     {
         angles.insert(0, 0.0);
         angles.push(cycle);

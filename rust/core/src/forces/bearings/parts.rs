@@ -2,7 +2,7 @@
 //! in ω², g and the gas forces (`unit_forces`, the one Newton–Euler, at unit inputs).
 
 use super::{unit_forces, BearingLayout};
-use crate::error::{check, check_length, Result};
+use crate::error::{check, check_finite, check_length, Result};
 use crate::mechanism::PhysicalCylinder;
 
 /// The parts of every main bearing's load at fixed crank angles at a constant speed, each
@@ -35,9 +35,7 @@ impl BearingParts {
             unit.validate()?;
         }
         for (name, values) in [("phi", phi), ("gas", gas)] {
-            for &value in values {
-                check(name, value, "finite", |_| true)?;
-            }
+            check_finite(name, values, "finite")?;
         }
         let mut parts = vec![[[0.0; 2]; 3]; layout.bearings() * points];
         for (j, unit) in units.iter().enumerate() {

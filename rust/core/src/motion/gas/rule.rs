@@ -155,20 +155,18 @@ impl Rule {
             .collect();
         // The tables' breakpoints folded into the cycle (`periodic`: rem_euclid's doubles,
         // without its division), each table's a sorted run turned at its fold, then the
-        // dead centres put in their places: sorted as made, so `breaks` need not sort them.
+        // dead centres put in their places: one table's are sorted as made, so `breaks`
+        // need not sort them (two tables' runs it sorts).
         let mut angles: Vec<f64> = Vec::new();
         for table in &tables {
-            let folded = table.breakpoints().iter().map(|&x| periodic(x, cycle));
-            if angles.is_empty() {
-                angles.extend(folded);
-                let turn = angles
-                    .windows(2)
-                    .position(|p| p[1] < p[0])
-                    .map_or(0, |i| i + 1);
-                angles.rotate_left(turn);
-            } else {
-                angles.extend(folded);
-            }
+            let start = angles.len();
+            angles.extend(table.breakpoints().iter().map(|&x| periodic(x, cycle)));
+            let run = &mut angles[start..];
+            let turn = run
+                .windows(2)
+                .position(|p| p[1] < p[0])
+                .map_or(0, |i| i + 1);
+            run.rotate_left(turn);
         }
         for k in 0..=(cycle / PI).round() as usize {
             let centre = k as f64 * PI;
@@ -197,6 +195,7 @@ impl Rule {
     /// Where `phi` falls on the panels, kept for the machines that share this rule (`None`
     /// for a rule no second machine has taken: each of its tables is asked once).
     pub(super) fn located(&self, phi: &[f64]) -> Option<Arc<Located>> {
+        // A second machine that takes the rule makes its trig: the mark of a shared rule.
         self.trig.get()?;
         // A poisoned lock holds nothing half-made: every entry was pushed whole.
         let kept = || self.located.lock().unwrap_or_else(PoisonError::into_inner);

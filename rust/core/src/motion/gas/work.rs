@@ -229,23 +229,22 @@ impl Group {
         // slope_at_panel's doubles), each lane's strays, if any, added to it alone.
         let whole = phi.len() / LANES * LANES;
         for first in (0..whole).step_by(LANES) {
-            let lanes = first..first + LANES;
-            let (mut turns, mut y) = ([0.0; LANES], [0.0; LANES]);
-            let (p, x) = match &located {
+            let (turns, y, p, x) = match &located {
                 Some(l) => {
-                    turns.copy_from_slice(&l.turns[lanes.clone()]);
-                    y.copy_from_slice(&l.y[lanes.clone()]);
-                    let mut p = [0; LANES];
-                    p.copy_from_slice(&l.p[lanes.clone()]);
-                    let mut x = [0.0; LANES];
-                    x.copy_from_slice(&l.x[lanes.clone()]);
-                    (p, x)
+                    let lanes = first..first + LANES;
+                    let take = |v: &[f64]| -> [f64; LANES] {
+                        v[lanes.clone()].try_into().expect("LANES angles")
+                    };
+                    let p = l.p[lanes.clone()].try_into().expect("LANES angles");
+                    (take(&l.turns), take(&l.y), p, take(&l.x))
                 }
                 None => {
+                    let (mut turns, mut y) = ([0.0; LANES], [0.0; LANES]);
                     for l in 0..LANES {
                         (turns[l], y[l]) = indicator.turns_and_angle(phi[first + l], 0.0);
                     }
-                    MonomialRunning::locate_lanes(panels, &y, &mut hint)
+                    let (p, x) = MonomialRunning::locate_lanes(panels, &y, &mut hint);
+                    (turns, y, p, x)
                 }
             };
             let g = summed.running.at_panels(&p, &x);

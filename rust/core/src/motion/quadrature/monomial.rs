@@ -1,11 +1,12 @@
 //! A running integral in powers of x on each panel: the form of the indicator rules' G,
 //! looked up once per unit and angle wherever W is asked for.
 
+use std::borrow::Cow;
 use std::sync::OnceLock;
 
 use multiversion::multiversion;
 
-use super::{panel_near, Panels};
+use super::{once_per_order, panel_near, Panels, KEPT_ORDERS};
 
 /// [`MonomialRunning::through`] for rules of order `N` compiled for the widest vectors the
 /// machine has: its small matrix product a panel is a large part of a geometry sweep's
@@ -98,8 +99,9 @@ pub(crate) struct PanelShift {
 
 /// A running integral F(φ) = ∫₀^φ f dφ on `Panels` in monomials, for many look-ups: on each
 /// panel F = F(e_p) + Σ_i q_i x^i, x ∈ [−1, 1] across it, and f′ = F″ = Σ_i i(i − 1) q_i
-/// x^(i−2) / h² (h the half width), each by Horner's rule (a few multiply-adds where the Legendre recurrence of
-/// [`running_at`](super::running_at) takes three times as many operations). The same
+/// x^(i−2) / h² (h the half width), each by Horner's rule (a few multiply-adds where the
+/// Legendre recurrence of [`running_at`](super::running_at) takes three times as many
+/// operations). The same
 /// interpolants as [`Antiderivative`](super::Antiderivative)'s, to rounding (their Legendre
 /// coefficients turned into powers of x, |x| ≤ 1: each coefficient's error within a few ulps
 /// of the largest).
@@ -219,8 +221,9 @@ impl MonomialRunning {
 
     /// The sum of copies of this table laid onto its own panels by `shifts`: each copy's
     /// shifts in increasing p, not overlapping (a shift may be empty), the copies one after
-    /// another (a panel no shift reaches stays 0). Each panel's terms are added in the copies' order, so the
-    /// doubles are those of adding the copies one by one; but the sum is made a block of
+    /// another (a panel no shift reaches stays 0). Each panel's terms are added in the
+    /// copies' order, so the doubles are those of adding the copies one by one; but the sum
+    /// is made a block of
     /// panels at a time, which stays in the first-level cache while every copy is added,
     /// where adding copy after copy would read and write the whole sum once a copy (a
     /// V12's twelve units).
@@ -407,20 +410,17 @@ impl MonomialRunning {
 /// [`rule_columns`] of the panels' order, made once per order in the process: they depend
 /// on the order alone (the Gauss rule's nodes and weights, which `Panels::new` takes from it),
 /// and a steady state's curves or a sweep's design made them again at every call (a sixth of
-/// the time integral of `.omega`). Orders above 32 are made each time.
-fn columns_of(panels: &Panels) -> std::borrow::Cow<'static, [f64]> {
-    static MADE: [OnceLock<Vec<f64>>; 33] = [const { OnceLock::new() }; 33];
-    match MADE.get(panels.order) {
-        Some(made) => made.get_or_init(|| rule_columns(panels)).as_slice().into(),
-        None => rule_columns(panels).into(),
-    }
+/// the time integral of `.omega`).
+fn columns_of(panels: &Panels) -> Cow<'static, [f64]> {
+    static MADE: [OnceLock<Vec<f64>>; KEPT_ORDERS] = [const { OnceLock::new() }; KEPT_ORDERS];
+    once_per_order(&MADE, panels.order, || rule_columns(panels))
 }
 
 /// The matrix from f at a rule's nodes to, on [−1, 1], ∫₋₁^x of f's interpolant in powers
 /// of x (`order` + 1 rows, highest power first, its value at −1 taken off in the last), one
-/// column per node, column after column; the panel's half-width scales it. The interpolant's powers a = L·B·f:
-/// B the Legendre coefficients by the Gauss rule's discrete orthogonality, c_k = (2k + 1)/2
-/// · Σ_i w_i f_i P_k(x_i), L the powers of x in each P_k.
+/// column per node, column after column; the panel's half-width scales it. The
+/// interpolant's powers a = L·B·f: B the Legendre coefficients by the Gauss rule's discrete
+/// orthogonality, c_k = (2k + 1)/2 · Σ_i w_i f_i P_k(x_i), L the powers of x in each P_k.
 fn rule_columns(panels: &Panels) -> Vec<f64> {
     let n = panels.order;
     // P_k in powers of x, row k: P_{k+1} = ((2k + 1) x P_k − k P_{k−1})/(k + 1).
