@@ -87,7 +87,12 @@ fn series_points<M: MulAdd, const N: usize>(
     // Σ B_ν sin νθ = b^B_1 sin θ. Three operations per harmonic and sequence, against ten
     // for rotating e^{iνθ}; with the geometrically decaying coefficients of Q its rounding
     // stays at a few ulps of the largest term.
-    let two_cos = w.0.map(|c| 2.0 * c);
+    // A loop, not `w.0.map`: at 32 lanes `map` is not inlined, and its call (compiled
+    // outside the multiversioned kernel, SSE2 only) sent every live vector through the stack.
+    let mut two_cos = [0.0; N];
+    for (twice, &cos) in two_cos.iter_mut().zip(&w.0) {
+        *twice = 2.0 * cos;
+    }
     let (mut a1, mut a2) = ([0.0; N], [0.0; N]);
     let (mut b1, mut b2) = ([0.0; N], [0.0; N]);
     if series.cos.iter().all(|&a| a == 0.0) {
