@@ -56,19 +56,24 @@ impl Balance {
     /// work is taken (false: gravity and the variation of J alone).
     pub fn new(cycle: &Arc<Cycle>, load: f64, gas: bool) -> Result<Self> {
         let n = cycle.nodes();
-        let angles = cycle.panels.phi.iter().chain(&cycle.panels.edges);
-        let k: Vec<f64> = angles
-            .zip(&cycle.potential)
-            .zip(&cycle.work)
-            .map(|((phi, u), w)| {
-                let k = -u - load * phi;
-                if gas {
-                    k + w
-                } else {
-                    k
-                }
-            })
-            .collect();
+        // The nodes' angles, then the edges': a loop over each (one over their chain did
+        // not vectorise).
+        let mut k: Vec<f64> = Vec::with_capacity(cycle.potential.len());
+        for (angles, first) in [(&cycle.panels.phi, 0), (&cycle.panels.edges, n)] {
+            let last = first + angles.len();
+            let (u, w) = (&cycle.potential[first..last], &cycle.work[first..last]);
+            if gas {
+                k.extend(
+                    angles
+                        .iter()
+                        .zip(u)
+                        .zip(w)
+                        .map(|((phi, u), w)| (-u - load * phi) + w),
+                );
+            } else {
+                k.extend(angles.iter().zip(u).map(|(phi, u)| -u - load * phi));
+            }
+        }
         // The lowest node, then an edge only where strictly lower.
         let mut lowest = 0;
         for i in 1..n {

@@ -297,18 +297,14 @@ impl Panels {
     /// c_k = (2k + 1)/2 · Σ_i w_i f_i P_k(x_i).
     pub fn tail(&self, values: &[f64]) -> f64 {
         let n = self.order;
-        let basis: Vec<[f64; 2]> = self
-            .unit_nodes
-            .iter()
-            .map(|&x| [legendre(n - 2, x), legendre(n - 1, x)])
-            .collect();
+        let basis = tail_basis(n);
         let mut tail: f64 = 0.0;
         for panel in values.chunks_exact(n) {
             for (degree, column) in [(n - 2, 0), (n - 1, 1)] {
                 let sum: f64 = panel
                     .iter()
                     .zip(&self.unit_weights)
-                    .zip(&basis)
+                    .zip(basis.iter())
                     .map(|((f, w), b)| f * w * b[column])
                     .sum();
                 tail = tail.max(((2 * degree + 1) as f64 * 0.5 * sum).abs());
@@ -316,6 +312,19 @@ impl Panels {
         }
         tail
     }
+}
+
+/// [P_{order−2}(x_i), P_{order−1}(x_i)] at the nodes x_i of the Gauss rule of `order`, made
+/// once per order (a sweep's every design asked for them, n² divisions each time).
+fn tail_basis(order: usize) -> Cow<'static, [[f64; 2]]> {
+    static MADE: [OnceLock<Vec<[f64; 2]>>; KEPT_ORDERS] = [const { OnceLock::new() }; KEPT_ORDERS];
+    once_per_order(&MADE, order, || {
+        rule_of(order)
+            .0
+            .iter()
+            .map(|&x| [legendre(order - 2, x), legendre(order - 1, x)])
+            .collect()
+    })
 }
 
 /// P_n(x).
